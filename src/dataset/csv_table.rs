@@ -1,0 +1,132 @@
+//! Header-addressed numeric CSV reading shared by the CSV readers: columns are found by
+//! name (extra columns are ignored), every value is parsed with the file, line and column
+//! named in the error.
+
+use crate::error::{Error, Result};
+use std::path::{Path, PathBuf};
+
+/// A CSV file opened for reading by column name.
+pub struct CsvTable {
+    path: PathBuf,
+    reader: csv::Reader<std::fs::File>,
+    headers: Vec<String>,
+}
+
+/// One data row with its 1-based line number.
+pub struct CsvRow<'a> {
+    path: &'a Path,
+    line: usize,
+    record: csv::StringRecord,
+}
+
+impl CsvTable {
+    /// Opens `path` and reads its header row.
+    pub fn open(path: &Path) -> Result<Self> {
+        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+        let mut reader = csv::ReaderBuilder::new()
+            .has_headers(true)
+            .trim(csv::Trim::All)
+            .flexible(false)
+            .from_reader(file);
+        let headers = reader
+            .headers()
+            .map_err(|e| Error::parse(path, 1, format!("cannot read the header row: {e}")))?
+            .iter()
+            .map(|h| h.trim_start_matches('\u{feff}').to_ascii_lowercase())
+            .collect::<Vec<_>>();
+        if headers.iter().all(|h| h.is_empty()) {
+            return Err(Error::parse(path, 1, "the file is empty: expected a header row"));
+        }
+        Ok(Self {
+            path: path.to_path_buf(),
+            reader,
+            headers,
+        })
+    }
+
+    /// Index of a required column.
+    pub fn column(&self, name: &str) -> Result<usize> {
+        self.optional_column(name).ok_or_else(|| {
+            Error::parse(
+                &self.path,
+                1,
+                format!("missing column `{name}` (header has: {})", self.headers.join(",")),
+            )
+        })
+    }
+
+    /// Index of an optional column.
+    pub fn optional_column(&self, name: &str) -> Option<usize> {
+        self.headers.iter().position(|h| h == name)
+    }
+
+    /// The file's path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Calls `f` on every data row, in order; stops at the first error.
+    pub fn for_each_row(&mut self, mut f: impl FnMut(&CsvRow<'_>) -> Result<()>) -> Result<()> {
+        let mut record = csv::StringRecord::new();
+        loop {
+            let line = self.reader.position().line() as usize;
+            match self.reader.read_record(&mut record) {
+                Ok(false) => return Ok(()),
+                Ok(true) => {
+                    let line = record.position().map_or(line, |p| p.line() as usize);
+                    if record.iter().all(str::is_empty) {
+                        continue;
+                    }
+                    let row = CsvRow {
+                        path: &self.path,
+                        line,
+                        record: std::mem::take(&mut record),
+                    };
+                    f(&row)?;
+                    record = row.record;
+                }
+                Err(e) => {
+                    let line = e.position().map_or(line, |p| p.line() as usize);
+                    return Err(Error::parse(&self.path, line, format!("malformed CSV: {e}")));
+                }
+            }
+        }
+    }
+}
+
+impl CsvRow<'_> {
+    /// 1-based line number of this row.
+    pub fn line(&self) -> usize {
+        self.line
+    }
+
+    /// A parse error at this row.
+    pub fn error(&self, message: impl Into<String>) -> Error {
+        Error::parse(self.path, self.line, message)
+    }
+
+    /// The raw text of column `index`.
+    pub fn text(&self, index: usize) -> &str {
+        self.record.get(index).unwrap_or("")
+    }
+
+    /// A required finite number in column `index` named `name`.
+    pub fn number(&self, index: usize, name: &str) -> Result<f64> {
+        let text = self.text(index);
+        let v: f64 = text
+            .parse()
+            .map_err(|_| self.error(format!("column `{name}`: `{text}` is not a number")))?;
+        if !v.is_finite() {
+            return Err(self.error(format!("column `{name}`: `{text}` is not a finite number")));
+        }
+        Ok(v)
+    }
+
+    /// An optional number: `None` when the column is absent or the cell empty.
+    pub fn optional_number(&self, index: Option<usize>, name: &str) -> Result<Option<f64>> {
+        match index {
+            Some(i) if !self.text(i).is_empty() => self.number(i, name).map(Some),
+            _ => Ok(None),
+        }
+    }
+}

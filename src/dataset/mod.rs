@@ -1,0 +1,9 @@
+//! Layer 4 (in): one reader per file format. Every reader names the file, line and problem
+//! in its errors.
+
+pub mod csv_table;
+pub mod steps_csv;
+pub mod trajectory_csv;
+
+pub use steps_csv::read_steps;
+pub use trajectory_csv::{TimedPoint, read_trajectory, write_trajectory};

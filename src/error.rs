@@ -1,0 +1,63 @@
+//! The library's one error type.
+//!
+//! Every variant says what went wrong and where; the CLI adds context with `anyhow` and prints it.
+
+use std::path::PathBuf;
+
+/// Errors raised by footslam's library.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A file could not be opened, read or written. Fix: check the path and permissions.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file concerned.
+        path: PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// An input file is malformed at a given line. Fix: correct the named line.
+    #[error("{path}:{line}: {message}")]
+    Parse {
+        /// The file concerned.
+        path: PathBuf,
+        /// 1-based line number (0 when the problem concerns the whole file).
+        line: usize,
+        /// What is wrong there.
+        message: String,
+    },
+    /// A configuration value is out of its documented range. Fix: change the named field.
+    #[error("invalid configuration: {field} = {value}: {reason}")]
+    Config {
+        /// The offending field, e.g. `footslam.hex_radius`.
+        field: &'static str,
+        /// Its value as text.
+        value: String,
+        /// The allowed range or rule.
+        reason: &'static str,
+    },
+    /// Input data cannot be processed as given (e.g. an empty trace). Fix: see the message.
+    #[error("invalid input: {0}")]
+    Input(String),
+}
+
+/// Shorthand for results carrying [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl Error {
+    /// An I/O error on `path`.
+    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Error::Io {
+            path: path.into(),
+            source,
+        }
+    }
+
+    /// A parse error at `line` of `path`.
+    pub fn parse(path: impl Into<PathBuf>, line: usize, message: impl Into<String>) -> Self {
+        Error::Parse {
+            path: path.into(),
+            line,
+            message: message.into(),
+        }
+    }
+}

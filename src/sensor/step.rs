@@ -1,0 +1,120 @@
+//! Pedestrian step events from a step detector or a foot-mounted INS (the "step vector
+//! measurement" Z^U_k of Robertson et al. 2009, Fig. 5).
+
+use serde::{Deserialize, Serialize};
+
+/// One step event.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Step {
+    /// Time of the step, seconds (any epoch, strictly increasing along a trace).
+    pub t: f64,
+    /// Stride length, metres.
+    pub length: f64,
+    /// Heading change since the previous step, radians counter-clockwise.
+    pub dheading: f64,
+    /// Height change, metres (0 when not measured).
+    pub dz: f64,
+    /// Absolute heading, radians counter-clockwise from east, when a compass gives one.
+    pub heading: Option<f64>,
+}
+
+/// A validated sequence of steps: times strictly increasing, all values finite, lengths in
+/// `[0, MAX_STEP_LENGTH]`.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct StepTrace {
+    steps: Vec<Step>,
+}
+
+/// Longest plausible single stride, metres (running strides reach about 2.5 m).
+pub const MAX_STEP_LENGTH: f64 = 3.0;
+/// Largest plausible height change in one step, metres.
+pub const MAX_STEP_DZ: f64 = 1.0;
+
+/// Why a step is implausible, if it is.
+pub fn check_step(step: &Step, previous_t: Option<f64>) -> Result<(), String> {
+    let finite = [step.t, step.length, step.dheading, step.dz];
+    if finite.iter().any(|v| !v.is_finite()) || step.heading.is_some_and(|h| !h.is_finite()) {
+        return Err("values must be finite numbers (found NaN or infinity)".into());
+    }
+    if !(0.0..=MAX_STEP_LENGTH).contains(&step.length) {
+        return Err(format!("step length {} m is outside [0, {MAX_STEP_LENGTH}] m", step.length));
+    }
+    if step.dheading.abs() > 2.0 * std::f64::consts::PI {
+        return Err(format!("heading change {} rad exceeds one full turn", step.dheading));
+    }
+    if step.dz.abs() > MAX_STEP_DZ {
+        return Err(format!("height change {} m exceeds {MAX_STEP_DZ} m per step", step.dz));
+    }
+    if let Some(p) = previous_t
+        && step.t <= p
+    {
+        return Err(format!("time {} s is not after the previous step's {} s (times must be strictly increasing)", step.t, p));
+    }
+    Ok(())
+}
+
+impl StepTrace {
+    /// A trace from steps, checked with [`check_step`]; the error names the 0-based index.
+    pub fn new(steps: Vec<Step>) -> Result<Self, (usize, String)> {
+        let mut previous = None;
+        for (i, s) in steps.iter().enumerate() {
+            check_step(s, previous).map_err(|m| (i, m))?;
+            previous = Some(s.t);
+        }
+        Ok(Self { steps })
+    }
+
+    /// The steps, in time order.
+    pub fn steps(&self) -> &[Step] {
+        &self.steps
+    }
+
+    /// Number of steps.
+    pub fn len(&self) -> usize {
+        self.steps.len()
+    }
+
+    /// True when there are no steps.
+    pub fn is_empty(&self) -> bool {
+        self.steps.is_empty()
+    }
+
+    /// Dead-reckoned poses from `start`, one per step (after the step), by
+    /// Woodman & Harle eq. 9–11.
+    pub fn dead_reckon(&self, start: crate::geometry::Pose2) -> Vec<crate::geometry::Pose2> {
+        let mut pose = start;
+        self.steps
+            .iter()
+            .map(|s| {
+                pose = pose.step(s.length, s.dheading);
+                pose
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn step(t: f64, length: f64) -> Step {
+        Step { t, length, dheading: 0.0, dz: 0.0, heading: None }
+    }
+
+    #[test]
+    fn rejects_unsorted_times_nan_and_absurd_lengths() {
+        assert!(StepTrace::new(vec![step(0.0, 0.7), step(1.0, 0.7)]).is_ok());
+        assert_eq!(StepTrace::new(vec![step(1.0, 0.7), step(1.0, 0.7)]).unwrap_err().0, 1);
+        assert!(StepTrace::new(vec![step(0.0, f64::NAN)]).is_err());
+        assert!(StepTrace::new(vec![step(0.0, 12.0)]).is_err());
+        assert!(StepTrace::new(vec![step(0.0, -0.1)]).is_err());
+    }
+
+    #[test]
+    fn dead_reckoning_follows_eq_9_to_11() {
+        let mut s = vec![step(0.0, 1.0), step(1.0, 1.0)];
+        s[1].dheading = std::f64::consts::FRAC_PI_2;
+        let poses = StepTrace::new(s).expect("valid").dead_reckon(Default::default());
+        assert!((poses[1].x - 1.0).abs() < 1e-12 && (poses[1].y - 1.0).abs() < 1e-12);
+    }
+}
