@@ -1,5 +1,41 @@
-//! placeholder
+//! FootSLAM's probabilistic hexagon transition map (Robertson et al. 2009, sec. 2.4–2.5),
+//! stored so that thousands of particles can share it.
+//!
+//! The map `M = {M_h}` holds, for each visited hexagon `h`, the Dirichlet-multinomial
+//! counts `N^e_h` of crossings of its six edges. A crossing of edge `e` from `h` into `j`
+//! is counted for the outgoing *and* the incoming hexagon (sec. 3, "implementation
+//! issues"), so each edge has one count shared by its two hexagons. We store it once, at
+//! the hexagon that owns the edge (edges 0, 1, 2 = E, NE, NW; edge 3..5 of `h` is edge
+//! 0..2 of its neighbour), together with the hexagon's total `N_h`. That is four `u16`
+//! per hexagon, 8 bytes.
+//!
+//! **Sharing.** Hexagons live in leaves of 4×4 hexagons (128 bytes) under a persistent
+//! quadtree of 4×4-way branch nodes, every node an [`Arc`]. Cloning a map (resampling) is
+//! one reference-count increment; a write copies only the nodes on the path to the leaf
+//! that are still shared ([`Arc::make_mut`]), as GMapping shares map patches between
+//! particles. The tree grows upwards as the walk leaves its extent, so no size is fixed.
+
+use crate::geometry::HexGrid;
 use hexx::Hex;
+use rustc_hash::FxHashMap;
+use std::sync::Arc;
+
+/// Per-hexagon counters: crossings of owned edges 0, 1, 2 and the total over all six.
+type Counters = [u16; 4];
+const TOTAL: usize = 3;
+
+/// Bias that puts the axial origin at two thirds of a block at every tree level, so that
+/// walks around the origin need a shallow tree.
+const KEY_OFFSET: u32 = 0xAAAA_AAAA;
+/// The deepest tree: 4^15 leaves of 4 hexagons cover the whole `u32` key range.
+const MAX_LEVEL: u8 = 15;
+
+#[derive(Debug, Clone)]
+enum Node {
+    Branch([Option<Arc<Node>>; 16]),
+    Leaf([Counters; 16]),
+}
+
 /// One hexagon of a learned map, as exported.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HexCell {
@@ -9,6 +45,15 @@ pub struct HexCell {
     /// 2 = NW, 3 = W, 4 = SW, 5 = SE), counted in both directions.
     pub counts: [u32; 6],
 }
+
+impl HexCell {
+    /// Passes through the hexagon: each pass enters and leaves once, so half the edge
+    /// crossings, rounded up.
+    pub fn visits(&self) -> u32 {
+        self.counts.iter().sum::<u32>().div_ceil(2)
+    }
+}
+
 /// A read-only copy of a map for export.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HexMapSnapshot {
@@ -19,5 +64,274 @@ pub struct HexMapSnapshot {
     /// Visited hexagons, sorted by (q, r).
     pub cells: Vec<HexCell>,
 }
-/// placeholder
-pub struct HexTransitionMap;
+
+/// A particle's transition map: shared, copy-on-write edge-crossing counts.
+#[derive(Debug, Clone, Default)]
+pub struct HexTransitionMap {
+    root: Option<Arc<Node>>,
+    /// Height of the root above the leaves (0: the root is a leaf).
+    level: u8,
+    /// Block coordinates of the root at its level.
+    base: (u32, u32),
+}
+
+/// Leaf-block coordinates and the index within the leaf of a hexagon.
+fn locate(h: Hex) -> ((u32, u32), usize) {
+    let u = (h.x as u32).wrapping_add(KEY_OFFSET);
+    let v = (h.y as u32).wrapping_add(KEY_OFFSET);
+    ((u >> 2, v >> 2), ((u & 3) + 4 * (v & 3)) as usize)
+}
+
+fn child_index((lx, ly): (u32, u32), level: u8) -> usize {
+    let shift = 2 * (u32::from(level) - 1);
+    (((lx >> shift) & 3) + 4 * ((ly >> shift) & 3)) as usize
+}
+
+fn block_at((lx, ly): (u32, u32), level: u8) -> (u32, u32) {
+    let shift = 2 * u32::from(level);
+    if shift >= 32 { (0, 0) } else { (lx >> shift, ly >> shift) }
+}
+
+impl HexTransitionMap {
+    /// An empty map.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    fn counters(&self, h: Hex) -> Counters {
+        let (leaf, slot) = locate(h);
+        if block_at(leaf, self.level) != self.base {
+            return [0; 4];
+        }
+        let mut node = match &self.root {
+            Some(n) => n.as_ref(),
+            None => return [0; 4],
+        };
+        let mut level = self.level;
+        loop {
+            match node {
+                Node::Leaf(cells) => return cells[slot],
+                Node::Branch(children) => match &children[child_index(leaf, level)] {
+                    Some(c) => {
+                        node = c.as_ref();
+                        level -= 1;
+                    }
+                    None => return [0; 4],
+                },
+            }
+        }
+    }
+
+    /// `N^e_h`: crossings of edge `edge` of hexagon `h`, both directions.
+    pub fn edge_count(&self, h: Hex, edge: u8) -> u32 {
+        if edge < 3 {
+            u32::from(self.counters(h)[usize::from(edge)])
+        } else {
+            u32::from(self.counters(HexGrid::neighbour(h, edge))[usize::from(edge - 3)])
+        }
+    }
+
+    /// `N_h`: crossings of all six edges of `h`.
+    pub fn total_count(&self, h: Hex) -> u32 {
+        u32::from(self.counters(h)[TOTAL])
+    }
+
+    /// The six edge counts of `h` in edge order.
+    pub fn edge_counts(&self, h: Hex) -> [u32; 6] {
+        std::array::from_fn(|e| self.edge_count(h, e as u8))
+    }
+
+    /// Grows the tree upwards until its root block covers `leaf`.
+    fn cover(&mut self, leaf: (u32, u32)) {
+        if self.root.is_none() {
+            self.level = 0;
+            self.base = leaf;
+            return;
+        }
+        while block_at(leaf, self.level) != self.base && self.level < MAX_LEVEL {
+            let mut children: [Option<Arc<Node>>; 16] = Default::default();
+            let (bx, by) = self.base;
+            children[((bx & 3) + 4 * (by & 3)) as usize] = self.root.take();
+            self.root = Some(Arc::new(Node::Branch(children)));
+            self.level += 1;
+            self.base = (bx >> 2, by >> 2);
+        }
+    }
+
+    /// Mutable counters of `h`, copying shared nodes on the way down.
+    fn counters_mut(&mut self, h: Hex) -> &mut Counters {
+        let (leaf, slot) = locate(h);
+        self.cover(leaf);
+        let mut level = self.level;
+        let mut node = self.root.get_or_insert_with(|| {
+            Arc::new(if level == 0 {
+                Node::Leaf([[0; 4]; 16])
+            } else {
+                Node::Branch(Default::default())
+            })
+        });
+        loop {
+            match Arc::make_mut(node) {
+                Node::Leaf(cells) => return &mut cells[slot],
+                Node::Branch(children) => {
+                    let child = &mut children[child_index(leaf, level)];
+                    level -= 1;
+                    node = child.get_or_insert_with(|| {
+                        Arc::new(if level == 0 {
+                            Node::Leaf([[0; 4]; 16])
+                        } else {
+                            Node::Branch(Default::default())
+                        })
+                    });
+                }
+            }
+        }
+    }
+
+    /// Counts one crossing of edge `edge` out of `from` (sec. 3: for the outgoing and the
+    /// incoming hexagon alike). Counters saturate at `u16::MAX`.
+    pub fn record_crossing(&mut self, from: Hex, edge: u8) {
+        let to = HexGrid::neighbour(from, edge);
+        let (owner, owned) = if edge < 3 { (from, edge) } else { (to, edge - 3) };
+        let c = self.counters_mut(owner);
+        c[usize::from(owned)] = c[usize::from(owned)].saturating_add(1);
+        let c = self.counters_mut(from);
+        c[TOTAL] = c[TOTAL].saturating_add(1);
+        let c = self.counters_mut(to);
+        c[TOTAL] = c[TOTAL].saturating_add(1);
+    }
+
+    /// Adds `n` crossings of an edge at once (used to seed a map from prior counts).
+    pub fn add_crossings(&mut self, from: Hex, edge: u8, n: u16) {
+        let to = HexGrid::neighbour(from, edge);
+        let (owner, owned) = if edge < 3 { (from, edge) } else { (to, edge - 3) };
+        let c = self.counters_mut(owner);
+        c[usize::from(owned)] = c[usize::from(owned)].saturating_add(n);
+        for h in [from, to] {
+            let c = self.counters_mut(h);
+            c[TOTAL] = c[TOTAL].saturating_add(n);
+        }
+    }
+
+    /// Every hexagon with at least one crossing, sorted by (q, r), with its six counts.
+    pub fn snapshot(&self, radius: f64, alpha: f64) -> HexMapSnapshot {
+        let mut stored: FxHashMap<Hex, Counters> = FxHashMap::default();
+        if let Some(root) = &self.root {
+            let mut stack = vec![(root.as_ref(), self.level, self.base)];
+            while let Some((node, level, (bx, by))) = stack.pop() {
+                match node {
+                    Node::Branch(children) => {
+                        for (i, c) in children.iter().enumerate() {
+                            if let Some(c) = c {
+                                let (cx, cy) = (bx * 4 + (i as u32 & 3), by * 4 + (i as u32 >> 2));
+                                stack.push((c.as_ref(), level - 1, (cx, cy)));
+                            }
+                        }
+                    }
+                    Node::Leaf(cells) => {
+                        for (slot, c) in cells.iter().enumerate() {
+                            if c[TOTAL] > 0 {
+                                let u = bx * 4 + (slot as u32 & 3);
+                                let v = by * 4 + (slot as u32 >> 2);
+                                let q = u.wrapping_sub(KEY_OFFSET) as i32;
+                                let r = v.wrapping_sub(KEY_OFFSET) as i32;
+                                stored.insert(Hex::new(q, r), *c);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        let get = |h: Hex| stored.get(&h).copied().unwrap_or([0; 4]);
+        let mut cells: Vec<HexCell> = stored
+            .keys()
+            .map(|&h| {
+                let own = get(h);
+                let counts = std::array::from_fn(|e| {
+                    if e < 3 {
+                        u32::from(own[e])
+                    } else {
+                        u32::from(get(HexGrid::neighbour(h, e as u8))[e - 3])
+                    }
+                });
+                HexCell { hex: h, counts }
+            })
+            .collect();
+        cells.sort_by_key(|c| (c.hex.x, c.hex.y));
+        HexMapSnapshot { radius, alpha, cells }
+    }
+
+    /// Bytes held by nodes not shared with any other map (a lower bound on what this
+    /// map alone keeps alive); shared nodes are not counted.
+    pub fn unshared_bytes(&self) -> usize {
+        fn walk(node: &Arc<Node>) -> usize {
+            if Arc::strong_count(node) > 1 {
+                return 0;
+            }
+            let own = std::mem::size_of::<Node>() + 2 * std::mem::size_of::<usize>();
+            match node.as_ref() {
+                Node::Leaf(_) => own,
+                Node::Branch(children) => own + children.iter().flatten().map(walk).sum::<usize>(),
+            }
+        }
+        self.root.as_ref().map_or(0, walk)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crossings_count_for_both_hexagons() {
+        let mut m = HexTransitionMap::new();
+        let a = Hex::new(0, 0);
+        m.record_crossing(a, 0);
+        let b = HexGrid::neighbour(a, 0);
+        assert_eq!(m.edge_count(a, 0), 1);
+        assert_eq!(m.edge_count(b, 3), 1);
+        assert_eq!(m.total_count(a), 1);
+        assert_eq!(m.total_count(b), 1);
+        m.record_crossing(b, 4);
+        assert_eq!(m.edge_count(b, 4), 1);
+        assert_eq!(m.total_count(b), 2);
+        assert_eq!(m.edge_counts(b), [0, 0, 0, 1, 1, 0]);
+    }
+
+    #[test]
+    fn clones_share_until_written() {
+        let mut m = HexTransitionMap::new();
+        for q in -40..40 {
+            m.record_crossing(Hex::new(q, 3), 0);
+        }
+        let before = m.unshared_bytes();
+        assert!(before > 0);
+        let mut c = m.clone();
+        assert_eq!(m.unshared_bytes(), 0, "a clone shares everything");
+        c.record_crossing(Hex::new(0, 3), 1);
+        assert!(c.unshared_bytes() < before, "a write copies only one path");
+        assert_eq!(m.edge_count(Hex::new(0, 3), 1), 0, "the original is unchanged");
+        assert_eq!(c.edge_count(Hex::new(0, 3), 1), 1);
+    }
+
+    #[test]
+    fn grows_to_far_hexagons_and_snapshots_everything() {
+        let mut m = HexTransitionMap::new();
+        let far = [Hex::new(0, 0), Hex::new(-5000, 7), Hex::new(123_456, -98_765), Hex::new(-1, -1)];
+        for (i, &h) in far.iter().enumerate() {
+            for _ in 0..=i {
+                m.record_crossing(h, (i % 6) as u8);
+            }
+        }
+        for (i, &h) in far.iter().enumerate() {
+            assert_eq!(m.edge_count(h, (i % 6) as u8), i as u32 + 1, "{h:?}");
+        }
+        let s = m.snapshot(0.5, 0.8);
+        assert_eq!(s.cells.len(), 8);
+        let total: u32 = s.cells.iter().map(|c| c.counts.iter().sum::<u32>()).sum();
+        assert_eq!(total, 2 * (1 + 2 + 3 + 4));
+        for c in &s.cells {
+            assert_eq!(c.counts, m.edge_counts(c.hex));
+        }
+    }
+}

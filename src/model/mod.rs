@@ -1,1 +1,5 @@
-//! TODO
+//! Layer 2: probabilistic models, apart from the filter machinery.
+
+pub mod step_motion;
+
+pub use step_motion::{StepErrorState, StepMotion, StepMotionConfig};

@@ -1,0 +1,418 @@
+//! FootSLAM: the Rao-Blackwellised particle filter of Robertson et al. (2009), sec. 3.
+//!
+//! Each particle carries a pose `P_k`, the step error state `E_k` and its own hexagon
+//! transition map `M` (the Rao-Blackwellised part, eq. 2: `p(M | P_{0:k})` is kept in
+//! closed form as Dirichlet counts). One call of [`FootSlam::update`] runs the algorithm
+//! box's steps 2a–2f for one step measurement `Z^U_k`:
+//!
+//! * (a, b) draw `E_k` and `U_k` from the likelihood proposal, eq. (5), and move;
+//! * (c) weight by the map's posterior predictive of every edge crossed, eq. (6);
+//! * (e) count the crossings in the particle's map;
+//! * (d) normalise; (f) resample when the effective sample size is low.
+
+use super::lineage::Lineage;
+use super::random_stream::{filter_stream, stream};
+use super::resample::{self, ResampleConfig, ResampleMethod};
+use crate::error::{Error, Result};
+use crate::geometry::{HexGrid, Pose2};
+use crate::map::{HexMapSnapshot, HexTransitionMap};
+use crate::model::{StepErrorState, StepMotion, StepMotionConfig};
+use crate::sensor::Step;
+use rand::RngExt;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// FootSLAM's parameters; every default in one place.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FootSlamConfig {
+    /// Number of particles `N_p`. Default 20,000.
+    pub particles: usize,
+    /// Seed of every random draw; equal seeds give equal results on any thread count.
+    pub seed: u64,
+    /// Hexagon circumradius `r`, metres. Default 0.5 m (the paper's value).
+    pub hex_radius: f64,
+    /// Dirichlet prior `α^e_h` per edge. Default 0.8 (the paper's value).
+    pub alpha: f64,
+    /// Apply the paper's direction correction to eq. (6) (sec. 3). Default true.
+    pub direction_correction: bool,
+    /// The walk's start pose (x, y metres, heading radians). Default (0, 0, 0).
+    pub start: Pose2,
+    /// Step error model.
+    pub motion: StepMotionConfig,
+    /// Resampling.
+    pub resample: ResampleConfig,
+}
+
+impl Default for FootSlamConfig {
+    fn default() -> Self {
+        Self {
+            particles: 20_000,
+            seed: 0,
+            hex_radius: 0.5,
+            alpha: 0.8,
+            direction_correction: true,
+            start: Pose2::default(),
+            motion: StepMotionConfig::default(),
+            resample: ResampleConfig::default(),
+        }
+    }
+}
+
+impl FootSlamConfig {
+    /// Checks every field against its documented range.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |field, value: String, reason| Err(Error::Config { field, value, reason });
+        if !(1..=100_000_000).contains(&self.particles) {
+            return bad("particles", self.particles.to_string(), "must be in 1..=100000000");
+        }
+        if !(self.hex_radius.is_finite() && (0.05..=10.0).contains(&self.hex_radius)) {
+            return bad("hex_radius", self.hex_radius.to_string(), "must be in [0.05, 10] metres");
+        }
+        if !(self.alpha.is_finite() && self.alpha > 0.0 && self.alpha <= 1000.0) {
+            return bad("alpha", self.alpha.to_string(), "must be in (0, 1000]");
+        }
+        let s = self.start;
+        if !(s.x.is_finite() && s.y.is_finite() && s.heading.is_finite()) {
+            return bad("start", format!("{s:?}"), "must be finite");
+        }
+        let t = self.resample.ess_threshold;
+        if !(t.is_finite() && (0.0..=1.0).contains(&t)) {
+            return bad("resample.ess_threshold", t.to_string(), "must be in [0, 1]");
+        }
+        self.motion
+            .validate()
+            .or_else(|(field, v, reason)| bad(field, v.to_string(), reason))
+    }
+}
+
+/// One particle: pose, error state, its own map and its ancestry.
+#[derive(Debug, Clone)]
+struct Particle {
+    pose: Pose2,
+    error: StepErrorState,
+    map: HexTransitionMap,
+    lineage: Arc<Lineage>,
+}
+
+/// The filter's answer: the most probable particle's map and whole path.
+#[derive(Debug, Clone)]
+pub struct FootSlamEstimate {
+    /// Index of the particle with the highest weight.
+    pub index: usize,
+    /// Its normalised weight.
+    pub weight: f64,
+    /// Its pose after each step (one per step processed).
+    pub path: Vec<Pose2>,
+    /// Its map.
+    pub map: HexMapSnapshot,
+}
+
+/// The FootSLAM Rao-Blackwellised particle filter.
+#[derive(Debug)]
+pub struct FootSlam {
+    config: FootSlamConfig,
+    motion: StepMotion,
+    grid: HexGrid,
+    particles: Vec<Particle>,
+    /// Normalised log weights, `ln wᵢ`.
+    log_weights: Vec<f64>,
+    /// Scratch buffers reused every step.
+    weights: Vec<f64>,
+    parents: Vec<usize>,
+    residuals: Vec<f64>,
+    next: Vec<Particle>,
+    /// Step measurements seen, needed to replay paths.
+    steps: Vec<(f64, f64)>,
+    ess_history: Vec<f64>,
+    resamplings: usize,
+}
+
+impl FootSlam {
+    /// A filter with all particles at the start pose (Algorithm step 1) and `E_0` drawn
+    /// from its initial distribution.
+    pub fn new(config: FootSlamConfig) -> Result<Self> {
+        config.validate()?;
+        let motion = StepMotion::new(config.motion);
+        let n = config.particles;
+        let particles: Vec<Particle> = (0..n)
+            .into_par_iter()
+            .map(|i| Particle {
+                pose: config.start,
+                error: motion.sample_initial(&mut stream(config.seed, 0, i as u64)),
+                map: HexTransitionMap::new(),
+                lineage: Lineage::root(i as u32),
+            })
+            .collect();
+        Ok(Self {
+            grid: HexGrid::new(config.hex_radius),
+            motion,
+            log_weights: vec![-(n as f64).ln(); n],
+            weights: vec![1.0 / n as f64; n],
+            parents: Vec::with_capacity(n),
+            residuals: Vec::new(),
+            next: Vec::with_capacity(n),
+            particles,
+            steps: Vec::new(),
+            ess_history: Vec::new(),
+            resamplings: 0,
+            config,
+        })
+    }
+
+    /// The configuration in force.
+    pub fn config(&self) -> &FootSlamConfig {
+        &self.config
+    }
+
+    /// Steps processed so far.
+    pub fn steps_processed(&self) -> usize {
+        self.steps.len()
+    }
+
+    /// Resamplings so far.
+    pub fn resamplings(&self) -> usize {
+        self.resamplings
+    }
+
+    /// Effective sample size after each step (before any resampling at that step).
+    pub fn ess_history(&self) -> &[f64] {
+        &self.ess_history
+    }
+
+    /// Current effective sample size `1 / Σ wᵢ²`.
+    pub fn effective_sample_size(&self) -> f64 {
+        resample::effective_sample_size(&self.weights)
+    }
+
+    /// Current positions and normalised weights of all particles.
+    pub fn particle_positions(&self) -> impl Iterator<Item = ((f64, f64), f64)> + '_ {
+        self.particles
+            .iter()
+            .zip(&self.weights)
+            .map(|(p, &w)| ((p.pose.x, p.pose.y), w))
+    }
+
+    /// Runs steps 2a–2f of the algorithm for one step measurement `Z^U_k`.
+    pub fn update(&mut self, z: &Step) {
+        self.steps.push((z.length, z.dheading));
+        let k = self.steps.len() as u64;
+        let (seed, motion, grid) = (self.config.seed, self.motion, self.grid);
+        let (alpha, correct) = (self.config.alpha, self.config.direction_correction);
+        self.particles
+            .par_iter_mut()
+            .zip(self.log_weights.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (p, log_w))| {
+                let mut rng = stream(seed, k, i as u64);
+                // (a) E_k ~ p(E_k | E_{k-1}), U_k ~ p(U_k | Z^U_k, E_k): eq. (5).
+                p.error = motion.sample_error(p.error, &mut rng);
+                // (b) P_k = P_{k-1} + U_k.
+                let pose = motion.sample_step(p.pose, p.error, z.length, z.dheading, &mut rng);
+                // (c) and (e): weight by every edge crossed, then count it.
+                *log_w += log_map_factor(&grid, &mut p.map, alpha, correct, p.pose, pose);
+                p.pose = pose;
+            });
+        // (d) normalise.
+        self.normalise();
+        let ess = self.effective_sample_size();
+        self.ess_history.push(ess);
+        // (f) resample if required.
+        if ess < self.config.resample.ess_threshold * self.particles.len() as f64 {
+            self.resample(k);
+        }
+    }
+
+    /// Normalises the log weights and fills the linear weights; sums in index order so the
+    /// result does not depend on the thread count.
+    fn normalise(&mut self) {
+        let max = self.log_weights.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let sum: f64 = self.log_weights.iter().map(|&l| (l - max).exp()).sum();
+        let log_sum = max + sum.ln();
+        for (w, l) in self.weights.iter_mut().zip(self.log_weights.iter_mut()) {
+            *l -= log_sum;
+            *w = l.exp();
+        }
+        debug_assert!((self.weights.iter().sum::<f64>() - 1.0).abs() < 1e-6);
+    }
+
+    /// Resamples after step `k`; survivors share maps (one reference count each) and
+    /// extend their ancestry only when their index changes.
+    fn resample(&mut self, k: u64) {
+        let n = self.particles.len();
+        let u0 = filter_stream(self.config.seed, k).random::<f64>();
+        match self.config.resample.method {
+            ResampleMethod::Systematic => resample::systematic(&self.weights, n, u0, &mut self.parents),
+            ResampleMethod::Residual => {
+                resample::residual(&self.weights, n, u0, &mut self.parents, &mut self.residuals);
+            }
+        }
+        let from_step = (k + 1) as u32;
+        let particles = &self.particles;
+        self.parents
+            .par_iter()
+            .enumerate()
+            .map(|(i, &j)| {
+                let p = &particles[j];
+                let lineage = if i == j {
+                    Arc::clone(&p.lineage)
+                } else {
+                    Lineage::child(&p.lineage, from_step, i as u32)
+                };
+                Particle {
+                    pose: p.pose,
+                    error: p.error,
+                    map: p.map.clone(),
+                    lineage,
+                }
+            })
+            .collect_into_vec(&mut self.next);
+        std::mem::swap(&mut self.particles, &mut self.next);
+        self.next.clear();
+        let uniform = -(n as f64).ln();
+        self.log_weights.fill(uniform);
+        self.weights.fill(1.0 / n as f64);
+        self.resamplings += 1;
+    }
+
+    /// The most probable particle's map and whole path (replayed from its ancestry).
+    pub fn estimate(&self) -> FootSlamEstimate {
+        let index = self
+            .weights
+            .iter()
+            .enumerate()
+            .fold((0, f64::NEG_INFINITY), |best, (i, &w)| if w > best.1 { (i, w) } else { best })
+            .0;
+        FootSlamEstimate {
+            index,
+            weight: self.weights.get(index).copied().unwrap_or(0.0),
+            path: self.replay_path(index),
+            map: self.particles[index]
+                .map
+                .snapshot(self.config.hex_radius, self.config.alpha),
+        }
+    }
+
+    /// Re-draws particle `index`'s whole path from the random streams its ancestors used;
+    /// the motion does not depend on the map (eq. 5), so this reproduces it exactly.
+    pub fn replay_path(&self, index: usize) -> Vec<Pose2> {
+        let seed = self.config.seed;
+        let indices = self.particles[index].lineage.indices(self.steps.len() + 1);
+        let mut error = self.motion.sample_initial(&mut stream(seed, 0, u64::from(indices[0])));
+        let mut pose = self.config.start;
+        self.steps
+            .iter()
+            .enumerate()
+            .map(|(s, &(length, dheading))| {
+                let k = s as u64 + 1;
+                let mut rng = stream(seed, k, u64::from(indices[s + 1]));
+                error = self.motion.sample_error(error, &mut rng);
+                pose = self.motion.sample_step(pose, error, length, dheading, &mut rng);
+                pose
+            })
+            .collect()
+    }
+}
+
+/// Eq. (6) for one step: the product over every edge crossed between `from` and `to` of
+/// `(N^ẽ_h̃ + α) / (N_h̃ + 6α)` with the counts so far, raised to the direction correction
+/// (sec. 3); each crossing is counted in `map` right after it is weighed (step 2e), so a
+/// step over several edges multiplies one factor per edge. Returns the log of the product.
+fn log_map_factor(
+    grid: &HexGrid,
+    map: &mut HexTransitionMap,
+    alpha: f64,
+    correct: bool,
+    from: Pose2,
+    to: Pose2,
+) -> f64 {
+    let mut log_factor = 0.0;
+    grid.for_each_crossing((from.x, from.y), (to.x, to.y), |c| {
+        let n_e = f64::from(map.edge_count(c.from, c.edge));
+        let n_h = f64::from(map.total_count(c.from));
+        log_factor += ((n_e + alpha) / (n_h + 6.0 * alpha)).ln(); // eq. (6)
+        map.record_crossing(c.from, c.edge); // step (e)
+    });
+    if correct && log_factor != 0.0 {
+        log_factor *= HexGrid::direction_exponent((to.y - from.y).atan2(to.x - from.x));
+    }
+    log_factor
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square_walk(laps: usize) -> Vec<Step> {
+        let mut steps = Vec::new();
+        let mut t = 0.0;
+        for _ in 0..laps {
+            for side in 0..4 {
+                for s in 0..10 {
+                    t += 0.5;
+                    let turn = if s == 0 && (side > 0 || t > 1.0) { std::f64::consts::FRAC_PI_2 } else { 0.0 };
+                    steps.push(Step { t, length: 0.7, dheading: turn, dz: 0.0, heading: None });
+                }
+            }
+        }
+        steps
+    }
+
+    #[test]
+    fn replayed_path_ends_at_the_particle() {
+        let config = FootSlamConfig { particles: 300, seed: 7, ..Default::default() };
+        let mut f = FootSlam::new(config).expect("valid");
+        for s in square_walk(2) {
+            f.update(&s);
+        }
+        assert!(f.resamplings() > 0, "revisits must trigger resampling");
+        for i in [0, 17, 299] {
+            let path = f.replay_path(i);
+            let end = path.last().expect("non-empty");
+            assert_eq!(*end, f.particles[i].pose);
+        }
+        let e = f.estimate();
+        assert_eq!(e.path.len(), 80);
+        assert!(!e.map.cells.is_empty());
+    }
+
+    #[test]
+    fn results_do_not_depend_on_thread_count() {
+        let run = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
+            pool.install(|| {
+                let mut f = FootSlam::new(FootSlamConfig { particles: 500, seed: 3, ..Default::default() })
+                    .expect("valid");
+                for s in square_walk(2) {
+                    f.update(&s);
+                }
+                f.estimate().path
+            })
+        };
+        assert_eq!(run(1), run(3));
+    }
+
+    #[test]
+    fn revisiting_particles_gain_weight() {
+        // Two edges: one crossed before (count 1), one never; the known one is likelier.
+        let grid = HexGrid::new(0.5);
+        let mut map = HexTransitionMap::new();
+        let a = Pose2::new(0.0, 0.0, 0.0);
+        let b = Pose2::new(0.866, 0.0, 0.0);
+        let first = log_map_factor(&grid, &mut map, 0.8, false, a, b);
+        assert!((first - (0.8f64 / 4.8).ln()).abs() < 1e-12, "an unknown hexagon gives 1/6");
+        let back = log_map_factor(&grid, &mut map, 0.8, false, b, a);
+        // Leaving b through the edge entered: (1 + 0.8) / (1 + 4.8).
+        assert!((back - (1.8f64 / 5.8).ln()).abs() < 1e-12);
+        let c = Pose2::new(0.2, 0.2, 0.0);
+        assert_eq!(log_map_factor(&grid, &mut map, 0.8, false, a, c), 0.0, "no crossing, no update");
+    }
+
+    #[test]
+    fn rejects_bad_configuration() {
+        assert!(FootSlam::new(FootSlamConfig { particles: 0, ..Default::default() }).is_err());
+        assert!(FootSlam::new(FootSlamConfig { hex_radius: f64::NAN, ..Default::default() }).is_err());
+        assert!(FootSlam::new(FootSlamConfig { alpha: -1.0, ..Default::default() }).is_err());
+    }
+}

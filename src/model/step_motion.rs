@@ -1,0 +1,219 @@
+//! The step measurement model of FootSLAM (Robertson et al. 2009, sec. 2.3, Fig. 6) used as
+//! the likelihood proposal of eq. (5):
+//! `q = p(E_k | E_{k-1}) · p(U_k | Z^U_k, E_k)`.
+//!
+//! The error state `E_k` holds the correlated errors of the step measurement:
+//! * the IMU heading drift, a rate `b_k` (radians per step) following an unbounded random
+//!   walk — so the accumulated heading error can drift without limit, as a gyro bias does;
+//! * the "duck angle" `ψ_k` between the body's heading and the foot's, a random walk
+//!   reflected at `±ψ_max` (20°, "essentially limited by human physiology");
+//! * a stride-length scale `s` fixed per walk (a few percent off is common).
+//!
+//! Given `E_k` the true step `U_k` is the measured one with the drift removed plus white
+//! noise on length and heading change.
+
+use crate::geometry::Pose2;
+use rand::RngExt;
+use rand_distr::StandardNormal;
+use serde::{Deserialize, Serialize};
+
+/// Noise parameters of the step model; every default in one place.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct StepMotionConfig {
+    /// White noise on stride length, metres (1σ). Default 0.03 m.
+    pub length_sigma: f64,
+    /// White noise on each heading change, radians (1σ). Default 1.0° (0.01745 rad).
+    pub dheading_sigma: f64,
+    /// Initial spread of the heading-drift rate, radians per step (1σ). Default 0.05°/step,
+    /// i.e. 30° over a 600-step walk.
+    pub drift_rate_sigma0: f64,
+    /// Random walk of the heading-drift rate, radians per step per step (1σ).
+    /// Default 0.002°.
+    pub drift_rate_walk_sigma: f64,
+    /// Random walk of the duck angle, radians per step (1σ). Default 0.1°.
+    pub duck_walk_sigma: f64,
+    /// Bound of the duck angle, radians. Default 20° (the paper's value).
+    pub duck_max: f64,
+    /// Spread of the per-walk stride-length scale around 1 (1σ). Default 0.02.
+    pub length_scale_sigma0: f64,
+}
+
+impl Default for StepMotionConfig {
+    fn default() -> Self {
+        Self {
+            length_sigma: 0.03,
+            dheading_sigma: 1.0_f64.to_radians(),
+            drift_rate_sigma0: 0.05_f64.to_radians(),
+            drift_rate_walk_sigma: 0.002_f64.to_radians(),
+            duck_walk_sigma: 0.1_f64.to_radians(),
+            duck_max: 20.0_f64.to_radians(),
+            length_scale_sigma0: 0.02,
+        }
+    }
+}
+
+impl StepMotionConfig {
+    /// Checks every field; returns the offending field's name and rule.
+    pub fn validate(&self) -> Result<(), (&'static str, f64, &'static str)> {
+        let fields = [
+            ("motion.length_sigma", self.length_sigma),
+            ("motion.dheading_sigma", self.dheading_sigma),
+            ("motion.drift_rate_sigma0", self.drift_rate_sigma0),
+            ("motion.drift_rate_walk_sigma", self.drift_rate_walk_sigma),
+            ("motion.duck_walk_sigma", self.duck_walk_sigma),
+            ("motion.length_scale_sigma0", self.length_scale_sigma0),
+        ];
+        for (name, v) in fields {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err((name, v, "must be a finite number ≥ 0"));
+            }
+        }
+        if !(self.duck_max.is_finite() && (0.0..=std::f64::consts::FRAC_PI_2).contains(&self.duck_max)) {
+            return Err(("motion.duck_max", self.duck_max, "must be in [0, π/2] radians"));
+        }
+        if self.length_scale_sigma0 > 0.3 {
+            return Err(("motion.length_scale_sigma0", self.length_scale_sigma0, "must be ≤ 0.3"));
+        }
+        Ok(())
+    }
+}
+
+/// The error state `E_k` of one particle (f32 keeps particles small; these are small
+/// angles and a scale near 1).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StepErrorState {
+    /// Heading-drift rate `b_k`, radians per step.
+    pub drift_rate: f32,
+    /// Duck angle `ψ_k`, radians.
+    pub duck: f32,
+    /// Stride-length scale `s`.
+    pub length_scale: f32,
+}
+
+/// The step model with its configuration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepMotion {
+    config: StepMotionConfig,
+}
+
+fn gauss(rng: &mut impl rand::Rng) -> f64 {
+    rng.sample::<f64, _>(StandardNormal)
+}
+
+impl StepMotion {
+    /// The model for a validated configuration.
+    pub fn new(config: StepMotionConfig) -> Self {
+        Self { config }
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &StepMotionConfig {
+        &self.config
+    }
+
+    /// Draws `E_0` (Algorithm step 1): a drift rate and length scale from their initial
+    /// spreads, duck angle zero.
+    pub fn sample_initial(&self, rng: &mut impl rand::Rng) -> StepErrorState {
+        StepErrorState {
+            drift_rate: (self.config.drift_rate_sigma0 * gauss(rng)) as f32,
+            duck: 0.0,
+            length_scale: (1.0 + self.config.length_scale_sigma0 * gauss(rng)).max(0.5) as f32,
+        }
+    }
+
+    /// Draws `E_k ~ p(E_k | E_{k-1})`.
+    pub fn sample_error(&self, e: StepErrorState, rng: &mut impl rand::Rng) -> StepErrorState {
+        let c = &self.config;
+        let drift_rate = f64::from(e.drift_rate) + c.drift_rate_walk_sigma * gauss(rng);
+        let duck = reflect(f64::from(e.duck) + c.duck_walk_sigma * gauss(rng), c.duck_max);
+        StepErrorState {
+            drift_rate: drift_rate as f32,
+            duck: duck as f32,
+            length_scale: e.length_scale,
+        }
+    }
+
+    /// Draws `U_k ~ p(U_k | Z^U_k, E_k)` and applies it to `pose` (Algorithm steps 2a–2b):
+    /// the heading turns by the measured change less the drift plus white noise, and the
+    /// walker moves the scaled, noisy stride along its body heading (IMU heading plus duck
+    /// angle). The returned pose's heading is the IMU heading (without the duck angle).
+    pub fn sample_step(
+        &self,
+        pose: Pose2,
+        e: StepErrorState,
+        length: f64,
+        dheading: f64,
+        rng: &mut impl rand::Rng,
+    ) -> Pose2 {
+        let c = &self.config;
+        let heading = pose.heading + dheading - f64::from(e.drift_rate) + c.dheading_sigma * gauss(rng);
+        let stride = (length * f64::from(e.length_scale) + c.length_sigma * gauss(rng)).max(0.0);
+        let direction = heading + f64::from(e.duck);
+        Pose2 {
+            x: pose.x + stride * direction.cos(),
+            y: pose.y + stride * direction.sin(),
+            heading,
+        }
+    }
+}
+
+/// Reflects `x` into `[-bound, bound]`.
+fn reflect(x: f64, bound: f64) -> f64 {
+    if bound <= 0.0 {
+        return 0.0;
+    }
+    let period = 4.0 * bound;
+    let y = (x + bound).rem_euclid(period);
+    if y <= 2.0 * bound { y - bound } else { 3.0 * bound - y }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+
+    #[test]
+    fn reflection_stays_in_bounds() {
+        assert!((reflect(0.3, 0.35) - 0.3).abs() < 1e-12);
+        assert!((reflect(0.4, 0.35) - 0.3).abs() < 1e-12);
+        assert!((reflect(-0.4, 0.35) + 0.3).abs() < 1e-12);
+        for i in -100..100 {
+            let r = reflect(f64::from(i) * 0.137, 0.35);
+            assert!(r.abs() <= 0.35 + 1e-12);
+        }
+    }
+
+    #[test]
+    fn noise_free_model_reproduces_dead_reckoning() {
+        let config = StepMotionConfig {
+            length_sigma: 0.0,
+            dheading_sigma: 0.0,
+            drift_rate_sigma0: 0.0,
+            drift_rate_walk_sigma: 0.0,
+            duck_walk_sigma: 0.0,
+            length_scale_sigma0: 0.0,
+            ..Default::default()
+        };
+        let m = StepMotion::new(config);
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(1);
+        let e = m.sample_initial(&mut rng);
+        let p = m.sample_step(Pose2::default(), e, 0.7, 0.3, &mut rng);
+        let q = Pose2::default().step(0.7, 0.3);
+        assert!((p.x - q.x).abs() < 1e-12 && (p.y - q.y).abs() < 1e-12);
+    }
+
+    #[test]
+    fn drift_rate_is_subtracted_from_heading_change() {
+        let config = StepMotionConfig {
+            length_sigma: 0.0,
+            dheading_sigma: 0.0,
+            ..Default::default()
+        };
+        let m = StepMotion::new(config);
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(1);
+        let e = StepErrorState { drift_rate: 0.1, duck: 0.0, length_scale: 1.0 };
+        let p = m.sample_step(Pose2::default(), e, 1.0, 0.1, &mut rng);
+        assert!(p.heading.abs() < 1e-6 && (p.x - 1.0).abs() < 1e-6);
+    }
+}
