@@ -2,8 +2,10 @@
 //! in its errors.
 
 pub mod csv_table;
+pub mod floor_plan_geojson;
 pub mod steps_csv;
 pub mod trajectory_csv;
+pub mod truth_csv;
 
 pub use steps_csv::read_steps;
 pub use trajectory_csv::{TimedPoint, read_trajectory, write_trajectory};

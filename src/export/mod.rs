@@ -1,6 +1,9 @@
 //! Layer 4 (out): GeoJSON, pictures and run folders. Every file is written completely or
 //! not at all (written beside its destination, then renamed).
 
+mod glyphs;
+pub mod map_geojson;
+pub mod map_png;
 pub mod run_folder;
 
 pub use run_folder::RunFolder;

@@ -127,6 +127,7 @@ pub struct FootSlam {
     steps: Vec<(f64, f64)>,
     ess_history: Vec<f64>,
     resamplings: usize,
+    resample_pending: bool,
 }
 
 impl FootSlam {
@@ -157,6 +158,7 @@ impl FootSlam {
             steps: Vec::new(),
             ess_history: Vec::new(),
             resamplings: 0,
+            resample_pending: false,
             config,
         })
     }
@@ -196,6 +198,12 @@ impl FootSlam {
 
     /// Runs steps 2a–2f of the algorithm for one step measurement `Z^U_k`.
     pub fn update(&mut self, z: &Step) {
+        // (f) of the previous step, done lazily so that the weights of the last step
+        // survive for [`FootSlam::estimate`].
+        if self.resample_pending {
+            self.resample(self.steps.len() as u64);
+            self.resample_pending = false;
+        }
         self.steps.push((z.length, z.dheading));
         let k = self.steps.len() as u64;
         let (seed, motion, grid) = (self.config.seed, self.motion, self.grid);
@@ -218,10 +226,8 @@ impl FootSlam {
         self.normalise();
         let ess = self.effective_sample_size();
         self.ess_history.push(ess);
-        // (f) resample if required.
-        if ess < self.config.resample.ess_threshold * self.particles.len() as f64 {
-            self.resample(k);
-        }
+        // (f) resample if required (before the next step moves the particles).
+        self.resample_pending = ess < self.config.resample.ess_threshold * self.particles.len() as f64;
     }
 
     /// Normalises the log weights and fills the linear weights; sums in index order so the
@@ -329,13 +335,11 @@ fn log_map_factor(
 ) -> f64 {
     let mut log_factor = 0.0;
     grid.for_each_crossing((from.x, from.y), (to.x, to.y), |c| {
-        let n_e = f64::from(map.edge_count(c.from, c.edge));
-        let n_h = f64::from(map.total_count(c.from));
-        log_factor += ((n_e + alpha) / (n_h + 6.0 * alpha)).ln(); // eq. (6)
-        map.record_crossing(c.from, c.edge); // step (e)
+        let (n_e, n_h) = map.record_crossing(c.from, c.edge); // step (e), counts before it
+        log_factor += ((f64::from(n_e) + alpha) / (f64::from(n_h) + 6.0 * alpha)).ln(); // eq. (6)
     });
     if correct && log_factor != 0.0 {
-        log_factor *= HexGrid::direction_exponent((to.y - from.y).atan2(to.x - from.x));
+        log_factor *= HexGrid::direction_exponent_of(to.x - from.x, to.y - from.y);
     }
     log_factor
 }

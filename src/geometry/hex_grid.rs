@@ -135,10 +135,19 @@ impl HexGrid {
     /// track. A line at heading `phi` crosses `2/(3√3 r) · Σᵢ|cos(phi − 60°·i)|` edges per
     /// metre; the exponent is the heading-average of that sum, `6/π`, over its value at `phi`.
     pub fn direction_exponent(phi: f64) -> f64 {
-        let s: f64 = (0..3)
-            .map(|i| (phi - FRAC_PI_3 * f64::from(i)).cos().abs())
-            .sum();
-        (6.0 / PI) / s
+        Self::direction_exponent_of(phi.cos(), phi.sin())
+    }
+
+    /// [`Self::direction_exponent`] for a track along `(dx, dy)` (any non-zero length),
+    /// without trigonometric calls: `|cos(phi − 60°·i)| = |dx·cos 60°i + dy·sin 60°i| / |d|`.
+    pub fn direction_exponent_of(dx: f64, dy: f64) -> f64 {
+        const C: [(f64, f64); 3] = [(1.0, 0.0), (0.5, SQRT3 / 2.0), (-0.5, SQRT3 / 2.0)];
+        let norm = dx.hypot(dy);
+        if norm == 0.0 {
+            return 1.0;
+        }
+        let s: f64 = C.iter().map(|&(c, s)| (dx * c + dy * s).abs()).sum();
+        (6.0 / PI) * norm / s
     }
 }
 
@@ -234,6 +243,10 @@ mod tests {
         // Along an edge normal a track crosses the most edges per metre: exponent < 1.
         assert!(HexGrid::direction_exponent(0.0) < 1.0);
         assert!(HexGrid::direction_exponent(PI / 6.0) > 1.0);
+        for phi in [0.0, 0.3, 1.0, 2.5, -2.0] {
+            let (a, b) = (HexGrid::direction_exponent(phi), HexGrid::direction_exponent_of(2.0 * phi.cos(), 2.0 * phi.sin()));
+            assert!((a - b).abs() < 1e-12);
+        }
     }
 
     #[test]

@@ -82,6 +82,10 @@ fn locate(h: Hex) -> ((u32, u32), usize) {
     ((u >> 2, v >> 2), ((u & 3) + 4 * (v & 3)) as usize)
 }
 
+fn bump(c: &mut u16) {
+    *c = c.saturating_add(1);
+}
+
 fn child_index((lx, ly): (u32, u32), level: u8) -> usize {
     let shift = 2 * (u32::from(level) - 1);
     (((lx >> shift) & 3) + 4 * ((ly >> shift) & 3)) as usize
@@ -158,58 +162,79 @@ impl HexTransitionMap {
         }
     }
 
-    /// Mutable counters of `h`, copying shared nodes on the way down.
-    fn counters_mut(&mut self, h: Hex) -> &mut Counters {
-        let (leaf, slot) = locate(h);
+    /// The mutable leaf of leaf-block `leaf`, copying shared nodes on the way down.
+    fn leaf_mut(&mut self, leaf: (u32, u32)) -> &mut [Counters; 16] {
         self.cover(leaf);
         let mut level = self.level;
-        let mut node = self.root.get_or_insert_with(|| {
+        let new_node = |level: u8| {
             Arc::new(if level == 0 {
                 Node::Leaf([[0; 4]; 16])
             } else {
                 Node::Branch(Default::default())
             })
-        });
+        };
+        let mut node = self.root.get_or_insert_with(|| new_node(level));
         loop {
             match Arc::make_mut(node) {
-                Node::Leaf(cells) => return &mut cells[slot],
+                Node::Leaf(cells) => return cells,
                 Node::Branch(children) => {
                     let child = &mut children[child_index(leaf, level)];
                     level -= 1;
-                    node = child.get_or_insert_with(|| {
-                        Arc::new(if level == 0 {
-                            Node::Leaf([[0; 4]; 16])
-                        } else {
-                            Node::Branch(Default::default())
-                        })
-                    });
+                    node = child.get_or_insert_with(|| new_node(level));
                 }
             }
         }
     }
 
     /// Counts one crossing of edge `edge` out of `from` (sec. 3: for the outgoing and the
-    /// incoming hexagon alike). Counters saturate at `u16::MAX`.
-    pub fn record_crossing(&mut self, from: Hex, edge: u8) {
+    /// incoming hexagon alike) and returns the counts before it, `(N^e_h, N_h)` of `from`,
+    /// as eq. (6) needs them. Counters saturate at `u16::MAX`. One descent of the tree
+    /// when both hexagons share a leaf, two otherwise.
+    pub fn record_crossing(&mut self, from: Hex, edge: u8) -> (u32, u32) {
         let to = HexGrid::neighbour(from, edge);
-        let (owner, owned) = if edge < 3 { (from, edge) } else { (to, edge - 3) };
-        let c = self.counters_mut(owner);
-        c[usize::from(owned)] = c[usize::from(owned)].saturating_add(1);
-        let c = self.counters_mut(from);
-        c[TOTAL] = c[TOTAL].saturating_add(1);
-        let c = self.counters_mut(to);
-        c[TOTAL] = c[TOTAL].saturating_add(1);
+        let ((leaf_from, slot_from), (leaf_to, slot_to)) = (locate(from), locate(to));
+        // The slot owning the edge and the edge's index there.
+        let (owner_slot, owned) = if edge < 3 {
+            (slot_from, usize::from(edge))
+        } else {
+            (slot_to, usize::from(edge - 3))
+        };
+        if leaf_from == leaf_to {
+            let cells = self.leaf_mut(leaf_from);
+            let before = (cells[owner_slot][owned], cells[slot_from][TOTAL]);
+            bump(&mut cells[owner_slot][owned]);
+            bump(&mut cells[slot_from][TOTAL]);
+            bump(&mut cells[slot_to][TOTAL]);
+            return (u32::from(before.0), u32::from(before.1));
+        }
+        let c = &mut self.leaf_mut(leaf_from)[slot_from];
+        let n_h = c[TOTAL];
+        bump(&mut c[TOTAL]);
+        let mut n_e = 0;
+        if edge < 3 {
+            n_e = c[owned];
+            bump(&mut c[owned]);
+        }
+        let c = &mut self.leaf_mut(leaf_to)[slot_to];
+        bump(&mut c[TOTAL]);
+        if edge >= 3 {
+            n_e = c[owned];
+            bump(&mut c[owned]);
+        }
+        (u32::from(n_e), u32::from(n_h))
     }
 
     /// Adds `n` crossings of an edge at once (used to seed a map from prior counts).
     pub fn add_crossings(&mut self, from: Hex, edge: u8, n: u16) {
         let to = HexGrid::neighbour(from, edge);
         let (owner, owned) = if edge < 3 { (from, edge) } else { (to, edge - 3) };
-        let c = self.counters_mut(owner);
-        c[usize::from(owned)] = c[usize::from(owned)].saturating_add(n);
+        let (leaf, slot) = locate(owner);
+        let c = &mut self.leaf_mut(leaf)[slot][usize::from(owned)];
+        *c = c.saturating_add(n);
         for h in [from, to] {
-            let c = self.counters_mut(h);
-            c[TOTAL] = c[TOTAL].saturating_add(n);
+            let (leaf, slot) = locate(h);
+            let c = &mut self.leaf_mut(leaf)[slot][TOTAL];
+            *c = c.saturating_add(n);
         }
     }
 

@@ -35,7 +35,9 @@ pub struct StepMotionConfig {
     pub duck_walk_sigma: f64,
     /// Bound of the duck angle, radians. Default 20° (the paper's value).
     pub duck_max: f64,
-    /// Spread of the per-walk stride-length scale around 1 (1σ). Default 0.02.
+    /// Spread of the per-walk stride-length scale around 1 (1σ). Default 0: eq. (6) favours
+    /// paths that cross fewer edges, so a free scale state drifts towards short strides;
+    /// enable it only with an absolute reference (GPS) that pins the scale.
     pub length_scale_sigma0: f64,
 }
 
@@ -48,7 +50,7 @@ impl Default for StepMotionConfig {
             drift_rate_walk_sigma: 0.002_f64.to_radians(),
             duck_walk_sigma: 0.1_f64.to_radians(),
             duck_max: 20.0_f64.to_radians(),
-            length_scale_sigma0: 0.02,
+            length_scale_sigma0: 0.0,
         }
     }
 }

@@ -1,0 +1,128 @@
+//! Pieces shared by the subcommands: origins, output folders, progress bars, config files.
+
+use anyhow::{Context, Result, bail};
+use footslam::geometry::LocalFrame;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Parses `LAT,LON` (degrees).
+pub fn parse_origin(s: &str) -> Result<LocalFrame, String> {
+    let (lat, lon) = s
+        .split_once(',')
+        .ok_or_else(|| format!("expected LAT,LON in degrees, got `{s}`"))?;
+    let lat: f64 = lat.trim().parse().map_err(|_| format!("latitude `{lat}` is not a number"))?;
+    let lon: f64 = lon.trim().parse().map_err(|_| format!("longitude `{lon}` is not a number"))?;
+    LocalFrame::new(lat, lon).ok_or_else(|| format!("`{s}` is not a valid latitude,longitude"))
+}
+
+/// `--out` or a fresh folder `outputs/<command>-<UTC time>`.
+pub fn output_dir(out: Option<PathBuf>, command: &str) -> PathBuf {
+    out.unwrap_or_else(|| {
+        let secs = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs());
+        let (days, rem) = (secs / 86_400, secs % 86_400);
+        let (y, m, d) = civil_from_days(days as i64);
+        PathBuf::from("outputs").join(format!(
+            "{command}-{y:04}{m:02}{d:02}-{:02}{:02}{:02}",
+            rem / 3600,
+            rem % 3600 / 60,
+            rem % 60
+        ))
+    })
+}
+
+/// Gregorian date of a day count since 1970-01-01 (H. Hinnant's algorithm).
+fn civil_from_days(z: i64) -> (i64, u32, u32) {
+    let z = z + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
+    (yoe + era * 400 + i64::from(m <= 2), m, d)
+}
+
+/// Reads a component config from TOML (or JSON, by extension) into `T`.
+pub fn read_config<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("{}", path.display()))?;
+    let is_json = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    if is_json {
+        serde_json::from_str(&text).with_context(|| format!("{}: invalid configuration", path.display()))
+    } else {
+        toml::from_str(&text).with_context(|| format!("{}: invalid configuration", path.display()))
+    }
+}
+
+/// A progress bar on stderr that appears only once a run has lasted a second.
+pub struct Progress {
+    bar: ProgressBar,
+    started: Instant,
+    shown: bool,
+}
+
+impl Progress {
+    /// A bar for `len` units of work described by `what`.
+    pub fn new(len: u64, what: &str) -> Self {
+        let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::hidden());
+        if let Ok(style) = ProgressStyle::with_template(
+            "{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} ({per_sec}, eta {eta})",
+        ) {
+            bar.set_style(style);
+        }
+        bar.set_message(what.to_string());
+        Self { bar, started: Instant::now(), shown: false }
+    }
+
+    /// Advances by one unit.
+    pub fn inc(&mut self) {
+        if !self.shown && self.started.elapsed() > Duration::from_secs(1) {
+            self.bar.set_draw_target(ProgressDrawTarget::stderr());
+            self.shown = true;
+        }
+        self.bar.inc(1);
+    }
+
+    /// Removes the bar.
+    pub fn finish(self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+/// Peak resident memory of this process in bytes (Linux `VmHWM`), if known.
+pub fn peak_memory_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// Fails with a clear message when `path` does not exist.
+pub fn require_file(path: &Path, what: &str) -> Result<()> {
+    if !path.is_file() {
+        bail!("{what} `{}` does not exist or is not a file", path.display());
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn civil_dates() {
+        assert_eq!(civil_from_days(0), (1970, 1, 1));
+        assert_eq!(civil_from_days(20_000), (2024, 10, 4));
+    }
+
+    #[test]
+    fn origins_parse_or_explain() {
+        assert!(parse_origin("48.1,11.5").is_ok());
+        assert!(parse_origin("48.1").is_err());
+        assert!(parse_origin("x,1").is_err());
+        assert!(parse_origin("95,1").is_err());
+    }
+}

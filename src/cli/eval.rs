@@ -1,0 +1,91 @@
+//! `footslam eval`: position error of a track against the truth.
+
+use super::common::require_file;
+use anyhow::Result;
+use footslam::dataset::{TimedPoint, read_steps, read_trajectory};
+use footslam::eval::{Alignment, ErrorReport, position_errors};
+use std::path::PathBuf;
+
+/// Arguments of `footslam eval`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Ground truth CSV with `t,x,y` columns (e.g. the simulator's truth.csv).
+    #[arg(long)]
+    truth: PathBuf,
+    /// Estimated track CSV with `t,x,y` columns (e.g. learn's track.csv).
+    #[arg(long)]
+    track: PathBuf,
+    /// Alignment before measuring: `none` (absolute) or `rigid` (best rotation and
+    /// translation, for maps learned without absolute anchors).
+    #[arg(long, value_enum, default_value = "none")]
+    align: AlignArg,
+    /// Step trace of the walk: also report dead reckoning's error, for comparison.
+    #[arg(long)]
+    steps: Option<PathBuf>,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+enum AlignArg {
+    None,
+    Rigid,
+}
+
+/// Runs `footslam eval`.
+pub fn run(args: Args) -> Result<()> {
+    require_file(&args.truth, "truth file")?;
+    require_file(&args.track, "track file")?;
+    let truth = read_trajectory(&args.truth)?;
+    let track = read_trajectory(&args.track)?;
+    let alignment = match args.align {
+        AlignArg::None => Alignment::None,
+        AlignArg::Rigid => Alignment::Rigid,
+    };
+    let report = position_errors(&truth, &track, alignment)?;
+    let dead_reckoning = match &args.steps {
+        Some(path) => {
+            require_file(path, "step trace")?;
+            let trace = read_steps(path)?;
+            let poses = trace.dead_reckon(Default::default());
+            let dr: Vec<TimedPoint> = trace
+                .steps()
+                .iter()
+                .zip(poses)
+                .map(|(s, p)| TimedPoint { t: s.t, x: p.x, y: p.y })
+                .collect();
+            Some(position_errors(&truth, &dr, alignment)?)
+        }
+        None => None,
+    };
+        if args.json {
+        let value = serde_json::json!({ "track": report, "dead_reckoning": dead_reckoning });
+        outln!("{}", serde_json::to_string_pretty(&value)?);
+    } else {
+        let rows: [(&str, fn(&ErrorReport) -> f64); 6] = [
+            ("p50", |r| r.p50),
+            ("p75", |r| r.p75),
+            ("p95", |r| r.p95),
+            ("max", |r| r.max),
+            ("mean", |r| r.mean),
+            ("rmse", |r| r.rmse),
+        ];
+        match &dead_reckoning {
+            Some(dr) => {
+                outln!("{:<6} {:>10} {:>15}", "", "track", "dead reckoning");
+                outln!("{:<6} {:>10} {:>15}", "points", report.n, dr.n);
+                for (name, f) in rows {
+                    outln!("{name:<6} {:>8.3} m {:>13.3} m", f(&report), f(dr));
+                }
+            }
+            None => {
+                outln!("{:<6} {:>10}", "points", report.n);
+                for (name, f) in rows {
+                    outln!("{name:<6} {:>8.3} m", f(&report));
+                }
+            }
+        }
+    }
+    Ok(())
+}

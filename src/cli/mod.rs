@@ -1,0 +1,54 @@
+//! The command line: the only place for clap, anyhow, progress bars and printing.
+
+/// Prints a line on stdout, ignoring a closed pipe (`footslam ... | head`).
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout().lock(), $($arg)*);
+    }};
+}
+
+mod common;
+mod eval;
+mod learn;
+mod simulate;
+
+use clap::{Parser, Subcommand};
+
+/// footslam: learn building maps from pedestrians' walks.
+#[derive(Debug, Parser)]
+#[command(name = "footslam", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Learn a hexagon transition map and the walker's path from a step trace (FootSLAM).
+    Learn(learn::Args),
+    /// Simulate an office floor, a walk through it and its step trace.
+    Simulate(simulate::Args),
+    /// Position error of a track against the truth.
+    Eval(eval::Args),
+}
+
+/// Runs the command line and maps errors to an exit code.
+pub fn main() -> std::process::ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Learn(a) => learn::run(a),
+        Command::Simulate(a) => simulate::run(a),
+        Command::Eval(a) => eval::run(a),
+    };
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            #[allow(clippy::print_stderr)]
+            {
+                eprintln!("error: {e:#}");
+            }
+            std::process::ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,382 @@
+//! Floor plans as RFC 7946 GeoJSON.
+//!
+//! A plan is one `FeatureCollection` with one `Polygon` feature per [`FloorPolygon`], in WGS84
+//! `[lon, lat]` degrees rounded to 1e-8° (about a millimetre), exterior rings
+//! counter-clockwise and holes clockwise (RFC 7946 sec. 3.1.6), no `crs` member. Feature
+//! properties: `level` (integer floor level, default 0), `z` (surface height in metres,
+//! default 0) and `name` (optional). The collection's foreign member
+//! `"origin": {"lat", "lon"}` names the local frame's origin.
+//!
+//! On reading, `MultiPolygon` features give one surface per part, `LineString` features
+//! (walls, in later versions) are ignored, and other geometries are errors; every error names
+//! the file and the zero-based feature index.
+
+use crate::error::{Error, Result};
+use crate::geometry::LocalFrame;
+use crate::map::{FloorPlan, FloorPolygon};
+use geo::{Coord, LineString, Polygon, Winding};
+use geojson::{
+    Feature, FeatureCollection, Geometry, GeometryValue, JsonObject, JsonValue, PolygonType,
+};
+use serde_json::json;
+use std::path::Path;
+
+/// Degrees are rounded to this many decimals (1e-8° is about 1.1 mm of latitude).
+const DEGREE_DECIMALS: i32 = 8;
+
+/// The plan as a GeoJSON feature collection placed on the globe by `frame`.
+pub fn floor_plan_to_geojson(plan: &FloorPlan, frame: &LocalFrame) -> FeatureCollection {
+    let features = plan
+        .polygons
+        .iter()
+        .map(|f| surface_feature(f, frame))
+        .collect();
+    let mut members = JsonObject::new();
+    members.insert(
+        "origin".into(),
+        json!({ "lat": frame.lat, "lon": frame.lon }),
+    );
+    FeatureCollection {
+        bbox: None,
+        features,
+        foreign_members: Some(members),
+    }
+}
+
+/// Writes [`floor_plan_to_geojson`] to `path` atomically.
+pub fn write_floor_plan(path: &Path, plan: &FloorPlan, frame: &LocalFrame) -> Result<()> {
+    let collection = floor_plan_to_geojson(plan, frame);
+    let text = serde_json::to_string(&collection).map_err(|e| Error::io(path, e.into()))?;
+    crate::export::write_atomically(path, text.as_bytes())
+}
+
+/// Reads a floor plan and the frame its local coordinates are in: the file's `origin` member,
+/// else `fallback`, else an error.
+pub fn read_floor_plan(
+    path: &Path,
+    fallback: Option<LocalFrame>,
+) -> Result<(FloorPlan, LocalFrame)> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let collection: FeatureCollection = serde_json::from_str(&text).map_err(|e| {
+        Error::parse(
+            path,
+            e.line(),
+            format!("not a GeoJSON FeatureCollection: {e}"),
+        )
+    })?;
+    let whole = |message: String| Error::parse(path, 0, message);
+    let origin = collection
+        .foreign_members
+        .as_ref()
+        .and_then(|m| m.get("origin"));
+    let frame = match (origin, fallback) {
+        (Some(origin), _) => read_origin(origin).map_err(whole)?,
+        (None, Some(frame)) => frame,
+        (None, None) => {
+            return Err(whole(
+                "no top-level `origin` member ({\"lat\": .., \"lon\": ..}) and no origin given: \
+                 pass the latitude and longitude of the local frame's origin"
+                    .into(),
+            ));
+        }
+    };
+    let mut polygons = Vec::new();
+    for (i, feature) in collection.features.iter().enumerate() {
+        read_feature(feature, &frame, &mut polygons)
+            .map_err(|m| whole(format!("feature {i}: {m}")))?;
+    }
+    Ok((FloorPlan { polygons }, frame))
+}
+
+fn surface_feature(surface: &FloorPolygon, frame: &LocalFrame) -> Feature {
+    let mut exterior = surface.polygon.exterior().clone();
+    exterior.make_ccw_winding();
+    let mut rings = vec![to_positions(&exterior, frame)];
+    for hole in surface.polygon.interiors() {
+        let mut hole = hole.clone();
+        hole.make_cw_winding();
+        rings.push(to_positions(&hole, frame));
+    }
+    let mut properties = JsonObject::new();
+    properties.insert("level".into(), json!(surface.level));
+    properties.insert("z".into(), json!(surface.z));
+    if let Some(name) = &surface.name {
+        properties.insert("name".into(), json!(name));
+    }
+    Feature {
+        bbox: None,
+        geometry: Some(Geometry::new(GeometryValue::new_polygon(rings))),
+        id: None,
+        properties: Some(properties),
+        foreign_members: None,
+    }
+}
+
+/// A closed local ring as `[lon, lat]` positions.
+fn to_positions(ring: &LineString<f64>, frame: &LocalFrame) -> Vec<Vec<f64>> {
+    ring.coords()
+        .map(|c| {
+            let (lon, lat) = frame.to_lon_lat(c.x, c.y);
+            vec![
+                round_to(lon, DEGREE_DECIMALS),
+                round_to(lat, DEGREE_DECIMALS),
+            ]
+        })
+        .collect()
+}
+
+fn round_to(v: f64, decimals: i32) -> f64 {
+    let scale = 10f64.powi(decimals);
+    (v * scale).round() / scale
+}
+
+fn read_origin(origin: &JsonValue) -> Result<LocalFrame, String> {
+    let number = |name: &str| {
+        origin
+            .get(name)
+            .and_then(JsonValue::as_f64)
+            .ok_or_else(|| format!("top-level member `origin` lacks a numeric `{name}`"))
+    };
+    let (lat, lon) = (number("lat")?, number("lon")?);
+    LocalFrame::new(lat, lon)
+        .ok_or_else(|| format!("origin ({lat}, {lon}) is not a valid latitude/longitude"))
+}
+
+/// Appends the surfaces of `feature` to `out`.
+fn read_feature(
+    feature: &Feature,
+    frame: &LocalFrame,
+    out: &mut Vec<FloorPolygon>,
+) -> Result<(), String> {
+    let parts: Vec<&PolygonType> = match feature.geometry.as_ref().map(|g| &g.value) {
+        Some(GeometryValue::Polygon { coordinates }) => vec![coordinates],
+        Some(GeometryValue::MultiPolygon { coordinates }) => coordinates.iter().collect(),
+        Some(GeometryValue::LineString { .. }) => return Ok(()),
+        Some(other) => {
+            return Err(format!(
+                "geometry type {} is not supported (expected Polygon, MultiPolygon or LineString)",
+                other.type_name()
+            ));
+        }
+        None => {
+            return Err("has no geometry (expected Polygon, MultiPolygon or LineString)".into());
+        }
+    };
+    let level = match feature.property("level") {
+        None | Some(JsonValue::Null) => 0,
+        Some(v) => v
+            .as_i64()
+            .and_then(|l| i32::try_from(l).ok())
+            .ok_or_else(|| format!("property `level` = {v} is not an integer floor level"))?,
+    };
+    let z = match feature.property("z") {
+        None | Some(JsonValue::Null) => 0.0,
+        Some(v) => v
+            .as_f64()
+            .filter(|z| z.is_finite())
+            .ok_or_else(|| format!("property `z` = {v} is not a number of metres"))?,
+    };
+    let name = match feature.property("name") {
+        None | Some(JsonValue::Null) => None,
+        Some(JsonValue::String(s)) => Some(s.clone()),
+        Some(v) => return Err(format!("property `name` = {v} is not a string")),
+    };
+    for (j, rings) in parts.into_iter().enumerate() {
+        let polygon = read_polygon(rings, frame).map_err(|m| format!("polygon {j}: {m}"))?;
+        out.push(FloorPolygon {
+            polygon,
+            level,
+            z,
+            name: name.clone(),
+        });
+    }
+    Ok(())
+}
+
+fn read_polygon(rings: &PolygonType, frame: &LocalFrame) -> Result<Polygon<f64>, String> {
+    let mut local = rings
+        .iter()
+        .enumerate()
+        .map(|(r, ring)| read_ring(ring, frame).map_err(|m| format!("ring {r}: {m}")));
+    let exterior = local.next().ok_or("has no rings")??;
+    let holes = local.collect::<Result<Vec<_>, _>>()?;
+    Ok(Polygon::new(exterior, holes))
+}
+
+/// A closed ring of `[lon, lat]` positions in local coordinates.
+fn read_ring(ring: &[geojson::Position], frame: &LocalFrame) -> Result<LineString<f64>, String> {
+    if ring.len() < 4 {
+        return Err(format!(
+            "has {} positions; a closed ring needs at least 4",
+            ring.len()
+        ));
+    }
+    let mut coords = Vec::with_capacity(ring.len());
+    for (k, p) in ring.iter().enumerate() {
+        let (lon, lat) = match p.as_slice() {
+            [lon, lat, ..] if lon.is_finite() && lat.is_finite() => (*lon, *lat),
+            _ => return Err(format!("position {k} is not a finite [lon, lat] pair")),
+        };
+        let (x, y) = frame.to_local(lon, lat);
+        coords.push(Coord { x, y });
+    }
+    if ring.first().map(|p| p.as_slice()) != ring.last().map(|p| p.as_slice()) {
+        return Err("is not closed (its first and last positions differ)".into());
+    }
+    Ok(LineString::new(coords))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::{OfficeConfig, office_floor};
+
+    fn frame() -> LocalFrame {
+        LocalFrame {
+            lat: 48.0,
+            lon: 11.0,
+        }
+    }
+
+    fn write_text(text: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let p = dir.path().join("plan.geojson");
+        std::fs::write(&p, text).expect("write");
+        (dir, p)
+    }
+
+    #[test]
+    fn round_trips_the_office_with_rfc_7946_windings() {
+        let plan = office_floor(&OfficeConfig::default()).expect("office");
+        let dir = tempfile::tempdir().expect("tempdir");
+        let p = dir.path().join("plan.geojson");
+        write_floor_plan(&p, &plan, &frame()).expect("write");
+        let (back, f) = read_floor_plan(&p, None).expect("read");
+        assert_eq!(f, frame());
+        assert_eq!(back.polygons.len(), plan.polygons.len());
+        for (a, b) in back.polygons.iter().zip(&plan.polygons) {
+            assert_eq!((a.level, a.z, &a.name), (b.level, b.z, &b.name));
+            assert_eq!(a.polygon.interiors().len(), b.polygon.interiors().len());
+            for (ra, rb) in std::iter::once(a.polygon.exterior())
+                .chain(a.polygon.interiors())
+                .zip(std::iter::once(b.polygon.exterior()).chain(b.polygon.interiors()))
+            {
+                // Same corners (up to orientation), within the 1e-8° rounding.
+                assert!(
+                    ra.coords()
+                        .all(|c| rb.coords().any(|d| (c.x - d.x).hypot(c.y - d.y) < 2e-3))
+                );
+            }
+        }
+        let value: JsonValue =
+            serde_json::from_str(&std::fs::read_to_string(&p).expect("text")).expect("json");
+        assert_eq!(value["origin"], json!({"lat": 48.0, "lon": 11.0}));
+        assert!(value.get("crs").is_none());
+        assert_eq!(
+            value["features"][0]["properties"]["name"],
+            json!("corridor")
+        );
+        let collection: FeatureCollection = serde_json::from_value(value).expect("collection");
+        for feature in &collection.features {
+            let Some(GeometryValue::Polygon { coordinates }) =
+                feature.geometry.as_ref().map(|g| &g.value)
+            else {
+                panic!("not a polygon");
+            };
+            let ring = |r: &Vec<geojson::Position>| {
+                LineString::from(r.iter().map(|p| (p[0], p[1])).collect::<Vec<_>>())
+            };
+            assert!(ring(&coordinates[0]).is_ccw());
+            assert!(coordinates[1..].iter().all(|h| ring(h).is_cw()));
+        }
+    }
+
+    #[test]
+    fn reads_multipolygons_defaults_and_the_fallback_origin() {
+        let square = "[[11.0,48.0],[11.0001,48.0],[11.0001,48.0001],[11.0,48.0001],[11.0,48.0]]";
+        let text = format!(
+            r#"{{"type":"FeatureCollection","features":[
+            {{"type":"Feature","properties":{{"level":1,"z":3.5}},"geometry":{{"type":"MultiPolygon","coordinates":[[{square}],[{square}]]}}}},
+            {{"type":"Feature","properties":null,"geometry":{{"type":"LineString","coordinates":[[11.0,48.0],[11.1,48.0]]}}}},
+            {{"type":"Feature","properties":{{"name":"hall"}},"geometry":{{"type":"Polygon","coordinates":[{square}]}}}}]}}"#
+        );
+        let (_dir, p) = write_text(&text);
+        assert!(
+            read_floor_plan(&p, None)
+                .expect_err("must fail")
+                .to_string()
+                .contains("origin")
+        );
+        let (plan, f) = read_floor_plan(&p, Some(frame())).expect("read");
+        assert_eq!(f, frame());
+        assert_eq!(plan.polygons.len(), 3);
+        assert_eq!((plan.polygons[0].level, plan.polygons[0].z), (1, 3.5));
+        assert_eq!((plan.polygons[2].level, plan.polygons[2].z), (0, 0.0));
+        assert_eq!(plan.polygons[2].name.as_deref(), Some("hall"));
+        // 1e-4° of longitude at 48° is about 7.45 m.
+        assert!(plan.is_walkable(7.0, 5.0, Some(0)) && !plan.is_walkable(8.0, 5.0, Some(0)));
+    }
+
+    #[test]
+    fn malformed_files_are_rejected_with_the_feature_index() {
+        let origin = r#""origin":{"lat":48.0,"lon":11.0}"#;
+        let feature = |geometry: &str, properties: &str| {
+            format!(r#"{{"type":"Feature","properties":{properties},"geometry":{geometry}}}"#)
+        };
+        let square = r#"{"type":"Polygon","coordinates":[[[11,48],[11.0001,48],[11.0001,48.0001],[11,48]]]}"#;
+        let open = r#"{"type":"Polygon","coordinates":[[[11,48],[11.0001,48],[11.0001,48.0001],[11,48.0001]]]}"#;
+        let point = r#"{"type":"Point","coordinates":[11,48]}"#;
+        let collection = |features: &[String]| {
+            format!(
+                r#"{{"type":"FeatureCollection",{origin},"features":[{}]}}"#,
+                features.join(",")
+            )
+        };
+        let cases = [
+            (
+                collection(&[feature(square, "{}"), feature(open, "{}")]),
+                "feature 1: polygon 0: ring 0: is not closed",
+            ),
+            (
+                collection(&[feature(point, "{}")]),
+                "feature 0: geometry type Point is not supported",
+            ),
+            (
+                collection(&[feature("null", "{}")]),
+                "feature 0: has no geometry",
+            ),
+            (
+                collection(&[feature(square, r#"{"level":1.5}"#)]),
+                "feature 0: property `level`",
+            ),
+            (
+                collection(&[feature(square, r#"{"name":3}"#)]),
+                "property `name`",
+            ),
+            (
+                collection(&[feature(&square.replace("11.0001,48]", "NaN,48]"), "{}")]),
+                "not a GeoJSON FeatureCollection",
+            ),
+            (
+                r#"{"type":"FeatureCollection","origin":{"lat":"x"},"features":[]}"#.into(),
+                "origin",
+            ),
+            ("[1, 2".into(), "not a GeoJSON FeatureCollection"),
+        ];
+        for (text, expected) in cases {
+            let (_dir, p) = write_text(&text);
+            let e = read_floor_plan(&p, None)
+                .expect_err("must fail")
+                .to_string();
+            assert!(
+                e.contains("plan.geojson") && e.contains(expected),
+                "{e}\nexpected: {expected}"
+            );
+        }
+        let missing = tempfile::tempdir().expect("tempdir");
+        assert!(matches!(
+            read_floor_plan(&missing.path().join("none.geojson"), None),
+            Err(Error::Io { .. })
+        ));
+    }
+}

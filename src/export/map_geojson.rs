@@ -1,0 +1,411 @@
+//! A learned hexagon transition map as RFC 7946 GeoJSON, and back.
+//!
+//! The file is one `FeatureCollection` with one `Polygon` feature per visited hexagon, in
+//! WGS84 `[lon, lat]` degrees rounded to 1e-8° (about a millimetre). Each exterior ring is
+//! counter-clockwise and closed (first corner repeated); there is no `crs` member.
+//!
+//! Feature properties:
+//!
+//! | key      | value                                                                    |
+//! |----------|--------------------------------------------------------------------------|
+//! | `q`, `r` | axial coordinates of the hexagon                                         |
+//! | `counts` | crossings `N_e` of each edge, both directions, in edge order (below)      |
+//! | `p`      | posterior-mean transition probabilities `(N_e + α) / (N + 6α)`, 4 decimals |
+//! | `visits` | passes through the hexagon, `⌈N / 2⌉` (each pass crosses two edges)       |
+//!
+//! where `N = Σ_e N_e`. The edge order is that of [`HexGrid`]: 0 = E, 1 = NE, 2 = NW, 3 = W,
+//! 4 = SW, 5 = SE (outward normals 60° apart, counter-clockwise from east).
+//!
+//! Foreign members of the collection make the file self-describing, so that
+//! [`read_map_geojson`] can restore the map exactly: `origin` (`{"lat", "lon"}` of the local
+//! frame), `hex_radius` (metres), `alpha` (the Dirichlet prior per edge) and `edge_order`
+//! (`["E","NE","NW","W","SW","SE"]`).
+
+use crate::error::{Error, Result};
+use crate::geometry::{HexGrid, LocalFrame};
+use crate::map::{HexCell, HexMapSnapshot};
+use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject, JsonValue};
+use hexx::Hex;
+use serde_json::json;
+use std::path::Path;
+
+/// Names of the six edges in storage order, as written to the `edge_order` member.
+pub const EDGE_ORDER: [&str; 6] = ["E", "NE", "NW", "W", "SW", "SE"];
+
+/// Degrees are rounded to this many decimals (1e-8° is about 1.1 mm of latitude).
+const DEGREE_DECIMALS: i32 = 8;
+
+/// A polygon centre may lie this fraction of a radius from its hexagon's centre on reading.
+const CENTRE_TOLERANCE: f64 = 0.05;
+
+/// The map as a GeoJSON feature collection placed on the globe by `frame`.
+pub fn map_to_geojson(map: &HexMapSnapshot, frame: &LocalFrame) -> FeatureCollection {
+    let grid = HexGrid::new(map.radius);
+    let features = map
+        .cells
+        .iter()
+        .map(|cell| cell_feature(&grid, frame, map.alpha, cell))
+        .collect();
+    let mut members = JsonObject::new();
+    members.insert(
+        "origin".into(),
+        json!({ "lat": frame.lat, "lon": frame.lon }),
+    );
+    members.insert("hex_radius".into(), json!(map.radius));
+    members.insert("alpha".into(), json!(map.alpha));
+    members.insert("edge_order".into(), json!(EDGE_ORDER));
+    FeatureCollection {
+        bbox: None,
+        features,
+        foreign_members: Some(members),
+    }
+}
+
+/// Writes [`map_to_geojson`] to `path` atomically.
+pub fn write_map_geojson(path: &Path, map: &HexMapSnapshot, frame: &LocalFrame) -> Result<()> {
+    let collection = map_to_geojson(map, frame);
+    let text = serde_json::to_string(&collection).map_err(|e| Error::io(path, e.into()))?;
+    super::write_atomically(path, text.as_bytes())
+}
+
+/// Reads a map written by [`write_map_geojson`], with the frame it was placed by.
+///
+/// Cells are restored from `q`, `r` and `counts`; each polygon must lie on its hexagon
+/// (within 5 % of a radius), which catches files whose `origin` or `hex_radius` was edited.
+/// Errors name the file and the zero-based feature index.
+pub fn read_map_geojson(path: &Path) -> Result<(HexMapSnapshot, LocalFrame)> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let collection: FeatureCollection = serde_json::from_str(&text).map_err(|e| {
+        Error::parse(
+            path,
+            e.line(),
+            format!("not a GeoJSON FeatureCollection: {e}"),
+        )
+    })?;
+    let whole = |message: String| Error::parse(path, 0, message);
+    let members = collection.foreign_members.unwrap_or_default();
+    let (frame, radius, alpha) = read_header(&members).map_err(whole)?;
+    let grid = HexGrid::new(radius);
+    let mut cells = Vec::with_capacity(collection.features.len());
+    for (i, feature) in collection.features.iter().enumerate() {
+        let cell =
+            read_cell(&grid, &frame, feature).map_err(|m| whole(format!("feature {i}: {m}")))?;
+        cells.push(cell);
+    }
+    cells.sort_by_key(|c| (c.hex.x, c.hex.y));
+    if let Some(pair) = cells.windows(2).find(|w| w[0].hex == w[1].hex) {
+        return Err(whole(format!(
+            "hexagon (q, r) = ({}, {}) appears twice",
+            pair[0].hex.x, pair[0].hex.y
+        )));
+    }
+    Ok((
+        HexMapSnapshot {
+            radius,
+            alpha,
+            cells,
+        },
+        frame,
+    ))
+}
+
+/// Posterior-mean transition probabilities `(N_e + α) / (N + 6α)`; uniform when `N + 6α = 0`.
+pub fn transition_probabilities(counts: &[u32; 6], alpha: f64) -> [f64; 6] {
+    let total: f64 = counts.iter().map(|&n| f64::from(n)).sum::<f64>() + 6.0 * alpha;
+    if total > 0.0 {
+        counts.map(|n| (f64::from(n) + alpha) / total)
+    } else {
+        [1.0 / 6.0; 6]
+    }
+}
+
+/// Passes through a hexagon with edge counts `counts`: `⌈Σ counts / 2⌉`.
+pub fn visits(counts: &[u32; 6]) -> u64 {
+    counts
+        .iter()
+        .map(|&n| u64::from(n))
+        .sum::<u64>()
+        .div_ceil(2)
+}
+
+fn cell_feature(grid: &HexGrid, frame: &LocalFrame, alpha: f64, cell: &HexCell) -> Feature {
+    let mut ring: Vec<Vec<f64>> = grid
+        .corners(cell.hex)
+        .iter()
+        .map(|&(x, y)| {
+            let (lon, lat) = frame.to_lon_lat(x, y);
+            vec![
+                round_to(lon, DEGREE_DECIMALS),
+                round_to(lat, DEGREE_DECIMALS),
+            ]
+        })
+        .collect();
+    if let Some(first) = ring.first().cloned() {
+        ring.push(first);
+    }
+    let p = transition_probabilities(&cell.counts, alpha).map(|p| round_to(p, 4));
+    let mut properties = JsonObject::new();
+    properties.insert("q".into(), json!(cell.hex.x));
+    properties.insert("r".into(), json!(cell.hex.y));
+    properties.insert("counts".into(), json!(cell.counts));
+    properties.insert("p".into(), json!(p));
+    properties.insert("visits".into(), json!(visits(&cell.counts)));
+    Feature {
+        bbox: None,
+        geometry: Some(Geometry::new(GeometryValue::new_polygon([ring]))),
+        id: None,
+        properties: Some(properties),
+        foreign_members: None,
+    }
+}
+
+/// `v` rounded to `decimals` decimal places (dividing by the exact power of ten keeps the
+/// printed form short).
+fn round_to(v: f64, decimals: i32) -> f64 {
+    let scale = 10f64.powi(decimals);
+    (v * scale).round() / scale
+}
+
+/// `(frame, hex_radius, alpha)` from the collection's foreign members.
+fn read_header(members: &JsonObject) -> Result<(LocalFrame, f64, f64), String> {
+    let number = |v: Option<&JsonValue>, name: &str| {
+        v.and_then(JsonValue::as_f64)
+            .ok_or_else(|| format!("missing or non-numeric top-level member `{name}`"))
+    };
+    let origin = members.get("origin");
+    let lat = number(origin.and_then(|o| o.get("lat")), "origin.lat")?;
+    let lon = number(origin.and_then(|o| o.get("lon")), "origin.lon")?;
+    let frame = LocalFrame::new(lat, lon)
+        .ok_or_else(|| format!("origin ({lat}, {lon}) is not a valid latitude/longitude"))?;
+    let radius = number(members.get("hex_radius"), "hex_radius")?;
+    if !(radius.is_finite() && radius > 0.0) {
+        return Err(format!(
+            "hex_radius = {radius}: must be a positive number of metres"
+        ));
+    }
+    let alpha = number(members.get("alpha"), "alpha")?;
+    if !(alpha.is_finite() && alpha >= 0.0) {
+        return Err(format!("alpha = {alpha}: must be finite and non-negative"));
+    }
+    if let Some(order) = members.get("edge_order")
+        && *order != json!(EDGE_ORDER)
+    {
+        return Err(format!(
+            "edge_order = {order}: only {} is supported",
+            json!(EDGE_ORDER)
+        ));
+    }
+    Ok((frame, radius, alpha))
+}
+
+fn read_cell(grid: &HexGrid, frame: &LocalFrame, feature: &Feature) -> Result<HexCell, String> {
+    let axial = |name: &str| {
+        feature
+            .property(name)
+            .and_then(JsonValue::as_i64)
+            .and_then(|v| i32::try_from(v).ok())
+            .ok_or_else(|| format!("property `{name}` is missing or not a 32-bit integer"))
+    };
+    let hex = Hex {
+        x: axial("q")?,
+        y: axial("r")?,
+    };
+    let counts = feature
+        .property("counts")
+        .and_then(JsonValue::as_array)
+        .filter(|a| a.len() == 6)
+        .ok_or("property `counts` is missing or not an array of 6 integers")?;
+    let mut parsed = [0u32; 6];
+    for (slot, value) in parsed.iter_mut().zip(counts) {
+        *slot = value
+            .as_u64()
+            .and_then(|v| u32::try_from(v).ok())
+            .ok_or_else(|| format!("counts entry {value} is not a non-negative 32-bit integer"))?;
+    }
+    check_polygon(grid, frame, feature, hex)?;
+    Ok(HexCell {
+        hex,
+        counts: parsed,
+    })
+}
+
+/// The feature's polygon must be a closed ring whose centre lies on hexagon `hex`.
+fn check_polygon(
+    grid: &HexGrid,
+    frame: &LocalFrame,
+    feature: &Feature,
+    hex: Hex,
+) -> Result<(), String> {
+    let Some(GeometryValue::Polygon { coordinates }) = feature.geometry.as_ref().map(|g| &g.value)
+    else {
+        return Err("geometry is missing or not a Polygon".into());
+    };
+    let ring = coordinates.first().ok_or("polygon has no exterior ring")?;
+    if ring.len() < 4 || ring.first() != ring.last() || ring.iter().any(|p| p.len() < 2) {
+        return Err("exterior ring is not a closed ring of [lon, lat] positions".into());
+    }
+    let open = &ring[..ring.len() - 1];
+    let n = open.len() as f64;
+    let (lon, lat) = open
+        .iter()
+        .fold((0.0, 0.0), |(a, b), p| (a + p[0] / n, b + p[1] / n));
+    let (x, y) = frame.to_local(lon, lat);
+    let (cx, cy) = grid.center(hex);
+    let off = (x - cx).hypot(y - cy);
+    if off > CENTRE_TOLERANCE * grid.radius() {
+        return Err(format!(
+            "polygon centre lies {off:.3} m from the centre of hexagon ({}, {}); \
+             hex_radius or origin do not match the geometry",
+            hex.x, hex.y
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geo::{Coord, LineString, Winding};
+
+    fn sample_map() -> HexMapSnapshot {
+        HexMapSnapshot {
+            radius: 0.5,
+            alpha: 0.8,
+            cells: vec![
+                HexCell {
+                    hex: Hex { x: -1, y: 2 },
+                    counts: [0, 3, 0, 1, 0, 0],
+                },
+                HexCell {
+                    hex: Hex { x: 0, y: 0 },
+                    counts: [4, 0, 0, 3, 0, 0],
+                },
+                HexCell {
+                    hex: Hex { x: 1, y: 0 },
+                    counts: [0, 0, 0, 4, 0, 1],
+                },
+            ],
+        }
+    }
+
+    fn frame() -> LocalFrame {
+        LocalFrame {
+            lat: 48.0,
+            lon: 11.0,
+        }
+    }
+
+    fn ring_of(feature: &Feature) -> Vec<Vec<f64>> {
+        match feature.geometry.as_ref().map(|g| &g.value) {
+            Some(GeometryValue::Polygon { coordinates }) => coordinates[0]
+                .iter()
+                .map(|p| p.as_slice().to_vec())
+                .collect(),
+            other => panic!("not a polygon: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn properties_hold_the_hand_computed_values() {
+        let fc = map_to_geojson(&sample_map(), &frame());
+        assert_eq!(fc.features.len(), 3);
+        let f = &fc.features[1];
+        assert_eq!(f.property("q"), Some(&json!(0)));
+        assert_eq!(f.property("counts"), Some(&json!([4, 0, 0, 3, 0, 0])));
+        // N = 7, α = 0.8: (4 + 0.8) / 11.8 = 0.40678, 0.8 / 11.8 = 0.06780, 3.8 / 11.8 = 0.32203.
+        assert_eq!(
+            f.property("p"),
+            Some(&json!([0.4068, 0.0678, 0.0678, 0.322, 0.0678, 0.0678]))
+        );
+        assert_eq!(f.property("visits"), Some(&json!(4)));
+        let members = fc.foreign_members.as_ref().expect("members");
+        assert_eq!(
+            members["edge_order"],
+            json!(["E", "NE", "NW", "W", "SW", "SE"])
+        );
+        assert_eq!(members["origin"], json!({ "lat": 48.0, "lon": 11.0 }));
+        let text = fc.to_string();
+        assert!(!text.contains("crs"));
+    }
+
+    #[test]
+    fn rings_are_closed_counter_clockwise_and_lon_first() {
+        let fc = map_to_geojson(&sample_map(), &frame());
+        for f in &fc.features {
+            let ring = ring_of(f);
+            assert_eq!(ring.len(), 7);
+            assert_eq!(ring[0], ring[6]);
+            let line: LineString<f64> = ring.iter().map(|p| Coord { x: p[0], y: p[1] }).collect();
+            assert!(line.is_ccw(), "ring not counter-clockwise: {ring:?}");
+            for p in &ring {
+                // Near (lon 11, lat 48): [lon, lat] order, rounded to 1e-8°.
+                assert!(
+                    (p[0] - 11.0).abs() < 1e-3 && (p[1] - 48.0).abs() < 1e-3,
+                    "{p:?}"
+                );
+                assert!(((p[0] * 1e8).round() - p[0] * 1e8).abs() < 1e-3);
+            }
+        }
+        // Hexagon (1, 0) is east of (0, 0): larger longitude, same latitude.
+        let centre = |f: &Feature| {
+            let r = ring_of(f);
+            (
+                r[..6].iter().map(|p| p[0]).sum::<f64>() / 6.0,
+                r[..6].iter().map(|p| p[1]).sum::<f64>() / 6.0,
+            )
+        };
+        let (a, b) = (centre(&fc.features[1]), centre(&fc.features[2]));
+        assert!(b.0 > a.0 && (b.1 - a.1).abs() < 1e-9);
+    }
+
+    #[test]
+    fn round_trips_through_a_file() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("map.geojson");
+        let map = sample_map();
+        write_map_geojson(&path, &map, &frame()).expect("write");
+        let (back, f) = read_map_geojson(&path).expect("read");
+        assert_eq!(back, map);
+        assert_eq!(f, frame());
+    }
+
+    #[test]
+    fn reading_names_the_feature_at_fault() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("bad.geojson");
+        let mut fc = map_to_geojson(&sample_map(), &frame());
+        if let Some(p) = fc.features[2].properties.as_mut() {
+            p.insert("counts".into(), json!([1, 2, 3]));
+        }
+        std::fs::write(&path, fc.to_string()).expect("write");
+        let err = read_map_geojson(&path).expect_err("must fail").to_string();
+        assert!(
+            err.contains("bad.geojson") && err.contains("feature 2") && err.contains("counts"),
+            "{err}"
+        );
+
+        // A moved origin no longer matches the polygons.
+        let mut fc = map_to_geojson(&sample_map(), &frame());
+        if let Some(m) = fc.foreign_members.as_mut() {
+            m.insert("origin".into(), json!({ "lat": 48.0001, "lon": 11.0 }));
+        }
+        std::fs::write(&path, fc.to_string()).expect("write");
+        let err = read_map_geojson(&path).expect_err("must fail").to_string();
+        assert!(err.contains("feature 0") && err.contains("origin"), "{err}");
+
+        std::fs::write(
+            &path,
+            "{\"type\": \"FeatureCollection\",\n \"features\": [}",
+        )
+        .expect("write");
+        let err = read_map_geojson(&path).expect_err("must fail").to_string();
+        assert!(err.contains("bad.geojson:2"), "{err}");
+    }
+
+    #[test]
+    fn probabilities_and_visits_of_edge_cases() {
+        assert_eq!(transition_probabilities(&[0; 6], 0.0), [1.0 / 6.0; 6]);
+        assert_eq!(visits(&[1, 0, 0, 0, 0, 0]), 1);
+        assert_eq!(visits(&[1, 1, 1, 0, 0, 0]), 2);
+    }
+}

@@ -1,0 +1,421 @@
+//! A publication-quality raster picture (PNG) of a learned hexagon map.
+//!
+//! Layers, bottom to top: white background, the floor plan's walkable surfaces (light grey),
+//! the hexagons coloured by a perceptual colour map (viridis) with thin outlines, the floor
+//! plan's walls, the ground-truth path (blue, dashed), the estimated path (dark red, with a
+//! white halo), a start (green dot) and an end marker (black square). Below the map, a legend
+//! strip holds a scale bar, a colour bar with its range and a north arrow. North is up: the
+//! local frame's y axis is flipped into image rows.
+
+mod canvas;
+mod legend;
+
+use crate::error::{Error, Result};
+use crate::export::map_geojson::{transition_probabilities, visits};
+use crate::geometry::HexGrid;
+use crate::map::{FloorPlan, HexMapSnapshot};
+use canvas::{
+    INK, PATH_RED, PLAN_FILL, PLAN_WALL, START_GREEN, TRUTH_BLUE, WHITE, fill, polyline, push_ring,
+    rect, stroke, viridis,
+};
+use legend::{draw_legend, legend_height};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use tiny_skia::{Color, ColorU8, FillRule, PathBuilder, Pixmap, StrokeDash};
+
+/// What the hexagon colours show.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Shading {
+    /// Passes through each hexagon, on a log scale from 1 to the most visited hexagon.
+    #[default]
+    Visits,
+    /// Each hexagon's largest posterior-mean transition probability (1/6: no preferred
+    /// direction; 1: one edge only), from the map's smallest to its largest.
+    Probability,
+}
+
+/// Settings of [`render_map_png`]; validated by [`PictureConfig::validate`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct PictureConfig {
+    /// Scale, image pixels per metre, (0, 1000]; lowered when the picture would exceed
+    /// `max_side_px`. Default 20.
+    pub pixels_per_metre: f64,
+    /// Blank border around the map, pixels, at most 100. Default 40.
+    pub margin_px: u32,
+    /// Largest width or height of the picture, pixels, 1000..=16384. Default 4000.
+    pub max_side_px: u32,
+    /// What the hexagon colours show. Default [`Shading::Visits`].
+    pub shading: Shading,
+    /// Width of the estimated path, pixels, (0, 20]. Default 2.
+    pub line_width_px: f32,
+    /// Image pixels per font pixel of the labels (glyphs are 7 font pixels tall), 1..=4.
+    /// Default 2.
+    pub text_scale: u32,
+}
+
+impl Default for PictureConfig {
+    fn default() -> Self {
+        Self {
+            pixels_per_metre: 20.0,
+            margin_px: 40,
+            max_side_px: 4000,
+            shading: Shading::Visits,
+            line_width_px: 2.0,
+            text_scale: 2,
+        }
+    }
+}
+
+impl PictureConfig {
+    /// Checks every field against its documented range.
+    pub fn validate(&self) -> Result<()> {
+        let (ppm, w) = (self.pixels_per_metre, self.line_width_px);
+        require(
+            ppm.is_finite() && ppm > 0.0 && ppm <= 1000.0,
+            "picture.pixels_per_metre",
+            ppm,
+            "must be in (0, 1000]",
+        )?;
+        require(
+            self.margin_px <= 100,
+            "picture.margin_px",
+            self.margin_px,
+            "must be at most 100",
+        )?;
+        let side = self.max_side_px;
+        require(
+            (1000..=16384).contains(&side),
+            "picture.max_side_px",
+            side,
+            "must be in 1000..=16384",
+        )?;
+        require(
+            w.is_finite() && w > 0.0 && w <= 20.0,
+            "picture.line_width_px",
+            w,
+            "must be in (0, 20]",
+        )?;
+        let ts = self.text_scale;
+        require(
+            (1..=4).contains(&ts),
+            "picture.text_scale",
+            ts,
+            "must be in 1..=4",
+        )
+    }
+}
+
+/// `Ok` when `ok`, else a configuration error on `field`.
+fn require(
+    ok: bool,
+    field: &'static str,
+    value: impl ToString,
+    reason: &'static str,
+) -> Result<()> {
+    if ok {
+        Ok(())
+    } else {
+        Err(Error::Config {
+            field,
+            value: value.to_string(),
+            reason,
+        })
+    }
+}
+
+/// What to draw: a map and the path that built it, with optional references. All
+/// coordinates are in the map's local frame (x east, y north, metres).
+#[derive(Debug, Clone, Copy)]
+pub struct MapPicture<'a> {
+    /// The learned map.
+    pub map: &'a HexMapSnapshot,
+    /// The estimated path.
+    pub path: &'a [(f64, f64)],
+    /// The true path, drawn dashed beneath the estimate.
+    pub truth: Option<&'a [(f64, f64)]>,
+    /// A floor plan in the same frame, drawn beneath the map.
+    pub plan: Option<&'a FloorPlan>,
+}
+
+impl<'a> MapPicture<'a> {
+    /// A picture of `map` and `path` without references.
+    pub fn new(map: &'a HexMapSnapshot, path: &'a [(f64, f64)]) -> Self {
+        Self {
+            map,
+            path,
+            truth: None,
+            plan: None,
+        }
+    }
+}
+
+/// Renders `picture` as PNG bytes.
+pub fn render_map_png(picture: &MapPicture, config: &PictureConfig) -> Result<Vec<u8>> {
+    let pixmap = render(picture, config)?;
+    pixmap
+        .encode_png()
+        .map_err(|e| Error::Input(format!("cannot encode the map picture as PNG: {e}")))
+}
+
+/// Renders `picture` and writes it to `path` atomically.
+pub fn write_map_png(path: &Path, picture: &MapPicture, config: &PictureConfig) -> Result<()> {
+    super::write_atomically(path, &render_map_png(picture, config)?)
+}
+
+/// Where the map lies in the image.
+#[derive(Debug, Clone, Copy)]
+struct Layout {
+    /// West and north edges of the drawn extent, metres.
+    min_x: f64,
+    max_y: f64,
+    /// Pixels per metre actually used.
+    scale: f64,
+    /// Pixel position of (min_x, max_y).
+    left: f64,
+    top: f64,
+    /// Map area width, pixels.
+    map_width: f64,
+    /// Top of the legend strip, pixels.
+    legend_top: f64,
+    width: u32,
+    height: u32,
+}
+
+impl Layout {
+    fn new(picture: &MapPicture, config: &PictureConfig) -> Self {
+        let (mut x0, mut y0, mut x1, mut y1) = extent(picture).unwrap_or((-5.0, -5.0, 5.0, 5.0));
+        // At least a metre each way, so a single point still gets a picture.
+        let grow = |lo: &mut f64, hi: &mut f64| {
+            let pad = (1.0 - (*hi - *lo)).max(0.0) / 2.0;
+            *lo -= pad;
+            *hi += pad;
+        };
+        grow(&mut x0, &mut x1);
+        grow(&mut y0, &mut y1);
+        let ts = f64::from(config.text_scale);
+        let margin = f64::from(config.margin_px);
+        let legend = legend_height(config.text_scale);
+        let side = f64::from(config.max_side_px);
+        let scale = config
+            .pixels_per_metre
+            .min((side - 2.0 * margin) / (x1 - x0))
+            .min((side - 2.0 * margin - legend) / (y1 - y0));
+        let (map_width, map_height) = ((x1 - x0) * scale, (y1 - y0) * scale);
+        let min_width = 2.0 * margin + 420.0 + 60.0 * ts;
+        let width = (map_width.ceil() + 2.0 * margin).max(min_width).min(side);
+        let legend_top = margin + map_height + margin / 2.0;
+        let height = (legend_top + legend + margin / 2.0).ceil().min(side);
+        Self {
+            min_x: x0,
+            max_y: y1,
+            scale,
+            left: ((width - map_width) / 2.0).floor(),
+            top: margin,
+            map_width,
+            legend_top,
+            width: width as u32,
+            height: height as u32,
+        }
+    }
+
+    /// Image position of local point `(x, y)`; y is flipped so that north is up.
+    fn pixel(&self, (x, y): (f64, f64)) -> (f32, f32) {
+        (
+            (self.left + (x - self.min_x) * self.scale) as f32,
+            (self.top + (self.max_y - y) * self.scale) as f32,
+        )
+    }
+}
+
+/// Bounding box of everything drawn, metres; `None` when there is nothing.
+fn extent(picture: &MapPicture) -> Option<(f64, f64, f64, f64)> {
+    let grid = HexGrid::new(picture.map.radius);
+    let r = picture.map.radius;
+    let hexes = picture.map.cells.iter().map(|c| {
+        let (x, y) = grid.center(c.hex);
+        (x - r, y - r, x + r, y + r)
+    });
+    let lines = picture.path.iter().chain(picture.truth.unwrap_or_default());
+    let points = lines.map(|&(x, y)| (x, y, x, y));
+    let plan = picture.plan.and_then(FloorPlan::bounds);
+    hexes
+        .chain(points)
+        .chain(plan)
+        .reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))
+}
+
+fn render(picture: &MapPicture, config: &PictureConfig) -> Result<Pixmap> {
+    config.validate()?;
+    check_finite(picture)?;
+    let layout = Layout::new(picture, config);
+    let mut pixmap = Pixmap::new(layout.width, layout.height).ok_or_else(|| {
+        Error::Input(format!(
+            "cannot allocate a {}×{} picture",
+            layout.width, layout.height
+        ))
+    })?;
+    pixmap.fill(Color::WHITE);
+    if let Some(plan) = picture.plan {
+        draw_plan(&mut pixmap, &layout, plan, true);
+    }
+    let labels = draw_hexagons(&mut pixmap, &layout, picture.map, config.shading);
+    if let Some(plan) = picture.plan {
+        draw_plan(&mut pixmap, &layout, plan, false);
+    }
+    let w = config.line_width_px;
+    if let Some(truth) = picture.truth {
+        let dash = StrokeDash::new(vec![7.0, 4.0], 0.0);
+        draw_line(&mut pixmap, &layout, truth, (TRUTH_BLUE, 0.75 * w), dash);
+    }
+    let halo = ColorU8::from_rgba(255, 255, 255, 220);
+    draw_line(&mut pixmap, &layout, picture.path, (halo, w + 2.0), None);
+    draw_line(&mut pixmap, &layout, picture.path, (PATH_RED, w), None);
+    draw_markers(&mut pixmap, &layout, picture.path, w);
+    draw_legend(&mut pixmap, &layout, config, labels);
+    Ok(pixmap)
+}
+
+fn check_finite(picture: &MapPicture) -> Result<()> {
+    let named = [("path", Some(picture.path)), ("truth", picture.truth)];
+    for (name, points) in named {
+        if let Some(i) = points
+            .unwrap_or_default()
+            .iter()
+            .position(|p| !(p.0.is_finite() && p.1.is_finite()))
+        {
+            return Err(Error::Input(format!("{name} point {i} is not finite")));
+        }
+    }
+    let r = picture.map.radius;
+    if !(r.is_finite() && r > 0.0) {
+        return Err(Error::Input(format!(
+            "map hexagon radius {r} is not a positive number"
+        )));
+    }
+    Ok(())
+}
+
+/// The plan's surfaces (`surfaces`) or its walls (outlines of all rings).
+fn draw_plan(pixmap: &mut Pixmap, layout: &Layout, plan: &FloorPlan, surfaces: bool) {
+    for floor in &plan.polygons {
+        let mut pb = PathBuilder::new();
+        let rings = std::iter::once(floor.polygon.exterior()).chain(floor.polygon.interiors());
+        for ring in rings {
+            push_ring(&mut pb, ring.coords().map(|c| layout.pixel((c.x, c.y))));
+        }
+        if let Some(path) = pb.finish() {
+            if surfaces {
+                fill(pixmap, &path, PLAN_FILL, FillRule::EvenOdd);
+            } else {
+                stroke(pixmap, &path, PLAN_WALL, 1.5, None);
+            }
+        }
+    }
+}
+
+/// Fills each hexagon by its shading value; returns the colour bar's labels (low, high).
+fn draw_hexagons(
+    pixmap: &mut Pixmap,
+    layout: &Layout,
+    map: &HexMapSnapshot,
+    shading: Shading,
+) -> (String, String) {
+    let (values, (lo, hi), labels) = shading_values(map, shading);
+    let grid = HexGrid::new(map.radius);
+    let mut outlines = PathBuilder::new();
+    for (cell, v) in map.cells.iter().zip(values) {
+        let t = if hi - lo > 1e-12 {
+            (v - lo) / (hi - lo)
+        } else {
+            1.0
+        };
+        let corners = grid.corners(cell.hex).map(|p| layout.pixel(p));
+        let mut pb = PathBuilder::new();
+        push_ring(&mut pb, corners);
+        if let Some(hexagon) = pb.finish() {
+            fill(pixmap, &hexagon, viridis(t), FillRule::Winding);
+        }
+        push_ring(&mut outlines, corners);
+    }
+    if let Some(outlines) = outlines.finish() {
+        stroke(
+            pixmap,
+            &outlines,
+            ColorU8::from_rgba(0, 0, 0, 60),
+            0.75,
+            None,
+        );
+    }
+    labels
+}
+
+/// Each cell's value on the colour scale, the scale's range and its end labels.
+fn shading_values(
+    map: &HexMapSnapshot,
+    shading: Shading,
+) -> (Vec<f64>, (f64, f64), (String, String)) {
+    match shading {
+        Shading::Visits => {
+            let n: Vec<u64> = map.cells.iter().map(|c| visits(&c.counts).max(1)).collect();
+            let max = n.iter().copied().max().unwrap_or(1);
+            let values = n.iter().map(|&v| (v as f64).ln()).collect();
+            (
+                values,
+                (0.0, (max as f64).ln()),
+                ("1".into(), max.to_string()),
+            )
+        }
+        Shading::Probability => {
+            let values: Vec<f64> = map
+                .cells
+                .iter()
+                .map(|c| {
+                    transition_probabilities(&c.counts, map.alpha)
+                        .iter()
+                        .copied()
+                        .fold(0.0, f64::max)
+                })
+                .collect();
+            let lo = values.iter().copied().reduce(f64::min).unwrap_or(1.0 / 6.0);
+            let hi = values.iter().copied().reduce(f64::max).unwrap_or(1.0);
+            (values, (lo, hi), (format!("{lo:.2}"), format!("{hi:.2}")))
+        }
+    }
+}
+
+/// Strokes the polyline through `points` (metres).
+fn draw_line(
+    pixmap: &mut Pixmap,
+    layout: &Layout,
+    points: &[(f64, f64)],
+    (color, width): (ColorU8, f32),
+    dash: Option<StrokeDash>,
+) {
+    if let Some(line) = polyline(points.iter().map(|&p| layout.pixel(p))) {
+        stroke(pixmap, &line, color, width, dash);
+    }
+}
+
+/// A green dot at the start and a black square at the end of `path`.
+fn draw_markers(pixmap: &mut Pixmap, layout: &Layout, path: &[(f64, f64)], line_width: f32) {
+    let size = 2.5 * line_width + 2.0;
+    if let Some(&last) = path.last() {
+        let (x, y) = layout.pixel(last);
+        if let Some(square) = rect(x - size, y - size, 2.0 * size, 2.0 * size) {
+            fill(pixmap, &square, INK, FillRule::Winding);
+            stroke(pixmap, &square, WHITE, 1.5, None);
+        }
+    }
+    if let Some(&first) = path.first() {
+        let (x, y) = layout.pixel(first);
+        if let Some(dot) = PathBuilder::from_circle(x, y, size) {
+            fill(pixmap, &dot, START_GREEN, FillRule::Winding);
+            stroke(pixmap, &dot, WHITE, 1.5, None);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,224 @@
+use super::canvas::{INK, PATH_RED, START_GREEN};
+use super::*;
+use crate::map::{FloorPolygon, HexCell};
+use geo::{LineString, Polygon};
+use hexx::Hex;
+use std::collections::BTreeMap;
+
+fn empty_map() -> HexMapSnapshot {
+    HexMapSnapshot {
+        radius: 0.5,
+        alpha: 0.8,
+        cells: Vec::new(),
+    }
+}
+
+/// Counts the edge crossings of `path` as FootSLAM does (both hexagons of each crossing).
+fn map_of(path: &[(f64, f64)], radius: f64) -> HexMapSnapshot {
+    let grid = HexGrid::new(radius);
+    let mut counts: BTreeMap<(i32, i32), [u32; 6]> = BTreeMap::new();
+    for w in path.windows(2) {
+        grid.for_each_crossing(w[0], w[1], |c| {
+            counts.entry((c.from.x, c.from.y)).or_default()[usize::from(c.edge)] += 1;
+            counts.entry((c.to.x, c.to.y)).or_default()[usize::from((c.edge + 3) % 6)] += 1;
+        });
+    }
+    let cells = counts
+        .into_iter()
+        .map(|((x, y), counts)| HexCell {
+            hex: Hex { x, y },
+            counts,
+        })
+        .collect();
+    HexMapSnapshot {
+        radius,
+        alpha: 0.8,
+        cells,
+    }
+}
+
+fn decode(png: &[u8]) -> image::RgbaImage {
+    image::load_from_memory_with_format(png, image::ImageFormat::Png)
+        .expect("valid PNG")
+        .to_rgba8()
+}
+
+fn near(p: &image::Rgba<u8>, c: ColorU8, tol: i32) -> bool {
+    [c.red(), c.green(), c.blue()]
+        .iter()
+        .zip(p.0)
+        .all(|(&a, b)| (i32::from(a) - i32::from(b)).abs() <= tol)
+}
+
+#[test]
+fn picture_has_the_expected_size() {
+    let path = [(0.0, 0.0), (40.0, 0.0), (40.0, 10.0)];
+    let map = empty_map();
+    let config = PictureConfig::default();
+    let png = render_map_png(&MapPicture::new(&map, &path), &config).expect("render");
+    let img = decode(&png);
+    // 40 m × 10 m at 20 px/m, 40 px margins; the legend strip below the map.
+    assert_eq!(img.width(), 800 + 80);
+    let expect_h = (40.0 + 200.0 + 20.0 + legend_height(2) + 20.0) as u32;
+    assert_eq!(img.height(), expect_h);
+}
+
+#[test]
+fn path_pixels_have_the_path_colour() {
+    let path: Vec<(f64, f64)> = vec![(0.0, 0.0), (12.0, 0.0), (12.0, 6.0), (3.0, 9.0)];
+    let map = map_of(&path, 0.5);
+    let picture = MapPicture::new(&map, &path);
+    let config = PictureConfig::default();
+    let img = decode(&render_map_png(&picture, &config).expect("render"));
+    let layout = Layout::new(&picture, &config);
+    for w in path.windows(2) {
+        for f in [0.3, 0.5, 0.7] {
+            let p = (
+                w[0].0 + f * (w[1].0 - w[0].0),
+                w[0].1 + f * (w[1].1 - w[0].1),
+            );
+            let (x, y) = layout.pixel(p);
+            let pixel = img.get_pixel(x as u32, y as u32);
+            assert!(near(pixel, PATH_RED, 8), "{p:?} at ({x}, {y}) is {pixel:?}");
+        }
+    }
+    // Hexagons away from the path are coloured (not white) inside the map.
+    assert!(map.cells.len() > 20);
+}
+
+#[test]
+fn north_is_up() {
+    let path = [(0.0, 0.0), (0.0, 10.0)];
+    let map = empty_map();
+    let picture = MapPicture::new(&map, &path);
+    let config = PictureConfig::default();
+    let img = decode(&render_map_png(&picture, &config).expect("render"));
+    let layout = Layout::new(&picture, &config);
+    let (sx, sy) = layout.pixel(path[0]);
+    let (ex, ey) = layout.pixel(path[1]);
+    assert!(sy > ey, "the start (south) must be below the end (north)");
+    assert!(near(img.get_pixel(sx as u32, sy as u32), START_GREEN, 8));
+    assert!(near(img.get_pixel(ex as u32, ey as u32), INK, 8));
+}
+
+#[test]
+fn empty_map_gives_a_small_valid_picture() {
+    let map = empty_map();
+    let config = PictureConfig {
+        shading: Shading::Probability,
+        ..PictureConfig::default()
+    };
+    let img = decode(&render_map_png(&MapPicture::new(&map, &[]), &config).expect("render"));
+    assert!(img.width() <= 1000 && img.height() <= 1000 && img.height() > 100);
+}
+
+#[test]
+fn huge_extent_is_capped() {
+    let path = [(0.0, 0.0), (10_000.0, 5_000.0)];
+    let map = empty_map();
+    let img = decode(
+        &render_map_png(&MapPicture::new(&map, &path), &PictureConfig::default()).expect("render"),
+    );
+    assert_eq!(img.width(), 4000);
+    assert!(img.height() <= 4000);
+}
+
+#[test]
+fn bad_input_is_refused() {
+    let map = empty_map();
+    let config = PictureConfig {
+        pixels_per_metre: 0.0,
+        ..PictureConfig::default()
+    };
+    let err = render_map_png(&MapPicture::new(&map, &[]), &config).expect_err("must fail");
+    assert!(err.to_string().contains("pixels_per_metre"), "{err}");
+    let path = [(0.0, 0.0), (f64::NAN, 1.0)];
+    let err = render_map_png(&MapPicture::new(&map, &path), &PictureConfig::default())
+        .expect_err("must fail");
+    assert!(err.to_string().contains("path point 1"), "{err}");
+}
+
+fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> LineString<f64> {
+    LineString::from(vec![(x0, y0), (x1, y0), (x1, y1), (x0, y1), (x0, y0)])
+}
+
+/// Writes `/tmp/footslam_sample_map.png` for looking at:
+/// `cargo test --lib export::map_png -- --ignored`.
+#[test]
+#[ignore = "writes a sample picture to /tmp"]
+fn write_sample_picture() {
+    let corners: [(f64, f64); 7] = [
+        (0.0, 0.0),
+        (20.0, 0.0),
+        (20.0, 10.0),
+        (8.0, 10.0),
+        (8.0, 14.0),
+        (8.0, 10.0),
+        (0.0, 10.0),
+    ];
+    let mut truth = Vec::new();
+    for lap in 0..3 {
+        for i in 0..corners.len() {
+            let (a, b) = (corners[i], corners[(i + 1) % corners.len()]);
+            let n = (b.0 - a.0).hypot(b.1 - a.1).div_euclid(0.7).max(1.0) as usize;
+            for k in 0..n {
+                let f = k as f64 / n as f64;
+                let wobble = 0.15 * (f64::from(lap) + 0.3 * truth.len() as f64).sin();
+                truth.push((
+                    a.0 + f * (b.0 - a.0) + wobble,
+                    a.1 + f * (b.1 - a.1) - wobble,
+                ));
+            }
+        }
+    }
+    // The estimate drifts: a slow rotation and offset growing along the walk.
+    let estimate: Vec<(f64, f64)> = truth
+        .iter()
+        .enumerate()
+        .map(|(i, &(x, y))| {
+            let a = 0.0004 * i as f64;
+            (
+                x * a.cos() - y * a.sin() + 0.003 * i as f64,
+                x * a.sin() + y * a.cos(),
+            )
+        })
+        .collect();
+    let map = map_of(&estimate, 0.5);
+    let corridor = Polygon::new(
+        rect(-1.5, -1.5, 21.5, 11.5),
+        vec![rect(1.5, 1.5, 18.5, 8.5)],
+    );
+    let room = Polygon::new(rect(6.0, 11.5, 10.0, 15.5), vec![]);
+    let plan = FloorPlan {
+        polygons: [corridor, room]
+            .into_iter()
+            .map(|polygon| FloorPolygon {
+                polygon,
+                level: 0,
+                z: 0.0,
+                name: None,
+            })
+            .collect(),
+    };
+    let picture = MapPicture {
+        truth: Some(&truth),
+        plan: Some(&plan),
+        ..MapPicture::new(&map, &estimate)
+    };
+    write_map_png(
+        Path::new("/tmp/footslam_sample_map.png"),
+        &picture,
+        &PictureConfig::default(),
+    )
+    .expect("write");
+    let config = PictureConfig {
+        shading: Shading::Probability,
+        ..PictureConfig::default()
+    };
+    write_map_png(
+        Path::new("/tmp/footslam_sample_map_p.png"),
+        &picture,
+        &config,
+    )
+    .expect("write");
+}

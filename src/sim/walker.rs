@@ -1,0 +1,368 @@
+//! A pedestrian walking the planned tour of the office ([`super::tour`]) stride by stride.
+//!
+//! The route's corners are rounded ([`Route`]) and walked with strides of random length at a
+//! jittered step rate, with a small, smooth sideways wander; each true pose is where a stride
+//! ends, with the direction of motion over it as heading.
+//!
+//! Every true position is on the floor by construction: waypoints lie on corridor centre lines,
+//! door axes and inside convex rooms; corner roundings stay in triangles of such points (their
+//! radius is capped at half the corridor width and at the entry depth); and the wander is only
+//! applied where it keeps the walker on the floor.
+
+use super::office::Office;
+use super::route::Route;
+use super::tour::plan_route;
+use super::truth::{TruePath, TruePose};
+use crate::error::{Error, Result};
+use crate::geometry::angle::wrap_angle;
+use geo::Coord;
+use rand::{RngExt, SeedableRng};
+use rand_distr::StandardNormal;
+use rand_pcg::Pcg64Mcg;
+use serde::{Deserialize, Serialize};
+
+/// Correlation of the sideways wander from one step to the next.
+const WANDER_CORRELATION: f64 = 0.7;
+/// A final stride shorter than this is not taken, metres.
+const MIN_FINAL_STRIDE: f64 = 0.25;
+
+/// How the walker tours the office; every default in one place.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct WalkConfig {
+    /// Laps of the corridor loop. Default 3.
+    pub laps: usize,
+    /// Fewest rooms visited per lap. Default 2.
+    pub min_rooms_per_lap: usize,
+    /// Most rooms visited per lap (different rooms within a lap). Default 4.
+    pub max_rooms_per_lap: usize,
+    /// Chance that a room chosen after the first lap is one visited before. Default 0.5.
+    pub revisit_probability: f64,
+    /// Most points walked to inside a room (at least one). Default 2.
+    pub max_points_per_room: usize,
+    /// Distance of those points from the room's walls, metres. Default 0.6 m.
+    pub room_margin: f64,
+    /// Step rate, hertz. Default 1.8 Hz (with 0.7 m strides, 1.26 m/s).
+    pub step_frequency: f64,
+    /// Relative jitter (1σ) of each step's period. Default 0.05.
+    pub step_period_jitter: f64,
+    /// Mean stride length, metres. Default 0.7 m.
+    pub step_length_mean: f64,
+    /// Stride-length spread (1σ), metres; strides are kept within ±50 % of the mean.
+    /// Default 0.05 m.
+    pub step_length_sigma: f64,
+    /// Radius of rounded corners, metres, capped by the office (half the corridor width, the
+    /// entry depth). Default 0.6 m.
+    pub corner_radius: f64,
+    /// Stationary spread (1σ) of the sideways wander about the route, metres. Default 0.03 m.
+    pub wander_sigma: f64,
+}
+
+impl Default for WalkConfig {
+    fn default() -> Self {
+        Self {
+            laps: 3,
+            min_rooms_per_lap: 2,
+            max_rooms_per_lap: 4,
+            revisit_probability: 0.5,
+            max_points_per_room: 2,
+            room_margin: 0.6,
+            step_frequency: 1.8,
+            step_period_jitter: 0.05,
+            step_length_mean: 0.7,
+            step_length_sigma: 0.05,
+            corner_radius: 0.6,
+            wander_sigma: 0.03,
+        }
+    }
+}
+
+impl WalkConfig {
+    /// Checks every field against its documented range.
+    pub fn validate(&self) -> Result<()> {
+        ensure_in_range!("walk.laps", self.laps as f64, 1.0..=1000.0, "");
+        ensure_in_range!(
+            "walk.min_rooms_per_lap",
+            self.min_rooms_per_lap as f64,
+            0.0..=1000.0,
+            ""
+        );
+        ensure_in_range!(
+            "walk.max_rooms_per_lap",
+            self.max_rooms_per_lap as f64,
+            0.0..=1000.0,
+            ""
+        );
+        if self.max_rooms_per_lap < self.min_rooms_per_lap {
+            return Err(Error::Config {
+                field: "walk.max_rooms_per_lap",
+                value: self.max_rooms_per_lap.to_string(),
+                reason: "must be at least min_rooms_per_lap",
+            });
+        }
+        ensure_in_range!(
+            "walk.max_points_per_room",
+            self.max_points_per_room as f64,
+            1.0..=100.0,
+            ""
+        );
+        ensure_in_range!(
+            "walk.revisit_probability",
+            self.revisit_probability,
+            0.0..=1.0,
+            ""
+        );
+        ensure_in_range!("walk.room_margin", self.room_margin, 0.0..=100.0, " m");
+        ensure_in_range!("walk.step_frequency", self.step_frequency, 0.2..=5.0, " Hz");
+        ensure_in_range!(
+            "walk.step_period_jitter",
+            self.step_period_jitter,
+            0.0..=0.3,
+            ""
+        );
+        ensure_in_range!(
+            "walk.step_length_mean",
+            self.step_length_mean,
+            0.2..=1.5,
+            " m"
+        );
+        ensure_in_range!(
+            "walk.step_length_sigma",
+            self.step_length_sigma,
+            0.0..=0.3,
+            " m"
+        );
+        ensure_in_range!("walk.corner_radius", self.corner_radius, 0.0..=100.0, " m");
+        ensure_in_range!("walk.wander_sigma", self.wander_sigma, 0.0..=0.2, " m");
+        Ok(())
+    }
+}
+
+fn gauss(rng: &mut Pcg64Mcg) -> f64 {
+    rng.sample::<f64, _>(StandardNormal)
+}
+
+/// Walks `config.laps` laps of `office` with room visits, drawing from a generator seeded with
+/// `seed`. Poses follow the [`TruePath`] convention (the walk starts at the origin facing east).
+pub fn simulate_walk(office: &Office, config: &WalkConfig, seed: u64) -> Result<TruePath> {
+    config.validate()?;
+    let mut rng = Pcg64Mcg::seed_from_u64(seed);
+    let waypoints = plan_route(office, config, &mut rng);
+    let cap = (office.config.corridor_width / 2.0).min(office.config.entry_depth);
+    let route = Route::rounded(&waypoints, config.corner_radius.min(cap));
+    walk(office, &route, config, &mut rng)
+}
+
+/// Walks `route` stride by stride.
+fn walk(
+    office: &Office,
+    route: &Route,
+    config: &WalkConfig,
+    rng: &mut Pcg64Mcg,
+) -> Result<TruePath> {
+    let on_floor = |q: Coord<f64>| office.plan.is_walkable(q.x, q.y, Some(0));
+    let (total, mean) = (route.length(), config.step_length_mean);
+    let (mut s, mut t, mut wander) = (0.0, 0.0, 0.0);
+    let mut previous = Coord { x: 0.0, y: 0.0 };
+    let mut poses = Vec::with_capacity((total / mean) as usize + 1);
+    while total - s >= MIN_FINAL_STRIDE {
+        let stride = (mean + config.step_length_sigma * gauss(rng)).clamp(0.5 * mean, 1.5 * mean);
+        s = (s + stride).min(total);
+        t += (1.0 + config.step_period_jitter * gauss(rng)).max(0.5) / config.step_frequency;
+        let (on_route, direction) = route.at(s);
+        if !on_floor(on_route) {
+            return Err(Error::Input(format!(
+                "simulated route leaves the floor at ({:.3}, {:.3}); the office layout is inconsistent",
+                on_route.x, on_route.y
+            )));
+        }
+        let rho = WANDER_CORRELATION;
+        wander = rho * wander + (1.0 - rho * rho).sqrt() * config.wander_sigma * gauss(rng);
+        let wandered = on_route
+            + Coord {
+                x: -direction.y,
+                y: direction.x,
+            } * wander;
+        let q = if on_floor(wandered) {
+            wandered
+        } else {
+            on_route
+        };
+        let heading = wrap_angle((q.y - previous.y).atan2(q.x - previous.x));
+        poses.push(TruePose {
+            t,
+            x: q.x,
+            y: q.y,
+            z: 0.0,
+            level: 0,
+            heading,
+        });
+        previous = q;
+    }
+    Ok(TruePath { poses })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::office::OfficeConfig;
+    use geo::Contains;
+
+    fn office() -> Office {
+        Office::new(&OfficeConfig::default()).expect("office")
+    }
+
+    /// Eastward crossings of `x = 10` in the south corridor (between doors): one per lap.
+    fn laps(path: &TruePath) -> usize {
+        path.poses
+            .windows(2)
+            .filter(|w| w[0].x < 10.0 && w[1].x >= 10.0 && w[1].y.abs() < 0.9)
+            .count()
+    }
+
+    /// Entries into rooms (a pose in a room whose previous pose is not).
+    fn room_visits(office: &Office, path: &TruePath) -> usize {
+        let inside = |p: &TruePose| {
+            office
+                .rooms
+                .iter()
+                .position(|r| r.area.to_polygon().contains(&Coord { x: p.x, y: p.y }))
+        };
+        path.poses
+            .windows(2)
+            .filter(|w| inside(&w[1]).is_some() && inside(&w[1]) != inside(&w[0]))
+            .count()
+    }
+
+    #[test]
+    fn default_walk_has_three_laps_with_room_visits_on_the_floor() {
+        let o = office();
+        let config = WalkConfig::default();
+        for seed in 0..12 {
+            let path = simulate_walk(&o, &config, seed).expect("walk");
+            assert!(
+                (400..=700).contains(&path.len()),
+                "seed {seed}: {} steps",
+                path.len()
+            );
+            assert_eq!(laps(&path), 3, "seed {seed}");
+            let visits = room_visits(&o, &path);
+            assert!((6..=12).contains(&visits), "seed {seed}: {visits} visits");
+            for p in &path.poses {
+                assert!(
+                    o.plan.is_walkable(p.x, p.y, Some(0)),
+                    "seed {seed}: ({}, {}) off the floor",
+                    p.x,
+                    p.y
+                );
+            }
+            // Strides, timing and the end point are realistic.
+            let first = path.poses[0];
+            assert!(first.x > 0.3 && first.y.abs() < 0.2 && first.heading.abs() < 0.3);
+            let last = path.poses[path.len() - 1];
+            assert!(last.x.hypot(last.y) < 0.5, "ends near the start: {last:?}");
+            let speed = path.length() / last.t;
+            assert!((1.0..1.5).contains(&speed), "speed {speed} m/s");
+            assert!(
+                path.poses
+                    .windows(2)
+                    .all(|w| w[1].t > w[0].t && w[1].heading.abs() <= std::f64::consts::PI)
+            );
+        }
+    }
+
+    #[test]
+    fn rooms_inside_and_outside_the_loop_are_visited() {
+        let o = office();
+        let (mut inside, mut outside) = (false, false);
+        for seed in 0..6 {
+            let path = simulate_walk(&o, &WalkConfig::default(), seed).expect("walk");
+            for p in &path.poses {
+                for r in o
+                    .rooms
+                    .iter()
+                    .filter(|r| r.area.to_polygon().contains(&Coord { x: p.x, y: p.y }))
+                {
+                    *(if r.inside_loop {
+                        &mut inside
+                    } else {
+                        &mut outside
+                    }) = true;
+                }
+            }
+        }
+        assert!(inside && outside);
+    }
+
+    #[test]
+    fn walks_are_deterministic_per_seed() {
+        let o = office();
+        let config = WalkConfig::default();
+        let a = simulate_walk(&o, &config, 7).expect("walk");
+        assert_eq!(a, simulate_walk(&o, &config, 7).expect("walk"));
+        assert_ne!(a, simulate_walk(&o, &config, 8).expect("walk"));
+    }
+
+    #[test]
+    fn room_free_single_lap_follows_the_centre_line() {
+        let o = office();
+        let config = WalkConfig {
+            laps: 1,
+            min_rooms_per_lap: 0,
+            max_rooms_per_lap: 0,
+            wander_sigma: 0.0,
+            ..Default::default()
+        };
+        let path = simulate_walk(&o, &config, 1).expect("walk");
+        assert_eq!(room_visits(&o, &path), 0);
+        // 88.8 m less the rounded corners' savings, in 0.7 m strides.
+        assert!(
+            (path.length() - o.lap_length()).abs() < 1.0,
+            "{}",
+            path.length()
+        );
+        assert!((120..=135).contains(&path.len()), "{}", path.len());
+        assert!(path.poses.iter().all(|p| p.x.abs() < 1e-9
+            || p.y.abs() < 1e-9
+            || (p.x - 28.2).abs() < 1e-9
+            || (p.y - 16.2).abs() < 1e-9
+            || p.x.min(p.y).min(28.2 - p.x).min(16.2 - p.y) < 0.6));
+    }
+
+    #[test]
+    fn invalid_walks_are_rejected() {
+        let o = office();
+        for config in [
+            WalkConfig {
+                laps: 0,
+                ..Default::default()
+            },
+            WalkConfig {
+                min_rooms_per_lap: 5,
+                ..Default::default()
+            },
+            WalkConfig {
+                step_frequency: f64::NAN,
+                ..Default::default()
+            },
+            WalkConfig {
+                revisit_probability: 1.5,
+                ..Default::default()
+            },
+        ] {
+            assert!(
+                matches!(simulate_walk(&o, &config, 0), Err(Error::Config { .. })),
+                "{config:?}"
+            );
+        }
+        let config = WalkConfig {
+            step_frequency: 9.0,
+            ..Default::default()
+        };
+        let e = simulate_walk(&o, &config, 0).expect_err("out of range");
+        assert_eq!(
+            e.to_string(),
+            "invalid configuration: walk.step_frequency = 9: must be in [0.2, 5.0] Hz"
+        );
+    }
+}
