@@ -11,8 +11,14 @@ pub fn parse_origin(s: &str) -> Result<LocalFrame, String> {
     let (lat, lon) = s
         .split_once(',')
         .ok_or_else(|| format!("expected LAT,LON in degrees, got `{s}`"))?;
-    let lat: f64 = lat.trim().parse().map_err(|_| format!("latitude `{lat}` is not a number"))?;
-    let lon: f64 = lon.trim().parse().map_err(|_| format!("longitude `{lon}` is not a number"))?;
+    let lat: f64 = lat
+        .trim()
+        .parse()
+        .map_err(|_| format!("latitude `{lat}` is not a number"))?;
+    let lon: f64 = lon
+        .trim()
+        .parse()
+        .map_err(|_| format!("longitude `{lon}` is not a number"))?;
     LocalFrame::new(lat, lon).ok_or_else(|| format!("`{s}` is not a valid latitude,longitude"))
 }
 
@@ -49,9 +55,12 @@ fn civil_from_days(z: i64) -> (i64, u32, u32) {
 /// Reads a component config from TOML (or JSON, by extension) into `T`.
 pub fn read_config<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
     let text = std::fs::read_to_string(path).with_context(|| format!("{}", path.display()))?;
-    let is_json = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let is_json = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
     if is_json {
-        serde_json::from_str(&text).with_context(|| format!("{}: invalid configuration", path.display()))
+        serde_json::from_str(&text)
+            .with_context(|| format!("{}: invalid configuration", path.display()))
     } else {
         toml::from_str(&text).with_context(|| format!("{}: invalid configuration", path.display()))
     }
@@ -74,7 +83,11 @@ impl Progress {
             bar.set_style(style);
         }
         bar.set_message(what.to_string());
-        Self { bar, started: Instant::now(), shown: false }
+        Self {
+            bar,
+            started: Instant::now(),
+            shown: false,
+        }
     }
 
     /// Advances by one unit.
@@ -103,7 +116,10 @@ pub fn peak_memory_bytes() -> Option<u64> {
 /// Fails with a clear message when `path` does not exist.
 pub fn require_file(path: &Path, what: &str) -> Result<()> {
     if !path.is_file() {
-        bail!("{what} `{}` does not exist or is not a file", path.display());
+        bail!(
+            "{what} `{}` does not exist or is not a file",
+            path.display()
+        );
     }
     Ok(())
 }

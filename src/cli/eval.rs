@@ -2,8 +2,10 @@
 
 use super::common::require_file;
 use anyhow::Result;
+use footslam::dataset::floor_plan_geojson::read_floor_plan;
 use footslam::dataset::{TimedPoint, read_steps, read_trajectory};
-use footslam::eval::{Alignment, ErrorReport, position_errors};
+use footslam::eval::{Alignment, ErrorReport, position_errors, walkable_fraction};
+use footslam::export::map_geojson::read_map_geojson;
 use std::path::PathBuf;
 
 /// Arguments of `footslam eval`.
@@ -22,6 +24,13 @@ pub struct Args {
     /// Step trace of the walk: also report dead reckoning's error, for comparison.
     #[arg(long)]
     steps: Option<PathBuf>,
+    /// Learned map (map.geojson): with `--plan`, also report the visit-weighted fraction of
+    /// its hexagons in walkable space (after the track's alignment).
+    #[arg(long, requires = "plan")]
+    map: Option<PathBuf>,
+    /// Floor plan GeoJSON of the building, in the truth's frame (e.g. simulate's floor.geojson).
+    #[arg(long, requires = "map")]
+    plan: Option<PathBuf>,
     /// Print JSON instead of a table.
     #[arg(long)]
     json: bool,
@@ -53,14 +62,32 @@ pub fn run(args: Args) -> Result<()> {
                 .steps()
                 .iter()
                 .zip(poses)
-                .map(|(s, p)| TimedPoint { t: s.t, x: p.x, y: p.y })
+                .map(|(s, p)| TimedPoint {
+                    t: s.t,
+                    x: p.x,
+                    y: p.y,
+                })
                 .collect();
             Some(position_errors(&truth, &dr, alignment)?)
         }
         None => None,
     };
-        if args.json {
-        let value = serde_json::json!({ "track": report, "dead_reckoning": dead_reckoning });
+    let walkable = match (&args.map, &args.plan) {
+        (Some(map), Some(plan)) => {
+            require_file(map, "map")?;
+            require_file(plan, "floor plan")?;
+            let (map, _) = read_map_geojson(map)?;
+            let (plan, _) = read_floor_plan(plan, None)?;
+            Some(walkable_fraction(&map, &plan, report.transform.as_ref()))
+        }
+        _ => None,
+    };
+    if args.json {
+        let value = serde_json::json!({
+            "track": report,
+            "dead_reckoning": dead_reckoning,
+            "walkable_fraction": walkable,
+        });
         outln!("{}", serde_json::to_string_pretty(&value)?);
     } else {
         let rows: [(&str, fn(&ErrorReport) -> f64); 6] = [
@@ -85,6 +112,9 @@ pub fn run(args: Args) -> Result<()> {
                     outln!("{name:<6} {:>8.3} m", f(&report));
                 }
             }
+        }
+        if let Some(w) = walkable {
+            outln!("walkable {:.1} % of visit-weighted map hexagons", 100.0 * w);
         }
     }
     Ok(())

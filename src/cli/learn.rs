@@ -1,11 +1,13 @@
 //! `footslam learn`: FootSLAM on a step trace.
 
-use super::common::{Progress, output_dir, parse_origin, peak_memory_bytes, read_config, require_file};
+use super::common::{
+    Progress, output_dir, parse_origin, peak_memory_bytes, read_config, require_file,
+};
 use anyhow::{Context, Result};
 use footslam::dataset::{TimedPoint, read_steps, write_trajectory};
+use footslam::export::RunFolder;
 use footslam::export::map_geojson::write_map_geojson;
 use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
-use footslam::export::RunFolder;
 use footslam::filter::{FootSlam, FootSlamConfig};
 use footslam::geometry::LocalFrame;
 use serde::Serialize;
@@ -86,6 +88,7 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(s) = args.seed {
         config.seed = s;
     }
+    config.validate()?;
     let origin = args.origin.unwrap_or_default();
     let steps_path = args.steps.clone().unwrap_or_else(default_steps);
     require_file(&steps_path, "step trace")?;
@@ -116,12 +119,21 @@ pub fn run(args: Args) -> Result<()> {
         .steps()
         .iter()
         .zip(&estimate.path)
-        .map(|(s, p)| TimedPoint { t: s.t, x: p.x, y: p.y })
+        .map(|(s, p)| TimedPoint {
+            t: s.t,
+            x: p.x,
+            y: p.y,
+        })
         .collect();
     write_trajectory(&folder.path("track.csv"), &track)?;
     write_map_geojson(&folder.path("map.geojson"), &estimate.map, &origin)?;
     let path: Vec<(f64, f64)> = track.iter().map(|p| (p.x, p.y)).collect();
-    let picture = MapPicture { map: &estimate.map, path: &path, truth: None, plan: None };
+    let picture = MapPicture {
+        map: &estimate.map,
+        path: &path,
+        truth: None,
+        plan: None,
+    };
     write_map_png(&folder.path("map.png"), &picture, &PictureConfig::default())?;
     folder.write_json("config.json", &config)?;
 
@@ -141,19 +153,27 @@ pub fn run(args: Args) -> Result<()> {
         best_particle: estimate.index,
         best_particle_weight: estimate.weight,
         hexagons: estimate.map.cells.len(),
-        map_area_m2: estimate.map.cells.len() as f64 * footslam::geometry::HexGrid::new(config.hex_radius).cell_area(),
-        path_length_m: path.windows(2).map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1)).sum(),
+        map_area_m2: estimate.map.cells.len() as f64
+            * footslam::geometry::HexGrid::new(config.hex_radius).cell_area(),
+        path_length_m: path
+            .windows(2)
+            .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
+            .sum(),
         peak_memory_bytes: peak_memory_bytes(),
         origin,
         version: env!("CARGO_PKG_VERSION"),
     };
     folder.write_json("summary.json", &summary)?;
     let out = folder.commit()?;
-        {
+    {
         outln!(
             "learned {} hexagons from {} steps with {} particles in {:.2} s ({:.2e} particle-steps/s); final ESS {:.0}",
-            summary.hexagons, summary.steps, summary.particles, summary.filter_runtime_s,
-            summary.particle_steps_per_s, summary.final_effective_sample_size
+            summary.hexagons,
+            summary.steps,
+            summary.particles,
+            summary.filter_runtime_s,
+            summary.particle_steps_per_s,
+            summary.final_effective_sample_size
         );
         outln!("outputs: {}", out.display());
     }

@@ -62,9 +62,22 @@ pub fn run(args: Args) -> Result<()> {
     write_steps(&folder.path("steps.csv"), &sim.steps)?;
     write_truth(&folder.path("truth.csv"), &sim.truth)?;
     let truth: Vec<(f64, f64)> = sim.truth.poses.iter().map(|p| (p.x, p.y)).collect();
-    let empty = HexMapSnapshot { radius: 0.5, alpha: 0.8, cells: Vec::new() };
-    let picture = MapPicture { map: &empty, path: &truth, truth: None, plan: Some(&sim.plan) };
-    write_map_png(&folder.path("truth.png"), &picture, &PictureConfig::default())?;
+    let empty = HexMapSnapshot {
+        radius: 0.5,
+        alpha: 0.8,
+        cells: Vec::new(),
+    };
+    let picture = MapPicture {
+        map: &empty,
+        path: &truth,
+        truth: None,
+        plan: Some(&sim.plan),
+    };
+    write_map_png(
+        &folder.path("truth.png"),
+        &picture,
+        &PictureConfig::default(),
+    )?;
     folder.write_json("config.json", &config)?;
     let summary = Summary {
         steps: sim.steps.len(),
@@ -76,10 +89,13 @@ pub fn run(args: Args) -> Result<()> {
     };
     folder.write_json("summary.json", &summary)?;
     let out = folder.commit()?;
-        {
+    {
         outln!(
             "simulated {} steps ({:.0} m, {:.0} s) through {} floor polygons",
-            summary.steps, summary.path_length_m, summary.duration_s, summary.floor_polygons
+            summary.steps,
+            summary.path_length_m,
+            summary.duration_s,
+            summary.floor_polygons
         );
         outln!("outputs: {}", out.display());
     }

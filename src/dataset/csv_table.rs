@@ -35,7 +35,11 @@ impl CsvTable {
             .map(|h| h.trim_start_matches('\u{feff}').to_ascii_lowercase())
             .collect::<Vec<_>>();
         if headers.iter().all(|h| h.is_empty()) {
-            return Err(Error::parse(path, 1, "the file is empty: expected a header row"));
+            return Err(Error::parse(
+                path,
+                1,
+                "the file is empty: expected a header row",
+            ));
         }
         Ok(Self {
             path: path.to_path_buf(),
@@ -50,7 +54,10 @@ impl CsvTable {
             Error::parse(
                 &self.path,
                 1,
-                format!("missing column `{name}` (header has: {})", self.headers.join(",")),
+                format!(
+                    "missing column `{name}` (header has: {})",
+                    self.headers.join(",")
+                ),
             )
         })
     }
@@ -87,7 +94,11 @@ impl CsvTable {
                 }
                 Err(e) => {
                     let line = e.position().map_or(line, |p| p.line() as usize);
-                    return Err(Error::parse(&self.path, line, format!("malformed CSV: {e}")));
+                    return Err(Error::parse(
+                        &self.path,
+                        line,
+                        format!("malformed CSV: {e}"),
+                    ));
                 }
             }
         }

@@ -30,7 +30,11 @@ pub fn read_steps(path: &Path) -> Result<StepTrace> {
         Ok(())
     })?;
     if steps.is_empty() {
-        return Err(Error::parse(path, 0, "no steps: the file has a header but no data rows"));
+        return Err(Error::parse(
+            path,
+            0,
+            "no steps: the file has a header but no data rows",
+        ));
     }
     StepTrace::new(steps).map_err(|(i, m)| Error::parse(path, i + 2, m))
 }
@@ -44,7 +48,10 @@ pub fn write_steps(path: &Path, trace: &StepTrace) -> Result<()> {
         "t,length,dheading,dz\n"
     });
     for s in trace.steps() {
-        text.push_str(&format!("{:.3},{:.4},{:.6},{:.4}", s.t, s.length, s.dheading, s.dz));
+        text.push_str(&format!(
+            "{:.3},{:.4},{:.6},{:.4}",
+            s.t, s.length, s.dheading, s.dz
+        ));
         if with_heading {
             if let Some(h) = s.heading {
                 text.push_str(&format!(",{h:.6}"));
@@ -70,7 +77,8 @@ mod tests {
 
     #[test]
     fn reads_optional_and_extra_columns() {
-        let tr = read("t,length,dheading,extra,dz\n0,0.7,0.1,x,0.0\n1,0.8,-0.1,y,0.2\n").expect("ok");
+        let tr =
+            read("t,length,dheading,extra,dz\n0,0.7,0.1,x,0.0\n1,0.8,-0.1,y,0.2\n").expect("ok");
         assert_eq!(tr.len(), 2);
         assert_eq!(tr.steps()[1].dz, 0.2);
         assert!(tr.steps()[0].heading.is_none());
@@ -78,9 +86,13 @@ mod tests {
 
     #[test]
     fn errors_name_the_line_and_problem() {
-        let e = read("t,length,dheading\n0,0.7,0\n1,abc,0\n").unwrap_err().to_string();
+        let e = read("t,length,dheading\n0,0.7,0\n1,abc,0\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("steps.csv:3") && e.contains("length"), "{e}");
-        let e = read("t,length,dheading\n0,0.7,0\n0,0.7,0\n").unwrap_err().to_string();
+        let e = read("t,length,dheading\n0,0.7,0\n0,0.7,0\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains(":3") && e.contains("increasing"), "{e}");
         let e = read("t,length\n0,0.7\n").unwrap_err().to_string();
         assert!(e.contains("dheading"), "{e}");
@@ -88,7 +100,9 @@ mod tests {
         assert!(e.contains("empty"), "{e}");
         let e = read("t,length,dheading\n").unwrap_err().to_string();
         assert!(e.contains("no steps"), "{e}");
-        let e = read("t,length,dheading\n0,NaN,0\n").unwrap_err().to_string();
+        let e = read("t,length,dheading\n0,NaN,0\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains(":2"), "{e}");
         let e = read("t,length,dheading\n0,0.7\n").unwrap_err().to_string();
         assert!(e.contains(":2"), "{e}");

@@ -39,7 +39,11 @@ pub fn read_trajectory(path: &Path) -> Result<Vec<TimedPoint>> {
         Ok(())
     })?;
     if points.is_empty() {
-        return Err(Error::parse(path, 0, "no rows: the file has a header but no data"));
+        return Err(Error::parse(
+            path,
+            0,
+            "no rows: the file has a header but no data",
+        ));
     }
     Ok(points)
 }

@@ -63,12 +63,26 @@ impl Default for FootSlamConfig {
 impl FootSlamConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let bad = |field, value: String, reason| Err(Error::Config { field, value, reason });
+        let bad = |field, value: String, reason| {
+            Err(Error::Config {
+                field,
+                value,
+                reason,
+            })
+        };
         if !(1..=100_000_000).contains(&self.particles) {
-            return bad("particles", self.particles.to_string(), "must be in 1..=100000000");
+            return bad(
+                "particles",
+                self.particles.to_string(),
+                "must be in 1..=100000000",
+            );
         }
         if !(self.hex_radius.is_finite() && (0.05..=10.0).contains(&self.hex_radius)) {
-            return bad("hex_radius", self.hex_radius.to_string(), "must be in [0.05, 10] metres");
+            return bad(
+                "hex_radius",
+                self.hex_radius.to_string(),
+                "must be in [0.05, 10] metres",
+            );
         }
         if !(self.alpha.is_finite() && self.alpha > 0.0 && self.alpha <= 1000.0) {
             return bad("alpha", self.alpha.to_string(), "must be in (0, 1000]");
@@ -227,13 +241,18 @@ impl FootSlam {
         let ess = self.effective_sample_size();
         self.ess_history.push(ess);
         // (f) resample if required (before the next step moves the particles).
-        self.resample_pending = ess < self.config.resample.ess_threshold * self.particles.len() as f64;
+        self.resample_pending =
+            ess < self.config.resample.ess_threshold * self.particles.len() as f64;
     }
 
     /// Normalises the log weights and fills the linear weights; sums in index order so the
     /// result does not depend on the thread count.
     fn normalise(&mut self) {
-        let max = self.log_weights.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let max = self
+            .log_weights
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max);
         let sum: f64 = self.log_weights.iter().map(|&l| (l - max).exp()).sum();
         let log_sum = max + sum.ln();
         for (w, l) in self.weights.iter_mut().zip(self.log_weights.iter_mut()) {
@@ -249,7 +268,9 @@ impl FootSlam {
         let n = self.particles.len();
         let u0 = filter_stream(self.config.seed, k).random::<f64>();
         match self.config.resample.method {
-            ResampleMethod::Systematic => resample::systematic(&self.weights, n, u0, &mut self.parents),
+            ResampleMethod::Systematic => {
+                resample::systematic(&self.weights, n, u0, &mut self.parents)
+            }
             ResampleMethod::Residual => {
                 resample::residual(&self.weights, n, u0, &mut self.parents, &mut self.residuals);
             }
@@ -288,7 +309,9 @@ impl FootSlam {
             .weights
             .iter()
             .enumerate()
-            .fold((0, f64::NEG_INFINITY), |best, (i, &w)| if w > best.1 { (i, w) } else { best })
+            .fold((0, f64::NEG_INFINITY), |best, (i, &w)| {
+                if w > best.1 { (i, w) } else { best }
+            })
             .0;
         FootSlamEstimate {
             index,
@@ -305,7 +328,9 @@ impl FootSlam {
     pub fn replay_path(&self, index: usize) -> Vec<Pose2> {
         let seed = self.config.seed;
         let indices = self.particles[index].lineage.indices(self.steps.len() + 1);
-        let mut error = self.motion.sample_initial(&mut stream(seed, 0, u64::from(indices[0])));
+        let mut error = self
+            .motion
+            .sample_initial(&mut stream(seed, 0, u64::from(indices[0])));
         let mut pose = self.config.start;
         self.steps
             .iter()
@@ -314,7 +339,9 @@ impl FootSlam {
                 let k = s as u64 + 1;
                 let mut rng = stream(seed, k, u64::from(indices[s + 1]));
                 error = self.motion.sample_error(error, &mut rng);
-                pose = self.motion.sample_step(pose, error, length, dheading, &mut rng);
+                pose = self
+                    .motion
+                    .sample_step(pose, error, length, dheading, &mut rng);
                 pose
             })
             .collect()
@@ -355,8 +382,18 @@ mod tests {
             for side in 0..4 {
                 for s in 0..10 {
                     t += 0.5;
-                    let turn = if s == 0 && (side > 0 || t > 1.0) { std::f64::consts::FRAC_PI_2 } else { 0.0 };
-                    steps.push(Step { t, length: 0.7, dheading: turn, dz: 0.0, heading: None });
+                    let turn = if s == 0 && (side > 0 || t > 1.0) {
+                        std::f64::consts::FRAC_PI_2
+                    } else {
+                        0.0
+                    };
+                    steps.push(Step {
+                        t,
+                        length: 0.7,
+                        dheading: turn,
+                        dz: 0.0,
+                        heading: None,
+                    });
                 }
             }
         }
@@ -365,7 +402,11 @@ mod tests {
 
     #[test]
     fn replayed_path_ends_at_the_particle() {
-        let config = FootSlamConfig { particles: 300, seed: 7, ..Default::default() };
+        let config = FootSlamConfig {
+            particles: 300,
+            seed: 7,
+            ..Default::default()
+        };
         let mut f = FootSlam::new(config).expect("valid");
         for s in square_walk(2) {
             f.update(&s);
@@ -384,10 +425,17 @@ mod tests {
     #[test]
     fn results_do_not_depend_on_thread_count() {
         let run = |threads| {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("pool");
             pool.install(|| {
-                let mut f = FootSlam::new(FootSlamConfig { particles: 500, seed: 3, ..Default::default() })
-                    .expect("valid");
+                let mut f = FootSlam::new(FootSlamConfig {
+                    particles: 500,
+                    seed: 3,
+                    ..Default::default()
+                })
+                .expect("valid");
                 for s in square_walk(2) {
                     f.update(&s);
                 }
@@ -405,18 +453,43 @@ mod tests {
         let a = Pose2::new(0.0, 0.0, 0.0);
         let b = Pose2::new(0.866, 0.0, 0.0);
         let first = log_map_factor(&grid, &mut map, 0.8, false, a, b);
-        assert!((first - (0.8f64 / 4.8).ln()).abs() < 1e-12, "an unknown hexagon gives 1/6");
+        assert!(
+            (first - (0.8f64 / 4.8).ln()).abs() < 1e-12,
+            "an unknown hexagon gives 1/6"
+        );
         let back = log_map_factor(&grid, &mut map, 0.8, false, b, a);
         // Leaving b through the edge entered: (1 + 0.8) / (1 + 4.8).
         assert!((back - (1.8f64 / 5.8).ln()).abs() < 1e-12);
         let c = Pose2::new(0.2, 0.2, 0.0);
-        assert_eq!(log_map_factor(&grid, &mut map, 0.8, false, a, c), 0.0, "no crossing, no update");
+        assert_eq!(
+            log_map_factor(&grid, &mut map, 0.8, false, a, c),
+            0.0,
+            "no crossing, no update"
+        );
     }
 
     #[test]
     fn rejects_bad_configuration() {
-        assert!(FootSlam::new(FootSlamConfig { particles: 0, ..Default::default() }).is_err());
-        assert!(FootSlam::new(FootSlamConfig { hex_radius: f64::NAN, ..Default::default() }).is_err());
-        assert!(FootSlam::new(FootSlamConfig { alpha: -1.0, ..Default::default() }).is_err());
+        assert!(
+            FootSlam::new(FootSlamConfig {
+                particles: 0,
+                ..Default::default()
+            })
+            .is_err()
+        );
+        assert!(
+            FootSlam::new(FootSlamConfig {
+                hex_radius: f64::NAN,
+                ..Default::default()
+            })
+            .is_err()
+        );
+        assert!(
+            FootSlam::new(FootSlamConfig {
+                alpha: -1.0,
+                ..Default::default()
+            })
+            .is_err()
+        );
     }
 }

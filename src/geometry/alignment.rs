@@ -28,7 +28,9 @@ impl RigidTransform {
         }
         let n = from.len() as f64;
         let mean = |p: &[(f64, f64)]| {
-            let (sx, sy) = p.iter().fold((0.0, 0.0), |(sx, sy), &(x, y)| (sx + x, sy + y));
+            let (sx, sy) = p
+                .iter()
+                .fold((0.0, 0.0), |(sx, sy), &(x, y)| (sx + x, sy + y));
             (sx / n, sy / n)
         };
         let (fx, fy) = mean(from);
@@ -55,7 +57,11 @@ mod tests {
 
     #[test]
     fn recovers_a_known_transform() {
-        let t = RigidTransform { angle: 0.7, tx: 3.0, ty: -2.0 };
+        let t = RigidTransform {
+            angle: 0.7,
+            tx: 3.0,
+            ty: -2.0,
+        };
         let from = [(0.0, 0.0), (1.0, 0.0), (4.0, 2.0), (-1.0, 5.0)];
         let to: Vec<_> = from.iter().map(|&p| t.apply(p)).collect();
         let fit = RigidTransform::fit(&from, &to).expect("fit");

@@ -68,10 +68,7 @@ impl HexGrid {
     /// Centre of hexagon `h` in the local frame.
     pub fn center(&self, h: Hex) -> (f64, f64) {
         let (q, r) = (f64::from(h.x), f64::from(h.y));
-        (
-            self.radius * SQRT3 * (q + r / 2.0),
-            self.radius * 1.5 * r,
-        )
+        (self.radius * SQRT3 * (q + r / 2.0), self.radius * 1.5 * r)
     }
 
     /// The six corners of `h`, counter-clockwise from the one at −30° (south of edge 0).
@@ -183,7 +180,9 @@ mod tests {
                     let expect = FRAC_PI_3 * f64::from(k);
                     let diff = crate::geometry::wrap_angle(angle - expect);
                     assert!(diff.abs() < 1e-9, "edge {k}: {angle} vs {expect}");
-                    assert!((((nx - x).powi(2) + (ny - y).powi(2)).sqrt() - 0.5 * SQRT3).abs() < 1e-9);
+                    assert!(
+                        (((nx - x).powi(2) + (ny - y).powi(2)).sqrt() - 0.5 * SQRT3).abs() < 1e-9
+                    );
                 }
             }
         }
@@ -210,7 +209,9 @@ mod tests {
         let g = HexGrid::new(0.5);
         let mut state = 12345u64;
         let mut next = || {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((state >> 11) as f64 / (1u64 << 53) as f64) * 10.0 - 5.0
         };
         for _ in 0..1000 {
@@ -244,7 +245,10 @@ mod tests {
         assert!(HexGrid::direction_exponent(0.0) < 1.0);
         assert!(HexGrid::direction_exponent(PI / 6.0) > 1.0);
         for phi in [0.0, 0.3, 1.0, 2.5, -2.0] {
-            let (a, b) = (HexGrid::direction_exponent(phi), HexGrid::direction_exponent_of(2.0 * phi.cos(), 2.0 * phi.sin()));
+            let (a, b) = (
+                HexGrid::direction_exponent(phi),
+                HexGrid::direction_exponent_of(2.0 * phi.cos(), 2.0 * phi.sin()),
+            );
             assert!((a - b).abs() < 1e-12);
         }
     }
@@ -260,12 +264,21 @@ mod tests {
             for o in 0..offsets {
                 let d = 3.0 * f64::from(o) / f64::from(offsets);
                 let (ox, oy) = (-d * phi.sin(), d * phi.cos());
-                g.for_each_crossing((ox, oy), (ox + len * phi.cos(), oy + len * phi.sin()), |_| n += 1);
+                g.for_each_crossing(
+                    (ox, oy),
+                    (ox + len * phi.cos(), oy + len * phi.sin()),
+                    |_| n += 1,
+                );
             }
             let len = len * f64::from(offsets);
-            let s: f64 = (0..3).map(|i| (phi - FRAC_PI_3 * f64::from(i)).cos().abs()).sum();
+            let s: f64 = (0..3)
+                .map(|i| (phi - FRAC_PI_3 * f64::from(i)).cos().abs())
+                .sum();
             let expect = len * 2.0 / (3.0 * SQRT3 * 0.5) * s;
-            assert!((f64::from(n) - expect).abs() / expect < 0.03, "phi {phi}: {n} vs {expect}");
+            assert!(
+                (f64::from(n) - expect).abs() / expect < 0.03,
+                "phi {phi}: {n} vs {expect}"
+            );
         }
     }
 }

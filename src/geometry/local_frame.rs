@@ -47,14 +47,21 @@ impl LocalFrame {
     pub fn to_lon_lat(&self, x: f64, y: f64) -> (f64, f64) {
         let (m, n) = self.radii();
         let lat = self.lat + (y / m).to_degrees();
-        let lon = if n > 0.0 { self.lon + (x / n).to_degrees() } else { self.lon };
+        let lon = if n > 0.0 {
+            self.lon + (x / n).to_degrees()
+        } else {
+            self.lon
+        };
         (lon, lat)
     }
 
     /// (lon, lat) degrees to local (x east, y north) metres.
     pub fn to_local(&self, lon: f64, lat: f64) -> (f64, f64) {
         let (m, n) = self.radii();
-        ((lon - self.lon).to_radians() * n, (lat - self.lat).to_radians() * m)
+        (
+            (lon - self.lon).to_radians() * n,
+            (lat - self.lat).to_radians() * m,
+        )
     }
 }
 

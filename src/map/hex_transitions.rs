@@ -93,7 +93,11 @@ fn child_index((lx, ly): (u32, u32), level: u8) -> usize {
 
 fn block_at((lx, ly): (u32, u32), level: u8) -> (u32, u32) {
     let shift = 2 * u32::from(level);
-    if shift >= 32 { (0, 0) } else { (lx >> shift, ly >> shift) }
+    if shift >= 32 {
+        (0, 0)
+    } else {
+        (lx >> shift, ly >> shift)
+    }
 }
 
 impl HexTransitionMap {
@@ -227,7 +231,11 @@ impl HexTransitionMap {
     /// Adds `n` crossings of an edge at once (used to seed a map from prior counts).
     pub fn add_crossings(&mut self, from: Hex, edge: u8, n: u16) {
         let to = HexGrid::neighbour(from, edge);
-        let (owner, owned) = if edge < 3 { (from, edge) } else { (to, edge - 3) };
+        let (owner, owned) = if edge < 3 {
+            (from, edge)
+        } else {
+            (to, edge - 3)
+        };
         let (leaf, slot) = locate(owner);
         let c = &mut self.leaf_mut(leaf)[slot][usize::from(owned)];
         *c = c.saturating_add(n);
@@ -283,7 +291,11 @@ impl HexTransitionMap {
             })
             .collect();
         cells.sort_by_key(|c| (c.hex.x, c.hex.y));
-        HexMapSnapshot { radius, alpha, cells }
+        HexMapSnapshot {
+            radius,
+            alpha,
+            cells,
+        }
     }
 
     /// Bytes held by nodes not shared with any other map (a lower bound on what this
@@ -335,14 +347,23 @@ mod tests {
         assert_eq!(m.unshared_bytes(), 0, "a clone shares everything");
         c.record_crossing(Hex::new(0, 3), 1);
         assert!(c.unshared_bytes() < before, "a write copies only one path");
-        assert_eq!(m.edge_count(Hex::new(0, 3), 1), 0, "the original is unchanged");
+        assert_eq!(
+            m.edge_count(Hex::new(0, 3), 1),
+            0,
+            "the original is unchanged"
+        );
         assert_eq!(c.edge_count(Hex::new(0, 3), 1), 1);
     }
 
     #[test]
     fn grows_to_far_hexagons_and_snapshots_everything() {
         let mut m = HexTransitionMap::new();
-        let far = [Hex::new(0, 0), Hex::new(-5000, 7), Hex::new(123_456, -98_765), Hex::new(-1, -1)];
+        let far = [
+            Hex::new(0, 0),
+            Hex::new(-5000, 7),
+            Hex::new(123_456, -98_765),
+            Hex::new(-1, -1),
+        ];
         for (i, &h) in far.iter().enumerate() {
             for _ in 0..=i {
                 m.record_crossing(h, (i % 6) as u8);

@@ -71,11 +71,21 @@ impl StepMotionConfig {
                 return Err((name, v, "must be a finite number ≥ 0"));
             }
         }
-        if !(self.duck_max.is_finite() && (0.0..=std::f64::consts::FRAC_PI_2).contains(&self.duck_max)) {
-            return Err(("motion.duck_max", self.duck_max, "must be in [0, π/2] radians"));
+        if !(self.duck_max.is_finite()
+            && (0.0..=std::f64::consts::FRAC_PI_2).contains(&self.duck_max))
+        {
+            return Err((
+                "motion.duck_max",
+                self.duck_max,
+                "must be in [0, π/2] radians",
+            ));
         }
         if self.length_scale_sigma0 > 0.3 {
-            return Err(("motion.length_scale_sigma0", self.length_scale_sigma0, "must be ≤ 0.3"));
+            return Err((
+                "motion.length_scale_sigma0",
+                self.length_scale_sigma0,
+                "must be ≤ 0.3",
+            ));
         }
         Ok(())
     }
@@ -128,7 +138,10 @@ impl StepMotion {
     pub fn sample_error(&self, e: StepErrorState, rng: &mut impl rand::Rng) -> StepErrorState {
         let c = &self.config;
         let drift_rate = f64::from(e.drift_rate) + c.drift_rate_walk_sigma * gauss(rng);
-        let duck = reflect(f64::from(e.duck) + c.duck_walk_sigma * gauss(rng), c.duck_max);
+        let duck = reflect(
+            f64::from(e.duck) + c.duck_walk_sigma * gauss(rng),
+            c.duck_max,
+        );
         StepErrorState {
             drift_rate: drift_rate as f32,
             duck: duck as f32,
@@ -149,7 +162,8 @@ impl StepMotion {
         rng: &mut impl rand::Rng,
     ) -> Pose2 {
         let c = &self.config;
-        let heading = pose.heading + dheading - f64::from(e.drift_rate) + c.dheading_sigma * gauss(rng);
+        let heading =
+            pose.heading + dheading - f64::from(e.drift_rate) + c.dheading_sigma * gauss(rng);
         let stride = (length * f64::from(e.length_scale) + c.length_sigma * gauss(rng)).max(0.0);
         let direction = heading + f64::from(e.duck);
         Pose2 {
@@ -167,7 +181,11 @@ fn reflect(x: f64, bound: f64) -> f64 {
     }
     let period = 4.0 * bound;
     let y = (x + bound).rem_euclid(period);
-    if y <= 2.0 * bound { y - bound } else { 3.0 * bound - y }
+    if y <= 2.0 * bound {
+        y - bound
+    } else {
+        3.0 * bound - y
+    }
 }
 
 #[cfg(test)]
@@ -214,7 +232,11 @@ mod tests {
         };
         let m = StepMotion::new(config);
         let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(1);
-        let e = StepErrorState { drift_rate: 0.1, duck: 0.0, length_scale: 1.0 };
+        let e = StepErrorState {
+            drift_rate: 0.1,
+            duck: 0.0,
+            length_scale: 1.0,
+        };
         let p = m.sample_step(Pose2::default(), e, 1.0, 0.1, &mut rng);
         assert!(p.heading.abs() < 1e-6 && (p.x - 1.0).abs() < 1e-6);
     }

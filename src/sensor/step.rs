@@ -37,18 +37,30 @@ pub fn check_step(step: &Step, previous_t: Option<f64>) -> Result<(), String> {
         return Err("values must be finite numbers (found NaN or infinity)".into());
     }
     if !(0.0..=MAX_STEP_LENGTH).contains(&step.length) {
-        return Err(format!("step length {} m is outside [0, {MAX_STEP_LENGTH}] m", step.length));
+        return Err(format!(
+            "step length {} m is outside [0, {MAX_STEP_LENGTH}] m",
+            step.length
+        ));
     }
     if step.dheading.abs() > 2.0 * std::f64::consts::PI {
-        return Err(format!("heading change {} rad exceeds one full turn", step.dheading));
+        return Err(format!(
+            "heading change {} rad exceeds one full turn",
+            step.dheading
+        ));
     }
     if step.dz.abs() > MAX_STEP_DZ {
-        return Err(format!("height change {} m exceeds {MAX_STEP_DZ} m per step", step.dz));
+        return Err(format!(
+            "height change {} m exceeds {MAX_STEP_DZ} m per step",
+            step.dz
+        ));
     }
     if let Some(p) = previous_t
         && step.t <= p
     {
-        return Err(format!("time {} s is not after the previous step's {} s (times must be strictly increasing)", step.t, p));
+        return Err(format!(
+            "time {} s is not after the previous step's {} s (times must be strictly increasing)",
+            step.t, p
+        ));
     }
     Ok(())
 }
@@ -98,13 +110,24 @@ mod tests {
     use super::*;
 
     fn step(t: f64, length: f64) -> Step {
-        Step { t, length, dheading: 0.0, dz: 0.0, heading: None }
+        Step {
+            t,
+            length,
+            dheading: 0.0,
+            dz: 0.0,
+            heading: None,
+        }
     }
 
     #[test]
     fn rejects_unsorted_times_nan_and_absurd_lengths() {
         assert!(StepTrace::new(vec![step(0.0, 0.7), step(1.0, 0.7)]).is_ok());
-        assert_eq!(StepTrace::new(vec![step(1.0, 0.7), step(1.0, 0.7)]).unwrap_err().0, 1);
+        assert_eq!(
+            StepTrace::new(vec![step(1.0, 0.7), step(1.0, 0.7)])
+                .unwrap_err()
+                .0,
+            1
+        );
         assert!(StepTrace::new(vec![step(0.0, f64::NAN)]).is_err());
         assert!(StepTrace::new(vec![step(0.0, 12.0)]).is_err());
         assert!(StepTrace::new(vec![step(0.0, -0.1)]).is_err());
@@ -114,7 +137,9 @@ mod tests {
     fn dead_reckoning_follows_eq_9_to_11() {
         let mut s = vec![step(0.0, 1.0), step(1.0, 1.0)];
         s[1].dheading = std::f64::consts::FRAC_PI_2;
-        let poses = StepTrace::new(s).expect("valid").dead_reckon(Default::default());
+        let poses = StepTrace::new(s)
+            .expect("valid")
+            .dead_reckon(Default::default());
         assert!((poses[1].x - 1.0).abs() < 1e-12 && (poses[1].y - 1.0).abs() < 1e-12);
     }
 }

@@ -142,11 +142,13 @@ fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> LineString<f64> {
     LineString::from(vec![(x0, y0), (x1, y0), (x1, y1), (x0, y1), (x0, y0)])
 }
 
-/// Writes `/tmp/footslam_sample_map.png` for looking at:
-/// `cargo test --lib export::map_png -- --ignored`.
+/// Renders a full picture (plan, truth, drifting estimate) in both shadings and writes it
+/// atomically; set `FOOTSLAM_SAMPLE_PNG_DIR` to keep the files for looking at.
 #[test]
-#[ignore = "writes a sample picture to /tmp"]
-fn write_sample_picture() {
+fn writes_sample_pictures() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let keep = std::env::var_os("FOOTSLAM_SAMPLE_PNG_DIR").map(std::path::PathBuf::from);
+    let out = keep.as_deref().unwrap_or(dir.path());
     let corners: [(f64, f64); 7] = [
         (0.0, 0.0),
         (20.0, 0.0),
@@ -206,7 +208,7 @@ fn write_sample_picture() {
         ..MapPicture::new(&map, &estimate)
     };
     write_map_png(
-        Path::new("/tmp/footslam_sample_map.png"),
+        &out.join("footslam_sample_map.png"),
         &picture,
         &PictureConfig::default(),
     )
@@ -216,9 +218,13 @@ fn write_sample_picture() {
         ..PictureConfig::default()
     };
     write_map_png(
-        Path::new("/tmp/footslam_sample_map_p.png"),
+        &out.join("footslam_sample_map_p.png"),
         &picture,
         &config,
     )
     .expect("write");
+    for name in ["footslam_sample_map.png", "footslam_sample_map_p.png"] {
+        let img = image::open(out.join(name)).expect("decodes");
+        assert!(img.width() > 300 && img.height() > 200);
+    }
 }

@@ -1,0 +1,314 @@
+//! The command line end to end: outputs, formats, reproducibility and clear errors.
+
+use assert_cmd::Command;
+use std::path::{Path, PathBuf};
+
+fn footslam() -> Command {
+    Command::cargo_bin("footslam").expect("binary")
+}
+
+/// Simulates a short walk (1 lap) into `dir` and returns the folder.
+fn simulate_into(dir: &Path, seed: &str) -> PathBuf {
+    let out = dir.join(format!("sim-{seed}"));
+    footslam()
+        .args([
+            "simulate",
+            "--laps",
+            "1",
+            "--seed",
+            seed,
+            "--origin",
+            "48.15,11.57",
+            "--out",
+        ])
+        .arg(&out)
+        .assert()
+        .success();
+    out
+}
+
+fn learn(steps: &Path, out: &Path, extra: &[&str]) -> assert_cmd::assert::Assert {
+    let seed = if extra.contains(&"--seed") { &[][..] } else { &["--seed", "5"][..] };
+    footslam()
+        .args([
+            "learn",
+            "--particles",
+            "2000",
+            "--origin",
+            "48.15,11.57",
+            "--steps",
+        ])
+        .arg(steps)
+        .arg("--out")
+        .arg(out)
+        .args(extra)
+        .args(seed)
+        .assert()
+}
+
+#[test]
+fn simulate_writes_plan_steps_truth_and_picture() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let sim = simulate_into(dir.path(), "3");
+    for f in [
+        "floor.geojson",
+        "steps.csv",
+        "truth.csv",
+        "truth.png",
+        "config.json",
+        "summary.json",
+    ] {
+        assert!(sim.join(f).is_file(), "missing {f}");
+    }
+    let truth = std::fs::read_to_string(sim.join("truth.csv")).expect("truth");
+    assert!(truth.starts_with("t,x,y,z,level,heading\n"));
+    let plan: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(sim.join("floor.geojson")).expect("plan"))
+            .expect("json");
+    assert_eq!(plan["type"], "FeatureCollection");
+    assert!(plan.get("crs").is_none());
+    assert!((plan["origin"]["lat"].as_f64().expect("lat") - 48.15).abs() < 1e-12);
+}
+
+#[test]
+fn learn_writes_every_output_in_the_documented_formats() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let sim = simulate_into(dir.path(), "4");
+    let out = dir.path().join("learn");
+    learn(&sim.join("steps.csv"), &out, &[]).success();
+    for f in [
+        "map.geojson",
+        "track.csv",
+        "map.png",
+        "summary.json",
+        "config.json",
+    ] {
+        assert!(out.join(f).is_file(), "missing {f}");
+    }
+    // No staging folders are left behind.
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .expect("dir")
+        .filter_map(Result::ok)
+        .filter(|e| e.file_name().to_string_lossy().contains("staging"))
+        .collect();
+    assert!(leftovers.is_empty());
+
+    let steps = std::fs::read_to_string(sim.join("steps.csv"))
+        .expect("steps")
+        .lines()
+        .count()
+        - 1;
+    let track = std::fs::read_to_string(out.join("track.csv")).expect("track");
+    assert!(track.starts_with("t,x,y\n"));
+    assert_eq!(track.lines().count() - 1, steps, "one track row per step");
+
+    let map: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("map.geojson")).expect("map"))
+            .expect("json");
+    assert_eq!(map["type"], "FeatureCollection");
+    assert!(map.get("crs").is_none());
+    let features = map["features"].as_array().expect("features");
+    assert!(features.len() > 20);
+    for f in features {
+        let p = &f["properties"];
+        assert!(p["q"].is_i64() && p["r"].is_i64());
+        assert_eq!(p["counts"].as_array().expect("counts").len(), 6);
+        let probs: f64 = p["p"]
+            .as_array()
+            .expect("p")
+            .iter()
+            .map(|v| v.as_f64().expect("num"))
+            .sum();
+        assert!((probs - 1.0).abs() < 1e-3, "p sums to {probs}");
+        assert!(p["visits"].as_u64().expect("visits") >= 1);
+        let ring = f["geometry"]["coordinates"][0].as_array().expect("ring");
+        assert_eq!(ring.len(), 7, "closed hexagon");
+        let (lon, lat) = (
+            ring[0][0].as_f64().expect("lon"),
+            ring[0][1].as_f64().expect("lat"),
+        );
+        assert!(
+            (lon - 11.57).abs() < 0.01 && (lat - 48.15).abs() < 0.01,
+            "lon/lat order"
+        );
+    }
+
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("summary"))
+            .expect("json");
+    assert_eq!(summary["particles"], 2000);
+    assert_eq!(summary["steps"].as_u64().expect("steps") as usize, steps);
+    assert!(
+        summary["final_effective_sample_size"]
+            .as_f64()
+            .expect("ess")
+            > 0.0
+    );
+    assert!(summary["runtime_s"].as_f64().is_some());
+
+    let png = std::fs::read(out.join("map.png")).expect("png");
+    assert_eq!(&png[1..4], b"PNG");
+
+    // config.json feeds back as --config and reproduces the run.
+    let again = dir.path().join("again");
+    footslam()
+        .args(["learn", "--origin", "48.15,11.57", "--steps"])
+        .arg(sim.join("steps.csv"))
+        .arg("--config")
+        .arg(out.join("config.json"))
+        .arg("--out")
+        .arg(&again)
+        .assert()
+        .success();
+    assert_eq!(
+        std::fs::read(out.join("map.geojson")).expect("a"),
+        std::fs::read(again.join("map.geojson")).expect("b")
+    );
+}
+
+#[test]
+fn same_seed_same_output_whatever_the_thread_count() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let sim = simulate_into(dir.path(), "6");
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    learn(&sim.join("steps.csv"), &a, &["--threads", "1"]).success();
+    learn(&sim.join("steps.csv"), &b, &["--threads", "2"]).success();
+    for f in ["track.csv", "map.geojson"] {
+        assert_eq!(
+            std::fs::read(a.join(f)).expect("a"),
+            std::fs::read(b.join(f)).expect("b"),
+            "{f}"
+        );
+    }
+    let c = dir.path().join("c");
+    learn(&sim.join("steps.csv"), &c, &["--seed", "99"]).success();
+    assert_ne!(
+        std::fs::read(a.join("track.csv")).expect("a"),
+        std::fs::read(c.join("track.csv")).expect("c")
+    );
+}
+
+#[test]
+fn learn_accepts_a_toml_config() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let sim = simulate_into(dir.path(), "7");
+    let toml = dir.path().join("footslam.toml");
+    std::fs::write(
+        &toml,
+        "particles = 500\nhex_radius = 0.6\n[motion]\ndheading_sigma = 0.02\n",
+    )
+    .expect("write");
+    let out = dir.path().join("learn");
+    footslam()
+        .args(["learn", "--steps"])
+        .arg(sim.join("steps.csv"))
+        .arg("--config")
+        .arg(&toml)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success();
+    let config: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("config.json")).expect("config"))
+            .expect("json");
+    assert_eq!(config["particles"], 500);
+    assert_eq!(config["hex_radius"], 0.6);
+    assert_eq!(config["motion"]["dheading_sigma"], 0.02);
+    assert_eq!(config["alpha"], 0.8, "unset fields keep their defaults");
+
+    std::fs::write(&toml, "particles = 500\nhex_radiuss = 0.6\n").expect("write");
+    let bad = footslam()
+        .args(["learn", "--config"])
+        .arg(&toml)
+        .assert()
+        .failure();
+    let err = String::from_utf8_lossy(&bad.get_output().stderr).into_owned();
+    assert!(
+        err.contains("footslam.toml") && err.contains("hex_radiuss"),
+        "{err}"
+    );
+}
+
+#[test]
+fn eval_prints_percentiles() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let sim = simulate_into(dir.path(), "8");
+    let out = dir.path().join("learn");
+    learn(&sim.join("steps.csv"), &out, &[]).success();
+    let assert = footslam()
+        .args(["eval", "--align", "rigid", "--truth"])
+        .arg(sim.join("truth.csv"))
+        .arg("--track")
+        .arg(out.join("track.csv"))
+        .arg("--steps")
+        .arg(sim.join("steps.csv"))
+        .arg("--map")
+        .arg(out.join("map.geojson"))
+        .arg("--plan")
+        .arg(sim.join("floor.geojson"))
+        .assert()
+        .success();
+    let text = String::from_utf8_lossy(&assert.get_output().stdout).into_owned();
+    for key in ["p50", "p75", "p95", "max", "dead reckoning", "walkable"] {
+        assert!(text.contains(key), "missing {key} in {text}");
+    }
+}
+
+/// Runs `learn` on a steps file with `content` and returns stderr.
+fn learn_error(content: &str) -> String {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let steps = dir.path().join("bad_steps.csv");
+    std::fs::write(&steps, content).expect("write");
+    let out = dir.path().join("out");
+    let assert = footslam()
+        .args(["learn", "--particles", "10", "--steps"])
+        .arg(&steps)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .failure();
+    assert!(!out.exists(), "no outputs on failure");
+    String::from_utf8_lossy(&assert.get_output().stderr).into_owned()
+}
+
+#[test]
+fn bad_step_traces_get_clear_errors() {
+    let cases = [
+        (
+            "t,length,dheading\n0,0.7,0\n1,0.7,zero\n",
+            "bad_steps.csv:3",
+        ),
+        ("t,length,dheading\n0,0.7,0\n1,NaN,0\n", "bad_steps.csv:3"),
+        ("t,length,dheading\n1,0.7,0\n0.5,0.7,0\n", "increasing"),
+        ("", "empty"),
+        ("t,length,dheading\n", "no steps"),
+        ("t,length\n0,0.7\n", "dheading"),
+        ("t,length,dheading\n0,70,0\n", "bad_steps.csv:2"),
+        ("t,length,dheading\n0,0.7,0,9\n", "bad_steps.csv:2"),
+    ];
+    for (content, expect) in cases {
+        let err = learn_error(content);
+        assert!(err.contains(expect), "expected `{expect}` in: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}
+
+#[test]
+fn missing_files_and_bad_arguments_are_reported() {
+    let a = footslam()
+        .args(["learn", "--steps", "/nonexistent/steps.csv"])
+        .assert()
+        .failure();
+    let err = String::from_utf8_lossy(&a.get_output().stderr).into_owned();
+    assert!(err.contains("/nonexistent/steps.csv"), "{err}");
+    let a = footslam()
+        .args(["learn", "--origin", "100,5"])
+        .assert()
+        .failure();
+    assert!(String::from_utf8_lossy(&a.get_output().stderr).contains("latitude"));
+    let a = footslam()
+        .args(["learn", "--particles", "0"])
+        .assert()
+        .failure();
+    assert!(String::from_utf8_lossy(&a.get_output().stderr).contains("particles"));
+}
