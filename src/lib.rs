@@ -10,6 +10,25 @@
 //!   ([`export`]), a simulator of office walks with a foot-mounted-grade error model
 //!   ([`sim`]) and trajectory evaluation ([`eval`]).
 //!
+//! ```
+//! use footslam::filter::{FootSlam, FootSlamConfig};
+//! use footslam::sim::{SimConfig, simulate};
+//!
+//! // A simulated one-lap office walk with foot-mounted-grade step errors.
+//! let mut sim_config = SimConfig { seed: 3, ..Default::default() };
+//! sim_config.walk.laps = 1;
+//! let sim = simulate(&sim_config)?;
+//!
+//! let mut slam = FootSlam::new(FootSlamConfig { particles: 500, ..Default::default() })?;
+//! for step in sim.steps.steps() {
+//!     slam.update(step);
+//! }
+//! let best = slam.estimate();
+//! assert_eq!(best.path.len(), sim.steps.len());
+//! assert!(!best.map.cells.is_empty());
+//! # Ok::<(), footslam::Error>(())
+//! ```
+//!
 //! Layers point down only: [`geometry`] → [`sensor`], [`map`] → [`model`] → [`filter`] →
 //! [`dataset`], [`export`] (and [`sim`], [`eval`]). The library never prints.
 
@@ -21,6 +40,7 @@ pub mod filter;
 pub mod geometry;
 pub mod map;
 pub mod model;
+pub mod random;
 pub mod sensor;
 pub mod sim;
 

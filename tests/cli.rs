@@ -28,7 +28,11 @@ fn simulate_into(dir: &Path, seed: &str) -> PathBuf {
 }
 
 fn learn(steps: &Path, out: &Path, extra: &[&str]) -> assert_cmd::assert::Assert {
-    let seed = if extra.contains(&"--seed") { &[][..] } else { &["--seed", "5"][..] };
+    let seed = if extra.contains(&"--seed") {
+        &[][..]
+    } else {
+        &["--seed", "5"][..]
+    };
     footslam()
         .args([
             "learn",

@@ -12,6 +12,7 @@ use footslam::eval::{Alignment, position_errors, walkable_fraction};
 use footslam::export::map_geojson::read_map_geojson;
 use footslam::sim::{SimConfig, simulate};
 
+#[allow(clippy::print_stderr)] // reports the figures with --nocapture
 fn check_seed(seed: u64, drift_deg: f64) {
     let dir = tempfile::tempdir().expect("tempdir");
     let mut config = SimConfig {

@@ -1,11 +1,12 @@
 //! `footslam eval`: position error of a track against the truth.
 
-use super::common::require_file;
+use super::common::{parse_origin, require_file};
 use anyhow::Result;
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
 use footslam::dataset::{TimedPoint, read_steps, read_trajectory};
 use footslam::eval::{Alignment, ErrorReport, position_errors, walkable_fraction};
 use footslam::export::map_geojson::read_map_geojson;
+use footslam::geometry::LocalFrame;
 use std::path::PathBuf;
 
 /// Arguments of `footslam eval`.
@@ -31,6 +32,9 @@ pub struct Args {
     /// Floor plan GeoJSON of the building, in the truth's frame (e.g. simulate's floor.geojson).
     #[arg(long, requires = "map")]
     plan: Option<PathBuf>,
+    /// WGS84 origin of the local frame, `LAT,LON`, for a `--plan` that carries none.
+    #[arg(long, value_parser = parse_origin, allow_hyphen_values = true)]
+    origin: Option<LocalFrame>,
     /// Print JSON instead of a table.
     #[arg(long)]
     json: bool,
@@ -41,6 +45,9 @@ enum AlignArg {
     None,
     Rigid,
 }
+
+/// Picks one figure out of an error report.
+type Statistic = fn(&ErrorReport) -> f64;
 
 /// Runs `footslam eval`.
 pub fn run(args: Args) -> Result<()> {
@@ -77,7 +84,7 @@ pub fn run(args: Args) -> Result<()> {
             require_file(map, "map")?;
             require_file(plan, "floor plan")?;
             let (map, _) = read_map_geojson(map)?;
-            let (plan, _) = read_floor_plan(plan, None)?;
+            let (plan, _) = read_floor_plan(plan, args.origin)?;
             Some(walkable_fraction(&map, &plan, report.transform.as_ref()))
         }
         _ => None,
@@ -90,7 +97,7 @@ pub fn run(args: Args) -> Result<()> {
         });
         outln!("{}", serde_json::to_string_pretty(&value)?);
     } else {
-        let rows: [(&str, fn(&ErrorReport) -> f64); 6] = [
+        let rows: [(&str, Statistic); 6] = [
             ("p50", |r| r.p50),
             ("p75", |r| r.p75),
             ("p95", |r| r.p95),

@@ -29,6 +29,9 @@ pub struct Args {
     /// Random seed (overrides the config file).
     #[arg(long)]
     seed: Option<u64>,
+    /// Hexagon circumradius in metres (overrides the config file; default 0.5).
+    #[arg(long)]
+    hex_radius: Option<f64>,
     /// WGS84 origin of the local frame, `LAT,LON` in degrees (default 0,0).
     #[arg(long, value_parser = parse_origin, allow_hyphen_values = true)]
     origin: Option<LocalFrame>,
@@ -87,6 +90,9 @@ pub fn run(args: Args) -> Result<()> {
     }
     if let Some(s) = args.seed {
         config.seed = s;
+    }
+    if let Some(r) = args.hex_radius {
+        config.hex_radius = r;
     }
     config.validate()?;
     let origin = args.origin.unwrap_or_default();

@@ -1,8 +1,8 @@
 //! Layer 3: particle-filter machinery and the filters built from it.
 
 pub mod footslam;
+pub mod footslam_config;
 pub mod lineage;
-pub mod random_stream;
 pub mod resample;
 
 pub use footslam::{FootSlam, FootSlamConfig, FootSlamEstimate};

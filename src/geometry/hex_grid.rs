@@ -6,7 +6,7 @@
 //! 5 = SE. Crossing edge `k` of a hexagon enters its neighbour through that neighbour's edge
 //! `(k + 3) % 6`. This is the only module that uses `hexx`.
 
-use hexx::Hex;
+pub use hexx::Hex;
 use std::f64::consts::{FRAC_PI_3, PI};
 
 const SQRT3: f64 = 1.732_050_807_568_877_2;

@@ -11,6 +11,6 @@ pub mod pose;
 
 pub use alignment::RigidTransform;
 pub use angle::wrap_angle;
-pub use hex_grid::{Crossing, HexGrid};
+pub use hex_grid::{Crossing, Hex, HexGrid};
 pub use local_frame::LocalFrame;
 pub use pose::Pose2;

@@ -116,13 +116,25 @@ pub fn simulate(config: &SimConfig) -> Result<Simulation> {
 /// The seed of independent stream `stream` of a run seeded with `seed` (SplitMix64's
 /// finaliser applied twice, so nearby seeds and streams give unrelated generators).
 pub fn stream_seed(seed: u64, stream: u64) -> u64 {
-    fn mix(mut z: u64) -> u64 {
-        z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+    crate::random::mix(seed ^ crate::random::mix(stream))
+}
+
+/// The steps of a default office simulation seeded with `seed`, with as many laps as
+/// needed to reach `steps` steps, cut to exactly that many (for benches and scaling runs).
+pub fn office_walk_steps(steps: usize, seed: u64) -> Result<Vec<crate::sensor::Step>> {
+    let mut config = SimConfig {
+        seed,
+        ..Default::default()
+    };
+    config.walk.laps = 1;
+    loop {
+        let sim = simulate(&config)?;
+        if sim.steps.len() >= steps {
+            return Ok(sim.steps.steps()[..steps].to_vec());
+        }
+        // About 150 steps a lap: add enough laps at once.
+        config.walk.laps += 1 + (steps - sim.steps.len()) / 150;
     }
-    mix(seed ^ mix(stream))
 }
 
 #[cfg(test)]

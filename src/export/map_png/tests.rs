@@ -217,12 +217,7 @@ fn writes_sample_pictures() {
         shading: Shading::Probability,
         ..PictureConfig::default()
     };
-    write_map_png(
-        &out.join("footslam_sample_map_p.png"),
-        &picture,
-        &config,
-    )
-    .expect("write");
+    write_map_png(&out.join("footslam_sample_map_p.png"), &picture, &config).expect("write");
     for name in ["footslam_sample_map.png", "footslam_sample_map_p.png"] {
         let img = image::open(out.join(name)).expect("decodes");
         assert!(img.width() > 300 && img.height() > 200);

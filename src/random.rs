@@ -6,8 +6,8 @@
 
 use rand_pcg::Pcg64Mcg;
 
-/// SplitMix64's finaliser: a bijective 64-bit mix.
-const fn mix(mut z: u64) -> u64 {
+/// SplitMix64's finaliser: a bijective 64-bit mix (for deriving seeds).
+pub const fn mix(mut z: u64) -> u64 {
     z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);

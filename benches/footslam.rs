@@ -1,0 +1,68 @@
+//! FootSLAM filter throughput: how time grows with particles and with walk length, and the
+//! headline size (100,000 particles over a 700-step walk).
+//!
+//! `cargo bench --bench footslam` (the headline group alone: `-- headline`).
+//! Memory is measured by `examples/scaling.rs` (criterion measures time only).
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use footslam::filter::{FootSlam, FootSlamConfig};
+use footslam::sensor::Step;
+use footslam::sim::office_walk_steps;
+use std::hint::black_box;
+
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
+fn run(particles: usize, steps: &[Step]) -> usize {
+    let mut f = FootSlam::new(FootSlamConfig {
+        particles,
+        seed: 1,
+        ..Default::default()
+    })
+    .expect("config");
+    for s in steps {
+        f.update(s);
+    }
+    f.estimate().map.cells.len()
+}
+
+fn particles(c: &mut Criterion) {
+    let steps = office_walk_steps(200, 1).expect("walk");
+    let mut g = c.benchmark_group("particles");
+    g.sample_size(10);
+    for n in [1_000usize, 10_000, 30_000, 100_000] {
+        g.throughput(Throughput::Elements((n * steps.len()) as u64));
+        g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, &n| {
+            b.iter(|| black_box(run(n, &steps)))
+        });
+    }
+    g.finish();
+}
+
+fn walk_length(c: &mut Criterion) {
+    let all = office_walk_steps(700, 1).expect("walk");
+    let mut g = c.benchmark_group("walk_length");
+    g.sample_size(10);
+    let n = 10_000;
+    for len in [100usize, 300, 700] {
+        g.throughput(Throughput::Elements((n * len) as u64));
+        g.bench_with_input(BenchmarkId::from_parameter(len), &len, |b, &len| {
+            b.iter(|| black_box(run(n, &all[..len])))
+        });
+    }
+    g.finish();
+}
+
+fn headline(c: &mut Criterion) {
+    let steps = office_walk_steps(700, 1).expect("walk");
+    let mut g = c.benchmark_group("headline");
+    g.sample_size(10);
+    g.measurement_time(std::time::Duration::from_secs(300));
+    let n = 100_000;
+    g.throughput(Throughput::Elements((n * steps.len()) as u64));
+    g.bench_function("100000x700", |b| b.iter(|| black_box(run(n, &steps))));
+    g.finish();
+}
+
+criterion_group!(benches, particles, walk_length, headline);
+criterion_main!(benches);
