@@ -17,8 +17,8 @@ for n in 1000 3000 10000 20000 50000 100000; do
   for seed in ${seeds[@]}; do
     $bin learn --steps "$tmp/sim$seed/steps.csv" --particles "$n" --out "$tmp/l" >/dev/null
     p95=$($bin eval --json --align rigid --truth "$tmp/sim$seed/truth.csv" --track "$tmp/l/track.csv" \
-      --steps "$tmp/sim$seed/steps.csv" | python3 -c 'import json,sys; d=json.load(sys.stdin); print(f"{d["track"]["p95"]:.3f},{d["dead_reckoning"]["p95"]:.3f}")')
-    secs=$(python3 -c 'import json,sys; print(f"{json.load(open(sys.argv[1]))["filter_runtime_s"]:.2f}")' "$tmp/l/summary.json")
+      --steps "$tmp/sim$seed/steps.csv" | python3 -c 'import json,sys; d=json.load(sys.stdin); print("%.3f,%.3f" % (d["track"]["p95"], d["dead_reckoning"]["p95"]))')
+    secs=$(python3 -c 'import json,sys; print("%.2f" % json.load(open(sys.argv[1]))["filter_runtime_s"])' "$tmp/l/summary.json")
     echo "$n,$seed,$p95,$secs"
   done
 done

@@ -45,9 +45,7 @@ pub fn floor_plan_to_geojson(plan: &FloorPlan, frame: &LocalFrame) -> FeatureCol
 
 /// Writes [`floor_plan_to_geojson`] to `path` atomically.
 pub fn write_floor_plan(path: &Path, plan: &FloorPlan, frame: &LocalFrame) -> Result<()> {
-    let collection = floor_plan_to_geojson(plan, frame);
-    let text = serde_json::to_string(&collection).map_err(|e| Error::io(path, e.into()))?;
-    crate::export::write_atomically(path, text.as_bytes())
+    crate::export::write_geojson(path, &floor_plan_to_geojson(plan, frame))
 }
 
 /// Reads a floor plan and the frame its local coordinates are in: the file's `origin` member,

@@ -63,9 +63,7 @@ pub fn map_to_geojson(map: &HexMapSnapshot, frame: &LocalFrame) -> FeatureCollec
 
 /// Writes [`map_to_geojson`] to `path` atomically.
 pub fn write_map_geojson(path: &Path, map: &HexMapSnapshot, frame: &LocalFrame) -> Result<()> {
-    let collection = map_to_geojson(map, frame);
-    let text = serde_json::to_string(&collection).map_err(|e| Error::io(path, e.into()))?;
-    super::write_atomically(path, text.as_bytes())
+    super::write_geojson(path, &map_to_geojson(map, frame))
 }
 
 /// Reads a map written by [`write_map_geojson`], with the frame it was placed by.

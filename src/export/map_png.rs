@@ -273,6 +273,7 @@ fn render(picture: &MapPicture, config: &PictureConfig) -> Result<Pixmap> {
     draw_line(&mut pixmap, &layout, picture.path, (halo, w + 2.0), None);
     draw_line(&mut pixmap, &layout, picture.path, (PATH_RED, w), None);
     draw_markers(&mut pixmap, &layout, picture.path, w);
+    let labels = (!picture.map.cells.is_empty()).then_some(labels);
     draw_legend(&mut pixmap, &layout, config, labels);
     Ok(pixmap)
 }

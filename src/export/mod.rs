@@ -29,6 +29,12 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     })
 }
 
+/// Writes a GeoJSON feature collection to `path` atomically.
+pub fn write_geojson(path: &Path, collection: &geojson::FeatureCollection) -> Result<()> {
+    let text = serde_json::to_string(collection).map_err(|e| Error::io(path, e.into()))?;
+    write_atomically(path, text.as_bytes())
+}
+
 fn tempfile_in(dir: &Path, path: &Path) -> Result<(std::path::PathBuf, std::fs::File)> {
     let name = path
         .file_name()

@@ -33,12 +33,13 @@ impl Strip {
     }
 }
 
-/// Draws the legend; `labels` are the colour bar's (low, high) ends.
+/// Draws the legend; `labels` are the colour bar's (low, high) ends, `None` for a
+/// picture without hexagons (no colour bar then).
 pub fn draw_legend(
     pixmap: &mut Pixmap,
     layout: &Layout,
     config: &PictureConfig,
-    labels: (String, String),
+    labels: Option<(String, String)>,
 ) {
     let ts = config.text_scale;
     let text_h = (GLYPH_HEIGHT * ts) as f32;
@@ -58,13 +59,15 @@ pub fn draw_legend(
         Shading::Visits => "visits (log scale)",
         Shading::Probability => "max transition p",
     };
-    draw_colour_bar(
-        pixmap,
-        &strip,
-        arrow_x - 50.0 - COLOUR_BAR_WIDTH,
-        caption,
-        labels,
-    );
+    if let Some(labels) = labels {
+        draw_colour_bar(
+            pixmap,
+            &strip,
+            arrow_x - 50.0 - COLOUR_BAR_WIDTH,
+            caption,
+            labels,
+        );
+    }
     draw_north_arrow(pixmap, &strip, arrow_x);
 }
 
