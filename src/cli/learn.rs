@@ -61,6 +61,7 @@ struct Summary {
     resamplings: usize,
     best_particle: usize,
     best_particle_weight: f64,
+    best_path_log_likelihood: f64,
     hexagons: usize,
     map_area_m2: f64,
     path_length_m: f64,
@@ -158,6 +159,7 @@ pub fn run(args: Args) -> Result<()> {
         resamplings: filter.resamplings(),
         best_particle: estimate.index,
         best_particle_weight: estimate.weight,
+        best_path_log_likelihood: estimate.path_log_likelihood,
         hexagons: estimate.map.cells.len(),
         map_area_m2: estimate.map.cells.len() as f64
             * footslam::geometry::HexGrid::new(config.hex_radius).cell_area(),

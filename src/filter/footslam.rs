@@ -30,15 +30,21 @@ struct Particle {
     error: StepErrorState,
     map: HexTransitionMap,
     lineage: Arc<Lineage>,
+    /// `ln ∏ₖ` of eq. (6)'s factors over the particle's whole path (its ancestors' steps
+    /// included): the unnormalised posterior of the path under the likelihood proposal,
+    /// never reset by resampling.
+    path_log_likelihood: f64,
 }
 
 /// The filter's answer: the most probable particle's map and whole path.
 #[derive(Debug, Clone)]
 pub struct FootSlamEstimate {
-    /// Index of the particle with the highest weight.
+    /// Index of the particle whose whole path is the most probable.
     pub index: usize,
-    /// Its normalised weight.
+    /// Its current normalised weight.
     pub weight: f64,
+    /// `ln` of the product of eq. (6)'s factors over its whole path.
+    pub path_log_likelihood: f64,
     /// Its pose after each step (one per step processed).
     pub path: Vec<Pose2>,
     /// Its map.
@@ -80,6 +86,7 @@ impl FootSlam {
                 error: motion.sample_initial(&mut stream(config.seed, 0, i as u64)),
                 map: HexTransitionMap::new(),
                 lineage: Lineage::root(i as u32),
+                path_log_likelihood: 0.0,
             })
             .collect();
         Ok(Self {
@@ -155,7 +162,9 @@ impl FootSlam {
                 // (b) P_k = P_{k-1} + U_k.
                 let pose = motion.sample_step(p.pose, p.error, z.length, z.dheading, &mut rng);
                 // (c) and (e): weight by every edge crossed, then count it.
-                *log_w += log_map_factor(&grid, &mut p.map, alpha, correct, p.pose, pose);
+                let log_factor = log_map_factor(&grid, &mut p.map, alpha, correct, p.pose, pose);
+                *log_w += log_factor;
+                p.path_log_likelihood += log_factor;
                 p.pose = pose;
             });
         // (d) normalise.
@@ -214,6 +223,7 @@ impl FootSlam {
                     error: p.error,
                     map: p.map.clone(),
                     lineage,
+                    path_log_likelihood: p.path_log_likelihood,
                 }
             })
             .collect_into_vec(&mut self.next);
@@ -226,18 +236,27 @@ impl FootSlam {
     }
 
     /// The most probable particle's map and whole path (replayed from its ancestry).
+    ///
+    /// "Most probable" is judged on the whole path: the particle whose path has the
+    /// largest product of eq. (6)'s factors since the first step, rather than the largest
+    /// current weight, which only reflects the steps since the last resampling.
     pub fn estimate(&self) -> FootSlamEstimate {
         let index = self
-            .weights
+            .particles
             .iter()
             .enumerate()
-            .fold((0, f64::NEG_INFINITY), |best, (i, &w)| {
-                if w > best.1 { (i, w) } else { best }
+            .fold((0, f64::NEG_INFINITY), |best, (i, p)| {
+                if p.path_log_likelihood > best.1 {
+                    (i, p.path_log_likelihood)
+                } else {
+                    best
+                }
             })
             .0;
         FootSlamEstimate {
             index,
             weight: self.weights.get(index).copied().unwrap_or(0.0),
+            path_log_likelihood: self.particles[index].path_log_likelihood,
             path: self.replay_path(index),
             map: self.particles[index]
                 .map
@@ -342,6 +361,27 @@ mod tests {
         let e = f.estimate();
         assert_eq!(e.path.len(), 80);
         assert!(!e.map.cells.is_empty());
+    }
+
+    #[test]
+    fn estimate_maximises_the_whole_path_likelihood() {
+        let config = FootSlamConfig {
+            particles: 400,
+            seed: 9,
+            ..Default::default()
+        };
+        let mut f = FootSlam::new(config).expect("valid");
+        for s in square_walk(2) {
+            f.update(&s);
+        }
+        let e = f.estimate();
+        let max = f
+            .particles
+            .iter()
+            .map(|p| p.path_log_likelihood)
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert_eq!(e.path_log_likelihood, max);
+        assert_eq!(f.particles[e.index].path_log_likelihood, max);
     }
 
     #[test]
