@@ -54,14 +54,7 @@ pub fn read_floor_plan(
     path: &Path,
     fallback: Option<LocalFrame>,
 ) -> Result<(FloorPlan, LocalFrame)> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    let collection: FeatureCollection = serde_json::from_str(&text).map_err(|e| {
-        Error::parse(
-            path,
-            e.line(),
-            format!("not a GeoJSON FeatureCollection: {e}"),
-        )
-    })?;
+    let collection = crate::dataset::geojson_file::read_feature_collection(path)?;
     let whole = |message: String| Error::parse(path, 0, message);
     let origin = collection
         .foreign_members

@@ -3,6 +3,7 @@
 
 pub mod csv_table;
 pub mod floor_plan_geojson;
+pub mod geojson_file;
 pub mod steps_csv;
 pub mod trajectory_csv;
 pub mod truth_csv;

@@ -72,14 +72,7 @@ pub fn write_map_geojson(path: &Path, map: &HexMapSnapshot, frame: &LocalFrame) 
 /// (within 5 % of a radius), which catches files whose `origin` or `hex_radius` was edited.
 /// Errors name the file and the zero-based feature index.
 pub fn read_map_geojson(path: &Path) -> Result<(HexMapSnapshot, LocalFrame)> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    let collection: FeatureCollection = serde_json::from_str(&text).map_err(|e| {
-        Error::parse(
-            path,
-            e.line(),
-            format!("not a GeoJSON FeatureCollection: {e}"),
-        )
-    })?;
+    let collection = crate::dataset::geojson_file::read_feature_collection(path)?;
     let whole = |message: String| Error::parse(path, 0, message);
     let members = collection.foreign_members.unwrap_or_default();
     let (frame, radius, alpha) = read_header(&members).map_err(whole)?;
