@@ -116,6 +116,16 @@ impl CsvRow<'_> {
         Error::parse(self.path, self.line, message)
     }
 
+    /// Fails unless time `t` comes strictly after `previous` (the previous row's time).
+    pub fn ensure_after(&self, previous: Option<f64>, t: f64) -> Result<()> {
+        match previous {
+            Some(p) if t <= p => Err(self.error(format!(
+                "time {t} s is not after the previous row's {p} s (times must be strictly increasing)"
+            ))),
+            _ => Ok(()),
+        }
+    }
+
     /// The raw text of column `index`.
     pub fn text(&self, index: usize) -> &str {
         self.record.get(index).unwrap_or("")

@@ -27,14 +27,7 @@ pub fn read_trajectory(path: &Path) -> Result<Vec<TimedPoint>> {
             x: row.number(x, "x")?,
             y: row.number(y, "y")?,
         };
-        if let Some(last) = points.last()
-            && p.t <= last.t
-        {
-            return Err(row.error(format!(
-                "time {} s is not after the previous row's {} s (times must be strictly increasing)",
-                p.t, last.t
-            )));
-        }
+        row.ensure_after(points.last().map(|q| q.t), p.t)?;
         points.push(p);
         Ok(())
     })?;

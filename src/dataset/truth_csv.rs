@@ -39,8 +39,16 @@ pub fn read_truth(path: &Path) -> Result<TruePath> {
         let previous = poses.last().map_or((0.0, 0.0), |p| (p.x, p.y));
         let level = match row.optional_number(level, "level")? {
             None => 0,
-            Some(l) if l.fract() == 0.0 && (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&l) => l as i32,
-            Some(l) => return Err(row.error(format!("column `level`: `{l}` is not an integer floor level"))),
+            Some(l)
+                if l.fract() == 0.0 && (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&l) =>
+            {
+                l as i32
+            }
+            Some(l) => {
+                return Err(row.error(format!(
+                    "column `level`: `{l}` is not an integer floor level"
+                )));
+            }
         };
         let pose = TruePose {
             t: row.number(t, "t")?,
@@ -53,14 +61,7 @@ pub fn read_truth(path: &Path) -> Result<TruePath> {
                 None => wrap_angle((py - previous.1).atan2(px - previous.0)),
             },
         };
-        if let Some(last) = poses.last()
-            && pose.t <= last.t
-        {
-            return Err(row.error(format!(
-                "time {} s is not after the previous row's {} s (times must be strictly increasing)",
-                pose.t, last.t
-            )));
-        }
+        row.ensure_after(poses.last().map(|p| p.t), pose.t)?;
         poses.push(pose);
         Ok(())
     })?;
