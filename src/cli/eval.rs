@@ -3,8 +3,8 @@
 use super::common::{parse_origin, require_file};
 use anyhow::Result;
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
-use footslam::dataset::{TimedPoint, read_steps, read_trajectory};
-use footslam::eval::{Alignment, ErrorReport, position_errors, walkable_fraction};
+use footslam::dataset::{TimedPoint, read_steps, read_track, read_trajectory};
+use footslam::eval::{Alignment, ErrorReport, floor_accuracy, position_errors, walkable_fraction};
 use footslam::export::map_geojson::read_map_geojson;
 use footslam::geometry::LocalFrame;
 use std::path::PathBuf;
@@ -15,7 +15,8 @@ pub struct Args {
     /// Ground truth CSV with `t,x,y` columns (e.g. the simulator's truth.csv).
     #[arg(long)]
     truth: PathBuf,
-    /// Estimated track CSV with `t,x,y` columns (e.g. learn's track.csv).
+    /// Estimated track CSV with `t,x,y` columns (e.g. learn's or track's track.csv); with
+    /// `z` and `level` columns in both files, the share on the right floor is reported too.
     #[arg(long)]
     track: PathBuf,
     /// Alignment before measuring: `none` (absolute) or `rigid` (best rotation and
@@ -79,6 +80,16 @@ pub fn run(args: Args) -> Result<()> {
         }
         None => None,
     };
+    // Both files with `z` and `level` columns (truth.csv, track's track.csv): floor accuracy.
+    let floors = match (read_track(&args.truth), read_track(&args.track)) {
+        (Ok(truth), Ok(track)) => {
+            let levels = |v: &[footslam::dataset::TrackPoint]| -> Vec<(f64, i32)> {
+                v.iter().map(|p| (p.t, p.level)).collect()
+            };
+            floor_accuracy(&levels(&truth), &levels(&track))
+        }
+        _ => None,
+    };
     let walkable = match (&args.map, &args.plan) {
         (Some(map), Some(plan)) => {
             require_file(map, "map")?;
@@ -94,6 +105,7 @@ pub fn run(args: Args) -> Result<()> {
             "track": report,
             "dead_reckoning": dead_reckoning,
             "walkable_fraction": walkable,
+            "floor_accuracy": floors,
         });
         outln!("{}", serde_json::to_string_pretty(&value)?);
     } else {
@@ -119,6 +131,9 @@ pub fn run(args: Args) -> Result<()> {
                     outln!("{name:<6} {:>8.3} m", f(&report));
                 }
             }
+        }
+        if let Some(f) = floors {
+            outln!("right floor {:.1} % of track points", 100.0 * f);
         }
         if let Some(w) = walkable {
             outln!("walkable {:.1} % of visit-weighted map hexagons", 100.0 * w);

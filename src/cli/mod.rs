@@ -12,6 +12,7 @@ mod common;
 mod eval;
 mod learn;
 mod simulate;
+mod track;
 
 use clap::{Parser, Subcommand};
 
@@ -27,6 +28,8 @@ struct Cli {
 enum Command {
     /// Learn a hexagon transition map and the walker's path from a step trace (FootSLAM).
     Learn(learn::Args),
+    /// Locate and track a walker on a known 2.5D floor plan from step events.
+    Track(track::Args),
     /// Simulate an office floor, a walk through it and its step trace.
     Simulate(simulate::Args),
     /// Position error of a track against the truth.
@@ -39,6 +42,7 @@ pub fn main() -> std::process::ExitCode {
     let result = match cli.command {
         Command::Learn(a) => learn::run(a),
         Command::Simulate(a) => simulate::run(a),
+        Command::Track(a) => track::run(a),
         Command::Eval(a) => eval::run(a),
     };
     match result {

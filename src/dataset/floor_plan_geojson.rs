@@ -4,17 +4,26 @@
 //! `[lon, lat]` degrees rounded to 1e-8° (about a millimetre), exterior rings
 //! counter-clockwise and holes clockwise (RFC 7946 sec. 3.1.6), no `crs` member. Feature
 //! properties: `level` (integer floor level, default 0), `z` (surface height in metres,
-//! default 0) and `name` (optional). The collection's foreign member
-//! `"origin": {"lat", "lon"}` names the local frame's origin.
+//! default 0) and `name` (optional). Holes are walls. `LineString` features with
+//! `"barrier": true` are extra walls ([`Barrier`]) blocking the surfaces of their `level`
+//! (default 0). The collection's foreign member `"origin": {"lat", "lon"}` names the local
+//! frame's origin (x east, y north, metres).
 //!
-//! On reading, `MultiPolygon` features give one surface per part, `LineString` features
-//! (walls, in later versions) are ignored, and other geometries are errors; every error names
-//! the file and the zero-based feature index.
+//! On reading, `MultiPolygon` features give one surface per part, `MultiLineString` barriers
+//! one barrier per part, `LineString`s without `"barrier": true` are ignored (annotations),
+//! and other geometries are errors. Surfaces must be valid polygons (closed rings, finite
+//! coordinates, no self-intersection); every error names the file and the zero-based feature
+//! index (and the surface's `name`).
+//!
+//! Which edges are walls and which are connections between surfaces follows from the
+//! geometry (see [`crate::map::floor_topology`]): surfaces that share a boundary
+//! (collinear within 5 cm) and differ in height by at most 0.5 m connect; a stair is a chain
+//! of tread polygons each a rise above the previous.
 
 use crate::error::{Error, Result};
 use crate::geometry::LocalFrame;
-use crate::map::{FloorPlan, FloorPolygon};
-use geo::{Coord, LineString, Polygon, Winding};
+use crate::map::{Barrier, FloorPlan, FloorPolygon};
+use geo::{Coord, LineString, Polygon, Validation, Winding};
 use geojson::{
     Feature, FeatureCollection, Geometry, GeometryValue, JsonObject, JsonValue, PolygonType,
 };
@@ -30,6 +39,7 @@ pub fn floor_plan_to_geojson(plan: &FloorPlan, frame: &LocalFrame) -> FeatureCol
         .polygons
         .iter()
         .map(|f| surface_feature(f, frame))
+        .chain(plan.barriers.iter().map(|b| barrier_feature(b, frame)))
         .collect();
     let mut members = JsonObject::new();
     members.insert(
@@ -48,21 +58,18 @@ pub fn write_floor_plan(path: &Path, plan: &FloorPlan, frame: &LocalFrame) -> Re
     crate::export::write_geojson(path, &floor_plan_to_geojson(plan, frame))
 }
 
-/// Reads a floor plan and the frame its local coordinates are in: the file's `origin` member,
-/// else `fallback`, else an error.
-pub fn read_floor_plan(
-    path: &Path,
-    fallback: Option<LocalFrame>,
-) -> Result<(FloorPlan, LocalFrame)> {
+/// Reads a floor plan and the frame its local coordinates are in: `origin` when given (it
+/// overrides the file's), else the file's `origin` member, else an error.
+pub fn read_floor_plan(path: &Path, origin: Option<LocalFrame>) -> Result<(FloorPlan, LocalFrame)> {
     let collection = crate::dataset::geojson_file::read_feature_collection(path)?;
     let whole = |message: String| Error::parse(path, 0, message);
-    let origin = collection
+    let member = collection
         .foreign_members
         .as_ref()
         .and_then(|m| m.get("origin"));
-    let frame = match (origin, fallback) {
-        (Some(origin), _) => read_origin(origin).map_err(whole)?,
-        (None, Some(frame)) => frame,
+    let frame = match (origin, member) {
+        (Some(frame), _) => frame,
+        (None, Some(member)) => read_origin(member).map_err(whole)?,
         (None, None) => {
             return Err(whole(
                 "no top-level `origin` member ({\"lat\": .., \"lon\": ..}) and no origin given: \
@@ -71,12 +78,17 @@ pub fn read_floor_plan(
             ));
         }
     };
-    let mut polygons = Vec::new();
+    let mut plan = FloorPlan::default();
     for (i, feature) in collection.features.iter().enumerate() {
-        read_feature(feature, &frame, &mut polygons)
-            .map_err(|m| whole(format!("feature {i}: {m}")))?;
+        read_feature(feature, &frame, &mut plan).map_err(|m| {
+            let name = feature
+                .property("name")
+                .and_then(JsonValue::as_str)
+                .map_or(String::new(), |n| format!(" (\"{n}\")"));
+            whole(format!("feature {i}{name}: {m}"))
+        })?;
     }
-    Ok((FloorPlan { polygons }, frame))
+    Ok((plan, frame))
 }
 
 fn surface_feature(surface: &FloorPolygon, frame: &LocalFrame) -> Feature {
@@ -97,6 +109,22 @@ fn surface_feature(surface: &FloorPolygon, frame: &LocalFrame) -> Feature {
     Feature {
         bbox: None,
         geometry: Some(Geometry::new(GeometryValue::new_polygon(rings))),
+        id: None,
+        properties: Some(properties),
+        foreign_members: None,
+    }
+}
+
+fn barrier_feature(barrier: &Barrier, frame: &LocalFrame) -> Feature {
+    let mut properties = JsonObject::new();
+    properties.insert("barrier".into(), json!(true));
+    properties.insert("level".into(), json!(barrier.level));
+    Feature {
+        bbox: None,
+        geometry: Some(Geometry::new(GeometryValue::new_line_string(to_positions(
+            &barrier.line,
+            frame,
+        )))),
         id: None,
         properties: Some(properties),
         foreign_members: None,
@@ -133,16 +161,36 @@ fn read_origin(origin: &JsonValue) -> Result<LocalFrame, String> {
         .ok_or_else(|| format!("origin ({lat}, {lon}) is not a valid latitude/longitude"))
 }
 
-/// Appends the surfaces of `feature` to `out`.
-fn read_feature(
-    feature: &Feature,
-    frame: &LocalFrame,
-    out: &mut Vec<FloorPolygon>,
-) -> Result<(), String> {
+/// Appends the surfaces or barriers of `feature` to `out`.
+fn read_feature(feature: &Feature, frame: &LocalFrame, out: &mut FloorPlan) -> Result<(), String> {
+    let lines: Option<Vec<&Vec<geojson::Position>>> =
+        match feature.geometry.as_ref().map(|g| &g.value) {
+            Some(GeometryValue::LineString { coordinates }) => Some(vec![coordinates]),
+            Some(GeometryValue::MultiLineString { coordinates }) => {
+                Some(coordinates.iter().collect())
+            }
+            _ => None,
+        };
+    if let Some(lines) = lines {
+        let barrier = match feature.property("barrier") {
+            None | Some(JsonValue::Null) | Some(JsonValue::Bool(false)) => false,
+            Some(JsonValue::Bool(true)) => true,
+            Some(v) => return Err(format!("property `barrier` = {v} is not true or false")),
+        };
+        if barrier {
+            let level = read_level(feature)?;
+            for (j, line) in lines.into_iter().enumerate() {
+                out.barriers.push(Barrier {
+                    line: read_line(line, frame).map_err(|m| format!("line {j}: {m}"))?,
+                    level,
+                });
+            }
+        }
+        return Ok(());
+    }
     let parts: Vec<&PolygonType> = match feature.geometry.as_ref().map(|g| &g.value) {
         Some(GeometryValue::Polygon { coordinates }) => vec![coordinates],
         Some(GeometryValue::MultiPolygon { coordinates }) => coordinates.iter().collect(),
-        Some(GeometryValue::LineString { .. }) => return Ok(()),
         Some(other) => {
             return Err(format!(
                 "geometry type {} is not supported (expected Polygon, MultiPolygon or LineString)",
@@ -153,13 +201,7 @@ fn read_feature(
             return Err("has no geometry (expected Polygon, MultiPolygon or LineString)".into());
         }
     };
-    let level = match feature.property("level") {
-        None | Some(JsonValue::Null) => 0,
-        Some(v) => v
-            .as_i64()
-            .and_then(|l| i32::try_from(l).ok())
-            .ok_or_else(|| format!("property `level` = {v} is not an integer floor level"))?,
-    };
+    let level = read_level(feature)?;
     let z = match feature.property("z") {
         None | Some(JsonValue::Null) => 0.0,
         Some(v) => v
@@ -174,7 +216,10 @@ fn read_feature(
     };
     for (j, rings) in parts.into_iter().enumerate() {
         let polygon = read_polygon(rings, frame).map_err(|m| format!("polygon {j}: {m}"))?;
-        out.push(FloorPolygon {
+        if let Err(e) = polygon.check_validation() {
+            return Err(format!("polygon {j}: not a valid polygon: {e}"));
+        }
+        out.polygons.push(FloorPolygon {
             polygon,
             level,
             z,
@@ -182,6 +227,46 @@ fn read_feature(
         });
     }
     Ok(())
+}
+
+const NOT_DEGREES: &str =
+    "is not a finite [lon, lat] pair of degrees (lon in [-180, 180], lat in [-90, 90])";
+
+/// True for a finite longitude and latitude in range.
+fn degrees(lon: f64, lat: f64) -> bool {
+    lon.is_finite() && lat.is_finite() && lon.abs() <= 180.0 && lat.abs() <= 90.0
+}
+
+/// The `level` property: an integer, default 0.
+fn read_level(feature: &Feature) -> Result<i32, String> {
+    match feature.property("level") {
+        None | Some(JsonValue::Null) => Ok(0),
+        Some(v) => v
+            .as_i64()
+            .and_then(|l| i32::try_from(l).ok())
+            .ok_or_else(|| format!("property `level` = {v} is not an integer floor level")),
+    }
+}
+
+/// A line of at least two finite `[lon, lat]` positions in local coordinates.
+fn read_line(line: &[geojson::Position], frame: &LocalFrame) -> Result<LineString<f64>, String> {
+    if line.len() < 2 {
+        return Err(format!(
+            "has {} positions; a line needs at least 2",
+            line.len()
+        ));
+    }
+    line.iter()
+        .enumerate()
+        .map(|(k, p)| match p.as_slice() {
+            [lon, lat, ..] if degrees(*lon, *lat) => {
+                let (x, y) = frame.to_local(*lon, *lat);
+                Ok(Coord { x, y })
+            }
+            _ => Err(format!("position {k} {NOT_DEGREES}")),
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map(LineString::new)
 }
 
 fn read_polygon(rings: &PolygonType, frame: &LocalFrame) -> Result<Polygon<f64>, String> {
@@ -205,8 +290,8 @@ fn read_ring(ring: &[geojson::Position], frame: &LocalFrame) -> Result<LineStrin
     let mut coords = Vec::with_capacity(ring.len());
     for (k, p) in ring.iter().enumerate() {
         let (lon, lat) = match p.as_slice() {
-            [lon, lat, ..] if lon.is_finite() && lat.is_finite() => (*lon, *lat),
-            _ => return Err(format!("position {k} is not a finite [lon, lat] pair")),
+            [lon, lat, ..] if degrees(*lon, *lat) => (*lon, *lat),
+            _ => return Err(format!("position {k} {NOT_DEGREES}")),
         };
         let (x, y) = frame.to_local(lon, lat);
         coords.push(Coord { x, y });
@@ -309,6 +394,30 @@ mod tests {
     }
 
     #[test]
+    fn barriers_round_trip_and_the_given_origin_overrides_the_files() {
+        let mut plan = office_floor(&OfficeConfig::default()).expect("office");
+        plan.barriers.push(Barrier {
+            line: LineString::from(vec![(1.0, 2.0), (3.0, 2.0), (3.0, 5.0)]),
+            level: 2,
+        });
+        let dir = tempfile::tempdir().expect("tempdir");
+        let p = dir.path().join("plan.geojson");
+        write_floor_plan(&p, &plan, &frame()).expect("write");
+        let (back, _) = read_floor_plan(&p, None).expect("read");
+        assert_eq!(back.barriers.len(), 1);
+        assert_eq!(back.barriers[0].level, 2);
+        let c: Vec<_> = back.barriers[0].line.coords().collect();
+        assert!((c[2].x - 3.0).abs() < 2e-3 && (c[2].y - 5.0).abs() < 2e-3);
+        // Another origin moves the same file's local coordinates.
+        let other = LocalFrame::new(48.0, 11.001).expect("frame");
+        let (moved, f) = read_floor_plan(&p, Some(other)).expect("override");
+        assert_eq!(f, other);
+        let x0 = back.polygons[0].polygon.exterior().0[0].x;
+        let x1 = moved.polygons[0].polygon.exterior().0[0].x;
+        assert!((x0 - x1 - 74.6).abs() < 0.5, "{x0} {x1}");
+    }
+
+    #[test]
     fn malformed_files_are_rejected_with_the_feature_index() {
         let origin = r#""origin":{"lat":48.0,"lon":11.0}"#;
         let feature = |geometry: &str, properties: &str| {
@@ -363,6 +472,39 @@ mod tests {
                 e.contains("plan.geojson") && e.contains(expected),
                 "{e}\nexpected: {expected}"
             );
+        }
+        let bow_tie = r#"{"type":"Polygon","coordinates":[[[11,48],[11.0001,48.0001],[11.0001,48],[11,48.0001],[11,48]]]}"#;
+        let far =
+            r#"{"type":"Polygon","coordinates":[[[11,48],[191,48],[11.0001,48.0001],[11,48]]]}"#;
+        for (text, expected) in [
+            (
+                collection(&[feature(bow_tie, r#"{"name":"lobby"}"#)]),
+                "feature 0 (\"lobby\"): polygon 0: not a valid polygon",
+            ),
+            (
+                collection(&[feature(far, "{}")]),
+                "position 1 is not a finite [lon, lat] pair of degrees",
+            ),
+            (
+                collection(&[feature(
+                    r#"{"type":"LineString","coordinates":[[11,48]]}"#,
+                    r#"{"barrier":true}"#,
+                )]),
+                "feature 0: line 0: has 1 positions",
+            ),
+            (
+                collection(&[feature(
+                    r#"{"type":"LineString","coordinates":[[11,48],[11,49]]}"#,
+                    r#"{"barrier":"yes"}"#,
+                )]),
+                "property `barrier`",
+            ),
+        ] {
+            let (_dir, p) = write_text(&text);
+            let e = read_floor_plan(&p, None)
+                .expect_err("must fail")
+                .to_string();
+            assert!(e.contains(expected), "{e}\nexpected: {expected}");
         }
         let missing = tempfile::tempdir().expect("tempdir");
         assert!(matches!(

@@ -1,8 +1,12 @@
 //! Evaluation of estimates against references: position errors of a track against the
-//! ground truth, and how much of a learned map lies in a floor plan's walkable space.
+//! ground truth, how often a 2.5D track is on the right floor, and how much of a learned map lies in a floor plan's walkable space.
 
+pub mod floor_accuracy;
 pub mod position_error;
+pub mod tracking;
 pub mod walkable;
 
+pub use floor_accuracy::floor_accuracy;
 pub use position_error::{Alignment, ErrorReport, position_errors};
+pub use tracking::{TrackingScore, score_tracking};
 pub use walkable::walkable_fraction;

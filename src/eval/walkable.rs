@@ -51,6 +51,7 @@ mod tests {
         ]);
         let polygon = Polygon::new(ring, vec![]);
         FloorPlan {
+            barriers: Vec::new(),
             polygons: vec![FloorPolygon {
                 polygon,
                 level: 2,

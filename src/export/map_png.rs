@@ -7,7 +7,7 @@
 //! strip holds a scale bar, a colour bar with its range and a north arrow. North is up: the
 //! local frame's y axis is flipped into image rows.
 
-mod canvas;
+pub(crate) mod canvas;
 mod legend;
 
 use crate::error::{Error, Result};

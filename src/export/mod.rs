@@ -4,7 +4,9 @@
 mod glyphs;
 pub mod map_geojson;
 pub mod map_png;
+pub mod plan_png;
 pub mod run_folder;
+pub mod track_geojson;
 
 pub use run_folder::RunFolder;
 

@@ -1,10 +1,20 @@
 //! Layer 3: particle-filter machinery and the filters built from it.
 
+pub mod cluster;
 pub mod footslam;
 pub mod footslam_config;
+pub mod kld;
 pub mod lineage;
+pub mod recovery;
 pub mod resample;
+pub mod tracker;
+pub mod tracker_config;
 
+pub use cluster::{Cluster, ClusterConfig};
 pub use footslam::{FootSlam, FootSlamConfig, FootSlamEstimate};
+pub use kld::KldConfig;
 pub use lineage::Lineage;
+pub use recovery::{Recovery, RecoveryConfig};
 pub use resample::{ResampleConfig, ResampleMethod};
+pub use tracker::{TrackParticle, TrackStep, Tracker};
+pub use tracker_config::{StartPose, TrackerConfig};

@@ -18,11 +18,23 @@ pub struct FloorPolygon {
     pub name: Option<String>,
 }
 
-/// A building's walkable floor surfaces.
+/// An extra wall (a handrail, a glass wall, a wall missing from the polygons) that blocks
+/// walkers on every surface of its level.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Barrier {
+    /// The wall's centre line.
+    pub line: geo::LineString<f64>,
+    /// The level it blocks.
+    pub level: i32,
+}
+
+/// A building's walkable floor surfaces and extra walls.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct FloorPlan {
     /// The surfaces.
     pub polygons: Vec<FloorPolygon>,
+    /// Extra walls.
+    pub barriers: Vec<Barrier>,
 }
 
 impl FloorPlan {

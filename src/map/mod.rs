@@ -1,7 +1,9 @@
 //! Layer 1: the maps.
 
 pub mod floor_plan;
+pub mod floor_topology;
 pub mod hex_transitions;
 
-pub use floor_plan::{FloorPlan, FloorPolygon};
+pub use floor_plan::{Barrier, FloorPlan, FloorPolygon};
+pub use floor_topology::{FloorTopology, Segment, SegmentKind, TopologyConfig};
 pub use hex_transitions::{HexCell, HexMapSnapshot, HexTransitionMap};

@@ -168,7 +168,10 @@ impl Office {
                 ..room.anchors
             });
         }
-        let plan = FloorPlan { polygons };
+        let plan = FloorPlan {
+            polygons,
+            ..Default::default()
+        };
         Ok(Self {
             plan,
             rooms,

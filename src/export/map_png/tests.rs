@@ -192,6 +192,7 @@ fn writes_sample_pictures() {
     );
     let room = Polygon::new(rect(6.0, 11.5, 10.0, 15.5), vec![]);
     let plan = FloorPlan {
+        barriers: Vec::new(),
         polygons: [corridor, room]
             .into_iter()
             .map(|polygon| FloorPolygon {

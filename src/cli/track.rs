@@ -1,0 +1,365 @@
+//! `footslam track`: locate and track a walker on a known 2.5D floor plan from step events.
+
+use super::common::{
+    Progress, output_dir, parse_origin, peak_memory_bytes, read_config, require_file,
+};
+use anyhow::{Context, Result};
+use footslam::dataset::floor_plan_geojson::read_floor_plan;
+use footslam::dataset::{TrackPoint, read_steps, write_track};
+use footslam::export::RunFolder;
+use footslam::export::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, PlanPoints};
+use footslam::export::track_geojson::write_track_geojson;
+use footslam::filter::{Recovery, StartPose, TrackStep, Tracker, TrackerConfig};
+use footslam::geometry::LocalFrame;
+use footslam::map::FloorTopology;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The bundled sample building and walk, used when `--plan` / `--steps` are not given.
+const DEFAULT_PLAN: &str = "datasets/tower/floor.geojson";
+const DEFAULT_STEPS: &str = "datasets/tower/steps.csv";
+/// Automatic snapshots: the prior, these steps, the step of localisation and the last step.
+const AUTO_SNAPSHOTS: [usize; 2] = [5, 25];
+/// Colours of the pictures.
+const PARTICLE_COLOUR: [u8; 3] = [200, 30, 30];
+const TRACK_COLOUR: [u8; 3] = [20, 60, 200];
+
+/// Arguments of `footslam track`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Floor plan GeoJSON (walkable polygons with `level` and `z`). Default: the bundled
+    /// three-floor building.
+    #[arg(long)]
+    plan: Option<PathBuf>,
+    /// Step trace CSV (`t,length,dheading,dz`). Default: the bundled walk.
+    #[arg(long)]
+    steps: Option<PathBuf>,
+    /// Known start `X,Y,HEADING[,LEVEL]` (local metres; HEADING = heading before the first
+    /// step, radians). Default: unknown (uniform over the whole plan).
+    #[arg(long, value_parser = parse_start, allow_hyphen_values = true)]
+    start: Option<StartPose>,
+    /// WGS84 origin of the local frame, `LAT,LON`; overrides the plan's `origin` member.
+    #[arg(long, value_parser = parse_origin, allow_hyphen_values = true)]
+    origin: Option<LocalFrame>,
+    /// Random seed (overrides the config file).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Steps after which to draw the particle cloud in particles.png (0 = the prior),
+    /// e.g. `0,5,50`. Default: the prior, steps 5 and 25, localisation and the last step.
+    #[arg(long, value_delimiter = ',')]
+    snapshots: Option<Vec<usize>>,
+    /// Tracker configuration (TOML, or JSON such as a previous run's config.json).
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// Output folder (default: a new folder under `outputs/`).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long)]
+    threads: Option<usize>,
+}
+
+/// Parses `X,Y,HEADING[,LEVEL]`.
+fn parse_start(s: &str) -> Result<StartPose, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if !(3..=4).contains(&parts.len()) {
+        return Err(format!("expected X,Y,HEADING[,LEVEL], got `{s}`"));
+    }
+    let number = |i: usize, what: &str| {
+        parts[i]
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("{what} `{}` is not a finite number", parts[i]))
+    };
+    let level = match parts.get(3) {
+        Some(l) => Some(
+            l.parse::<i32>()
+                .map_err(|_| format!("level `{l}` is not an integer"))?,
+        ),
+        None => None,
+    };
+    Ok(StartPose {
+        x: number(0, "X")?,
+        y: number(1, "Y")?,
+        heading: number(2, "HEADING")?,
+        level,
+    })
+}
+
+#[derive(Debug, Serialize)]
+struct Summary {
+    plan_file: String,
+    steps_file: String,
+    steps: usize,
+    steps_to_localise: Option<usize>,
+    localised_at_t: Option<f64>,
+    track_rows: usize,
+    particles_initial: usize,
+    particles_max: usize,
+    particles_final: usize,
+    particles_per_step: Vec<usize>,
+    clusters_per_step: Vec<Option<usize>>,
+    deaths: usize,
+    recoveries: Vec<RecoveryEvent>,
+    seed: u64,
+    threads: usize,
+    runtime_s: f64,
+    filter_runtime_s: f64,
+    particle_steps_per_s: f64,
+    bytes_per_particle: f64,
+    peak_memory_bytes: Option<u64>,
+    plan: PlanStats,
+    origin: LocalFrame,
+    version: &'static str,
+}
+
+#[derive(Debug, Serialize)]
+struct RecoveryEvent {
+    step: usize,
+    t: f64,
+    #[serde(flatten)]
+    recovery: Recovery,
+}
+
+#[derive(Debug, Serialize)]
+struct PlanStats {
+    surfaces: usize,
+    walkable_area_m2: f64,
+    levels: (i32, i32),
+}
+
+/// A particle cloud kept for particles.png.
+struct Snapshot {
+    title: String,
+    points: Vec<(f32, f32, i32)>,
+    track_len: usize,
+}
+
+fn bundled(path: &str) -> PathBuf {
+    let local = PathBuf::from(path);
+    if local.is_file() {
+        local
+    } else {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
+    }
+}
+
+/// Runs `footslam track`.
+pub fn run(args: Args) -> Result<()> {
+    let started = Instant::now();
+    let mut config: TrackerConfig = match &args.config {
+        Some(p) => read_config(p)?,
+        None => TrackerConfig::default(),
+    };
+    if let Some(s) = args.seed {
+        config.seed = s;
+    }
+    if args.start.is_some() {
+        config.start = args.start;
+    }
+    config.validate()?;
+    let plan_path = args.plan.clone().unwrap_or_else(|| bundled(DEFAULT_PLAN));
+    let steps_path = args.steps.clone().unwrap_or_else(|| bundled(DEFAULT_STEPS));
+    require_file(&plan_path, "floor plan")?;
+    require_file(&steps_path, "step trace")?;
+    let (plan, frame) = read_floor_plan(&plan_path, args.origin)?;
+    let trace = read_steps(&steps_path)?;
+    let topology = FloorTopology::build(&plan, &config.topology)
+        .with_context(|| format!("{}: not a usable floor plan", plan_path.display()))?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .context("cannot start worker threads")?;
+    let threads = pool.current_num_threads();
+    let wanted = |step: usize, last: bool| match &args.snapshots {
+        Some(list) => list.contains(&step),
+        None => step == 0 || AUTO_SNAPSHOTS.contains(&step) || last,
+    };
+
+    let filter_started = Instant::now();
+    let (reports, snapshots, initial, bytes_per_particle, track) =
+        pool.install(|| -> Result<_> {
+            let mut tracker = Tracker::new(&topology, &config)?;
+            let initial = tracker.initial_particles();
+            let mut snapshots = Vec::new();
+            if wanted(0, trace.is_empty()) {
+                snapshots.push(snapshot(&tracker, 0, "prior", 0));
+            }
+            let mut progress = Progress::new(trace.len() as u64, "tracking");
+            let mut reports: Vec<TrackStep> = Vec::with_capacity(trace.len());
+            let mut track: Vec<TrackPoint> = Vec::new();
+            let mut localised_before = false;
+            for (i, step) in trace.steps().iter().enumerate() {
+                let report = tracker.update(step)?;
+                let first_fix = report.localised && !localised_before;
+                localised_before |= report.localised;
+                if localised_before && let Some(c) = report.estimate {
+                    track.push(TrackPoint {
+                        t: step.t,
+                        x: c.x,
+                        y: c.y,
+                        z: c.z,
+                        level: c.level,
+                    });
+                }
+                let k = i + 1;
+                let auto_fix = args.snapshots.is_none() && first_fix;
+                if wanted(k, k == trace.len()) || auto_fix {
+                    let what = if first_fix { "localised" } else { "step" };
+                    snapshots.push(snapshot(&tracker, k, what, track.len()));
+                }
+                reports.push(report);
+                progress.inc();
+            }
+            progress.finish();
+            Ok((
+                reports,
+                snapshots,
+                initial,
+                tracker.bytes_per_particle(),
+                track,
+            ))
+        })?;
+    let filter_runtime = filter_started.elapsed().as_secs_f64();
+
+    let out = output_dir(args.out, "track");
+    let folder = RunFolder::create(&out)?;
+    write_track(&folder.path("track.csv"), &track)?;
+    write_track_geojson(&folder.path("track.geojson"), &track, &frame)?;
+    let track_points: Vec<(f64, f64, i32)> = track.iter().map(|p| (p.x, p.y, p.level)).collect();
+    let pictures: Vec<PlanPicture> = snapshots
+        .iter()
+        .map(|s| PlanPicture {
+            plan: &plan,
+            title: Some(s.title.clone()),
+            paths: vec![PlanPath {
+                points: &track_points[..s.track_len],
+                colour: TRACK_COLOUR,
+                label: "track",
+            }],
+            points: vec![PlanPoints {
+                points: &s.points,
+                colour: PARTICLE_COLOUR,
+                label: "particles",
+            }],
+        })
+        .collect();
+    if !pictures.is_empty() {
+        footslam::export::plan_png::write_plan_png(
+            &folder.path("particles.png"),
+            &pictures,
+            &PlanPictureConfig::default(),
+        )?;
+    }
+    folder.write_json("config.json", &config)?;
+
+    let first = reports.iter().position(|r| r.localised);
+    let particle_steps: usize = reports.iter().map(|r| r.particles).sum();
+    let summary = Summary {
+        plan_file: plan_path.display().to_string(),
+        steps_file: steps_path.display().to_string(),
+        steps: trace.len(),
+        steps_to_localise: first.map(|i| i + 1),
+        localised_at_t: first.map(|i| reports[i].t),
+        track_rows: track.len(),
+        particles_initial: initial,
+        particles_max: reports
+            .iter()
+            .map(|r| r.particles)
+            .max()
+            .unwrap_or(initial)
+            .max(initial),
+        particles_final: reports.last().map_or(initial, |r| r.particles),
+        particles_per_step: reports.iter().map(|r| r.particles).collect(),
+        clusters_per_step: reports.iter().map(|r| r.clusters).collect(),
+        deaths: reports.iter().filter(|r| r.recovery.is_some()).count(),
+        recoveries: reports
+            .iter()
+            .enumerate()
+            .filter_map(|(i, r)| {
+                r.recovery.map(|recovery| RecoveryEvent {
+                    step: i + 1,
+                    t: r.t,
+                    recovery,
+                })
+            })
+            .collect(),
+        seed: config.seed,
+        threads,
+        runtime_s: started.elapsed().as_secs_f64(),
+        filter_runtime_s: filter_runtime,
+        particle_steps_per_s: particle_steps as f64 / filter_runtime.max(1e-9),
+        bytes_per_particle,
+        peak_memory_bytes: peak_memory_bytes(),
+        plan: PlanStats {
+            surfaces: topology.len(),
+            walkable_area_m2: topology.total_area(),
+            levels: topology.levels(),
+        },
+        origin: frame,
+        version: env!("CARGO_PKG_VERSION"),
+    };
+    folder.write_json("summary.json", &summary)?;
+    let out = folder.commit()?;
+    match summary.steps_to_localise {
+        Some(k) => outln!(
+            "localised after {k} of {} steps ({} particles at the start, {} at the end, {} deaths)",
+            summary.steps,
+            summary.particles_initial,
+            summary.particles_final,
+            summary.deaths
+        ),
+        None => outln!(
+            "not localised in {} steps ({} particles at the start, {} at the end, {} deaths)",
+            summary.steps,
+            summary.particles_initial,
+            summary.particles_final,
+            summary.deaths
+        ),
+    }
+    outln!(
+        "filter: {:.2} s, {:.2e} particle-steps/s",
+        summary.filter_runtime_s,
+        summary.particle_steps_per_s
+    );
+    outln!("outputs: {}", out.display());
+    Ok(())
+}
+
+/// The tracker's particle cloud now, titled for the picture.
+fn snapshot(tracker: &Tracker, step: usize, what: &str, track_len: usize) -> Snapshot {
+    let topology = tracker.topology();
+    let points: Vec<(f32, f32, i32)> = tracker
+        .particles()
+        .iter()
+        .map(|p| (p.x, p.y, topology.level(p.surface)))
+        .collect();
+    let title = if step == 0 {
+        format!("prior: {} particles", points.len())
+    } else {
+        format!("{what} {step}: {} particles", points.len())
+    };
+    Snapshot {
+        title,
+        points,
+        track_len,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn starts_parse_or_explain() {
+        let s = parse_start("1.5,-2,0.5").expect("start");
+        assert_eq!((s.x, s.y, s.heading, s.level), (1.5, -2.0, 0.5, None));
+        assert_eq!(parse_start("1,2,3,2").expect("level").level, Some(2));
+        assert!(parse_start("1,2").is_err());
+        assert!(parse_start("1,2,x").is_err());
+        assert!(parse_start("1,2,3,1.5").is_err());
+        assert!(parse_start("1,2,NaN").is_err());
+    }
+}

@@ -1,0 +1,103 @@
+//! A tracked walker's 2.5D positions as CSV: `t,x,y,z,level` (local metres), as `footslam
+//! track` writes them in `track.csv`.
+
+use super::csv_table::CsvTable;
+use crate::error::{Error, Result};
+use std::path::Path;
+
+/// A 2.5D position at a time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrackPoint {
+    /// Seconds.
+    pub t: f64,
+    /// East, metres.
+    pub x: f64,
+    /// North, metres.
+    pub y: f64,
+    /// Height, metres.
+    pub z: f64,
+    /// Floor level.
+    pub level: i32,
+}
+
+/// Reads `t,x,y,z,level` rows (extra columns ignored); times must be strictly increasing and
+/// `level` an integer. An empty track (header only) is valid: a walker never localised.
+pub fn read_track(path: &Path) -> Result<Vec<TrackPoint>> {
+    let mut table = CsvTable::open(path)?;
+    let columns = ["t", "x", "y", "z", "level"].map(|c| table.column(c));
+    let [t, x, y, z, level] = columns;
+    let (t, x, y, z, level) = (t?, x?, y?, z?, level?);
+    let mut points: Vec<TrackPoint> = Vec::new();
+    table.for_each_row(|row| {
+        let l = row.number(level, "level")?;
+        if l.fract() != 0.0 || l.abs() > 1e6 {
+            return Err(row.error(format!("level `{l}` is not an integer")));
+        }
+        let p = TrackPoint {
+            t: row.number(t, "t")?,
+            x: row.number(x, "x")?,
+            y: row.number(y, "y")?,
+            z: row.number(z, "z")?,
+            level: l as i32,
+        };
+        row.ensure_after(points.last().map(|q| q.t), p.t)?;
+        points.push(p);
+        Ok(())
+    })?;
+    Ok(points)
+}
+
+/// Writes `t,x,y,z,level` rows (millimetre precision).
+pub fn write_track(path: &Path, points: &[TrackPoint]) -> Result<()> {
+    let mut text = String::from("t,x,y,z,level\n");
+    for p in points {
+        if !(p.t.is_finite() && p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
+            return Err(Error::Input(format!(
+                "track point at t = {} is not finite; nothing written to {}",
+                p.t,
+                path.display()
+            )));
+        }
+        text.push_str(&format!(
+            "{:.3},{:.3},{:.3},{:.3},{}\n",
+            p.t, p.x, p.y, p.z, p.level
+        ));
+    }
+    crate::export::write_atomically(path, text.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trip_and_errors() {
+        let dir = tempfile::tempdir().expect("tmp");
+        let path = dir.path().join("track.csv");
+        let points = vec![
+            TrackPoint {
+                t: 0.5,
+                x: 1.0,
+                y: -2.0,
+                z: 3.0,
+                level: 1,
+            },
+            TrackPoint {
+                t: 1.0,
+                x: 1.5,
+                y: -2.25,
+                z: 3.0,
+                level: 1,
+            },
+        ];
+        write_track(&path, &points).expect("write");
+        assert_eq!(read_track(&path).expect("read"), points);
+        write_track(&path, &[]).expect("empty");
+        assert!(read_track(&path).expect("empty read").is_empty());
+        std::fs::write(&path, "t,x,y,z,level\n0,0,0,0,1.5\n").expect("write");
+        let e = read_track(&path).expect_err("fractional level").to_string();
+        assert!(e.contains("track.csv:2:"), "{e}");
+        std::fs::write(&path, "t,x,y,z,level\n1,0,0,0,1\n0,0,0,0,1\n").expect("write");
+        assert!(read_track(&path).is_err());
+    }
+}

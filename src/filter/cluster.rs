@@ -1,0 +1,417 @@
+//! Clusters of particles by mean shift (Woodman & Harle 2008, sec. "Environmental symmetry":
+//! a multimodal belief is a set of distinct particle clusters, each a possible location).
+//!
+//! Mean shift with a flat kernel: a mode moves to the weighted mean of the particles within
+//! `radius` horizontally and less than `max_dz` vertically, until it stops moving. Seeds are
+//! the weighted means of occupied bins of half the radius (bin seeding), modes closer than the
+//! radius (and `max_dz`) are merged, keeping the densest, and every particle joins its nearest
+//! mode. Knows nothing of maps: particles are points with a height, a level and a weight.
+
+use crate::error::{Error, Result};
+use rustc_hash::FxHashMap;
+use serde::{Deserialize, Serialize};
+
+/// Iterations of one mode's mean shift at most.
+const MAX_ITERATIONS: usize = 100;
+/// A mode that moves less than this has converged, metres.
+const CONVERGED: f64 = 1e-3;
+
+/// Clustering's parameters; every default in one place.
+///
+/// | field          | default | meaning                                                     |
+/// |----------------|---------|-------------------------------------------------------------|
+/// | `radius`       | 7 m     | flat kernel's horizontal radius (the paper's value)         |
+/// | `max_dz`       | 1 m     | particles less than this apart vertically share a kernel    |
+/// | `min_weight`   | 0.01    | clusters holding less of the weight are not counted         |
+/// | `max_particles`| 10,000  | beliefs with more particles are not clustered               |
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ClusterConfig {
+    /// Horizontal kernel radius, metres.
+    pub radius: f64,
+    /// Vertical kernel half-height, metres.
+    pub max_dz: f64,
+    /// Clusters below this share of the total weight are stragglers, not counted.
+    pub min_weight: f64,
+    /// Clustering runs only when there are at most this many particles.
+    pub max_particles: usize,
+}
+
+impl Default for ClusterConfig {
+    fn default() -> Self {
+        Self {
+            radius: 7.0,
+            max_dz: 1.0,
+            min_weight: 0.01,
+            max_particles: 10_000,
+        }
+    }
+}
+
+impl ClusterConfig {
+    /// Checks every field against its documented range.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |field, value: String, reason| {
+            Err(Error::Config {
+                field,
+                value,
+                reason,
+            })
+        };
+        if !(self.radius.is_finite() && (0.1..=1000.0).contains(&self.radius)) {
+            return bad(
+                "cluster.radius",
+                self.radius.to_string(),
+                "must be in [0.1, 1000] metres",
+            );
+        }
+        if !(self.max_dz.is_finite() && (0.01..=100.0).contains(&self.max_dz)) {
+            return bad(
+                "cluster.max_dz",
+                self.max_dz.to_string(),
+                "must be in [0.01, 100] metres",
+            );
+        }
+        if !(self.min_weight.is_finite() && (0.0..0.5).contains(&self.min_weight)) {
+            return bad(
+                "cluster.min_weight",
+                self.min_weight.to_string(),
+                "must be in [0, 0.5)",
+            );
+        }
+        if self.max_particles > 10_000_000 {
+            return bad(
+                "cluster.max_particles",
+                self.max_particles.to_string(),
+                "must be at most 10000000",
+            );
+        }
+        Ok(())
+    }
+}
+
+/// A weighted point to cluster.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClusterPoint {
+    /// East, metres.
+    pub x: f32,
+    /// North, metres.
+    pub y: f32,
+    /// Height, metres.
+    pub z: f32,
+    /// Floor level.
+    pub level: i32,
+    /// Weight (non-negative).
+    pub weight: f32,
+}
+
+/// One cluster: the weighted mean of its particles.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Cluster {
+    /// Weighted mean east, metres.
+    pub x: f64,
+    /// Weighted mean north, metres.
+    pub y: f64,
+    /// Weighted mean height, metres.
+    pub z: f64,
+    /// The level holding most of the cluster's weight.
+    pub level: i32,
+    /// Share of the total weight, in [0, 1].
+    pub weight: f64,
+    /// Number of particles.
+    pub particles: usize,
+}
+
+/// Clusters of `points`, heaviest first, with every cluster's share of the weight; clusters
+/// lighter than `config.min_weight` are dropped from the list (their particles still count in
+/// the total). Empty when the points carry no weight.
+pub fn mean_shift(points: &[ClusterPoint], config: &ClusterConfig) -> Vec<Cluster> {
+    let total: f64 = points.iter().map(|p| f64::from(p.weight)).sum();
+    if !(total > 0.0 && total.is_finite()) {
+        return Vec::new();
+    }
+    let r = config.radius;
+    let grid = Grid::new(points, r);
+    let modes = merge_modes(
+        seeds(points, r / 2.0)
+            .into_iter()
+            .map(|s| shift(s, points, &grid, config))
+            .collect(),
+        config,
+    );
+    let mut sums = vec![Sums::default(); modes.len()];
+    for p in points.iter().filter(|p| p.weight > 0.0) {
+        let nearest = modes
+            .iter()
+            .enumerate()
+            .map(|(i, m)| {
+                let dz = (f64::from(p.z) - m.z).abs();
+                let penalty = if dz < config.max_dz { 0.0 } else { 1e6 * dz };
+                (
+                    i,
+                    (f64::from(p.x) - m.x).hypot(f64::from(p.y) - m.y) + penalty,
+                )
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        if let Some((i, _)) = nearest {
+            sums[i].add(p);
+        }
+    }
+    let mut clusters: Vec<Cluster> = sums
+        .into_iter()
+        .filter(|s| s.w > 0.0)
+        .map(|s| s.cluster(total))
+        .filter(|c| c.weight >= config.min_weight)
+        .collect();
+    clusters.sort_by(|a, b| b.weight.total_cmp(&a.weight));
+    clusters
+}
+
+/// A mode's position and the weight inside its kernel.
+#[derive(Debug, Clone, Copy)]
+struct Mode {
+    x: f64,
+    y: f64,
+    z: f64,
+    density: f64,
+}
+
+/// Weighted sums of a cluster's particles.
+#[derive(Debug, Clone, Default)]
+struct Sums {
+    w: f64,
+    x: f64,
+    y: f64,
+    z: f64,
+    n: usize,
+    levels: Vec<(i32, f64)>,
+}
+
+impl Sums {
+    fn add(&mut self, p: &ClusterPoint) {
+        let w = f64::from(p.weight);
+        self.w += w;
+        self.x += w * f64::from(p.x);
+        self.y += w * f64::from(p.y);
+        self.z += w * f64::from(p.z);
+        self.n += 1;
+        match self.levels.iter_mut().find(|(l, _)| *l == p.level) {
+            Some((_, lw)) => *lw += w,
+            None => self.levels.push((p.level, w)),
+        }
+    }
+
+    fn cluster(&self, total: f64) -> Cluster {
+        let level = self
+            .levels
+            .iter()
+            .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
+            .map_or(0, |l| l.0);
+        Cluster {
+            x: self.x / self.w,
+            y: self.y / self.w,
+            z: self.z / self.w,
+            level,
+            weight: self.w / total,
+            particles: self.n,
+        }
+    }
+}
+
+/// Particles binned horizontally by the kernel radius, for neighbour queries.
+struct Grid {
+    cell: f64,
+    cells: FxHashMap<(i64, i64), Vec<u32>>,
+}
+
+impl Grid {
+    fn new(points: &[ClusterPoint], cell: f64) -> Self {
+        let mut cells: FxHashMap<(i64, i64), Vec<u32>> = FxHashMap::default();
+        for (i, p) in points.iter().enumerate().filter(|(_, p)| p.weight > 0.0) {
+            cells
+                .entry(Self::key(f64::from(p.x), f64::from(p.y), cell))
+                .or_default()
+                .push(i as u32);
+        }
+        Self { cell, cells }
+    }
+
+    fn key(x: f64, y: f64, cell: f64) -> (i64, i64) {
+        ((x / cell).floor() as i64, (y / cell).floor() as i64)
+    }
+
+    /// Calls `f` with every point index in the 3 × 3 cells around `(x, y)`.
+    fn around(&self, x: f64, y: f64, mut f: impl FnMut(u32)) {
+        let (cx, cy) = Self::key(x, y, self.cell);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                if let Some(v) = self.cells.get(&(cx + dx, cy + dy)) {
+                    v.iter().for_each(|&i| f(i));
+                }
+            }
+        }
+    }
+}
+
+/// Bin seeding: the weighted mean of the particles of each occupied bin of edge `cell`
+/// (per metre of height), in a deterministic order.
+fn seeds(points: &[ClusterPoint], cell: f64) -> Vec<Mode> {
+    // Per bin: total weight and weighted sums of x, y and z.
+    type Sums4 = (f64, f64, f64, f64);
+    let mut bins: FxHashMap<(i64, i64, i64), Sums4> = FxHashMap::default();
+    for p in points.iter().filter(|p| p.weight > 0.0) {
+        let (kx, ky) = Grid::key(f64::from(p.x), f64::from(p.y), cell);
+        let kz = f64::from(p.z).floor() as i64;
+        let w = f64::from(p.weight);
+        let e = bins.entry((kx, ky, kz)).or_insert((0.0, 0.0, 0.0, 0.0));
+        e.0 += w;
+        e.1 += w * f64::from(p.x);
+        e.2 += w * f64::from(p.y);
+        e.3 += w * f64::from(p.z);
+    }
+    let mut keyed: Vec<_> = bins.into_iter().collect();
+    keyed.sort_by_key(|(k, _)| *k);
+    keyed
+        .into_iter()
+        .map(|(_, (w, x, y, z))| Mode {
+            x: x / w,
+            y: y / w,
+            z: z / w,
+            density: w,
+        })
+        .collect()
+}
+
+/// Mean shift of one mode to convergence.
+fn shift(mut m: Mode, points: &[ClusterPoint], grid: &Grid, config: &ClusterConfig) -> Mode {
+    let r2 = config.radius * config.radius;
+    for _ in 0..MAX_ITERATIONS {
+        let (mut w, mut x, mut y, mut z) = (0.0, 0.0, 0.0, 0.0);
+        grid.around(m.x, m.y, |i| {
+            let p = &points[i as usize];
+            let (dx, dy) = (f64::from(p.x) - m.x, f64::from(p.y) - m.y);
+            if dx * dx + dy * dy <= r2 && (f64::from(p.z) - m.z).abs() < config.max_dz {
+                let pw = f64::from(p.weight);
+                w += pw;
+                x += pw * f64::from(p.x);
+                y += pw * f64::from(p.y);
+                z += pw * f64::from(p.z);
+            }
+        });
+        if w <= 0.0 {
+            break;
+        }
+        let next = Mode {
+            x: x / w,
+            y: y / w,
+            z: z / w,
+            density: w,
+        };
+        let moved = (next.x - m.x).hypot(next.y - m.y) + (next.z - m.z).abs();
+        m = next;
+        if moved < CONVERGED {
+            break;
+        }
+    }
+    m
+}
+
+/// Modes closer than the kernel to a denser mode are that mode.
+fn merge_modes(mut modes: Vec<Mode>, config: &ClusterConfig) -> Vec<Mode> {
+    modes.sort_by(|a, b| b.density.total_cmp(&a.density));
+    let mut kept: Vec<Mode> = Vec::new();
+    for m in modes {
+        let near = kept.iter().any(|k| {
+            (k.x - m.x).hypot(k.y - m.y) < config.radius && (k.z - m.z).abs() < config.max_dz
+        });
+        if !near {
+            kept.push(m);
+        }
+    }
+    kept
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::RngExt;
+    use rand_distr::StandardNormal;
+
+    fn blob(
+        rng: &mut rand_pcg::Pcg64Mcg,
+        n: usize,
+        c: (f32, f32, f32),
+        level: i32,
+        spread: f32,
+    ) -> Vec<ClusterPoint> {
+        (0..n)
+            .map(|_| ClusterPoint {
+                x: c.0 + spread * rng.sample::<f32, _>(StandardNormal),
+                y: c.1 + spread * rng.sample::<f32, _>(StandardNormal),
+                z: c.2,
+                level,
+                weight: 1.0,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn one_blob_is_one_cluster_at_its_mean() {
+        let mut rng = crate::random::stream(1, 0, 0);
+        let points = blob(&mut rng, 2000, (10.0, -4.0, 3.0), 1, 1.0);
+        let clusters = mean_shift(&points, &ClusterConfig::default());
+        assert_eq!(clusters.len(), 1, "{clusters:?}");
+        let c = clusters[0];
+        assert!((c.x - 10.0).abs() < 0.1 && (c.y + 4.0).abs() < 0.1, "{c:?}");
+        assert_eq!((c.level, c.particles), (1, 2000));
+        assert!((c.weight - 1.0).abs() < 1e-9 && (c.z - 3.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn distant_blobs_and_floors_are_separate_clusters() {
+        let mut rng = crate::random::stream(2, 0, 0);
+        let mut points = blob(&mut rng, 1500, (0.0, 0.0, 0.0), 0, 1.0);
+        points.extend(blob(&mut rng, 500, (30.0, 0.0, 0.0), 0, 1.0));
+        // Straight above the first blob, one floor up.
+        points.extend(blob(&mut rng, 1000, (0.0, 0.0, 3.0), 1, 1.0));
+        let clusters = mean_shift(&points, &ClusterConfig::default());
+        assert_eq!(clusters.len(), 3, "{clusters:?}");
+        assert!((clusters[0].weight - 0.5).abs() < 1e-9);
+        assert_eq!(clusters[0].level, 0);
+        assert_eq!(clusters[1].level, 1);
+        assert!((clusters[2].x - 30.0).abs() < 0.2);
+    }
+
+    #[test]
+    fn stragglers_do_not_count_and_weights_matter() {
+        let mut rng = crate::random::stream(3, 0, 0);
+        let mut points = blob(&mut rng, 1000, (0.0, 0.0, 0.0), 0, 1.0);
+        let mut far = blob(&mut rng, 5, (50.0, 50.0, 0.0), 0, 0.5);
+        points.append(&mut far);
+        let clusters = mean_shift(&points, &ClusterConfig::default());
+        assert_eq!(clusters.len(), 1);
+        // Reweighting the stragglers makes them the main cluster.
+        for p in points.iter_mut().skip(1000) {
+            p.weight = 1000.0;
+        }
+        let clusters = mean_shift(&points, &ClusterConfig::default());
+        assert_eq!(clusters.len(), 2);
+        assert!((clusters[0].x - 50.0).abs() < 1.0);
+        assert!(mean_shift(&[], &ClusterConfig::default()).is_empty());
+    }
+
+    #[test]
+    fn elongated_corridor_cloud_stays_one_cluster() {
+        // A 12 m strip along a corridor: within reach of one 7 m kernel's shifts.
+        let points: Vec<ClusterPoint> = (0..1200)
+            .map(|i| ClusterPoint {
+                x: (i % 120) as f32 * 0.1,
+                y: (i / 120) as f32 * 0.2,
+                z: 0.0,
+                level: 0,
+                weight: 1.0,
+            })
+            .collect();
+        assert_eq!(mean_shift(&points, &ClusterConfig::default()).len(), 1);
+    }
+}

@@ -1,0 +1,867 @@
+//! Tracking a walker on a known 2.5D floor plan (Woodman & Harle 2008), from an unknown
+//! start, with KLD-sampling, clustering and recovery when every particle dies.
+//!
+//! One [`Tracker::update`] per step event `u_t = (l, δθ, δz)`:
+//!
+//! 1. **propagate** every particle by Algorithm 1: perturb the step (eqs. 7–8), move it
+//!    (eqs. 9–11), walk the move through the floor polygons' edges (wall → weight 0,
+//!    connection → next polygon) and weight it by the height change,
+//!    `w_t = N_{0,σ_h}(|δz − δz_poly|)` (eqs. 15–17);
+//! 2. **recover** if every particle died (see [`super::recovery`]);
+//! 3. **size** the next particle set by KLD-sampling over 1 m × 1 m × 10° × level bins
+//!    ([`super::kld`]);
+//! 4. **resample** that many particles systematically;
+//! 5. **cluster** the particles by mean shift once there are few enough of them; the walker
+//!    is localised when one cluster remains, and the estimate is the heaviest cluster's mean.
+//!
+//! Each particle also carries a per-walk step length scale (a few percent off for a whole
+//! walk is common), estimated like FootSLAM's heading drift: drawn at the start, random-walked
+//! slowly, kept by the particles that fit the walls.
+//!
+//! Memory: 20 bytes per particle, twice (current and proposed), plus 4 bytes of log-weight
+//! and 4 of bin index: 48 bytes per particle. Randomness is drawn per chunk of
+//! [`CHUNK`] particles from a stream keyed by (seed, step, chunk), so results do not depend on
+//! the number of threads.
+
+use super::cluster::{Cluster, ClusterPoint, mean_shift};
+use super::kld::KldBins;
+use super::recovery::{Recovery, heading_corrections};
+use super::tracker_config::{StartPose, TrackerConfig};
+use crate::error::{Error, Result};
+use crate::map::FloorTopology;
+use crate::sensor::Step;
+use rand::RngExt;
+use rand_distr::StandardNormal;
+use rand_pcg::Pcg64Mcg;
+use rayon::prelude::*;
+use std::collections::VecDeque;
+use std::f32::consts::PI;
+
+/// Particles per chunk of work and per random stream.
+pub const CHUNK: usize = 16_384;
+/// Chunks drawn at once when sampling a prior (a fixed number, so results do not depend on
+/// the number of threads).
+const PRIOR_BATCH: usize = 8;
+/// Tries to place one prior particle on a surface before giving up on it.
+const PLACEMENT_TRIES: usize = 64;
+/// Stream salts, so that the prior, the steps and every recovery draw unrelated numbers.
+const SALT_PRIOR: u64 = 0x5EED_0001;
+const SALT_STEP: u64 = 0x5EED_0002;
+const SALT_RESAMPLE: u64 = 0x5EED_0003;
+const SALT_HEADING: u64 = 0x5EED_0004;
+const SALT_HISTORY: u64 = 0x5EED_0005;
+/// Bounds of the per-walk step length scale.
+const SCALE_RANGE: (f32, f32) = (0.7, 1.3);
+
+/// One hypothesis of the walker's state: where it is, where it heads, on which surface, and
+/// its step length scale. 20 bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[repr(C)]
+pub struct TrackParticle {
+    /// East, metres.
+    pub x: f32,
+    /// North, metres.
+    pub y: f32,
+    /// Heading of the last step, radians in [−π, π).
+    pub heading: f32,
+    /// Per-walk step length scale.
+    pub scale: f32,
+    /// Index of the floor surface the particle stands on.
+    pub surface: u32,
+}
+
+/// What one step did to the belief.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrackStep {
+    /// Time of the step, seconds.
+    pub t: f64,
+    /// Particles after the step.
+    pub particles: usize,
+    /// Clusters counted (`None` while there are too many particles to cluster).
+    pub clusters: Option<usize>,
+    /// The heaviest cluster (`None` while not clustered).
+    pub estimate: Option<Cluster>,
+    /// True when exactly one cluster remains.
+    pub localised: bool,
+    /// Set when every particle died at this step, with how the filter recovered.
+    pub recovery: Option<Recovery>,
+}
+
+/// The particle filter of Woodman & Harle 2008 on a [`FloorTopology`].
+#[derive(Debug)]
+pub struct Tracker<'a> {
+    topology: &'a FloorTopology,
+    config: TrackerConfig,
+    /// The belief after the last step, equally weighted.
+    particles: Vec<TrackParticle>,
+    /// The proposal of the current step.
+    proposal: Vec<TrackParticle>,
+    log_weights: Vec<f32>,
+    bin_index: Vec<u32>,
+    bins: KldBins,
+    dense_bins: bool,
+    /// Steps processed.
+    steps: u64,
+    initial: usize,
+    /// The last belief with a single cluster, and the steps taken since (history fitting).
+    last_good: Option<Vec<TrackParticle>>,
+    history: VecDeque<Step>,
+    /// True once the belief has formed a single cluster.
+    localised_once: bool,
+}
+
+/// Step inputs in the particles' precision.
+#[derive(Debug, Clone, Copy)]
+struct StepInput {
+    length: f32,
+    dheading: f32,
+    dz: f32,
+}
+
+impl<'a> Tracker<'a> {
+    /// A tracker on `topology` with its prior drawn (uniform over every surface and heading,
+    /// or about `config.start`) by KLD-sampling.
+    pub fn new(topology: &'a FloorTopology, config: &TrackerConfig) -> Result<Self> {
+        config.validate()?;
+        if topology.is_empty() {
+            return Err(Error::Input(
+                "the floor plan has no walkable surface".into(),
+            ));
+        }
+        let bins = KldBins::new(&config.kld, topology.bounds(), topology.levels())?;
+        let dense_bins = bins.dense();
+        let mut tracker = Self {
+            topology,
+            config: config.clone(),
+            particles: Vec::new(),
+            proposal: Vec::new(),
+            log_weights: Vec::new(),
+            bin_index: Vec::new(),
+            bins,
+            dense_bins,
+            steps: 0,
+            initial: 0,
+            last_good: None,
+            history: VecDeque::new(),
+            localised_once: false,
+        };
+        if let Some(start) = config.start {
+            let s = tracker.locate_start(&start)?;
+            tracker.draw_prior(SALT_PRIOR, |rng| s.sample(rng))?;
+        } else {
+            tracker.draw_uniform_prior(SALT_PRIOR)?;
+        }
+        tracker.initial = tracker.particles.len();
+        Ok(tracker)
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &TrackerConfig {
+        &self.config
+    }
+
+    /// The floor plan's topology.
+    pub fn topology(&self) -> &FloorTopology {
+        self.topology
+    }
+
+    /// The current particles (equally weighted).
+    pub fn particles(&self) -> &[TrackParticle] {
+        &self.particles
+    }
+
+    /// Number of particles drawn from the prior.
+    pub fn initial_particles(&self) -> usize {
+        self.initial
+    }
+
+    /// Bytes held per particle of the largest set so far, double buffers included.
+    pub fn bytes_per_particle(&self) -> f64 {
+        let bytes = (self.particles.capacity() + self.proposal.capacity())
+            * std::mem::size_of::<TrackParticle>()
+            + self.log_weights.capacity() * 4
+            + self.bin_index.capacity() * 4;
+        let n = self
+            .particles
+            .capacity()
+            .max(self.proposal.capacity())
+            .max(1);
+        bytes as f64 / n as f64
+    }
+
+    /// Processes one step event (Algorithm 1 for every particle, then KLD-resampling and
+    /// clustering).
+    pub fn update(&mut self, step: &Step) -> Result<TrackStep> {
+        let input = StepInput::of(step)?;
+        self.steps += 1;
+        let mut recovery = None;
+        if !self.propagate(&input, 0.0, SALT_STEP) {
+            recovery = Some(self.recover(&input));
+        }
+        if !matches!(recovery, Some(Recovery::Global)) {
+            let n = self.weigh();
+            self.resample(n, SALT_RESAMPLE);
+        }
+        let clusters = self.cluster();
+        let localised = clusters.as_ref().is_some_and(|c| c.len() == 1);
+        self.localised_once |= localised;
+        self.remember(step, localised);
+        Ok(TrackStep {
+            t: step.t,
+            particles: self.particles.len(),
+            clusters: clusters.as_ref().map(Vec::len),
+            estimate: clusters.and_then(|c| c.first().copied()),
+            localised,
+            recovery,
+        })
+    }
+
+    /// Algorithm 1 for every particle of the belief, into the proposal: returns false when
+    /// every particle hit a wall. `heading_offset` is added to the step's heading change
+    /// (the heading search of recovery).
+    fn propagate(&mut self, u: &StepInput, heading_offset: f32, salt: u64) -> bool {
+        let n = self.particles.len();
+        resize(&mut self.proposal, n);
+        resize(&mut self.log_weights, n);
+        resize(&mut self.bin_index, n);
+        let model = Motion {
+            topology: self.topology,
+            length_sigma: self.config.length_sigma as f32,
+            dheading_sigma: self.config.dheading_sigma as f32,
+            dz_sigma: self.config.dz_sigma as f32,
+            scale_walk_sigma: self.config.scale_walk_sigma as f32,
+            u: StepInput {
+                dheading: u.dheading + heading_offset,
+                ..*u
+            },
+        };
+        let (seed, step, bins, dense) = (
+            self.config.seed ^ salt,
+            self.steps,
+            &self.bins,
+            self.dense_bins,
+        );
+        let alive = self
+            .particles
+            .par_chunks(CHUNK)
+            .zip(self.proposal.par_chunks_mut(CHUNK))
+            .zip(self.log_weights.par_chunks_mut(CHUNK))
+            .zip(self.bin_index.par_chunks_mut(CHUNK))
+            .enumerate()
+            .map(|(c, (((from, to), lw), bi))| {
+                let mut rng = crate::random::stream(seed, step, c as u64);
+                let mut alive = 0usize;
+                for (i, (p, q)) in from.iter().zip(to.iter_mut()).enumerate() {
+                    let (next, ll) = model.apply(p, &mut rng);
+                    *q = next;
+                    lw[i] = ll;
+                    alive += usize::from(ll > f32::NEG_INFINITY);
+                    if dense {
+                        let level = model.topology.level(next.surface);
+                        bi[i] = bins.bin(next.x, next.y, next.heading, level) as u32;
+                    }
+                }
+                alive
+            })
+            .sum::<usize>();
+        alive > 0
+    }
+
+    /// Turns the proposal's log-weights into weights (relative to the largest), fills the
+    /// KLD bins with them and returns the KLD sample size.
+    fn weigh(&mut self) -> usize {
+        let max = self
+            .log_weights
+            .par_iter()
+            .copied()
+            .reduce(|| f32::NEG_INFINITY, f32::max);
+        self.log_weights
+            .par_iter_mut()
+            .for_each(|l| *l = (*l - max).exp());
+        self.bins.clear();
+        if self.dense_bins {
+            for (&b, &w) in self.bin_index.iter().zip(&self.log_weights) {
+                if w > 0.0 {
+                    self.bins.add(u64::from(b), f64::from(w));
+                }
+            }
+        } else {
+            for (p, &w) in self.proposal.iter().zip(&self.log_weights) {
+                if w > 0.0 {
+                    let level = self.topology.level(p.surface);
+                    let b = self.bins.bin(p.x, p.y, p.heading, level);
+                    self.bins.add(b, f64::from(w));
+                }
+            }
+        }
+        self.bins.sample_size()
+    }
+
+    /// Systematic resampling of `n` particles from the weighted proposal into the belief,
+    /// chunk by chunk in parallel (each chunk emits the pointers that fall in its share of
+    /// the cumulative weight).
+    fn resample(&mut self, n: usize, salt: u64) {
+        let weights = &self.log_weights;
+        let sums: Vec<f64> = weights
+            .par_chunks(CHUNK)
+            .map(|c| c.iter().map(|&w| f64::from(w)).sum())
+            .collect();
+        let mut starts = Vec::with_capacity(sums.len() + 1);
+        let mut total = 0.0;
+        for s in &sums {
+            starts.push(total);
+            total += s;
+        }
+        debug_assert!(total > 0.0 && total.is_finite());
+        let u0: f64 = crate::random::filter_stream(self.config.seed ^ salt, self.steps).random();
+        let target = |j: usize| (u0 + j as f64) / n as f64 * total;
+        let first_pointer = |s: f64| {
+            let mut j = ((s / total * n as f64 - u0).ceil().max(0.0) as usize).min(n);
+            while j > 0 && target(j - 1) >= s {
+                j -= 1;
+            }
+            while j < n && target(j) < s {
+                j += 1;
+            }
+            j
+        };
+        let mut bounds: Vec<usize> = starts.iter().map(|&s| first_pointer(s)).collect();
+        bounds.push(n);
+        resize(&mut self.particles, n);
+        let mut rest: &mut [TrackParticle] = &mut self.particles;
+        let mut outputs = Vec::with_capacity(sums.len());
+        for w in bounds.windows(2) {
+            let (head, tail) = rest.split_at_mut(w[1] - w[0]);
+            outputs.push((w[0], head));
+            rest = tail;
+        }
+        let proposal = &self.proposal;
+        outputs
+            .into_par_iter()
+            .zip(weights.par_chunks(CHUNK))
+            .zip(starts.par_iter())
+            .enumerate()
+            .for_each(|(c, (((j0, out), w), &start))| {
+                let base = c * CHUNK;
+                let mut i = 0;
+                let mut cumulative = start + f64::from(w[0]);
+                for (k, slot) in out.iter_mut().enumerate() {
+                    let t = target(j0 + k);
+                    while t >= cumulative && i + 1 < w.len() {
+                        i += 1;
+                        cumulative += f64::from(w[i]);
+                    }
+                    *slot = proposal[base + i];
+                }
+            });
+    }
+
+    /// Clusters the belief when it has at most `cluster.max_particles` particles; once the
+    /// walker has been localised, a larger belief is clustered through an evenly strided
+    /// subsample of that many particles, so that tracking never stops producing estimates.
+    fn cluster(&self) -> Option<Vec<Cluster>> {
+        let max = self.config.cluster.max_particles.max(1);
+        let n = self.particles.len();
+        if n > max && !self.localised_once {
+            return None;
+        }
+        let stride = n.div_ceil(max).max(1);
+        let points: Vec<ClusterPoint> = self
+            .particles
+            .iter()
+            .step_by(stride)
+            .map(|p| ClusterPoint {
+                x: p.x,
+                y: p.y,
+                z: self.topology.z(p.surface),
+                level: self.topology.level(p.surface),
+                weight: 1.0,
+            })
+            .collect();
+        Some(mean_shift(&points, &self.config.cluster))
+    }
+
+    /// Keeps the last single-cluster belief and the steps since, for history fitting.
+    fn remember(&mut self, step: &Step, localised: bool) {
+        if localised {
+            self.last_good = Some(self.particles.clone());
+            self.history.clear();
+        } else if self.last_good.is_some() {
+            self.history.push_back(*step);
+            if self.history.len() > self.config.recovery.history_steps {
+                self.last_good = None;
+                self.history.clear();
+            }
+        }
+    }
+
+    /// Every particle died at this step: heading search, then history fitting from the last
+    /// good belief, then a fresh uniform prior. On return the proposal holds live particles
+    /// (or, for [`Recovery::Global`], the belief is a fresh prior).
+    fn recover(&mut self, u: &StepInput) -> Recovery {
+        let r = self.config.recovery;
+        for (attempt, correction) in
+            heading_corrections(u.dheading, r.heading_increment as f32, r.heading_max as f32)
+                .enumerate()
+        {
+            let salt = SALT_HEADING ^ crate::random::mix(attempt as u64);
+            if self.propagate(u, correction, salt) {
+                return Recovery::HeadingSearch {
+                    correction_deg: f64::from(correction).to_degrees(),
+                };
+            }
+        }
+        if let Some(good) = self.last_good.take() {
+            let history: Vec<Step> = self.history.iter().copied().collect();
+            for attempt in 0..r.history_attempts {
+                let radius = r.history_radius * f64::from(1u32 << attempt.min(16));
+                if self.fit_history(&good, &history, u, radius, attempt as u64) {
+                    self.last_good = Some(good);
+                    return Recovery::History {
+                        radius_m: radius,
+                        steps: history.len() + 1,
+                    };
+                }
+            }
+        }
+        self.last_good = None;
+        self.history.clear();
+        self.localised_once = false;
+        if self
+            .draw_uniform_prior(SALT_PRIOR ^ crate::random::mix(self.steps))
+            .is_err()
+        {
+            // Unreachable for a non-empty plan; keep the previous belief rather than none.
+            self.proposal.clone_from(&self.particles);
+        }
+        Recovery::Global
+    }
+
+    /// History fitting: re-seeds particles within `radius` of the last good belief (eq. 5 of
+    /// the smartphone paper) and replays the steps since then through the filter; true when
+    /// some survive the current step too (the proposal then holds them).
+    fn fit_history(
+        &mut self,
+        good: &[TrackParticle],
+        history: &[Step],
+        u: &StepInput,
+        radius: f64,
+        attempt: u64,
+    ) -> bool {
+        let salt = SALT_HISTORY ^ crate::random::mix(self.steps ^ (attempt << 48));
+        let topology = self.topology;
+        let heading_sigma = (self.config.recovery.heading_max / 2.0) as f32;
+        let n = self.config.recovery.history_particles;
+        let seeded: Vec<TrackParticle> = (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .flat_map_iter(|c| {
+                let mut rng = crate::random::stream(self.config.seed ^ salt, 0, c as u64);
+                let count = CHUNK.min(n - c * CHUNK);
+                (0..count)
+                    .filter_map(|_| {
+                        let p = good[rng.random_range(0..good.len())];
+                        jitter(topology, &p, radius, heading_sigma, &mut rng)
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        if seeded.is_empty() {
+            return false;
+        }
+        self.particles = seeded;
+        for (k, s) in history.iter().enumerate() {
+            let Ok(h) = StepInput::of(s) else {
+                return false;
+            };
+            if !self.propagate(&h, 0.0, salt ^ crate::random::mix(k as u64 + 1)) {
+                return false;
+            }
+            let m = self.weigh();
+            self.resample(m, salt ^ crate::random::mix(k as u64 + 1));
+        }
+        self.propagate(u, 0.0, salt)
+    }
+
+    /// Draws the uniform prior over every surface and heading.
+    fn draw_uniform_prior(&mut self, salt: u64) -> Result<()> {
+        let topology = self.topology;
+        let (lo, hi) = SCALE_RANGE;
+        let scale_sigma = self.config.scale_sigma as f32;
+        self.draw_prior(salt, move |rng| {
+            let (surface, [x, y]) = topology.sample_uniform(rng);
+            Some(TrackParticle {
+                x: x as f32,
+                y: y as f32,
+                heading: rng.random_range(-PI..PI),
+                scale: (1.0 + scale_sigma * rng.sample::<f32, _>(StandardNormal)).clamp(lo, hi),
+                surface,
+            })
+        })
+    }
+
+    /// Draws prior particles by Fox's sequential KLD rule: chunks are generated in parallel
+    /// from per-chunk streams, then counted in order until `n ≥ n_χ(k)`.
+    fn draw_prior(
+        &mut self,
+        salt: u64,
+        draw: impl Fn(&mut Pcg64Mcg) -> Option<TrackParticle> + Sync,
+    ) -> Result<()> {
+        let seed = self.config.seed ^ salt;
+        let max = self.config.kld.max_particles;
+        let mut drawn: Vec<TrackParticle> = Vec::new();
+        self.bins.clear();
+        let mut chunk = 0usize;
+        'outer: loop {
+            let batch: Vec<Vec<TrackParticle>> = (chunk..chunk + PRIOR_BATCH)
+                .into_par_iter()
+                .map(|c| {
+                    let mut rng = crate::random::stream(seed, 0, c as u64);
+                    (0..CHUNK)
+                        .filter_map(|_| (0..PLACEMENT_TRIES).find_map(|_| draw(&mut rng)))
+                        .collect()
+                })
+                .collect();
+            chunk += PRIOR_BATCH;
+            if batch.iter().all(Vec::is_empty) {
+                return Err(Error::Input(
+                    "no prior particle could be placed on a walkable surface".into(),
+                ));
+            }
+            for p in batch.into_iter().flatten() {
+                let level = self.topology.level(p.surface);
+                self.bins.mark(self.bins.bin(p.x, p.y, p.heading, level));
+                drawn.push(p);
+                if self.bins.enough(drawn.len(), self.bins.occupied()) || drawn.len() >= max {
+                    break 'outer;
+                }
+            }
+        }
+        drawn.shrink_to_fit();
+        self.particles = drawn;
+        // The uniform prior stands in for this step's proposal when it replaces a dead belief.
+        self.proposal.clone_from(&self.particles);
+        Ok(())
+    }
+
+    /// The known start's surface, or a clear error when the point is off the plan.
+    fn locate_start(&self, start: &StartPose) -> Result<StartSampler<'a>> {
+        let surface = self
+            .topology
+            .locate(start.x, start.y, start.level, None)
+            .ok_or_else(|| {
+                Error::Input(format!(
+                    "the start ({}, {}{}) is not on a walkable surface of the plan",
+                    start.x,
+                    start.y,
+                    start
+                        .level
+                        .map_or(String::new(), |l| format!(", level {l}"))
+                ))
+            })?;
+        Ok(StartSampler {
+            topology: self.topology,
+            start: *start,
+            level: self.topology.level(surface),
+            z: f64::from(self.topology.z(surface)),
+            position_sigma: self.config.start_position_sigma,
+            heading_sigma: self.config.start_heading_sigma,
+            scale_sigma: self.config.scale_sigma,
+        })
+    }
+}
+
+/// The step model and the map the particles move on (Algorithm 1).
+struct Motion<'a> {
+    topology: &'a FloorTopology,
+    length_sigma: f32,
+    dheading_sigma: f32,
+    dz_sigma: f32,
+    scale_walk_sigma: f32,
+    u: StepInput,
+}
+
+impl Motion<'_> {
+    /// Algorithm 1 for one particle: the moved particle and its log-weight (−∞ when a wall
+    /// was crossed).
+    #[inline]
+    fn apply(&self, p: &TrackParticle, rng: &mut Pcg64Mcg) -> (TrackParticle, f32) {
+        let x: f32 = rng.sample(StandardNormal);
+        let y: f32 = rng.sample(StandardNormal);
+        let dtheta = self.u.dheading + self.dheading_sigma * x; // eq. (8)
+        let length = (self.u.length * p.scale + self.length_sigma * y).max(0.0); // eq. (7)
+        let heading = wrap(p.heading + dtheta); // eq. (9)
+        let (sin, cos) = heading.sin_cos();
+        let to = [p.x + length * cos, p.y + length * sin]; // eqs. (10), (11)
+        let scale = if self.scale_walk_sigma > 0.0 {
+            let s: f32 = rng.sample(StandardNormal);
+            (p.scale + self.scale_walk_sigma * s).clamp(SCALE_RANGE.0, SCALE_RANGE.1)
+        } else {
+            p.scale
+        };
+        let moved = |surface| TrackParticle {
+            x: to[0],
+            y: to[1],
+            heading,
+            scale,
+            surface,
+        };
+        match self.topology.walk(p.surface, [p.x, p.y], to) {
+            None => (moved(p.surface), f32::NEG_INFINITY), // eq. (14)
+            Some(surface) => {
+                let dz_poly = self.topology.z(surface) - self.topology.z(p.surface); // eq. (15)
+                let e = (self.u.dz - dz_poly) / self.dz_sigma;
+                (moved(surface), -0.5 * e * e) // eq. (17), up to a constant
+            }
+        }
+    }
+}
+
+impl StepInput {
+    fn of(step: &Step) -> Result<Self> {
+        if !(step.length.is_finite() && step.dheading.is_finite() && step.dz.is_finite()) {
+            return Err(Error::Input(format!(
+                "step at t = {} s has a non-finite length, heading change or height change",
+                step.t
+            )));
+        }
+        Ok(Self {
+            length: step.length as f32,
+            dheading: step.dheading as f32,
+            dz: step.dz as f32,
+        })
+    }
+}
+
+/// Draws particles about a known start.
+struct StartSampler<'a> {
+    topology: &'a FloorTopology,
+    start: StartPose,
+    level: i32,
+    z: f64,
+    position_sigma: f64,
+    heading_sigma: f64,
+    scale_sigma: f64,
+}
+
+impl StartSampler<'_> {
+    fn sample(&self, rng: &mut Pcg64Mcg) -> Option<TrackParticle> {
+        let g = |rng: &mut Pcg64Mcg| rng.sample::<f64, _>(StandardNormal);
+        let x = self.start.x + self.position_sigma * g(rng);
+        let y = self.start.y + self.position_sigma * g(rng);
+        let surface = self.topology.locate(x, y, Some(self.level), Some(self.z))?;
+        Some(
+            TrackParticle {
+                x: x as f32,
+                y: y as f32,
+                heading: wrap((self.start.heading + self.heading_sigma * g(rng)) as f32),
+                scale: (1.0 + self.scale_sigma * g(rng)) as f32,
+                surface,
+            }
+            .clamp_scale(),
+        )
+    }
+}
+
+impl TrackParticle {
+    fn clamp_scale(mut self) -> Self {
+        self.scale = self.scale.clamp(SCALE_RANGE.0, SCALE_RANGE.1);
+        self
+    }
+}
+
+/// A copy of `p` moved uniformly within `radius` (eq. 5 of the smartphone paper) and turned by
+/// a normal heading error, on a surface of its level; `None` when that point is off the plan.
+fn jitter(
+    topology: &FloorTopology,
+    p: &TrackParticle,
+    radius: f64,
+    heading_sigma: f32,
+    rng: &mut Pcg64Mcg,
+) -> Option<TrackParticle> {
+    let level = topology.level(p.surface);
+    let z = f64::from(topology.z(p.surface));
+    for _ in 0..PLACEMENT_TRIES {
+        let r = radius * rng.random::<f64>().sqrt();
+        let phi = rng.random_range(0.0..std::f64::consts::TAU);
+        let (x, y) = (
+            f64::from(p.x) + r * phi.cos(),
+            f64::from(p.y) + r * phi.sin(),
+        );
+        if let Some(surface) = topology.locate(x, y, Some(level), Some(z)) {
+            let turn: f32 = rng.sample(StandardNormal);
+            return Some(TrackParticle {
+                x: x as f32,
+                y: y as f32,
+                heading: wrap(p.heading + heading_sigma * turn),
+                scale: p.scale,
+                surface,
+            });
+        }
+    }
+    None
+}
+
+/// Wraps an angle to [−π, π) (up to rounding at the ends).
+#[inline]
+fn wrap(a: f32) -> f32 {
+    if (-PI..PI).contains(&a) {
+        a
+    } else {
+        (a + PI).rem_euclid(2.0 * PI) - PI
+    }
+}
+
+/// Sets `v`'s length to `n` (contents unspecified), keeping its allocation where it fits and
+/// releasing most of it when the set shrinks a lot.
+fn resize<T: Copy + Default>(v: &mut Vec<T>, n: usize) {
+    if n < v.capacity() / 8 {
+        v.truncate(n);
+        v.shrink_to(2 * n);
+    }
+    if v.capacity() < n {
+        v.reserve_exact(n - v.len());
+    }
+    v.resize(n, T::default());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::filter::KldConfig;
+    use crate::map::TopologyConfig;
+    use crate::sim::{SimConfig, simulate};
+
+    fn office() -> (crate::sim::Simulation, FloorTopology) {
+        let mut config = SimConfig {
+            seed: 7,
+            ..Default::default()
+        };
+        config.walk.laps = 1;
+        let sim = simulate(&config).expect("sim");
+        let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default()).expect("topo");
+        (sim, topology)
+    }
+
+    fn small() -> TrackerConfig {
+        TrackerConfig {
+            kld: KldConfig {
+                max_particles: 200_000,
+                ..Default::default()
+            },
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn particle_is_twenty_bytes_and_memory_is_at_most_64_bytes_per_particle() {
+        assert_eq!(std::mem::size_of::<TrackParticle>(), 20);
+        let (sim, topology) = office();
+        let mut tracker = Tracker::new(&topology, &small()).expect("tracker");
+        for s in &sim.steps.steps()[..3] {
+            tracker.update(s).expect("update");
+        }
+        let b = tracker.bytes_per_particle();
+        assert!(b <= 64.0, "{b} bytes per particle");
+    }
+
+    #[test]
+    fn known_start_tracks_a_walk_closely() {
+        let (sim, topology) = office();
+        let config = TrackerConfig {
+            start: Some(StartPose {
+                x: 0.0,
+                y: 0.0,
+                heading: 0.0,
+                level: Some(0),
+            }),
+            ..small()
+        };
+        let mut tracker = Tracker::new(&topology, &config).expect("tracker");
+        assert!(tracker.initial_particles() < 50_000);
+        let mut errors = Vec::new();
+        for (s, p) in sim.steps.steps().iter().zip(&sim.truth.poses) {
+            let r = tracker.update(s).expect("update");
+            assert!(r.recovery.is_none(), "death at t = {}", s.t);
+            let c = r.estimate.expect("clustered");
+            errors.push((c.x - p.x).hypot(c.y - p.y));
+        }
+        errors.sort_by(f64::total_cmp);
+        let p95 = errors[errors.len() * 95 / 100];
+        assert!(p95 < 0.8, "p95 {p95} m");
+    }
+
+    #[test]
+    fn unknown_start_prior_covers_the_plan_and_shrinks() {
+        let (sim, topology) = office();
+        let mut tracker = Tracker::new(&topology, &small()).expect("tracker");
+        let n0 = tracker.initial_particles();
+        let bins = topology.total_area() * 36.0;
+        assert!(n0 as f64 > bins, "{n0} particles for {bins} bins");
+        assert!(tracker.particles().iter().all(|p| {
+            sim.plan
+                .is_walkable(f64::from(p.x), f64::from(p.y), Some(0))
+        }));
+        for s in &sim.steps.steps()[..60] {
+            tracker.update(s).expect("update");
+        }
+        assert!(tracker.particles().len() < n0 / 4);
+    }
+
+    #[test]
+    fn results_do_not_depend_on_the_number_of_threads() {
+        let (sim, topology) = office();
+        let run = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("pool");
+            pool.install(|| {
+                let mut tracker = Tracker::new(&topology, &small()).expect("tracker");
+                let reports: Vec<TrackStep> = sim.steps.steps()[..40]
+                    .iter()
+                    .map(|s| tracker.update(s).expect("update"))
+                    .collect();
+                (reports, tracker.particles().to_vec())
+            })
+        };
+        assert_eq!(run(1), run(2));
+    }
+
+    #[test]
+    fn a_walk_through_a_wall_is_recovered_not_a_crash() {
+        let (_, topology) = office();
+        let config = TrackerConfig {
+            start: Some(StartPose {
+                x: 0.0,
+                y: 0.0,
+                heading: -std::f64::consts::FRAC_PI_2,
+                level: Some(0),
+            }),
+            ..small()
+        };
+        let mut tracker = Tracker::new(&topology, &config).expect("tracker");
+        // Straight south from the corridor's centre line: through its south wall.
+        let steps: Vec<Step> = (0..30)
+            .map(|k| Step {
+                t: f64::from(k) * 0.5 + 0.5,
+                length: 0.7,
+                dheading: 0.0,
+                dz: 0.0,
+                heading: None,
+            })
+            .collect();
+        let mut deaths = 0;
+        for s in &steps {
+            let r = tracker.update(s).expect("update");
+            deaths += usize::from(r.recovery.is_some());
+            assert!(r.particles > 0);
+            assert!(
+                tracker
+                    .particles()
+                    .iter()
+                    .all(|p| p.x.is_finite() && p.y.is_finite())
+            );
+        }
+        assert!(deaths > 0);
+    }
+}

@@ -1,0 +1,207 @@
+//! The configuration of [`super::Tracker`]: every parameter, its unit and default.
+
+use super::cluster::ClusterConfig;
+use super::kld::KldConfig;
+use super::recovery::RecoveryConfig;
+use crate::error::{Error, Result};
+use crate::map::TopologyConfig;
+use serde::{Deserialize, Serialize};
+
+/// A known start: where the walker stands before the first step.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StartPose {
+    /// East, metres (local frame).
+    pub x: f64,
+    /// North, metres.
+    pub y: f64,
+    /// Heading before the first step, radians counter-clockwise from east.
+    pub heading: f64,
+    /// Floor level; `None` = any surface containing the point (the lowest).
+    pub level: Option<i32>,
+}
+
+/// The known-map tracker's parameters; every default in one place.
+///
+/// | field                 | default   | meaning                                                 |
+/// |-----------------------|-----------|---------------------------------------------------------|
+/// | `seed`                | 0         | seed of every random draw                               |
+/// | `length_sigma`        | 0.15 m    | step length noise `σ_l` (eq. 7, the paper's value)      |
+/// | `dheading_sigma`      | 0.6°      | heading change noise `σ_θ` (eq. 8, the paper's value)   |
+/// | `dz_sigma`            | 0.1 m     | height change likelihood `σ_h` (eq. 17, the paper's)    |
+/// | `scale_sigma`         | 0.05      | spread of the per-walk step length scale at the start   |
+/// | `scale_walk_sigma`    | 0.0005    | random walk of the scale per step                       |
+/// | `start`               | none      | known start pose (`None` = uniform prior)               |
+/// | `start_position_sigma`| 0.3 m     | spread of a known start's position                      |
+/// | `start_heading_sigma` | 5°        | spread of a known start's heading                       |
+/// | `kld`                 | see [`KldConfig`]     | adaptive particle count                     |
+/// | `cluster`             | see [`ClusterConfig`] | clusters and localisation                   |
+/// | `recovery`            | see [`RecoveryConfig`]| when every particle dies                    |
+/// | `topology`            | see [`TopologyConfig`]| connections and walls of the plan           |
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TrackerConfig {
+    /// Seed of every random draw; equal seeds give equal results on any thread count.
+    pub seed: u64,
+    /// Step length noise `σ_l`, metres.
+    pub length_sigma: f64,
+    /// Heading change noise `σ_θ`, radians.
+    pub dheading_sigma: f64,
+    /// Height change likelihood's `σ_h`, metres.
+    pub dz_sigma: f64,
+    /// Spread (1σ) of the per-walk step length scale at the start (0 = no scale state).
+    pub scale_sigma: f64,
+    /// Random walk (1σ) of the step length scale per step.
+    pub scale_walk_sigma: f64,
+    /// Known start pose, or `None` for the uniform prior over all surfaces and headings.
+    pub start: Option<StartPose>,
+    /// Spread (1σ) of a known start's position, metres.
+    pub start_position_sigma: f64,
+    /// Spread (1σ) of a known start's heading, radians.
+    pub start_heading_sigma: f64,
+    /// KLD-sampling.
+    pub kld: KldConfig,
+    /// Clustering.
+    pub cluster: ClusterConfig,
+    /// Recovery.
+    pub recovery: RecoveryConfig,
+    /// Floor-plan topology.
+    pub topology: TopologyConfig,
+}
+
+impl Default for TrackerConfig {
+    fn default() -> Self {
+        Self {
+            seed: 0,
+            length_sigma: 0.15,
+            dheading_sigma: 0.6f64.to_radians(),
+            dz_sigma: 0.1,
+            scale_sigma: 0.05,
+            scale_walk_sigma: 0.0005,
+            start: None,
+            start_position_sigma: 0.3,
+            start_heading_sigma: 5f64.to_radians(),
+            kld: KldConfig::default(),
+            cluster: ClusterConfig::default(),
+            recovery: RecoveryConfig::default(),
+            topology: TopologyConfig::default(),
+        }
+    }
+}
+
+impl TrackerConfig {
+    /// Checks every field against its documented range.
+    pub fn validate(&self) -> Result<()> {
+        let check = |field: &'static str, v: f64, lo: f64, hi: f64, reason: &'static str| {
+            if v.is_finite() && (lo..=hi).contains(&v) {
+                Ok(())
+            } else {
+                Err(Error::Config {
+                    field,
+                    value: v.to_string(),
+                    reason,
+                })
+            }
+        };
+        check(
+            "length_sigma",
+            self.length_sigma,
+            0.0,
+            2.0,
+            "must be in [0, 2] metres",
+        )?;
+        check(
+            "dheading_sigma",
+            self.dheading_sigma,
+            0.0,
+            1.0,
+            "must be in [0, 1] radians",
+        )?;
+        check(
+            "dz_sigma",
+            self.dz_sigma,
+            0.001,
+            10.0,
+            "must be in [0.001, 10] metres",
+        )?;
+        check(
+            "scale_sigma",
+            self.scale_sigma,
+            0.0,
+            0.3,
+            "must be in [0, 0.3]",
+        )?;
+        check(
+            "scale_walk_sigma",
+            self.scale_walk_sigma,
+            0.0,
+            0.05,
+            "must be in [0, 0.05]",
+        )?;
+        check(
+            "start_position_sigma",
+            self.start_position_sigma,
+            0.0,
+            100.0,
+            "must be in [0, 100] metres",
+        )?;
+        check(
+            "start_heading_sigma",
+            self.start_heading_sigma,
+            0.0,
+            4.0,
+            "must be in [0, 4] radians",
+        )?;
+        if let Some(s) = self.start {
+            for v in [s.x, s.y, s.heading] {
+                check("start", v, -1e7, 1e7, "must be finite")?;
+            }
+        }
+        let r = &self.recovery;
+        check(
+            "recovery.heading_increment",
+            r.heading_increment,
+            1e-4,
+            1.0,
+            "must be in [0.0001, 1] radians",
+        )?;
+        check(
+            "recovery.heading_max",
+            r.heading_max,
+            0.0,
+            std::f64::consts::PI,
+            "must be in [0, π] radians",
+        )?;
+        check(
+            "recovery.history_radius",
+            r.history_radius,
+            0.01,
+            100.0,
+            "must be in [0.01, 100] metres",
+        )?;
+        check(
+            "recovery.history_steps",
+            r.history_steps as f64,
+            0.0,
+            10_000.0,
+            "must be at most 10000",
+        )?;
+        check(
+            "recovery.history_attempts",
+            r.history_attempts as f64,
+            0.0,
+            20.0,
+            "must be at most 20",
+        )?;
+        check(
+            "recovery.history_particles",
+            r.history_particles as f64,
+            1.0,
+            1e8,
+            "must be in [1, 100000000]",
+        )?;
+        self.kld.validate()?;
+        self.cluster.validate()?;
+        self.topology.validate()
+    }
+}
