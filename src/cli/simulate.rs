@@ -1,4 +1,5 @@
-//! `footslam simulate`: an office floor, a walk through it and its step trace.
+//! `footslam simulate`: a building, a walk through it and its step trace: the single-floor
+//! office of the FootSLAM experiments, or the multi-floor tower for known-map tracking.
 
 use super::common::{output_dir, parse_origin, read_config};
 use anyhow::Result;
@@ -9,17 +10,42 @@ use footslam::export::RunFolder;
 use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::geometry::LocalFrame;
 use footslam::map::HexMapSnapshot;
-use footslam::sim::{SimConfig, simulate};
+use footslam::export::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, write_plan_png};
+use footslam::sim::{
+    SimConfig, TowerSimConfig, TruePose, floor_changes, floor_resolved_at, simulate,
+    simulate_tower,
+};
 use serde::Serialize;
 use std::path::PathBuf;
+
+/// Which building to simulate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Building {
+    /// One office floor: a corridor loop with rooms (the FootSLAM walks).
+    Office,
+    /// A multi-floor building with two stairwells of treads (known-map tracking).
+    Tower,
+}
 
 /// Arguments of `footslam simulate`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
+    /// The building.
+    #[arg(long, value_enum, default_value = "office")]
+    building: Building,
+    /// Tower: number of floors (overrides the config file).
+    #[arg(long)]
+    floors: Option<usize>,
+    /// Tower: every floor with the same layout (overrides the config file).
+    #[arg(long)]
+    identical_floors: bool,
+    /// Tower: length of the walk in minutes (overrides the config file).
+    #[arg(long)]
+    minutes: Option<f64>,
     /// Random seed (overrides the config file).
     #[arg(long)]
     seed: Option<u64>,
-    /// Laps of the corridor loop (overrides the config file).
+    /// Office: laps of the corridor loop (overrides the config file).
     #[arg(long)]
     laps: Option<usize>,
     /// Simulation configuration (TOML, or JSON such as a previous run's config.json).
@@ -43,8 +69,104 @@ struct Summary {
     origin: LocalFrame,
 }
 
+#[derive(Debug, Serialize)]
+struct TowerSummary {
+    steps: usize,
+    duration_s: f64,
+    path_length_m: f64,
+    floor_polygons: usize,
+    floors: usize,
+    identical_floors: bool,
+    start: TruePose,
+    floor_changes: Vec<usize>,
+    floor_resolved_at: Option<usize>,
+    seed: u64,
+    origin: LocalFrame,
+}
+
 /// Runs `footslam simulate`.
 pub fn run(args: Args) -> Result<()> {
+    match args.building {
+        Building::Office => run_office(args),
+        Building::Tower => run_tower(args),
+    }
+}
+
+fn run_tower(args: Args) -> Result<()> {
+    let mut config: TowerSimConfig = match &args.config {
+        Some(p) => read_config(p)?,
+        None => TowerSimConfig::default(),
+    };
+    if let Some(s) = args.seed {
+        config.seed = s;
+    }
+    if let Some(f) = args.floors {
+        config.building.floors = f;
+    }
+    if args.identical_floors {
+        config.building.identical_floors = true;
+    }
+    if let Some(m) = args.minutes {
+        config.walk.minutes = m;
+    }
+    let origin = args.origin.unwrap_or_default();
+    let sim = simulate_tower(&config)?;
+    let folder = RunFolder::create(&output_dir(args.out, "simulate"))?;
+    write_floor_plan(&folder.path("floor.geojson"), &sim.plan, &origin)?;
+    write_steps(&folder.path("steps.csv"), &sim.steps)?;
+    write_truth(&folder.path("truth.csv"), &sim.truth)?;
+    let truth: Vec<(f64, f64, i32)> = std::iter::once(&sim.start)
+        .chain(&sim.truth.poses)
+        .map(|p| (p.x, p.y, p.level))
+        .collect();
+    let picture = PlanPicture {
+        plan: &sim.plan,
+        title: Some(format!("true walk: {} steps", sim.truth.len())),
+        paths: vec![PlanPath {
+            points: &truth,
+            colour: [33, 102, 172],
+            label: "truth",
+        }],
+        points: Vec::new(),
+    };
+    write_plan_png(
+        &folder.path("truth.png"),
+        &[picture],
+        &PlanPictureConfig::default(),
+    )?;
+    folder.write_json("config.json", &config)?;
+    let levels = (0, config.building.floors as i32 - 1);
+    let summary = TowerSummary {
+        steps: sim.steps.len(),
+        duration_s: sim.truth.poses.last().map_or(0.0, |p| p.t),
+        path_length_m: truth
+            .windows(2)
+            .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
+            .sum(),
+        floor_polygons: sim.plan.polygons.len(),
+        floors: config.building.floors,
+        identical_floors: config.building.identical_floors,
+        start: sim.start,
+        floor_changes: floor_changes(&sim.start, &sim.truth),
+        floor_resolved_at: floor_resolved_at(&sim.start, &sim.truth, levels),
+        seed: config.seed,
+        origin,
+    };
+    folder.write_json("summary.json", &summary)?;
+    let out = folder.commit()?;
+    outln!(
+        "simulated {} steps ({:.0} m, {:.0} s) through {} floors, {} changes of floor",
+        summary.steps,
+        summary.path_length_m,
+        summary.duration_s,
+        summary.floors,
+        summary.floor_changes.len()
+    );
+    outln!("outputs: {}", out.display());
+    Ok(())
+}
+
+fn run_office(args: Args) -> Result<()> {
     let mut config: SimConfig = match &args.config {
         Some(p) => read_config(p)?,
         None => SimConfig::default(),

@@ -8,6 +8,7 @@ use super::glyphs::{self, GLYPH_HEIGHT};
 use super::map_png::canvas::{INK, PLAN_WALL, fill, polyline, push_ring, rgb, stroke};
 use crate::error::{Error, Result};
 use crate::map::FloorPlan;
+use geo::Area;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use tiny_skia::{Color, ColorU8, FillRule, PathBuilder, Pixmap};
@@ -248,15 +249,21 @@ pub fn write_plan_png(
     super::write_atomically(path, &render_plan_png(pictures, config)?)
 }
 
-/// Surfaces shaded by height within their level (light grey at the floor, blue at the top of
-/// a stair), outlined as walls; barriers as thick black lines.
+/// Surfaces shaded by their height off their level's floor (light grey on the floor, blue
+/// 1.5 m up or down a stair), outlined as walls; barriers as thick black lines.
 fn draw_plan(pixmap: &mut Pixmap, layout: &Layout, row: usize, plan: &FloorPlan) {
-    let (z_lo, z_hi) = plan
-        .polygons
+    // Each level's floor height: that of its largest surface.
+    let floors: Vec<f64> = layout
+        .levels
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), f| {
-            (a.min(f.z), b.max(f.z))
-        });
+        .map(|&l| {
+            plan.polygons
+                .iter()
+                .filter(|f| f.level == l)
+                .max_by(|a, b| a.polygon.unsigned_area().total_cmp(&b.polygon.unsigned_area()))
+                .map_or(0.0, |f| f.z)
+        })
+        .collect();
     for stage in 0..2 {
         for f in &plan.polygons {
             let Some(li) = layout.level_index(f.level) else {
@@ -271,17 +278,7 @@ fn draw_plan(pixmap: &mut Pixmap, layout: &Layout, row: usize, plan: &FloorPlan)
             }
             let Some(path) = pb.finish() else { continue };
             if stage == 0 {
-                let level_floor = plan
-                    .polygons
-                    .iter()
-                    .filter(|g| g.level == f.level)
-                    .map(|g| g.z)
-                    .fold(f64::INFINITY, f64::min);
-                let t = if z_hi > z_lo {
-                    ((f.z - level_floor) / (z_hi - z_lo) * 2.0).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
+                let t = ((f.z - floors[li]).abs() / STAIR_SHADE_HEIGHT).clamp(0.0, 1.0);
                 fill(pixmap, &path, height_shade(t), FillRule::EvenOdd);
             } else {
                 stroke(pixmap, &path, PLAN_WALL, 1.0, None);
@@ -297,6 +294,9 @@ fn draw_plan(pixmap: &mut Pixmap, layout: &Layout, row: usize, plan: &FloorPlan)
         }
     }
 }
+
+/// Surfaces this far above or below their level's floor are shaded fully blue, metres.
+const STAIR_SHADE_HEIGHT: f64 = 1.5;
 
 /// Light grey (t = 0) to light blue (t = 1).
 fn height_shade(t: f64) -> ColorU8 {

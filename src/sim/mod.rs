@@ -15,6 +15,8 @@
 //! * [`walker`] — the walker striding along the planned route, and its true poses
 //! * [`step_sensor`] — step measurements with foot-mounted-grade errors and heading drift
 //! * [`truth`] — the true path, one pose per step
+//! * [`tower`], [`tower_walk`] — a multi-floor building with two stairwells of treads, and
+//!   long tours through it from a random start ([`simulate_tower`])
 
 /// Returns `Err(Error::Config)` naming `$field` from the enclosing function unless `$value`
 /// (an `f64`) is finite and in `[$lo, $hi]`; the reason quotes the range and `$unit`.
@@ -36,11 +38,17 @@ pub mod rooms;
 pub mod route;
 pub mod step_sensor;
 pub mod tour;
+pub mod tower;
+pub mod tower_walk;
 pub mod truth;
 pub mod walker;
 
 pub use office::{Office, OfficeConfig, Room, office_floor};
-pub use step_sensor::{StepNoiseConfig, measure_steps};
+pub use step_sensor::{StepNoiseConfig, measure_steps, measure_steps_from};
+pub use tower::{Tower, TowerConfig, TowerRoom};
+pub use tower_walk::{
+    TowerWalkConfig, floor_changes, floor_resolved_at, simulate_tower_walk,
+};
 pub use truth::{TruePath, TruePose};
 pub use walker::{WalkConfig, simulate_walk};
 
@@ -108,6 +116,69 @@ pub fn simulate(config: &SimConfig) -> Result<Simulation> {
     )?;
     Ok(Simulation {
         plan: office.plan,
+        truth,
+        steps,
+    })
+}
+
+/// Everything a multi-floor simulation needs; every default in one place:
+///
+/// | field      | default                                                               |
+/// |------------|-----------------------------------------------------------------------|
+/// | `seed`     | 0                                                                     |
+/// | `building` | 3 floors, 40 m corridor, rooms both sides, two switchback stairwells ([`TowerConfig`]) |
+/// | `walk`     | 12 minutes from a random start, 35 % of legs to another floor ([`TowerWalkConfig`]) |
+/// | `noise`    | foot-mounted-grade step errors ([`StepNoiseConfig`])                  |
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TowerSimConfig {
+    /// Seed of the walk and the sensor (the building's layout has its own `layout_seed`).
+    pub seed: u64,
+    /// The building.
+    pub building: TowerConfig,
+    /// The tour.
+    pub walk: TowerWalkConfig,
+    /// The step sensor's errors.
+    pub noise: StepNoiseConfig,
+}
+
+/// A simulated multi-floor walk.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TowerSimulation {
+    /// The building's walkable surfaces.
+    pub plan: FloorPlan,
+    /// Where the walker stands before the first step (heading: before the first step).
+    pub start: TruePose,
+    /// True poses, one per step.
+    pub truth: TruePath,
+    /// Measured steps, one per true pose.
+    pub steps: StepTrace,
+}
+
+/// Runs the multi-floor simulation described by `config`; equal configurations give equal
+/// results.
+pub fn simulate_tower(config: &TowerSimConfig) -> Result<TowerSimulation> {
+    config.building.validate()?;
+    config.walk.validate()?;
+    config.noise.validate()?;
+    let tower = Tower::new(&config.building)?;
+    let topology =
+        crate::map::FloorTopology::build(&tower.plan, &crate::map::TopologyConfig::default())?;
+    let (start, truth) = simulate_tower_walk(
+        &tower,
+        &topology,
+        &config.walk,
+        stream_seed(config.seed, WALK_STREAM),
+    )?;
+    let steps = measure_steps_from(
+        &truth,
+        &start,
+        &config.noise,
+        stream_seed(config.seed, NOISE_STREAM),
+    )?;
+    Ok(TowerSimulation {
+        plan: tower.plan,
+        start,
         truth,
         steps,
     })

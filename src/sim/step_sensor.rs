@@ -8,7 +8,7 @@
 //! removed, so the total is exact while the drift still bends the track unevenly. A constant
 //! stride-length scale and white height noise complete the model.
 
-use super::truth::TruePath;
+use super::truth::{TruePath, TruePose};
 use crate::error::{Error, Result};
 use crate::geometry::angle::wrap_angle;
 use crate::sensor::step::{MAX_STEP_LENGTH, Step, StepTrace};
@@ -98,10 +98,29 @@ fn gauss(rng: &mut Pcg64Mcg) -> f64 {
 /// of direction (from heading 0 for the first step) plus noise plus the drift increment. With
 /// [`StepNoiseConfig::noise_free`], dead-reckoning the trace from the origin reproduces `truth`.
 pub fn measure_steps(truth: &TruePath, config: &StepNoiseConfig, seed: u64) -> Result<StepTrace> {
+    let origin = TruePose {
+        t: 0.0,
+        x: 0.0,
+        y: 0.0,
+        z: 0.0,
+        level: 0,
+        heading: 0.0,
+    };
+    measure_steps_from(truth, &origin, config, seed)
+}
+
+/// As [`measure_steps`], for a walk that starts at `start` (position, height and the heading
+/// before the first step) instead of the origin facing east.
+pub fn measure_steps_from(
+    truth: &TruePath,
+    start: &TruePose,
+    config: &StepNoiseConfig,
+    seed: u64,
+) -> Result<StepTrace> {
     config.validate()?;
     let mut rng = Pcg64Mcg::seed_from_u64(seed);
     let drift = drift_increments(truth.len(), config, &mut rng);
-    let (mut x, mut y, mut z, mut heading) = (0.0, 0.0, 0.0, 0.0);
+    let (mut x, mut y, mut z, mut heading) = (start.x, start.y, start.z, start.heading);
     let mut steps = Vec::with_capacity(truth.len());
     for (pose, drift) in truth.poses.iter().zip(drift) {
         let true_length = (pose.x - x).hypot(pose.y - y);

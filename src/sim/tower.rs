@@ -1,0 +1,545 @@
+//! A synthetic multi-floor building, symmetric on purpose, for known-map tracking (the kind of
+//! three-storey building of Woodman & Harle 2008, Fig. 4): on every floor a straight corridor
+//! with rooms on both sides, and at each end of the corridor a stairwell of switchback stairs
+//! built from treads.
+//!
+//! Frame: x east along the corridor (`0 ≤ x ≤ corridor_length`), y north, the corridor's
+//! centre line on `y = 0`; floor `k` is level `k` at height `k × floor_height`.
+//!
+//! * The corridor is `corridor_width` wide; rooms lie `wall_thickness` beyond its sides, each
+//!   joined to it by a door rectangle filling the wall gap; neighbouring rooms are
+//!   `wall_thickness` apart.
+//! * Room widths along the corridor and door positions come from a floor layout drawn from
+//!   `layout_seed` (and the floor's index, unless `identical_floors`), so floors differ in
+//!   layout and no floor is symmetric in itself; the stairwells and corridors are the same
+//!   everywhere, and with `identical_floors` every floor is the same (the hard case: only
+//!   changes of floor reveal the floor).
+//! * West stairwell: a landing on every floor west of the corridor, then from each floor but
+//!   the top a flight of treads running west in the north lane, a half landing, and a flight
+//!   back east in the south lane arriving on the next floor's landing. Lanes are
+//!   `wall_thickness` apart so their treads never touch. Each tread is one rise
+//!   (`floor_height / (2 × treads + 2)`) above the previous; a tread's `level` is the nearest
+//!   floor, `round(z / floor_height)` (the half landing belongs to the lower floor).
+//! * The east stairwell is the west one turned 180° about the corridor's midpoint.
+
+use crate::error::{Error, Result};
+use crate::map::{FloorPlan, FloorPolygon};
+use geo::{Coord, Rect};
+use rand::RngExt;
+use rand_pcg::Pcg64Mcg;
+use serde::{Deserialize, Serialize};
+
+/// Dimensions of the building; every default in one place (metres).
+///
+/// | field              | default | meaning                                               |
+/// |--------------------|---------|-------------------------------------------------------|
+/// | `floors`           | 3       | floors (levels 0 ..)                                  |
+/// | `floor_height`     | 3.0     | height between floors                                 |
+/// | `corridor_length`  | 40      | corridor along x                                      |
+/// | `corridor_width`   | 2.0     | corridor across                                       |
+/// | `room_depth`       | 6.0     | rooms across                                          |
+/// | `min_room_width`   | 3.0     | narrowest room                                        |
+/// | `max_room_width`   | 7.0     | widest room                                           |
+/// | `wall_thickness`   | 0.2     | gap between surfaces that do not connect              |
+/// | `door_width`       | 0.9     | door rectangles                                       |
+/// | `treads`           | 8       | treads per flight (two flights per floor)             |
+/// | `tread_depth`      | 0.28    | tread along the flight                                |
+/// | `lane_width`       | 1.2     | width of a flight                                     |
+/// | `landing_depth`    | 2.5     | floor landing between corridor and flights            |
+/// | `identical_floors` | false   | every floor with the same layout                      |
+/// | `layout_seed`      | 1       | seed of the room layouts                              |
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TowerConfig {
+    /// Number of floors.
+    pub floors: usize,
+    /// Height between floors.
+    pub floor_height: f64,
+    /// Corridor length (x).
+    pub corridor_length: f64,
+    /// Corridor width (y).
+    pub corridor_width: f64,
+    /// Room depth away from the corridor.
+    pub room_depth: f64,
+    /// Narrowest room along the corridor.
+    pub min_room_width: f64,
+    /// Widest room along the corridor.
+    pub max_room_width: f64,
+    /// Gap between surfaces that must not connect.
+    pub wall_thickness: f64,
+    /// Door width.
+    pub door_width: f64,
+    /// Treads per flight.
+    pub treads: usize,
+    /// Tread depth along a flight.
+    pub tread_depth: f64,
+    /// Width of a flight.
+    pub lane_width: f64,
+    /// Depth of each floor's stair landing (x).
+    pub landing_depth: f64,
+    /// Every floor with the same layout.
+    pub identical_floors: bool,
+    /// Seed of the room layouts.
+    pub layout_seed: u64,
+}
+
+impl Default for TowerConfig {
+    fn default() -> Self {
+        Self {
+            floors: 3,
+            floor_height: 3.0,
+            corridor_length: 40.0,
+            corridor_width: 2.0,
+            room_depth: 6.0,
+            min_room_width: 3.0,
+            max_room_width: 7.0,
+            wall_thickness: 0.2,
+            door_width: 0.9,
+            treads: 8,
+            tread_depth: 0.28,
+            lane_width: 1.2,
+            landing_depth: 2.5,
+            identical_floors: false,
+            layout_seed: 1,
+        }
+    }
+}
+
+impl TowerConfig {
+    /// Checks every field against its documented range.
+    pub fn validate(&self) -> Result<()> {
+        ensure_in_range!("building.floors", self.floors as f64, 1.0..=50.0, "");
+        ensure_in_range!("building.floor_height", self.floor_height, 2.0..=10.0, " m");
+        ensure_in_range!(
+            "building.corridor_length",
+            self.corridor_length,
+            10.0..=1000.0,
+            " m"
+        );
+        ensure_in_range!(
+            "building.corridor_width",
+            self.corridor_width,
+            1.0..=10.0,
+            " m"
+        );
+        ensure_in_range!("building.room_depth", self.room_depth, 2.0..=50.0, " m");
+        ensure_in_range!(
+            "building.min_room_width",
+            self.min_room_width,
+            2.0..=50.0,
+            " m"
+        );
+        ensure_in_range!(
+            "building.max_room_width",
+            self.max_room_width,
+            2.0..=50.0,
+            " m"
+        );
+        ensure_in_range!(
+            "building.wall_thickness",
+            self.wall_thickness,
+            0.1..=1.0,
+            " m"
+        );
+        ensure_in_range!("building.door_width", self.door_width, 0.6..=3.0, " m");
+        ensure_in_range!("building.treads", self.treads as f64, 2.0..=30.0, "");
+        ensure_in_range!("building.tread_depth", self.tread_depth, 0.2..=0.5, " m");
+        ensure_in_range!("building.lane_width", self.lane_width, 0.8..=3.0, " m");
+        ensure_in_range!(
+            "building.landing_depth",
+            self.landing_depth,
+            1.5..=10.0,
+            " m"
+        );
+        let bad = |field, value: f64, reason| {
+            Err(Error::Config {
+                field,
+                value: value.to_string(),
+                reason,
+            })
+        };
+        if self.max_room_width < self.min_room_width {
+            return bad(
+                "building.max_room_width",
+                self.max_room_width,
+                "must be at least min_room_width",
+            );
+        }
+        if self.door_width + 0.4 > self.min_room_width {
+            return bad(
+                "building.door_width",
+                self.door_width,
+                "must leave 0.2 m of wall on each side in the narrowest room",
+            );
+        }
+        if self.corridor_length < 2.0 * self.min_room_width + 3.0 * self.wall_thickness {
+            return bad(
+                "building.corridor_length",
+                self.corridor_length,
+                "must hold at least two rooms a side",
+            );
+        }
+        if self.rise() > 0.45 {
+            return bad(
+                "building.treads",
+                self.treads as f64,
+                "too few for the floor height: a tread may rise at most 0.45 m",
+            );
+        }
+        if 2.0 * self.lane_width + self.wall_thickness > self.corridor_width + 2.0 * self.room_depth
+        {
+            return bad(
+                "building.lane_width",
+                self.lane_width,
+                "two lanes must fit across the building",
+            );
+        }
+        Ok(())
+    }
+
+    /// Height of one tread above the previous.
+    pub fn rise(&self) -> f64 {
+        self.floor_height / (2.0 * self.treads as f64 + 2.0)
+    }
+
+    /// Centre line (y) of the first flight's lane (north) in the west stairwell; the second
+    /// flight's lane is its mirror (south).
+    fn lane_centre(&self) -> f64 {
+        (self.wall_thickness + self.lane_width) / 2.0
+    }
+
+    /// West end of the flights (the half landing's east edge), x.
+    fn flights_end(&self) -> f64 {
+        -self.landing_depth - self.treads as f64 * self.tread_depth
+    }
+}
+
+/// One room with the anchors a walker steers by.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TowerRoom {
+    /// Floor level.
+    pub level: i32,
+    /// The room's floor.
+    pub area: Rect<f64>,
+    /// Point on the corridor's centre line in front of the door.
+    pub corridor: Coord<f64>,
+    /// Centre of the door.
+    pub door: Coord<f64>,
+    /// Point 0.8 m inside the room, straight in from the door.
+    pub entry: Coord<f64>,
+}
+
+/// The building: its plan and the anchors of its rooms and stairs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tower {
+    /// Walkable surfaces.
+    pub plan: FloorPlan,
+    /// Rooms of every floor.
+    pub rooms: Vec<TowerRoom>,
+    /// The configuration.
+    pub config: TowerConfig,
+}
+
+impl Tower {
+    /// Builds the building for `config`.
+    pub fn new(config: &TowerConfig) -> Result<Self> {
+        config.validate()?;
+        let c = config;
+        let (l, hw, t) = (c.corridor_length, c.corridor_width / 2.0, c.wall_thickness);
+        let mut polygons = Vec::new();
+        let mut rooms = Vec::new();
+        let h = c.floor_height;
+        for k in 0..c.floors {
+            let level = k as i32;
+            let z = k as f64 * h;
+            let surface = |rect: Rect<f64>, z: f64, name: String| FloorPolygon {
+                polygon: rect.to_polygon(),
+                // The nearest floor; a half landing, exactly between, the lower one.
+                level: (z / h - 1e-6).round() as i32,
+                z,
+                name: Some(name),
+            };
+            polygons.push(surface(
+                Rect::new((0.0, -hw), (l, hw)),
+                z,
+                format!("corridor {k}"),
+            ));
+            let seed = if c.identical_floors {
+                c.layout_seed
+            } else {
+                c.layout_seed ^ crate::random::mix(k as u64 + 1)
+            };
+            let mut rng = crate::random::stream(seed, 0, 0);
+            for north in [true, false] {
+                let side = if north { 1.0 } else { -1.0 };
+                for (i, (x0, x1, door_x)) in room_spans(c, &mut rng).into_iter().enumerate() {
+                    let (y0, y1) = (hw + t, hw + t + c.room_depth);
+                    let area = if north {
+                        Rect::new((x0, y0), (x1, y1))
+                    } else {
+                        Rect::new((x0, -y1), (x1, -y0))
+                    };
+                    let dw = c.door_width / 2.0;
+                    let door = Rect::new((door_x - dw, side * hw), (door_x + dw, side * (hw + t)));
+                    let tag = if north { "N" } else { "S" };
+                    polygons.push(surface(area, z, format!("room {k}{tag}{}", i + 1)));
+                    polygons.push(surface(door, z, format!("door {k}{tag}{}", i + 1)));
+                    rooms.push(TowerRoom {
+                        level,
+                        area,
+                        corridor: Coord { x: door_x, y: 0.0 },
+                        door: Coord {
+                            x: door_x,
+                            y: side * (hw + t / 2.0),
+                        },
+                        entry: Coord {
+                            x: door_x,
+                            y: side * (hw + t + 0.8),
+                        },
+                    });
+                }
+            }
+            for east in [false, true] {
+                let place = |r: Rect<f64>| if east { turn_rect(r, l) } else { r };
+                let end = if east { "east" } else { "west" };
+                let landing = Rect::new(
+                    (-c.landing_depth, -(t / 2.0 + c.lane_width)),
+                    (0.0, t / 2.0 + c.lane_width),
+                );
+                polygons.push(surface(place(landing), z, format!("landing {k} {end}")));
+                if k + 1 == c.floors {
+                    continue;
+                }
+                for (rect, z, name) in flights(c, z) {
+                    polygons.push(surface(place(rect), z, format!("{name} {k} {end}")));
+                }
+            }
+        }
+        Ok(Self {
+            plan: FloorPlan {
+                polygons,
+                ..Default::default()
+            },
+            rooms,
+            config: *config,
+        })
+    }
+
+    /// Waypoints from the corridor's end at `level` through the stairwell at the west
+    /// (`east = false`) or east end to the corridor's end one floor up (`up`) or down.
+    pub fn stair_waypoints(&self, east: bool, up: bool) -> Vec<Coord<f64>> {
+        let c = &self.config;
+        let (lane, end, half) = (
+            c.lane_centre(),
+            c.flights_end(),
+            c.flights_end() - c.lane_width / 2.0,
+        );
+        let landing = -c.landing_depth / 2.0;
+        let mut w: Vec<Coord<f64>> = [
+            (0.5, 0.0),
+            (landing, 0.0),
+            (landing, lane),
+            (end, lane),
+            (half, lane),
+            (half, -lane),
+            (end, -lane),
+            (landing, -lane),
+            (landing, 0.0),
+            (0.5, 0.0),
+        ]
+        .into_iter()
+        .map(|(x, y)| Coord { x, y })
+        .collect();
+        if !up {
+            w.reverse();
+        }
+        if east {
+            w.iter_mut().for_each(|p| *p = turn(*p, c.corridor_length));
+        }
+        w
+    }
+}
+
+/// Rooms along one side: `(x0, x1, door x)` from west to east, one wall thickness in from
+/// the corridor's ends (clear of the landings), widths drawn between the configured limits and
+/// the last room taking what is left.
+fn room_spans(c: &TowerConfig, rng: &mut Pcg64Mcg) -> Vec<(f64, f64, f64)> {
+    let t = c.wall_thickness;
+    let l = c.corridor_length - t;
+    let mut spans = Vec::new();
+    let mut x = t;
+    loop {
+        let left = l - x;
+        let w = if left <= c.max_room_width {
+            left
+        } else {
+            let w = rng.random_range(c.min_room_width..=c.max_room_width);
+            // Never leave less than the narrowest room for the last one.
+            if left - w - t < c.min_room_width {
+                left
+            } else {
+                w
+            }
+        };
+        let margin = 0.2 + c.door_width / 2.0;
+        let door = x + rng.random_range(margin..=(w - margin).max(margin));
+        spans.push((x, x + w, door));
+        x += w + t;
+        if x >= l - 1e-9 {
+            break;
+        }
+    }
+    spans
+}
+
+/// The stair surfaces from the floor at height `z` to the next: first flight (north lane,
+/// running west), half landing, second flight (south lane, running east).
+fn flights(c: &TowerConfig, z: f64) -> Vec<(Rect<f64>, f64, &'static str)> {
+    let (d, r, n) = (c.tread_depth, c.rise(), c.treads);
+    let (t, w) = (c.wall_thickness, c.lane_width);
+    let x0 = -c.landing_depth;
+    let north = (t / 2.0, t / 2.0 + w);
+    let south = (-(t / 2.0 + w), -t / 2.0);
+    let mut out = Vec::with_capacity(2 * n + 1);
+    for i in 0..n {
+        let (a, b) = (x0 - (i + 1) as f64 * d, x0 - i as f64 * d);
+        out.push((
+            Rect::new((a, north.0), (b, north.1)),
+            z + (i + 1) as f64 * r,
+            "tread up",
+        ));
+    }
+    let end = c.flights_end();
+    out.push((
+        Rect::new((end - w, south.0), (end, north.1)),
+        z + (n + 1) as f64 * r,
+        "half landing",
+    ));
+    for j in 0..n {
+        let (a, b) = (end + j as f64 * d, end + (j + 1) as f64 * d);
+        out.push((
+            Rect::new((a, south.0), (b, south.1)),
+            z + (n + 2 + j) as f64 * r,
+            "tread on",
+        ));
+    }
+    out
+}
+
+/// `p` turned 180° about the corridor's midpoint.
+fn turn(p: Coord<f64>, length: f64) -> Coord<f64> {
+    Coord {
+        x: length - p.x,
+        y: -p.y,
+    }
+}
+
+fn turn_rect(r: Rect<f64>, length: f64) -> Rect<f64> {
+    Rect::new(turn(r.min(), length), turn(r.max(), length))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::{FloorTopology, SegmentKind, TopologyConfig};
+
+    #[test]
+    fn three_floors_two_stairwells_and_connected_stairs() {
+        let tower = Tower::new(&TowerConfig::default()).expect("tower");
+        let plan = &tower.plan;
+        let levels: std::collections::BTreeSet<i32> =
+            plan.polygons.iter().map(|p| p.level).collect();
+        assert_eq!(levels.len(), 3);
+        let treads = plan
+            .polygons
+            .iter()
+            .filter(|p| p.name.as_deref().is_some_and(|n| n.starts_with("tread")))
+            .count();
+        assert_eq!(treads, 2 * 2 * 2 * 8);
+        let topology = FloorTopology::build(plan, &TopologyConfig::default()).expect("topology");
+        // Every surface has a connection: nothing is unreachable.
+        let mut connected = vec![false; plan.polygons.len()];
+        for s in topology.segments() {
+            if let SegmentKind::Connection { a, b } = s.kind {
+                connected[a as usize] = true;
+                connected[b as usize] = true;
+            }
+        }
+        assert!(connected.iter().all(|&c| c));
+        // Climbing the west stairs from floor 0 ends on floor 1's landing, 3 m up.
+        let route = tower.stair_waypoints(false, true);
+        let mut s = topology
+            .locate(route[0].x, route[0].y, Some(0), None)
+            .expect("start");
+        for w in route.windows(2) {
+            // Short hops, as a walker's steps.
+            let n = ((w[1].x - w[0].x).hypot(w[1].y - w[0].y) / 0.5).ceil().max(1.0) as usize;
+            for i in 0..n {
+                let a = w[0] + (w[1] - w[0]) * (i as f64 / n as f64);
+                let b = w[0] + (w[1] - w[0]) * ((i + 1) as f64 / n as f64);
+                s = topology
+                    .walk(s, [a.x as f32, a.y as f32], [b.x as f32, b.y as f32])
+                    .unwrap_or_else(|| panic!("wall between {a:?} and {b:?}"));
+            }
+        }
+        assert!((topology.z(s) - 3.0).abs() < 1e-6);
+        assert_eq!(topology.level(s), 1);
+        assert!(topology.total_area() > 3.0 * 500.0);
+    }
+
+    #[test]
+    fn identical_floors_repeat_and_the_shell_turns_onto_itself() {
+        let config = TowerConfig {
+            identical_floors: true,
+            ..Default::default()
+        };
+        let tower = Tower::new(&config).expect("tower");
+        let rooms = |level: i32| -> Vec<Rect<f64>> {
+            tower
+                .rooms
+                .iter()
+                .filter(|r| r.level == level)
+                .map(|r| r.area)
+                .collect()
+        };
+        assert_eq!(rooms(0), rooms(1));
+        assert_eq!(rooms(0), rooms(2));
+        // Stairwells, landings and corridors: the same after a half turn.
+        let shell: Vec<Rect<f64>> = tower
+            .plan
+            .polygons
+            .iter()
+            .filter(|p| {
+                p.name
+                    .as_deref()
+                    .is_some_and(|n| !n.starts_with("room") && !n.starts_with("door"))
+            })
+            .map(|p| geo::BoundingRect::bounding_rect(&p.polygon).expect("rect"))
+            .collect();
+        for r in &shell {
+            let t = turn_rect(*r, config.corridor_length);
+            assert!(
+                shell.iter().any(|q| (q.min() - t.min()).x.abs() < 1e-9
+                    && (q.min() - t.min()).y.abs() < 1e-9
+                    && (q.max() - t.max()).x.abs() < 1e-9),
+                "{r:?}"
+            );
+        }
+        // Different floors differ when not identical.
+        let varied = Tower::new(&TowerConfig::default()).expect("tower");
+        let widths = |level: i32| -> Vec<f64> {
+            varied
+                .rooms
+                .iter()
+                .filter(|r| r.level == level)
+                .map(|r| r.area.width())
+                .collect()
+        };
+        assert_ne!(widths(0), widths(1));
+        assert!(Tower::new(&TowerConfig {
+            treads: 2,
+            ..Default::default()
+        })
+        .is_err());
+    }
+}
