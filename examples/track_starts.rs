@@ -25,7 +25,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map_err(|e| format!("length scale: {e}"))?;
     println!(
         "{:<10} {:>4} {:>7} {:>8} {:>6} {:>7} {:>7} {:>6} {:>7} {:>6}",
-        "floors", "seed", "steps", "resolved", "local", "right", "p95 m", "max m", "floor%", "deaths"
+        "floors",
+        "seed",
+        "steps",
+        "resolved",
+        "local",
+        "right",
+        "p95 m",
+        "max m",
+        "floor%",
+        "deaths"
     );
     for identical in [false, true] {
         let mut localise = Vec::new();
@@ -39,10 +48,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             config.noise.length_scale = scale;
             let sim = simulate_tower(&config)?;
             let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default())?;
-            let tracker_config = TrackerConfig {
+            let mut tracker_config = TrackerConfig {
                 seed,
                 ..Default::default()
             };
+            if let Ok(v) = std::env::var("SIGMA_L") {
+                tracker_config.length_sigma = v.parse()?;
+            }
+            if let Ok(v) = std::env::var("MINP") {
+                tracker_config.kld.min_particles = v.parse()?;
+            }
             let mut tracker = Tracker::new(&topology, &tracker_config)?;
             let reports: Vec<_> = sim
                 .steps

@@ -8,12 +8,11 @@ use footslam::dataset::steps_csv::write_steps;
 use footslam::dataset::truth_csv::write_truth;
 use footslam::export::RunFolder;
 use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
+use footslam::export::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, write_plan_png};
 use footslam::geometry::LocalFrame;
 use footslam::map::HexMapSnapshot;
-use footslam::export::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, write_plan_png};
 use footslam::sim::{
-    SimConfig, TowerSimConfig, TruePose, floor_changes, floor_resolved_at, simulate,
-    simulate_tower,
+    SimConfig, TowerSimConfig, TruePose, floor_changes, floor_resolved_at, simulate, simulate_tower,
 };
 use serde::Serialize;
 use std::path::PathBuf;

@@ -260,7 +260,11 @@ fn draw_plan(pixmap: &mut Pixmap, layout: &Layout, row: usize, plan: &FloorPlan)
             plan.polygons
                 .iter()
                 .filter(|f| f.level == l)
-                .max_by(|a, b| a.polygon.unsigned_area().total_cmp(&b.polygon.unsigned_area()))
+                .max_by(|a, b| {
+                    a.polygon
+                        .unsigned_area()
+                        .total_cmp(&b.polygon.unsigned_area())
+                })
                 .map_or(0.0, |f| f.z)
         })
         .collect();

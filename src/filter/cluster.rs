@@ -42,7 +42,7 @@ impl Default for ClusterConfig {
         Self {
             radius: 7.0,
             max_dz: 1.0,
-            min_weight: 0.01,
+            min_weight: 0.002,
             max_particles: 10_000,
         }
     }

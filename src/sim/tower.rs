@@ -9,8 +9,10 @@
 //! * The corridor is `corridor_width` wide; rooms lie `wall_thickness` beyond its sides, each
 //!   joined to it by a door rectangle filling the wall gap; neighbouring rooms are
 //!   `wall_thickness` apart.
-//! * Room widths along the corridor and door positions come from a floor layout drawn from
-//!   `layout_seed` (and the floor's index, unless `identical_floors`), so floors differ in
+//! * Optionally (`hall_width > 0`) one side of each floor has an open hall, open to the
+//!   corridor over its whole width, where rooms would be.
+//! * Room widths along the corridor, door positions and the hall's place come from a floor
+//!   layout drawn from `layout_seed` (and the floor's index, unless `identical_floors`), so floors differ in
 //!   layout and no floor is symmetric in itself; the stairwells and corridors are the same
 //!   everywhere, and with `identical_floors` every floor is the same (the hard case: only
 //!   changes of floor reveal the floor).
@@ -48,6 +50,7 @@ use serde::{Deserialize, Serialize};
 /// | `landing_depth`    | 2.5     | floor landing between corridor and flights            |
 /// | `identical_floors` | false   | every floor with the same layout                      |
 /// | `layout_seed`      | 1       | seed of the room layouts                              |
+/// | `hall_width`       | 0       | an open hall on one side of each floor (0 = none)     |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TowerConfig {
@@ -81,6 +84,9 @@ pub struct TowerConfig {
     pub identical_floors: bool,
     /// Seed of the room layouts.
     pub layout_seed: u64,
+    /// Width of the open hall on one side of each floor, at a place drawn with the layout;
+    /// 0 for none.
+    pub hall_width: f64,
 }
 
 impl Default for TowerConfig {
@@ -101,6 +107,7 @@ impl Default for TowerConfig {
             landing_depth: 2.5,
             identical_floors: false,
             layout_seed: 1,
+            hall_width: 0.0,
         }
     }
 }
@@ -142,6 +149,7 @@ impl TowerConfig {
             " m"
         );
         ensure_in_range!("building.door_width", self.door_width, 0.6..=3.0, " m");
+        ensure_in_range!("building.hall_width", self.hall_width, 0.0..=1000.0, " m");
         ensure_in_range!("building.treads", self.treads as f64, 2.0..=30.0, "");
         ensure_in_range!("building.tread_depth", self.tread_depth, 0.2..=0.5, " m");
         ensure_in_range!("building.lane_width", self.lane_width, 0.8..=3.0, " m");
@@ -270,9 +278,40 @@ impl Tower {
                 c.layout_seed ^ crate::random::mix(k as u64 + 1)
             };
             let mut rng = crate::random::stream(seed, 0, 0);
+            let hall = hall_span(c, &mut rng);
             for north in [true, false] {
                 let side = if north { 1.0 } else { -1.0 };
-                for (i, (x0, x1, door_x)) in room_spans(c, &mut rng).into_iter().enumerate() {
+                let mut spans = Vec::new();
+                match hall {
+                    Some((on_north, x0, x1)) if on_north == north => {
+                        let (y0, y1) = (hw, hw + t + c.room_depth);
+                        let area = if north {
+                            Rect::new((x0, y0), (x1, y1))
+                        } else {
+                            Rect::new((x0, -y1), (x1, -y0))
+                        };
+                        let tag = if north { "N" } else { "S" };
+                        polygons.push(surface(area, z, format!("hall {k}{tag}")));
+                        let cx = (x0 + x1) / 2.0;
+                        rooms.push(TowerRoom {
+                            level,
+                            area,
+                            corridor: Coord { x: cx, y: 0.0 },
+                            door: Coord {
+                                x: cx,
+                                y: side * (hw + t / 2.0),
+                            },
+                            entry: Coord {
+                                x: cx,
+                                y: side * (hw + t + 0.8),
+                            },
+                        });
+                        spans.extend(room_spans(c, &mut rng, t, x0 - t));
+                        spans.extend(room_spans(c, &mut rng, x1 + t, l - t));
+                    }
+                    _ => spans.extend(room_spans(c, &mut rng, t, l - t)),
+                }
+                for (i, (x0, x1, door_x)) in spans.into_iter().enumerate() {
                     let (y0, y1) = (hw + t, hw + t + c.room_depth);
                     let area = if north {
                         Rect::new((x0, y0), (x1, y1))
@@ -360,14 +399,38 @@ impl Tower {
     }
 }
 
-/// Rooms along one side: `(x0, x1, door x)` from west to east, one wall thickness in from
-/// the corridor's ends (clear of the landings), widths drawn between the configured limits and
-/// the last room taking what is left.
-fn room_spans(c: &TowerConfig, rng: &mut Pcg64Mcg) -> Vec<(f64, f64, f64)> {
+/// The floor's hall, if any: its side (north = true) and x extent, placed at random and
+/// grown to the corridor's end or a neighbour room where the space left would be narrower
+/// than a room.
+fn hall_span(c: &TowerConfig, rng: &mut Pcg64Mcg) -> Option<(bool, f64, f64)> {
     let t = c.wall_thickness;
-    let l = c.corridor_length - t;
+    let (lo, hi) = (t, c.corridor_length - t);
+    if c.hall_width <= 0.0 || c.hall_width > hi - lo {
+        return (c.hall_width > 0.0).then_some((rng.random_bool(0.5), lo, hi));
+    }
+    let north = rng.random_bool(0.5);
+    let mut x0 = rng.random_range(lo..=hi - c.hall_width);
+    let mut x1 = x0 + c.hall_width;
+    if x0 - t - lo < c.min_room_width {
+        x0 = lo;
+    }
+    if hi - (x1 + t) < c.min_room_width {
+        x1 = hi;
+    }
+    Some((north, x0, x1))
+}
+
+/// Rooms along one side between `from` and `to`: `(x0, x1, door x)` from west to east, widths
+/// drawn between the configured limits and the last room taking what is left; none when the
+/// space is narrower than a room.
+fn room_spans(c: &TowerConfig, rng: &mut Pcg64Mcg, from: f64, to: f64) -> Vec<(f64, f64, f64)> {
+    let t = c.wall_thickness;
+    let l = to;
     let mut spans = Vec::new();
-    let mut x = t;
+    if to - from < c.min_room_width {
+        return spans;
+    }
+    let mut x = from;
     loop {
         let left = l - x;
         let w = if left <= c.max_room_width {
@@ -473,7 +536,9 @@ mod tests {
             .expect("start");
         for w in route.windows(2) {
             // Short hops, as a walker's steps.
-            let n = ((w[1].x - w[0].x).hypot(w[1].y - w[0].y) / 0.5).ceil().max(1.0) as usize;
+            let n = ((w[1].x - w[0].x).hypot(w[1].y - w[0].y) / 0.5)
+                .ceil()
+                .max(1.0) as usize;
             for i in 0..n {
                 let a = w[0] + (w[1] - w[0]) * (i as f64 / n as f64);
                 let b = w[0] + (w[1] - w[0]) * ((i + 1) as f64 / n as f64);
@@ -512,7 +577,7 @@ mod tests {
             .filter(|p| {
                 p.name
                     .as_deref()
-                    .is_some_and(|n| !n.starts_with("room") && !n.starts_with("door"))
+                    .is_some_and(|n| !["room", "door", "hall"].iter().any(|p| n.starts_with(p)))
             })
             .map(|p| geo::BoundingRect::bounding_rect(&p.polygon).expect("rect"))
             .collect();
@@ -536,10 +601,12 @@ mod tests {
                 .collect()
         };
         assert_ne!(widths(0), widths(1));
-        assert!(Tower::new(&TowerConfig {
-            treads: 2,
-            ..Default::default()
-        })
-        .is_err());
+        assert!(
+            Tower::new(&TowerConfig {
+                treads: 2,
+                ..Default::default()
+            })
+            .is_err()
+        );
     }
 }

@@ -324,7 +324,10 @@ fn walk(
             } * wander;
         let (q, surface) = match locate(wandered, z) {
             Some(surface) => (wandered, surface),
-            None => (on_route, locate(on_route, z).ok_or_else(|| off_plan(on_route))?),
+            None => (
+                on_route,
+                locate(on_route, z).ok_or_else(|| off_plan(on_route))?,
+            ),
         };
         z = f64::from(topology.z(surface));
         poses.push(TruePose {
@@ -417,7 +420,10 @@ mod tests {
                         [p.x as f32, p.y as f32],
                     )
                     .unwrap_or_else(|| panic!("seed {seed} step {i}: through a wall"));
-                assert!((f64::from(topology.z(to)) - p.z).abs() < 1e-6, "seed {seed} step {i}");
+                assert!(
+                    (f64::from(topology.z(to)) - p.z).abs() < 1e-6,
+                    "seed {seed} step {i}"
+                );
                 assert_eq!(topology.level(to), p.level);
                 let d = (p.x - from.0).hypot(p.y - from.1);
                 assert!(d < 1.2, "seed {seed} step {i}: {d} m");

@@ -1,0 +1,75 @@
+//! The known-map tracker's whole step (move, wall test through the floor polygons, height
+//! weight, KLD bins and sample size, systematic resampling) at fixed particle counts on the
+//! simulated three-floor building, from the uniform prior (the hardest phase: every particle
+//! tests walls). Throughput is in particle-steps per second. Also the floor topology's
+//! `walk` on its own.
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use footslam::filter::{KldConfig, Tracker, TrackerConfig};
+use footslam::map::{FloorTopology, TopologyConfig};
+use footslam::sim::{TowerSimConfig, simulate_tower};
+use rand::RngExt;
+use std::hint::black_box;
+use std::time::Duration;
+
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
+fn tracker_step(c: &mut Criterion) {
+    let sim = simulate_tower(&TowerSimConfig {
+        seed: 1,
+        ..Default::default()
+    })
+    .expect("simulation");
+    let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default()).expect("topology");
+    let steps = sim.steps.steps();
+    let mut g = c.benchmark_group("tracker_step");
+    g.sample_size(10).measurement_time(Duration::from_secs(8));
+    for n in [100_000usize, 1_000_000, 4_500_000] {
+        let config = TrackerConfig {
+            kld: KldConfig {
+                min_particles: n,
+                max_particles: n,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let mut tracker = Tracker::new(&topology, &config).expect("tracker");
+        let mut k = 0;
+        g.throughput(Throughput::Elements(n as u64));
+        g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter(|| {
+                let report = tracker.update(&steps[k % steps.len()]).expect("step");
+                k += 1;
+                black_box(report.particles)
+            })
+        });
+    }
+    g.finish();
+}
+
+fn topology_walk(c: &mut Criterion) {
+    let sim = simulate_tower(&TowerSimConfig::default()).expect("simulation");
+    let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default()).expect("topology");
+    let mut rng = footslam::random::stream(1, 0, 0);
+    let moves: Vec<(u32, [f32; 2], [f32; 2])> = (0..4096)
+        .map(|_| {
+            let (s, [x, y]) = topology.sample_uniform(&mut rng);
+            let h: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+            let (x, y) = (x as f32, y as f32);
+            let to = [x + 0.7 * h.cos() as f32, y + 0.7 * h.sin() as f32];
+            (s, [x, y], to)
+        })
+        .collect();
+    let mut i = 0;
+    c.bench_function("floor_topology_walk_0.7m", |b| {
+        b.iter(|| {
+            let (s, from, to) = moves[i % moves.len()];
+            i += 1;
+            black_box(topology.walk(s, from, to))
+        })
+    });
+}
+
+criterion_group!(benches, tracker_step, topology_walk);
+criterion_main!(benches);
