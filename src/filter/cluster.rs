@@ -386,13 +386,13 @@ mod tests {
     fn stragglers_do_not_count_and_weights_matter() {
         let mut rng = crate::random::stream(3, 0, 0);
         let mut points = blob(&mut rng, 1000, (0.0, 0.0, 0.0), 0, 1.0);
-        let mut far = blob(&mut rng, 5, (50.0, 50.0, 0.0), 0, 0.5);
+        let mut far = blob(&mut rng, 1, (50.0, 50.0, 0.0), 0, 0.5);
         points.append(&mut far);
         let clusters = mean_shift(&points, &ClusterConfig::default());
         assert_eq!(clusters.len(), 1);
         // Reweighting the stragglers makes them the main cluster.
         for p in points.iter_mut().skip(1000) {
-            p.weight = 1000.0;
+            p.weight = 2000.0;
         }
         let clusters = mean_shift(&points, &ClusterConfig::default());
         assert_eq!(clusters.len(), 2);

@@ -334,16 +334,20 @@ impl KldBins {
     /// [`clear`](Self::clear): the smallest `n` in `[min_particles, max_particles]` with
     /// `n ≥ n_χ(E[k(n)])`, `E[k(n)] = Σ_b 1 − (1 − W_b)ⁿ` over normalised masses `W_b`.
     pub fn sample_size(&mut self) -> usize {
+        self.sample_size_at_least(self.config.min_particles)
+    }
+
+    /// [`sample_size`](Self::sample_size) with the lower limit raised to `min` (capped at
+    /// `max_particles`).
+    pub fn sample_size_at_least(&mut self, min: usize) -> usize {
+        let min = min.max(self.config.min_particles).min(self.config.max_particles);
         let total: f64 = match &self.store {
             Store::Dense { mass, touched } => touched.iter().map(|&b| mass[b as usize]).sum(),
             Store::Sparse(map) => map.values().sum(),
         };
-        let (lo, hi) = (
-            self.config.min_particles as f64,
-            self.config.max_particles as f64,
-        );
+        let (lo, hi) = (min as f64, self.config.max_particles as f64);
         if !(total > 0.0 && total.is_finite()) {
-            return self.config.min_particles;
+            return min;
         }
         self.log_miss.clear();
         self.certain = 0;
@@ -361,7 +365,7 @@ impl KldBins {
         }
         let needs_more = |n: f64| n < self.config.required(self.expected_bins(n));
         if !needs_more(lo) {
-            return self.config.min_particles;
+            return min;
         }
         if needs_more(hi) {
             return self.config.max_particles;
@@ -371,7 +375,7 @@ impl KldBins {
             let m = (a * b).sqrt();
             if needs_more(m) { a = m } else { b = m }
         }
-        (b.ceil() as usize).clamp(self.config.min_particles, self.config.max_particles)
+        (b.ceil() as usize).clamp(min, self.config.max_particles)
     }
 
     /// `E[k(n)]`: the expected number of distinct bins `n` draws from the belief hit.

@@ -108,6 +108,8 @@ pub struct Tracker<'a> {
     history: VecDeque<Step>,
     /// True once the belief has formed a single cluster.
     localised_once: bool,
+    /// True when the last step ended with a single cluster.
+    localised_now: bool,
 }
 
 /// Step inputs in the particles' precision.
@@ -144,6 +146,7 @@ impl<'a> Tracker<'a> {
             last_good: None,
             history: VecDeque::new(),
             localised_once: false,
+            localised_now: false,
         };
         if let Some(start) = config.start {
             let s = tracker.locate_start(&start)?;
@@ -205,6 +208,7 @@ impl<'a> Tracker<'a> {
         let clusters = self.cluster();
         let localised = clusters.as_ref().is_some_and(|c| c.len() == 1);
         self.localised_once |= localised;
+        self.localised_now = localised;
         self.remember(step, localised);
         Ok(TrackStep {
             t: step.t,
@@ -294,7 +298,12 @@ impl<'a> Tracker<'a> {
                 }
             }
         }
-        self.bins.sample_size()
+        let min = if self.localised_now {
+            self.config.kld.min_particles
+        } else {
+            self.config.ambiguous_min_particles
+        };
+        self.bins.sample_size_at_least(min)
     }
 
     /// Systematic resampling of `n` particles from the weighted proposal into the belief,

@@ -34,6 +34,7 @@ pub struct StartPose {
 /// | `start`               | none      | known start pose (`None` = uniform prior)               |
 /// | `start_position_sigma`| 0.3 m     | spread of a known start's position                      |
 /// | `start_heading_sigma` | 5°        | spread of a known start's heading                       |
+/// | `ambiguous_min_particles` | 3000  | fewest particles while the belief is not one cluster |
 /// | `kld`                 | see [`KldConfig`]     | adaptive particle count                     |
 /// | `cluster`             | see [`ClusterConfig`] | clusters and localisation                   |
 /// | `recovery`            | see [`RecoveryConfig`]| when every particle dies                    |
@@ -59,6 +60,10 @@ pub struct TrackerConfig {
     pub start_position_sigma: f64,
     /// Spread (1σ) of a known start's heading, radians.
     pub start_heading_sigma: f64,
+    /// Fewest particles while the belief is not a single cluster: several hypotheses (e.g.
+    /// identical floors) each keep enough particles that resampling noise alone does not
+    /// extinguish one (KLD's `min_particles` applies once localised).
+    pub ambiguous_min_particles: usize,
     /// KLD-sampling.
     pub kld: KldConfig,
     /// Clustering.
@@ -81,6 +86,7 @@ impl Default for TrackerConfig {
             start: None,
             start_position_sigma: 0.3,
             start_heading_sigma: 5f64.to_radians(),
+            ambiguous_min_particles: 3000,
             kld: KldConfig::default(),
             cluster: ClusterConfig::default(),
             recovery: RecoveryConfig::default(),
@@ -199,6 +205,13 @@ impl TrackerConfig {
             1.0,
             1e8,
             "must be in [1, 100000000]",
+        )?;
+        check(
+            "ambiguous_min_particles",
+            self.ambiguous_min_particles as f64,
+            0.0,
+            1e8,
+            "must be at most 100000000",
         )?;
         self.kld.validate()?;
         self.cluster.validate()?;
