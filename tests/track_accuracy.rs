@@ -72,7 +72,10 @@ fn floors_that_differ() {
     }
     let mean = steps.iter().sum::<f64>() / steps.len() as f64;
     let worst = steps.iter().copied().fold(0.0, f64::max);
-    assert!(mean <= 200.0 && worst <= 350.0, "mean {mean}, worst {worst}");
+    assert!(
+        mean <= 200.0 && worst <= 350.0,
+        "mean {mean}, worst {worst}"
+    );
 }
 
 #[test]

@@ -340,7 +340,9 @@ impl KldBins {
     /// [`sample_size`](Self::sample_size) with the lower limit raised to `min` (capped at
     /// `max_particles`).
     pub fn sample_size_at_least(&mut self, min: usize) -> usize {
-        let min = min.max(self.config.min_particles).min(self.config.max_particles);
+        let min = min
+            .max(self.config.min_particles)
+            .min(self.config.max_particles);
         let total: f64 = match &self.store {
             Store::Dense { mass, touched } => touched.iter().map(|&b| mass[b as usize]).sum(),
             Store::Sparse(map) => map.values().sum(),

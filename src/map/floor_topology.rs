@@ -43,7 +43,7 @@ const MAX_SURFACES: usize = (BARRIER_FLAG - 1) as usize;
 /// |------------------------|---------|---------------------------------------------------------|
 /// | `connection_tolerance` | 0.05 m  | collinear edges within this are one shared boundary     |
 /// | `max_connection_dz`    | 0.5 m   | surfaces further apart in height never connect          |
-/// | `cell_size`            | 2.0 m   | edge of the grid cells indexing the segments            |
+/// | `cell_size`            | 1.0 m   | edge of the grid cells indexing the segments            |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TopologyConfig {
@@ -60,7 +60,7 @@ impl Default for TopologyConfig {
         Self {
             connection_tolerance: 0.05,
             max_connection_dz: 0.5,
-            cell_size: 2.0,
+            cell_size: 1.0,
         }
     }
 }
@@ -446,9 +446,10 @@ impl FloorTopology {
     #[inline]
     fn span(&self, lo: f32, hi: f32, axis: usize) -> (usize, usize) {
         let n = if axis == 0 { self.nx } else { self.ny };
+        // Truncation is the floor for positive values; the rest clamp to cell 0.
         let cell = |v: f32| {
-            let c = ((v - self.origin[axis]) * self.inv_cell).floor();
-            if c <= 0.0 { 0 } else { (c as usize).min(n - 1) }
+            let c = (v - self.origin[axis]) * self.inv_cell;
+            if c > 0.0 { (c as usize).min(n - 1) } else { 0 }
         };
         (cell(lo), cell(hi))
     }
