@@ -30,7 +30,7 @@ fn run(seed: u64, identical: bool) -> Run {
         ..Default::default()
     };
     config.building.identical_floors = identical;
-    config.noise.length_scale = if seed % 2 == 0 { 1.04 } else { 0.96 };
+    config.noise.length_scale = if seed.is_multiple_of(2) { 1.04 } else { 0.96 };
     let sim = simulate_tower(&config).expect("simulation");
     let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default()).expect("topology");
     let mut tracker = Tracker::new(
