@@ -6,6 +6,8 @@
 //! cargo run --release --example track_starts -- 10        # seeds 1..=10 of each building
 //! ```
 
+#![allow(clippy::print_stdout)] // an example reports on stdout
+
 use footslam::eval::score_tracking;
 use footslam::filter::{Tracker, TrackerConfig};
 use footslam::map::{FloorTopology, TopologyConfig};
