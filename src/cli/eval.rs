@@ -33,7 +33,7 @@ pub struct Args {
     /// Floor plan GeoJSON of the building, in the truth's frame (e.g. simulate's floor.geojson).
     #[arg(long, requires = "map")]
     plan: Option<PathBuf>,
-    /// WGS84 origin of the local frame, `LAT,LON`, for a `--plan` that carries none.
+    /// WGS84 origin of the local frame, `LAT,LON`; overrides the `--plan`'s own `origin`.
     #[arg(long, value_parser = parse_origin, allow_hyphen_values = true)]
     origin: Option<LocalFrame>,
     /// Print JSON instead of a table.

@@ -3,7 +3,7 @@
 use super::common::{
     Progress, output_dir, parse_origin, peak_memory_bytes, read_config, require_file,
 };
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
 use footslam::dataset::{TrackPoint, read_steps, write_track};
 use footslam::export::RunFolder;
@@ -166,6 +166,13 @@ pub fn run(args: Args) -> Result<()> {
     require_file(&steps_path, "step trace")?;
     let (plan, frame) = read_floor_plan(&plan_path, args.origin)?;
     let trace = read_steps(&steps_path)?;
+    if let Some(late) = args.snapshots.iter().flatten().find(|&&k| k > trace.len()) {
+        bail!(
+            "--snapshots asks for step {late}, but {} has only {} steps",
+            steps_path.display(),
+            trace.len()
+        );
+    }
     let topology = FloorTopology::build(&plan, &config.topology)
         .with_context(|| format!("{}: not a usable floor plan", plan_path.display()))?;
     let pool = rayon::ThreadPoolBuilder::new()
