@@ -15,11 +15,12 @@
 //!    is localised when one cluster remains, and the estimate is the heaviest cluster's mean.
 //!
 //! Each particle also carries a per-walk step length scale (a few percent off for a whole
-//! walk is common), estimated like FootSLAM's heading drift: drawn at the start, random-walked
+//! walk is common) and a heading-drift rate (a gyro's bias turns every step a little), both
+//! estimated as FootSLAM estimates its sensor errors: drawn at the start, random-walked
 //! slowly, kept by the particles that fit the walls.
 //!
-//! Memory: 20 bytes per particle, twice (current and proposed), plus 4 bytes of log-weight
-//! and 4 of bin index: 48 bytes per particle. Randomness is drawn per chunk of
+//! Memory: 24 bytes per particle, twice (current and proposed), plus 4 bytes of log-weight
+//! and 4 of bin index: 56 bytes per particle. Randomness is drawn per chunk of
 //! [`CHUNK`] particles from a stream keyed by (seed, step, chunk), so results do not depend on
 //! the number of threads.
 
@@ -54,7 +55,7 @@ const SALT_HISTORY: u64 = 0x5EED_0005;
 const SCALE_RANGE: (f32, f32) = (0.7, 1.3);
 
 /// One hypothesis of the walker's state: where it is, where it heads, on which surface, and
-/// its step length scale. 20 bytes.
+/// its step length scale and heading-drift rate. 24 bytes.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[repr(C)]
 pub struct TrackParticle {
@@ -66,6 +67,8 @@ pub struct TrackParticle {
     pub heading: f32,
     /// Per-walk step length scale.
     pub scale: f32,
+    /// Heading drift per step, radians (added to every measured heading change).
+    pub drift: f32,
     /// Index of the floor surface the particle stands on.
     pub surface: u32,
 }
@@ -234,6 +237,7 @@ impl<'a> Tracker<'a> {
             dheading_sigma: self.config.dheading_sigma as f32,
             dz_sigma: self.config.dz_sigma as f32,
             scale_walk_sigma: self.config.scale_walk_sigma as f32,
+            drift_walk_sigma: self.config.drift_walk_sigma as f32,
             u: StepInput {
                 dheading: u.dheading + heading_offset,
                 ..*u
@@ -496,6 +500,7 @@ impl<'a> Tracker<'a> {
         let topology = self.topology;
         let (lo, hi) = SCALE_RANGE;
         let scale_sigma = self.config.scale_sigma as f32;
+        let drift_sigma = self.config.drift_sigma as f32;
         self.draw_prior(salt, move |rng| {
             let (surface, [x, y]) = topology.sample_uniform(rng);
             Some(TrackParticle {
@@ -503,6 +508,11 @@ impl<'a> Tracker<'a> {
                 y: y as f32,
                 heading: rng.random_range(-PI..PI),
                 scale: (1.0 + scale_sigma * rng.sample::<f32, _>(StandardNormal)).clamp(lo, hi),
+                drift: if drift_sigma > 0.0 {
+                    drift_sigma * rng.sample::<f32, _>(StandardNormal)
+                } else {
+                    0.0
+                },
                 surface,
             })
         })
@@ -575,6 +585,7 @@ impl<'a> Tracker<'a> {
             position_sigma: self.config.start_position_sigma,
             heading_sigma: self.config.start_heading_sigma,
             scale_sigma: self.config.scale_sigma,
+            drift_sigma: self.config.drift_sigma,
         })
     }
 }
@@ -586,6 +597,7 @@ struct Motion<'a> {
     dheading_sigma: f32,
     dz_sigma: f32,
     scale_walk_sigma: f32,
+    drift_walk_sigma: f32,
     u: StepInput,
 }
 
@@ -596,7 +608,13 @@ impl Motion<'_> {
     fn apply(&self, p: &TrackParticle, rng: &mut Pcg64Mcg) -> (TrackParticle, f32) {
         let x: f32 = rng.sample(StandardNormal);
         let y: f32 = rng.sample(StandardNormal);
-        let dtheta = self.u.dheading + self.dheading_sigma * x; // eq. (8)
+        let drift = if self.drift_walk_sigma > 0.0 {
+            let d: f32 = rng.sample(StandardNormal);
+            p.drift + self.drift_walk_sigma * d
+        } else {
+            p.drift
+        };
+        let dtheta = self.u.dheading + drift + self.dheading_sigma * x; // eq. (8)
         let length = (self.u.length * p.scale + self.length_sigma * y).max(0.0); // eq. (7)
         let heading = wrap(p.heading + dtheta); // eq. (9)
         let (sin, cos) = heading.sin_cos();
@@ -612,6 +630,7 @@ impl Motion<'_> {
             y: to[1],
             heading,
             scale,
+            drift,
             surface,
         };
         match self.topology.walk(p.surface, [p.x, p.y], to) {
@@ -650,6 +669,7 @@ struct StartSampler<'a> {
     position_sigma: f64,
     heading_sigma: f64,
     scale_sigma: f64,
+    drift_sigma: f64,
 }
 
 impl StartSampler<'_> {
@@ -664,6 +684,7 @@ impl StartSampler<'_> {
                 y: y as f32,
                 heading: wrap((self.start.heading + self.heading_sigma * g(rng)) as f32),
                 scale: (1.0 + self.scale_sigma * g(rng)) as f32,
+                drift: (self.drift_sigma * g(rng)) as f32,
                 surface,
             }
             .clamp_scale(),
@@ -703,6 +724,7 @@ fn jitter(
                 y: y as f32,
                 heading: wrap(p.heading + heading_sigma * turn),
                 scale: p.scale,
+                drift: p.drift,
                 surface,
             });
         }
@@ -762,8 +784,8 @@ mod tests {
     }
 
     #[test]
-    fn particle_is_twenty_bytes_and_memory_is_at_most_64_bytes_per_particle() {
-        assert_eq!(std::mem::size_of::<TrackParticle>(), 20);
+    fn particle_is_24_bytes_and_memory_is_at_most_64_bytes_per_particle() {
+        assert_eq!(std::mem::size_of::<TrackParticle>(), 24);
         let (sim, topology) = office();
         let mut tracker = Tracker::new(&topology, &small()).expect("tracker");
         for s in &sim.steps.steps()[..3] {
@@ -797,6 +819,55 @@ mod tests {
         errors.sort_by(f64::total_cmp);
         let p95 = errors[errors.len() * 95 / 100];
         assert!(p95 < 0.8, "p95 {p95} m");
+    }
+
+    #[test]
+    fn a_drift_rate_state_follows_a_drifting_gyro() {
+        let mut config = SimConfig {
+            seed: 9,
+            ..Default::default()
+        };
+        config.walk.laps = 2;
+        config.noise.drift_total = 120f64.to_radians();
+        let sim = simulate(&config).expect("sim");
+        let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default()).expect("topo");
+        let p95 = |drift_sigma: f64| {
+            let config = TrackerConfig {
+                start: Some(StartPose {
+                    x: 0.0,
+                    y: 0.0,
+                    heading: 0.0,
+                    level: Some(0),
+                }),
+                drift_sigma,
+                drift_walk_sigma: drift_sigma / 30.0,
+                ..small()
+            };
+            let mut tracker = Tracker::new(&topology, &config).expect("tracker");
+            let mut errors: Vec<f64> = sim
+                .steps
+                .steps()
+                .iter()
+                .zip(&sim.truth.poses)
+                .map(|(s, p)| {
+                    let c = tracker
+                        .update(s)
+                        .expect("update")
+                        .estimate
+                        .expect("cluster");
+                    (c.x - p.x).hypot(c.y - p.y)
+                })
+                .collect();
+            errors.sort_by(f64::total_cmp);
+            (
+                errors[errors.len() * 95 / 100],
+                tracker.particles()[0].drift,
+            )
+        };
+        let (with, drift) = p95(0.05f64.to_radians());
+        assert!(with < 1.0, "p95 {with} m with a drift state");
+        // The walk drifts 120° over about 300 steps: about 0.4° a step, one sign.
+        assert!(drift.abs() > 0.1f32.to_radians(), "drift {drift}");
     }
 
     #[test]

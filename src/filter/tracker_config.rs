@@ -31,6 +31,8 @@ pub struct StartPose {
 /// | `dz_sigma`            | 0.1 m     | height change likelihood `σ_h` (eq. 17, the paper's)    |
 /// | `scale_sigma`         | 0.05      | spread of the per-walk step length scale at the start   |
 /// | `scale_walk_sigma`    | 0.0005    | random walk of the scale per step                       |
+/// | `drift_sigma`         | 0 (off)   | spread of the heading-drift rate (per step) at the start |
+/// | `drift_walk_sigma`    | 0 (off)   | random walk of the drift rate per step                  |
 /// | `start`               | none      | known start pose (`None` = uniform prior)               |
 /// | `start_position_sigma`| 0.3 m     | spread of a known start's position                      |
 /// | `start_heading_sigma` | 5°        | spread of a known start's heading                       |
@@ -54,6 +56,14 @@ pub struct TrackerConfig {
     pub scale_sigma: f64,
     /// Random walk (1σ) of the step length scale per step.
     pub scale_walk_sigma: f64,
+    /// Spread (1σ) of the heading-drift rate at the start, radians per step (0 = no drift
+    /// state). Off by default: the per-step heading noise absorbs a foot-mounted sensor's
+    /// drift (tens of degrees an hour); for gyros drifting several degrees a minute, set
+    /// e.g. 0.0005 (0.03°/step) with `drift_walk_sigma` 0.00002 — the extra heading freedom
+    /// also slows localisation a little.
+    pub drift_sigma: f64,
+    /// Random walk (1σ) of the heading-drift rate, radians per step per step.
+    pub drift_walk_sigma: f64,
     /// Known start pose, or `None` for the uniform prior over all surfaces and headings.
     pub start: Option<StartPose>,
     /// Spread (1σ) of a known start's position, metres.
@@ -83,6 +93,8 @@ impl Default for TrackerConfig {
             dz_sigma: 0.1,
             scale_sigma: 0.05,
             scale_walk_sigma: 0.0005,
+            drift_sigma: 0.0,
+            drift_walk_sigma: 0.0,
             start: None,
             start_position_sigma: 0.3,
             start_heading_sigma: 5f64.to_radians(),
@@ -143,6 +155,20 @@ impl TrackerConfig {
             0.0,
             0.05,
             "must be in [0, 0.05]",
+        )?;
+        check(
+            "drift_sigma",
+            self.drift_sigma,
+            0.0,
+            0.1,
+            "must be in [0, 0.1] radians",
+        )?;
+        check(
+            "drift_walk_sigma",
+            self.drift_walk_sigma,
+            0.0,
+            0.01,
+            "must be in [0, 0.01] radians",
         )?;
         check(
             "start_position_sigma",
