@@ -28,6 +28,8 @@ use serde::{Deserialize, Serialize};
 
 /// Most connections one step may cross (a long step down a steep stair crosses a few).
 const MAX_HOPS: usize = 64;
+/// Most cells of the spatial index (the cell size grows for larger plans).
+const MAX_CELLS: usize = 1 << 22;
 /// The right-hand side of a wall record: no surface.
 const NO_SURFACE: u32 = u32::MAX;
 /// Edge pieces shorter than this are dropped, metres.
@@ -458,6 +460,9 @@ impl FloorTopology {
     /// every surface's id in every cell its bounding box meets.
     fn index(&mut self, cell_size: f64) {
         let b = self.bounds;
+        // Plans spread over kilometres get coarser cells rather than a huge grid.
+        let area = (b[2] - b[0] + 2.0 * cell_size) * (b[3] - b[1] + 2.0 * cell_size);
+        let cell_size = cell_size.max((area / MAX_CELLS as f64).sqrt());
         let pad = cell_size;
         self.origin = [(b[0] - pad) as f32, (b[1] - pad) as f32];
         self.inv_cell = (1.0 / cell_size) as f32;
@@ -901,6 +906,21 @@ mod tests {
         // Areas 64 and 64: half each.
         let share = first as f64 / f64::from(n);
         assert!((share - 0.5).abs() < 0.02, "{share}");
+    }
+
+    #[test]
+    fn far_apart_surfaces_get_a_coarser_index_not_a_huge_one() {
+        let plan = FloorPlan {
+            polygons: vec![
+                rect(0.0, 0.0, 4.0, 4.0, 0.0, 0),
+                rect(50_000.0, 50_000.0, 50_004.0, 50_004.0, 0.0, 0),
+            ],
+            ..Default::default()
+        };
+        let t = build(&plan);
+        assert!(t.nx * t.ny <= MAX_CELLS + 2 * (t.nx + t.ny));
+        assert_eq!(t.walk(0, [1.0, 1.0], [2.0, 2.0]), Some(0));
+        assert_eq!(t.walk(1, [50_001.0, 50_001.0], [50_006.0, 50_001.0]), None);
     }
 
     #[test]
