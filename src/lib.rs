@@ -6,9 +6,13 @@
 //!   step traces and learns, per particle, a hexagon transition map — Dirichlet-multinomial
 //!   counts of crossings of each hexagon edge. See [`filter::FootSlam`] and
 //!   [`map::HexTransitionMap`].
-//! * Readers for step traces ([`dataset`]), exporters to RFC 7946 GeoJSON and pictures
-//!   ([`export`]), a simulator of office walks with a foot-mounted-grade error model
-//!   ([`sim`]) and trajectory evaluation ([`eval`]).
+//! * **Tracking on known floor plans** (Woodman & Harle 2008): a particle filter on 2.5D
+//!   floor polygons — walls kill particles, stairs are weighed by height change, unknown
+//!   start, KLD-sampling, mean-shift clusters, recovery when every particle dies. See
+//!   [`filter::Tracker`] and [`map::FloorTopology`].
+//! * Readers for step traces and floor plans ([`dataset`]), exporters to RFC 7946 GeoJSON
+//!   and pictures ([`export`]), a simulator of office and multi-floor walks with a
+//!   foot-mounted-grade error model ([`sim`]) and evaluation ([`eval`]).
 //!
 //! ```
 //! use footslam::filter::{FootSlam, FootSlamConfig};
@@ -26,6 +30,28 @@
 //! let best = slam.estimate();
 //! assert_eq!(best.path.len(), sim.steps.len());
 //! assert!(!best.map.cells.is_empty());
+//! # Ok::<(), footslam::Error>(())
+//! ```
+//!
+//! Tracking a walk on a known three-floor building from an unknown start:
+//!
+//! ```
+//! use footslam::filter::{Tracker, TrackerConfig};
+//! use footslam::map::{FloorTopology, TopologyConfig};
+//! use footslam::sim::{TowerSimConfig, simulate_tower};
+//!
+//! let mut sim_config = TowerSimConfig { seed: 2, ..Default::default() };
+//! sim_config.walk.minutes = 1.0;
+//! let sim = simulate_tower(&sim_config)?;
+//! let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default())?;
+//! let mut tracker = Tracker::new(&topology, &TrackerConfig::default())?;
+//! assert!(tracker.initial_particles() > 100_000); // the uniform prior over three floors
+//! for step in sim.steps.steps() {
+//!     let report = tracker.update(step)?;
+//!     if let Some(cluster) = report.estimate.filter(|_| report.localised) {
+//!         assert!(cluster.x.is_finite() && cluster.level >= 0);
+//!     }
+//! }
 //! # Ok::<(), footslam::Error>(())
 //! ```
 //!
