@@ -15,9 +15,9 @@
 //!    is localised when one cluster remains, and the estimate is the heaviest cluster's mean.
 //!
 //! Each particle also carries a per-walk step length scale (a few percent off for a whole
-//! walk is common) and a heading-drift rate (a gyro's bias turns every step a little), both
-//! estimated as FootSLAM estimates its sensor errors: drawn at the start, random-walked
-//! slowly, kept by the particles that fit the walls.
+//! walk is common) and, optionally, a heading-drift rate (a gyro's bias turns every step a
+//! little), both estimated as FootSLAM estimates its sensor errors: drawn at the start,
+//! random-walked slowly, kept by the particles that fit the walls.
 //!
 //! Memory: 24 bytes per particle, twice (current and proposed), plus 4 bytes of log-weight
 //! and 4 of bin index: 56 bytes per particle. Randomness is drawn per chunk of
