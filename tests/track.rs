@@ -247,3 +247,26 @@ fn bad_inputs_get_clear_errors() {
         .failure()
         .stderr(predicate::str::contains("X,Y,HEADING"));
 }
+
+#[test]
+fn simulate_tower_writes_wifi_scans_and_the_radio_truth() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let sim = simulate_tower(dir.path(), "8", "2");
+    let scans = footslam::dataset::read_wifi(&sim.join("wifi.csv")).expect("wifi.csv parses");
+    // A scan about every 2 s of the 2-minute walk, each hearing several access points.
+    assert!((50..=70).contains(&scans.len()), "{} scans", scans.len());
+    assert!(
+        scans
+            .iter()
+            .all(|s| s.readings.iter().all(|r| r.rssi >= -96.0))
+    );
+    let aps = std::fs::read_to_string(sim.join("wifi_aps.csv")).expect("aps");
+    assert_eq!(aps.lines().count(), 1 + 12);
+    let field = std::fs::read_to_string(sim.join("wifi_field.csv")).expect("field");
+    let header = field.lines().next().expect("header");
+    assert_eq!(header.split(',').count(), 3 + 12);
+    assert!(field.lines().count() > 1000);
+    let summary = json(&sim.join("summary.json"));
+    assert_eq!(summary["access_points"], 12);
+    assert_eq!(summary["wifi_scans"].as_u64(), Some(scans.len() as u64));
+}

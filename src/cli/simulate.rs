@@ -4,16 +4,23 @@
 use super::common::{output_dir, parse_origin, read_config};
 use anyhow::Result;
 use footslam::dataset::floor_plan_geojson::write_floor_plan;
+use footslam::dataset::radio_truth_csv::{write_access_points, write_radio_field};
 use footslam::dataset::steps_csv::write_steps;
 use footslam::dataset::truth_csv::write_truth;
+use footslam::dataset::write_wifi;
 use footslam::export::RunFolder;
 use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::export::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, write_plan_png};
 use footslam::geometry::LocalFrame;
 use footslam::map::HexMapSnapshot;
+use footslam::map::{FloorTopology, TopologyConfig};
 use footslam::sim::{
-    SimConfig, TowerSimConfig, TruePose, floor_changes, floor_resolved_at, simulate, simulate_tower,
+    SimConfig, TowerSimConfig, TruePose, expected_field, floor_changes, floor_resolved_at,
+    simulate, simulate_tower,
 };
+
+/// Spacing of the expected-RSSI grid written to `wifi_field.csv`, metres.
+const FIELD_SPACING: f64 = 1.0;
 use serde::Serialize;
 use std::path::PathBuf;
 
@@ -79,6 +86,8 @@ struct TowerSummary {
     start: TruePose,
     floor_changes: Vec<usize>,
     floor_resolved_at: Option<usize>,
+    access_points: usize,
+    wifi_scans: usize,
     seed: u64,
     origin: LocalFrame,
 }
@@ -114,6 +123,12 @@ fn run_tower(args: Args) -> Result<()> {
     write_floor_plan(&folder.path("floor.geojson"), &sim.plan, &origin)?;
     write_steps(&folder.path("steps.csv"), &sim.steps)?;
     write_truth(&folder.path("truth.csv"), &sim.truth)?;
+    write_wifi(&folder.path("wifi.csv"), &sim.wifi)?;
+    let aps = sim.radio.access_points();
+    write_access_points(&folder.path("wifi_aps.csv"), aps)?;
+    let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default())?;
+    let field = expected_field(&sim.radio, &topology, FIELD_SPACING);
+    write_radio_field(&folder.path("wifi_field.csv"), aps, &field)?;
     let truth: Vec<(f64, f64, i32)> = std::iter::once(&sim.start)
         .chain(&sim.truth.poses)
         .map(|p| (p.x, p.y, p.level))
@@ -148,18 +163,22 @@ fn run_tower(args: Args) -> Result<()> {
         start: sim.start,
         floor_changes: floor_changes(&sim.start, &sim.truth),
         floor_resolved_at: floor_resolved_at(&sim.start, &sim.truth, levels),
+        access_points: aps.len(),
+        wifi_scans: sim.wifi.len(),
         seed: config.seed,
         origin,
     };
     folder.write_json("summary.json", &summary)?;
     let out = folder.commit()?;
     outln!(
-        "simulated {} steps ({:.0} m, {:.0} s) through {} floors, {} changes of floor",
+        "simulated {} steps ({:.0} m, {:.0} s) through {} floors, {} changes of floor, {} WiFi scans of {} access points",
         summary.steps,
         summary.path_length_m,
         summary.duration_s,
         summary.floors,
-        summary.floor_changes.len()
+        summary.floor_changes.len(),
+        summary.wifi_scans,
+        summary.access_points
     );
     outln!("outputs: {}", out.display());
     Ok(())

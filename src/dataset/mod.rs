@@ -4,11 +4,14 @@
 pub mod csv_table;
 pub mod floor_plan_geojson;
 pub mod geojson_file;
+pub mod radio_truth_csv;
 pub mod steps_csv;
 pub mod track_csv;
 pub mod trajectory_csv;
 pub mod truth_csv;
+pub mod wifi_csv;
 
 pub use steps_csv::read_steps;
 pub use track_csv::{TrackPoint, read_track, write_track};
 pub use trajectory_csv::{TimedPoint, read_trajectory, write_trajectory};
+pub use wifi_csv::{read_wifi, write_wifi};

@@ -1,5 +1,7 @@
 //! Layer 1: measurements as recorded, as plain validated data.
 
 pub mod step;
+pub mod wifi;
 
 pub use step::{Step, StepTrace};
+pub use wifi::{WifiReading, WifiScan};

@@ -15,6 +15,7 @@
 //! * [`walker`] — the walker striding along the planned route, and its true poses
 //! * [`step_sensor`] — step measurements with foot-mounted-grade errors and heading drift
 //! * [`truth`] — the true path, one pose per step
+//! * [`wifi`] — access points, path loss, shadowing and the scans a walker records
 //! * [`tower`], [`tower_walk`] — a multi-floor building with two stairwells of treads, and
 //!   long tours through it from a random start ([`simulate_tower`])
 
@@ -42,6 +43,7 @@ pub mod tower;
 pub mod tower_walk;
 pub mod truth;
 pub mod walker;
+pub mod wifi;
 
 pub use office::{Office, OfficeConfig, Room, office_floor};
 pub use step_sensor::{StepNoiseConfig, measure_steps, measure_steps_from};
@@ -49,6 +51,7 @@ pub use tower::{Tower, TowerConfig, TowerRoom};
 pub use tower_walk::{TowerWalkConfig, floor_changes, floor_resolved_at, simulate_tower_walk};
 pub use truth::{TruePath, TruePose};
 pub use walker::{WalkConfig, simulate_walk};
+pub use wifi::{AccessPoint, RadioWorld, WifiSimConfig, expected_field};
 
 use crate::error::Result;
 use crate::map::FloorPlan;
@@ -59,6 +62,10 @@ use serde::{Deserialize, Serialize};
 const WALK_STREAM: u64 = 1;
 /// Stream number of the step sensor's generator.
 const NOISE_STREAM: u64 = 2;
+/// Stream number of the access points' placement and shadowing.
+const RADIO_STREAM: u64 = 3;
+/// Stream number of the WiFi scans' noise and timing.
+const SCAN_STREAM: u64 = 4;
 
 /// Everything a simulation needs; every default in one place:
 ///
@@ -127,6 +134,7 @@ pub fn simulate(config: &SimConfig) -> Result<Simulation> {
 /// | `building` | 3 floors, 40 m corridor, rooms both sides, two switchback stairwells ([`TowerConfig`]) |
 /// | `walk`     | 12 minutes from a random start, 35 % of legs to another floor ([`TowerWalkConfig`]) |
 /// | `noise`    | foot-mounted-grade step errors ([`StepNoiseConfig`])                  |
+/// | `wifi`     | 4 access points a floor, scans every 2 s ([`WifiSimConfig`])          |
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TowerSimConfig {
@@ -138,6 +146,8 @@ pub struct TowerSimConfig {
     pub walk: TowerWalkConfig,
     /// The step sensor's errors.
     pub noise: StepNoiseConfig,
+    /// The access points and the receiver's scans.
+    pub wifi: WifiSimConfig,
 }
 
 /// A simulated multi-floor walk.
@@ -151,6 +161,10 @@ pub struct TowerSimulation {
     pub truth: TruePath,
     /// Measured steps, one per true pose.
     pub steps: StepTrace,
+    /// The access points and their signals.
+    pub radio: RadioWorld,
+    /// The WiFi scans recorded along the walk.
+    pub wifi: Vec<crate::sensor::WifiScan>,
 }
 
 /// Runs the multi-floor simulation described by `config`; equal configurations give equal
@@ -159,6 +173,7 @@ pub fn simulate_tower(config: &TowerSimConfig) -> Result<TowerSimulation> {
     config.building.validate()?;
     config.walk.validate()?;
     config.noise.validate()?;
+    config.wifi.validate()?;
     let tower = Tower::new(&config.building)?;
     let topology =
         crate::map::FloorTopology::build(&tower.plan, &crate::map::TopologyConfig::default())?;
@@ -174,11 +189,19 @@ pub fn simulate_tower(config: &TowerSimConfig) -> Result<TowerSimulation> {
         &config.noise,
         stream_seed(config.seed, NOISE_STREAM),
     )?;
+    let radio = RadioWorld::new(
+        &topology,
+        &config.wifi,
+        stream_seed(config.seed, RADIO_STREAM),
+    )?;
+    let wifi = radio.scans_along(&start, &truth, stream_seed(config.seed, SCAN_STREAM));
     Ok(TowerSimulation {
         plan: tower.plan,
         start,
         truth,
         steps,
+        radio,
+        wifi,
     })
 }
 

@@ -1,0 +1,152 @@
+//! WiFi logs as CSV: header `t,bssid,rssi[,ssid,freq]` (seconds on the step trace's clock,
+//! access point id, dBm, network name, MHz), one row per sighting; rows sharing `t` are one
+//! scan. Times must not decrease; a BSSID appears at most once per scan; extra columns are
+//! ignored. Errors name the file and line.
+
+use super::csv_table::CsvTable;
+use crate::error::{Error, Result};
+use crate::sensor::wifi::{WifiReading, WifiScan, check_reading, normalise_bssid};
+use std::path::Path;
+
+/// Reads a WiFi log into scans, in time order.
+pub fn read_wifi(path: &Path) -> Result<Vec<WifiScan>> {
+    let mut table = CsvTable::open(path)?;
+    let (t, bssid, rssi) = (
+        table.column("t")?,
+        table.column("bssid")?,
+        table.column("rssi")?,
+    );
+    let (ssid, freq) = (table.optional_column("ssid"), table.optional_column("freq"));
+    let mut scans: Vec<WifiScan> = Vec::new();
+    table.for_each_row(|row| {
+        let time = row.number(t, "t")?;
+        let id = normalise_bssid(row.text(bssid)).ok_or_else(|| {
+            row.error(format!(
+                "bssid `{}` is empty or holds a comma or quote",
+                row.text(bssid)
+            ))
+        })?;
+        let reading = WifiReading {
+            bssid: id,
+            rssi: row.number(rssi, "rssi")?,
+            ssid: ssid
+                .map(|c| row.text(c).trim().to_string())
+                .filter(|s| !s.is_empty()),
+            freq: row.optional_number(freq, "freq")?,
+        };
+        check_reading(&reading).map_err(|m| row.error(m))?;
+        match scans.last_mut() {
+            Some(scan) if scan.t == time => {
+                if scan.rssi(&reading.bssid).is_some() {
+                    return Err(row.error(format!(
+                        "bssid {} appears twice in the scan at t = {time} s",
+                        reading.bssid
+                    )));
+                }
+                scan.readings.push(reading);
+            }
+            last => {
+                if let Some(scan) = last
+                    && time < scan.t
+                {
+                    return Err(row.error(format!(
+                        "time {time} s is before the previous row's {} s (rows must be sorted by time)",
+                        scan.t
+                    )));
+                }
+                scans.push(WifiScan {
+                    t: time,
+                    readings: vec![reading],
+                });
+            }
+        }
+        Ok(())
+    })?;
+    if scans.is_empty() {
+        return Err(Error::parse(
+            path,
+            0,
+            "no sightings: the file has a header but no data rows",
+        ));
+    }
+    Ok(scans)
+}
+
+/// Writes scans as CSV (`t,bssid,rssi,ssid,freq`; empty ssid/freq when unknown), one row per
+/// reading, scans in order.
+pub fn write_wifi(path: &Path, scans: &[WifiScan]) -> Result<()> {
+    let mut text = String::from("t,bssid,rssi,ssid,freq\n");
+    for scan in scans {
+        for r in &scan.readings {
+            if r.ssid
+                .as_deref()
+                .is_some_and(|s| s.contains([',', '"', '\n']))
+            {
+                return Err(Error::Input(format!(
+                    "ssid {:?} holds a comma, quote or newline; nothing written to {}",
+                    r.ssid,
+                    path.display()
+                )));
+            }
+            text.push_str(&format!(
+                "{:.3},{},{:.1},{},{}\n",
+                scan.t,
+                r.bssid,
+                r.rssi,
+                r.ssid.as_deref().unwrap_or(""),
+                r.freq.map_or(String::new(), |f| format!("{f}"))
+            ));
+        }
+    }
+    crate::export::write_atomically(path, text.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn file(text: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+        let dir = tempfile::tempdir().expect("tmp");
+        let p = dir.path().join("wifi.csv");
+        std::fs::write(&p, text).expect("write");
+        (dir, p)
+    }
+
+    #[test]
+    fn rows_sharing_a_time_are_one_scan_and_round_trip() {
+        let (_d, p) = file(
+            "t,bssid,rssi,ssid,freq\n1.0,AA:BB:CC:DD:EE:01,-60,lab,2412\n1.0,aa:bb:cc:dd:ee:02,-71.5,,\n3.0,aa:bb:cc:dd:ee:01,-64,lab,2412\n",
+        );
+        let scans = read_wifi(&p).expect("read");
+        assert_eq!(scans.len(), 2);
+        assert_eq!(scans[0].readings.len(), 2);
+        assert_eq!(scans[0].rssi("aa:bb:cc:dd:ee:01"), Some(-60.0));
+        assert_eq!(scans[0].readings[0].ssid.as_deref(), Some("lab"));
+        assert_eq!(scans[0].readings[1].freq, None);
+        write_wifi(&p, &scans).expect("write");
+        assert_eq!(read_wifi(&p).expect("again"), scans);
+    }
+
+    #[test]
+    fn bad_rows_are_named() {
+        for (text, expected) in [
+            (
+                "t,bssid,rssi\n2,a,-60\n1,b,-60\n",
+                "wifi.csv:3: time 1 s is before",
+            ),
+            (
+                "t,bssid,rssi\n1,a,-60\n1,a,-61\n",
+                "wifi.csv:3: bssid a appears twice",
+            ),
+            ("t,bssid,rssi\n1,a,12\n", "wifi.csv:2: rssi 12 dBm"),
+            ("t,bssid,rssi\n1,a,NaN\n", "wifi.csv:2:"),
+            ("t,bssid,rssi\n1, ,-50\n", "wifi.csv:2: bssid"),
+            ("t,bssid,rssi\n", "no sightings"),
+            ("t,bssid\n1,a\n", "rssi"),
+        ] {
+            let (_d, p) = file(text);
+            let e = read_wifi(&p).expect_err(text).to_string();
+            assert!(e.contains(expected), "{e}\nexpected: {expected}");
+        }
+    }
+}
