@@ -113,6 +113,17 @@ pub fn peak_memory_bytes() -> Option<u64> {
     Some(kb * 1024)
 }
 
+/// A bundled dataset file: `relative` under the working directory when it is there (a
+/// checkout), else under the source tree the binary was built from.
+pub fn bundled(relative: &str) -> PathBuf {
+    let local = PathBuf::from(relative);
+    if local.is_file() {
+        local
+    } else {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join(relative)
+    }
+}
+
 /// Fails with a clear message when `path` does not exist.
 pub fn require_file(path: &Path, what: &str) -> Result<()> {
     if !path.is_file() {

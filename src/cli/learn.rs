@@ -1,7 +1,7 @@
 //! `footslam learn`: FootSLAM on a step trace.
 
 use super::common::{
-    Progress, output_dir, parse_origin, peak_memory_bytes, read_config, require_file,
+    Progress, bundled, output_dir, parse_origin, peak_memory_bytes, read_config, require_file,
 };
 use anyhow::{Context, Result};
 use footslam::dataset::{TimedPoint, read_steps, write_trajectory};
@@ -11,7 +11,7 @@ use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::filter::{FootSlam, FootSlamConfig};
 use footslam::geometry::LocalFrame;
 use serde::Serialize;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 /// The bundled sample walk, used when `--steps` is not given.
@@ -70,15 +70,6 @@ struct Summary {
     version: &'static str,
 }
 
-fn default_steps() -> PathBuf {
-    let local = PathBuf::from(DEFAULT_STEPS);
-    if local.is_file() {
-        local
-    } else {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join(DEFAULT_STEPS)
-    }
-}
-
 /// Runs `footslam learn`.
 pub fn run(args: Args) -> Result<()> {
     let started = Instant::now();
@@ -97,7 +88,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     config.validate()?;
     let origin = args.origin.unwrap_or_default();
-    let steps_path = args.steps.clone().unwrap_or_else(default_steps);
+    let steps_path = args.steps.clone().unwrap_or_else(|| bundled(DEFAULT_STEPS));
     require_file(&steps_path, "step trace")?;
     let trace = read_steps(&steps_path)?;
     let pool = rayon::ThreadPoolBuilder::new()

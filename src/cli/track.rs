@@ -1,7 +1,7 @@
 //! `footslam track`: locate and track a walker on a known 2.5D floor plan from step events.
 
 use super::common::{
-    Progress, output_dir, parse_origin, peak_memory_bytes, read_config, require_file,
+    Progress, bundled, output_dir, parse_origin, peak_memory_bytes, read_config, require_file,
 };
 use anyhow::{Context, Result, bail};
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
@@ -13,7 +13,7 @@ use footslam::filter::{Recovery, StartPose, TrackStep, Tracker, TrackerConfig};
 use footslam::geometry::LocalFrame;
 use footslam::map::FloorTopology;
 use serde::Serialize;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 /// The bundled sample building and walk, used when `--plan` / `--steps` are not given.
@@ -135,15 +135,6 @@ struct Snapshot {
     title: String,
     points: Vec<(f32, f32, i32)>,
     track_len: usize,
-}
-
-fn bundled(path: &str) -> PathBuf {
-    let local = PathBuf::from(path);
-    if local.is_file() {
-        local
-    } else {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
-    }
 }
 
 /// Runs `footslam track`.

@@ -38,6 +38,7 @@ pub mod office;
 pub mod rooms;
 pub mod route;
 pub mod step_sensor;
+mod stride;
 pub mod tour;
 pub mod tower;
 pub mod tower_walk;

@@ -9,6 +9,7 @@
 //! height and level are those of the surface under the foot.
 
 use super::route::Route;
+use super::stride::{Gait, strides};
 use super::tower::Tower;
 use super::truth::{TruePath, TruePose};
 use crate::error::{Error, Result};
@@ -16,12 +17,9 @@ use crate::geometry::angle::wrap_angle;
 use crate::map::FloorTopology;
 use geo::Coord;
 use rand::{RngExt, SeedableRng};
-use rand_distr::StandardNormal;
 use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};
 
-/// Correlation of the sideways wander from one step to the next.
-const WANDER_CORRELATION: f64 = 0.7;
 /// Points walked to inside a room are redrawn while nearer than this to the previous one.
 const MIN_ROOM_LEG: f64 = 1.0;
 
@@ -86,6 +84,17 @@ impl Default for TowerWalkConfig {
 }
 
 impl TowerWalkConfig {
+    /// The stride parameters.
+    pub(super) fn gait(&self) -> Gait {
+        Gait {
+            frequency: self.step_frequency,
+            period_jitter: self.step_period_jitter,
+            length_mean: self.step_length_mean,
+            length_sigma: self.step_length_sigma,
+            wander_sigma: self.wander_sigma,
+        }
+    }
+
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
         ensure_in_range!("walk.minutes", self.minutes, 0.1..=600.0, " min");
@@ -131,10 +140,6 @@ impl TowerWalkConfig {
         ensure_in_range!("walk.wander_sigma", self.wander_sigma, 0.0..=0.2, " m");
         Ok(())
     }
-}
-
-fn gauss(rng: &mut Pcg64Mcg) -> f64 {
-    rng.sample::<f64, _>(StandardNormal)
 }
 
 /// A tour of `tower` drawn from a generator seeded with `seed`: the start pose (before the
@@ -306,32 +311,19 @@ fn walk(
         level: topology.level(s0),
         heading: d0.y.atan2(d0.x),
     };
-    let (total, mean) = (route.length(), config.step_length_mean);
-    let (mut s, mut t, mut wander) = (0.0, 0.0, 0.0);
     let mut previous = p0;
     let mut poses = Vec::with_capacity(steps);
-    while poses.len() < steps && total - s >= 0.25 {
-        let stride = (mean + config.step_length_sigma * gauss(rng)).clamp(0.5 * mean, 1.5 * mean);
-        s = (s + stride).min(total);
-        t += (1.0 + config.step_period_jitter * gauss(rng)).max(0.5) / config.step_frequency;
-        let (on_route, direction) = route.at(s);
-        let rho = WANDER_CORRELATION;
-        wander = rho * wander + (1.0 - rho * rho).sqrt() * config.wander_sigma * gauss(rng);
-        let wandered = on_route
-            + Coord {
-                x: -direction.y,
-                y: direction.x,
-            } * wander;
-        let (q, surface) = match locate(wandered, z) {
-            Some(surface) => (wandered, surface),
-            None => (
-                on_route,
-                locate(on_route, z).ok_or_else(|| off_plan(on_route))?,
-            ),
+    for stride in strides(route, config.gait(), rng).take(steps) {
+        let (q, surface) = match locate(stride.wandered, z) {
+            Some(surface) => (stride.wandered, surface),
+            None => {
+                let q = stride.on_route;
+                (q, locate(q, z).ok_or_else(|| off_plan(q))?)
+            }
         };
         z = f64::from(topology.z(surface));
         poses.push(TruePose {
-            t,
+            t: stride.t,
             x: q.x,
             y: q.y,
             z,

@@ -11,20 +11,15 @@
 
 use super::office::Office;
 use super::route::Route;
+use super::stride::{Gait, strides};
 use super::tour::plan_route;
 use super::truth::{TruePath, TruePose};
 use crate::error::{Error, Result};
 use crate::geometry::angle::wrap_angle;
 use geo::Coord;
-use rand::{RngExt, SeedableRng};
-use rand_distr::StandardNormal;
+use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};
-
-/// Correlation of the sideways wander from one step to the next.
-const WANDER_CORRELATION: f64 = 0.7;
-/// A final stride shorter than this is not taken, metres.
-const MIN_FINAL_STRIDE: f64 = 0.25;
 
 /// How the walker tours the office; every default in one place.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -78,6 +73,17 @@ impl Default for WalkConfig {
 }
 
 impl WalkConfig {
+    /// The stride parameters.
+    pub(super) fn gait(&self) -> Gait {
+        Gait {
+            frequency: self.step_frequency,
+            period_jitter: self.step_period_jitter,
+            length_mean: self.step_length_mean,
+            length_sigma: self.step_length_sigma,
+            wander_sigma: self.wander_sigma,
+        }
+    }
+
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
         ensure_in_range!("walk.laps", self.laps as f64, 1.0..=1000.0, "");
@@ -138,10 +144,6 @@ impl WalkConfig {
     }
 }
 
-fn gauss(rng: &mut Pcg64Mcg) -> f64 {
-    rng.sample::<f64, _>(StandardNormal)
-}
-
 /// Walks `config.laps` laps of `office` with room visits, drawing from a generator seeded with
 /// `seed`. Poses follow the [`TruePath`] convention (the walk starts at the origin facing east).
 pub fn simulate_walk(office: &Office, config: &WalkConfig, seed: u64) -> Result<TruePath> {
@@ -161,36 +163,24 @@ fn walk(
     rng: &mut Pcg64Mcg,
 ) -> Result<TruePath> {
     let on_floor = |q: Coord<f64>| office.plan.is_walkable(q.x, q.y, Some(0));
-    let (total, mean) = (route.length(), config.step_length_mean);
-    let (mut s, mut t, mut wander) = (0.0, 0.0, 0.0);
     let mut previous = Coord { x: 0.0, y: 0.0 };
-    let mut poses = Vec::with_capacity((total / mean) as usize + 1);
-    while total - s >= MIN_FINAL_STRIDE {
-        let stride = (mean + config.step_length_sigma * gauss(rng)).clamp(0.5 * mean, 1.5 * mean);
-        s = (s + stride).min(total);
-        t += (1.0 + config.step_period_jitter * gauss(rng)).max(0.5) / config.step_frequency;
-        let (on_route, direction) = route.at(s);
+    let mut poses = Vec::with_capacity((route.length() / config.step_length_mean) as usize + 1);
+    for stride in strides(route, config.gait(), rng) {
+        let on_route = stride.on_route;
         if !on_floor(on_route) {
             return Err(Error::Input(format!(
                 "simulated route leaves the floor at ({:.3}, {:.3}); the office layout is inconsistent",
                 on_route.x, on_route.y
             )));
         }
-        let rho = WANDER_CORRELATION;
-        wander = rho * wander + (1.0 - rho * rho).sqrt() * config.wander_sigma * gauss(rng);
-        let wandered = on_route
-            + Coord {
-                x: -direction.y,
-                y: direction.x,
-            } * wander;
-        let q = if on_floor(wandered) {
-            wandered
+        let q = if on_floor(stride.wandered) {
+            stride.wandered
         } else {
             on_route
         };
         let heading = wrap_angle((q.y - previous.y).atan2(q.x - previous.x));
         poses.push(TruePose {
-            t,
+            t: stride.t,
             x: q.x,
             y: q.y,
             z: 0.0,
