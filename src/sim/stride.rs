@@ -2,6 +2,7 @@
 //! sideways wander — the gait shared by every simulated walker.
 
 use super::route::Route;
+use crate::error::Result;
 use geo::Coord;
 use rand::RngExt;
 use rand_distr::StandardNormal;
@@ -25,6 +26,19 @@ pub(super) struct Gait {
     pub length_sigma: f64,
     /// Stationary spread (1σ) of the sideways wander, metres.
     pub wander_sigma: f64,
+}
+
+impl Gait {
+    /// Checks every field against its documented range (named as in the walk
+    /// configurations).
+    pub fn validate(&self) -> Result<()> {
+        ensure_in_range!("walk.step_frequency", self.frequency, 0.2..=5.0, " Hz");
+        ensure_in_range!("walk.step_period_jitter", self.period_jitter, 0.0..=0.3, "");
+        ensure_in_range!("walk.step_length_mean", self.length_mean, 0.2..=1.5, " m");
+        ensure_in_range!("walk.step_length_sigma", self.length_sigma, 0.0..=0.3, " m");
+        ensure_in_range!("walk.wander_sigma", self.wander_sigma, 0.0..=0.2, " m");
+        Ok(())
+    }
 }
 
 /// Where one stride ends.

@@ -237,6 +237,27 @@ pub struct TowerRoom {
     pub entry: Coord<f64>,
 }
 
+impl TowerRoom {
+    /// The room `area` on `level` with its door at `door_x` on the corridor's north
+    /// (`side` = 1) or south (−1) side.
+    fn at(c: &TowerConfig, level: i32, area: Rect<f64>, door_x: f64, side: f64) -> Self {
+        let (hw, t) = (c.corridor_width / 2.0, c.wall_thickness);
+        Self {
+            level,
+            area,
+            corridor: Coord { x: door_x, y: 0.0 },
+            door: Coord {
+                x: door_x,
+                y: side * (hw + t / 2.0),
+            },
+            entry: Coord {
+                x: door_x,
+                y: side * (hw + t + 0.8),
+            },
+        }
+    }
+}
+
 /// The building: its plan and the anchors of its rooms and stairs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Tower {
@@ -292,20 +313,7 @@ impl Tower {
                         };
                         let tag = if north { "N" } else { "S" };
                         polygons.push(surface(area, z, format!("hall {k}{tag}")));
-                        let cx = (x0 + x1) / 2.0;
-                        rooms.push(TowerRoom {
-                            level,
-                            area,
-                            corridor: Coord { x: cx, y: 0.0 },
-                            door: Coord {
-                                x: cx,
-                                y: side * (hw + t / 2.0),
-                            },
-                            entry: Coord {
-                                x: cx,
-                                y: side * (hw + t + 0.8),
-                            },
-                        });
+                        rooms.push(TowerRoom::at(c, level, area, (x0 + x1) / 2.0, side));
                         spans.extend(room_spans(c, &mut rng, t, x0 - t));
                         spans.extend(room_spans(c, &mut rng, x1 + t, l - t));
                     }
@@ -323,19 +331,7 @@ impl Tower {
                     let tag = if north { "N" } else { "S" };
                     polygons.push(surface(area, z, format!("room {k}{tag}{}", i + 1)));
                     polygons.push(surface(door, z, format!("door {k}{tag}{}", i + 1)));
-                    rooms.push(TowerRoom {
-                        level,
-                        area,
-                        corridor: Coord { x: door_x, y: 0.0 },
-                        door: Coord {
-                            x: door_x,
-                            y: side * (hw + t / 2.0),
-                        },
-                        entry: Coord {
-                            x: door_x,
-                            y: side * (hw + t + 0.8),
-                        },
-                    });
+                    rooms.push(TowerRoom::at(c, level, area, door_x, side));
                 }
             }
             for east in [false, true] {

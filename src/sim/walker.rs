@@ -119,28 +119,8 @@ impl WalkConfig {
             ""
         );
         ensure_in_range!("walk.room_margin", self.room_margin, 0.0..=100.0, " m");
-        ensure_in_range!("walk.step_frequency", self.step_frequency, 0.2..=5.0, " Hz");
-        ensure_in_range!(
-            "walk.step_period_jitter",
-            self.step_period_jitter,
-            0.0..=0.3,
-            ""
-        );
-        ensure_in_range!(
-            "walk.step_length_mean",
-            self.step_length_mean,
-            0.2..=1.5,
-            " m"
-        );
-        ensure_in_range!(
-            "walk.step_length_sigma",
-            self.step_length_sigma,
-            0.0..=0.3,
-            " m"
-        );
         ensure_in_range!("walk.corner_radius", self.corner_radius, 0.0..=100.0, " m");
-        ensure_in_range!("walk.wander_sigma", self.wander_sigma, 0.0..=0.2, " m");
-        Ok(())
+        self.gait().validate()
     }
 }
 
