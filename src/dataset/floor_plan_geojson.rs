@@ -4,7 +4,8 @@
 //! `[lon, lat]` degrees rounded to 1e-8° (about a millimetre), exterior rings
 //! counter-clockwise and holes clockwise (RFC 7946 sec. 3.1.6), no `crs` member. Feature
 //! properties: `level` (integer floor level, default 0), `z` (surface height in metres,
-//! default 0) and `name` (optional). Holes are walls. `LineString` features with
+//! default 0), `name` (optional) and `room` (optional: surfaces sharing it are one room for
+//! radio-map cells). Holes are walls. `LineString` features with
 //! `"barrier": true` are extra walls ([`Barrier`]) blocking the surfaces of their `level`
 //! (default 0). The collection's foreign member `"origin": {"lat", "lon"}` names the local
 //! frame's origin (x east, y north, metres).
@@ -105,6 +106,9 @@ fn surface_feature(surface: &FloorPolygon, frame: &LocalFrame) -> Feature {
     properties.insert("z".into(), json!(surface.z));
     if let Some(name) = &surface.name {
         properties.insert("name".into(), json!(name));
+    }
+    if let Some(room) = &surface.room {
+        properties.insert("room".into(), json!(room));
     }
     Feature {
         bbox: None,
@@ -214,6 +218,12 @@ fn read_feature(feature: &Feature, frame: &LocalFrame, out: &mut FloorPlan) -> R
         Some(JsonValue::String(s)) => Some(s.clone()),
         Some(v) => return Err(format!("property `name` = {v} is not a string")),
     };
+    let room = match feature.property("room") {
+        None | Some(JsonValue::Null) => None,
+        Some(JsonValue::String(s)) => Some(s.clone()),
+        Some(JsonValue::Number(n)) => Some(n.to_string()),
+        Some(v) => return Err(format!("property `room` = {v} is not a string or number")),
+    };
     for (j, rings) in parts.into_iter().enumerate() {
         let polygon = read_polygon(rings, frame).map_err(|m| format!("polygon {j}: {m}"))?;
         if let Err(e) = polygon.check_validation() {
@@ -224,6 +234,7 @@ fn read_feature(feature: &Feature, frame: &LocalFrame, out: &mut FloorPlan) -> R
             level,
             z,
             name: name.clone(),
+            room: room.clone(),
         });
     }
     Ok(())
@@ -400,11 +411,14 @@ mod tests {
             line: LineString::from(vec![(1.0, 2.0), (3.0, 2.0), (3.0, 5.0)]),
             level: 2,
         });
+        plan.polygons[1].room = Some("lab 2".into());
         let dir = tempfile::tempdir().expect("tempdir");
         let p = dir.path().join("plan.geojson");
         write_floor_plan(&p, &plan, &frame()).expect("write");
         let (back, _) = read_floor_plan(&p, None).expect("read");
         assert_eq!(back.barriers.len(), 1);
+        assert_eq!(back.polygons[1].room.as_deref(), Some("lab 2"));
+        assert_eq!(back.polygons[0].room, None);
         assert_eq!(back.barriers[0].level, 2);
         let c: Vec<_> = back.barriers[0].line.coords().collect();
         assert!((c[2].x - 3.0).abs() < 2e-3 && (c[2].y - 5.0).abs() < 2e-3);

@@ -57,6 +57,7 @@ mod tests {
                 level: 2,
                 z: 7.0,
                 name: None,
+                room: None,
             }],
         }
     }

@@ -380,6 +380,7 @@ mod tests {
             level,
             z: 3.0 * f64::from(level),
             name: None,
+            room: None,
         };
         FloorPlan {
             polygons: vec![floor(0), floor(1)],

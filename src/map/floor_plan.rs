@@ -16,6 +16,9 @@ pub struct FloorPolygon {
     pub z: f64,
     /// Optional name (e.g. "corridor", "room 3").
     pub name: Option<String>,
+    /// Optional room this surface belongs to (surfaces sharing it form one room for radio
+    /// cells); `None` lets the plan's connections decide.
+    pub room: Option<String>,
 }
 
 /// An extra wall (a handrail, a glass wall, a wall missing from the polygons) that blocks

@@ -780,6 +780,7 @@ mod tests {
             level,
             z,
             name: None,
+            room: None,
         }
     }
 
@@ -888,6 +889,7 @@ mod tests {
                     level: 0,
                     z: 0.0,
                     name: None,
+                    room: None,
                 },
                 rect(20.0, 0.0, 28.0, 8.0, 0.0, 0),
             ],
@@ -939,6 +941,7 @@ mod tests {
             level: 0,
             z: 0.0,
             name: Some("lobby".into()),
+            room: None,
         };
         let plan = FloorPlan {
             polygons: vec![rect(0.0, 0.0, 1.0, 1.0, 0.0, 0), bow_tie],

@@ -3,7 +3,9 @@
 pub mod floor_plan;
 pub mod floor_topology;
 pub mod hex_transitions;
+pub mod radio_cells;
 
 pub use floor_plan::{Barrier, FloorPlan, FloorPolygon};
 pub use floor_topology::{FloorTopology, Segment, SegmentKind, TopologyConfig};
 pub use hex_transitions::{HexCell, HexMapSnapshot, HexTransitionMap};
+pub use radio_cells::{CellConfig, CellMap, RadioCell, Room};

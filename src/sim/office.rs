@@ -199,6 +199,7 @@ fn surface(polygon: Polygon<f64>, name: String) -> FloorPolygon {
         level: 0,
         z: 0.0,
         name: Some(name),
+        room: None,
     }
 }
 

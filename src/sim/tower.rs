@@ -287,6 +287,7 @@ impl Tower {
                 level: (z / h - 1e-6).round() as i32,
                 z,
                 name: Some(name),
+                room: None,
             };
             polygons.push(surface(
                 Rect::new((0.0, -hw), (l, hw)),

@@ -200,6 +200,7 @@ fn writes_sample_pictures() {
                 level: 0,
                 z: 0.0,
                 name: None,
+                room: None,
             })
             .collect(),
     };
