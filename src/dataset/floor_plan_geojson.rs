@@ -92,15 +92,22 @@ pub fn read_floor_plan(path: &Path, origin: Option<LocalFrame>) -> Result<(Floor
     Ok((plan, frame))
 }
 
-fn surface_feature(surface: &FloorPolygon, frame: &LocalFrame) -> Feature {
-    let mut exterior = surface.polygon.exterior().clone();
+/// A local polygon as RFC 7946 rings: exterior counter-clockwise, holes clockwise,
+/// `[lon, lat]` degrees placed by `frame`.
+pub(crate) fn polygon_positions(polygon: &Polygon<f64>, frame: &LocalFrame) -> Vec<Vec<Vec<f64>>> {
+    let mut exterior = polygon.exterior().clone();
     exterior.make_ccw_winding();
     let mut rings = vec![to_positions(&exterior, frame)];
-    for hole in surface.polygon.interiors() {
+    for hole in polygon.interiors() {
         let mut hole = hole.clone();
         hole.make_cw_winding();
         rings.push(to_positions(&hole, frame));
     }
+    rings
+}
+
+fn surface_feature(surface: &FloorPolygon, frame: &LocalFrame) -> Feature {
+    let rings = polygon_positions(&surface.polygon, frame);
     let mut properties = JsonObject::new();
     properties.insert("level".into(), json!(surface.level));
     properties.insert("z".into(), json!(surface.z));
@@ -153,7 +160,8 @@ fn round_to(v: f64, decimals: i32) -> f64 {
     (v * scale).round() / scale
 }
 
-fn read_origin(origin: &JsonValue) -> Result<LocalFrame, String> {
+/// The `origin` member's frame.
+pub(crate) fn read_origin(origin: &JsonValue) -> Result<LocalFrame, String> {
     let number = |name: &str| {
         origin
             .get(name)
@@ -280,7 +288,12 @@ fn read_line(line: &[geojson::Position], frame: &LocalFrame) -> Result<LineStrin
         .map(LineString::new)
 }
 
-fn read_polygon(rings: &PolygonType, frame: &LocalFrame) -> Result<Polygon<f64>, String> {
+/// A polygon of `[lon, lat]` rings in local coordinates (rings closed, at least 4 finite
+/// positions in range).
+pub(crate) fn read_polygon(
+    rings: &PolygonType,
+    frame: &LocalFrame,
+) -> Result<Polygon<f64>, String> {
     let mut local = rings
         .iter()
         .enumerate()

@@ -4,8 +4,10 @@ pub mod floor_plan;
 pub mod floor_topology;
 pub mod hex_transitions;
 pub mod radio_cells;
+pub mod radio_map;
 
 pub use floor_plan::{Barrier, FloorPlan, FloorPolygon};
 pub use floor_topology::{FloorTopology, Segment, SegmentKind, TopologyConfig};
 pub use hex_transitions::{HexCell, HexMapSnapshot, HexTransitionMap};
 pub use radio_cells::{CellConfig, CellMap, RadioCell, Room};
+pub use radio_map::{ApStats, CellRadio, RadioMap, RadioMapCell};

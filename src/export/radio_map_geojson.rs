@@ -1,0 +1,360 @@
+//! Radio maps as RFC 7946 GeoJSON (`radiomap.geojson`) and long-format CSV (`radiomap.csv`),
+//! and back from GeoJSON — written by this crate or by another tool with the same properties
+//! and any cell polygons.
+//!
+//! One `Polygon` or `MultiPolygon` feature per cell, in WGS84 (exterior rings
+//! counter-clockwise, no `crs` member), with properties `cell` (id), `level`, `scans` and
+//! `aps`: `{bssid: {"n": readings, "mean": dBm, "hist": {"<dBm>": count}}}`. The collection's
+//! foreign member `origin` (`{"lat", "lon"}`) names the local frame.
+//!
+//! The CSV has one row per cell and access point: `cell,level,bssid,n,mean,std,misses`
+//! (`misses` = scans of the cell that did not hear the access point).
+
+use crate::dataset::floor_plan_geojson::{polygon_positions, read_origin, read_polygon};
+use crate::error::{Error, Result};
+use crate::geometry::LocalFrame;
+use crate::map::{ApStats, CellRadio, RadioMap, RadioMapCell};
+use geo::MultiPolygon;
+use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject, JsonValue};
+use serde_json::json;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The map as a feature collection placed on the globe by `frame`.
+pub fn radio_map_to_geojson(map: &RadioMap, frame: &LocalFrame) -> FeatureCollection {
+    let features = map
+        .cells
+        .iter()
+        .map(|cell| {
+            let polygons: Vec<_> = cell
+                .area
+                .0
+                .iter()
+                .map(|p| polygon_positions(p, frame))
+                .collect();
+            let geometry = if polygons.len() == 1 {
+                GeometryValue::new_polygon(polygons.into_iter().next().unwrap_or_default())
+            } else {
+                GeometryValue::new_multi_polygon(polygons)
+            };
+            let aps: serde_json::Map<String, JsonValue> = cell
+                .radio
+                .aps
+                .iter()
+                .map(|(bssid, s)| {
+                    let hist: serde_json::Map<String, JsonValue> = s
+                        .hist
+                        .iter()
+                        .map(|(bin, count)| (bin.to_string(), json!(count)))
+                        .collect();
+                    let mean = s.mean().map(|m| (m * 100.0).round() / 100.0);
+                    (
+                        bssid.clone(),
+                        json!({ "n": s.n, "mean": mean, "hist": hist }),
+                    )
+                })
+                .collect();
+            let mut properties = JsonObject::new();
+            properties.insert("cell".into(), json!(cell.id));
+            properties.insert("level".into(), json!(cell.level));
+            properties.insert("scans".into(), json!(cell.radio.scans));
+            properties.insert("aps".into(), JsonValue::Object(aps));
+            Feature {
+                bbox: None,
+                geometry: Some(Geometry::new(geometry)),
+                id: None,
+                properties: Some(properties),
+                foreign_members: None,
+            }
+        })
+        .collect();
+    let mut members = JsonObject::new();
+    members.insert(
+        "origin".into(),
+        json!({ "lat": frame.lat, "lon": frame.lon }),
+    );
+    FeatureCollection {
+        bbox: None,
+        features,
+        foreign_members: Some(members),
+    }
+}
+
+/// Writes [`radio_map_to_geojson`] to `path` atomically.
+pub fn write_radio_map_geojson(path: &Path, map: &RadioMap, frame: &LocalFrame) -> Result<()> {
+    super::write_geojson(path, &radio_map_to_geojson(map, frame))
+}
+
+/// Writes the long-format CSV: `cell,level,bssid,n,mean,std,misses`.
+pub fn write_radio_map_csv(path: &Path, map: &RadioMap) -> Result<()> {
+    let mut text = String::from("cell,level,bssid,n,mean,std,misses\n");
+    for cell in &map.cells {
+        for (bssid, s) in &cell.radio.aps {
+            let (Some(mean), Some(std)) = (s.mean(), s.std()) else {
+                continue;
+            };
+            text.push_str(&format!(
+                "{},{},{},{},{:.2},{:.2},{}\n",
+                cell.id,
+                cell.level,
+                bssid,
+                s.n,
+                mean,
+                std,
+                cell.radio.misses(bssid)
+            ));
+        }
+    }
+    super::write_atomically(path, text.as_bytes())
+}
+
+/// Reads a radio map and its frame: `origin` when given (it overrides the file's), else the
+/// file's `origin` member, else an error. Errors name the file and feature.
+pub fn read_radio_map_geojson(
+    path: &Path,
+    origin: Option<LocalFrame>,
+) -> Result<(RadioMap, LocalFrame)> {
+    let collection = crate::dataset::geojson_file::read_feature_collection(path)?;
+    let whole = |message: String| Error::parse(path, 0, message);
+    let member = collection
+        .foreign_members
+        .as_ref()
+        .and_then(|m| m.get("origin"));
+    let frame = match (origin, member) {
+        (Some(frame), _) => frame,
+        (None, Some(member)) => read_origin(member).map_err(whole)?,
+        (None, None) => {
+            return Err(whole(
+                "no top-level `origin` member and no origin given: pass the latitude and longitude of the local frame's origin".into(),
+            ));
+        }
+    };
+    let mut cells = Vec::with_capacity(collection.features.len());
+    for (i, feature) in collection.features.iter().enumerate() {
+        cells.push(read_cell(feature, &frame).map_err(|m| whole(format!("feature {i}: {m}")))?);
+    }
+    let mut ids: Vec<&str> = cells.iter().map(|c: &RadioMapCell| c.id.as_str()).collect();
+    ids.sort_unstable();
+    if let Some(w) = ids.windows(2).find(|w| w[0] == w[1]) {
+        return Err(whole(format!("cell `{}` appears twice", w[0])));
+    }
+    Ok((RadioMap { cells }, frame))
+}
+
+fn read_cell(feature: &Feature, frame: &LocalFrame) -> Result<RadioMapCell, String> {
+    let polygons = match feature.geometry.as_ref().map(|g| &g.value) {
+        Some(GeometryValue::Polygon { coordinates }) => vec![coordinates],
+        Some(GeometryValue::MultiPolygon { coordinates }) => coordinates.iter().collect(),
+        _ => return Err("geometry must be a Polygon or MultiPolygon".into()),
+    };
+    let area = MultiPolygon::new(
+        polygons
+            .into_iter()
+            .map(|rings| read_polygon(rings, frame))
+            .collect::<Result<_, _>>()?,
+    );
+    let id = match feature.property("cell") {
+        Some(JsonValue::String(s)) => s.clone(),
+        Some(JsonValue::Number(n)) => n.to_string(),
+        _ => return Err("property `cell` (the cell id) is missing".into()),
+    };
+    let level = match feature.property("level") {
+        None | Some(JsonValue::Null) => 0,
+        Some(v) => v
+            .as_i64()
+            .and_then(|l| i32::try_from(l).ok())
+            .ok_or_else(|| format!("property `level` = {v} is not an integer"))?,
+    };
+    let scans = feature
+        .property("scans")
+        .and_then(JsonValue::as_u64)
+        .and_then(|s| u32::try_from(s).ok())
+        .ok_or("property `scans` must be a whole number")?;
+    let mut aps = BTreeMap::new();
+    if let Some(v) = feature.property("aps") {
+        let object = v.as_object().ok_or("property `aps` must be an object")?;
+        for (bssid, stats) in object {
+            let s = read_ap(stats).map_err(|m| format!("aps.{bssid}: {m}"))?;
+            if s.n > scans {
+                return Err(format!(
+                    "aps.{bssid}: n = {} exceeds the cell's {scans} scans",
+                    s.n
+                ));
+            }
+            aps.insert(bssid.clone(), s);
+        }
+    }
+    Ok(RadioMapCell {
+        id,
+        level,
+        area,
+        radio: CellRadio { scans, aps },
+    })
+}
+
+/// One access point's statistics: `n` and `mean` (required), `hist` (optional; when present
+/// its counts must add up to `n`, and it gives the spread).
+fn read_ap(stats: &JsonValue) -> Result<ApStats, String> {
+    let n = stats
+        .get("n")
+        .and_then(JsonValue::as_u64)
+        .and_then(|n| u32::try_from(n).ok())
+        .ok_or("`n` must be a whole number")?;
+    let mean = stats.get("mean").and_then(JsonValue::as_f64);
+    let mean = match (n, mean) {
+        (0, _) => 0.0,
+        (_, Some(m)) if m.is_finite() && (-120.0..=0.0).contains(&m) => m,
+        _ => return Err("`mean` must be an RSSI in [-120, 0] dBm".into()),
+    };
+    let mut hist = BTreeMap::new();
+    if let Some(h) = stats.get("hist") {
+        let object = h.as_object().ok_or("`hist` must be an object")?;
+        for (bin, count) in object {
+            let bin: i32 = bin
+                .trim()
+                .parse()
+                .map_err(|_| format!("`hist` bin `{bin}` is not a whole dBm"))?;
+            let count = count
+                .as_u64()
+                .and_then(|c| u32::try_from(c).ok())
+                .ok_or_else(|| format!("`hist` count for {bin} dBm is not a whole number"))?;
+            hist.insert(bin, count);
+        }
+        let total: u64 = hist.values().map(|&c| u64::from(c)).sum();
+        if total != u64::from(n) {
+            return Err(format!("`hist` counts add up to {total}, not n = {n}"));
+        }
+    }
+    // Second moment from the histogram when there is one (1 dB bins), else no spread.
+    let sum_sq = if hist.is_empty() {
+        f64::from(n) * mean * mean
+    } else {
+        let binned_mean = hist
+            .iter()
+            .map(|(&b, &c)| f64::from(b) * f64::from(c))
+            .sum::<f64>()
+            / f64::from(n.max(1));
+        let var: f64 = hist
+            .iter()
+            .map(|(&b, &c)| f64::from(c) * (f64::from(b) - binned_mean).powi(2))
+            .sum::<f64>()
+            / f64::from(n.max(1));
+        f64::from(n) * (var + mean * mean)
+    };
+    Ok(ApStats {
+        n,
+        sum: mean * f64::from(n),
+        sum_sq,
+        hist,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::{CellMap, FloorTopology};
+    use crate::sensor::{WifiReading, WifiScan};
+
+    fn map() -> RadioMap {
+        let tower = crate::sim::Tower::new(&Default::default()).expect("tower");
+        let topology = FloorTopology::build(&tower.plan, &Default::default()).expect("topology");
+        let cells = CellMap::build(&tower.plan, &topology, &Default::default()).expect("cells");
+        let mut map = RadioMap::empty(&cells);
+        for (i, rssi) in [-60.0, -62.0, -61.0].into_iter().enumerate() {
+            map.cells[3].radio.add_scan(&WifiScan {
+                t: i as f64,
+                readings: vec![WifiReading {
+                    bssid: "02:00:00:00:00:01".into(),
+                    rssi,
+                    ssid: None,
+                    freq: None,
+                }],
+            });
+        }
+        map.cells[3].radio.add_scan(&WifiScan {
+            t: 9.0,
+            readings: Vec::new(),
+        });
+        map
+    }
+
+    #[test]
+    fn round_trips_through_geojson_and_writes_csv() {
+        let map = map();
+        let frame = LocalFrame::new(52.2, 0.09).expect("frame");
+        let dir = tempfile::tempdir().expect("tmp");
+        let p = dir.path().join("radiomap.geojson");
+        write_radio_map_geojson(&p, &map, &frame).expect("write");
+        let text = std::fs::read_to_string(&p).expect("read");
+        assert!(!text.contains("\"crs\""));
+        assert!(text.contains(r#""hist":{"-60":1,"-61":1,"-62":1}"#));
+        let (back, f) = read_radio_map_geojson(&p, None).expect("read back");
+        assert_eq!(f, frame);
+        assert_eq!(back.cells.len(), map.cells.len());
+        let (a, b) = (&map.cells[3], &back.cells[3]);
+        assert_eq!(
+            (a.id.as_str(), a.level, a.radio.scans),
+            (b.id.as_str(), b.level, b.radio.scans)
+        );
+        let (sa, sb) = (
+            &a.radio.aps["02:00:00:00:00:01"],
+            &b.radio.aps["02:00:00:00:00:01"],
+        );
+        assert_eq!((sa.n, &sa.hist), (sb.n, &sb.hist));
+        assert!((sa.mean().expect("m") - sb.mean().expect("m")).abs() < 0.01);
+        assert!((sa.std().expect("s") - sb.std().expect("s")).abs() < 0.01);
+        let area = |c: &RadioMapCell| geo::Area::unsigned_area(&c.area);
+        assert!((area(a) - area(b)).abs() < 1e-3 * area(a));
+        let csv = dir.path().join("radiomap.csv");
+        write_radio_map_csv(&csv, &map).expect("csv");
+        let text = std::fs::read_to_string(&csv).expect("read");
+        assert_eq!(text.lines().count(), 2);
+        assert!(
+            text.lines()
+                .nth(1)
+                .expect("row")
+                .ends_with(",3,-61.00,0.82,1"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn maps_from_other_tools_are_checked() {
+        let dir = tempfile::tempdir().expect("tmp");
+        let p = dir.path().join("r.geojson");
+        let square = "[[[0.09,52.2],[0.0901,52.2],[0.0901,52.2001],[0.09,52.2001],[0.09,52.2]]]";
+        let feature = |props: &str| {
+            format!(
+                r#"{{"type":"FeatureCollection","origin":{{"lat":52.2,"lon":0.09}},"features":[{{"type":"Feature","properties":{props},"geometry":{{"type":"Polygon","coordinates":{square}}}}}]}}"#
+            )
+        };
+        std::fs::write(
+            &p,
+            feature(r#"{"cell":"A","scans":4,"aps":{"x":{"n":2,"mean":-70}}}"#),
+        )
+        .expect("write");
+        let (map, _) = read_radio_map_geojson(&p, None).expect("no hist is fine");
+        assert_eq!(map.cells[0].radio.misses("x"), 2);
+        for (props, expected) in [
+            (r#"{"scans":4}"#, "`cell`"),
+            (
+                r#"{"cell":"A","scans":1,"aps":{"x":{"n":2,"mean":-70}}}"#,
+                "exceeds",
+            ),
+            (
+                r#"{"cell":"A","scans":4,"aps":{"x":{"n":2,"mean":10}}}"#,
+                "`mean`",
+            ),
+            (
+                r#"{"cell":"A","scans":4,"aps":{"x":{"n":2,"mean":-70,"hist":{"-70":1}}}}"#,
+                "add up to 1",
+            ),
+        ] {
+            std::fs::write(&p, feature(props)).expect("write");
+            let e = read_radio_map_geojson(&p, None)
+                .expect_err(props)
+                .to_string();
+            assert!(e.contains("r.geojson") && e.contains(expected), "{e}");
+        }
+    }
+}

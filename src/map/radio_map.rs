@@ -1,0 +1,232 @@
+//! Cell-based WiFi radio maps (Woodman & Harle 2009, sec. 4): for every cell, how many scans
+//! were taken there and, per access point, an RSSI histogram in 1 dB bins with its count,
+//! mean and spread; the scans of the cell that did not hear an access point are its misses.
+//! Maps built from several walks merge by adding their counts.
+
+use crate::error::{Error, Result};
+use crate::sensor::WifiScan;
+use geo::MultiPolygon;
+use std::collections::BTreeMap;
+
+/// One access point's readings in one cell.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ApStats {
+    /// Readings.
+    pub n: u32,
+    /// Sum of the readings, dBm.
+    pub sum: f64,
+    /// Sum of their squares, dBm².
+    pub sum_sq: f64,
+    /// Readings per whole dBm (1 dB bins, keyed by the rounded RSSI).
+    pub hist: BTreeMap<i32, u32>,
+}
+
+impl ApStats {
+    /// Counts one reading.
+    pub fn add(&mut self, rssi: f64) {
+        self.n += 1;
+        self.sum += rssi;
+        self.sum_sq += rssi * rssi;
+        *self.hist.entry(rssi.round() as i32).or_default() += 1;
+    }
+
+    /// Mean RSSI, dBm (`None` without readings).
+    pub fn mean(&self) -> Option<f64> {
+        (self.n > 0).then(|| self.sum / f64::from(self.n))
+    }
+
+    /// Standard deviation of the readings, dB (`None` without readings).
+    pub fn std(&self) -> Option<f64> {
+        let mean = self.mean()?;
+        Some(
+            (self.sum_sq / f64::from(self.n) - mean * mean)
+                .max(0.0)
+                .sqrt(),
+        )
+    }
+
+    /// Adds `other`'s readings.
+    pub fn merge(&mut self, other: &ApStats) {
+        self.n += other.n;
+        self.sum += other.sum;
+        self.sum_sq += other.sum_sq;
+        for (&bin, &count) in &other.hist {
+            *self.hist.entry(bin).or_default() += count;
+        }
+    }
+}
+
+/// What a cell heard.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct CellRadio {
+    /// Scans taken in the cell.
+    pub scans: u32,
+    /// Per access point (by BSSID), its readings.
+    pub aps: BTreeMap<String, ApStats>,
+}
+
+impl CellRadio {
+    /// Counts one scan taken in the cell.
+    pub fn add_scan(&mut self, scan: &WifiScan) {
+        self.scans += 1;
+        for r in &scan.readings {
+            self.aps.entry(r.bssid.clone()).or_default().add(r.rssi);
+        }
+    }
+
+    /// Scans of the cell that did not hear `bssid`.
+    pub fn misses(&self, bssid: &str) -> u32 {
+        self.scans - self.aps.get(bssid).map_or(0, |a| a.n)
+    }
+
+    /// Adds `other`'s scans.
+    pub fn merge(&mut self, other: &CellRadio) {
+        self.scans += other.scans;
+        for (bssid, stats) in &other.aps {
+            self.aps.entry(bssid.clone()).or_default().merge(stats);
+        }
+    }
+}
+
+/// One cell of a radio map: its id, level, floor area (local metres) and what it heard.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RadioMapCell {
+    /// Cell id (unique in the map).
+    pub id: String,
+    /// Floor level.
+    pub level: i32,
+    /// The cell's floor, local metres.
+    pub area: MultiPolygon<f64>,
+    /// What it heard.
+    pub radio: CellRadio,
+}
+
+/// A radio map: cells with their readings.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct RadioMap {
+    /// The cells.
+    pub cells: Vec<RadioMapCell>,
+}
+
+impl RadioMap {
+    /// An empty map over the cells of `cells` (ids `"<room>-<column>-<row>"`).
+    pub fn empty(cells: &super::CellMap) -> Self {
+        Self {
+            cells: cells
+                .cells()
+                .iter()
+                .map(|c| RadioMapCell {
+                    id: format!("{}-{}-{}", c.room, c.box_index.0, c.box_index.1),
+                    level: c.level,
+                    area: c.area.clone(),
+                    radio: CellRadio::default(),
+                })
+                .collect(),
+        }
+    }
+
+    /// Adds `other`'s readings cell by cell; both maps must have the same cell ids in the
+    /// same order (maps of one plan at one granularity).
+    pub fn merge(&mut self, other: &RadioMap) -> Result<()> {
+        if self.cells.len() != other.cells.len()
+            || self
+                .cells
+                .iter()
+                .zip(&other.cells)
+                .any(|(a, b)| a.id != b.id)
+        {
+            return Err(Error::Input(
+                "radio maps with different cells cannot be merged (survey them on the same plan at the same granularity)"
+                    .into(),
+            ));
+        }
+        for (a, b) in self.cells.iter_mut().zip(&other.cells) {
+            a.radio.merge(&b.radio);
+        }
+        Ok(())
+    }
+
+    /// Share of cells with at least one scan, and the mean number of scans per such cell.
+    pub fn coverage(&self) -> (f64, f64) {
+        let covered: Vec<u32> = self
+            .cells
+            .iter()
+            .map(|c| c.radio.scans)
+            .filter(|&s| s > 0)
+            .collect();
+        if self.cells.is_empty() {
+            return (0.0, 0.0);
+        }
+        let share = covered.len() as f64 / self.cells.len() as f64;
+        let mean = if covered.is_empty() {
+            0.0
+        } else {
+            covered.iter().map(|&s| f64::from(s)).sum::<f64>() / covered.len() as f64
+        };
+        (share, mean)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sensor::WifiReading;
+
+    fn scan(readings: &[(&str, f64)]) -> WifiScan {
+        WifiScan {
+            t: 0.0,
+            readings: readings
+                .iter()
+                .map(|&(b, rssi)| WifiReading {
+                    bssid: b.into(),
+                    rssi,
+                    ssid: None,
+                    freq: None,
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn histograms_means_spreads_and_misses() {
+        let mut cell = CellRadio::default();
+        cell.add_scan(&scan(&[("a", -60.0), ("b", -80.0)]));
+        cell.add_scan(&scan(&[("a", -64.0)]));
+        cell.add_scan(&scan(&[("a", -62.4)]));
+        let a = &cell.aps["a"];
+        assert_eq!(a.n, 3);
+        assert!((a.mean().expect("mean") + 62.133_333).abs() < 1e-5);
+        assert!((a.std().expect("std") - 1.6438).abs() < 1e-3);
+        assert_eq!(a.hist.get(&-62), Some(&1));
+        assert_eq!(cell.misses("a"), 0);
+        assert_eq!(cell.misses("b"), 2);
+        assert_eq!(cell.misses("never"), 3);
+        let mut other = CellRadio::default();
+        other.add_scan(&scan(&[("b", -78.0)]));
+        cell.merge(&other);
+        assert_eq!((cell.scans, cell.aps["b"].n), (4, 2));
+        assert_eq!(cell.misses("b"), 2);
+    }
+
+    #[test]
+    fn maps_merge_only_over_the_same_cells_and_report_coverage() {
+        let tower = crate::sim::Tower::new(&Default::default()).expect("tower");
+        let topology =
+            crate::map::FloorTopology::build(&tower.plan, &Default::default()).expect("topology");
+        let cells =
+            crate::map::CellMap::build(&tower.plan, &topology, &Default::default()).expect("cells");
+        let mut a = RadioMap::empty(&cells);
+        let mut b = RadioMap::empty(&cells);
+        a.cells[0].radio.add_scan(&scan(&[("x", -70.0)]));
+        b.cells[0].radio.add_scan(&scan(&[("x", -72.0)]));
+        b.cells[1].radio.add_scan(&scan(&[]));
+        a.merge(&b).expect("merge");
+        assert_eq!(a.cells[0].radio.aps["x"].n, 2);
+        let (share, mean) = a.coverage();
+        assert!((share - 2.0 / a.cells.len() as f64).abs() < 1e-12);
+        assert!((mean - 1.5).abs() < 1e-12);
+        let mut other = a.clone();
+        other.cells.pop();
+        assert!(a.merge(&other).is_err());
+    }
+}
