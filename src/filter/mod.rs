@@ -7,6 +7,7 @@ pub mod kld;
 pub mod lineage;
 pub mod recovery;
 pub mod resample;
+pub mod survey;
 pub mod tracker;
 pub mod tracker_config;
 
@@ -16,5 +17,6 @@ pub use kld::KldConfig;
 pub use lineage::Lineage;
 pub use recovery::{Recovery, RecoveryConfig};
 pub use resample::{ResampleConfig, ResampleMethod};
+pub use survey::{SurveyCounts, survey_walk};
 pub use tracker::{TrackParticle, TrackStep, Tracker};
 pub use tracker_config::{StartPose, TrackerConfig};

@@ -12,7 +12,8 @@
 //! squared-exponential correlation of length `shadowing_length`, drawn once as a sum of random
 //! cosines). A scan adds temporal noise and body shadowing (up to `body_loss_max` when the
 //! walker's body is between the receiver and the access point), rounds to whole dBm and
-//! drops readings below the detection floor. Scans come every `scan_interval` seconds (with
+//! drops readings below the detection floor. The expected field ([`RadioWorld::expected_rssi`],
+//! `wifi_field.csv`) is the mean reading: with half the largest body loss. Scans come every `scan_interval` seconds (with
 //! jitter) at the walker's interpolated position.
 
 use super::truth::{TruePath, TruePose};
@@ -256,9 +257,15 @@ impl RadioWorld {
         &self.aps
     }
 
-    /// The expected RSSI (no temporal noise, no body) of access point `ap` at `(x, y)` on
-    /// `level`, dBm; not clipped at the detection floor.
+    /// The expected RSSI of access point `ap` at `(x, y)` on `level`, dBm: the mean of what a
+    /// receiver there reads over temporal noise and over the walker's headings (so with the
+    /// mean body loss, half of `body_loss_max`); not clipped at the detection floor.
     pub fn expected_rssi(&self, ap: usize, x: f64, y: f64, level: i32) -> f64 {
+        self.unobstructed_rssi(ap, x, y, level) - self.config.body_loss_max / 2.0
+    }
+
+    /// The RSSI without the walker's body and without noise.
+    fn unobstructed_rssi(&self, ap: usize, x: f64, y: f64, level: i32) -> f64 {
         let c = &self.config;
         let a = &self.aps[ap];
         let d = (a.x - x).hypot(a.y - y).max(1.0);
@@ -290,7 +297,8 @@ impl RadioWorld {
             let bearing = (a.y - pose.y).atan2(a.x - pose.x);
             let body = c.body_loss_max * (1.0 - (bearing - pose.heading).cos()) / 2.0;
             let noise = c.temporal_sigma * rng.sample::<f64, _>(StandardNormal);
-            let rssi = (self.expected_rssi(i, pose.x, pose.y, pose.level) - body + noise).round();
+            let rssi =
+                (self.unobstructed_rssi(i, pose.x, pose.y, pose.level) - body + noise).round();
             if rssi >= c.detection_floor {
                 readings.push(WifiReading {
                     bssid: a.bssid.clone(),
