@@ -142,6 +142,7 @@ fn run_tower(args: Args) -> Result<()> {
             label: "truth",
         }],
         points: Vec::new(),
+        cells: Vec::new(),
     };
     write_plan_png(
         &folder.path("truth.png"),

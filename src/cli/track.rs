@@ -242,6 +242,7 @@ pub fn run(args: Args) -> Result<()> {
                 colour: PARTICLE_COLOUR,
                 label: "particles",
             }],
+            cells: Vec::new(),
         })
         .collect();
     if !pictures.is_empty() {

@@ -24,6 +24,19 @@ pub struct PlanPicture<'a> {
     pub paths: Vec<PlanPath<'a>>,
     /// Point clouds (e.g. particles).
     pub points: Vec<PlanPoints<'a>>,
+    /// Filled areas over the floor (e.g. radio-map cells coloured by mean RSSI).
+    pub cells: Vec<PlanCell<'a>>,
+}
+
+/// A filled area over the plan.
+#[derive(Debug, Clone, Copy)]
+pub struct PlanCell<'a> {
+    /// The area, local metres.
+    pub area: &'a geo::MultiPolygon<f64>,
+    /// Its level.
+    pub level: i32,
+    /// Fill colour.
+    pub colour: [u8; 3],
 }
 
 /// A path over the plan.
@@ -228,6 +241,9 @@ pub fn render_plan_png(pictures: &[PlanPicture], config: &PlanPictureConfig) -> 
             glyphs::draw_text(&mut pixmap, &label, (x, y), ts, PLAN_WALL);
         }
         draw_plan(&mut pixmap, &layout, row, picture.plan);
+        for cell in &picture.cells {
+            draw_cell(&mut pixmap, &layout, row, cell);
+        }
         for cloud in &picture.points {
             draw_points(&mut pixmap, &layout, row, cloud);
         }
@@ -343,6 +359,33 @@ fn draw_points(pixmap: &mut Pixmap, layout: &Layout, row: usize, cloud: &PlanPoi
     }
 }
 
+/// A filled area with a thin outline.
+fn draw_cell(pixmap: &mut Pixmap, layout: &Layout, row: usize, cell: &PlanCell) {
+    let Some(li) = layout.level_index(cell.level) else {
+        return;
+    };
+    let mut pb = PathBuilder::new();
+    for polygon in &cell.area.0 {
+        for ring in std::iter::once(polygon.exterior()).chain(polygon.interiors()) {
+            push_ring(
+                &mut pb,
+                ring.coords().map(|c| layout.pixel(row, li, c.x, c.y)),
+            );
+        }
+    }
+    if let Some(path) = pb.finish() {
+        let [r, g, b] = cell.colour;
+        fill(pixmap, &path, rgb(r, g, b), FillRule::EvenOdd);
+        stroke(
+            pixmap,
+            &path,
+            ColorU8::from_rgba(255, 255, 255, 160),
+            0.5,
+            None,
+        );
+    }
+}
+
 /// The path, split where it changes level, on each level's panel.
 fn draw_path(pixmap: &mut Pixmap, layout: &Layout, row: usize, path: &PlanPath) {
     let colour = rgb(path.colour[0], path.colour[1], path.colour[2]);
@@ -392,8 +435,9 @@ mod tests {
     fn panels_per_level_and_rows_per_picture() {
         let plan = two_floors();
         let path = [(1.0, 1.0, 0), (5.0, 5.0, 0), (5.0, 5.0, 1), (9.0, 1.0, 1)];
+        let cell = geo::MultiPolygon::new(vec![Rect::new((2.0, 2.0), (4.0, 4.0)).to_polygon()]);
         let points: Vec<(f32, f32, i32)> = (0..10_000)
-            .map(|i| ((i % 200) as f32 * 0.1, (i / 200) as f32 * 0.2, i % 2))
+            .map(|i| ((i % 200) as f32 * 0.1, (i / 200) as f32 * 0.2, 0))
             .collect();
         let picture = PlanPicture {
             plan: &plan,
@@ -408,6 +452,11 @@ mod tests {
                 colour: [200, 30, 30],
                 label: "particles",
             }],
+            cells: vec![PlanCell {
+                area: &cell,
+                level: 1,
+                colour: [0, 160, 0],
+            }],
         };
         let config = PlanPictureConfig::default();
         let png = render_plan_png(&[picture.clone(), picture], &config).expect("png");
@@ -419,6 +468,10 @@ mod tests {
         let (x, y) = (24 + 40, 24 + 40);
         let p = image.get_pixel(x, (y + 28) as u32);
         assert!(p[0] > p[2], "{p:?}");
+        // The green cell fills its place on the second panel (level 1), left of the dots.
+        let (cx, cy) = (24 + 160 + 24 + 24, 24 + 40 + 7 * 8);
+        let q = image.get_pixel(cx, cy);
+        assert!(q[1] > q[0] && q[1] > q[2], "{q:?}");
         assert!(render_plan_png(&[], &config).is_err());
     }
 }
