@@ -270,3 +270,59 @@ fn simulate_tower_writes_wifi_scans_and_the_radio_truth() {
     assert_eq!(summary["access_points"], 12);
     assert_eq!(summary["wifi_scans"].as_u64(), Some(scans.len() as u64));
 }
+
+#[test]
+fn survey_builds_a_radio_map_from_tracked_walks() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (a, b) = (
+        simulate_tower(dir.path(), "9", "3"),
+        simulate_tower(dir.path(), "10", "3"),
+    );
+    let out = dir.path().join("survey");
+    footslam()
+        .arg("survey")
+        .arg("--plan")
+        .arg(a.join("floor.geojson"))
+        .arg("--steps")
+        .arg(a.join("steps.csv"))
+        .arg("--wifi")
+        .arg(a.join("wifi.csv"))
+        .arg("--steps")
+        .arg(b.join("steps.csv"))
+        .arg("--wifi")
+        .arg(b.join("wifi.csv"))
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("surveyed 2 walk(s)"));
+    let summary = json(&out.join("summary.json"));
+    assert_eq!(summary["walks"].as_array().expect("walks").len(), 2);
+    assert!(summary["coverage"].as_f64().expect("coverage") > 0.0);
+    assert!(summary["speed_vs_real_time"].as_f64().expect("speed") > 0.0);
+    let coverage = std::fs::read_to_string(out.join("coverage.csv")).expect("coverage");
+    assert_eq!(coverage.lines().count(), 6);
+    let (map, _) = footslam::export::radio_map_geojson::read_radio_map_geojson(
+        &out.join("radiomap.geojson"),
+        None,
+    )
+    .expect("radiomap.geojson reads back");
+    assert!(map.cells.iter().any(|c| c.radio.scans > 0));
+    assert!(out.join("radiomap.csv").is_file() && out.join("heatmap-000.png").is_file());
+    // One WiFi log per step trace.
+    footslam()
+        .arg("survey")
+        .arg("--plan")
+        .arg(a.join("floor.geojson"))
+        .arg("--steps")
+        .arg(a.join("steps.csv"))
+        .arg("--steps")
+        .arg(b.join("steps.csv"))
+        .arg("--wifi")
+        .arg(a.join("wifi.csv"))
+        .arg("--out")
+        .arg(dir.path().join("bad"))
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("one --wifi per --steps"));
+}

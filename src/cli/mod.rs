@@ -12,6 +12,7 @@ mod common;
 mod eval;
 mod learn;
 mod simulate;
+mod survey;
 mod track;
 
 use clap::{Parser, Subcommand};
@@ -30,7 +31,9 @@ enum Command {
     Learn(learn::Args),
     /// Locate and track a walker on a known 2.5D floor plan from step events.
     Track(track::Args),
-    /// Simulate an office floor, a walk through it and its step trace.
+    /// Build a WiFi radio map from walks tracked on a known floor plan.
+    Survey(survey::Args),
+    /// Simulate a building (office floor or multi-floor tower), a walk and its sensors.
     Simulate(simulate::Args),
     /// Position error of a track against the truth.
     Eval(eval::Args),
@@ -43,6 +46,7 @@ pub fn main() -> std::process::ExitCode {
         Command::Learn(a) => learn::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Track(a) => track::run(a),
+        Command::Survey(a) => survey::run(a),
         Command::Eval(a) => eval::run(a),
     };
     match result {

@@ -61,7 +61,7 @@ pub struct Args {
 }
 
 /// Parses `X,Y,HEADING[,LEVEL]`.
-fn parse_start(s: &str) -> Result<StartPose, String> {
+pub(super) fn parse_start(s: &str) -> Result<StartPose, String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     if !(3..=4).contains(&parts.len()) {
         return Err(format!("expected X,Y,HEADING[,LEVEL], got `{s}`"));

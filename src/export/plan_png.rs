@@ -315,6 +315,12 @@ fn draw_plan(pixmap: &mut Pixmap, layout: &Layout, row: usize, plan: &FloorPlan)
     }
 }
 
+/// Viridis (perceptually uniform, dark blue to yellow) at `t` in [0, 1], for cell colours.
+pub fn viridis_rgb(t: f64) -> [u8; 3] {
+    let c = super::map_png::canvas::viridis(t);
+    [c.red(), c.green(), c.blue()]
+}
+
 /// Surfaces this far above or below their level's floor are shaded fully blue, metres.
 const STAIR_SHADE_HEIGHT: f64 = 1.5;
 

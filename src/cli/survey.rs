@@ -1,0 +1,282 @@
+//! `footslam survey`: build a cell-based WiFi radio map from ordinary walks, tracking each
+//! walker on the known plan and adding its scans where it was (Woodman & Harle 2009).
+
+use super::common::{
+    Progress, output_dir, parse_origin, peak_memory_bytes, read_config, require_file,
+};
+use anyhow::{Context, Result, bail};
+use footslam::dataset::floor_plan_geojson::read_floor_plan;
+use footslam::dataset::{read_steps, read_wifi};
+use footslam::export::RunFolder;
+use footslam::export::plan_png::{
+    PlanCell, PlanPicture, PlanPictureConfig, viridis_rgb, write_plan_png,
+};
+use footslam::export::radio_map_geojson::{write_radio_map_csv, write_radio_map_geojson};
+use footslam::filter::{StartPose, TrackStep, Tracker, TrackerConfig, survey_walk};
+use footslam::map::{CellConfig, CellMap, FloorTopology, RadioMap};
+use footslam::sensor::WifiScan;
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Granularities of the coverage table (the paper's Table 1), metres.
+const COVERAGE_GRANULARITIES: [f64; 5] = [1.0, 2.0, 3.0, 4.0, 5.0];
+/// Heatmap colours run from this RSSI (dark) to the strongest (bright), dBm.
+const HEATMAP_FLOOR: f64 = -96.0;
+
+/// Arguments of `footslam survey`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Floor plan GeoJSON.
+    #[arg(long)]
+    plan: PathBuf,
+    /// Step trace CSV of a walk; repeat with `--wifi` for several walks (paired in order).
+    #[arg(long, required = true)]
+    steps: Vec<PathBuf>,
+    /// WiFi log CSV (`t,bssid,rssi[,ssid,freq]`) of the walk given by the `--steps` at the
+    /// same position.
+    #[arg(long, required = true)]
+    wifi: Vec<PathBuf>,
+    /// Cell granularity, metres (default 3).
+    #[arg(long)]
+    cell: Option<f64>,
+    /// Known start `X,Y,HEADING[,LEVEL]` of every walk (default: unknown).
+    #[arg(long, value_parser = super::track::parse_start, allow_hyphen_values = true)]
+    start: Option<StartPose>,
+    /// WGS84 origin `LAT,LON`; overrides the plan's `origin`.
+    #[arg(long, value_parser = parse_origin, allow_hyphen_values = true)]
+    origin: Option<footslam::geometry::LocalFrame>,
+    /// Random seed (overrides the config file).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Survey configuration (TOML or JSON with `tracker` and `cells`).
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// Output folder (default: a new folder under `outputs/`).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long)]
+    threads: Option<usize>,
+}
+
+/// The survey's configuration, written as `config.json`.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SurveyConfig {
+    /// The tracker of every walk (its seed is the first walk's; walk `k` uses seed + k).
+    pub tracker: TrackerConfig,
+    /// Rooms and cells.
+    pub cells: CellConfig,
+}
+
+#[derive(Debug, Serialize)]
+struct WalkSummary {
+    steps_file: String,
+    wifi_file: String,
+    steps: usize,
+    scans: usize,
+    steps_to_localise: Option<usize>,
+    steps_added: usize,
+    steps_skipped: usize,
+}
+
+#[derive(Debug, Serialize)]
+struct Summary {
+    walks: Vec<WalkSummary>,
+    cells: usize,
+    rooms: usize,
+    granularity_m: f64,
+    coverage: f64,
+    mean_scans_per_covered_cell: f64,
+    access_points: usize,
+    runtime_s: f64,
+    walk_duration_s: f64,
+    speed_vs_real_time: f64,
+    peak_memory_bytes: Option<u64>,
+}
+
+/// Cells, the radio map over them, and per walk the steps added and skipped.
+type Surveyed = (CellMap, RadioMap, Vec<(usize, usize)>);
+
+/// Runs `footslam survey`.
+pub fn run(args: Args) -> Result<()> {
+    let started = Instant::now();
+    if args.steps.len() != args.wifi.len() {
+        bail!(
+            "give one --wifi per --steps (got {} step traces and {} WiFi logs)",
+            args.steps.len(),
+            args.wifi.len()
+        );
+    }
+    let mut config: SurveyConfig = match &args.config {
+        Some(p) => read_config(p)?,
+        None => SurveyConfig::default(),
+    };
+    if let Some(s) = args.seed {
+        config.tracker.seed = s;
+    }
+    if args.start.is_some() {
+        config.tracker.start = args.start;
+    }
+    if let Some(g) = args.cell {
+        config.cells.granularity = g;
+    }
+    config.tracker.validate()?;
+    config.cells.validate()?;
+    require_file(&args.plan, "floor plan")?;
+    let (plan, frame) = read_floor_plan(&args.plan, args.origin)?;
+    let topology = FloorTopology::build(&plan, &config.tracker.topology)
+        .with_context(|| format!("{}: not a usable floor plan", args.plan.display()))?;
+    let mut walks = Vec::with_capacity(args.steps.len());
+    for (steps, wifi) in args.steps.iter().zip(&args.wifi) {
+        require_file(steps, "step trace")?;
+        require_file(wifi, "WiFi log")?;
+        walks.push((read_steps(steps)?, read_wifi(wifi)?));
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .context("cannot start worker threads")?;
+    let total: u64 = walks.iter().map(|(s, _)| s.len() as u64).sum();
+    let runs: Vec<Vec<TrackStep>> = pool.install(|| -> Result<_> {
+        let mut progress = Progress::new(total, "surveying");
+        let mut runs = Vec::with_capacity(walks.len());
+        for (k, (trace, _)) in walks.iter().enumerate() {
+            let tracker_config = TrackerConfig {
+                seed: config.tracker.seed.wrapping_add(k as u64),
+                ..config.tracker.clone()
+            };
+            let mut tracker = Tracker::new(&topology, &tracker_config)?;
+            let mut reports = Vec::with_capacity(trace.len());
+            for step in trace.steps() {
+                reports.push(tracker.update(step)?);
+                progress.inc();
+            }
+            runs.push(reports);
+        }
+        progress.finish();
+        Ok(runs)
+    })?;
+    let scans: Vec<&[WifiScan]> = walks.iter().map(|(_, w)| w.as_slice()).collect();
+    let build = |granularity: f64| -> Result<Surveyed> {
+        let cells = CellMap::build(
+            &plan,
+            &topology,
+            &CellConfig {
+                granularity,
+                ..config.cells
+            },
+        )?;
+        let mut map = RadioMap::empty(&cells);
+        let counts = runs
+            .iter()
+            .zip(&scans)
+            .map(|(reports, scans)| {
+                let c = survey_walk(&mut map, &cells, &topology, reports, scans);
+                (c.added, c.skipped)
+            })
+            .collect();
+        Ok((cells, map, counts))
+    };
+    let (cells, map, counts) = build(config.cells.granularity)?;
+
+    let folder = RunFolder::create(&output_dir(args.out, "survey"))?;
+    write_radio_map_geojson(&folder.path("radiomap.geojson"), &map, &frame)?;
+    write_radio_map_csv(&folder.path("radiomap.csv"), &map)?;
+    let mut coverage = String::from("granularity_m,cells,coverage_percent,mean_scans_per_cell\n");
+    for g in COVERAGE_GRANULARITIES {
+        let (_, m, _) = build(g)?;
+        let (share, mean) = m.coverage();
+        coverage.push_str(&format!(
+            "{g},{},{:.1},{:.2}\n",
+            m.cells.len(),
+            100.0 * share,
+            mean
+        ));
+    }
+    folder.write("coverage.csv", coverage.as_bytes())?;
+    let mut bssids: Vec<&String> = map.cells.iter().flat_map(|c| c.radio.aps.keys()).collect();
+    bssids.sort();
+    bssids.dedup();
+    for (i, bssid) in bssids.iter().enumerate() {
+        let heat: Vec<PlanCell> = map
+            .cells
+            .iter()
+            .filter_map(|c| {
+                let mean = c.radio.aps.get(*bssid)?.mean()?;
+                let t = ((mean - HEATMAP_FLOOR) / (-30.0 - HEATMAP_FLOOR)).clamp(0.0, 1.0);
+                let v = viridis_rgb(t);
+                Some(PlanCell {
+                    area: &c.area,
+                    level: c.level,
+                    colour: v,
+                })
+            })
+            .collect();
+        let picture = PlanPicture {
+            plan: &plan,
+            title: Some(format!("{bssid}: mean RSSI, {HEATMAP_FLOOR} to -30 dBm")),
+            paths: Vec::new(),
+            points: Vec::new(),
+            cells: heat,
+        };
+        write_plan_png(
+            &folder.path(&format!("heatmap-{i:03}.png")),
+            &[picture],
+            &PlanPictureConfig::default(),
+        )?;
+    }
+    folder.write_json("config.json", &config)?;
+    let (share, mean) = map.coverage();
+    let duration: f64 = walks
+        .iter()
+        .map(|(s, _)| {
+            let st = s.steps();
+            st.last().map_or(0.0, |l| l.t - st[0].t)
+        })
+        .sum();
+    let runtime = started.elapsed().as_secs_f64();
+    let summary = Summary {
+        walks: walks
+            .iter()
+            .zip(&runs)
+            .zip(&counts)
+            .zip(args.steps.iter().zip(&args.wifi))
+            .map(
+                |((((trace, wifi), reports), &(added, skipped)), (sp, wp))| WalkSummary {
+                    steps_file: sp.display().to_string(),
+                    wifi_file: wp.display().to_string(),
+                    steps: trace.len(),
+                    scans: wifi.len(),
+                    steps_to_localise: reports.iter().position(|r| r.localised).map(|i| i + 1),
+                    steps_added: added,
+                    steps_skipped: skipped,
+                },
+            )
+            .collect(),
+        cells: cells.cells().len(),
+        rooms: cells.rooms().len(),
+        granularity_m: config.cells.granularity,
+        coverage: share,
+        mean_scans_per_covered_cell: mean,
+        access_points: bssids.len(),
+        runtime_s: runtime,
+        walk_duration_s: duration,
+        speed_vs_real_time: duration / runtime.max(1e-9),
+        peak_memory_bytes: peak_memory_bytes(),
+    };
+    folder.write_json("summary.json", &summary)?;
+    let out = folder.commit()?;
+    outln!(
+        "surveyed {} walk(s) into {} cells: {:.1} % covered, {:.1} scans per covered cell, {} access points ({:.0}× real time)",
+        summary.walks.len(),
+        summary.cells,
+        100.0 * share,
+        mean,
+        summary.access_points,
+        summary.speed_vs_real_time
+    );
+    outln!("outputs: {}", out.display());
+    Ok(())
+}
