@@ -42,15 +42,10 @@ pub fn floor_plan_to_geojson(plan: &FloorPlan, frame: &LocalFrame) -> FeatureCol
         .map(|f| surface_feature(f, frame))
         .chain(plan.barriers.iter().map(|b| barrier_feature(b, frame)))
         .collect();
-    let mut members = JsonObject::new();
-    members.insert(
-        "origin".into(),
-        json!({ "lat": frame.lat, "lon": frame.lon }),
-    );
     FeatureCollection {
         bbox: None,
         features,
-        foreign_members: Some(members),
+        foreign_members: Some(super::geojson_file::origin_member(frame)),
     }
 }
 
@@ -64,21 +59,7 @@ pub fn write_floor_plan(path: &Path, plan: &FloorPlan, frame: &LocalFrame) -> Re
 pub fn read_floor_plan(path: &Path, origin: Option<LocalFrame>) -> Result<(FloorPlan, LocalFrame)> {
     let collection = crate::dataset::geojson_file::read_feature_collection(path)?;
     let whole = |message: String| Error::parse(path, 0, message);
-    let member = collection
-        .foreign_members
-        .as_ref()
-        .and_then(|m| m.get("origin"));
-    let frame = match (origin, member) {
-        (Some(frame), _) => frame,
-        (None, Some(member)) => read_origin(member).map_err(whole)?,
-        (None, None) => {
-            return Err(whole(
-                "no top-level `origin` member ({\"lat\": .., \"lon\": ..}) and no origin given: \
-                 pass the latitude and longitude of the local frame's origin"
-                    .into(),
-            ));
-        }
-    };
+    let frame = super::geojson_file::collection_frame(path, &collection, origin)?;
     let mut plan = FloorPlan::default();
     for (i, feature) in collection.features.iter().enumerate() {
         read_feature(feature, &frame, &mut plan).map_err(|m| {
@@ -158,19 +139,6 @@ fn to_positions(ring: &LineString<f64>, frame: &LocalFrame) -> Vec<Vec<f64>> {
 fn round_to(v: f64, decimals: i32) -> f64 {
     let scale = 10f64.powi(decimals);
     (v * scale).round() / scale
-}
-
-/// The `origin` member's frame.
-pub(crate) fn read_origin(origin: &JsonValue) -> Result<LocalFrame, String> {
-    let number = |name: &str| {
-        origin
-            .get(name)
-            .and_then(JsonValue::as_f64)
-            .ok_or_else(|| format!("top-level member `origin` lacks a numeric `{name}`"))
-    };
-    let (lat, lon) = (number("lat")?, number("lon")?);
-    LocalFrame::new(lat, lon)
-        .ok_or_else(|| format!("origin ({lat}, {lon}) is not a valid latitude/longitude"))
 }
 
 /// Appends the surfaces or barriers of `feature` to `out`.

@@ -1,8 +1,57 @@
-//! Reading a GeoJSON FeatureCollection file, with the file and line named in errors.
+//! Reading a GeoJSON FeatureCollection file, with the file and line named in errors, and the
+//! collection's `origin` foreign member (`{"lat", "lon"}`: the WGS84 place of the local frame).
 
 use crate::error::{Error, Result};
-use geojson::FeatureCollection;
+use crate::geometry::LocalFrame;
+use geojson::{FeatureCollection, JsonObject, JsonValue};
+use serde_json::json;
 use std::path::Path;
+
+/// Foreign members holding `frame` as the `origin` member.
+pub fn origin_member(frame: &LocalFrame) -> JsonObject {
+    let mut members = JsonObject::new();
+    members.insert(
+        "origin".into(),
+        json!({ "lat": frame.lat, "lon": frame.lon }),
+    );
+    members
+}
+
+/// The frame of a collection read from `path`: `given` when there is one (it overrides the
+/// file's), else the collection's `origin` member, else an error saying what to pass.
+pub fn collection_frame(
+    path: &Path,
+    collection: &FeatureCollection,
+    given: Option<LocalFrame>,
+) -> Result<LocalFrame> {
+    let member = collection
+        .foreign_members
+        .as_ref()
+        .and_then(|m| m.get("origin"));
+    match (given, member) {
+        (Some(frame), _) => Ok(frame),
+        (None, Some(member)) => read_origin(member).map_err(|m| Error::parse(path, 0, m)),
+        (None, None) => Err(Error::parse(
+            path,
+            0,
+            "no top-level `origin` member ({\"lat\": .., \"lon\": ..}) and no origin given: \
+             pass the latitude and longitude of the local frame's origin",
+        )),
+    }
+}
+
+/// The frame an `origin` member names.
+pub fn read_origin(origin: &JsonValue) -> Result<LocalFrame, String> {
+    let number = |name: &str| {
+        origin
+            .get(name)
+            .and_then(JsonValue::as_f64)
+            .ok_or_else(|| format!("top-level member `origin` lacks a numeric `{name}`"))
+    };
+    let (lat, lon) = (number("lat")?, number("lon")?);
+    LocalFrame::new(lat, lon)
+        .ok_or_else(|| format!("origin ({lat}, {lon}) is not a valid latitude/longitude"))
+}
 
 /// Reads `path` as an RFC 7946 FeatureCollection.
 pub fn read_feature_collection(path: &Path) -> Result<FeatureCollection> {

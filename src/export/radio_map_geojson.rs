@@ -10,7 +10,8 @@
 //! The CSV has one row per cell and access point: `cell,level,bssid,n,mean,std,misses`
 //! (`misses` = scans of the cell that did not hear the access point).
 
-use crate::dataset::floor_plan_geojson::{polygon_positions, read_origin, read_polygon};
+use crate::dataset::floor_plan_geojson::{polygon_positions, read_polygon};
+use crate::dataset::geojson_file::{collection_frame, origin_member};
 use crate::error::{Error, Result};
 use crate::geometry::LocalFrame;
 use crate::map::{ApStats, CellRadio, RadioMap, RadioMapCell};
@@ -68,15 +69,10 @@ pub fn radio_map_to_geojson(map: &RadioMap, frame: &LocalFrame) -> FeatureCollec
             }
         })
         .collect();
-    let mut members = JsonObject::new();
-    members.insert(
-        "origin".into(),
-        json!({ "lat": frame.lat, "lon": frame.lon }),
-    );
     FeatureCollection {
         bbox: None,
         features,
-        foreign_members: Some(members),
+        foreign_members: Some(origin_member(frame)),
     }
 }
 
@@ -116,19 +112,7 @@ pub fn read_radio_map_geojson(
 ) -> Result<(RadioMap, LocalFrame)> {
     let collection = crate::dataset::geojson_file::read_feature_collection(path)?;
     let whole = |message: String| Error::parse(path, 0, message);
-    let member = collection
-        .foreign_members
-        .as_ref()
-        .and_then(|m| m.get("origin"));
-    let frame = match (origin, member) {
-        (Some(frame), _) => frame,
-        (None, Some(member)) => read_origin(member).map_err(whole)?,
-        (None, None) => {
-            return Err(whole(
-                "no top-level `origin` member and no origin given: pass the latitude and longitude of the local frame's origin".into(),
-            ));
-        }
-    };
+    let frame = collection_frame(path, &collection, origin)?;
     let mut cells = Vec::with_capacity(collection.features.len());
     for (i, feature) in collection.features.iter().enumerate() {
         cells.push(read_cell(feature, &frame).map_err(|m| whole(format!("feature {i}: {m}")))?);

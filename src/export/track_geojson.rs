@@ -38,15 +38,10 @@ pub fn track_to_geojson(track: &[TrackPoint], frame: &LocalFrame) -> FeatureColl
         properties.insert("level".into(), json!(p.level));
         features.push(feature(GeometryValue::new_point(position(p)), properties));
     }
-    let mut members = JsonObject::new();
-    members.insert(
-        "origin".into(),
-        json!({ "lat": frame.lat, "lon": frame.lon }),
-    );
     FeatureCollection {
         bbox: None,
         features,
-        foreign_members: Some(members),
+        foreign_members: Some(crate::dataset::geojson_file::origin_member(frame)),
     }
 }
 
