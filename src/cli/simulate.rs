@@ -15,7 +15,7 @@ use footslam::geometry::LocalFrame;
 use footslam::map::HexMapSnapshot;
 use footslam::map::{FloorTopology, TopologyConfig};
 use footslam::sim::{
-    SimConfig, TowerSimConfig, TruePose, expected_field, floor_changes, floor_resolved_at,
+    SimConfig, TourKind, TowerSimConfig, TruePose, expected_field, floor_changes, floor_resolved_at,
     simulate, simulate_tower,
 };
 
@@ -33,6 +33,16 @@ enum Building {
     Tower,
 }
 
+/// Which tour the tower's walker takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Tour {
+    /// Room after random room from a random start.
+    Random,
+    /// A radio survey: every room swept lane by lane, both stairwells between every pair of
+    /// floors (ends where the tour ends, or after `--minutes`).
+    Survey,
+}
+
 /// Arguments of `footslam simulate`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -48,6 +58,9 @@ pub struct Args {
     /// Tower: length of the walk in minutes (overrides the config file).
     #[arg(long)]
     minutes: Option<f64>,
+    /// Tower: the kind of tour (overrides the config file; default random).
+    #[arg(long, value_enum)]
+    tour: Option<Tour>,
     /// Random seed (overrides the config file).
     #[arg(long)]
     seed: Option<u64>,
@@ -116,6 +129,12 @@ fn run_tower(args: Args) -> Result<()> {
     }
     if let Some(m) = args.minutes {
         config.walk.minutes = m;
+    }
+    if let Some(t) = args.tour {
+        config.walk.tour = match t {
+            Tour::Random => TourKind::Random,
+            Tour::Survey => TourKind::Survey,
+        };
     }
     let origin = args.origin.unwrap_or_default();
     let sim = simulate_tower(&config)?;

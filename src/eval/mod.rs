@@ -3,6 +3,7 @@
 
 pub mod floor_accuracy;
 pub mod position_error;
+pub mod rf_localisation;
 pub mod tracking;
 pub mod walkable;
 

@@ -29,7 +29,7 @@ use super::kld::KldBins;
 use super::recovery::{Recovery, heading_corrections};
 use super::tracker_config::{StartPose, TrackerConfig};
 use crate::error::{Error, Result};
-use crate::map::FloorTopology;
+use crate::map::{CellField, FloorTopology};
 use crate::sensor::Step;
 use rand::RngExt;
 use rand_distr::StandardNormal;
@@ -45,6 +45,9 @@ pub const CHUNK: usize = 16_384;
 const PRIOR_BATCH: usize = 8;
 /// Tries to place one prior particle on a surface before giving up on it.
 const PLACEMENT_TRIES: usize = 64;
+/// Points drawn per placement try of a prior particle inside a prior region (so a region
+/// of 1 % of the plan still places nearly every particle).
+const REGION_TRIES: usize = 16;
 /// Stream salts, so that the prior, the steps and every recovery draw unrelated numbers.
 const SALT_PRIOR: u64 = 0x5EED_0001;
 const SALT_STEP: u64 = 0x5EED_0002;
@@ -113,6 +116,11 @@ pub struct Tracker<'a> {
     localised_once: bool,
     /// True when the last step ended with a single cluster.
     localised_now: bool,
+    /// Where a uniform prior is drawn (`R_prior` of the 2009 paper, eq. 2; points where the
+    /// field is −∞ are outside); `None` = the whole plan.
+    region: Option<CellField>,
+    /// Steps whose extra measurement was ignored because no particle was consistent with it.
+    ignored: usize,
 }
 
 /// Step inputs in the particles' precision.
@@ -127,6 +135,17 @@ impl<'a> Tracker<'a> {
     /// A tracker on `topology` with its prior drawn (uniform over every surface and heading,
     /// or about `config.start`) by KLD-sampling.
     pub fn new(topology: &'a FloorTopology, config: &TrackerConfig) -> Result<Self> {
+        Self::new_in_region(topology, config, None)
+    }
+
+    /// A tracker whose uniform prior — at the start (unless `config.start` is known) and at
+    /// every global re-initialisation — is drawn only where `region` is finite (Woodman &
+    /// Harle 2009, eq. 2), or over the whole plan when no particle can be placed there.
+    pub fn new_in_region(
+        topology: &'a FloorTopology,
+        config: &TrackerConfig,
+        region: Option<CellField>,
+    ) -> Result<Self> {
         config.validate()?;
         if topology.is_empty() {
             return Err(Error::Input(
@@ -150,6 +169,8 @@ impl<'a> Tracker<'a> {
             history: VecDeque::new(),
             localised_once: false,
             localised_now: false,
+            region,
+            ignored: 0,
         };
         if let Some(start) = config.start {
             let s = tracker.locate_start(&start)?;
@@ -159,6 +180,18 @@ impl<'a> Tracker<'a> {
         }
         tracker.initial = tracker.particles.len();
         Ok(tracker)
+    }
+
+    /// Replaces the region a global re-initialisation draws its prior in (e.g. that of the
+    /// latest WiFi scan); `None` = the whole plan.
+    pub fn set_region(&mut self, region: Option<CellField>) {
+        self.region = region;
+    }
+
+    /// Steps whose extra measurement ([`Self::update_with`]) no particle was consistent with,
+    /// so that it was ignored rather than let kill the belief.
+    pub fn measurements_ignored(&self) -> usize {
+        self.ignored
     }
 
     /// The configuration.
@@ -198,6 +231,18 @@ impl<'a> Tracker<'a> {
     /// Processes one step event (Algorithm 1 for every particle, then KLD-resampling and
     /// clustering).
     pub fn update(&mut self, step: &Step) -> Result<TrackStep> {
+        self.update_with(step, None)
+    }
+
+    /// [`Self::update`] with an extra measurement: `measurement`'s value at each particle's
+    /// place is added to its log-weight (e.g. a WiFi containment region, eqs. 12–13 of the
+    /// 2009 paper, or a likelihood, eq. 14) before resampling. A measurement no particle is
+    /// consistent with is ignored (counted in [`Self::measurements_ignored`]).
+    pub fn update_with(
+        &mut self,
+        step: &Step,
+        measurement: Option<&CellField>,
+    ) -> Result<TrackStep> {
         let input = StepInput::of(step)?;
         self.steps += 1;
         let mut recovery = None;
@@ -205,6 +250,9 @@ impl<'a> Tracker<'a> {
             recovery = Some(self.recover(&input));
         }
         if !matches!(recovery, Some(Recovery::Global)) {
+            if let Some(m) = measurement {
+                self.measure(m);
+            }
             let n = self.weigh();
             self.resample(n, SALT_RESAMPLE);
         }
@@ -273,6 +321,27 @@ impl<'a> Tracker<'a> {
             })
             .sum::<usize>();
         alive > 0
+    }
+
+    /// Adds `m`'s value at every proposed particle to its log-weight, unless that would leave
+    /// no particle alive (eq. 1 of the 2009 paper: `w_t = w_{t−1} · p(z_t | s_t)`).
+    fn measure(&mut self, m: &CellField) {
+        let topology = self.topology;
+        let value = |p: &TrackParticle| m.at(topology.level(p.surface), p.x, p.y);
+        let alive = self
+            .proposal
+            .par_iter()
+            .zip(self.log_weights.par_iter())
+            .filter(|(p, lw)| **lw > f32::NEG_INFINITY && value(p) > f32::NEG_INFINITY)
+            .count();
+        if alive == 0 {
+            self.ignored += 1;
+            return;
+        }
+        self.proposal
+            .par_iter()
+            .zip(self.log_weights.par_iter_mut())
+            .for_each(|(p, lw)| *lw += value(p));
     }
 
     /// Turns the proposal's log-weights into weights (relative to the largest), fills the
@@ -495,14 +564,35 @@ impl<'a> Tracker<'a> {
         self.propagate(u, 0.0, salt)
     }
 
-    /// Draws the uniform prior over every surface and heading.
+    /// Draws the uniform prior over every surface and heading — inside the region when one
+    /// is set and particles can be placed there, else over the whole plan.
     fn draw_uniform_prior(&mut self, salt: u64) -> Result<()> {
+        if let Some(region) = self.region.take() {
+            let drawn = self.draw_prior_in(salt, Some(&region));
+            self.region = Some(region);
+            if drawn.is_ok() {
+                return drawn;
+            }
+        }
+        self.draw_prior_in(salt, None)
+    }
+
+    /// The uniform prior over every surface and heading, restricted to where `region` is
+    /// finite (by rejection) when given.
+    fn draw_prior_in(&mut self, salt: u64, region: Option<&CellField>) -> Result<()> {
         let topology = self.topology;
         let (lo, hi) = SCALE_RANGE;
         let scale_sigma = self.config.scale_sigma as f32;
         let drift_sigma = self.config.drift_sigma as f32;
         self.draw_prior(salt, move |rng| {
-            let (surface, [x, y]) = topology.sample_uniform(rng);
+            let (surface, [x, y]) = match region {
+                None => topology.sample_uniform(rng),
+                Some(r) => (0..REGION_TRIES)
+                    .map(|_| topology.sample_uniform(rng))
+                    .find(|(s, [x, y])| {
+                        r.at(topology.level(*s), *x as f32, *y as f32) > f32::NEG_INFINITY
+                    })?,
+            };
             Some(TrackParticle {
                 x: x as f32,
                 y: y as f32,

@@ -1,11 +1,13 @@
 //! Layer 1: the maps.
 
+pub mod cell_raster;
 pub mod floor_plan;
 pub mod floor_topology;
 pub mod hex_transitions;
 pub mod radio_cells;
 pub mod radio_map;
 
+pub use cell_raster::{CellField, CellRaster};
 pub use floor_plan::{Barrier, FloorPlan, FloorPolygon};
 pub use floor_topology::{FloorTopology, Segment, SegmentKind, TopologyConfig};
 pub use hex_transitions::{HexCell, HexMapSnapshot, HexTransitionMap};

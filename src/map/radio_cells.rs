@@ -6,7 +6,10 @@
 //! A **room** is a set of surfaces on one level: those sharing an explicit `room` property,
 //! or else those joined by connections longer than `door_width` in total (a door — a shorter
 //! passage — separates rooms; a corridor split into pieces, or a room split into several
-//! polygons, stays one room). Surfaces of different levels are never one room.
+//! polygons, stays one room), or by a connection between surfaces of different heights (a
+//! stair's riser: the treads of a flight, like the stepped floor of a lecture theatre, belong
+//! to the room they rise from — the paper's cells are 3D boxes of a room). Surfaces of
+//! different levels are never one room.
 
 use super::floor_plan::FloorPlan;
 use super::floor_topology::{FloorTopology, SegmentKind};
@@ -17,6 +20,8 @@ use serde::{Deserialize, Serialize};
 
 /// Fragments smaller than this are dropped from a cell, square metres.
 const MIN_FRAGMENT_AREA: f64 = 1e-4;
+/// Surfaces whose heights differ by more than this are joined by a stair's riser, metres.
+const RISER_MIN: f64 = 1e-3;
 
 /// Cell division's parameters; every default in one place.
 ///
@@ -248,7 +253,7 @@ fn find_rooms(plan: &FloorPlan, topology: &FloorTopology, door_width: f64) -> Ve
             join(&mut parent, first, i);
         }
     }
-    // Wide passages between surfaces without an explicit room.
+    // Wide passages, and stairs' risers, between surfaces without an explicit room.
     let mut shared: FxHashMap<(u32, u32), f64> = FxHashMap::default();
     for s in topology.segments() {
         if let SegmentKind::Connection { a, b } = s.kind {
@@ -260,7 +265,12 @@ fn find_rooms(plan: &FloorPlan, topology: &FloorTopology, door_width: f64) -> Ve
     wide.sort_by_key(|(k, _)| *k);
     for ((a, b), length) in wide {
         let (fa, fb) = (&plan.polygons[a as usize], &plan.polygons[b as usize]);
-        if length > door_width && fa.room.is_none() && fb.room.is_none() && fa.level == fb.level {
+        let riser = (fa.z - fb.z).abs() > RISER_MIN;
+        if (length > door_width || riser)
+            && fa.room.is_none()
+            && fb.room.is_none()
+            && fa.level == fb.level
+        {
             join(&mut parent, a as usize, b as usize);
         }
     }

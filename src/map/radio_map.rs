@@ -146,22 +146,22 @@ impl RadioMap {
         Ok(())
     }
 
-    /// Share of cells with at least one scan, and the mean number of scans per such cell.
+    /// Coverage as the paper defines it (sec. 4): the share of the floor area in cells with
+    /// at least one scan; and the mean number of scans per such cell.
     pub fn coverage(&self) -> (f64, f64) {
-        let covered: Vec<u32> = self
-            .cells
-            .iter()
-            .map(|c| c.radio.scans)
-            .filter(|&s| s > 0)
-            .collect();
-        if self.cells.is_empty() {
-            return (0.0, 0.0);
-        }
-        let share = covered.len() as f64 / self.cells.len() as f64;
+        use geo::Area;
+        let total: f64 = self.cells.iter().map(|c| c.area.unsigned_area()).sum();
+        let covered: Vec<&RadioMapCell> =
+            self.cells.iter().filter(|c| c.radio.scans > 0).collect();
+        let share = if total > 0.0 {
+            covered.iter().map(|c| c.area.unsigned_area()).sum::<f64>() / total
+        } else {
+            0.0
+        };
         let mean = if covered.is_empty() {
             0.0
         } else {
-            covered.iter().map(|&s| f64::from(s)).sum::<f64>() / covered.len() as f64
+            covered.iter().map(|c| f64::from(c.radio.scans)).sum::<f64>() / covered.len() as f64
         };
         (share, mean)
     }
@@ -223,7 +223,10 @@ mod tests {
         a.merge(&b).expect("merge");
         assert_eq!(a.cells[0].radio.aps["x"].n, 2);
         let (share, mean) = a.coverage();
-        assert!((share - 2.0 / a.cells.len() as f64).abs() < 1e-12);
+        use geo::Area;
+        let area = |i: usize| a.cells[i].area.unsigned_area();
+        let total: f64 = (0..a.cells.len()).map(area).sum();
+        assert!((share - (area(0) + area(1)) / total).abs() < 1e-12);
         assert!((mean - 1.5).abs() < 1e-12);
         let mut other = a.clone();
         other.cells.pop();

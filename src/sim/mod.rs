@@ -18,6 +18,7 @@
 //! * [`wifi`] — access points, path loss, shadowing and the scans a walker records
 //! * [`tower`], [`tower_walk`] — a multi-floor building with two stairwells of treads, and
 //!   long tours through it from a random start ([`simulate_tower`])
+//! * [`survey_tour`] — survey tours of such a building: every room swept, every flight walked
 
 /// Returns `Err(Error::Config)` naming `$field` from the enclosing function unless `$value`
 /// (an `f64`) is finite and in `[$lo, $hi]`; the reason quotes the range and `$unit`.
@@ -39,6 +40,7 @@ pub mod rooms;
 pub mod route;
 pub mod step_sensor;
 mod stride;
+pub mod survey_tour;
 pub mod tour;
 pub mod tower;
 pub mod tower_walk;
@@ -49,7 +51,7 @@ pub mod wifi;
 pub use office::{Office, OfficeConfig, Room, office_floor};
 pub use step_sensor::{StepNoiseConfig, measure_steps, measure_steps_from};
 pub use tower::{Tower, TowerConfig, TowerRoom};
-pub use tower_walk::{TowerWalkConfig, floor_changes, floor_resolved_at, simulate_tower_walk};
+pub use tower_walk::{TourKind, TowerWalkConfig, floor_changes, floor_resolved_at, simulate_tower_walk};
 pub use truth::{TruePath, TruePose};
 pub use walker::{WalkConfig, simulate_walk};
 pub use wifi::{AccessPoint, RadioWorld, WifiSimConfig, expected_field};
@@ -135,7 +137,7 @@ pub fn simulate(config: &SimConfig) -> Result<Simulation> {
 /// | `building` | 3 floors, 40 m corridor, rooms both sides, two switchback stairwells ([`TowerConfig`]) |
 /// | `walk`     | 12 minutes from a random start, 35 % of legs to another floor ([`TowerWalkConfig`]) |
 /// | `noise`    | foot-mounted-grade step errors ([`StepNoiseConfig`])                  |
-/// | `wifi`     | 4 access points a floor, scans every 2 s ([`WifiSimConfig`])          |
+/// | `wifi`     | 4 access points a floor, scans every 2 s ([`WifiSimConfig`]); the access points and shadowing come from `wifi.radio_seed`, so walks of one building share them |
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TowerSimConfig {
@@ -193,7 +195,7 @@ pub fn simulate_tower(config: &TowerSimConfig) -> Result<TowerSimulation> {
     let radio = RadioWorld::new(
         &topology,
         &config.wifi,
-        stream_seed(config.seed, RADIO_STREAM),
+        stream_seed(config.wifi.radio_seed, RADIO_STREAM),
     )?;
     let wifi = radio.scans_along(&start, &truth, stream_seed(config.seed, SCAN_STREAM));
     Ok(TowerSimulation {

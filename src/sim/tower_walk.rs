@@ -38,6 +38,8 @@ const MIN_ROOM_LEG: f64 = 1.0;
 /// | `step_length_sigma`          | 0.05 m   | stride spread (kept within ±50 %)             |
 /// | `corner_radius`              | 0.5 m    | rounding of the route's corners               |
 /// | `wander_sigma`               | 0.03 m   | sideways wander about the route               |
+/// | `tour`                       | random   | `random` legs, or a `survey` of every room ([`super::survey_tour`]) |
+/// | `lane_spacing`               | 1.5 m    | survey: greatest distance between sweep lanes |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TowerWalkConfig {
@@ -63,6 +65,22 @@ pub struct TowerWalkConfig {
     pub corner_radius: f64,
     /// Stationary spread (1σ) of the sideways wander, metres.
     pub wander_sigma: f64,
+    /// The kind of tour.
+    pub tour: TourKind,
+    /// Survey tours: the greatest distance between the lanes a room is swept in, metres.
+    pub lane_spacing: f64,
+}
+
+/// The kind of tour through the building.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TourKind {
+    /// Room after random room from a random start, changing floors now and then.
+    #[default]
+    Random,
+    /// Every room of every floor swept lane by lane, both stairwells walked between every
+    /// pair of floors; `minutes` caps the walk, which ends where the tour ends.
+    Survey,
 }
 
 impl Default for TowerWalkConfig {
@@ -79,6 +97,8 @@ impl Default for TowerWalkConfig {
             step_length_sigma: 0.05,
             corner_radius: 0.5,
             wander_sigma: 0.03,
+            tour: TourKind::Random,
+            lane_spacing: 1.5,
         }
     }
 }
@@ -118,6 +138,7 @@ impl TowerWalkConfig {
         );
         ensure_in_range!("walk.room_margin", self.room_margin, 0.3..=5.0, " m");
         ensure_in_range!("walk.corner_radius", self.corner_radius, 0.0..=2.0, " m");
+        ensure_in_range!("walk.lane_spacing", self.lane_spacing, 0.5..=20.0, " m");
         self.gait().validate()
     }
 }
@@ -133,7 +154,13 @@ pub fn simulate_tower_walk(
     config.validate()?;
     let mut rng = Pcg64Mcg::seed_from_u64(seed);
     let needed = config.minutes * 60.0 * config.step_frequency * config.step_length_mean * 1.2;
-    let (start_level, waypoints) = plan_tour(tower, config, needed, &mut rng);
+    let (start_level, waypoints) = match config.tour {
+        TourKind::Random => plan_tour(tower, config, needed, &mut rng),
+        TourKind::Survey => (
+            0,
+            super::survey_tour::survey_waypoints(tower, config.lane_spacing, config.room_margin),
+        ),
+    };
     let cap = (tower.config.corridor_width / 2.0).min(tower.config.lane_width / 2.0);
     let route = Route::rounded(&waypoints, config.corner_radius.min(cap));
     let steps = (config.minutes * 60.0 * config.step_frequency).round() as usize;

@@ -45,6 +45,7 @@ const FEATURES: usize = 48;
 /// | `detection_floor`    | −96 dBm  | weaker readings are not reported                       |
 /// | `scan_interval`      | 2 s      | time between scans                                     |
 /// | `scan_jitter`        | 0.1      | relative jitter (1σ) of that interval                  |
+/// | `radio_seed`         | 1        | seed of the access points' places and the shadowing    |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct WifiSimConfig {
@@ -74,6 +75,10 @@ pub struct WifiSimConfig {
     pub scan_interval: f64,
     /// Relative jitter (1σ) of the scan interval.
     pub scan_jitter: f64,
+    /// Seed of the access points' places and the shadowing fields: walks simulated with
+    /// equal radio seeds (and buildings) share one radio environment, so a radio map
+    /// surveyed on one serves the others.
+    pub radio_seed: u64,
 }
 
 impl Default for WifiSimConfig {
@@ -92,6 +97,7 @@ impl Default for WifiSimConfig {
             detection_floor: -96.0,
             scan_interval: 2.0,
             scan_jitter: 0.1,
+            radio_seed: 1,
         }
     }
 }

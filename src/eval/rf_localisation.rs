@@ -1,0 +1,159 @@
+//! Scoring RF-assisted localisation against localisation without a radio map on the same
+//! simulated walks (Woodman & Harle 2009, sec. 6), and scoring a surveyed radio map against
+//! the simulator's expected RSSI field.
+
+use super::tracking::{TrackingScore, score_tracking};
+use crate::error::Result;
+use crate::filter::{RfLocaliser, RfTracker, StartPose, TrackStep, Tracker, TrackerConfig};
+use crate::filter::survey_walk;
+use crate::map::{CellMap, FloorTopology, RadioMap};
+use crate::sim::{RadioWorld, TowerSimulation, expected_field};
+use serde::Serialize;
+
+/// One walk localised with and without the radio map.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RfComparison {
+    /// Steps of the walk.
+    pub steps: usize,
+    /// Without the radio map: uniform prior, steps only.
+    pub plain: TrackingScore,
+    /// Particles of the uniform prior.
+    pub plain_initial: usize,
+    /// With the radio map.
+    pub rf: TrackingScore,
+    /// Particles of the prior drawn in `R_prior` (`None` if no scan came).
+    pub rf_initial: Option<usize>,
+}
+
+impl RfComparison {
+    /// Steps to localise, counting a walk never localised as all its steps (a lower bound).
+    pub fn steps_or_all(score: &TrackingScore, steps: usize) -> usize {
+        score.steps_to_localise.unwrap_or(steps)
+    }
+
+    /// The RF run failed: never localised, or first localised in the wrong place.
+    pub fn rf_failed(&self) -> bool {
+        self.rf.steps_to_localise.is_none() || !self.rf.right_cluster
+    }
+}
+
+/// Tracks `sim` from its known start and surveys its scans into an empty map over `cells`.
+pub fn survey_simulation(
+    sim: &TowerSimulation,
+    topology: &FloorTopology,
+    cells: &CellMap,
+    config: &TrackerConfig,
+) -> Result<RadioMap> {
+    let config = TrackerConfig {
+        start: Some(StartPose {
+            x: sim.start.x,
+            y: sim.start.y,
+            heading: sim.start.heading,
+            level: Some(sim.start.level),
+        }),
+        ..config.clone()
+    };
+    let mut tracker = Tracker::new(topology, &config)?;
+    let reports: Vec<TrackStep> = sim
+        .steps
+        .steps()
+        .iter()
+        .map(|s| tracker.update(s))
+        .collect::<Result<_>>()?;
+    let mut map = RadioMap::empty(cells);
+    survey_walk(&mut map, cells, topology, &reports, &sim.wifi);
+    Ok(map)
+}
+
+/// Localises `sim`'s walk from an unknown start twice with the same seed: without the radio
+/// map, and with `rf`.
+pub fn compare_localisation(
+    sim: &TowerSimulation,
+    topology: &FloorTopology,
+    rf: &RfLocaliser,
+    config: &TrackerConfig,
+) -> Result<RfComparison> {
+    let config = TrackerConfig {
+        start: None,
+        ..config.clone()
+    };
+    let mut plain = Tracker::new(topology, &config)?;
+    let plain_initial = plain.initial_particles();
+    let reports: Vec<TrackStep> = sim
+        .steps
+        .steps()
+        .iter()
+        .map(|s| plain.update(s))
+        .collect::<Result<_>>()?;
+    let plain_score = score_tracking(&sim.truth.poses, &reports);
+    drop(plain);
+    let mut tracker = RfTracker::new(topology, &config, rf, &sim.wifi)?;
+    let reports: Vec<TrackStep> = sim
+        .steps
+        .steps()
+        .iter()
+        .map(|s| tracker.update(s))
+        .collect::<Result<_>>()?;
+    Ok(RfComparison {
+        steps: sim.steps.len(),
+        plain: plain_score,
+        plain_initial,
+        rf: score_tracking(&sim.truth.poses, &reports),
+        rf_initial: tracker.initial_particles(),
+    })
+}
+
+/// RMS difference, dB, between each cell's mean RSSI and the expected field averaged over
+/// the cell's points of a `spacing` grid, over the (cell, access point) pairs with at least
+/// `min_readings` readings and no misses (near the detection floor the mean of the readings
+/// heard is biased upwards); with the number of pairs.
+pub fn radio_map_rms(
+    map: &RadioMap,
+    cells: &CellMap,
+    topology: &FloorTopology,
+    world: &RadioWorld,
+    spacing: f64,
+    min_readings: u32,
+) -> (f64, usize) {
+    let field = expected_field(world, topology, spacing);
+    let mut sums = vec![(0.0, 0usize); map.cells.len()];
+    let mut per_cell: Vec<Vec<f64>> = vec![vec![0.0; world.access_points().len()]; map.cells.len()];
+    for (level, x, y, rssi) in &field {
+        let Some(c) = topology
+            .locate(*x, *y, Some(*level), None)
+            .and_then(|s| cells.cell_at(s, *x, *y))
+        else {
+            continue;
+        };
+        sums[c].1 += 1;
+        for (acc, r) in per_cell[c].iter_mut().zip(rssi) {
+            *acc += r;
+        }
+    }
+    let mut squared = 0.0;
+    let mut pairs = 0;
+    for (c, cell) in map.cells.iter().enumerate() {
+        let points = sums[c].1;
+        if points == 0 {
+            continue;
+        }
+        for (a, ap) in world.access_points().iter().enumerate() {
+            let Some(stats) = cell.radio.aps.get(&ap.bssid) else {
+                continue;
+            };
+            if stats.n < min_readings || cell.radio.misses(&ap.bssid) > 0 {
+                continue;
+            }
+            let Some(mean) = stats.mean() else { continue };
+            let expected = per_cell[c][a] / points as f64;
+            squared += (mean - expected).powi(2);
+            pairs += 1;
+        }
+    }
+    let rms = if pairs > 0 {
+        (squared / pairs as f64).sqrt()
+    } else {
+        f64::NAN
+    };
+    (rms, pairs)
+}

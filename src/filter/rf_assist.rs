@@ -1,0 +1,239 @@
+//! RF-assisted localisation with a radio map (Woodman & Harle 2009, sec. 5): a prior region
+//! from the first scan, then a WiFi measurement at every step.
+//!
+//! * **prior** — `R_prior = ∪ Cell_i | ndist(z_0, c_i) < ε` (eq. 2): particles are drawn only
+//!   there ([`super::Tracker::new_in_region`]), KLD-sized;
+//! * **containment** (the paper's choice) — at each step the region `R_t` of the latest scan
+//!   (eq. 12) weights particles 1 inside and `outside_weight` outside (eq. 13 with 0);
+//! * **probabilistic** (the paper's alternative) — each scan once, `p(z_t | c_i)` of the cell
+//!   a particle stands in (eq. 14, [`crate::model::wifi_likelihood`]), relative to the
+//!   likeliest cell and floored at `likelihood_floor`.
+//!
+//! Cells without scans (not surveyed) and places in no cell are always inside: what the map
+//! does not know cannot rule a place out. A measurement no particle survives is ignored,
+//! and a global re-initialisation draws its prior in the latest scan's `R_prior`.
+
+use crate::error::{Error, Result};
+use crate::map::{CellField, CellRaster, FloorTopology, RadioMap};
+use crate::model::wifi_distance::Fingerprints;
+use crate::model::wifi_likelihood::{HistogramLikelihood, LikelihoodConfig};
+use crate::sensor::WifiScan;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// How WiFi weights the particles after the prior.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RfMode {
+    /// Containment regions at every step (eqs. 12–13).
+    #[default]
+    Containment,
+    /// The histogram likelihood of each scan (eq. 14).
+    Probabilistic,
+    /// The prior region only.
+    PriorOnly,
+}
+
+/// RF-assisted localisation's parameters; every default in one place.
+///
+/// | field              | default  | meaning                                                 |
+/// |--------------------|----------|---------------------------------------------------------|
+/// | `mode`             | containment | containment (eqs. 12–13), probabilistic (eq. 14) or prior only |
+/// | `epsilon`          | 9.5 dBm  | region threshold on `ndist` (eqs. 2, 12; the paper's)   |
+/// | `missing_rssi`     | −96 dBm  | fill for missing readings (the receiver's floor)         |
+/// | `outside_weight`   | 0        | containment weight outside `R_t` (eq. 13: 0)             |
+/// | `likelihood_floor` | 1e-6     | probabilistic: least weight relative to the likeliest cell |
+/// | `min_scans`        | 1        | cells with fewer scans are unknown (always inside)       |
+/// | `max_scan_age`     | 5 s      | a scan older than this at a step is not used             |
+/// | `raster`           | 0.25 m   | grid of the point-to-cell lookup                         |
+/// | `likelihood`       | see [`LikelihoodConfig`] | eq. 14's histogram smoothing              |
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RfConfig {
+    /// Measurement after the prior.
+    pub mode: RfMode,
+    /// Region threshold `ε` on the normalised distance, dBm.
+    pub epsilon: f64,
+    /// Fill for missing readings, dBm.
+    pub missing_rssi: f64,
+    /// Containment: weight of a particle outside the region (0 = eq. 13).
+    pub outside_weight: f64,
+    /// Probabilistic: least weight of a cell relative to the likeliest.
+    pub likelihood_floor: f64,
+    /// Cells with fewer scans are unknown.
+    pub min_scans: u32,
+    /// Oldest usable scan at a step, seconds.
+    pub max_scan_age: f64,
+    /// Side of the point-to-cell grid, metres.
+    pub raster: f64,
+    /// The histogram likelihood (eq. 14).
+    pub likelihood: LikelihoodConfig,
+}
+
+impl Default for RfConfig {
+    fn default() -> Self {
+        Self {
+            mode: RfMode::Containment,
+            epsilon: 9.5,
+            missing_rssi: -96.0,
+            outside_weight: 0.0,
+            likelihood_floor: 1e-6,
+            min_scans: 1,
+            max_scan_age: 5.0,
+            raster: 0.25,
+            likelihood: LikelihoodConfig::default(),
+        }
+    }
+}
+
+impl RfConfig {
+    /// Checks every field against its documented range.
+    pub fn validate(&self) -> Result<()> {
+        let check = |field: &'static str, v: f64, lo: f64, hi: f64, reason: &'static str| {
+            if v.is_finite() && (lo..=hi).contains(&v) {
+                Ok(())
+            } else {
+                Err(Error::Config {
+                    field,
+                    value: v.to_string(),
+                    reason,
+                })
+            }
+        };
+        check("rf.epsilon", self.epsilon, 0.0, 200.0, "must be in [0, 200] dBm")?;
+        check(
+            "rf.missing_rssi",
+            self.missing_rssi,
+            -150.0,
+            -20.0,
+            "must be in [-150, -20] dBm",
+        )?;
+        check(
+            "rf.outside_weight",
+            self.outside_weight,
+            0.0,
+            1.0,
+            "must be in [0, 1]",
+        )?;
+        check(
+            "rf.likelihood_floor",
+            self.likelihood_floor,
+            0.0,
+            1.0,
+            "must be in [0, 1]",
+        )?;
+        check(
+            "rf.max_scan_age",
+            self.max_scan_age,
+            0.0,
+            3600.0,
+            "must be in [0, 3600] seconds",
+        )?;
+        check("rf.raster", self.raster, 0.05, 5.0, "must be in [0.05, 5] metres")?;
+        check(
+            "rf.likelihood.kernel_sigma",
+            self.likelihood.kernel_sigma,
+            0.1,
+            50.0,
+            "must be in [0.1, 50] dB",
+        )?;
+        check(
+            "rf.likelihood.outlier",
+            self.likelihood.outlier,
+            0.0,
+            1.0,
+            "must be in [0, 1]",
+        )
+    }
+}
+
+/// A radio map made ready for localisation on a plan: its cells rasterised, their
+/// fingerprints and histograms.
+#[derive(Debug, Clone)]
+pub struct RfLocaliser {
+    config: RfConfig,
+    raster: Arc<CellRaster>,
+    prints: Fingerprints,
+    likelihood: HistogramLikelihood,
+}
+
+impl RfLocaliser {
+    /// Prepares `map` (cells in the plan's local frame) for tracking on `topology`.
+    pub fn new(map: &RadioMap, topology: &FloorTopology, config: &RfConfig) -> Result<Self> {
+        config.validate()?;
+        let raster = CellRaster::build(map, topology.bounds(), topology.levels(), config.raster)?;
+        let prints = Fingerprints::new(map, config.missing_rssi, config.min_scans);
+        if prints.access_points() == 0 {
+            return Err(Error::Input(
+                "the radio map has no access point readings".into(),
+            ));
+        }
+        Ok(Self {
+            config: *config,
+            raster: Arc::new(raster),
+            prints,
+            likelihood: HistogramLikelihood::new(map, &config.likelihood, config.min_scans),
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &RfConfig {
+        &self.config
+    }
+
+    /// Whether each cell is in the scan's region (eqs. 2, 12); unknown cells are.
+    pub fn in_region(&self, scan: &WifiScan) -> Vec<bool> {
+        self.prints
+            .ndist(scan)
+            .into_iter()
+            .map(|d| d.is_none_or(|d| d < self.config.epsilon))
+            .collect()
+    }
+
+    /// `R_prior` of `scan` (eq. 2): 0 inside, −∞ outside.
+    pub fn prior_region(&self, scan: &WifiScan) -> CellField {
+        self.field(
+            self.in_region(scan)
+                .into_iter()
+                .map(|inside| if inside { 0.0 } else { f32::NEG_INFINITY })
+                .collect(),
+        )
+    }
+
+    /// The measurement of `scan` for the configured mode: the containment region's
+    /// log-weights (eq. 13) or the cells' relative log-likelihoods (eq. 14); `None` for
+    /// [`RfMode::PriorOnly`].
+    pub fn measurement(&self, scan: &WifiScan) -> Option<CellField> {
+        match self.config.mode {
+            RfMode::PriorOnly => None,
+            RfMode::Containment => {
+                let outside = self.config.outside_weight.ln() as f32;
+                Some(
+                    self.field(
+                        self.in_region(scan)
+                            .into_iter()
+                            .map(|inside| if inside { 0.0 } else { outside })
+                            .collect(),
+                    ),
+                )
+            }
+            RfMode::Probabilistic => {
+                let ll = self.likelihood.log_likelihood(scan);
+                let best = ll.iter().flatten().copied().fold(f64::NEG_INFINITY, f64::max);
+                let floor = self.config.likelihood_floor.ln();
+                Some(
+                    self.field(
+                        ll.into_iter()
+                            .map(|l| l.map_or(0.0, |l| (l - best).max(floor) as f32))
+                            .collect(),
+                    ),
+                )
+            }
+        }
+    }
+
+    fn field(&self, values: Vec<f32>) -> CellField {
+        debug_assert_eq!(values.len(), self.raster.cells());
+        CellField::new(self.raster.clone(), values, 0.0)
+    }
+}

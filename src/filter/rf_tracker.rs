@@ -1,0 +1,123 @@
+//! The known-map tracker driven by step events and WiFi scans together (Woodman & Harle
+//! 2009, sec. 5): the filter starts at the first scan with its prior drawn in that scan's
+//! region `R_prior` (eq. 2) — or about a known start — and every step then carries the
+//! latest scan's measurement ([`super::rf_assist`]).
+//!
+//! Steps before the first scan come before any WiFi information; without a known start they
+//! are reported without particles (and count towards the steps to localise).
+
+use super::rf_assist::{RfLocaliser, RfMode};
+use super::tracker::{TrackStep, Tracker};
+use super::tracker_config::TrackerConfig;
+use crate::error::{Error, Result};
+use crate::map::{CellField, FloorTopology};
+use crate::sensor::{Step, WifiScan};
+
+/// A [`Tracker`] fed with WiFi scans through a radio map.
+#[derive(Debug)]
+pub struct RfTracker<'a> {
+    topology: &'a FloorTopology,
+    config: TrackerConfig,
+    rf: &'a RfLocaliser,
+    scans: &'a [WifiScan],
+    tracker: Option<Tracker<'a>>,
+    /// `scans[..next_scan]` are at or before the last step.
+    next_scan: usize,
+    /// The latest usable scan's index and its measurement.
+    current: Option<(usize, Option<CellField>)>,
+    /// The last scan applied (probabilistic mode applies each scan once).
+    applied: Option<usize>,
+}
+
+impl<'a> RfTracker<'a> {
+    /// A tracker on `topology` using `rf`'s radio map with `scans` (in time order, on the
+    /// step trace's clock).
+    pub fn new(
+        topology: &'a FloorTopology,
+        config: &TrackerConfig,
+        rf: &'a RfLocaliser,
+        scans: &'a [WifiScan],
+    ) -> Result<Self> {
+        config.validate()?;
+        if let Some(w) = scans.windows(2).find(|w| w[1].t < w[0].t) {
+            return Err(Error::Input(format!(
+                "WiFi scans are not in time order (t = {} after t = {})",
+                w[1].t, w[0].t
+            )));
+        }
+        let tracker = match config.start {
+            Some(_) => Some(Tracker::new(topology, config)?),
+            None => None,
+        };
+        Ok(Self {
+            topology,
+            config: config.clone(),
+            rf,
+            scans,
+            tracker,
+            next_scan: 0,
+            current: None,
+            applied: None,
+        })
+    }
+
+    /// The tracker, once started.
+    pub fn tracker(&self) -> Option<&Tracker<'a>> {
+        self.tracker.as_ref()
+    }
+
+    /// Particles of the prior, once started.
+    pub fn initial_particles(&self) -> Option<usize> {
+        self.tracker.as_ref().map(Tracker::initial_particles)
+    }
+
+    /// Processes one step with the latest scan at or before it.
+    pub fn update(&mut self, step: &Step) -> Result<TrackStep> {
+        while self.next_scan < self.scans.len() && self.scans[self.next_scan].t <= step.t {
+            self.next_scan += 1;
+        }
+        let max_age = self.rf.config().max_scan_age;
+        let latest = self
+            .next_scan
+            .checked_sub(1)
+            .filter(|&i| step.t - self.scans[i].t <= max_age);
+        if let Some(i) = latest
+            && self.current.as_ref().is_none_or(|c| c.0 != i)
+        {
+            let scan = &self.scans[i];
+            let prior = self.rf.prior_region(scan);
+            match self.tracker.as_mut() {
+                Some(t) => t.set_region(Some(prior)),
+                None => {
+                    self.tracker = Some(Tracker::new_in_region(
+                        self.topology,
+                        &self.config,
+                        Some(prior),
+                    )?);
+                }
+            }
+            self.current = Some((i, self.rf.measurement(scan)));
+        }
+        let Some(tracker) = self.tracker.as_mut() else {
+            return Ok(TrackStep {
+                t: step.t,
+                particles: 0,
+                clusters: None,
+                estimate: None,
+                localised: false,
+                recovery: None,
+            });
+        };
+        let measurement = match (latest, &self.current) {
+            (Some(i), Some((j, m))) if i == *j => match self.rf.config().mode {
+                RfMode::Probabilistic if self.applied == Some(i) => None,
+                _ => {
+                    self.applied = Some(i);
+                    m.as_ref()
+                }
+            },
+            _ => None,
+        };
+        tracker.update_with(step, measurement)
+    }
+}

@@ -1,0 +1,218 @@
+//! Which radio-map cell holds a point, in O(1): the cells' polygons (any shapes, from this
+//! crate's [`super::CellMap`] or another tool's map) rasterised once per level on a fine grid,
+//! since every particle looks up its cell at every step of RF-assisted localisation.
+//!
+//! A grid square belongs to the first cell whose floor contains (or touches) its centre; a
+//! point of no cell (outside the map, or in a sliver between cells narrower than the grid)
+//! has none. [`CellField`] puts one value on every cell of a raster, such as a measurement's
+//! log-weight.
+
+use super::radio_map::RadioMap;
+use crate::error::{Error, Result};
+use geo::{BoundingRect, Intersects, Point};
+use std::sync::Arc;
+
+/// Marks grid squares of no cell.
+const NONE: u32 = u32::MAX;
+
+/// The cell of every grid square of every level.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellRaster {
+    /// West and south edges of the grid, metres.
+    origin: [f64; 2],
+    /// Side of a grid square, metres.
+    resolution: f64,
+    nx: usize,
+    ny: usize,
+    /// Lowest and highest level.
+    levels: (i32, i32),
+    /// Cell index per square, level by level, row by row.
+    squares: Vec<u32>,
+    /// Cells of the map.
+    cells: usize,
+}
+
+impl CellRaster {
+    /// Rasterises `map`'s cells over `bounds` (min x, min y, max x, max y, local metres) for
+    /// levels `levels.0..=levels.1` with squares of `resolution` metres. Cells on other
+    /// levels or outside the bounds are left out; an error when no cell falls inside.
+    pub fn build(
+        map: &RadioMap,
+        bounds: [f64; 4],
+        levels: (i32, i32),
+        resolution: f64,
+    ) -> Result<Self> {
+        if !(resolution.is_finite() && resolution > 0.0)
+            || bounds.iter().any(|b| !b.is_finite())
+            || bounds[2] < bounds[0]
+            || bounds[3] < bounds[1]
+            || levels.1 < levels.0
+        {
+            return Err(Error::Input(format!(
+                "cannot rasterise radio-map cells over bounds {bounds:?}, levels {levels:?} at {resolution} m"
+            )));
+        }
+        let nx = ((bounds[2] - bounds[0]) / resolution).ceil() as usize + 1;
+        let ny = ((bounds[3] - bounds[1]) / resolution).ceil() as usize + 1;
+        let n_levels = (levels.1 - levels.0 + 1) as usize;
+        let size = nx
+            .checked_mul(ny)
+            .and_then(|s| s.checked_mul(n_levels))
+            .filter(|&s| s <= 1 << 30)
+            .ok_or_else(|| {
+                Error::Input(format!(
+                    "a {resolution} m raster of {nx} × {ny} squares on {n_levels} levels is too large"
+                ))
+            })?;
+        let mut squares = vec![NONE; size];
+        let mut placed = 0usize;
+        for (c, cell) in map.cells.iter().enumerate() {
+            if cell.level < levels.0 || cell.level > levels.1 {
+                continue;
+            }
+            let Some(b) = cell.area.bounding_rect() else {
+                continue;
+            };
+            let li = (cell.level - levels.0) as usize;
+            let index = |v: f64, lo: f64, n: usize| {
+                (((v - lo) / resolution).floor().max(0.0) as usize).min(n - 1)
+            };
+            let (i0, i1) = (index(b.min().x, bounds[0], nx), index(b.max().x, bounds[0], nx));
+            let (j0, j1) = (index(b.min().y, bounds[1], ny), index(b.max().y, bounds[1], ny));
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    let k = (li * ny + j) * nx + i;
+                    if squares[k] != NONE {
+                        continue;
+                    }
+                    let centre = Point::new(
+                        bounds[0] + (i as f64 + 0.5) * resolution,
+                        bounds[1] + (j as f64 + 0.5) * resolution,
+                    );
+                    if cell.area.intersects(&centre) {
+                        squares[k] = c as u32;
+                        placed += 1;
+                    }
+                }
+            }
+        }
+        if placed == 0 {
+            return Err(Error::Input(
+                "no radio-map cell lies on the floor plan (a map of another building, or another origin?)"
+                    .into(),
+            ));
+        }
+        Ok(Self {
+            origin: [bounds[0], bounds[1]],
+            resolution,
+            nx,
+            ny,
+            levels,
+            squares,
+            cells: map.cells.len(),
+        })
+    }
+
+    /// Number of cells of the map rasterised.
+    pub fn cells(&self) -> usize {
+        self.cells
+    }
+
+    /// The cell holding `(x, y)` on `level`, if any.
+    #[inline]
+    pub fn cell_at(&self, level: i32, x: f32, y: f32) -> Option<usize> {
+        if level < self.levels.0 || level > self.levels.1 {
+            return None;
+        }
+        let fx = (f64::from(x) - self.origin[0]) / self.resolution;
+        let fy = (f64::from(y) - self.origin[1]) / self.resolution;
+        if !(fx >= 0.0 && fy >= 0.0) {
+            return None;
+        }
+        let (i, j) = (fx as usize, fy as usize);
+        if i >= self.nx || j >= self.ny {
+            return None;
+        }
+        let li = (level - self.levels.0) as usize;
+        let c = self.squares[(li * self.ny + j) * self.nx + i];
+        (c != NONE).then_some(c as usize)
+    }
+}
+
+/// One value per cell of a raster (e.g. a measurement's log-weight), with a value for points
+/// of no cell.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellField {
+    raster: Arc<CellRaster>,
+    values: Vec<f32>,
+    elsewhere: f32,
+}
+
+impl CellField {
+    /// `values[c]` on cell `c`, `elsewhere` off every cell (and on cells past the end of
+    /// `values`; values past the raster's cells are dropped).
+    pub fn new(raster: Arc<CellRaster>, mut values: Vec<f32>, elsewhere: f32) -> Self {
+        values.resize(raster.cells(), elsewhere);
+        Self {
+            raster,
+            values,
+            elsewhere,
+        }
+    }
+
+    /// The value at `(x, y)` on `level`.
+    #[inline]
+    pub fn at(&self, level: i32, x: f32, y: f32) -> f32 {
+        self.raster
+            .cell_at(level, x, y)
+            .map_or(self.elsewhere, |c| self.values[c])
+    }
+
+    /// The values per cell.
+    pub fn values(&self) -> &[f32] {
+        &self.values
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::{CellRadio, RadioMapCell};
+    use geo::{MultiPolygon, Rect};
+
+    fn cell(id: &str, level: i32, r: Rect<f64>) -> RadioMapCell {
+        RadioMapCell {
+            id: id.into(),
+            level,
+            area: MultiPolygon::new(vec![r.to_polygon()]),
+            radio: CellRadio::default(),
+        }
+    }
+
+    #[test]
+    fn points_find_their_cell_on_their_level() {
+        let map = RadioMap {
+            cells: vec![
+                cell("a", 0, Rect::new((0.0, 0.0), (3.0, 2.0))),
+                cell("b", 0, Rect::new((3.0, 0.0), (6.0, 2.0))),
+                cell("c", 1, Rect::new((0.0, 0.0), (6.0, 2.0))),
+                cell("far", 5, Rect::new((0.0, 0.0), (6.0, 2.0))),
+            ],
+        };
+        let r = CellRaster::build(&map, [0.0, 0.0, 6.0, 2.0], (0, 1), 0.25).expect("raster");
+        assert_eq!(r.cell_at(0, 1.0, 1.0), Some(0));
+        assert_eq!(r.cell_at(0, 4.0, 1.9), Some(1));
+        assert_eq!(r.cell_at(1, 4.0, 1.0), Some(2));
+        assert_eq!(r.cell_at(2, 1.0, 1.0), None);
+        assert_eq!(r.cell_at(0, -1.0, 1.0), None);
+        assert_eq!(r.cell_at(0, 1.0, 7.0), None);
+        let field = CellField::new(Arc::new(r), vec![1.0, 2.0], -1.0);
+        assert_eq!(field.at(0, 4.0, 1.0), 2.0);
+        assert_eq!(field.at(1, 4.0, 1.0), -1.0);
+        assert_eq!(field.at(3, 4.0, 1.0), -1.0);
+        let elsewhere = RadioMap {
+            cells: vec![cell("x", 0, Rect::new((100.0, 100.0), (103.0, 102.0)))],
+        };
+        assert!(CellRaster::build(&elsewhere, [0.0, 0.0, 6.0, 2.0], (0, 1), 0.25).is_err());
+    }
+}

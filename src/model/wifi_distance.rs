@@ -1,0 +1,155 @@
+//! The normalised RSSI distance between a scan and a radio-map cell (Woodman & Harle 2009,
+//! sec. 5.1, eqs. 2–11), the basis of the prior region `R_prior` (eq. 2) and the containment
+//! regions `R_t` (eq. 12).
+//!
+//! A cell's fingerprint `c_i` is the mean RSSI of every access point it heard. The distance is
+//! Euclidean over the access points of the map, missing readings in both the scan and the
+//! cell filled with the weakest measurable RSSI, and divided by the number of access points
+//! visible from the cell, so that a strong access point missing from the scan (body
+//! shadowing) costs less than one missing from the cell (eqs. 6–11). Access points the map
+//! never heard carry no information about place and are left out.
+
+use crate::map::RadioMap;
+use crate::sensor::WifiScan;
+use rustc_hash::FxHashMap;
+
+/// Mean-RSSI fingerprints of a radio map's cells.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fingerprints {
+    /// Column of each access point of the map.
+    columns: FxHashMap<String, usize>,
+    /// Per cell: the mean RSSI per access point (`missing` where not heard) and the number
+    /// of access points heard; `None` for cells without scans (nothing known).
+    cells: Vec<Option<(Vec<f64>, usize)>>,
+    /// The fill for missing readings, dBm.
+    missing: f64,
+}
+
+impl Fingerprints {
+    /// The fingerprints of `map`'s cells; cells with fewer than `min_scans` scans (at least
+    /// one) are unknown. Readings weaker than `missing_rssi` count as `missing_rssi`.
+    pub fn new(map: &RadioMap, missing_rssi: f64, min_scans: u32) -> Self {
+        let mut bssids: Vec<&String> = map.cells.iter().flat_map(|c| c.radio.aps.keys()).collect();
+        bssids.sort();
+        bssids.dedup();
+        let columns: FxHashMap<String, usize> = bssids
+            .iter()
+            .enumerate()
+            .map(|(i, b)| ((*b).clone(), i))
+            .collect();
+        let cells = map
+            .cells
+            .iter()
+            .map(|c| {
+                if c.radio.scans < min_scans.max(1) {
+                    return None;
+                }
+                let mut means = vec![missing_rssi; columns.len()];
+                let mut visible = 0;
+                for (bssid, stats) in &c.radio.aps {
+                    if let (Some(&col), Some(mean)) = (columns.get(bssid), stats.mean()) {
+                        means[col] = mean.max(missing_rssi);
+                        visible += 1;
+                    }
+                }
+                Some((means, visible))
+            })
+            .collect();
+        Self {
+            columns,
+            cells,
+            missing: missing_rssi,
+        }
+    }
+
+    /// Number of access points of the map.
+    pub fn access_points(&self) -> usize {
+        self.columns.len()
+    }
+
+    /// The scan as a vector over the map's access points (`missing` where not heard).
+    pub fn scan_vector(&self, scan: &WifiScan) -> Vec<f64> {
+        let mut z = vec![self.missing; self.columns.len()];
+        for r in &scan.readings {
+            if let Some(&col) = self.columns.get(&r.bssid) {
+                z[col] = r.rssi.max(self.missing);
+            }
+        }
+        z
+    }
+
+    /// `ndist(z, c_i)` for every cell (eqs. 2–11), `None` for unknown cells.
+    pub fn ndist(&self, scan: &WifiScan) -> Vec<Option<f64>> {
+        let z = self.scan_vector(scan);
+        self.cells
+            .iter()
+            .map(|c| c.as_ref().map(|(means, visible)| ndist(&z, means, *visible)))
+            .collect()
+    }
+}
+
+/// The normalised distance of eqs. 8 and 11: the Euclidean distance between the filled
+/// vectors `z` and `c`, divided by the number of access points visible from the cell (at
+/// least one).
+pub fn ndist(z: &[f64], c: &[f64], visible: usize) -> f64 {
+    debug_assert_eq!(z.len(), c.len());
+    let squared: f64 = z.iter().zip(c).map(|(a, b)| (a - b) * (a - b)).sum();
+    squared.sqrt() / visible.max(1) as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::{CellRadio, RadioMapCell};
+    use crate::sensor::WifiReading;
+    use geo::MultiPolygon;
+
+    fn scan(readings: &[(&str, f64)]) -> WifiScan {
+        WifiScan {
+            t: 0.0,
+            readings: readings
+                .iter()
+                .map(|&(b, rssi)| WifiReading {
+                    bssid: b.into(),
+                    rssi,
+                    ssid: None,
+                    freq: None,
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn the_papers_examples() {
+        // Eqs. 6–8: the scan misses an access point the cell hears: 7.1 dBm.
+        let d = ndist(&[-82.0, -73.0, -96.0], &[-84.0, -75.0, -75.0], 3);
+        assert!((d - 7.06).abs() < 0.01, "{d}");
+        // Eqs. 9–11: the cell misses one the scan hears: 10.6 dBm.
+        let d = ndist(&[-84.0, -75.0, -75.0], &[-82.0, -73.0, -96.0], 2);
+        assert!((d - 10.6).abs() < 0.01, "{d}");
+    }
+
+    #[test]
+    fn fingerprints_fill_missing_readings_and_skip_unknown_cells_and_aps() {
+        let mut heard = CellRadio::default();
+        heard.add_scan(&scan(&[("a", -84.0), ("b", -75.0)]));
+        heard.add_scan(&scan(&[("a", -84.0), ("b", -75.0), ("c", -99.0)]));
+        let cell = |radio| RadioMapCell {
+            id: "x".into(),
+            level: 0,
+            area: MultiPolygon::new(Vec::new()),
+            radio,
+        };
+        let map = RadioMap {
+            cells: vec![cell(heard), cell(CellRadio::default())],
+        };
+        let prints = Fingerprints::new(&map, -96.0, 1);
+        assert_eq!(prints.access_points(), 3);
+        // "zz" is unknown to the map and left out; "c" (heard below the floor) counts as −96.
+        let d = prints.ndist(&scan(&[("a", -82.0), ("b", -73.0), ("zz", -40.0)]));
+        assert_eq!(d.len(), 2);
+        assert!((d[0].expect("known") - 8f64.sqrt() / 3.0).abs() < 1e-9);
+        assert_eq!(d[1], None);
+        assert_eq!(Fingerprints::new(&map, -96.0, 3).ndist(&scan(&[]))[0], None);
+    }
+}

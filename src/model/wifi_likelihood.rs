@@ -1,0 +1,214 @@
+//! The probabilistic WiFi measurement of Woodman & Harle 2009, sec. 5.3, eq. 14:
+//! `p(z_t | s_t) = p(z_t | c_i)` for the cell `i` the particle stands in, computed from the
+//! cell's histograms.
+//!
+//! Access points are taken as independent. For access point `a` of the map in a cell with
+//! `S` scans of which `n_a` heard it:
+//!
+//! * heard in the scan at `r` dBm: `P(heard) · ((1 − β) · K(r) + β · U)`, where `K` is the
+//!   cell's histogram smoothed by a Gaussian kernel of `kernel_sigma` (a reading seen only a
+//!   few times in a cell still makes nearby values likely) and `U` a uniform density over
+//!   the receiver's range (an outlier share `β` bounds what one reading can cost);
+//! * not heard: `1 − P(heard)`;
+//!
+//! with `P(heard) = (n_a + ½) / (S + 1)` (never 0 or 1: a cell's few scans cannot rule a
+//! sighting in or out). The paper prefers containment regions because such distributions
+//! change with the environment; `track --rf-mode` offers both and the README compares them.
+
+use crate::map::RadioMap;
+use crate::sensor::WifiScan;
+use rustc_hash::FxHashMap;
+use serde::{Deserialize, Serialize};
+
+/// Width of the uniform outlier density's range, dB (−96 to −16 dBm or so).
+const RSSI_RANGE: f64 = 80.0;
+
+/// The histogram likelihood's parameters; every default in one place.
+///
+/// | field          | default | meaning                                               |
+/// |----------------|---------|-------------------------------------------------------|
+/// | `kernel_sigma` | 4 dB    | Gaussian smoothing of each histogram                  |
+/// | `outlier`      | 0.05    | share `β` of a reading explained by a uniform density |
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LikelihoodConfig {
+    /// Gaussian smoothing of each histogram, dB.
+    pub kernel_sigma: f64,
+    /// Share of a reading explained by a uniform density over the receiver's range.
+    pub outlier: f64,
+}
+
+impl Default for LikelihoodConfig {
+    fn default() -> Self {
+        Self {
+            kernel_sigma: 4.0,
+            outlier: 0.05,
+        }
+    }
+}
+
+/// One access point's histogram in one cell: readings and their 1 dB bins.
+#[derive(Debug, Clone, PartialEq)]
+struct Histogram {
+    n: u32,
+    bins: Vec<(f64, f64)>,
+}
+
+/// The histograms of a radio map's cells, ready for eq. 14.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HistogramLikelihood {
+    config: LikelihoodConfig,
+    columns: FxHashMap<String, usize>,
+    /// Per cell: scans and a histogram per access point column (`None` for cells with fewer
+    /// scans than asked).
+    cells: Vec<Option<(u32, Vec<Option<Histogram>>)>>,
+}
+
+impl HistogramLikelihood {
+    /// The likelihood over `map`'s cells; cells with fewer than `min_scans` scans (at least
+    /// one) are unknown.
+    pub fn new(map: &RadioMap, config: &LikelihoodConfig, min_scans: u32) -> Self {
+        let mut bssids: Vec<&String> = map.cells.iter().flat_map(|c| c.radio.aps.keys()).collect();
+        bssids.sort();
+        bssids.dedup();
+        let columns: FxHashMap<String, usize> = bssids
+            .iter()
+            .enumerate()
+            .map(|(i, b)| ((*b).clone(), i))
+            .collect();
+        let cells = map
+            .cells
+            .iter()
+            .map(|c| {
+                if c.radio.scans < min_scans.max(1) {
+                    return None;
+                }
+                let mut hists = vec![None; columns.len()];
+                for (bssid, s) in &c.radio.aps {
+                    let Some(&col) = columns.get(bssid) else {
+                        continue;
+                    };
+                    let bins = if s.hist.is_empty() {
+                        // A map without histograms: its mean stands for every reading.
+                        s.mean()
+                            .map(|m| vec![(m, f64::from(s.n))])
+                            .unwrap_or_default()
+                    } else {
+                        s.hist
+                            .iter()
+                            .map(|(&b, &k)| (f64::from(b), f64::from(k)))
+                            .collect()
+                    };
+                    hists[col] = Some(Histogram { n: s.n, bins });
+                }
+                Some((c.radio.scans, hists))
+            })
+            .collect();
+        Self {
+            config: *config,
+            columns,
+            cells,
+        }
+    }
+
+    /// `ln p(z | c_i)` for every cell (eq. 14), `None` for unknown cells.
+    pub fn log_likelihood(&self, scan: &WifiScan) -> Vec<Option<f64>> {
+        let mut z: Vec<Option<f64>> = vec![None; self.columns.len()];
+        for r in &scan.readings {
+            if let Some(&col) = self.columns.get(&r.bssid) {
+                z[col] = Some(r.rssi);
+            }
+        }
+        let sigma = self.config.kernel_sigma.max(0.1);
+        let beta = self.config.outlier.clamp(0.0, 1.0);
+        let norm = 1.0 / (sigma * (2.0 * std::f64::consts::PI).sqrt());
+        self.cells
+            .iter()
+            .map(|cell| {
+                let (scans, hists) = cell.as_ref()?;
+                let s = f64::from(*scans);
+                let mut ll = 0.0;
+                for (reading, hist) in z.iter().zip(hists) {
+                    let n = hist.as_ref().map_or(0.0, |h| f64::from(h.n));
+                    let heard = (n + 0.5) / (s + 1.0);
+                    ll += match (reading, hist) {
+                        (None, _) => (1.0 - heard).ln(),
+                        (Some(r), hist) => {
+                            let kernel = hist.as_ref().map_or(0.0, |h| {
+                                let total: f64 = h.bins.iter().map(|b| b.1).sum();
+                                h.bins
+                                    .iter()
+                                    .map(|&(b, k)| k * (-0.5 * ((r - b) / sigma).powi(2)).exp())
+                                    .sum::<f64>()
+                                    * norm
+                                    / total.max(1.0)
+                            });
+                            (heard * ((1.0 - beta) * kernel + beta / RSSI_RANGE)).ln()
+                        }
+                    };
+                }
+                Some(ll)
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::{CellRadio, RadioMapCell};
+    use crate::sensor::WifiReading;
+    use geo::MultiPolygon;
+
+    fn scan(readings: &[(&str, f64)]) -> WifiScan {
+        WifiScan {
+            t: 0.0,
+            readings: readings
+                .iter()
+                .map(|&(b, rssi)| WifiReading {
+                    bssid: b.into(),
+                    rssi,
+                    ssid: None,
+                    freq: None,
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn the_cell_that_heard_it_so_is_the_likeliest() {
+        let cell = |readings: &[&[(&str, f64)]]| {
+            let mut radio = CellRadio::default();
+            for r in readings {
+                radio.add_scan(&scan(r));
+            }
+            RadioMapCell {
+                id: "c".into(),
+                level: 0,
+                area: MultiPolygon::new(Vec::new()),
+                radio,
+            }
+        };
+        let map = RadioMap {
+            cells: vec![
+                cell(&[&[("a", -60.0), ("b", -80.0)], &[("a", -62.0), ("b", -82.0)]]),
+                cell(&[&[("a", -80.0)], &[("a", -82.0)]]),
+                cell(&[]),
+            ],
+        };
+        let model = HistogramLikelihood::new(&map, &LikelihoodConfig::default(), 1);
+        let ll = model.log_likelihood(&scan(&[("a", -61.0), ("b", -81.0)]));
+        let (near, far) = (ll[0].expect("known"), ll[1].expect("known"));
+        assert!(near > far + 3.0, "{near} {far}");
+        assert_eq!(ll[2], None);
+        // Hand-computed for the first cell: a at −61 against bins −60, −62 (σ = 4 dB).
+        let k = (-0.5f64 * (1.0f64 / 4.0).powi(2)).exp() / (4.0 * (2.0 * std::f64::consts::PI).sqrt());
+        let pa = (2.5 / 3.0) * (0.95 * k + 0.05 / 80.0);
+        assert!((near - 2.0 * pa.ln()).abs() < 1e-9, "{near} {}", 2.0 * pa.ln());
+        // Not hearing b where it was always heard costs more than where it never was.
+        let ll = model.log_likelihood(&scan(&[("a", -61.0)]));
+        let missing_b = (1.0f64 - 2.5 / 3.0).ln();
+        assert!(missing_b < (1.0f64 - 0.5 / 3.0).ln());
+        assert!(ll[0].expect("known") < near);
+    }
+}
