@@ -30,10 +30,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some("prior") => RfMode::PriorOnly,
         Some(other) => return Err(format!("unknown mode {other}").into()),
     };
-    let mut survey = TowerSimConfig {
-        seed: 1000,
-        ..Default::default()
-    };
+    let mut rf_outside = 0.0;
+    let mut base = TowerSimConfig::default();
+    if let Ok(v) = std::env::var("APS") {
+        base.wifi.aps_per_floor = v.parse()?;
+    }
+    if let Ok(v) = std::env::var("OUTSIDE") {
+        rf_outside = v.parse()?;
+    }
+    let mut survey = TowerSimConfig { seed: 1000, ..base };
     survey.walk.tour = TourKind::Survey;
     survey.walk.minutes = 30.0;
     let started = Instant::now();
@@ -41,7 +46,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default())?;
     let cells = CellMap::build(&sim.plan, &topology, &Default::default())?;
     let tracker = TrackerConfig::default();
-    let map = survey_simulation(&sim, &topology, &cells, &tracker)?;
+    let map = survey_simulation(&sim, &topology, &cells, &tracker, -96.0, 0.001)?;
     let (coverage, scans) = map.coverage();
     let (rms, pairs) = radio_map_rms(&map, &cells, &topology, &sim.radio, 0.5, 3);
     let walk_s = sim.truth.poses.last().map_or(0.0, |p| p.t);
@@ -53,17 +58,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     let rf_config = RfConfig {
         mode,
+        outside_weight: rf_outside,
         ..Default::default()
     };
     let rf = RfLocaliser::new(&map, &topology, &rf_config)?;
+    println!("epsilon {:.2} dBm", rf.epsilon());
     let minutes = steps as f64 / 1.8 / 60.0;
     let results: Vec<(u64, RfComparison)> = (1..=starts)
         .into_par_iter()
         .map(|seed| {
-            let mut config = TowerSimConfig {
-                seed,
-                ..Default::default()
-            };
+            let mut config = TowerSimConfig { seed, ..base };
             config.walk.minutes = minutes;
             let sim = simulate_tower(&config).map_err(|e| e.to_string())?;
             let tracker = TrackerConfig {
@@ -92,6 +96,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             show(c.rf.steps_to_localise),
             c.rf.right_cluster
         );
+        if std::env::var("DETAIL").is_ok() {
+            println!("      rf errors {:?} floor {:?} deaths {}", c.rf.errors.as_ref().map(|e| (e.p50, e.p95, e.max)), c.rf.floor_accuracy, c.rf.deaths);
+        }
         plain += RfComparison::steps_or_all(&c.plain, c.steps);
         with += RfComparison::steps_or_all(&c.rf, c.steps);
         fails += usize::from(c.rf_failed());

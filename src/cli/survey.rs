@@ -12,7 +12,9 @@ use footslam::export::plan_png::{
     PlanCell, PlanPicture, PlanPictureConfig, viridis_rgb, write_plan_png,
 };
 use footslam::export::radio_map_geojson::{write_radio_map_csv, write_radio_map_geojson};
-use footslam::filter::{StartPose, TrackStep, Tracker, TrackerConfig, survey_walk};
+use footslam::filter::{
+    StartPose, TrackStep, Tracker, TrackerConfig, calibrate_map, survey_assignments, survey_walk,
+};
 use footslam::map::{CellConfig, CellMap, FloorTopology, RadioMap};
 use footslam::sensor::WifiScan;
 use serde::{Deserialize, Serialize};
@@ -61,13 +63,26 @@ pub struct Args {
 }
 
 /// The survey's configuration, written as `config.json`.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SurveyConfig {
     /// The tracker of every walk (its seed is the first walk's; walk `k` uses seed + k).
     pub tracker: TrackerConfig,
     /// Rooms and cells.
     pub cells: CellConfig,
+    /// Share of surveyed scans allowed outside their own cell's region when calibrating the
+    /// map's `ε` (default 0.001; the paper's ε gave 0.00028 per step on its building).
+    pub epsilon_miss: f64,
+}
+
+impl Default for SurveyConfig {
+    fn default() -> Self {
+        Self {
+            tracker: TrackerConfig::default(),
+            cells: CellConfig::default(),
+            epsilon_miss: 0.001,
+        }
+    }
 }
 
 #[derive(Debug, Serialize)]
@@ -77,8 +92,8 @@ struct WalkSummary {
     steps: usize,
     scans: usize,
     steps_to_localise: Option<usize>,
-    steps_added: usize,
-    steps_skipped: usize,
+    scans_added: usize,
+    scans_skipped: usize,
 }
 
 #[derive(Debug, Serialize)]
@@ -89,6 +104,8 @@ struct Summary {
     granularity_m: f64,
     coverage: f64,
     mean_scans_per_covered_cell: f64,
+    epsilon: Option<f64>,
+    ndist_leave_one_out_p50_p90_p99_max: [Option<f64>; 4],
     access_points: usize,
     runtime_s: f64,
     walk_duration_s: f64,
@@ -96,7 +113,7 @@ struct Summary {
     peak_memory_bytes: Option<u64>,
 }
 
-/// Cells, the radio map over them, and per walk the steps added and skipped.
+/// Cells, the radio map over them, and per walk the scans added and skipped.
 type Surveyed = (CellMap, RadioMap, Vec<(usize, usize)>);
 
 /// Runs `footslam survey`.
@@ -179,7 +196,25 @@ pub fn run(args: Args) -> Result<()> {
             .collect();
         Ok((cells, map, counts))
     };
-    let (cells, map, counts) = build(config.cells.granularity)?;
+    let (cells, mut map, counts) = build(config.cells.granularity)?;
+    if !(config.epsilon_miss.is_finite() && (0.0..=0.5).contains(&config.epsilon_miss)) {
+        bail!("epsilon_miss = {} must be in [0, 0.5]", config.epsilon_miss);
+    }
+    let assignments: Vec<(Vec<(usize, Option<usize>)>, &[WifiScan])> = runs
+        .iter()
+        .zip(&scans)
+        .map(|(reports, s)| (survey_assignments(&cells, &topology, reports, s), *s))
+        .collect();
+    let distances = calibrate_map(
+        &mut map,
+        &assignments,
+        config.tracker.rf.missing_rssi,
+        config.epsilon_miss,
+    );
+    let quantile = |q: f64| {
+        (!distances.is_empty())
+            .then(|| distances[((distances.len() - 1) as f64 * q).round() as usize])
+    };
 
     let folder = RunFolder::create(&output_dir(args.out, "survey"))?;
     write_radio_map_geojson(&folder.path("radiomap.geojson"), &map, &frame)?;
@@ -250,8 +285,8 @@ pub fn run(args: Args) -> Result<()> {
                     steps: trace.len(),
                     scans: wifi.len(),
                     steps_to_localise: reports.iter().position(|r| r.localised).map(|i| i + 1),
-                    steps_added: added,
-                    steps_skipped: skipped,
+                    scans_added: added,
+                    scans_skipped: skipped,
                 },
             )
             .collect(),
@@ -260,6 +295,13 @@ pub fn run(args: Args) -> Result<()> {
         granularity_m: config.cells.granularity,
         coverage: share,
         mean_scans_per_covered_cell: mean,
+        epsilon: map.epsilon,
+        ndist_leave_one_out_p50_p90_p99_max: [
+            quantile(0.5),
+            quantile(0.9),
+            quantile(0.99),
+            quantile(1.0),
+        ],
         access_points: bssids.len(),
         runtime_s: runtime,
         walk_duration_s: duration,

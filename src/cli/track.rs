@@ -5,11 +5,14 @@ use super::common::{
 };
 use anyhow::{Context, Result, bail};
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
-use footslam::dataset::{TrackPoint, read_steps, write_track};
+use footslam::dataset::{TrackPoint, read_steps, read_wifi, write_track};
+use footslam::export::radio_map_geojson::read_radio_map_geojson;
 use footslam::export::RunFolder;
 use footslam::export::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, PlanPoints};
 use footslam::export::track_geojson::write_track_geojson;
-use footslam::filter::{Recovery, StartPose, TrackStep, Tracker, TrackerConfig};
+use footslam::filter::{
+    Recovery, RfLocaliser, RfMode, RfTracker, StartPose, TrackStep, Tracker, TrackerConfig,
+};
 use footslam::geometry::LocalFrame;
 use footslam::map::FloorTopology;
 use serde::Serialize;
@@ -58,6 +61,28 @@ pub struct Args {
     /// Worker threads (default: all cores). Results do not depend on it.
     #[arg(long)]
     threads: Option<usize>,
+    /// Radio map (`radiomap.geojson` as `footslam survey` writes it, or another tool's with
+    /// the same properties) for RF-assisted localisation; needs `--wifi`.
+    #[arg(long, requires = "wifi")]
+    radiomap: Option<PathBuf>,
+    /// WiFi log CSV (`t,bssid,rssi[,ssid,freq]`) of the walk, on the step trace's clock.
+    #[arg(long, requires = "radiomap")]
+    wifi: Option<PathBuf>,
+    /// How scans weight particles after the prior region: `containment` (eqs. 12–13, the
+    /// default), `probabilistic` (eq. 14) or `prior-only`.
+    #[arg(long, value_enum)]
+    rf_mode: Option<RfModeArg>,
+    /// Region threshold ε, dBm (default: the radio map's calibration, else 9.5).
+    #[arg(long)]
+    rf_epsilon: Option<f64>,
+}
+
+/// `--rf-mode` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum RfModeArg {
+    Containment,
+    Probabilistic,
+    PriorOnly,
 }
 
 /// Parses `X,Y,HEADING[,LEVEL]`.
@@ -150,6 +175,16 @@ pub fn run(args: Args) -> Result<()> {
     if args.start.is_some() {
         config.start = args.start;
     }
+    if let Some(m) = args.rf_mode {
+        config.rf.mode = match m {
+            RfModeArg::Containment => RfMode::Containment,
+            RfModeArg::Probabilistic => RfMode::Probabilistic,
+            RfModeArg::PriorOnly => RfMode::PriorOnly,
+        };
+    }
+    if args.rf_epsilon.is_some() {
+        config.rf.epsilon = args.rf_epsilon;
+    }
     config.validate()?;
     let plan_path = args.plan.clone().unwrap_or_else(|| bundled(DEFAULT_PLAN));
     let steps_path = args.steps.clone().unwrap_or_else(|| bundled(DEFAULT_STEPS));
@@ -166,6 +201,18 @@ pub fn run(args: Args) -> Result<()> {
     }
     let topology = FloorTopology::build(&plan, &config.topology)
         .with_context(|| format!("{}: not a usable floor plan", plan_path.display()))?;
+    let radio = match (&args.radiomap, &args.wifi) {
+        (Some(map_path), Some(wifi_path)) => {
+            require_file(map_path, "radio map")?;
+            require_file(wifi_path, "WiFi log")?;
+            let (map, _) = read_radio_map_geojson(map_path, Some(frame))?;
+            let scans = read_wifi(wifi_path)?;
+            let rf = RfLocaliser::new(&map, &topology, &config.rf)
+                .with_context(|| format!("{}: not usable on this plan", map_path.display()))?;
+            Some((rf, scans))
+        }
+        _ => None,
+    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .build()
@@ -179,18 +226,27 @@ pub fn run(args: Args) -> Result<()> {
     let filter_started = Instant::now();
     let (reports, snapshots, initial, bytes_per_particle, track) =
         pool.install(|| -> Result<_> {
-            let mut tracker = Tracker::new(&topology, &config)?;
-            let initial = tracker.initial_particles();
+            let mut walker = match &radio {
+                Some((rf, scans)) => Walker::Rf(RfTracker::new(&topology, &config, rf, scans)?),
+                None => Walker::Plain(Tracker::new(&topology, &config)?),
+            };
+            let mut initial = walker.tracker().map_or(0, Tracker::initial_particles);
             let mut snapshots = Vec::new();
-            if wanted(0, trace.is_empty()) {
-                snapshots.push(snapshot(&tracker, 0, "prior", 0));
+            if let Some(tracker) = walker.tracker()
+                && wanted(0, trace.is_empty())
+            {
+                snapshots.push(snapshot(tracker, 0, "prior", 0));
             }
             let mut progress = Progress::new(trace.len() as u64, "tracking");
             let mut reports: Vec<TrackStep> = Vec::with_capacity(trace.len());
             let mut track: Vec<TrackPoint> = Vec::new();
             let mut localised_before = false;
             for (i, step) in trace.steps().iter().enumerate() {
-                let report = tracker.update(step)?;
+                let started_before = walker.tracker().is_some();
+                let report = walker.update(step)?;
+                if !started_before && let Some(t) = walker.tracker() {
+                    initial = t.initial_particles();
+                }
                 let first_fix = report.localised && !localised_before;
                 localised_before |= report.localised;
                 if localised_before && let Some(c) = report.estimate {
@@ -204,9 +260,11 @@ pub fn run(args: Args) -> Result<()> {
                 }
                 let k = i + 1;
                 let auto_fix = args.snapshots.is_none() && first_fix;
-                if wanted(k, k == trace.len()) || auto_fix {
+                if (wanted(k, k == trace.len()) || auto_fix)
+                    && let Some(tracker) = walker.tracker()
+                {
                     let what = if first_fix { "localised" } else { "step" };
-                    snapshots.push(snapshot(&tracker, k, what, track.len()));
+                    snapshots.push(snapshot(tracker, k, what, track.len()));
                 }
                 reports.push(report);
                 progress.inc();
@@ -216,7 +274,7 @@ pub fn run(args: Args) -> Result<()> {
                 reports,
                 snapshots,
                 initial,
-                tracker.bytes_per_particle(),
+                walker.tracker().map_or(0.0, Tracker::bytes_per_particle),
                 track,
             ))
         })?;
@@ -325,6 +383,28 @@ pub fn run(args: Args) -> Result<()> {
     );
     outln!("outputs: {}", out.display());
     Ok(())
+}
+
+/// The tracker with or without a radio map.
+enum Walker<'a> {
+    Plain(Tracker<'a>),
+    Rf(RfTracker<'a>),
+}
+
+impl<'a> Walker<'a> {
+    fn tracker(&self) -> Option<&Tracker<'a>> {
+        match self {
+            Walker::Plain(t) => Some(t),
+            Walker::Rf(t) => t.tracker(),
+        }
+    }
+
+    fn update(&mut self, step: &footslam::sensor::Step) -> footslam::Result<TrackStep> {
+        match self {
+            Walker::Plain(t) => t.update(step),
+            Walker::Rf(t) => t.update(step),
+        }
+    }
 }
 
 /// The tracker's particle cloud now, titled for the picture.

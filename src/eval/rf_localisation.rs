@@ -5,7 +5,7 @@
 use super::tracking::{TrackingScore, score_tracking};
 use crate::error::Result;
 use crate::filter::{RfLocaliser, RfTracker, StartPose, TrackStep, Tracker, TrackerConfig};
-use crate::filter::survey_walk;
+use crate::filter::{calibrate_map, survey_assignments, survey_walk};
 use crate::map::{CellMap, FloorTopology, RadioMap};
 use crate::sim::{RadioWorld, TowerSimulation, expected_field};
 use serde::Serialize;
@@ -37,12 +37,16 @@ impl RfComparison {
     }
 }
 
-/// Tracks `sim` from its known start and surveys its scans into an empty map over `cells`.
+/// Tracks `sim` from its known start, surveys its scans into an empty map over `cells` and
+/// calibrates the map's `ε` for a per-scan miss rate `miss` (missing readings at
+/// `missing_rssi`).
 pub fn survey_simulation(
     sim: &TowerSimulation,
     topology: &FloorTopology,
     cells: &CellMap,
     config: &TrackerConfig,
+    missing_rssi: f64,
+    miss: f64,
 ) -> Result<RadioMap> {
     let config = TrackerConfig {
         start: Some(StartPose {
@@ -62,6 +66,8 @@ pub fn survey_simulation(
         .collect::<Result<_>>()?;
     let mut map = RadioMap::empty(cells);
     survey_walk(&mut map, cells, topology, &reports, &sim.wifi);
+    let assignments = survey_assignments(cells, topology, &reports, &sim.wifi);
+    calibrate_map(&mut map, &[(assignments, &sim.wifi)], missing_rssi, miss);
     Ok(map)
 }
 

@@ -69,10 +69,14 @@ pub fn radio_map_to_geojson(map: &RadioMap, frame: &LocalFrame) -> FeatureCollec
             }
         })
         .collect();
+    let mut members = origin_member(frame);
+    if let Some(e) = map.epsilon {
+        members.insert("epsilon".into(), json!((e * 1000.0).round() / 1000.0));
+    }
     FeatureCollection {
         bbox: None,
         features,
-        foreign_members: Some(origin_member(frame)),
+        foreign_members: Some(members),
     }
 }
 
@@ -122,7 +126,15 @@ pub fn read_radio_map_geojson(
     if let Some(w) = ids.windows(2).find(|w| w[0] == w[1]) {
         return Err(whole(format!("cell `{}` appears twice", w[0])));
     }
-    Ok((RadioMap { cells }, frame))
+    let epsilon = match collection.foreign_members.as_ref().and_then(|m| m.get("epsilon")) {
+        None | Some(JsonValue::Null) => None,
+        Some(v) => Some(
+            v.as_f64()
+                .filter(|e| e.is_finite() && *e > 0.0)
+                .ok_or_else(|| whole(format!("member `epsilon` = {v} is not a positive number")))?,
+        ),
+    };
+    Ok((RadioMap { cells, epsilon }, frame))
 }
 
 fn read_cell(feature: &Feature, frame: &LocalFrame) -> Result<RadioMapCell, String> {

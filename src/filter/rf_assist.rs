@@ -21,6 +21,10 @@ use crate::sensor::WifiScan;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
+/// The paper's region threshold, dBm (chosen on its building and hardware; a radio map's
+/// own calibration fits other buildings better).
+pub const PAPER_EPSILON: f64 = 9.5;
+
 /// How WiFi weights the particles after the prior.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -39,7 +43,7 @@ pub enum RfMode {
 /// | field              | default  | meaning                                                 |
 /// |--------------------|----------|---------------------------------------------------------|
 /// | `mode`             | containment | containment (eqs. 12–13), probabilistic (eq. 14) or prior only |
-/// | `epsilon`          | 9.5 dBm  | region threshold on `ndist` (eqs. 2, 12; the paper's)   |
+/// | `epsilon`          | none     | region threshold on `ndist` (eqs. 2, 12): none = the map's calibrated `ε`, else the paper's 9.5 dBm |
 /// | `missing_rssi`     | −96 dBm  | fill for missing readings (the receiver's floor)         |
 /// | `outside_weight`   | 0        | containment weight outside `R_t` (eq. 13: 0)             |
 /// | `likelihood_floor` | 1e-6     | probabilistic: least weight relative to the likeliest cell |
@@ -52,8 +56,9 @@ pub enum RfMode {
 pub struct RfConfig {
     /// Measurement after the prior.
     pub mode: RfMode,
-    /// Region threshold `ε` on the normalised distance, dBm.
-    pub epsilon: f64,
+    /// Region threshold `ε` on the normalised distance, dBm; `None` = the radio map's own
+    /// calibration (`footslam survey` measures it), else [`PAPER_EPSILON`].
+    pub epsilon: Option<f64>,
     /// Fill for missing readings, dBm.
     pub missing_rssi: f64,
     /// Containment: weight of a particle outside the region (0 = eq. 13).
@@ -74,7 +79,7 @@ impl Default for RfConfig {
     fn default() -> Self {
         Self {
             mode: RfMode::Containment,
-            epsilon: 9.5,
+            epsilon: None,
             missing_rssi: -96.0,
             outside_weight: 0.0,
             likelihood_floor: 1e-6,
@@ -100,7 +105,9 @@ impl RfConfig {
                 })
             }
         };
-        check("rf.epsilon", self.epsilon, 0.0, 200.0, "must be in [0, 200] dBm")?;
+        if let Some(e) = self.epsilon {
+            check("rf.epsilon", e, 0.0, 200.0, "must be in [0, 200] dBm")?;
+        }
         check(
             "rf.missing_rssi",
             self.missing_rssi,
@@ -152,6 +159,7 @@ impl RfConfig {
 #[derive(Debug, Clone)]
 pub struct RfLocaliser {
     config: RfConfig,
+    epsilon: f64,
     raster: Arc<CellRaster>,
     prints: Fingerprints,
     likelihood: HistogramLikelihood,
@@ -170,6 +178,7 @@ impl RfLocaliser {
         }
         Ok(Self {
             config: *config,
+            epsilon: config.epsilon.or(map.epsilon).unwrap_or(PAPER_EPSILON),
             raster: Arc::new(raster),
             prints,
             likelihood: HistogramLikelihood::new(map, &config.likelihood, config.min_scans),
@@ -181,12 +190,17 @@ impl RfLocaliser {
         &self.config
     }
 
+    /// The region threshold in use, dBm.
+    pub fn epsilon(&self) -> f64 {
+        self.epsilon
+    }
+
     /// Whether each cell is in the scan's region (eqs. 2, 12); unknown cells are.
     pub fn in_region(&self, scan: &WifiScan) -> Vec<bool> {
         self.prints
             .ndist(scan)
             .into_iter()
-            .map(|d| d.is_none_or(|d| d < self.config.epsilon))
+            .map(|d| d.is_none_or(|d| d < self.epsilon))
             .collect()
     }
 

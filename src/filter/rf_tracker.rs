@@ -1,12 +1,13 @@
 //! The known-map tracker driven by step events and WiFi scans together (Woodman & Harle
 //! 2009, sec. 5): the filter starts at the first scan with its prior drawn in that scan's
-//! region `R_prior` (eq. 2) — or about a known start — and every step then carries the
-//! latest scan's measurement ([`super::rf_assist`]).
+//! region `R_prior` (eq. 2) — or about a known start — and each later scan is applied at
+//! the first step after it ([`super::rf_assist`]; the paper applies the latest scan at every
+//! step, which with scans every ~2 s judges particles up to 2.5 m from where it was taken).
 //!
 //! Steps before the first scan come before any WiFi information; without a known start they
 //! are reported without particles (and count towards the steps to localise).
 
-use super::rf_assist::{RfLocaliser, RfMode};
+use super::rf_assist::RfLocaliser;
 use super::tracker::{TrackStep, Tracker};
 use super::tracker_config::TrackerConfig;
 use crate::error::{Error, Result};
@@ -25,7 +26,7 @@ pub struct RfTracker<'a> {
     next_scan: usize,
     /// The latest usable scan's index and its measurement.
     current: Option<(usize, Option<CellField>)>,
-    /// The last scan applied (probabilistic mode applies each scan once).
+    /// The last scan applied.
     applied: Option<usize>,
 }
 
@@ -108,14 +109,13 @@ impl<'a> RfTracker<'a> {
                 recovery: None,
             });
         };
+        // Each scan once, at the first step after it: a scan reused at later steps would
+        // judge the walker where it no longer is (a scan every ~2 s, a step every ~0.55 s).
         let measurement = match (latest, &self.current) {
-            (Some(i), Some((j, m))) if i == *j => match self.rf.config().mode {
-                RfMode::Probabilistic if self.applied == Some(i) => None,
-                _ => {
-                    self.applied = Some(i);
-                    m.as_ref()
-                }
-            },
+            (Some(i), Some((j, m))) if i == *j && self.applied != Some(i) => {
+                self.applied = Some(i);
+                m.as_ref()
+            }
             _ => None,
         };
         tracker.update_with(step, measurement)

@@ -1,23 +1,60 @@
-//! Radio survey while tracking (Woodman & Harle 2009, sec. 5): once the tracker has localised
-//! the walker, the most recent WiFi scan at each step is added to the radio-map cell the
-//! step's estimated position falls in.
+//! Radio survey while tracking (Woodman & Harle 2009, sec. 4): once the tracker has localised
+//! the walker, each WiFi scan is added, once, to the radio-map cell of the position estimated
+//! at the first step after the scan ("the most recent scan to have been completed since the
+//! last position update, if one exists").
 
 use super::tracker::TrackStep;
 use crate::map::{CellMap, FloorTopology, RadioMap};
+use crate::model::wifi_distance::{calibrate_epsilon, leave_one_out_ndist};
 use crate::sensor::WifiScan;
 
 /// What one survey pass added.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct SurveyCounts {
-    /// Steps whose estimate fell in a cell and had a scan before them.
+    /// Scans added to a cell.
     pub added: usize,
-    /// Steps from localisation on without an estimate, a cell, or an earlier scan.
+    /// Scans from localisation on whose step had no estimate or no cell.
     pub skipped: usize,
 }
 
-/// Adds to `map` (built over `cells`) the most recent scan of `scans` (in time order) at each
-/// step of `reports` from the first localised step on, in the cell of the step's estimate
-/// (its surface found on the estimate's level, nearest its height).
+/// For each scan of `scans` (in time order) completed after the first localised step of
+/// `reports`, the first step at or after it: `(scan index, cell)`, the cell being that of
+/// the step's estimate (its surface found on the estimate's level, nearest its height), or
+/// `None` when the step has no estimate or it is in no cell.
+pub fn survey_assignments(
+    cells: &CellMap,
+    topology: &FloorTopology,
+    reports: &[TrackStep],
+    scans: &[WifiScan],
+) -> Vec<(usize, Option<usize>)> {
+    let Some(first) = reports.iter().position(|r| r.localised) else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    // Scans completed by the first localised step belong to the time before localisation,
+    // except the latest of them (the most recent scan at that update).
+    let mut next = scans.partition_point(|s| s.t <= reports[first].t).saturating_sub(1);
+    for r in &reports[first..] {
+        let cell = || {
+            let c = r.estimate?;
+            let surface = topology.locate(c.x, c.y, Some(c.level), Some(c.z))?;
+            cells.cell_at(surface, c.x, c.y)
+        };
+        let mut latest = None;
+        while next < scans.len() && scans[next].t <= r.t {
+            latest = Some(next);
+            next += 1;
+        }
+        // Several scans between two steps: the most recent one counts.
+        if let Some(i) = latest {
+            out.push((i, cell()));
+        }
+    }
+    out
+}
+
+/// Adds to `map` (built over `cells`) each scan of `scans` completed after localisation, in
+/// the cell of the next step's estimate ([`survey_assignments`]).
 pub fn survey_walk(
     map: &mut RadioMap,
     cells: &CellMap,
@@ -26,27 +63,37 @@ pub fn survey_walk(
     scans: &[WifiScan],
 ) -> SurveyCounts {
     let mut counts = SurveyCounts::default();
-    let Some(first) = reports.iter().position(|r| r.localised) else {
-        return counts;
-    };
-    let mut next_scan = 0; // scans[..next_scan] are at or before the current step
-    for r in &reports[first..] {
-        while next_scan < scans.len() && scans[next_scan].t <= r.t {
-            next_scan += 1;
-        }
-        let cell = r.estimate.and_then(|c| {
-            let surface = topology.locate(c.x, c.y, Some(c.level), Some(c.z))?;
-            cells.cell_at(surface, c.x, c.y)
-        });
-        match (cell, next_scan.checked_sub(1)) {
-            (Some(cell), Some(latest)) => {
-                map.cells[cell].radio.add_scan(&scans[latest]);
+    for (scan, cell) in survey_assignments(cells, topology, reports, scans) {
+        match cell {
+            Some(c) => {
+                map.cells[c].radio.add_scan(&scans[scan]);
                 counts.added += 1;
             }
-            _ => counts.skipped += 1,
+            None => counts.skipped += 1,
         }
     }
     counts
+}
+
+/// Sets `map.epsilon` to the region threshold `ε` that a share `1 − miss` of the surveyed
+/// scans' leave-one-out distances to their own cells fall under (the paper's way of choosing
+/// ε, sec. 5.3, on the survey itself): `walks` are each walk's [`survey_assignments`] and
+/// scans. Returns the distances, sorted.
+pub fn calibrate_map(
+    map: &mut RadioMap,
+    walks: &[(Vec<(usize, Option<usize>)>, &[WifiScan])],
+    missing_rssi: f64,
+    miss: f64,
+) -> Vec<f64> {
+    let mut d: Vec<f64> = walks
+        .iter()
+        .flat_map(|(assignments, scans)| {
+            leave_one_out_ndist(map, assignments, scans, missing_rssi)
+        })
+        .collect();
+    d.sort_by(f64::total_cmp);
+    map.epsilon = calibrate_epsilon(&d, miss);
+    d
 }
 
 #[cfg(test)]
@@ -84,7 +131,8 @@ mod tests {
             .collect();
         let mut map = RadioMap::empty(&cells);
         let counts = survey_walk(&mut map, &cells, &topology, &reports, &sim.wifi);
-        assert!(counts.added > reports.len() * 9 / 10, "{counts:?}");
+        assert!(counts.added > sim.wifi.len() * 9 / 10, "{counts:?}");
+        assert!(counts.added <= sim.wifi.len());
         let (share, per_cell) = map.coverage();
         assert!(share > 0.1 && per_cell >= 1.0, "{share} {per_cell}");
         // Mean RSSI per covered cell against the expected field at the cell's points.

@@ -3,6 +3,7 @@
 use super::cluster::ClusterConfig;
 use super::kld::KldConfig;
 use super::recovery::RecoveryConfig;
+use super::rf_assist::RfConfig;
 use crate::error::{Error, Result};
 use crate::map::TopologyConfig;
 use serde::{Deserialize, Serialize};
@@ -41,6 +42,7 @@ pub struct StartPose {
 /// | `cluster`             | see [`ClusterConfig`] | clusters and localisation                   |
 /// | `recovery`            | see [`RecoveryConfig`]| when every particle dies                    |
 /// | `topology`            | see [`TopologyConfig`]| connections and walls of the plan           |
+/// | `rf`                  | see [`RfConfig`]      | WiFi with a radio map (`track --radiomap`)  |
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TrackerConfig {
@@ -82,6 +84,8 @@ pub struct TrackerConfig {
     pub recovery: RecoveryConfig,
     /// Floor-plan topology.
     pub topology: TopologyConfig,
+    /// RF-assisted localisation (used only with a radio map and scans).
+    pub rf: RfConfig,
 }
 
 impl Default for TrackerConfig {
@@ -103,6 +107,7 @@ impl Default for TrackerConfig {
             cluster: ClusterConfig::default(),
             recovery: RecoveryConfig::default(),
             topology: TopologyConfig::default(),
+            rf: RfConfig::default(),
         }
     }
 }
@@ -239,6 +244,7 @@ impl TrackerConfig {
             1e8,
             "must be at most 100000000",
         )?;
+        self.rf.validate()?;
         self.kld.validate()?;
         self.cluster.validate()?;
         self.topology.validate()

@@ -106,6 +106,9 @@ pub struct RadioMapCell {
 pub struct RadioMap {
     /// The cells.
     pub cells: Vec<RadioMapCell>,
+    /// The region threshold `ε` calibrated on the survey (dBm, see
+    /// [`crate::model::wifi_distance::calibrate_epsilon`]), if known.
+    pub epsilon: Option<f64>,
 }
 
 impl RadioMap {
@@ -122,6 +125,7 @@ impl RadioMap {
                     radio: CellRadio::default(),
                 })
                 .collect(),
+            epsilon: None,
         }
     }
 
@@ -143,6 +147,11 @@ impl RadioMap {
         for (a, b) in self.cells.iter_mut().zip(&other.cells) {
             a.radio.merge(&b.radio);
         }
+        // The larger of two calibrations is the safer threshold for the merged map.
+        self.epsilon = match (self.epsilon, other.epsilon) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
+        };
         Ok(())
     }
 
@@ -184,6 +193,7 @@ mod tests {
                     freq: None,
                 })
                 .collect(),
+            epsilon: None,
         }
     }
 

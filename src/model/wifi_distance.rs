@@ -88,6 +88,63 @@ impl Fingerprints {
     }
 }
 
+/// Leave-one-out normalised distances of a survey (the paper's Fig. 11, computed from the
+/// survey itself): for each `(scan, cell)` of `assignments`, `ndist` between the scan and
+/// its cell's fingerprint without that scan; cells left with no other scan are skipped.
+pub fn leave_one_out_ndist(
+    map: &RadioMap,
+    assignments: &[(usize, Option<usize>)],
+    scans: &[WifiScan],
+    missing_rssi: f64,
+) -> Vec<f64> {
+    let prints = Fingerprints::new(map, missing_rssi, 1);
+    let mut out = Vec::with_capacity(assignments.len());
+    for &(s, cell) in assignments {
+        let (Some(c), Some(scan)) = (cell, scans.get(s)) else {
+            continue;
+        };
+        let Some(radio) = map.cells.get(c).map(|c| &c.radio) else {
+            continue;
+        };
+        if radio.scans < 2 {
+            continue;
+        }
+        let z = prints.scan_vector(scan);
+        let mut means = vec![missing_rssi; prints.columns.len()];
+        let mut visible = 0;
+        for (bssid, stats) in &radio.aps {
+            let Some(&col) = prints.columns.get(bssid) else {
+                continue;
+            };
+            let (mut n, mut sum) = (stats.n, stats.sum);
+            if let Some(r) = scan.rssi(bssid) {
+                n = n.saturating_sub(1);
+                sum -= r;
+            }
+            if n > 0 {
+                means[col] = (sum / f64::from(n)).max(missing_rssi);
+                visible += 1;
+            }
+        }
+        out.push(ndist(&z, &means, visible));
+    }
+    out
+}
+
+/// The threshold `ε` under which a share `1 − miss` of `distances` fall (the paper's
+/// choice of ε from the distribution of Fig. 11): the smallest distance with at least that
+/// share at or below it, nudged up by 1 % so that it is strictly above; `None` without
+/// distances.
+pub fn calibrate_epsilon(distances: &[f64], miss: f64) -> Option<f64> {
+    let mut d: Vec<f64> = distances.iter().copied().filter(|d| d.is_finite()).collect();
+    if d.is_empty() {
+        return None;
+    }
+    d.sort_by(f64::total_cmp);
+    let rank = ((1.0 - miss.clamp(0.0, 1.0)) * d.len() as f64).ceil() as usize;
+    Some(d[rank.clamp(1, d.len()) - 1] * 1.01)
+}
+
 /// The normalised distance of eqs. 8 and 11: the Euclidean distance between the filled
 /// vectors `z` and `c`, divided by the number of access points visible from the cell (at
 /// least one).
@@ -142,6 +199,7 @@ mod tests {
         };
         let map = RadioMap {
             cells: vec![cell(heard), cell(CellRadio::default())],
+            epsilon: None,
         };
         let prints = Fingerprints::new(&map, -96.0, 1);
         assert_eq!(prints.access_points(), 3);
@@ -151,5 +209,36 @@ mod tests {
         assert!((d[0].expect("known") - 8f64.sqrt() / 3.0).abs() < 1e-9);
         assert_eq!(d[1], None);
         assert_eq!(Fingerprints::new(&map, -96.0, 3).ndist(&scan(&[]))[0], None);
+    }
+
+    #[test]
+    fn leave_one_out_and_calibration() {
+        let mut radio = CellRadio::default();
+        let scans = [
+            scan(&[("a", -60.0), ("b", -80.0)]),
+            scan(&[("a", -64.0)]),
+        ];
+        for s in &scans {
+            radio.add_scan(s);
+        }
+        let map = RadioMap {
+            cells: vec![RadioMapCell {
+                id: "x".into(),
+                level: 0,
+                area: MultiPolygon::new(Vec::new()),
+                radio,
+            }],
+            epsilon: None,
+        };
+        let d = leave_one_out_ndist(&map, &[(0, Some(0)), (1, Some(0)), (1, None)], &scans, -96.0);
+        // Scan 0 against the cell without it: a = −64, b unseen (−96): √(16 + 256) / 1.
+        assert!((d[0] - 272f64.sqrt()).abs() < 1e-9, "{d:?}");
+        // Scan 1 against a = −60, b = −80: √(16 + 256) / 2.
+        assert!((d[1] - 272f64.sqrt() / 2.0).abs() < 1e-9, "{d:?}");
+        assert_eq!(d.len(), 2);
+        let e = calibrate_epsilon(&[1.0, 2.0, 3.0, 4.0], 0.25).expect("epsilon");
+        assert!((e - 3.03).abs() < 1e-9);
+        assert!((calibrate_epsilon(&[1.0, 2.0, 3.0, 4.0], 0.0).expect("max") - 4.04).abs() < 1e-9);
+        assert_eq!(calibrate_epsilon(&[], 0.1), None);
     }
 }

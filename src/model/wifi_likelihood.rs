@@ -195,6 +195,7 @@ mod tests {
                 cell(&[&[("a", -80.0)], &[("a", -82.0)]]),
                 cell(&[]),
             ],
+            epsilon: None,
         };
         let model = HistogramLikelihood::new(&map, &LikelihoodConfig::default(), 1);
         let ll = model.log_likelihood(&scan(&[("a", -61.0), ("b", -81.0)]));
