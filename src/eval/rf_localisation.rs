@@ -19,64 +19,88 @@ pub struct RfComparison {
     pub plain: TrackingScore,
     /// Particles of the uniform prior.
     pub plain_initial: usize,
-    /// With the radio map.
-    pub rf: TrackingScore,
+    /// With the radio map, one run per localiser asked for.
+    pub rf: Vec<RfRun>,
+}
+
+/// One localisation with a radio map.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RfRun {
+    /// Its score.
+    pub score: TrackingScore,
     /// Particles of the prior drawn in `R_prior` (`None` if no scan came).
-    pub rf_initial: Option<usize>,
+    pub initial: Option<usize>,
 }
 
-impl RfComparison {
-    /// Steps to localise, counting a walk never localised as all its steps (a lower bound).
-    pub fn steps_or_all(score: &TrackingScore, steps: usize) -> usize {
-        score.steps_to_localise.unwrap_or(steps)
+impl RfRun {
+    /// The run lost the walker: never localised, or the track from the first single cluster
+    /// on is not the walker's (median error over 1 m, or on the right floor less than 95 %
+    /// of the time) — the true hypothesis did not survive.
+    pub fn lost(&self) -> bool {
+        let s = &self.score;
+        s.steps_to_localise.is_none()
+            || s.errors.as_ref().is_none_or(|e| e.p50 > 1.0)
+            || s.floor_accuracy.is_none_or(|f| f < 0.95)
     }
 
-    /// The RF run failed: never localised, or first localised in the wrong place.
-    pub fn rf_failed(&self) -> bool {
-        self.rf.steps_to_localise.is_none() || !self.rf.right_cluster
+    /// The first single cluster was not the right place (farther than 3 m or on another
+    /// floor; [`TrackingScore::right_cluster`]), or never came.
+    pub fn first_fix_wrong(&self) -> bool {
+        self.score.steps_to_localise.is_none() || !self.score.right_cluster
     }
 }
 
-/// Tracks `sim` from its known start, surveys its scans into an empty map over `cells` and
-/// calibrates the map's `ε` for a per-scan miss rate `miss` (missing readings at
-/// `missing_rssi`).
-pub fn survey_simulation(
-    sim: &TowerSimulation,
+/// Steps to localise, counting a walk never localised as all its steps (a lower bound).
+pub fn steps_or_all(score: &TrackingScore, steps: usize) -> usize {
+    score.steps_to_localise.unwrap_or(steps)
+}
+
+/// Tracks each of `sims` (walks of one building) from its known start, surveys their scans
+/// into one map over `cells` and calibrates the map's `ε` on all of them for a per-scan miss
+/// rate `miss` (missing readings at `missing_rssi`).
+pub fn survey_simulations(
+    sims: &[&TowerSimulation],
     topology: &FloorTopology,
     cells: &CellMap,
     config: &TrackerConfig,
     missing_rssi: f64,
     miss: f64,
 ) -> Result<RadioMap> {
-    let config = TrackerConfig {
-        start: Some(StartPose {
-            x: sim.start.x,
-            y: sim.start.y,
-            heading: sim.start.heading,
-            level: Some(sim.start.level),
-        }),
-        ..config.clone()
-    };
-    let mut tracker = Tracker::new(topology, &config)?;
-    let reports: Vec<TrackStep> = sim
-        .steps
-        .steps()
-        .iter()
-        .map(|s| tracker.update(s))
-        .collect::<Result<_>>()?;
     let mut map = RadioMap::empty(cells);
-    survey_walk(&mut map, cells, topology, &reports, &sim.wifi);
-    let assignments = survey_assignments(cells, topology, &reports, &sim.wifi);
-    calibrate_map(&mut map, &[(assignments, &sim.wifi)], missing_rssi, miss);
+    let mut walks = Vec::with_capacity(sims.len());
+    for sim in sims {
+        let config = TrackerConfig {
+            start: Some(StartPose {
+                x: sim.start.x,
+                y: sim.start.y,
+                heading: sim.start.heading,
+                level: Some(sim.start.level),
+            }),
+            ..config.clone()
+        };
+        let mut tracker = Tracker::new(topology, &config)?;
+        let reports: Vec<TrackStep> = sim
+            .steps
+            .steps()
+            .iter()
+            .map(|s| tracker.update(s))
+            .collect::<Result<_>>()?;
+        survey_walk(&mut map, cells, topology, &reports, &sim.wifi);
+        walks.push((
+            survey_assignments(cells, topology, &reports, &sim.wifi),
+            sim.wifi.as_slice(),
+        ));
+    }
+    calibrate_map(&mut map, &walks, missing_rssi, miss);
     Ok(map)
 }
 
-/// Localises `sim`'s walk from an unknown start twice with the same seed: without the radio
-/// map, and with `rf`.
+/// Localises `sim`'s walk from an unknown start with one seed: without the radio map, and
+/// with each of `rfs`.
 pub fn compare_localisation(
     sim: &TowerSimulation,
     topology: &FloorTopology,
-    rf: &RfLocaliser,
+    rfs: &[&RfLocaliser],
     config: &TrackerConfig,
 ) -> Result<RfComparison> {
     let config = TrackerConfig {
@@ -93,19 +117,25 @@ pub fn compare_localisation(
         .collect::<Result<_>>()?;
     let plain_score = score_tracking(&sim.truth.poses, &reports);
     drop(plain);
-    let mut tracker = RfTracker::new(topology, &config, rf, &sim.wifi)?;
-    let reports: Vec<TrackStep> = sim
-        .steps
-        .steps()
-        .iter()
-        .map(|s| tracker.update(s))
-        .collect::<Result<_>>()?;
+    let mut rf = Vec::with_capacity(rfs.len());
+    for localiser in rfs {
+        let mut tracker = RfTracker::new(topology, &config, localiser, &sim.wifi)?;
+        let reports: Vec<TrackStep> = sim
+            .steps
+            .steps()
+            .iter()
+            .map(|s| tracker.update(s))
+            .collect::<Result<_>>()?;
+        rf.push(RfRun {
+            score: score_tracking(&sim.truth.poses, &reports),
+            initial: tracker.initial_particles(),
+        });
+    }
     Ok(RfComparison {
         steps: sim.steps.len(),
         plain: plain_score,
         plain_initial,
-        rf: score_tracking(&sim.truth.poses, &reports),
-        rf_initial: tracker.initial_particles(),
+        rf,
     })
 }
 

@@ -193,7 +193,6 @@ mod tests {
                     freq: None,
                 })
                 .collect(),
-            epsilon: None,
         }
     }
 

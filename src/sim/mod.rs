@@ -137,7 +137,7 @@ pub fn simulate(config: &SimConfig) -> Result<Simulation> {
 /// | `building` | 3 floors, 40 m corridor, rooms both sides, two switchback stairwells ([`TowerConfig`]) |
 /// | `walk`     | 12 minutes from a random start, 35 % of legs to another floor ([`TowerWalkConfig`]) |
 /// | `noise`    | foot-mounted-grade step errors ([`StepNoiseConfig`])                  |
-/// | `wifi`     | 4 access points a floor, scans every 2 s ([`WifiSimConfig`]); the access points and shadowing come from `wifi.radio_seed`, so walks of one building share them |
+/// | `wifi`     | 8 access points a floor, scans every 2 s ([`WifiSimConfig`]); the access points and shadowing come from `wifi.radio_seed`, so walks of one building share them |
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TowerSimConfig {

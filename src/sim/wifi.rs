@@ -32,7 +32,7 @@ const FEATURES: usize = 48;
 ///
 /// | field                | default  | meaning                                                |
 /// |----------------------|----------|--------------------------------------------------------|
-/// | `aps_per_floor`      | 4        | access points on each floor, spread over its area      |
+/// | `aps_per_floor`      | 8        | access points on each floor, spread over its area (24 in the tower; the paper's building showed 33) |
 /// | `rssi_at_1m`         | −38 dBm  | `P₁`                                                   |
 /// | `path_loss_exponent` | 2.2      | `n`                                                    |
 /// | `wall_loss`          | 2.5 dB   | per wall segment crossed (a wall between two rooms is two segments) |
@@ -84,7 +84,7 @@ pub struct WifiSimConfig {
 impl Default for WifiSimConfig {
     fn default() -> Self {
         Self {
-            aps_per_floor: 4,
+            aps_per_floor: 8,
             rssi_at_1m: -38.0,
             path_loss_exponent: 2.2,
             wall_loss: 2.5,
@@ -419,7 +419,7 @@ mod tests {
     #[test]
     fn access_points_on_every_floor_and_signals_fall_with_distance_walls_and_floors() {
         let (sim, _, world) = world();
-        assert_eq!(world.access_points().len(), 12);
+        assert_eq!(world.access_points().len(), 24);
         for level in 0..3 {
             assert_eq!(
                 world
@@ -427,7 +427,7 @@ mod tests {
                     .iter()
                     .filter(|a| a.level == level)
                     .count(),
-                4
+                8
             );
         }
         let a = &world.access_points()[0];
@@ -482,7 +482,7 @@ mod tests {
             assert!(area > 400.0 && area < 1200.0, "level {level}: {area} m²");
         }
         let (level, x, y, rssi) = &field[10];
-        assert_eq!(rssi.len(), 12);
+        assert_eq!(rssi.len(), 24);
         assert_eq!(rssi[3], world.expected_rssi(3, *x, *y, *level));
     }
 

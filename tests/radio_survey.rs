@@ -1,0 +1,156 @@
+//! The radio survey end to end on a simulated survey walk of the three-floor building
+//! (`footslam simulate --tour survey`, 20–30 minutes): coverage of 3 m cells (the paper's
+//! Table 1: 96 % after 2.5 hours of walking), per-cell mean RSSI against the simulator's
+//! expected field, speed against real time, and `footslam track --radiomap` using the map.
+
+use assert_cmd::Command;
+use footslam::eval::rf_localisation::{radio_map_rms, survey_simulations};
+use footslam::filter::TrackerConfig;
+use footslam::map::{CellMap, FloorTopology, TopologyConfig};
+use footslam::sim::{TourKind, TowerSimConfig, simulate_tower};
+use predicates::prelude::*;
+use std::path::Path;
+
+fn footslam() -> Command {
+    Command::cargo_bin("footslam").expect("binary")
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).expect("read")).expect("json")
+}
+
+#[test]
+fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let sim = dir.path().join("survey-walk");
+    footslam()
+        .args(["simulate", "--building", "tower", "--tour", "survey", "--minutes", "30"])
+        .args(["--seed", "31", "--origin", "52.21,0.091", "--out"])
+        .arg(&sim)
+        .assert()
+        .success();
+    let walk = json(&sim.join("summary.json"));
+    let minutes = walk["duration_s"].as_f64().expect("duration") / 60.0;
+    assert!((20.0..=30.0).contains(&minutes), "{minutes} min");
+    let s = &walk["start"];
+    let start = format!(
+        "{},{},{},{}",
+        s["x"], s["y"], s["heading"], s["level"]
+    );
+    let out = dir.path().join("survey");
+    footslam()
+        .arg("survey")
+        .arg("--plan")
+        .arg(sim.join("floor.geojson"))
+        .arg("--steps")
+        .arg(sim.join("steps.csv"))
+        .arg("--wifi")
+        .arg(sim.join("wifi.csv"))
+        .arg(format!("--start={start}"))
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("surveyed 1 walk(s)"));
+    let summary = json(&out.join("summary.json"));
+    let coverage = summary["coverage"].as_f64().expect("coverage");
+    assert!(coverage >= 0.96, "coverage {coverage}");
+    let speed = summary["speed_vs_real_time"].as_f64().expect("speed");
+    assert!(speed >= 100.0, "{speed}× real time");
+    let epsilon = summary["epsilon"].as_f64().expect("calibrated epsilon");
+    assert!(epsilon > 0.0 && epsilon < 20.0, "{epsilon}");
+    let table = std::fs::read_to_string(out.join("coverage.csv")).expect("coverage.csv");
+    let three: Vec<&str> = table
+        .lines()
+        .find(|l| l.starts_with("3,"))
+        .expect("3 m row")
+        .split(',')
+        .collect();
+    assert!((three[2].parse::<f64>().expect("percent") - 100.0 * coverage).abs() < 0.06);
+
+    // Another walk in the same building, localised with the map in each mode.
+    let other = dir.path().join("walk");
+    footslam()
+        .args(["simulate", "--building", "tower", "--minutes", "3", "--seed", "32"])
+        .args(["--origin", "52.21,0.091", "--out"])
+        .arg(&other)
+        .assert()
+        .success();
+    for mode in ["containment", "probabilistic", "prior-only"] {
+        let run = dir.path().join(format!("track-{mode}"));
+        footslam()
+            .arg("track")
+            .arg("--plan")
+            .arg(other.join("floor.geojson"))
+            .arg("--steps")
+            .arg(other.join("steps.csv"))
+            .arg("--radiomap")
+            .arg(out.join("radiomap.geojson"))
+            .arg("--wifi")
+            .arg(other.join("wifi.csv"))
+            .args(["--rf-mode", mode, "--out"])
+            .arg(&run)
+            .assert()
+            .success()
+            .stdout(predicate::str::contains("localised after"));
+        let config = json(&run.join("config.json"));
+        assert_eq!(config["rf"]["mode"], mode.replace('-', "_"));
+    }
+    // A radio map needs its scans, and a map of another place is refused.
+    footslam()
+        .arg("track")
+        .arg("--plan")
+        .arg(other.join("floor.geojson"))
+        .arg("--steps")
+        .arg(other.join("steps.csv"))
+        .arg("--radiomap")
+        .arg(out.join("radiomap.geojson"))
+        .arg("--out")
+        .arg(dir.path().join("no-wifi"))
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("--wifi"));
+    footslam()
+        .arg("track")
+        .arg("--plan")
+        .arg(other.join("floor.geojson"))
+        .arg("--steps")
+        .arg(other.join("steps.csv"))
+        .arg("--radiomap")
+        .arg(out.join("radiomap.geojson"))
+        .arg("--wifi")
+        .arg(other.join("wifi.csv"))
+        .args(["--origin", "10,10", "--out"])
+        .arg(dir.path().join("elsewhere"))
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("no radio-map cell lies on the floor plan"));
+}
+
+#[test]
+fn surveyed_cell_means_are_within_3_db_rms_of_the_expected_field() {
+    let mut config = TowerSimConfig {
+        seed: 33,
+        ..Default::default()
+    };
+    config.walk.tour = TourKind::Survey;
+    config.walk.minutes = 30.0;
+    let sim = simulate_tower(&config).expect("simulation");
+    let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default()).expect("topology");
+    let cells = CellMap::build(&sim.plan, &topology, &Default::default()).expect("cells");
+    let map = survey_simulations(
+        &[&sim],
+        &topology,
+        &cells,
+        &TrackerConfig::default(),
+        -96.0,
+        0.001,
+    )
+    .expect("survey");
+    let (coverage, _) = map.coverage();
+    assert!(coverage >= 0.96, "coverage {coverage}");
+    // Cells with a few readings of an access point heard in every scan there.
+    let (rms, pairs) = radio_map_rms(&map, &cells, &topology, &sim.radio, 0.5, 3);
+    assert!(pairs > 300, "{pairs} cell/AP pairs");
+    assert!(rms <= 3.0, "RMS {rms:.2} dB over {pairs} pairs");
+}
