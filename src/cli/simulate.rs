@@ -162,6 +162,8 @@ fn run_tower(args: Args) -> Result<()> {
         }],
         points: Vec::new(),
         cells: Vec::new(),
+        markers: Vec::new(),
+        colour_bar: None,
     };
     write_plan_png(
         &folder.path("truth.png"),

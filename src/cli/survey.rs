@@ -9,8 +9,9 @@ use footslam::dataset::floor_plan_geojson::read_floor_plan;
 use footslam::dataset::{read_steps, read_wifi};
 use footslam::export::RunFolder;
 use footslam::export::plan_png::{
-    PlanCell, PlanPicture, PlanPictureConfig, viridis_rgb, write_plan_png,
+    ColourBar, PlanCell, PlanMarker, PlanPicture, PlanPictureConfig, viridis_rgb, write_plan_png,
 };
+use geo::Centroid;
 use footslam::export::radio_map_geojson::{write_radio_map_csv, write_radio_map_geojson};
 use footslam::filter::{
     StartPose, TrackStep, Tracker, TrackerConfig, calibrate_map, survey_assignments, survey_walk,
@@ -23,8 +24,10 @@ use std::time::Instant;
 
 /// Granularities of the coverage table (the paper's Table 1), metres.
 const COVERAGE_GRANULARITIES: [f64; 5] = [1.0, 2.0, 3.0, 4.0, 5.0];
-/// Heatmap colours run from this RSSI (dark) to the strongest (bright), dBm.
+/// Heatmap colours run from this RSSI (dark) to [`HEATMAP_TOP`] (bright), dBm.
 const HEATMAP_FLOOR: f64 = -96.0;
+/// The brightest heatmap colour, dBm.
+const HEATMAP_TOP: f64 = -30.0;
 
 /// Arguments of `footslam survey`.
 #[derive(Debug, clap::Args)]
@@ -240,7 +243,7 @@ pub fn run(args: Args) -> Result<()> {
             .iter()
             .filter_map(|c| {
                 let mean = c.radio.aps.get(*bssid)?.mean()?;
-                let t = ((mean - HEATMAP_FLOOR) / (-30.0 - HEATMAP_FLOOR)).clamp(0.0, 1.0);
+                let t = ((mean - HEATMAP_FLOOR) / (HEATMAP_TOP - HEATMAP_FLOOR)).clamp(0.0, 1.0);
                 let v = viridis_rgb(t);
                 Some(PlanCell {
                     area: &c.area,
@@ -249,12 +252,38 @@ pub fn run(args: Args) -> Result<()> {
                 })
             })
             .collect();
+        // The access point's place is unknown to the map: mark the cell that hears it
+        // strongest (with at least two readings where possible).
+        let strongest = map
+            .cells
+            .iter()
+            .filter_map(|c| Some((c, c.radio.aps.get(*bssid)?)))
+            .filter_map(|(c, s)| Some((c, s.mean()?, s.n)))
+            .max_by(|a, b| (a.2 >= 2).cmp(&(b.2 >= 2)).then(a.1.total_cmp(&b.1)));
+        let markers = strongest
+            .and_then(|(c, mean, _)| {
+                let p = c.area.centroid()?;
+                Some(PlanMarker {
+                    x: p.x(),
+                    y: p.y(),
+                    level: c.level,
+                    label: format!("strongest: {mean:.0} dBm"),
+                })
+            })
+            .into_iter()
+            .collect();
         let picture = PlanPicture {
             plan: &plan,
-            title: Some(format!("{bssid}: mean RSSI, {HEATMAP_FLOOR} to -30 dBm")),
+            title: Some(format!("{bssid}: mean RSSI per cell")),
             paths: Vec::new(),
             points: Vec::new(),
             cells: heat,
+            markers,
+            colour_bar: Some(ColourBar {
+                low: format!("{HEATMAP_FLOOR} dBm"),
+                high: format!("{HEATMAP_TOP} dBm"),
+                colour: viridis_rgb,
+            }),
         };
         write_plan_png(
             &folder.path(&format!("heatmap-{i:03}.png")),

@@ -301,6 +301,8 @@ pub fn run(args: Args) -> Result<()> {
                 label: "particles",
             }],
             cells: Vec::new(),
+            markers: Vec::new(),
+            colour_bar: None,
         })
         .collect();
     if !pictures.is_empty() {

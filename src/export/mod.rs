@@ -4,6 +4,7 @@
 mod glyphs;
 pub mod map_geojson;
 pub mod map_png;
+pub mod plan_marks;
 pub mod plan_png;
 pub mod radio_map_geojson;
 pub mod run_folder;

@@ -5,6 +5,7 @@
 //! steps) stack top to bottom in one image, each under its title. North is up.
 
 use super::glyphs::{self, GLYPH_HEIGHT};
+pub use super::plan_marks::{ColourBar, PlanMarker};
 use super::map_png::canvas::{INK, PLAN_WALL, fill, polyline, push_ring, rgb, stroke};
 use crate::error::{Error, Result};
 use crate::map::FloorPlan;
@@ -26,6 +27,10 @@ pub struct PlanPicture<'a> {
     pub points: Vec<PlanPoints<'a>>,
     /// Filled areas over the floor (e.g. radio-map cells coloured by mean RSSI).
     pub cells: Vec<PlanCell<'a>>,
+    /// Labelled markers (e.g. where an access point is heard strongest).
+    pub markers: Vec<PlanMarker>,
+    /// A colour bar in the title row, explaining the cells' colours.
+    pub colour_bar: Option<ColourBar>,
 }
 
 /// A filled area over the plan.
@@ -249,6 +254,16 @@ pub fn render_plan_png(pictures: &[PlanPicture], config: &PlanPictureConfig) -> 
         }
         for path in &picture.paths {
             draw_path(&mut pixmap, &layout, row, path);
+        }
+        for m in &picture.markers {
+            if let Some(li) = layout.level_index(m.level) {
+                let at = layout.pixel(row, li, m.x, m.y);
+                super::plan_marks::draw_marker(&mut pixmap, at, &m.label, ts);
+            }
+        }
+        if let Some(bar) = &picture.colour_bar {
+            let right = layout.width as f32 - layout.margin as f32;
+            super::plan_marks::draw_colour_bar(&mut pixmap, bar, right, top, ts);
         }
     }
     pixmap
