@@ -12,7 +12,9 @@ use footslam::export::plan_png::{
     ColourBar, PlanCell, PlanMarker, PlanPicture, PlanPictureConfig, viridis_rgb, write_plan_png,
 };
 use geo::Centroid;
-use footslam::export::radio_map_geojson::{write_radio_map_csv, write_radio_map_geojson};
+use footslam::export::radio_map_geojson::{
+    read_radio_map_geojson, write_radio_map_csv, write_radio_map_geojson,
+};
 use footslam::filter::{
     StartPose, TrackStep, Tracker, TrackerConfig, calibrate_map, survey_assignments, survey_walk,
 };
@@ -36,12 +38,20 @@ pub struct Args {
     #[arg(long)]
     plan: PathBuf,
     /// Step trace CSV of a walk; repeat with `--wifi` for several walks (paired in order).
-    #[arg(long, required = true)]
+    #[arg(long)]
     steps: Vec<PathBuf>,
     /// WiFi log CSV (`t,bssid,rssi[,ssid,freq]`) of the walk given by the `--steps` at the
     /// same position.
-    #[arg(long, required = true)]
+    #[arg(long)]
     wifi: Vec<PathBuf>,
+    /// Manifest of walks: a CSV with columns `steps,wifi` (paths relative to the manifest),
+    /// one walk a row; added to any `--steps`/`--wifi` pairs.
+    #[arg(long)]
+    walks: Option<PathBuf>,
+    /// A radio map surveyed before on this plan at this granularity (`radiomap.geojson`),
+    /// merged into the new one; repeat to merge several (with no walk: just merge them).
+    #[arg(long)]
+    merge: Vec<PathBuf>,
     /// Cell granularity, metres (default 3).
     #[arg(long)]
     cell: Option<f64>,
@@ -148,8 +158,20 @@ pub fn run(args: Args) -> Result<()> {
     let (plan, frame) = read_floor_plan(&args.plan, args.origin)?;
     let topology = FloorTopology::build(&plan, &config.tracker.topology)
         .with_context(|| format!("{}: not a usable floor plan", args.plan.display()))?;
-    let mut walks = Vec::with_capacity(args.steps.len());
-    for (steps, wifi) in args.steps.iter().zip(&args.wifi) {
+    let mut pairs: Vec<(PathBuf, PathBuf)> = args
+        .steps
+        .iter()
+        .cloned()
+        .zip(args.wifi.iter().cloned())
+        .collect();
+    if let Some(manifest) = &args.walks {
+        pairs.extend(read_manifest(manifest)?);
+    }
+    if pairs.is_empty() && args.merge.is_empty() {
+        bail!("nothing to survey: give --steps/--wifi pairs, --walks or --merge");
+    }
+    let mut walks = Vec::with_capacity(pairs.len());
+    for (steps, wifi) in &pairs {
         require_file(steps, "step trace")?;
         require_file(wifi, "WiFi log")?;
         walks.push((read_steps(steps)?, read_wifi(wifi)?));
@@ -200,6 +222,18 @@ pub fn run(args: Args) -> Result<()> {
         Ok((cells, map, counts))
     };
     let (cells, mut map, counts) = build(config.cells.granularity)?;
+    for path in &args.merge {
+        require_file(path, "radio map")?;
+        let (earlier, _) = read_radio_map_geojson(path, Some(frame))?;
+        map.merge(&earlier).with_context(|| {
+            format!(
+                "{}: not a map of this plan at {} m cells",
+                path.display(),
+                config.cells.granularity
+            )
+        })?;
+    }
+    let merged_epsilon = map.epsilon;
     if !(config.epsilon_miss.is_finite() && (0.0..=0.5).contains(&config.epsilon_miss)) {
         bail!("epsilon_miss = {} must be in [0, 0.5]", config.epsilon_miss);
     }
@@ -214,6 +248,10 @@ pub fn run(args: Args) -> Result<()> {
         config.tracker.rf.missing_rssi,
         config.epsilon_miss,
     );
+    // Merged maps alone keep their calibration.
+    if distances.is_empty() {
+        map.epsilon = merged_epsilon;
+    }
     let quantile = |q: f64| {
         (!distances.is_empty())
             .then(|| distances[((distances.len() - 1) as f64 * q).round() as usize])
@@ -306,7 +344,7 @@ pub fn run(args: Args) -> Result<()> {
             .iter()
             .zip(&runs)
             .zip(&counts)
-            .zip(args.steps.iter().zip(&args.wifi))
+            .zip(&pairs)
             .map(
                 |((((trace, wifi), reports), &(added, skipped)), (sp, wp))| WalkSummary {
                     steps_file: sp.display().to_string(),
@@ -339,15 +377,60 @@ pub fn run(args: Args) -> Result<()> {
     };
     folder.write_json("summary.json", &summary)?;
     let out = folder.commit()?;
+    let speed = if summary.walks.is_empty() {
+        String::new()
+    } else {
+        format!(" ({:.0}× real time)", summary.speed_vs_real_time)
+    };
     outln!(
-        "surveyed {} walk(s) into {} cells: {:.1} % covered, {:.1} scans per covered cell, {} access points ({:.0}× real time)",
+        "surveyed {} walk(s) into {} cells: {:.1} % covered, {:.1} scans per covered cell, {} access points{speed}",
         summary.walks.len(),
         summary.cells,
         100.0 * share,
         mean,
         summary.access_points,
-        summary.speed_vs_real_time
     );
     outln!("outputs: {}", out.display());
     Ok(())
+}
+
+/// The `(steps, wifi)` pairs of a manifest CSV (`steps,wifi` header, paths relative to the
+/// manifest's folder); errors name the file and line.
+fn read_manifest(path: &std::path::Path) -> Result<Vec<(PathBuf, PathBuf)>> {
+    require_file(path, "walk manifest")?;
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read the walk manifest", path.display()))?;
+    let base = path.parent().unwrap_or(std::path::Path::new("."));
+    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
+    let header: Vec<&str> = match lines.next() {
+        Some((_, h)) => h.split(',').map(str::trim).collect(),
+        None => bail!("{}: the walk manifest is empty", path.display()),
+    };
+    let column = |name: &str| {
+        header.iter().position(|h| *h == name).with_context(|| {
+            format!(
+                "{}:1: the walk manifest needs columns `steps,wifi`",
+                path.display()
+            )
+        })
+    };
+    let (s, w) = (column("steps")?, column("wifi")?);
+    let mut pairs = Vec::new();
+    for (i, line) in lines {
+        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        match (fields.get(s), fields.get(w)) {
+            (Some(a), Some(b)) if !a.is_empty() && !b.is_empty() => {
+                pairs.push((base.join(a), base.join(b)));
+            }
+            _ => bail!(
+                "{}:{}: expected a step trace and a WiFi log, got `{line}`",
+                path.display(),
+                i + 1
+            ),
+        }
+    }
+    if pairs.is_empty() {
+        bail!("{}: the walk manifest lists no walk", path.display());
+    }
+    Ok(pairs)
 }

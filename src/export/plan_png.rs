@@ -478,6 +478,17 @@ mod tests {
                 level: 1,
                 colour: [0, 160, 0],
             }],
+            markers: vec![PlanMarker {
+                x: 3.0,
+                y: 3.0,
+                level: 1,
+                label: "strongest".into(),
+            }],
+            colour_bar: Some(ColourBar {
+                low: "-96 dBm".into(),
+                high: "-30 dBm".into(),
+                colour: viridis_rgb,
+            }),
         };
         let config = PlanPictureConfig::default();
         let png = render_plan_png(&[picture.clone(), picture], &config).expect("png");

@@ -121,3 +121,54 @@ impl<'a> RfTracker<'a> {
         tracker.update_with(step, measurement)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::{CellMap, CellRaster, RadioMap, TopologyConfig};
+    use crate::sim::Tower;
+    use std::sync::Arc;
+
+    #[test]
+    fn a_prior_region_holds_every_particle_and_an_impossible_measurement_is_ignored() {
+        let tower = Tower::new(&Default::default()).expect("tower");
+        let topology = FloorTopology::build(&tower.plan, &TopologyConfig::default()).expect("topo");
+        let cells = CellMap::build(&tower.plan, &topology, &Default::default()).expect("cells");
+        let map = RadioMap::empty(&cells);
+        let raster = Arc::new(
+            CellRaster::build(&map, topology.bounds(), topology.levels(), 0.25).expect("raster"),
+        );
+        // The region: the cells of level 1 west of x = 10 m.
+        let values: Vec<f32> = cells
+            .cells()
+            .iter()
+            .map(|c| {
+                let west = geo::BoundingRect::bounding_rect(&c.area).is_some_and(|b| b.max().x <= 10.0);
+                if c.level == 1 && west { 0.0 } else { f32::NEG_INFINITY }
+            })
+            .collect();
+        let region = CellField::new(raster.clone(), values, f32::NEG_INFINITY);
+        let config = TrackerConfig::default();
+        let mut tracker =
+            Tracker::new_in_region(&topology, &config, Some(region.clone())).expect("tracker");
+        let uniform = Tracker::new(&topology, &config).expect("uniform");
+        assert!(tracker.initial_particles() * 5 < uniform.initial_particles());
+        assert!(tracker.particles().iter().all(|p| {
+            region.at(topology.level(p.surface), p.x, p.y) == 0.0
+        }));
+        let step = Step {
+            t: 0.5,
+            length: 0.0,
+            dheading: 0.0,
+            dz: 0.0,
+            heading: None,
+        };
+        let nowhere = CellField::new(raster, Vec::new(), f32::NEG_INFINITY);
+        let r = tracker.update_with(&step, Some(&nowhere)).expect("step");
+        assert_eq!(tracker.measurements_ignored(), 1);
+        assert!(r.particles > 0 && r.recovery.is_none());
+        let r = tracker.update_with(&step, Some(&region)).expect("step");
+        assert_eq!(tracker.measurements_ignored(), 1);
+        assert!(r.particles > 0);
+    }
+}

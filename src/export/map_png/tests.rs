@@ -10,8 +10,6 @@ fn empty_map() -> HexMapSnapshot {
         radius: 0.5,
         alpha: 0.8,
         cells: Vec::new(),
-        markers: Vec::new(),
-        colour_bar: None,
     }
 }
 
