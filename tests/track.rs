@@ -261,13 +261,13 @@ fn simulate_tower_writes_wifi_scans_and_the_radio_truth() {
             .all(|s| s.readings.iter().all(|r| r.rssi >= -96.0))
     );
     let aps = std::fs::read_to_string(sim.join("wifi_aps.csv")).expect("aps");
-    assert_eq!(aps.lines().count(), 1 + 12);
+    assert_eq!(aps.lines().count(), 1 + 24);
     let field = std::fs::read_to_string(sim.join("wifi_field.csv")).expect("field");
     let header = field.lines().next().expect("header");
-    assert_eq!(header.split(',').count(), 3 + 12);
+    assert_eq!(header.split(',').count(), 3 + 24);
     assert!(field.lines().count() > 1000);
     let summary = json(&sim.join("summary.json"));
-    assert_eq!(summary["access_points"], 12);
+    assert_eq!(summary["access_points"], 24);
     assert_eq!(summary["wifi_scans"].as_u64(), Some(scans.len() as u64));
 }
 
