@@ -74,6 +74,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 &topology,
                 &RfConfig {
                     mode,
+                    likelihood: footslam::model::wifi_likelihood::LikelihoodConfig {
+                        exponent: std::env::var("EXPONENT").ok().and_then(|v| v.parse().ok()),
+                        ..Default::default()
+                    },
                     ..Default::default()
                 },
             )
@@ -126,7 +130,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .sum::<f64>()
         / k;
     let plain_n0: f64 = results.iter().map(|(_, c)| c.plain_initial as f64).sum::<f64>() / k;
-    println!("without the radio map: mean {plain_steps:.1} steps to localise, prior {plain_n0:.0} particles");
+    let plain_p50: f64 = results
+        .iter()
+        .map(|(_, c)| c.plain.errors.as_ref().map_or(f64::NAN, |e| e.p50))
+        .sum::<f64>()
+        / k;
+    println!(
+        "without the radio map: mean {plain_steps:.1} steps to localise, mean p50 error after {plain_p50:.2} m, prior {plain_n0:.0} particles"
+    );
     for (m, &(_, name)) in MODES.iter().enumerate() {
         let rf_steps: f64 = results
             .iter()
@@ -140,8 +151,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             / k;
         let wrong = results.iter().filter(|(_, c)| c.rf[m].first_fix_wrong()).count();
         let lost = results.iter().filter(|(_, c)| c.rf[m].lost()).count();
+        let p50: f64 = results
+            .iter()
+            .map(|(_, c)| c.rf[m].score.errors.as_ref().map_or(f64::NAN, |e| e.p50))
+            .sum::<f64>()
+            / k;
         println!(
-            "{name:>13}: mean {rf_steps:.1} steps ({:.2} of without), first fix > 3 m off {wrong}/{}, lost {lost}/{}, prior {n0:.0} particles ({:.1}× fewer)",
+            "{name:>13}: mean {rf_steps:.1} steps ({:.2} of without), first fix > 3 m off {wrong}/{}, lost {lost}/{}, mean p50 error after {p50:.2} m, prior {n0:.0} particles ({:.1}× fewer)",
             rf_steps / plain_steps,
             results.len(),
             results.len(),

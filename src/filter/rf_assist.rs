@@ -5,9 +5,9 @@
 //!   there ([`super::Tracker::new_in_region`]), KLD-sized;
 //! * **containment** (the paper's choice) — at each step the region `R_t` of the latest scan
 //!   (eq. 12) weights particles 1 inside and `outside_weight` outside (eq. 13 with 0);
-//! * **probabilistic** (the paper's alternative) — each scan once, `p(z_t | c_i)` of the cell
-//!   a particle stands in (eq. 14, [`crate::model::wifi_likelihood`]), relative to the
-//!   likeliest cell and floored at `likelihood_floor`.
+//! * **probabilistic** (the paper's alternative) — `p(z_t | c_i)` of the cell a particle
+//!   stands in (eq. 14, [`crate::model::wifi_likelihood`]; tempered by the number of access
+//!   points), relative to the likeliest cell and floored at `likelihood_floor`.
 //!
 //! Cells without scans (not surveyed) and places in no cell are always inside: what the map
 //! does not know cannot rule a place out. A measurement no particle survives is ignored,
@@ -150,7 +150,11 @@ impl RfConfig {
             0.0,
             1.0,
             "must be in [0, 1]",
-        )
+        )?;
+        match self.likelihood.exponent {
+            Some(e) => check("rf.likelihood.exponent", e, 0.0, 1.0, "must be in [0, 1]"),
+            None => Ok(()),
+        }
     }
 }
 

@@ -29,6 +29,7 @@ const RSSI_RANGE: f64 = 80.0;
 /// |----------------|---------|-------------------------------------------------------|
 /// | `kernel_sigma` | 4 dB    | Gaussian smoothing of each histogram                  |
 /// | `outlier`      | 0.05    | share `β` of a reading explained by a uniform density |
+/// | `exponent`     | none    | power of the likelihood; none = 1 / (access points of the map) |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct LikelihoodConfig {
@@ -36,6 +37,12 @@ pub struct LikelihoodConfig {
     pub kernel_sigma: f64,
     /// Share of a reading explained by a uniform density over the receiver's range.
     pub outlier: f64,
+    /// Power the likelihood is raised to. The readings of one scan share the walker's body,
+    /// place and moment, so their product over access points overstates the evidence (taken
+    /// literally it drags the particles to the likeliest cell and loses the walker); `None`
+    /// = one over the number of access points of the map — the geometric mean of the
+    /// per-access-point factors, as `ndist` divides by the access points a cell hears.
+    pub exponent: Option<f64>,
 }
 
 impl Default for LikelihoodConfig {
@@ -43,6 +50,7 @@ impl Default for LikelihoodConfig {
         Self {
             kernel_sigma: 4.0,
             outlier: 0.05,
+            exponent: None,
         }
     }
 }
@@ -122,6 +130,10 @@ impl HistogramLikelihood {
         let sigma = self.config.kernel_sigma.max(0.1);
         let beta = self.config.outlier.clamp(0.0, 1.0);
         let norm = 1.0 / (sigma * (2.0 * std::f64::consts::PI).sqrt());
+        let exponent = self
+            .config
+            .exponent
+            .unwrap_or(1.0 / self.columns.len().max(1) as f64);
         self.cells
             .iter()
             .map(|cell| {
@@ -147,7 +159,7 @@ impl HistogramLikelihood {
                         }
                     };
                 }
-                Some(ll)
+                Some(ll * exponent)
             })
             .collect()
     }
@@ -197,7 +209,11 @@ mod tests {
             ],
             epsilon: None,
         };
-        let model = HistogramLikelihood::new(&map, &LikelihoodConfig::default(), 1);
+        let config = LikelihoodConfig {
+            exponent: Some(1.0),
+            ..Default::default()
+        };
+        let model = HistogramLikelihood::new(&map, &config, 1);
         let ll = model.log_likelihood(&scan(&[("a", -61.0), ("b", -81.0)]));
         let (near, far) = (ll[0].expect("known"), ll[1].expect("known"));
         assert!(near > far + 3.0, "{near} {far}");
@@ -211,5 +227,9 @@ mod tests {
         let ll = model.log_likelihood(&scan(&[("a", -61.0)]));
         let gap = ll[0].expect("known") - ll[1].expect("known");
         assert!(gap < near - far, "{gap} {}", near - far);
+        // By default the likelihood is tempered by the number of access points (2).
+        let tempered = HistogramLikelihood::new(&map, &LikelihoodConfig::default(), 1);
+        let ll = tempered.log_likelihood(&scan(&[("a", -61.0), ("b", -81.0)]));
+        assert!((ll[0].expect("known") - near / 2.0).abs() < 1e-9);
     }
 }
