@@ -53,7 +53,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let topology = FloorTopology::build(plan, &TopologyConfig::default())?;
     let cells = CellMap::build(plan, &topology, &Default::default())?;
     let refs: Vec<_> = sims.iter().collect();
-    let map = survey_simulations(&refs, &topology, &cells, &TrackerConfig::default(), -96.0, 0.001)?;
+    let map = survey_simulations(
+        &refs,
+        &topology,
+        &cells,
+        &TrackerConfig::default(),
+        -96.0,
+        0.001,
+    )?;
     let (coverage, scans) = map.coverage();
     let (rms, pairs) = radio_map_rms(&map, &cells, &topology, &sims[0].radio, 0.5, 3);
     let walk_s: f64 = sims
@@ -95,26 +102,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 seed,
                 ..Default::default()
             };
-            let c = compare_localisation(&sim, &topology, &rfs, &tracker)
-                .map_err(|e| e.to_string())?;
+            let c =
+                compare_localisation(&sim, &topology, &rfs, &tracker).map_err(|e| e.to_string())?;
             Ok((seed, c))
         })
         .collect::<Result<_, String>>()?;
     let show = |s: Option<usize>| s.map_or("never".to_string(), |s| s.to_string());
-    println!("seed  steps  plain(n0, steps)  containment  probabilistic  prior-only   (* = first fix > 3 m off, ! = lost)");
+    println!(
+        "seed  steps  plain(n0, steps)  containment  probabilistic  prior-only   (* = first fix > 3 m off, ! = lost)"
+    );
     for (seed, c) in &results {
-        let runs: Vec<String> = c
-            .rf
-            .iter()
-            .map(|r| {
-                format!(
-                    "{:>5}{}{}",
-                    show(r.score.steps_to_localise),
-                    if r.first_fix_wrong() { "*" } else { " " },
-                    if r.lost() { "!" } else { " " }
-                )
-            })
-            .collect();
+        let runs: Vec<String> =
+            c.rf.iter()
+                .map(|r| {
+                    format!(
+                        "{:>5}{}{}",
+                        show(r.score.steps_to_localise),
+                        if r.first_fix_wrong() { "*" } else { " " },
+                        if r.lost() { "!" } else { " " }
+                    )
+                })
+                .collect();
         println!(
             "{seed:>4} {:>6} {:>9} {:>6}   {}",
             c.steps,
@@ -129,7 +137,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|(_, c)| steps_or_all(&c.plain, c.steps) as f64)
         .sum::<f64>()
         / k;
-    let plain_n0: f64 = results.iter().map(|(_, c)| c.plain_initial as f64).sum::<f64>() / k;
+    let plain_n0: f64 = results
+        .iter()
+        .map(|(_, c)| c.plain_initial as f64)
+        .sum::<f64>()
+        / k;
     let plain_p50: f64 = results
         .iter()
         .map(|(_, c)| c.plain.errors.as_ref().map_or(f64::NAN, |e| e.p50))
@@ -149,7 +161,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .map(|(_, c)| c.rf[m].initial.unwrap_or(0) as f64)
             .sum::<f64>()
             / k;
-        let wrong = results.iter().filter(|(_, c)| c.rf[m].first_fix_wrong()).count();
+        let wrong = results
+            .iter()
+            .filter(|(_, c)| c.rf[m].first_fix_wrong())
+            .count();
         let lost = results.iter().filter(|(_, c)| c.rf[m].lost()).count();
         let p50: f64 = results
             .iter()

@@ -24,7 +24,15 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
     let dir = tempfile::tempdir().expect("tempdir");
     let sim = dir.path().join("survey-walk");
     footslam()
-        .args(["simulate", "--building", "tower", "--tour", "survey", "--minutes", "30"])
+        .args([
+            "simulate",
+            "--building",
+            "tower",
+            "--tour",
+            "survey",
+            "--minutes",
+            "30",
+        ])
         .args(["--seed", "31", "--origin", "52.21,0.091", "--out"])
         .arg(&sim)
         .assert()
@@ -33,10 +41,7 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
     let minutes = walk["duration_s"].as_f64().expect("duration") / 60.0;
     assert!((20.0..=30.0).contains(&minutes), "{minutes} min");
     let s = &walk["start"];
-    let start = format!(
-        "{},{},{},{}",
-        s["x"], s["y"], s["heading"], s["level"]
-    );
+    let start = format!("{},{},{},{}", s["x"], s["y"], s["heading"], s["level"]);
     let out = dir.path().join("survey");
     footslam()
         .arg("survey")
@@ -71,7 +76,15 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
     // Another walk in the same building, localised with the map in each mode.
     let other = dir.path().join("walk");
     footslam()
-        .args(["simulate", "--building", "tower", "--minutes", "3", "--seed", "32"])
+        .args([
+            "simulate",
+            "--building",
+            "tower",
+            "--minutes",
+            "3",
+            "--seed",
+            "32",
+        ])
         .args(["--origin", "52.21,0.091", "--out"])
         .arg(&other)
         .assert()
@@ -112,7 +125,15 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
         .stderr(predicate::str::contains("--wifi"));
     let elsewhere = dir.path().join("elsewhere");
     footslam()
-        .args(["simulate", "--building", "tower", "--minutes", "1", "--seed", "32"])
+        .args([
+            "simulate",
+            "--building",
+            "tower",
+            "--minutes",
+            "1",
+            "--seed",
+            "32",
+        ])
         .args(["--origin", "10,10", "--out"])
         .arg(&elsewhere)
         .assert()
@@ -131,7 +152,9 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
         .arg(dir.path().join("elsewhere-run"))
         .assert()
         .failure()
-        .stderr(predicate::str::contains("no radio-map cell lies on the floor plan"));
+        .stderr(predicate::str::contains(
+            "no radio-map cell lies on the floor plan",
+        ));
 }
 
 #[test]

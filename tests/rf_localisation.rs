@@ -3,12 +3,14 @@
 //! (400-step walks, other seeds) localised without the map and with it on the same walks,
 //! with the same tracker seeds.
 //!
-//! Asserted: with containment regions (eqs. 12–13) the mean steps to localise is at most
-//! half of that without the map, and no run loses the walker (README: a first single
-//! cluster can still be declared while it is stretched more than 3 m from the walker; those
-//! runs are counted and reported). The probabilistic alternative (eq. 14) localises in
-//! fewer steps still. The prior drawn in `R_prior` is smaller than the uniform prior (the
-//! issue's tenfold cut is not reached on this small building; see README).
+//! Asserted for both measurements after the prior region — containment regions (eqs. 12–13)
+//! and the probabilistic alternative (eq. 14) — the mean steps to localise is at most half of
+//! that without the map and no run loses the walker; with the probabilistic measurement
+//! every first single cluster is the right place (within 3 m, on the right floor). With
+//! containment a first single cluster can be declared while the cloud is stretched more
+//! than 3 m from the walker (README); those runs are counted, not asserted. The prior drawn
+//! in `R_prior` is smaller than the uniform prior, though not tenfold on this small building
+//! (README).
 
 use footslam::eval::rf_localisation::{
     RfComparison, compare_localisation, steps_or_all, survey_simulations,
@@ -39,8 +41,15 @@ fn a_radio_map_halves_the_steps_to_localise_without_losing_walkers() {
         FloorTopology::build(&surveys[0].plan, &TopologyConfig::default()).expect("topology");
     let cells = CellMap::build(&surveys[0].plan, &topology, &Default::default()).expect("cells");
     let refs: Vec<_> = surveys.iter().collect();
-    let map = survey_simulations(&refs, &topology, &cells, &TrackerConfig::default(), -96.0, 0.001)
-        .expect("survey");
+    let map = survey_simulations(
+        &refs,
+        &topology,
+        &cells,
+        &TrackerConfig::default(),
+        -96.0,
+        0.001,
+    )
+    .expect("survey");
     let localiser = |mode| {
         RfLocaliser::new(
             &map,
@@ -86,9 +95,16 @@ fn a_radio_map_halves_the_steps_to_localise_without_losing_walkers() {
             "{name}: {with:.1} vs {plain:.1} steps, prior {n0:.0} vs {plain_n0:.0}, lost {lost}, first fix > 3 m off {off}"
         );
         assert!(with <= 0.5 * plain, "{name}: {with:.1} vs {plain:.1} steps");
-        assert!(n0 < plain_n0 / 2.0, "{name}: prior {n0:.0} vs {plain_n0:.0}");
-        if m == 0 {
-            assert_eq!(lost, 0, "containment lost {lost} of {STARTS} walkers");
+        assert!(
+            n0 < plain_n0 / 2.0,
+            "{name}: prior {n0:.0} vs {plain_n0:.0}"
+        );
+        assert_eq!(lost, 0, "{name} lost {lost} of {STARTS} walkers");
+        if m == 1 {
+            assert_eq!(
+                off, 0,
+                "{name}: {off} of {STARTS} first fixes more than 3 m off"
+            );
         }
     }
 }

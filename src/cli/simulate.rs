@@ -15,8 +15,8 @@ use footslam::geometry::LocalFrame;
 use footslam::map::HexMapSnapshot;
 use footslam::map::{FloorTopology, TopologyConfig};
 use footslam::sim::{
-    SimConfig, TourKind, TowerSimConfig, TruePose, expected_field, floor_changes, floor_resolved_at,
-    simulate, simulate_tower,
+    SimConfig, TourKind, TowerSimConfig, TruePose, expected_field, floor_changes,
+    floor_resolved_at, simulate, simulate_tower,
 };
 
 /// Spacing of the expected-RSSI grid written to `wifi_field.csv`, metres.

@@ -11,15 +11,16 @@ use footslam::export::RunFolder;
 use footslam::export::plan_png::{
     ColourBar, PlanCell, PlanMarker, PlanPicture, PlanPictureConfig, viridis_rgb, write_plan_png,
 };
-use geo::Centroid;
 use footslam::export::radio_map_geojson::{
     read_radio_map_geojson, write_radio_map_csv, write_radio_map_geojson,
 };
 use footslam::filter::{
-    StartPose, TrackStep, Tracker, TrackerConfig, calibrate_map, survey_assignments, survey_walk,
+    Assignments, StartPose, TrackStep, Tracker, TrackerConfig, calibrate_map, survey_assignments,
+    survey_walk,
 };
 use footslam::map::{CellConfig, CellMap, FloorTopology, RadioMap};
 use footslam::sensor::WifiScan;
+use geo::Centroid;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -237,7 +238,7 @@ pub fn run(args: Args) -> Result<()> {
     if !(config.epsilon_miss.is_finite() && (0.0..=0.5).contains(&config.epsilon_miss)) {
         bail!("epsilon_miss = {} must be in [0, 0.5]", config.epsilon_miss);
     }
-    let assignments: Vec<(Vec<(usize, Option<usize>)>, &[WifiScan])> = runs
+    let assignments: Vec<(Assignments, &[WifiScan])> = runs
         .iter()
         .zip(&scans)
         .map(|(reports, s)| (survey_assignments(&cells, &topology, reports, s), *s))
@@ -401,7 +402,10 @@ fn read_manifest(path: &std::path::Path) -> Result<Vec<(PathBuf, PathBuf)>> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("{}: cannot read the walk manifest", path.display()))?;
     let base = path.parent().unwrap_or(std::path::Path::new("."));
-    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty());
     let header: Vec<&str> = match lines.next() {
         Some((_, h)) => h.split(',').map(str::trim).collect(),
         None => bail!("{}: the walk manifest is empty", path.display()),

@@ -6,9 +6,9 @@ use super::common::{
 use anyhow::{Context, Result, bail};
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
 use footslam::dataset::{TrackPoint, read_steps, read_wifi, write_track};
-use footslam::export::radio_map_geojson::read_radio_map_geojson;
 use footslam::export::RunFolder;
 use footslam::export::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, PlanPoints};
+use footslam::export::radio_map_geojson::read_radio_map_geojson;
 use footslam::export::track_geojson::write_track_geojson;
 use footslam::filter::{
     Recovery, RfLocaliser, RfMode, RfTracker, StartPose, TrackStep, Tracker, TrackerConfig,
@@ -227,8 +227,10 @@ pub fn run(args: Args) -> Result<()> {
     let (reports, snapshots, initial, bytes_per_particle, track) =
         pool.install(|| -> Result<_> {
             let mut walker = match &radio {
-                Some((rf, scans)) => Walker::Rf(RfTracker::new(&topology, &config, rf, scans)?),
-                None => Walker::Plain(Tracker::new(&topology, &config)?),
+                Some((rf, scans)) => {
+                    Walker::Rf(Box::new(RfTracker::new(&topology, &config, rf, scans)?))
+                }
+                None => Walker::Plain(Box::new(Tracker::new(&topology, &config)?)),
             };
             let mut initial = walker.tracker().map_or(0, Tracker::initial_particles);
             let mut snapshots = Vec::new();
@@ -389,8 +391,8 @@ pub fn run(args: Args) -> Result<()> {
 
 /// The tracker with or without a radio map.
 enum Walker<'a> {
-    Plain(Tracker<'a>),
-    Rf(RfTracker<'a>),
+    Plain(Box<Tracker<'a>>),
+    Rf(Box<RfTracker<'a>>),
 }
 
 impl<'a> Walker<'a> {

@@ -57,7 +57,13 @@ pub(super) fn draw_marker(pixmap: &mut Pixmap, (px, py): (f32, f32), label: &str
 
 /// Draws `bar` ending at `right` pixels from the left, its top at `top`: `low`, the bar,
 /// `high`.
-pub(super) fn draw_colour_bar(pixmap: &mut Pixmap, bar: &ColourBar, right: f32, top: f32, scale: u32) {
+pub(super) fn draw_colour_bar(
+    pixmap: &mut Pixmap,
+    bar: &ColourBar,
+    right: f32,
+    top: f32,
+    scale: u32,
+) {
     let h = (GLYPH_HEIGHT * scale) as f32;
     let high_w = glyphs::text_width(&bar.high, scale) as f32;
     let low_w = glyphs::text_width(&bar.low, scale) as f32;
@@ -74,14 +80,22 @@ pub(super) fn draw_colour_bar(pixmap: &mut Pixmap, bar: &ColourBar, right: f32, 
         let mut pb = PathBuilder::new();
         push_ring(
             &mut pb,
-            [(x, top), (x + w + 0.5, top), (x + w + 0.5, top + h), (x, top + h)],
+            [
+                (x, top),
+                (x + w + 0.5, top),
+                (x + w + 0.5, top + h),
+                (x, top + h),
+            ],
         );
         if let Some(p) = pb.finish() {
             fill(pixmap, &p, rgb(r, g, b), FillRule::Winding);
         }
     }
     let mut pb = PathBuilder::new();
-    push_ring(&mut pb, [(x0, top), (x1, top), (x1, top + h), (x0, top + h)]);
+    push_ring(
+        &mut pb,
+        [(x0, top), (x1, top), (x1, top + h), (x0, top + h)],
+    );
     if let Some(p) = pb.finish() {
         stroke(pixmap, &p, INK, 1.0, None);
     }

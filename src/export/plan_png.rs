@@ -5,8 +5,8 @@
 //! steps) stack top to bottom in one image, each under its title. North is up.
 
 use super::glyphs::{self, GLYPH_HEIGHT};
-pub use super::plan_marks::{ColourBar, PlanMarker};
 use super::map_png::canvas::{INK, PLAN_WALL, fill, polyline, push_ring, rgb, stroke};
+pub use super::plan_marks::{ColourBar, PlanMarker};
 use crate::error::{Error, Result};
 use crate::map::FloorPlan;
 use geo::Area;

@@ -126,7 +126,11 @@ pub fn read_radio_map_geojson(
     if let Some(w) = ids.windows(2).find(|w| w[0] == w[1]) {
         return Err(whole(format!("cell `{}` appears twice", w[0])));
     }
-    let epsilon = match collection.foreign_members.as_ref().and_then(|m| m.get("epsilon")) {
+    let epsilon = match collection
+        .foreign_members
+        .as_ref()
+        .and_then(|m| m.get("epsilon"))
+    {
         None | Some(JsonValue::Null) => None,
         Some(v) => Some(
             v.as_f64()

@@ -21,6 +21,6 @@ pub use recovery::{Recovery, RecoveryConfig};
 pub use resample::{ResampleConfig, ResampleMethod};
 pub use rf_assist::{RfConfig, RfLocaliser, RfMode};
 pub use rf_tracker::RfTracker;
-pub use survey::{SurveyCounts, calibrate_map, survey_assignments, survey_walk};
+pub use survey::{Assignments, SurveyCounts, calibrate_map, survey_assignments, survey_walk};
 pub use tracker::{TrackParticle, TrackStep, Tracker};
 pub use tracker_config::{StartPose, TrackerConfig};

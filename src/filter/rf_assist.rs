@@ -136,7 +136,13 @@ impl RfConfig {
             3600.0,
             "must be in [0, 3600] seconds",
         )?;
-        check("rf.raster", self.raster, 0.05, 5.0, "must be in [0.05, 5] metres")?;
+        check(
+            "rf.raster",
+            self.raster,
+            0.05,
+            5.0,
+            "must be in [0.05, 5] metres",
+        )?;
         check(
             "rf.likelihood.kernel_sigma",
             self.likelihood.kernel_sigma,
@@ -237,7 +243,11 @@ impl RfLocaliser {
             }
             RfMode::Probabilistic => {
                 let ll = self.likelihood.log_likelihood(scan);
-                let best = ll.iter().flatten().copied().fold(f64::NEG_INFINITY, f64::max);
+                let best = ll
+                    .iter()
+                    .flatten()
+                    .copied()
+                    .fold(f64::NEG_INFINITY, f64::max);
                 let floor = self.config.likelihood_floor.ln();
                 Some(
                     self.field(

@@ -143,8 +143,13 @@ mod tests {
             .cells()
             .iter()
             .map(|c| {
-                let west = geo::BoundingRect::bounding_rect(&c.area).is_some_and(|b| b.max().x <= 10.0);
-                if c.level == 1 && west { 0.0 } else { f32::NEG_INFINITY }
+                let west =
+                    geo::BoundingRect::bounding_rect(&c.area).is_some_and(|b| b.max().x <= 10.0);
+                if c.level == 1 && west {
+                    0.0
+                } else {
+                    f32::NEG_INFINITY
+                }
             })
             .collect();
         let region = CellField::new(raster.clone(), values, f32::NEG_INFINITY);
@@ -153,9 +158,12 @@ mod tests {
             Tracker::new_in_region(&topology, &config, Some(region.clone())).expect("tracker");
         let uniform = Tracker::new(&topology, &config).expect("uniform");
         assert!(tracker.initial_particles() * 5 < uniform.initial_particles());
-        assert!(tracker.particles().iter().all(|p| {
-            region.at(topology.level(p.surface), p.x, p.y) == 0.0
-        }));
+        assert!(
+            tracker
+                .particles()
+                .iter()
+                .all(|p| { region.at(topology.level(p.surface), p.x, p.y) == 0.0 })
+        );
         let step = Step {
             t: 0.5,
             length: 0.0,

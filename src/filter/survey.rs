@@ -17,6 +17,9 @@ pub struct SurveyCounts {
     pub skipped: usize,
 }
 
+/// Where a walk's scans went: `(scan index, cell)` per scan added after localisation.
+pub type Assignments = Vec<(usize, Option<usize>)>;
+
 /// For each scan of `scans` (in time order) completed after the first localised step of
 /// `reports`, the first step at or after it: `(scan index, cell)`, the cell being that of
 /// the step's estimate (its surface found on the estimate's level, nearest its height), or
@@ -26,14 +29,16 @@ pub fn survey_assignments(
     topology: &FloorTopology,
     reports: &[TrackStep],
     scans: &[WifiScan],
-) -> Vec<(usize, Option<usize>)> {
+) -> Assignments {
     let Some(first) = reports.iter().position(|r| r.localised) else {
         return Vec::new();
     };
     let mut out = Vec::new();
     // Scans completed by the first localised step belong to the time before localisation,
     // except the latest of them (the most recent scan at that update).
-    let mut next = scans.partition_point(|s| s.t <= reports[first].t).saturating_sub(1);
+    let mut next = scans
+        .partition_point(|s| s.t <= reports[first].t)
+        .saturating_sub(1);
     for r in &reports[first..] {
         let cell = || {
             let c = r.estimate?;
@@ -81,15 +86,13 @@ pub fn survey_walk(
 /// scans. Returns the distances, sorted.
 pub fn calibrate_map(
     map: &mut RadioMap,
-    walks: &[(Vec<(usize, Option<usize>)>, &[WifiScan])],
+    walks: &[(Assignments, &[WifiScan])],
     missing_rssi: f64,
     miss: f64,
 ) -> Vec<f64> {
     let mut d: Vec<f64> = walks
         .iter()
-        .flat_map(|(assignments, scans)| {
-            leave_one_out_ndist(map, assignments, scans, missing_rssi)
-        })
+        .flat_map(|(assignments, scans)| leave_one_out_ndist(map, assignments, scans, missing_rssi))
         .collect();
     d.sort_by(f64::total_cmp);
     map.epsilon = calibrate_epsilon(&d, miss);

@@ -77,8 +77,14 @@ impl CellRaster {
             let index = |v: f64, lo: f64, n: usize| {
                 (((v - lo) / resolution).floor().max(0.0) as usize).min(n - 1)
             };
-            let (i0, i1) = (index(b.min().x, bounds[0], nx), index(b.max().x, bounds[0], nx));
-            let (j0, j1) = (index(b.min().y, bounds[1], ny), index(b.max().y, bounds[1], ny));
+            let (i0, i1) = (
+                index(b.min().x, bounds[0], nx),
+                index(b.max().x, bounds[0], nx),
+            );
+            let (j0, j1) = (
+                index(b.min().y, bounds[1], ny),
+                index(b.max().y, bounds[1], ny),
+            );
             for j in j0..=j1 {
                 for i in i0..=i1 {
                     let k = (li * ny + j) * nx + i;

@@ -160,8 +160,7 @@ impl RadioMap {
     pub fn coverage(&self) -> (f64, f64) {
         use geo::Area;
         let total: f64 = self.cells.iter().map(|c| c.area.unsigned_area()).sum();
-        let covered: Vec<&RadioMapCell> =
-            self.cells.iter().filter(|c| c.radio.scans > 0).collect();
+        let covered: Vec<&RadioMapCell> = self.cells.iter().filter(|c| c.radio.scans > 0).collect();
         let share = if total > 0.0 {
             covered.iter().map(|c| c.area.unsigned_area()).sum::<f64>() / total
         } else {
@@ -170,7 +169,11 @@ impl RadioMap {
         let mean = if covered.is_empty() {
             0.0
         } else {
-            covered.iter().map(|c| f64::from(c.radio.scans)).sum::<f64>() / covered.len() as f64
+            covered
+                .iter()
+                .map(|c| f64::from(c.radio.scans))
+                .sum::<f64>()
+                / covered.len() as f64
         };
         (share, mean)
     }

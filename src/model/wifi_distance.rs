@@ -83,7 +83,10 @@ impl Fingerprints {
         let z = self.scan_vector(scan);
         self.cells
             .iter()
-            .map(|c| c.as_ref().map(|(means, visible)| ndist(&z, means, *visible)))
+            .map(|c| {
+                c.as_ref()
+                    .map(|(means, visible)| ndist(&z, means, *visible))
+            })
             .collect()
     }
 }
@@ -136,7 +139,11 @@ pub fn leave_one_out_ndist(
 /// share at or below it, nudged up by 1 % so that it is strictly above; `None` without
 /// distances.
 pub fn calibrate_epsilon(distances: &[f64], miss: f64) -> Option<f64> {
-    let mut d: Vec<f64> = distances.iter().copied().filter(|d| d.is_finite()).collect();
+    let mut d: Vec<f64> = distances
+        .iter()
+        .copied()
+        .filter(|d| d.is_finite())
+        .collect();
     if d.is_empty() {
         return None;
     }
@@ -214,10 +221,7 @@ mod tests {
     #[test]
     fn leave_one_out_and_calibration() {
         let mut radio = CellRadio::default();
-        let scans = [
-            scan(&[("a", -60.0), ("b", -80.0)]),
-            scan(&[("a", -64.0)]),
-        ];
+        let scans = [scan(&[("a", -60.0), ("b", -80.0)]), scan(&[("a", -64.0)])];
         for s in &scans {
             radio.add_scan(s);
         }
@@ -230,7 +234,12 @@ mod tests {
             }],
             epsilon: None,
         };
-        let d = leave_one_out_ndist(&map, &[(0, Some(0)), (1, Some(0)), (1, None)], &scans, -96.0);
+        let d = leave_one_out_ndist(
+            &map,
+            &[(0, Some(0)), (1, Some(0)), (1, None)],
+            &scans,
+            -96.0,
+        );
         // Scan 0 against the cell without it: a = −64, b unseen (−96): √(16 + 256) / 1.
         assert!((d[0] - 272f64.sqrt()).abs() < 1e-9, "{d:?}");
         // Scan 1 against a = −60, b = −80: √(16 + 256) / 2.

@@ -219,9 +219,14 @@ mod tests {
         assert!(near > far + 3.0, "{near} {far}");
         assert_eq!(ll[2], None);
         // Hand-computed for the first cell: a at −61 against bins −60, −62 (σ = 4 dB).
-        let k = (-0.5f64 * (1.0f64 / 4.0).powi(2)).exp() / (4.0 * (2.0 * std::f64::consts::PI).sqrt());
+        let k =
+            (-0.5f64 * (1.0f64 / 4.0).powi(2)).exp() / (4.0 * (2.0 * std::f64::consts::PI).sqrt());
         let pa = (2.5 / 3.0) * (0.95 * k + 0.05 / 80.0);
-        assert!((near - 2.0 * pa.ln()).abs() < 1e-9, "{near} {}", 2.0 * pa.ln());
+        assert!(
+            (near - 2.0 * pa.ln()).abs() < 1e-9,
+            "{near} {}",
+            2.0 * pa.ln()
+        );
         // Not hearing b, always heard in the first cell and never in the second, favours
         // the second relative to a scan that heard it.
         let ll = model.log_likelihood(&scan(&[("a", -61.0)]));

@@ -51,7 +51,9 @@ pub mod wifi;
 pub use office::{Office, OfficeConfig, Room, office_floor};
 pub use step_sensor::{StepNoiseConfig, measure_steps, measure_steps_from};
 pub use tower::{Tower, TowerConfig, TowerRoom};
-pub use tower_walk::{TourKind, TowerWalkConfig, floor_changes, floor_resolved_at, simulate_tower_walk};
+pub use tower_walk::{
+    TourKind, TowerWalkConfig, floor_changes, floor_resolved_at, simulate_tower_walk,
+};
 pub use truth::{TruePath, TruePose};
 pub use walker::{WalkConfig, simulate_walk};
 pub use wifi::{AccessPoint, RadioWorld, WifiSimConfig, expected_field};

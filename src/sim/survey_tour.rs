@@ -78,7 +78,10 @@ fn sweep(area: Rect<f64>, margin: f64, spacing: f64, entry: Coord<f64>) -> Vec<C
         across.reverse();
     }
     let ends = {
-        let (n, f) = ((l0 + margin).min(l1 - margin), (l1 - margin).max(l0 + margin));
+        let (n, f) = (
+            (l0 + margin).min(l1 - margin),
+            (l1 - margin).max(l0 + margin),
+        );
         if (el - n).abs() <= (el - f).abs() {
             (n, f)
         } else {
@@ -96,11 +99,7 @@ fn sweep(area: Rect<f64>, margin: f64, spacing: f64, entry: Coord<f64>) -> Vec<C
         .iter()
         .enumerate()
         .flat_map(|(i, &a)| {
-            let (s, e) = if i % 2 == 0 {
-                ends
-            } else {
-                (ends.1, ends.0)
-            };
+            let (s, e) = if i % 2 == 0 { ends } else { (ends.1, ends.0) };
             [point(a, s), point(a, e)]
         })
         .collect()
@@ -131,10 +130,10 @@ mod tests {
         let w = survey_waypoints(&tower, 1.5, 0.6);
         for r in &tower.rooms {
             assert!(
-                w.iter()
-                    .any(|p| r.area.min().x < p.x && p.x < r.area.max().x
-                        && r.area.min().y < p.y
-                        && p.y < r.area.max().y),
+                w.iter().any(|p| r.area.min().x < p.x
+                    && p.x < r.area.max().x
+                    && r.area.min().y < p.y
+                    && p.y < r.area.max().y),
                 "room at {:?} not entered",
                 r.corridor
             );
