@@ -351,6 +351,30 @@ mod tests {
     }
 
     #[test]
+    fn a_stairs_treads_join_the_landing_they_rise_from() {
+        // A landing and three 1 m wide treads rising 0.2 m each: narrower than a door, but
+        // joined by risers; a door-width step at the same height still separates.
+        let tread = |i: f64| FloorPolygon {
+            z: 0.2 * (i + 1.0),
+            ..rect(3.0 + 0.3 * i, 0.0, 3.3 + 0.3 * i, 1.0, None)
+        };
+        let plan = FloorPlan {
+            polygons: vec![
+                rect(0.0, 0.0, 3.0, 2.0, None),
+                tread(0.0),
+                tread(1.0),
+                tread(2.0),
+                rect(0.0, -1.0, 1.0, 0.0, None),
+            ],
+            ..Default::default()
+        };
+        let cells = build(&plan, 3.0);
+        let landing = cells.room_of(0);
+        assert!((1..4).all(|s| cells.room_of(s) == landing));
+        assert_ne!(cells.room_of(4), landing);
+    }
+
+    #[test]
     fn explicit_rooms_win_and_l_shapes_leave_empty_boxes() {
         // An L-shaped room of two polygons named alike, touching over 1 m only.
         let plan = FloorPlan {

@@ -125,6 +125,40 @@ mod tests {
     }
 
     #[test]
+    fn the_walked_survey_stays_on_the_plan_and_ends_with_the_tour() {
+        use crate::map::{FloorTopology, TopologyConfig};
+        use crate::sim::{TourKind, TowerWalkConfig, simulate_tower_walk};
+        let tower = Tower::new(&TowerConfig::default()).expect("tower");
+        let topology = FloorTopology::build(&tower.plan, &TopologyConfig::default()).expect("topo");
+        let config = TowerWalkConfig {
+            tour: TourKind::Survey,
+            minutes: 60.0,
+            ..Default::default()
+        };
+        let (start, path) = simulate_tower_walk(&tower, &topology, &config, 5).expect("walk");
+        let minutes = path.poses.last().expect("poses").t / 60.0;
+        assert!((15.0..40.0).contains(&minutes), "{minutes} min");
+        let mut surface = topology
+            .locate(start.x, start.y, Some(start.level), Some(start.z))
+            .expect("start");
+        let mut from = (start.x, start.y);
+        let mut levels = [0usize; 3];
+        for (i, p) in path.poses.iter().enumerate() {
+            surface = topology
+                .walk(
+                    surface,
+                    [from.0 as f32, from.1 as f32],
+                    [p.x as f32, p.y as f32],
+                )
+                .unwrap_or_else(|| panic!("step {i} through a wall"));
+            levels[p.level as usize] += 1;
+            from = (p.x, p.y);
+        }
+        assert!(levels.iter().all(|&n| n > 300), "{levels:?}");
+        assert_eq!((start.level, path.poses.last().expect("end").level), (0, 0));
+    }
+
+    #[test]
     fn the_tour_enters_every_room_and_both_stairwells_between_floors() {
         let tower = Tower::new(&TowerConfig::default()).expect("tower");
         let w = survey_waypoints(&tower, 1.5, 0.6);
