@@ -115,6 +115,7 @@ pub(super) fn parse_start(s: &str) -> Result<StartPose, String> {
 
 #[derive(Debug, Serialize)]
 struct Summary {
+    rf: Option<RfSummary>,
     plan_file: String,
     steps_file: String,
     steps: usize,
@@ -138,6 +139,21 @@ struct Summary {
     plan: PlanStats,
     origin: LocalFrame,
     version: &'static str,
+}
+
+/// What the radio map did.
+#[derive(Debug, Serialize)]
+struct RfSummary {
+    radiomap_file: String,
+    wifi_file: String,
+    scans: usize,
+    mode: RfMode,
+    /// The region threshold used.
+    epsilon_dbm: f64,
+    /// The step at which the filter started (the first after the first scan).
+    started_at_step: Option<usize>,
+    /// Scans no particle was consistent with (ignored).
+    measurements_ignored: usize,
 }
 
 #[derive(Debug, Serialize)]
@@ -224,7 +240,7 @@ pub fn run(args: Args) -> Result<()> {
     };
 
     let filter_started = Instant::now();
-    let (reports, snapshots, initial, bytes_per_particle, track) =
+    let (reports, snapshots, initial, bytes_per_particle, track, ignored) =
         pool.install(|| -> Result<_> {
             let mut walker = match &radio {
                 Some((rf, scans)) => {
@@ -278,6 +294,7 @@ pub fn run(args: Args) -> Result<()> {
                 initial,
                 walker.tracker().map_or(0.0, Tracker::bytes_per_particle),
                 track,
+                walker.tracker().map_or(0, Tracker::measurements_ignored),
             ))
         })?;
     let filter_runtime = filter_started.elapsed().as_secs_f64();
@@ -319,6 +336,21 @@ pub fn run(args: Args) -> Result<()> {
     let first = reports.iter().position(|r| r.localised);
     let particle_steps: usize = reports.iter().map(|r| r.particles).sum();
     let summary = Summary {
+        rf: radio.as_ref().map(|(rf, scans)| RfSummary {
+            radiomap_file: args
+                .radiomap
+                .as_ref()
+                .map_or(String::new(), |p| p.display().to_string()),
+            wifi_file: args
+                .wifi
+                .as_ref()
+                .map_or(String::new(), |p| p.display().to_string()),
+            scans: scans.len(),
+            mode: rf.config().mode,
+            epsilon_dbm: rf.epsilon(),
+            started_at_step: reports.iter().position(|r| r.particles > 0).map(|i| i + 1),
+            measurements_ignored: ignored,
+        }),
         plan_file: plan_path.display().to_string(),
         steps_file: steps_path.display().to_string(),
         steps: trace.len(),
