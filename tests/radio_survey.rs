@@ -108,7 +108,33 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
             .stdout(predicate::str::contains("localised after"));
         let config = json(&run.join("config.json"));
         assert_eq!(config["rf"]["mode"], mode.replace('-', "_"));
+        let rf = &json(&run.join("summary.json"))["rf"];
+        assert_eq!(rf["measurements_ignored"], 0, "{mode}");
+        assert!((rf["epsilon_dbm"].as_f64().expect("epsilon") - epsilon).abs() < 0.01);
     }
+    // The same run on one thread and on two.
+    let tracks: Vec<String> = ["1", "2"]
+        .iter()
+        .map(|threads| {
+            let run = dir.path().join(format!("threads-{threads}"));
+            footslam()
+                .arg("track")
+                .arg("--plan")
+                .arg(other.join("floor.geojson"))
+                .arg("--steps")
+                .arg(other.join("steps.csv"))
+                .arg("--radiomap")
+                .arg(out.join("radiomap.geojson"))
+                .arg("--wifi")
+                .arg(other.join("wifi.csv"))
+                .args(["--threads", threads, "--out"])
+                .arg(&run)
+                .assert()
+                .success();
+            std::fs::read_to_string(run.join("track.csv")).expect("track.csv")
+        })
+        .collect();
+    assert_eq!(tracks[0], tracks[1]);
     // A radio map needs its scans, and a map of another place is refused.
     footslam()
         .arg("track")
