@@ -662,7 +662,7 @@ fn boundary_segments(plan: &FloorPlan, config: &TopologyConfig) -> Vec<Segment> 
     let mut stamp = vec![usize::MAX; edges.len()];
     for (i, e) in edges.iter().enumerate() {
         // Parameter intervals along `e` shared with other surfaces' edges.
-        let mut shared: Vec<(f64, f64, u32, [f64; 2], [f64; 2])> = Vec::new();
+        let mut shared: Vec<SharedSpan> = Vec::new();
         neighbours.candidates(e, config.connection_tolerance, |j| {
             if stamp[j] == i {
                 return;
@@ -677,13 +677,21 @@ fn boundary_segments(plan: &FloorPlan, config: &TopologyConfig) -> Vec<Segment> 
                 return;
             }
             if let Some((t0, p0, t1, p1)) = collinear_overlap(e, f, config.connection_tolerance) {
-                shared.push((t0, t1, f.surface, p0, p1));
+                shared.push(SharedSpan {
+                    t: (t0, t1),
+                    ends: (p0, p1),
+                    surface: f.surface,
+                });
             }
         });
         // Cut points: the edge's ends and the other edges' corners that fall on it, at
         // those corners' own coordinates (so the pieces meet the neighbours' edges exactly).
         let mut cuts: Vec<(f64, [f64; 2])> = vec![(0.0, e.a), (1.0, e.b)];
-        cuts.extend(shared.iter().flat_map(|s| [(s.0, s.3), (s.1, s.4)]));
+        cuts.extend(
+            shared
+                .iter()
+                .flat_map(|s| [(s.t.0, s.ends.0), (s.t.1, s.ends.1)]),
+        );
         cuts.sort_by(|a, b| a.0.total_cmp(&b.0));
         cuts.dedup_by(|a, b| (a.0 - b.0).abs() < 1e-12);
         let length = (e.b[0] - e.a[0]).hypot(e.b[1] - e.a[1]);
@@ -695,8 +703,8 @@ fn boundary_segments(plan: &FloorPlan, config: &TopologyConfig) -> Vec<Segment> 
             let mid = 0.5 * (t0 + t1);
             let other = shared
                 .iter()
-                .filter(|s| s.0 <= mid && mid <= s.1)
-                .map(|s| s.2)
+                .filter(|s| s.t.0 <= mid && mid <= s.t.1)
+                .map(|s| s.surface)
                 .min();
             let kind = match other {
                 None => SegmentKind::Wall { surface: e.surface },
@@ -708,6 +716,16 @@ fn boundary_segments(plan: &FloorPlan, config: &TopologyConfig) -> Vec<Segment> 
         }
     }
     segments
+}
+
+/// A stretch of one edge shared with another surface's edge.
+struct SharedSpan {
+    /// Parameter interval along the edge.
+    t: (f64, f64),
+    /// The points bounding it.
+    ends: ([f64; 2], [f64; 2]),
+    /// The other surface.
+    surface: u32,
 }
 
 /// The parameter interval of `e` over which `f` lies on `e`'s line (within `tol`), if it is
