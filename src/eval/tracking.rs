@@ -85,6 +85,7 @@ mod tests {
                 y,
                 z: 3.0 * f64::from(level),
                 level,
+                heading: 0.0,
                 weight: 1.0,
                 particles: 100,
             }),

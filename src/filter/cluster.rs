@@ -2,12 +2,19 @@
 //! a multimodal belief is a set of distinct particle clusters, each a possible location).
 //!
 //! Mean shift with a flat kernel: a mode moves to the weighted mean of the particles within
-//! `radius` horizontally and less than `max_dz` vertically, until it stops moving. Seeds are
-//! the weighted means of occupied bins of half the radius (bin seeding), modes closer than the
-//! radius (and `max_dz`) are merged, keeping the densest, and every particle joins its nearest
-//! mode. Knows nothing of maps: particles are points with a height, a level and a weight.
+//! `radius` horizontally, less than `max_dz` vertically and heading within `max_dheading` of
+//! the mode's (circular) mean heading, until it stops moving. Heading is part of the kernel
+//! because a hypothesis is a pose, not a place: in a building with rotational symmetry two
+//! groups walking towards each other along one corridor pass within the 7 m radius while
+//! being distinct hypotheses (a pedestrian's particles all turn at the same step, so one
+//! hypothesis keeps a tight heading spread). Seeds are the weighted means of occupied bins of
+//! half the radius and of `max_dheading` in heading (bin seeding), modes closer than the
+//! kernel are merged, keeping the densest, and every particle joins its nearest mode within
+//! reach. Knows nothing of maps: particles are points with a height, a level, a heading and a
+//! weight.
 
 use crate::error::{Error, Result};
+use crate::geometry::angle::wrap_angle;
 use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
 
@@ -22,6 +29,7 @@ const CONVERGED: f64 = 1e-3;
 /// |----------------|---------|-------------------------------------------------------------|
 /// | `radius`       | 7 m     | flat kernel's horizontal radius (the paper's value)         |
 /// | `max_dz`       | 1 m     | particles less than this apart vertically share a kernel    |
+/// | `max_dheading` | 45°     | particles less than this apart in heading share a kernel (π = ignore heading) |
 /// | `min_weight`   | 0.01    | clusters holding less of the weight are not counted         |
 /// | `max_particles`| 10,000  | beliefs with more particles are not clustered               |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -31,6 +39,8 @@ pub struct ClusterConfig {
     pub radius: f64,
     /// Vertical kernel half-height, metres.
     pub max_dz: f64,
+    /// Heading kernel half-width, radians (π: headings never separate clusters).
+    pub max_dheading: f64,
     /// Clusters below this share of the total weight are stragglers, not counted.
     pub min_weight: f64,
     /// Clustering runs only when there are at most this many particles.
@@ -42,7 +52,8 @@ impl Default for ClusterConfig {
         Self {
             radius: 7.0,
             max_dz: 1.0,
-            min_weight: 0.002,
+            max_dheading: std::f64::consts::FRAC_PI_4,
+            min_weight: 0.01,
             max_particles: 10_000,
         }
     }
@@ -70,6 +81,15 @@ impl ClusterConfig {
                 "cluster.max_dz",
                 self.max_dz.to_string(),
                 "must be in [0.01, 100] metres",
+            );
+        }
+        if !(self.max_dheading.is_finite()
+            && (0.05..=std::f64::consts::PI).contains(&self.max_dheading))
+        {
+            return bad(
+                "cluster.max_dheading",
+                self.max_dheading.to_string(),
+                "must be in [0.05, π] radians",
             );
         }
         if !(self.min_weight.is_finite() && (0.0..0.5).contains(&self.min_weight)) {
@@ -101,6 +121,8 @@ pub struct ClusterPoint {
     pub z: f32,
     /// Floor level.
     pub level: i32,
+    /// Heading, radians.
+    pub heading: f32,
     /// Weight (non-negative).
     pub weight: f32,
 }
@@ -116,6 +138,8 @@ pub struct Cluster {
     pub z: f64,
     /// The level holding most of the cluster's weight.
     pub level: i32,
+    /// Weighted circular mean heading, radians in (−π, π].
+    pub heading: f64,
     /// Share of the total weight, in [0, 1].
     pub weight: f64,
     /// Number of particles.
@@ -133,7 +157,7 @@ pub fn mean_shift(points: &[ClusterPoint], config: &ClusterConfig) -> Vec<Cluste
     let r = config.radius;
     let grid = Grid::new(points, r);
     let modes = merge_modes(
-        seeds(points, r / 2.0)
+        seeds(points, r / 2.0, config.max_dheading)
             .into_iter()
             .map(|s| shift(s, points, &grid, config))
             .collect(),
@@ -146,7 +170,11 @@ pub fn mean_shift(points: &[ClusterPoint], config: &ClusterConfig) -> Vec<Cluste
             .enumerate()
             .map(|(i, m)| {
                 let dz = (f64::from(p.z) - m.z).abs();
-                let penalty = if dz < config.max_dz { 0.0 } else { 1e6 * dz };
+                let dh = heading_gap(f64::from(p.heading), m.heading);
+                let mut penalty = if dz < config.max_dz { 0.0 } else { 1e6 * dz };
+                if dh > config.max_dheading {
+                    penalty += 1e3 * dh;
+                }
                 (
                     i,
                     (f64::from(p.x) - m.x).hypot(f64::from(p.y) - m.y) + penalty,
@@ -173,7 +201,13 @@ struct Mode {
     x: f64,
     y: f64,
     z: f64,
+    heading: f64,
     density: f64,
+}
+
+/// Absolute difference of two headings, radians in [0, π].
+fn heading_gap(a: f64, b: f64) -> f64 {
+    wrap_angle(a - b).abs()
 }
 
 /// Weighted sums of a cluster's particles.
@@ -183,6 +217,8 @@ struct Sums {
     x: f64,
     y: f64,
     z: f64,
+    cos: f64,
+    sin: f64,
     n: usize,
     levels: Vec<(i32, f64)>,
 }
@@ -194,6 +230,8 @@ impl Sums {
         self.x += w * f64::from(p.x);
         self.y += w * f64::from(p.y);
         self.z += w * f64::from(p.z);
+        self.cos += w * f64::from(p.heading).cos();
+        self.sin += w * f64::from(p.heading).sin();
         self.n += 1;
         match self.levels.iter_mut().find(|(l, _)| *l == p.level) {
             Some((_, lw)) => *lw += w,
@@ -212,6 +250,7 @@ impl Sums {
             y: self.y / self.w,
             z: self.z / self.w,
             level,
+            heading: self.sin.atan2(self.cos),
             weight: self.w / total,
             particles: self.n,
         }
@@ -254,30 +293,25 @@ impl Grid {
 }
 
 /// Bin seeding: the weighted mean of the particles of each occupied bin of edge `cell`
-/// (per metre of height), in a deterministic order.
-fn seeds(points: &[ClusterPoint], cell: f64) -> Vec<Mode> {
-    // Per bin: total weight and weighted sums of x, y and z.
-    type Sums4 = (f64, f64, f64, f64);
-    let mut bins: FxHashMap<(i64, i64, i64), Sums4> = FxHashMap::default();
+/// (per metre of height, per `sector` of heading), in a deterministic order.
+fn seeds(points: &[ClusterPoint], cell: f64, sector: f64) -> Vec<Mode> {
+    let mut bins: FxHashMap<(i64, i64, i64, i64), Sums> = FxHashMap::default();
     for p in points.iter().filter(|p| p.weight > 0.0) {
         let (kx, ky) = Grid::key(f64::from(p.x), f64::from(p.y), cell);
         let kz = f64::from(p.z).floor() as i64;
-        let w = f64::from(p.weight);
-        let e = bins.entry((kx, ky, kz)).or_insert((0.0, 0.0, 0.0, 0.0));
-        e.0 += w;
-        e.1 += w * f64::from(p.x);
-        e.2 += w * f64::from(p.y);
-        e.3 += w * f64::from(p.z);
+        let kh = ((f64::from(p.heading) + std::f64::consts::PI) / sector).floor() as i64;
+        bins.entry((kx, ky, kz, kh)).or_default().add(p);
     }
     let mut keyed: Vec<_> = bins.into_iter().collect();
     keyed.sort_by_key(|(k, _)| *k);
     keyed
         .into_iter()
-        .map(|(_, (w, x, y, z))| Mode {
-            x: x / w,
-            y: y / w,
-            z: z / w,
-            density: w,
+        .map(|(_, s)| Mode {
+            x: s.x / s.w,
+            y: s.y / s.w,
+            z: s.z / s.w,
+            heading: s.sin.atan2(s.cos),
+            density: s.w,
         })
         .collect()
 }
@@ -286,28 +320,30 @@ fn seeds(points: &[ClusterPoint], cell: f64) -> Vec<Mode> {
 fn shift(mut m: Mode, points: &[ClusterPoint], grid: &Grid, config: &ClusterConfig) -> Mode {
     let r2 = config.radius * config.radius;
     for _ in 0..MAX_ITERATIONS {
-        let (mut w, mut x, mut y, mut z) = (0.0, 0.0, 0.0, 0.0);
+        let mut s = Sums::default();
         grid.around(m.x, m.y, |i| {
             let p = &points[i as usize];
             let (dx, dy) = (f64::from(p.x) - m.x, f64::from(p.y) - m.y);
-            if dx * dx + dy * dy <= r2 && (f64::from(p.z) - m.z).abs() < config.max_dz {
-                let pw = f64::from(p.weight);
-                w += pw;
-                x += pw * f64::from(p.x);
-                y += pw * f64::from(p.y);
-                z += pw * f64::from(p.z);
+            if dx * dx + dy * dy <= r2
+                && (f64::from(p.z) - m.z).abs() < config.max_dz
+                && heading_gap(f64::from(p.heading), m.heading) <= config.max_dheading
+            {
+                s.add(p);
             }
         });
-        if w <= 0.0 {
+        if s.w <= 0.0 {
             break;
         }
         let next = Mode {
-            x: x / w,
-            y: y / w,
-            z: z / w,
-            density: w,
+            x: s.x / s.w,
+            y: s.y / s.w,
+            z: s.z / s.w,
+            heading: s.sin.atan2(s.cos),
+            density: s.w,
         };
-        let moved = (next.x - m.x).hypot(next.y - m.y) + (next.z - m.z).abs();
+        let moved = (next.x - m.x).hypot(next.y - m.y)
+            + (next.z - m.z).abs()
+            + heading_gap(next.heading, m.heading);
         m = next;
         if moved < CONVERGED {
             break;
@@ -322,7 +358,9 @@ fn merge_modes(mut modes: Vec<Mode>, config: &ClusterConfig) -> Vec<Mode> {
     let mut kept: Vec<Mode> = Vec::new();
     for m in modes {
         let near = kept.iter().any(|k| {
-            (k.x - m.x).hypot(k.y - m.y) < config.radius && (k.z - m.z).abs() < config.max_dz
+            (k.x - m.x).hypot(k.y - m.y) < config.radius
+                && (k.z - m.z).abs() < config.max_dz
+                && heading_gap(k.heading, m.heading) < config.max_dheading
         });
         if !near {
             kept.push(m);
@@ -350,6 +388,7 @@ mod tests {
                 y: c.1 + spread * rng.sample::<f32, _>(StandardNormal),
                 z: c.2,
                 level,
+                heading: 0.3 + 0.05 * rng.sample::<f32, _>(StandardNormal),
                 weight: 1.0,
             })
             .collect()
@@ -409,9 +448,35 @@ mod tests {
                 y: (i / 120) as f32 * 0.2,
                 z: 0.0,
                 level: 0,
+                heading: std::f32::consts::PI * if i % 2 == 0 { 1.0 } else { -1.0 },
                 weight: 1.0,
             })
             .collect();
+        // Headings of ±π are one direction.
         assert_eq!(mean_shift(&points, &ClusterConfig::default()).len(), 1);
+    }
+
+    #[test]
+    fn groups_walking_towards_each_other_are_two_hypotheses() {
+        // Two groups 6 m apart along a corridor (within one 7 m kernel), heading east and
+        // west: a building's 180° symmetry, two poses, not one.
+        let mut rng = crate::random::stream(4, 0, 0);
+        let mut points = blob(&mut rng, 1000, (0.0, 0.0, 0.0), 0, 0.5);
+        let mut west = blob(&mut rng, 1000, (6.0, 0.0, 0.0), 0, 0.5);
+        west.iter_mut()
+            .for_each(|p| p.heading -= std::f32::consts::PI);
+        points.extend(west);
+        let clusters = mean_shift(&points, &ClusterConfig::default());
+        assert_eq!(clusters.len(), 2, "{clusters:?}");
+        let mut xs: Vec<f64> = clusters.iter().map(|c| c.x).collect();
+        xs.sort_by(f64::total_cmp);
+        assert!(xs[0].abs() < 0.2 && (xs[1] - 6.0).abs() < 0.2, "{xs:?}");
+        assert!(clusters.iter().all(|c| c.particles == 1000));
+        // Ignoring headings, they are one place.
+        let config = ClusterConfig {
+            max_dheading: std::f64::consts::PI,
+            ..Default::default()
+        };
+        assert_eq!(mean_shift(&points, &config).len(), 1);
     }
 }

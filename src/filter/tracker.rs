@@ -457,6 +457,7 @@ impl<'a> Tracker<'a> {
                 y: p.y,
                 z: self.topology.z(p.surface),
                 level: self.topology.level(p.surface),
+                heading: p.heading,
                 weight: 1.0,
             })
             .collect();

@@ -34,7 +34,7 @@ impl Gait {
     pub fn validate(&self) -> Result<()> {
         ensure_in_range!("walk.step_frequency", self.frequency, 0.2..=5.0, " Hz");
         ensure_in_range!("walk.step_period_jitter", self.period_jitter, 0.0..=0.3, "");
-        ensure_in_range!("walk.step_length_mean", self.length_mean, 0.2..=1.5, " m");
+        ensure_in_range!("walk.step_length_mean", self.length_mean, 0.2..=2.0, " m");
         ensure_in_range!("walk.step_length_sigma", self.length_sigma, 0.0..=0.3, " m");
         ensure_in_range!("walk.wander_sigma", self.wander_sigma, 0.0..=0.2, " m");
         Ok(())
@@ -53,10 +53,13 @@ pub(super) struct Stride {
 }
 
 /// The strides along `route` until it ends, drawing from `rng` (stride, period, wander, in
-/// that order each step).
+/// that order each step). `limit` caps a stride that starts or would end at a point where
+/// walkers shorten their stride (on stairs a foot-mounted sensor's stride spans two
+/// treads); `None` where the gait is free.
 pub(super) fn strides<'a>(
     route: &'a Route,
     gait: Gait,
+    limit: impl Fn(Coord<f64>) -> Option<f64> + 'a,
     rng: &'a mut Pcg64Mcg,
 ) -> impl Iterator<Item = Stride> + 'a {
     let total = route.length();
@@ -67,7 +70,12 @@ pub(super) fn strides<'a>(
         }
         let mut gauss = || rng.sample::<f64, _>(StandardNormal);
         let mean = gait.length_mean;
-        let stride = (mean + gait.length_sigma * gauss()).clamp(0.5 * mean, 1.5 * mean);
+        let mut stride = (mean + gait.length_sigma * gauss()).clamp(0.5 * mean, 1.5 * mean);
+        let cap = [route.at(s).0, route.at((s + stride).min(total)).0]
+            .into_iter()
+            .filter_map(&limit)
+            .fold(f64::INFINITY, f64::min);
+        stride = stride.min(cap);
         s = (s + stride).min(total);
         t += (1.0 + gait.period_jitter * gauss()).max(0.5) / gait.frequency;
         let (on_route, direction) = route.at(s);

@@ -361,6 +361,14 @@ impl Tower {
         })
     }
 
+    /// The longest stride at `p` when it is in a stairwell beyond the floor landings: two
+    /// treads (a foot-mounted sensor's stride spans one tread per foot); `None` elsewhere.
+    pub fn stride_limit(&self, p: Coord<f64>) -> Option<f64> {
+        let c = &self.config;
+        let beyond = (-p.x).max(p.x - c.corridor_length) - c.landing_depth;
+        (beyond > 0.0).then_some(2.0 * c.tread_depth)
+    }
+
     /// Waypoints from the corridor's end at `level` through the stairwell at the west
     /// (`east = false`) or east end to the corridor's end one floor up (`up`) or down.
     pub fn stair_waypoints(&self, east: bool, up: bool) -> Vec<Coord<f64>> {

@@ -91,10 +91,10 @@ impl Default for TowerWalkConfig {
             corridor_start_probability: 0.25,
             max_points_per_room: 2,
             room_margin: 0.6,
-            step_frequency: 1.8,
+            step_frequency: 0.9,
             step_period_jitter: 0.05,
-            step_length_mean: 0.7,
-            step_length_sigma: 0.05,
+            step_length_mean: 1.4,
+            step_length_sigma: 0.08,
             corner_radius: 0.5,
             wander_sigma: 0.03,
             tour: TourKind::Random,
@@ -320,7 +320,7 @@ fn walk(
     };
     let mut previous = p0;
     let mut poses = Vec::with_capacity(steps);
-    for stride in strides(route, config.gait(), rng).take(steps) {
+    for stride in strides(route, config.gait(), |p| tower.stride_limit(p), rng).take(steps) {
         let (q, surface) = match locate(stride.wandered, z) {
             Some(surface) => (stride.wandered, surface),
             None => {
@@ -425,7 +425,7 @@ mod tests {
                 );
                 assert_eq!(topology.level(to), p.level);
                 let d = (p.x - from.0).hypot(p.y - from.1);
-                assert!(d < 1.2, "seed {seed} step {i}: {d} m");
+                assert!(d < 2.2, "seed {seed} step {i}: {d} m");
                 (surface, from) = (to, (p.x, p.y));
             }
         }

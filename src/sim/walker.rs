@@ -145,7 +145,7 @@ fn walk(
     let on_floor = |q: Coord<f64>| office.plan.is_walkable(q.x, q.y, Some(0));
     let mut previous = Coord { x: 0.0, y: 0.0 };
     let mut poses = Vec::with_capacity((route.length() / config.step_length_mean) as usize + 1);
-    for stride in strides(route, config.gait(), rng) {
+    for stride in strides(route, config.gait(), |_| None, rng) {
         let on_route = stride.on_route;
         if !on_floor(on_route) {
             return Err(Error::Input(format!(
