@@ -20,6 +20,9 @@ use serde::{Deserialize, Serialize};
 
 /// Fragments smaller than this are dropped from a cell, square metres.
 const MIN_FRAGMENT_AREA: f64 = 1e-4;
+/// An extent at most this much longer than a whole number of cells is rounding (GeoJSON
+/// coordinates are kept to about a millimetre), not another row of cells, metres.
+const EXTENT_SLACK: f64 = 2e-3;
 /// Surfaces whose heights differ by more than this are joined by a stair's riser, metres.
 const RISER_MIN: f64 = 1e-3;
 
@@ -145,9 +148,12 @@ impl CellMap {
                     ]
                 })
                 .unwrap_or([0.0; 4]);
-            // The fewest equal boxes with no edge longer than the granularity.
-            let nx = (((bbox[2] - bbox[0]) / config.granularity).ceil() as usize).max(1);
-            let ny = (((bbox[3] - bbox[1]) / config.granularity).ceil() as usize).max(1);
+            // The fewest equal boxes with no edge longer than the granularity (an edge longer
+            // by rounding only — a plan read back from WGS84 — does not need another box).
+            let boxes = |extent: f64| {
+                (((extent - EXTENT_SLACK) / config.granularity).ceil() as usize).max(1)
+            };
+            let (nx, ny) = (boxes(bbox[2] - bbox[0]), boxes(bbox[3] - bbox[1]));
             let (w, h) = (
                 (bbox[2] - bbox[0]) / nx as f64,
                 (bbox[3] - bbox[1]) / ny as f64,
@@ -332,6 +338,12 @@ mod tests {
         let room = &cells.rooms()[cells.room_of(3)];
         // 7 m × 4 m at 3 m: 3 × 2 boxes of 2.33 m × 2 m.
         assert_eq!(room.boxes, (3, 2));
+        // At 2 m, 4 m is two boxes, also when rounding makes it a hair longer.
+        assert_eq!(
+            build(&plan, 2.0 * (1.0 - 1e-12)).rooms()[cells.room_of(3)].boxes,
+            (4, 2)
+        );
+        assert_eq!(build(&plan, 2.0).rooms()[cells.room_of(3)].boxes, (4, 2));
         let corridor = &cells.rooms()[cells.room_of(0)];
         assert_eq!(corridor.boxes, (4, 1));
         // Cells cover each room's area exactly, never crossing rooms.
