@@ -4,7 +4,7 @@
 //! probabilistic, eq. 14; prior region only) on the same walks with the same seeds.
 //!
 //! ```sh
-//! cargo run --release --example rf_starts -- 20 400 1   # starts, steps per walk, survey walks
+//! cargo run --release --example rf_starts -- 20 400 1   # starts, 1.8 Hz steps of walking, survey walks
 //! APS=4 cargo run --release --example rf_starts        # 4 access points a floor
 //! ```
 
