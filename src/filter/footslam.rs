@@ -9,17 +9,23 @@
 //! * (c) weight by the map's posterior predictive of every edge crossed, eq. (6);
 //! * (e) count the crossings in the particle's map;
 //! * (d) normalise; (f) resample when the effective sample size is low.
+//!
+//! Anchors to the world (sec. 4.1–4.3), all optional ([`Anchors`]): GPS fixes weight the
+//! particles at the steps they fall in ([`crate::model::GpsLikelihood`]); a rough building
+//! outline and maps of earlier walks become per-edge Dirichlet priors `α^e_h` in eq. (6)
+//! ([`EdgePrior`]), one read-only table shared by every particle.
 
 pub use super::footslam_config::FootSlamConfig;
 use super::lineage::Lineage;
 use super::resample::{self, ResampleMethod};
 use crate::error::Result;
 use crate::geometry::{HexGrid, Pose2};
-use crate::map::{HexMapSnapshot, HexTransitionMap};
-use crate::model::{StepErrorState, StepMotion};
+use crate::map::{EdgePrior, HexMapSnapshot, HexTransitionMap};
+use crate::model::{GpsLikelihood, GpsObservation, StepErrorState, StepMotion};
 use crate::random::{filter_stream, stream};
 use crate::sensor::Step;
 use rand::RngExt;
+use rand_distr::StandardNormal;
 use rayon::prelude::*;
 use std::sync::Arc;
 
@@ -51,12 +57,45 @@ pub struct FootSlamEstimate {
     pub map: HexMapSnapshot,
 }
 
+/// What anchors a walk to the world, beyond its steps (all optional).
+#[derive(Debug, Clone, Default)]
+pub struct Anchors {
+    /// GPS fixes in the local frame on the steps' clock, in time order.
+    pub gps: Vec<GpsObservation>,
+    /// Per-edge Dirichlet priors (outline, earlier maps); `None`: `α` everywhere.
+    pub prior: Option<EdgePrior>,
+}
+
+/// GPS fixes waiting to be applied.
+#[derive(Debug)]
+struct GpsQueue {
+    likelihood: GpsLikelihood,
+    fixes: Vec<GpsObservation>,
+    /// Index of the next fix to apply.
+    next: usize,
+}
+
+/// One fix applied at a step: where along the step it falls and its tempering exponent.
+#[derive(Debug, Clone, Copy)]
+struct StepFix {
+    fix: GpsObservation,
+    /// Fraction of the step walked at the fix's time, in [0, 1].
+    along: f64,
+    temper: f64,
+}
+
 /// The FootSLAM Rao-Blackwellised particle filter.
 #[derive(Debug)]
 pub struct FootSlam {
     config: FootSlamConfig,
     motion: StepMotion,
     grid: HexGrid,
+    prior: Option<EdgePrior>,
+    gps: Option<GpsQueue>,
+    /// Fixes applied at the current step (scratch).
+    step_fixes: Vec<StepFix>,
+    /// Time of the previous step.
+    last_t: Option<f64>,
     particles: Vec<Particle>,
     /// Normalised log weights, `ln wᵢ`.
     log_weights: Vec<f64>,
@@ -76,21 +115,50 @@ impl FootSlam {
     /// A filter with all particles at the start pose (Algorithm step 1) and `E_0` drawn
     /// from its initial distribution.
     pub fn new(config: FootSlamConfig) -> Result<Self> {
+        Self::with_anchors(config, Anchors::default())
+    }
+
+    /// A filter anchored to the world by `anchors`: the start pose is drawn about
+    /// `config.start` with the configured spreads, and with GPS fixes the per-walk stride
+    /// scale is free (`gps.length_scale_sigma0`), since absolute positions pin it.
+    pub fn with_anchors(config: FootSlamConfig, anchors: Anchors) -> Result<Self> {
         config.validate()?;
-        let motion = StepMotion::new(config.motion);
+        let mut motion_config = config.motion;
+        if !anchors.gps.is_empty() {
+            motion_config.length_scale_sigma0 = config.gps.length_scale_sigma0;
+            if let Some(w) = anchors.gps.windows(2).find(|w| w[1].t <= w[0].t) {
+                return Err(crate::error::Error::Input(format!(
+                    "GPS fixes must be in increasing time order (fix at {} s after {} s)",
+                    w[1].t, w[0].t
+                )));
+            }
+        }
+        let motion = StepMotion::new(motion_config);
         let n = config.particles;
         let particles: Vec<Particle> = (0..n)
             .into_par_iter()
-            .map(|i| Particle {
-                pose: config.start,
-                error: motion.sample_initial(&mut stream(config.seed, 0, i as u64)),
-                map: HexTransitionMap::new(),
-                lineage: Lineage::root(i as u32),
-                path_log_likelihood: 0.0,
+            .map(|i| {
+                let mut rng = stream(config.seed, 0, i as u64);
+                Particle {
+                    error: motion.sample_initial(&mut rng),
+                    pose: sample_start(&config, &mut rng),
+                    map: HexTransitionMap::new(),
+                    lineage: Lineage::root(i as u32),
+                    path_log_likelihood: 0.0,
+                }
             })
             .collect();
+        let gps = (!anchors.gps.is_empty()).then(|| GpsQueue {
+            likelihood: GpsLikelihood::new(config.gps),
+            fixes: anchors.gps,
+            next: 0,
+        });
         Ok(Self {
             grid: HexGrid::new(config.hex_radius),
+            prior: anchors.prior.filter(|p| !p.is_empty()),
+            gps,
+            step_fixes: Vec::new(),
+            last_t: None,
             motion,
             log_weights: vec![-(n as f64).ln(); n],
             weights: vec![1.0 / n as f64; n],
@@ -131,6 +199,11 @@ impl FootSlam {
         resample::effective_sample_size(&self.weights)
     }
 
+    /// GPS fixes applied so far.
+    pub fn gps_fixes_used(&self) -> usize {
+        self.gps.as_ref().map_or(0, |g| g.next)
+    }
+
     /// Current positions and normalised weights of all particles.
     pub fn particle_positions(&self) -> impl Iterator<Item = ((f64, f64), f64)> + '_ {
         self.particles
@@ -149,8 +222,11 @@ impl FootSlam {
         }
         self.steps.push((z.length, z.dheading));
         let k = self.steps.len() as u64;
+        self.collect_step_fixes(z.t);
         let (seed, motion, grid) = (self.config.seed, self.motion, self.grid);
         let (alpha, correct) = (self.config.alpha, self.config.direction_correction);
+        let prior = self.prior.as_ref();
+        let (gps, fixes) = (self.gps.as_ref().map(|g| g.likelihood), &self.step_fixes);
         self.particles
             .par_iter_mut()
             .zip(self.log_weights.par_iter_mut())
@@ -162,7 +238,12 @@ impl FootSlam {
                 // (b) P_k = P_{k-1} + U_k.
                 let pose = motion.sample_step(p.pose, p.error, z.length, z.dheading, &mut rng);
                 // (c) and (e): weight by every edge crossed, then count it.
-                let log_factor = log_map_factor(&grid, &mut p.map, alpha, correct, p.pose, pose);
+                let edges = MapPrior { alpha, prior };
+                let mut log_factor = log_map_factor(&grid, &mut p.map, edges, correct, p.pose, pose);
+                // GPS fixes that fell during the step, at the point walked by then.
+                if let Some(gps) = gps {
+                    log_factor += log_gps_factor(&gps, fixes, p.pose, pose);
+                }
                 *log_w += log_factor;
                 p.path_log_likelihood += log_factor;
                 p.pose = pose;
@@ -174,6 +255,29 @@ impl FootSlam {
         // (f) resample if required (before the next step moves the particles).
         self.resample_pending =
             ess < self.config.resample.ess_threshold * self.particles.len() as f64;
+    }
+
+    /// The GPS fixes taken after the previous step and up to `t` (those before the first
+    /// step apply at the start pose), with their tempering exponents.
+    fn collect_step_fixes(&mut self, t: f64) {
+        self.step_fixes.clear();
+        let previous = self.last_t.replace(t);
+        let Some(gps) = self.gps.as_mut() else {
+            return;
+        };
+        while let Some(&fix) = gps.fixes.get(gps.next).filter(|f| f.t <= t) {
+            let dt = gps.next.checked_sub(1).map(|j| fix.t - gps.fixes[j].t);
+            let along = match previous {
+                Some(t0) if t > t0 => ((fix.t - t0) / (t - t0)).clamp(0.0, 1.0),
+                _ => 0.0,
+            };
+            self.step_fixes.push(StepFix {
+                fix,
+                along,
+                temper: gps.likelihood.temper(dt),
+            });
+            gps.next += 1;
+        }
     }
 
     /// Normalises the log weights and fills the linear weights; sums in index order so the
@@ -269,10 +373,9 @@ impl FootSlam {
     pub fn replay_path(&self, index: usize) -> Vec<Pose2> {
         let seed = self.config.seed;
         let indices = self.particles[index].lineage.indices(self.steps.len() + 1);
-        let mut error = self
-            .motion
-            .sample_initial(&mut stream(seed, 0, u64::from(indices[0])));
-        let mut pose = self.config.start;
+        let mut rng = stream(seed, 0, u64::from(indices[0]));
+        let mut error = self.motion.sample_initial(&mut rng);
+        let mut pose = sample_start(&self.config, &mut rng);
         self.steps
             .iter()
             .enumerate()
@@ -289,14 +392,50 @@ impl FootSlam {
     }
 }
 
+/// The start pose `P_0` of one particle: `config.start`, spread by
+/// `start_position_sigma` and `start_heading_sigma` (uniform heading from π up). Draws
+/// nothing when both are 0, so walks without anchors replay as before.
+fn sample_start(config: &FootSlamConfig, rng: &mut impl rand::Rng) -> Pose2 {
+    let mut pose = config.start;
+    if config.start_position_sigma > 0.0 {
+        pose.x += config.start_position_sigma * rng.sample::<f64, _>(StandardNormal);
+        pose.y += config.start_position_sigma * rng.sample::<f64, _>(StandardNormal);
+    }
+    let s = config.start_heading_sigma;
+    if s >= std::f64::consts::PI {
+        pose.heading = rng.random_range(-std::f64::consts::PI..std::f64::consts::PI);
+    } else if s > 0.0 {
+        pose.heading += s * rng.sample::<f64, _>(StandardNormal);
+    }
+    pose
+}
+
+/// The Dirichlet prior of eq. (6): `α` on every edge, or per-edge values.
+#[derive(Debug, Clone, Copy)]
+struct MapPrior<'a> {
+    alpha: f64,
+    prior: Option<&'a EdgePrior>,
+}
+
+impl MapPrior<'_> {
+    /// `(α^e_h, Σ_e α^e_h)`.
+    fn alpha_and_total(&self, h: crate::geometry::Hex, edge: u8) -> (f64, f64) {
+        match self.prior {
+            Some(p) => p.alpha_and_total(h, edge),
+            None => (self.alpha, 6.0 * self.alpha),
+        }
+    }
+}
+
 /// Eq. (6) for one step: the product over every edge crossed between `from` and `to` of
-/// `(N^ẽ_h̃ + α) / (N_h̃ + 6α)` with the counts so far, raised to the direction correction
-/// (sec. 3); each crossing is counted in `map` right after it is weighed (step 2e), so a
-/// step over several edges multiplies one factor per edge. Returns the log of the product.
+/// `(N^ẽ_h̃ + α^ẽ_h̃) / (N_h̃ + Σ_e α^e_h̃)` with the counts so far, raised to the direction
+/// correction (sec. 3); each crossing is counted in `map` right after it is weighed (step
+/// 2e), so a step over several edges multiplies one factor per edge. Returns the log of the
+/// product.
 fn log_map_factor(
     grid: &HexGrid,
     map: &mut HexTransitionMap,
-    alpha: f64,
+    prior: MapPrior<'_>,
     correct: bool,
     from: Pose2,
     to: Pose2,
@@ -304,12 +443,26 @@ fn log_map_factor(
     let mut log_factor = 0.0;
     grid.for_each_crossing((from.x, from.y), (to.x, to.y), |c| {
         let (n_e, n_h) = map.record_crossing(c.from, c.edge); // step (e), counts before it
-        log_factor += ((f64::from(n_e) + alpha) / (f64::from(n_h) + 6.0 * alpha)).ln(); // eq. (6)
+        let (alpha_e, alpha_h) = prior.alpha_and_total(c.from, c.edge);
+        log_factor += ((f64::from(n_e) + alpha_e) / (f64::from(n_h) + alpha_h)).ln(); // eq. (6)
     });
     if correct && log_factor != 0.0 {
         log_factor *= HexGrid::direction_exponent_of(to.x - from.x, to.y - from.y);
     }
     log_factor
+}
+
+/// `Σ_j τ_j · ln p(z_j | P)` over the fixes taken during a step from `from` to `to`, each
+/// at the point walked by its time (linear along the step).
+fn log_gps_factor(gps: &GpsLikelihood, fixes: &[StepFix], from: Pose2, to: Pose2) -> f64 {
+    fixes
+        .iter()
+        .map(|f| {
+            let x = from.x + f.along * (to.x - from.x);
+            let y = from.y + f.along * (to.y - from.y);
+            f.temper * gps.log_likelihood(&f.fix, (x, y))
+        })
+        .sum()
 }
 
 #[cfg(test)]
@@ -412,19 +565,23 @@ mod tests {
         // Two edges: one crossed before (count 1), one never; the known one is likelier.
         let grid = HexGrid::new(0.5);
         let mut map = HexTransitionMap::new();
+        let uniform = MapPrior {
+            alpha: 0.8,
+            prior: None,
+        };
         let a = Pose2::new(0.0, 0.0, 0.0);
         let b = Pose2::new(0.866, 0.0, 0.0);
-        let first = log_map_factor(&grid, &mut map, 0.8, false, a, b);
+        let first = log_map_factor(&grid, &mut map, uniform, false, a, b);
         assert!(
             (first - (0.8f64 / 4.8).ln()).abs() < 1e-12,
             "an unknown hexagon gives 1/6"
         );
-        let back = log_map_factor(&grid, &mut map, 0.8, false, b, a);
+        let back = log_map_factor(&grid, &mut map, uniform, false, b, a);
         // Leaving b through the edge entered: (1 + 0.8) / (1 + 4.8).
         assert!((back - (1.8f64 / 5.8).ln()).abs() < 1e-12);
         let c = Pose2::new(0.2, 0.2, 0.0);
         assert_eq!(
-            log_map_factor(&grid, &mut map, 0.8, false, a, c),
+            log_map_factor(&grid, &mut map, uniform, false, a, c),
             0.0,
             "no crossing, no update"
         );

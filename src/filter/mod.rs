@@ -12,7 +12,7 @@ pub mod tracker;
 pub mod tracker_config;
 
 pub use cluster::{Cluster, ClusterConfig};
-pub use footslam::{FootSlam, FootSlamConfig, FootSlamEstimate};
+pub use footslam::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
 pub use kld::KldConfig;
 pub use lineage::Lineage;
 pub use recovery::{Recovery, RecoveryConfig};

@@ -1,5 +1,7 @@
 //! Layer 2: probabilistic models, apart from the filter machinery.
 
+pub mod gps_likelihood;
 pub mod step_motion;
 
+pub use gps_likelihood::{GpsConfig, GpsLikelihood, GpsObservation};
 pub use step_motion::{StepErrorState, StepMotion, StepMotionConfig};
