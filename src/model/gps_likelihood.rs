@@ -80,6 +80,19 @@ pub struct GpsObservation {
     pub sigma: f64,
 }
 
+impl GpsObservation {
+    /// A fix placed in the local frame `frame`.
+    pub fn from_fix(fix: &crate::sensor::GpsFix, frame: &crate::geometry::LocalFrame) -> Self {
+        let (x, y) = frame.to_local(fix.lon, fix.lat);
+        Self {
+            t: fix.t,
+            x,
+            y,
+            sigma: fix.accuracy,
+        }
+    }
+}
+
 /// The GPS likelihood with its configuration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GpsLikelihood {
