@@ -10,7 +10,7 @@ use footslam::dataset::{
     write_trajectory,
 };
 use footslam::export::RunFolder;
-use footslam::export::map_geojson::{read_map_geojson, write_map_geojson};
+use footslam::export::map_geojson::{read_stored_map, write_map_geojson, write_walks_map_geojson};
 use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::export::track_geojson::write_track_geojson;
 use footslam::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
@@ -110,6 +110,8 @@ struct Summary {
     path_length_m: f64,
     gps_fixes: usize,
     gps_fixes_used: usize,
+    /// How far path and map were moved towards the prior map's frame, metres.
+    prior_offset_m: (f64, f64),
     origin: LocalFrame,
 }
 
@@ -124,6 +126,7 @@ struct RunSummary {
     threads: usize,
     outline_edges: usize,
     prior_map_hexagons: usize,
+    prior_map_walks: u32,
     peak_memory_bytes: Option<u64>,
     origin: LocalFrame,
     version: &'static str,
@@ -153,14 +156,14 @@ pub fn run(args: Args) -> Result<()> {
     let prior_map = match &args.prior_map {
         Some(p) => {
             require_file(p, "prior map")?;
-            Some(read_map_geojson(p)?)
+            Some(read_stored_map(p)?)
         }
         None => None,
     };
     let first_fix = walks.iter().find_map(|w| w.fixes.first());
     let frame = args
         .origin
-        .or(prior_map.as_ref().map(|m| m.1))
+        .or(prior_map.as_ref().map(|m| m.frame))
         .or(first_fix.and_then(|f| LocalFrame::new(f.lat, f.lon)))
         .unwrap_or_default();
 
@@ -172,11 +175,12 @@ pub fn run(args: Args) -> Result<()> {
         let outline = read_outline(path, &frame)?;
         outline_edges = prior.add_outline(&grid, &outline, config.outline_alpha);
     }
-    let mut prior_map_hexagons = 0;
-    if let (Some((map, map_frame)), Some(path)) = (&prior_map, &args.prior_map) {
-        check_same_grid(path, map.radius, map_frame, config.hex_radius, &frame)?;
-        prior.add_counts(map, config.prior_weight);
-        prior_map_hexagons = map.cells.len();
+    let (mut prior_map_hexagons, mut prior_walks) = (0, 0);
+    if let (Some(stored), Some(path)) = (&prior_map, &args.prior_map) {
+        check_same_grid(path, stored.map.radius, &stored.frame, config.hex_radius, &frame)?;
+        prior.add_counts(&stored.map, config.prior_weight);
+        prior_map_hexagons = stored.map.cells.len();
+        prior_walks = stored.walks;
     }
 
     let pool = rayon::ThreadPoolBuilder::new()
@@ -192,7 +196,7 @@ pub fn run(args: Args) -> Result<()> {
             .map(|(i, walk)| {
                 let mut config = config.clone();
                 config.seed = config.seed.wrapping_add(i as u64);
-                learn_walk(walk, config, &frame, &prior, !batch)
+                learn_walk(walk, config, &frame, &prior, prior_walks, !batch)
             })
             .collect::<Result<Vec<_>>>()
     })?;
@@ -212,7 +216,13 @@ pub fn run(args: Args) -> Result<()> {
     }
     if batch {
         let maps: Vec<_> = runs.iter().map(|r| (&r.estimate.map, 1.0)).collect();
-        write_map_geojson(&folder.path("merged.geojson"), &merge_maps(&maps)?, &frame)?;
+        let walks = maps.len() as u32;
+        write_walks_map_geojson(
+            &folder.path("merged.geojson"),
+            &merge_maps(&maps)?,
+            &frame,
+            walks,
+        )?;
     }
     let (single, summaries) = if batch {
         (None, summaries)
@@ -226,6 +236,7 @@ pub fn run(args: Args) -> Result<()> {
         threads,
         outline_edges,
         prior_map_hexagons,
+        prior_map_walks: prior_walks,
         peak_memory_bytes: peak_memory_bytes(),
         origin: frame,
         version: env!("CARGO_PKG_VERSION"),
@@ -401,6 +412,7 @@ fn learn_walk(
     mut config: FootSlamConfig,
     frame: &LocalFrame,
     prior: &EdgePrior,
+    prior_walks: u32,
     progress: bool,
 ) -> Result<WalkRun> {
     let gps: Vec<GpsObservation> = walk
@@ -419,6 +431,7 @@ fn learn_walk(
     let anchors = Anchors {
         gps,
         prior: Some(prior.clone()),
+        prior_walks,
     };
     let started = Instant::now();
     let mut filter = FootSlam::with_anchors(config.clone(), anchors)?;
@@ -513,6 +526,7 @@ fn write_walk(
             .sum(),
         gps_fixes: walk.fixes.len(),
         gps_fixes_used: filter.gps_fixes_used(),
+        prior_offset_m: estimate.prior_offset,
         origin: *frame,
     })
 }

@@ -2,7 +2,7 @@
 
 use super::common::require_file;
 use anyhow::{Result, bail};
-use footslam::export::map_geojson::{read_map_geojson, write_map_geojson};
+use footslam::export::map_geojson::{read_stored_map, write_walks_map_geojson};
 use footslam::map::merge_maps;
 use std::path::PathBuf;
 
@@ -36,10 +36,10 @@ pub fn run(args: Args) -> Result<()> {
     let mut maps = Vec::with_capacity(args.maps.len());
     for path in &args.maps {
         require_file(path, "map")?;
-        maps.push(read_map_geojson(path)?);
+        maps.push(read_stored_map(path)?);
     }
-    let frame = maps[0].1;
-    for (path, (_, f)) in args.maps.iter().zip(&maps).skip(1) {
+    let frame = maps[0].frame;
+    for (path, f) in args.maps.iter().zip(maps.iter().map(|m| &m.frame)).skip(1) {
         let off = frame.distance_to(f);
         if off > SAME_ORIGIN {
             bail!(
@@ -56,13 +56,21 @@ pub fn run(args: Args) -> Result<()> {
     let weighted: Vec<_> = maps
         .iter()
         .enumerate()
-        .map(|(i, (m, _))| (m, args.weights.get(i).copied().unwrap_or(1.0)))
+        .map(|(i, m)| (&m.map, args.weights.get(i).copied().unwrap_or(1.0)))
         .collect();
     let merged = merge_maps(&weighted)?;
-    write_map_geojson(&args.out, &merged, &frame)?;
+    // The walks behind the merge: those of every map that counts.
+    let walks: u32 = maps
+        .iter()
+        .zip(&weighted)
+        .filter(|(_, (_, w))| *w > 0.0)
+        .map(|(m, _)| m.walks)
+        .sum();
+    write_walks_map_geojson(&args.out, &merged, &frame, walks.max(1))?;
     outln!(
-        "merged {} maps into {} hexagons: {}",
+        "merged {} maps ({} walks) into {} hexagons: {}",
         maps.len(),
+        walks,
         merged.cells.len(),
         args.out.display()
     );

@@ -19,7 +19,7 @@ pub use super::footslam_config::FootSlamConfig;
 use super::lineage::Lineage;
 use super::resample::{self, ResampleMethod};
 use crate::error::Result;
-use crate::geometry::{HexGrid, Pose2};
+use crate::geometry::{Hex, HexGrid, Pose2};
 use crate::map::{EdgePrior, HexMapSnapshot, HexTransitionMap};
 use crate::model::{GpsLikelihood, GpsObservation, StepErrorState, StepMotion};
 use crate::random::{filter_stream, stream};
@@ -35,6 +35,9 @@ struct Particle {
     pose: Pose2,
     error: StepErrorState,
     map: HexTransitionMap,
+    /// `δ`: where this particle reads the prior map, relative to its own grid (a static
+    /// state, drawn once; zero unless the walk has both GPS and a prior map).
+    offset: Hex,
     lineage: Arc<Lineage>,
     /// `ln ∏ₖ` of eq. (6)'s factors over the particle's whole path (its ancestors' steps
     /// included): the unnormalised posterior of the path under the likelihood proposal,
@@ -55,6 +58,8 @@ pub struct FootSlamEstimate {
     pub path: Vec<Pose2>,
     /// Its map.
     pub map: HexMapSnapshot,
+    /// How far path and map were moved towards a prior map's frame, `κ·δ` (metres).
+    pub prior_offset: (f64, f64),
 }
 
 /// What anchors a walk to the world, beyond its steps (all optional).
@@ -64,6 +69,8 @@ pub struct Anchors {
     pub gps: Vec<GpsObservation>,
     /// Per-edge Dirichlet priors (outline, earlier maps); `None`: `α` everywhere.
     pub prior: Option<EdgePrior>,
+    /// Walks whose counts the prior holds (0: no prior map, only an outline or nothing).
+    pub prior_walks: u32,
 }
 
 /// GPS fixes waiting to be applied.
@@ -96,6 +103,10 @@ pub struct FootSlam {
     step_fixes: Vec<StepFix>,
     /// Time of the previous step.
     last_t: Option<f64>,
+    /// Spread of the prior-map offset `δ` per axis, metres (0: no offset state).
+    offset_sigma: f64,
+    /// Share `κ` of the offset applied to the answer (see [`FootSlam::with_anchors`]).
+    offset_pull: f64,
     particles: Vec<Particle>,
     /// Normalised log weights, `ln wᵢ`.
     log_weights: Vec<f64>,
@@ -120,7 +131,18 @@ impl FootSlam {
 
     /// A filter anchored to the world by `anchors`: the start pose is drawn about
     /// `config.start` with the configured spreads, and with GPS fixes the per-walk stride
-    /// scale is free (`gps.length_scale_sigma0`), since absolute positions pin it.
+    /// scale spread is `gps.length_scale_sigma0`.
+    ///
+    /// **GPS and a prior map together.** The prior map (merged from `n` earlier walks) sits
+    /// in the frame of their GPS fixes, off the truth by the mean of their biases; this
+    /// walk's fixes are off by their own bias. Neither frame is the truth, so each particle
+    /// carries a static offset `δ` (a hexagon-grid vector, drawn from
+    /// `N(0, σ_b²(1 + 1/n))` per axis, `σ_b = gps.bias_sigma`) and reads the prior map `δ`
+    /// away from where it walks: `δ` is the prior's frame less this walk's GPS frame. The
+    /// answer is placed between the two, `κ = n / (n + 1)` of the way towards the prior
+    /// (the least-squares combination of one bias of spread `σ_b` and a mean of `n`), so
+    /// that successive walks average their GPS biases: the path moves by `κ·δ`, the map by
+    /// the grid vector nearest it.
     pub fn with_anchors(config: FootSlamConfig, anchors: Anchors) -> Result<Self> {
         config.validate()?;
         let mut motion_config = config.motion;
@@ -134,14 +156,28 @@ impl FootSlam {
             }
         }
         let motion = StepMotion::new(motion_config);
+        let grid = HexGrid::new(config.hex_radius);
+        let prior = anchors.prior.filter(|p| !p.is_empty());
+        let (offset_sigma, offset_pull) = if !anchors.gps.is_empty()
+            && prior.is_some()
+            && anchors.prior_walks > 0
+        {
+            let n = f64::from(anchors.prior_walks);
+            (config.gps.bias_sigma * (1.0 + 1.0 / n).sqrt(), n / (n + 1.0))
+        } else {
+            (0.0, 0.0)
+        };
         let n = config.particles;
         let particles: Vec<Particle> = (0..n)
             .into_par_iter()
             .map(|i| {
                 let mut rng = stream(config.seed, 0, i as u64);
+                let error = motion.sample_initial(&mut rng);
+                let (pose, offset) = sample_start(&config, &grid, offset_sigma, &mut rng);
                 Particle {
-                    error: motion.sample_initial(&mut rng),
-                    pose: sample_start(&config, &mut rng),
+                    error,
+                    pose,
+                    offset,
                     map: HexTransitionMap::new(),
                     lineage: Lineage::root(i as u32),
                     path_log_likelihood: 0.0,
@@ -154,11 +190,13 @@ impl FootSlam {
             next: 0,
         });
         Ok(Self {
-            grid: HexGrid::new(config.hex_radius),
-            prior: anchors.prior.filter(|p| !p.is_empty()),
+            grid,
+            prior,
             gps,
             step_fixes: Vec::new(),
             last_t: None,
+            offset_sigma,
+            offset_pull,
             motion,
             log_weights: vec![-(n as f64).ln(); n],
             weights: vec![1.0 / n as f64; n],
@@ -238,7 +276,11 @@ impl FootSlam {
                 // (b) P_k = P_{k-1} + U_k.
                 let pose = motion.sample_step(p.pose, p.error, z.length, z.dheading, &mut rng);
                 // (c) and (e): weight by every edge crossed, then count it.
-                let edges = MapPrior { alpha, prior };
+                let edges = MapPrior {
+                    alpha,
+                    prior,
+                    offset: p.offset,
+                };
                 let mut log_factor = log_map_factor(&grid, &mut p.map, edges, correct, p.pose, pose);
                 // GPS fixes that fell during the step, at the point walked by then.
                 if let Some(gps) = gps {
@@ -326,6 +368,7 @@ impl FootSlam {
                     pose: p.pose,
                     error: p.error,
                     map: p.map.clone(),
+                    offset: p.offset,
                     lineage,
                     path_log_likelihood: p.path_log_likelihood,
                 }
@@ -344,6 +387,9 @@ impl FootSlam {
     /// "Most probable" is judged on the whole path: the particle whose path has the
     /// largest product of eq. (6)'s factors since the first step, rather than the largest
     /// current weight, which only reflects the steps since the last resampling.
+    ///
+    /// With GPS and a prior map, the path and map are moved `κ·δ` towards the prior's frame
+    /// (see [`FootSlam::with_anchors`]).
     pub fn estimate(&self) -> FootSlamEstimate {
         let index = self
             .particles
@@ -357,25 +403,39 @@ impl FootSlam {
                 }
             })
             .0;
+        let (dx, dy) = self.grid.center(self.particles[index].offset);
+        let (dx, dy) = (self.offset_pull * dx, self.offset_pull * dy);
+        let shift = self.grid.hex_at(dx, dy);
+        let mut map = self.particles[index]
+            .map
+            .snapshot(self.config.hex_radius, self.config.alpha);
+        for c in &mut map.cells {
+            c.hex = Hex::new(c.hex.x + shift.x, c.hex.y + shift.y);
+        }
+        let path = self
+            .replay_path(index)
+            .into_iter()
+            .map(|p| Pose2::new(p.x + dx, p.y + dy, p.heading))
+            .collect();
         FootSlamEstimate {
             index,
             weight: self.weights.get(index).copied().unwrap_or(0.0),
             path_log_likelihood: self.particles[index].path_log_likelihood,
-            path: self.replay_path(index),
-            map: self.particles[index]
-                .map
-                .snapshot(self.config.hex_radius, self.config.alpha),
+            path,
+            map,
+            prior_offset: (dx, dy),
         }
     }
 
     /// Re-draws particle `index`'s whole path from the random streams its ancestors used;
-    /// the motion does not depend on the map (eq. 5), so this reproduces it exactly.
+    /// the motion does not depend on the map (eq. 5), so this reproduces it exactly (in the
+    /// particle's own frame, before any move towards a prior map).
     pub fn replay_path(&self, index: usize) -> Vec<Pose2> {
         let seed = self.config.seed;
         let indices = self.particles[index].lineage.indices(self.steps.len() + 1);
         let mut rng = stream(seed, 0, u64::from(indices[0]));
         let mut error = self.motion.sample_initial(&mut rng);
-        let mut pose = sample_start(&self.config, &mut rng);
+        let mut pose = sample_start(&self.config, &self.grid, self.offset_sigma, &mut rng).0;
         self.steps
             .iter()
             .enumerate()
@@ -393,9 +453,15 @@ impl FootSlam {
 }
 
 /// The start pose `P_0` of one particle: `config.start`, spread by
-/// `start_position_sigma` and `start_heading_sigma` (uniform heading from π up). Draws
-/// nothing when both are 0, so walks without anchors replay as before.
-fn sample_start(config: &FootSlamConfig, rng: &mut impl rand::Rng) -> Pose2 {
+/// `start_position_sigma` and `start_heading_sigma` (uniform heading from π up), and its
+/// prior-map offset `δ` (spread `offset_sigma` per axis, snapped to the grid). Draws
+/// nothing when all are 0, so walks without anchors replay as before.
+fn sample_start(
+    config: &FootSlamConfig,
+    grid: &HexGrid,
+    offset_sigma: f64,
+    rng: &mut impl rand::Rng,
+) -> (Pose2, Hex) {
     let mut pose = config.start;
     if config.start_position_sigma > 0.0 {
         pose.x += config.start_position_sigma * rng.sample::<f64, _>(StandardNormal);
@@ -407,7 +473,13 @@ fn sample_start(config: &FootSlamConfig, rng: &mut impl rand::Rng) -> Pose2 {
     } else if s > 0.0 {
         pose.heading += s * rng.sample::<f64, _>(StandardNormal);
     }
-    pose
+    let mut offset = Hex::ZERO;
+    if offset_sigma > 0.0 {
+        let dx = offset_sigma * rng.sample::<f64, _>(StandardNormal);
+        let dy = offset_sigma * rng.sample::<f64, _>(StandardNormal);
+        offset = grid.hex_at(dx, dy);
+    }
+    (pose, offset)
 }
 
 /// The Dirichlet prior of eq. (6): `α` on every edge, or per-edge values.
@@ -415,13 +487,15 @@ fn sample_start(config: &FootSlamConfig, rng: &mut impl rand::Rng) -> Pose2 {
 struct MapPrior<'a> {
     alpha: f64,
     prior: Option<&'a EdgePrior>,
+    /// Where the particle reads the prior, relative to its own grid.
+    offset: Hex,
 }
 
 impl MapPrior<'_> {
     /// `(α^e_h, Σ_e α^e_h)`.
-    fn alpha_and_total(&self, h: crate::geometry::Hex, edge: u8) -> (f64, f64) {
+    fn alpha_and_total(&self, h: Hex, edge: u8) -> (f64, f64) {
         match self.prior {
-            Some(p) => p.alpha_and_total(h, edge),
+            Some(p) => p.alpha_and_total(Hex::new(h.x + self.offset.x, h.y + self.offset.y), edge),
             None => (self.alpha, 6.0 * self.alpha),
         }
     }
@@ -568,6 +642,7 @@ mod tests {
         let uniform = MapPrior {
             alpha: 0.8,
             prior: None,
+            offset: Hex::ZERO,
         };
         let a = Pose2::new(0.0, 0.0, 0.0);
         let b = Pose2::new(0.866, 0.0, 0.0);
