@@ -17,6 +17,7 @@
 
 pub use super::footslam_config::FootSlamConfig;
 use super::lineage::Lineage;
+use super::outline_fit::fit_outline_shift;
 use super::resample::{self, ResampleMethod};
 use crate::error::Result;
 use crate::geometry::{Hex, HexGrid, Pose2};
@@ -58,7 +59,8 @@ pub struct FootSlamEstimate {
     pub path: Vec<Pose2>,
     /// Its map.
     pub map: HexMapSnapshot,
-    /// How far path and map were moved towards a prior map's frame, `κ·δ` (metres).
+    /// How far path and map were moved: `κ·δ` towards a prior map's frame plus the
+    /// outline fit ([`super::outline_fit`]), metres.
     pub prior_offset: (f64, f64),
 }
 
@@ -107,6 +109,8 @@ pub struct FootSlam {
     offset_sigma: f64,
     /// Share `κ` of the offset applied to the answer (see [`FootSlam::with_anchors`]).
     offset_pull: f64,
+    /// Spread of the GPS bias left for the outline fit, metres (0: no fit).
+    outline_fit_sigma: f64,
     particles: Vec<Particle>,
     /// Normalised log weights, `ln wᵢ`.
     log_weights: Vec<f64>,
@@ -167,6 +171,13 @@ impl FootSlam {
         } else {
             (0.0, 0.0)
         };
+        // The bias spread of the frame after this walk joins the `n` averaged before it.
+        let outline_fit_sigma = match &prior {
+            Some(p) if p.has_outline() && !anchors.gps.is_empty() => {
+                config.gps.bias_sigma / f64::from(anchors.prior_walks + 1).sqrt()
+            }
+            _ => 0.0,
+        };
         let n = config.particles;
         let particles: Vec<Particle> = (0..n)
             .into_par_iter()
@@ -197,6 +208,7 @@ impl FootSlam {
             last_t: None,
             offset_sigma,
             offset_pull,
+            outline_fit_sigma,
             motion,
             log_weights: vec![-(n as f64).ln(); n],
             weights: vec![1.0 / n as f64; n],
@@ -404,7 +416,14 @@ impl FootSlam {
             })
             .0;
         let (dx, dy) = self.grid.center(self.particles[index].offset);
-        let (dx, dy) = (self.offset_pull * dx, self.offset_pull * dy);
+        let (mut dx, mut dy) = (self.offset_pull * dx, self.offset_pull * dy);
+        let replayed = self.replay_path(index);
+        if let Some(prior) = &self.prior {
+            let points: Vec<(f64, f64)> = replayed.iter().map(|p| (p.x + dx, p.y + dy)).collect();
+            let (sx, sy) = fit_outline_shift(&points, &self.grid, prior, self.outline_fit_sigma);
+            dx += sx;
+            dy += sy;
+        }
         let shift = self.grid.hex_at(dx, dy);
         let mut map = self.particles[index]
             .map
@@ -412,8 +431,7 @@ impl FootSlam {
         for c in &mut map.cells {
             c.hex = Hex::new(c.hex.x + shift.x, c.hex.y + shift.y);
         }
-        let path = self
-            .replay_path(index)
+        let path = replayed
             .into_iter()
             .map(|p| Pose2::new(p.x + dx, p.y + dy, p.heading))
             .collect();

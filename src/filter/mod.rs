@@ -5,6 +5,7 @@ pub mod footslam;
 pub mod footslam_config;
 pub mod kld;
 pub mod lineage;
+pub mod outline_fit;
 pub mod recovery;
 pub mod resample;
 pub mod survey;

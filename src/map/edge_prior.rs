@@ -30,6 +30,18 @@ pub struct EdgePrior {
     alpha: f64,
     /// `α^e_h` of all six edges and their sum, for hexagons where some edge differs from `α`.
     cells: FxHashMap<Hex, [f64; 7]>,
+    /// The edges an outline crosses, each as (hexagon, edge 0..3) of the hexagon owning it.
+    outline: FxHashSet<(Hex, u8)>,
+}
+
+/// An edge named from the hexagon that owns it (edges 0..3: E, NE, NW).
+fn owned(h: Hex, edge: u8) -> (Hex, u8) {
+    let edge = edge % 6;
+    if edge < 3 {
+        (h, edge)
+    } else {
+        (HexGrid::neighbour(h, edge), edge - 3)
+    }
 }
 
 impl EdgePrior {
@@ -38,6 +50,7 @@ impl EdgePrior {
         Self {
             alpha,
             cells: FxHashMap::default(),
+            outline: FxHashSet::default(),
         }
     }
 
@@ -54,6 +67,16 @@ impl EdgePrior {
     /// True when every edge has the default `α`.
     pub fn is_empty(&self) -> bool {
         self.cells.is_empty()
+    }
+
+    /// True for an edge that crosses the outline given to [`EdgePrior::add_outline`].
+    pub fn is_outline_edge(&self, h: Hex, edge: u8) -> bool {
+        self.outline.contains(&owned(h, edge))
+    }
+
+    /// True when an outline was added.
+    pub fn has_outline(&self) -> bool {
+        !self.outline.is_empty()
     }
 
     /// `α^e_h`.
@@ -121,6 +144,7 @@ impl EdgePrior {
         edges.dedup();
         for &(h, e) in &edges {
             self.update_edge(h, e, |_| alpha_outline);
+            self.outline.insert(owned(h, e));
         }
         edges.len()
     }
@@ -196,6 +220,7 @@ mod tests {
             let (bx, by) = (1.0 + 20.0 * a.cos(), 1.0 + 20.0 * a.sin());
             let mut low = 0;
             grid.for_each_crossing((1.0, 1.0), (bx, by), |c| {
+                assert_eq!(p.is_outline_edge(c.from, c.edge), p.alpha(c.from, c.edge) < 0.1);
                 if p.alpha(c.from, c.edge) < 0.1 {
                     low += 1;
                     assert_eq!(p.alpha(c.to, (c.edge + 3) % 6), 0.05);
