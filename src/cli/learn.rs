@@ -13,6 +13,7 @@ use footslam::export::RunFolder;
 use footslam::export::map_geojson::{read_stored_map, write_map_geojson, write_walks_map_geojson};
 use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::export::track_geojson::write_track_geojson;
+use footslam::filter::gps_start::heading_from_fixes;
 use footslam::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
 use footslam::geometry::{HexGrid, LocalFrame};
 use footslam::map::{EdgePrior, merge_maps};
@@ -405,8 +406,9 @@ struct WalkRun {
     runtime_s: f64,
 }
 
-/// Learns one walk: with GPS it starts at the first fix (spread by its accuracy, heading
-/// unknown unless the configuration gives a spread).
+/// Learns one walk: with GPS it starts at the first fix (spread by its accuracy), heading
+/// from the first fixes ([`heading_from_fixes`]) or, when they do not tell, unknown
+/// (uniform) — unless the configuration gives a heading spread.
 fn learn_walk(
     walk: &Walk,
     mut config: FootSlamConfig,
@@ -425,7 +427,13 @@ fn learn_walk(
         config.start.y = first.y;
         config.start_position_sigma = config.start_position_sigma.max(first.sigma);
         if config.start_heading_sigma == 0.0 {
-            config.start_heading_sigma = std::f64::consts::PI;
+            match heading_from_fixes(&gps, walk.trace.steps()) {
+                Some((heading, sigma)) => {
+                    config.start.heading = heading;
+                    config.start_heading_sigma = sigma;
+                }
+                None => config.start_heading_sigma = std::f64::consts::PI,
+            }
         }
     }
     let anchors = Anchors {

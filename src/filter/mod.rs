@@ -3,6 +3,7 @@
 pub mod cluster;
 pub mod footslam;
 pub mod footslam_config;
+pub mod gps_start;
 pub mod kld;
 pub mod lineage;
 pub mod outline_fit;
