@@ -16,7 +16,8 @@ use footslam::export::track_geojson::write_track_geojson;
 use footslam::filter::gps_start::heading_from_fixes;
 use footslam::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
 use footslam::geometry::{HexGrid, LocalFrame};
-use footslam::map::{EdgePrior, merge_maps};
+use footslam::geometry::Hex;
+use footslam::map::{EdgePrior, HexMapSnapshot, merge_maps, register_maps, shift_map};
 use footslam::model::GpsObservation;
 use footslam::sensor::{GpsFix, StepTrace};
 use rayon::prelude::*;
@@ -26,6 +27,8 @@ use std::time::Instant;
 
 /// The bundled sample walk, used when `--steps` is not given.
 const DEFAULT_STEPS: &str = "datasets/office/steps.csv";
+/// The widest shift searched when registering a walk's map onto a prior map, metres.
+const MAX_REGISTRATION: f64 = 25.0;
 /// Two frames whose origins are closer than this are the same, metres.
 const SAME_ORIGIN: f64 = 1e-3;
 
@@ -50,8 +53,11 @@ pub struct Args {
     /// few metres: crossing it becomes improbable (low Dirichlet prior `outline_alpha`).
     #[arg(long)]
     outline: Option<PathBuf>,
-    /// A map learned earlier (map.geojson, or a `footslam merge` of several): its counts
-    /// become prior pseudo-counts. Its origin becomes the default origin.
+    /// A map learned earlier (map.geojson, a `footslam merge` of several, or the
+    /// merged.geojson of a walk learned with a prior map): its counts become prior
+    /// pseudo-counts. Its origin becomes the default origin. The run then also writes
+    /// merged.geojson: the prior and this walk's map in this walk's frame (the next walk's
+    /// prior; with GPS the frame averages the walks' GPS biases).
     #[arg(long)]
     prior_map: Option<PathBuf>,
     /// Weight of the prior map's counts (overrides the config file; default 1).
@@ -197,7 +203,8 @@ pub fn run(args: Args) -> Result<()> {
             .map(|(i, walk)| {
                 let mut config = config.clone();
                 config.seed = config.seed.wrapping_add(i as u64);
-                learn_walk(walk, config, &frame, &prior, prior_walks, !batch)
+                let stored = prior_map.as_ref().map(|m| &m.map);
+                learn_walk(walk, config, &frame, &prior, stored, prior_walks, !batch)
             })
             .collect::<Result<Vec<_>>>()
     })?;
@@ -214,8 +221,15 @@ pub fn run(args: Args) -> Result<()> {
             String::new()
         };
         summaries.push(write_walk(&folder, &prefix, walk, run, &frame, threads)?);
+        if let Some(stored) = &prior_map {
+            // The prior and this walk, in this walk's frame: the next walk's prior.
+            let prior = shift_map(&stored.map, run.estimate.prior_shift);
+            let merged = merge_maps(&[(&prior, 1.0), (&run.estimate.map, 1.0)])?;
+            let path = folder.path(&format!("{prefix}merged.geojson"));
+            write_walks_map_geojson(&path, &merged, &frame, stored.walks + 1)?;
+        }
     }
-    if batch {
+    if batch && prior_map.is_none() {
         let maps: Vec<_> = runs.iter().map(|r| (&r.estimate.map, 1.0)).collect();
         let walks = maps.len() as u32;
         write_walks_map_geojson(
@@ -414,6 +428,7 @@ fn learn_walk(
     mut config: FootSlamConfig,
     frame: &LocalFrame,
     prior: &EdgePrior,
+    prior_map: Option<&HexMapSnapshot>,
     prior_walks: u32,
     progress: bool,
 ) -> Result<WalkRun> {
@@ -436,12 +451,29 @@ fn learn_walk(
             }
         }
     }
+    let started = Instant::now();
+    // With GPS and a prior map: first learn the walk alone, in its own GPS frame, and
+    // register its map onto the prior to find where the two frames meet.
+    let mut prior_offset = Hex::ZERO;
+    if let (Some(map), false) = (prior_map, gps.is_empty()) {
+        let alone = Anchors {
+            gps: gps.clone(),
+            ..Default::default()
+        };
+        let mut first = FootSlam::with_anchors(config.clone(), alone)?;
+        for step in walk.trace.steps() {
+            first.update(step);
+        }
+        let n = f64::from(prior_walks.max(1));
+        let reach = (3.0 * config.gps.bias_sigma * (1.0 + 1.0 / n).sqrt()).min(MAX_REGISTRATION);
+        prior_offset = register_maps(&first.estimate().map, map, reach).0;
+    }
     let anchors = Anchors {
         gps,
         prior: Some(prior.clone()),
         prior_walks,
+        prior_offset,
     };
-    let started = Instant::now();
     let mut filter = FootSlam::with_anchors(config.clone(), anchors)?;
     let mut bar = progress.then(|| Progress::new(walk.trace.len() as u64, "learning"));
     for step in walk.trace.steps() {

@@ -36,9 +36,6 @@ struct Particle {
     pose: Pose2,
     error: StepErrorState,
     map: HexTransitionMap,
-    /// `δ`: where this particle reads the prior map, relative to its own grid (a static
-    /// state, drawn once; zero unless the walk has both GPS and a prior map).
-    offset: Hex,
     lineage: Arc<Lineage>,
     /// `ln ∏ₖ` of eq. (6)'s factors over the particle's whole path (its ancestors' steps
     /// included): the unnormalised posterior of the path under the likelihood proposal,
@@ -62,6 +59,10 @@ pub struct FootSlamEstimate {
     /// How far path and map were moved: `κ·δ` towards a prior map's frame plus the
     /// outline fit ([`super::outline_fit`]), metres.
     pub prior_offset: (f64, f64),
+    /// The grid vector that moves the prior map into the frame of `path` and `map` (the
+    /// particle read the prior `δ` away, and the answer moved by `κ·δ` plus the outline
+    /// fit): add the prior's counts shifted by it to `map` to merge them consistently.
+    pub prior_shift: Hex,
 }
 
 /// What anchors a walk to the world, beyond its steps (all optional).
@@ -73,6 +74,9 @@ pub struct Anchors {
     pub prior: Option<EdgePrior>,
     /// Walks whose counts the prior holds (0: no prior map, only an outline or nothing).
     pub prior_walks: u32,
+    /// `δ`: where the walk's grid meets the prior map's — a hexagon of this walk is read in
+    /// the prior at itself plus `δ` (see [`FootSlam::with_anchors`]). Zero without GPS.
+    pub prior_offset: Hex,
 }
 
 /// GPS fixes waiting to be applied.
@@ -105,8 +109,8 @@ pub struct FootSlam {
     step_fixes: Vec<StepFix>,
     /// Time of the previous step.
     last_t: Option<f64>,
-    /// Spread of the prior-map offset `δ` per axis, metres (0: no offset state).
-    offset_sigma: f64,
+    /// The prior-map offset `δ`.
+    offset: Hex,
     /// Share `κ` of the offset applied to the answer (see [`FootSlam::with_anchors`]).
     offset_pull: f64,
     /// Spread of the GPS bias left for the outline fit, metres (0: no fit).
@@ -139,14 +143,14 @@ impl FootSlam {
     ///
     /// **GPS and a prior map together.** The prior map (merged from `n` earlier walks) sits
     /// in the frame of their GPS fixes, off the truth by the mean of their biases; this
-    /// walk's fixes are off by their own bias. Neither frame is the truth, so each particle
-    /// carries a static offset `δ` (a hexagon-grid vector, drawn from
-    /// `N(0, σ_b²(1 + 1/n))` per axis, `σ_b = gps.bias_sigma`) and reads the prior map `δ`
-    /// away from where it walks: `δ` is the prior's frame less this walk's GPS frame. The
-    /// answer is placed between the two, `κ = n / (n + 1)` of the way towards the prior
-    /// (the least-squares combination of one bias of spread `σ_b` and a mean of `n`), so
-    /// that successive walks average their GPS biases: the path moves by `κ·δ`, the map by
-    /// the grid vector nearest it.
+    /// walk's fixes are off by their own bias. Neither frame is the truth, so the particles
+    /// read the prior map `δ = anchors.prior_offset` away from where they walk (`δ`: the
+    /// prior's frame less this walk's GPS frame, found by registering a map of this walk
+    /// learned without the prior, [`crate::map::register_maps`]). The answer is placed
+    /// between the two frames, `κ = n / (n + 1)` of the way towards the prior (the
+    /// least-squares combination of one bias and a mean of `n` independent ones), so that
+    /// successive walks average their GPS biases: the path moves by `κ·δ`, the map by the
+    /// grid vector nearest it.
     pub fn with_anchors(config: FootSlamConfig, anchors: Anchors) -> Result<Self> {
         config.validate()?;
         let mut motion_config = config.motion;
@@ -162,15 +166,13 @@ impl FootSlam {
         let motion = StepMotion::new(motion_config);
         let grid = HexGrid::new(config.hex_radius);
         let prior = anchors.prior.filter(|p| !p.is_empty());
-        let (offset_sigma, offset_pull) = if !anchors.gps.is_empty()
-            && prior.is_some()
-            && anchors.prior_walks > 0
-        {
-            let n = f64::from(anchors.prior_walks);
-            (config.gps.bias_sigma * (1.0 + 1.0 / n).sqrt(), n / (n + 1.0))
-        } else {
-            (0.0, 0.0)
-        };
+        let (offset, offset_pull) =
+            if !anchors.gps.is_empty() && prior.is_some() && anchors.prior_walks > 0 {
+                let n = f64::from(anchors.prior_walks);
+                (anchors.prior_offset, n / (n + 1.0))
+            } else {
+                (Hex::ZERO, 0.0)
+            };
         // The bias spread of the frame after this walk joins the `n` averaged before it.
         let outline_fit_sigma = match &prior {
             Some(p) if p.has_outline() && !anchors.gps.is_empty() => {
@@ -184,11 +186,10 @@ impl FootSlam {
             .map(|i| {
                 let mut rng = stream(config.seed, 0, i as u64);
                 let error = motion.sample_initial(&mut rng);
-                let (pose, offset) = sample_start(&config, &grid, offset_sigma, &mut rng);
+                let pose = sample_start(&config, &mut rng);
                 Particle {
                     error,
                     pose,
-                    offset,
                     map: HexTransitionMap::new(),
                     lineage: Lineage::root(i as u32),
                     path_log_likelihood: 0.0,
@@ -206,7 +207,7 @@ impl FootSlam {
             gps,
             step_fixes: Vec::new(),
             last_t: None,
-            offset_sigma,
+            offset,
             offset_pull,
             outline_fit_sigma,
             motion,
@@ -276,6 +277,7 @@ impl FootSlam {
         let (seed, motion, grid) = (self.config.seed, self.motion, self.grid);
         let (alpha, correct) = (self.config.alpha, self.config.direction_correction);
         let prior = self.prior.as_ref();
+        let offset = self.offset;
         let (gps, fixes) = (self.gps.as_ref().map(|g| g.likelihood), &self.step_fixes);
         self.particles
             .par_iter_mut()
@@ -291,7 +293,7 @@ impl FootSlam {
                 let edges = MapPrior {
                     alpha,
                     prior,
-                    offset: p.offset,
+                    offset,
                 };
                 let mut log_factor = log_map_factor(&grid, &mut p.map, edges, correct, p.pose, pose);
                 // GPS fixes that fell during the step, at the point walked by then.
@@ -380,7 +382,6 @@ impl FootSlam {
                     pose: p.pose,
                     error: p.error,
                     map: p.map.clone(),
-                    offset: p.offset,
                     lineage,
                     path_log_likelihood: p.path_log_likelihood,
                 }
@@ -415,7 +416,7 @@ impl FootSlam {
                 }
             })
             .0;
-        let (dx, dy) = self.grid.center(self.particles[index].offset);
+        let (dx, dy) = self.grid.center(self.offset);
         let (mut dx, mut dy) = (self.offset_pull * dx, self.offset_pull * dy);
         let replayed = self.replay_path(index);
         if let Some(prior) = &self.prior {
@@ -425,6 +426,7 @@ impl FootSlam {
             dy += sy;
         }
         let shift = self.grid.hex_at(dx, dy);
+        let prior_shift = Hex::new(shift.x - self.offset.x, shift.y - self.offset.y);
         let mut map = self.particles[index]
             .map
             .snapshot(self.config.hex_radius, self.config.alpha);
@@ -442,6 +444,7 @@ impl FootSlam {
             path,
             map,
             prior_offset: (dx, dy),
+            prior_shift,
         }
     }
 
@@ -453,7 +456,7 @@ impl FootSlam {
         let indices = self.particles[index].lineage.indices(self.steps.len() + 1);
         let mut rng = stream(seed, 0, u64::from(indices[0]));
         let mut error = self.motion.sample_initial(&mut rng);
-        let mut pose = sample_start(&self.config, &self.grid, self.offset_sigma, &mut rng).0;
+        let mut pose = sample_start(&self.config, &mut rng);
         self.steps
             .iter()
             .enumerate()
@@ -471,15 +474,9 @@ impl FootSlam {
 }
 
 /// The start pose `P_0` of one particle: `config.start`, spread by
-/// `start_position_sigma` and `start_heading_sigma` (uniform heading from π up), and its
-/// prior-map offset `δ` (spread `offset_sigma` per axis, snapped to the grid). Draws
-/// nothing when all are 0, so walks without anchors replay as before.
-fn sample_start(
-    config: &FootSlamConfig,
-    grid: &HexGrid,
-    offset_sigma: f64,
-    rng: &mut impl rand::Rng,
-) -> (Pose2, Hex) {
+/// `start_position_sigma` and `start_heading_sigma` (uniform heading from π up). Draws
+/// nothing when both are 0, so walks without anchors replay as before.
+fn sample_start(config: &FootSlamConfig, rng: &mut impl rand::Rng) -> Pose2 {
     let mut pose = config.start;
     if config.start_position_sigma > 0.0 {
         pose.x += config.start_position_sigma * rng.sample::<f64, _>(StandardNormal);
@@ -491,13 +488,7 @@ fn sample_start(
     } else if s > 0.0 {
         pose.heading += s * rng.sample::<f64, _>(StandardNormal);
     }
-    let mut offset = Hex::ZERO;
-    if offset_sigma > 0.0 {
-        let dx = offset_sigma * rng.sample::<f64, _>(StandardNormal);
-        let dy = offset_sigma * rng.sample::<f64, _>(StandardNormal);
-        offset = grid.hex_at(dx, dy);
-    }
-    (pose, offset)
+    pose
 }
 
 /// The Dirichlet prior of eq. (6): `α` on every edge, or per-edge values.
@@ -505,7 +496,7 @@ fn sample_start(
 struct MapPrior<'a> {
     alpha: f64,
     prior: Option<&'a EdgePrior>,
-    /// Where the particle reads the prior, relative to its own grid.
+    /// Where the particles read the prior, relative to their own grid.
     offset: Hex,
 }
 

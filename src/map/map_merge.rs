@@ -60,6 +60,24 @@ pub fn merge_maps(maps: &[(&HexMapSnapshot, f64)]) -> Result<HexMapSnapshot> {
     })
 }
 
+/// `map` moved by the grid vector `by` (every hexagon's axial coordinates plus `by`).
+pub fn shift_map(map: &HexMapSnapshot, by: Hex) -> HexMapSnapshot {
+    let mut cells: Vec<HexCell> = map
+        .cells
+        .iter()
+        .map(|c| HexCell {
+            hex: Hex::new(c.hex.x + by.x, c.hex.y + by.y),
+            counts: c.counts,
+        })
+        .collect();
+    cells.sort_by_key(|c| (c.hex.x, c.hex.y));
+    HexMapSnapshot {
+        radius: map.radius,
+        alpha: map.alpha,
+        cells,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -92,6 +110,16 @@ mod tests {
         assert!(half.cells.is_empty());
         let double = merge_maps(&[(&a, 0.5)]).expect("merge");
         assert_eq!(double.cells[0].counts, [1, 0, 0, 1, 0, 0]);
+    }
+
+    #[test]
+    fn shifting_moves_every_hexagon() {
+        let a = map(&[((0, 0), [2, 0, 0, 1, 0, 0]), ((1, 0), [0, 0, 0, 2, 0, 0])]);
+        let s = shift_map(&a, Hex::new(-3, 2));
+        assert_eq!(s.cells[0].hex, Hex::new(-3, 2));
+        assert_eq!(s.cells[1].hex, Hex::new(-2, 2));
+        assert_eq!(s.cells[1].counts, [0, 0, 0, 2, 0, 0]);
+        assert_eq!(shift_map(&s, Hex::new(3, -2)), a);
     }
 
     #[test]

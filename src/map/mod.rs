@@ -5,6 +5,7 @@ pub mod floor_plan;
 pub mod floor_topology;
 pub mod hex_transitions;
 pub mod map_merge;
+pub mod map_registration;
 pub mod radio_cells;
 pub mod radio_map;
 
@@ -12,6 +13,7 @@ pub use edge_prior::EdgePrior;
 pub use floor_plan::{Barrier, FloorPlan, FloorPolygon};
 pub use floor_topology::{FloorTopology, Segment, SegmentKind, TopologyConfig};
 pub use hex_transitions::{HexCell, HexMapSnapshot, HexTransitionMap};
-pub use map_merge::merge_maps;
+pub use map_merge::{merge_maps, shift_map};
+pub use map_registration::register_maps;
 pub use radio_cells::{CellConfig, CellMap, RadioCell, Room};
 pub use radio_map::{ApStats, CellRadio, RadioMap, RadioMapCell};
