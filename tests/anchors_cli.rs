@@ -11,7 +11,15 @@ fn footslam() -> Command {
 fn simulate(dir: &Path) -> PathBuf {
     let sim = dir.join("sim");
     footslam()
-        .args(["simulate", "--building", "campus", "--laps", "1", "--seed", "8"])
+        .args([
+            "simulate",
+            "--building",
+            "campus",
+            "--laps",
+            "1",
+            "--seed",
+            "8",
+        ])
         .args(["--origin", "48.15,11.57", "--out"])
         .arg(&sim)
         .assert()
@@ -59,13 +67,25 @@ fn gpx_needs_its_clock_and_then_anchors_like_csv() {
     write_gpx(&sim.join("gps.csv"), &gpx);
     let gpx_arg = gpx.to_str().expect("utf-8");
     let err = stderr(learn(&sim, &dir.path().join("a"), &["--gps", gpx_arg]));
-    assert!(err.contains("walk.gpx") && err.contains("--gps-t0"), "{err}");
+    assert!(
+        err.contains("walk.gpx") && err.contains("--gps-t0"),
+        "{err}"
+    );
     let out = dir.path().join("b");
-    learn(&sim, &out, &["--gps", gpx_arg, "--gps-t0", "2024-05-01T10:00:00Z"]).success();
+    learn(
+        &sim,
+        &out,
+        &["--gps", gpx_arg, "--gps-t0", "2024-05-01T10:00:00Z"],
+    )
+    .success();
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("r"))
             .expect("json");
-    let fixes = std::fs::read_to_string(sim.join("gps.csv")).expect("gps").lines().count() - 1;
+    let fixes = std::fs::read_to_string(sim.join("gps.csv"))
+        .expect("gps")
+        .lines()
+        .count()
+        - 1;
     assert_eq!(summary["gps_fixes"].as_u64(), Some(fixes as u64));
     assert_eq!(summary["gps_fixes_used"].as_u64(), Some(fixes as u64));
     assert!(out.join("track.geojson").is_file() && out.join("map.geojson").is_file());
@@ -77,26 +97,55 @@ fn bad_gps_outline_and_prior_maps_are_explained() {
     let sim = simulate(dir.path());
     let bad = dir.path().join("gps.csv");
     std::fs::write(&bad, "t,lat,lon\n0,48.15,11.57\n1,48.15,NaN\n").expect("write");
-    let err = stderr(learn(&sim, &dir.path().join("a"), &["--gps", bad.to_str().expect("p")]));
+    let err = stderr(learn(
+        &sim,
+        &dir.path().join("a"),
+        &["--gps", bad.to_str().expect("p")],
+    ));
     assert!(err.contains("gps.csv:3"), "{err}");
     let gps = sim.join("gps.csv");
     let gps = gps.to_str().expect("p");
-    let err = stderr(learn(&sim, &dir.path().join("a"), &["--gps", gps, "--gps", gps]));
+    let err = stderr(learn(
+        &sim,
+        &dir.path().join("a"),
+        &["--gps", gps, "--gps", gps],
+    ));
     assert!(err.contains("one per walk"), "{err}");
     let outline = dir.path().join("outline.geojson");
-    std::fs::write(&outline, r#"{"type": "LineString", "coordinates": [[11.57, 48.15], [11.58, 48.15]]}"#)
-        .expect("write");
-    let err = stderr(learn(&sim, &dir.path().join("a"), &["--outline", outline.to_str().expect("p")]));
-    assert!(err.contains("outline.geojson") && err.contains("LineString"), "{err}");
+    std::fs::write(
+        &outline,
+        r#"{"type": "LineString", "coordinates": [[11.57, 48.15], [11.58, 48.15]]}"#,
+    )
+    .expect("write");
+    let err = stderr(learn(
+        &sim,
+        &dir.path().join("a"),
+        &["--outline", outline.to_str().expect("p")],
+    ));
+    assert!(
+        err.contains("outline.geojson") && err.contains("LineString"),
+        "{err}"
+    );
 
     // A map learned at one origin cannot seed a walk at another, nor merge with its maps.
     let first = dir.path().join("first");
     learn(&sim, &first, &["--origin", "48.15,11.57"]).success();
     let map = first.join("map.geojson");
     let map_arg = map.to_str().expect("p");
-    let err = stderr(learn(&sim, &dir.path().join("a"), &["--prior-map", map_arg, "--origin", "48.16,11.57"]));
-    assert!(err.contains("map.geojson") && err.contains("--origin 48.15,11.57"), "{err}");
-    let err = stderr(learn(&sim, &dir.path().join("a"), &["--prior-map", map_arg, "--hex-radius", "0.6"]));
+    let err = stderr(learn(
+        &sim,
+        &dir.path().join("a"),
+        &["--prior-map", map_arg, "--origin", "48.16,11.57"],
+    ));
+    assert!(
+        err.contains("map.geojson") && err.contains("--origin 48.15,11.57"),
+        "{err}"
+    );
+    let err = stderr(learn(
+        &sim,
+        &dir.path().join("a"),
+        &["--prior-map", map_arg, "--hex-radius", "0.6"],
+    ));
     assert!(err.contains("radius"), "{err}");
     let other = dir.path().join("other");
     learn(&sim, &other, &["--origin", "48.2,11.57"]).success();
@@ -110,11 +159,19 @@ fn bad_gps_outline_and_prior_maps_are_explained() {
             .assert(),
     );
     assert!(err.contains("other") && err.contains("origin"), "{err}");
-    assert!(!dir.path().join("m.geojson").exists(), "nothing written on error");
+    assert!(
+        !dir.path().join("m.geojson").exists(),
+        "nothing written on error"
+    );
 
     // Without --origin the prior map's origin is used, and the walk learns from it.
     let second = dir.path().join("second");
-    learn(&sim, &second, &["--prior-map", map_arg, "--prior-weight", "0.5"]).success();
+    learn(
+        &sim,
+        &second,
+        &["--prior-map", map_arg, "--prior-weight", "0.5"],
+    )
+    .success();
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(second.join("summary.json")).expect("r"))
             .expect("json");

@@ -28,12 +28,20 @@ fn signed_area(ring: &[Value]) -> f64 {
 }
 
 fn check_position(p: &Value, file: &str) {
-    let p = p.as_array().unwrap_or_else(|| panic!("{file}: position {p} is not an array"));
+    let p = p
+        .as_array()
+        .unwrap_or_else(|| panic!("{file}: position {p} is not an array"));
     assert!(p.len() >= 2, "{file}: position with {} numbers", p.len());
     let (lon, lat) = (p[0].as_f64().expect("lon"), p[1].as_f64().expect("lat"));
-    assert!(lon.abs() <= 180.0 && lat.abs() <= 90.0, "{file}: [{lon}, {lat}] out of range");
+    assert!(
+        lon.abs() <= 180.0 && lat.abs() <= 90.0,
+        "{file}: [{lon}, {lat}] out of range"
+    );
     // Longitude first: near the origin's longitude, not its latitude.
-    assert!((lon - LON).abs() < 0.01 && (lat - LAT).abs() < 0.01, "{file}: [{lon}, {lat}]");
+    assert!(
+        (lon - LON).abs() < 0.01 && (lat - LAT).abs() < 0.01,
+        "{file}: [{lon}, {lat}]"
+    );
 }
 
 fn check_ring(ring: &Value, exterior: bool, file: &str) {
@@ -53,7 +61,11 @@ fn check_geometry(g: &Value, file: &str) {
     let c = &g["coordinates"];
     match g["type"].as_str().expect("geometry type") {
         "Point" => check_position(c, file),
-        "LineString" => c.as_array().expect("line").iter().for_each(|p| check_position(p, file)),
+        "LineString" => c
+            .as_array()
+            .expect("line")
+            .iter()
+            .for_each(|p| check_position(p, file)),
         "Polygon" => {
             for (i, ring) in c.as_array().expect("rings").iter().enumerate() {
                 check_ring(ring, i == 0, file);
@@ -72,7 +84,8 @@ fn check_geometry(g: &Value, file: &str) {
 
 fn validate(path: &Path) -> usize {
     let file = path.display().to_string();
-    let v: Value = serde_json::from_str(&std::fs::read_to_string(path).expect("read")).expect("json");
+    let v: Value =
+        serde_json::from_str(&std::fs::read_to_string(path).expect("read")).expect("json");
     assert_eq!(v["type"], "FeatureCollection", "{file}");
     assert!(v.get("crs").is_none(), "{file}: has a crs member");
     let features = v["features"].as_array().expect("features");
@@ -89,7 +102,17 @@ fn every_geojson_output_is_rfc_7946() {
     let dir = tempfile::tempdir().expect("tempdir");
     let sim = dir.path().join("sim");
     footslam()
-        .args(["simulate", "--building", "campus", "--walks", "2", "--laps", "1", "--seed", "4"])
+        .args([
+            "simulate",
+            "--building",
+            "campus",
+            "--walks",
+            "2",
+            "--laps",
+            "1",
+            "--seed",
+            "4",
+        ])
         .args(["--origin", &format!("{LAT},{LON}"), "--out"])
         .arg(&sim)
         .assert()
@@ -125,7 +148,8 @@ fn every_geojson_output_is_rfc_7946() {
         assert!(validate(f) > 0, "{} is empty", f.display());
     }
     // The batch's own merge and `footslam merge` agree, and hold two walks.
-    let a: Value = serde_json::from_str(&std::fs::read_to_string(&files[4]).expect("r")).expect("j");
+    let a: Value =
+        serde_json::from_str(&std::fs::read_to_string(&files[4]).expect("r")).expect("j");
     let b: Value = serde_json::from_str(&std::fs::read_to_string(&merged).expect("r")).expect("j");
     assert_eq!(a["features"], b["features"]);
     assert_eq!(b["walks"], 2);
@@ -134,7 +158,13 @@ fn every_geojson_output_is_rfc_7946() {
         serde_json::from_str(&std::fs::read_to_string(learn.join("summary.json")).expect("r"))
             .expect("j");
     let gps = std::fs::read_to_string(sim.join("walk-1/gps.csv")).expect("gps");
-    let first: Vec<f64> = gps.lines().nth(1).expect("fix").split(',').map(|v| v.parse().expect("n")).collect();
+    let first: Vec<f64> = gps
+        .lines()
+        .nth(1)
+        .expect("fix")
+        .split(',')
+        .map(|v| v.parse().expect("n"))
+        .collect();
     assert!((summary["origin"]["lat"].as_f64().expect("lat") - first[1]).abs() < 1e-12);
     assert!((summary["origin"]["lon"].as_f64().expect("lon") - first[2]).abs() < 1e-12);
 }

@@ -15,8 +15,8 @@ use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::export::track_geojson::write_track_geojson;
 use footslam::filter::gps_start::heading_from_fixes;
 use footslam::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
-use footslam::geometry::{HexGrid, LocalFrame};
 use footslam::geometry::Hex;
+use footslam::geometry::{HexGrid, LocalFrame};
 use footslam::map::{EdgePrior, HexMapSnapshot, merge_maps, register_maps, shift_map};
 use footslam::model::GpsObservation;
 use footslam::sensor::{GpsFix, StepTrace};
@@ -184,7 +184,13 @@ pub fn run(args: Args) -> Result<()> {
     }
     let (mut prior_map_hexagons, mut prior_walks) = (0, 0);
     if let (Some(stored), Some(path)) = (&prior_map, &args.prior_map) {
-        check_same_grid(path, stored.map.radius, &stored.frame, config.hex_radius, &frame)?;
+        check_same_grid(
+            path,
+            stored.map.radius,
+            &stored.frame,
+            config.hex_radius,
+            &frame,
+        )?;
         prior.add_counts(&stored.map, config.prior_weight);
         prior_map_hexagons = stored.map.cells.len();
         prior_walks = stored.walks;

@@ -39,7 +39,6 @@ enum Building {
 /// Arguments of `footslam simulate`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-
     /// The building.
     #[arg(long, value_enum, default_value = "office")]
     building: Building,

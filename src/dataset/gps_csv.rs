@@ -75,11 +75,17 @@ mod tests {
 
     #[test]
     fn errors_name_the_line_and_problem() {
-        let e = read("t,lat,lon\n0,48,11\n1,95,11\n").unwrap_err().to_string();
+        let e = read("t,lat,lon\n0,48,11\n1,95,11\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("gps.csv:3") && e.contains("latitude"), "{e}");
-        let e = read("t,lat,lon\n1,48,11\n0,48,11\n").unwrap_err().to_string();
+        let e = read("t,lat,lon\n1,48,11\n0,48,11\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains(":3") && e.contains("increasing"), "{e}");
-        let e = read("t,lat,lon,accuracy\n0,48,11,-2\n").unwrap_err().to_string();
+        let e = read("t,lat,lon,accuracy\n0,48,11,-2\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains(":2") && e.contains("accuracy"), "{e}");
         let e = read("t,lat\n0,48\n").unwrap_err().to_string();
         assert!(e.contains("lon"), "{e}");

@@ -51,7 +51,11 @@ pub fn read_gpx(path: &Path, t0: f64) -> Result<Vec<GpsFix>> {
         fixes.push(fix);
     }
     if fixes.is_empty() {
-        return Err(Error::parse(path, 0, "no track points (<trkpt>) in the file"));
+        return Err(Error::parse(
+            path,
+            0,
+            "no track points (<trkpt>) in the file",
+        ));
     }
     Ok(fixes)
 }
@@ -101,7 +105,10 @@ mod tests {
         assert_eq!((f[0].lat, f[0].lon), (48.1, 11.5));
         assert!((f[0].accuracy - 4.0).abs() < 1e-12);
         assert_eq!(f[1].accuracy, DEFAULT_ACCURACY);
-        assert_eq!(parse_utc_time("1714557600").expect("number"), 1_714_557_600.0);
+        assert_eq!(
+            parse_utc_time("1714557600").expect("number"),
+            1_714_557_600.0
+        );
         assert_eq!(t0, 1_714_557_600.0);
         assert!(parse_utc_time("yesterday").is_err());
     }
@@ -113,7 +120,10 @@ mod tests {
         assert!(e.contains("walk.gpx") && e.contains("track point 0"), "{e}");
         let (_dir, p) = write(&GPX.replace("10:00:02.5", "09:00:00"));
         let e = read_gpx(&p, 0.0).unwrap_err().to_string();
-        assert!(e.contains("track point 1") && e.contains("increasing"), "{e}");
+        assert!(
+            e.contains("track point 1") && e.contains("increasing"),
+            "{e}"
+        );
         let (_dir, p) = write("<gpx><trk>");
         assert!(read_gpx(&p, 0.0).unwrap_err().to_string().contains("GPX"));
         let (_dir, p) = write(&GPX.replace(r#"lat="48.1""#, r#"lat="98.1""#));

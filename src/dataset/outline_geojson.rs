@@ -57,8 +57,8 @@ pub fn read_outline(path: &Path, frame: &LocalFrame) -> Result<Polygon<f64>> {
         }
     };
     let exterior: geojson::PolygonType = rings.into_iter().take(1).collect();
-    let polygon = read_polygon(&exterior, frame)
-        .map_err(|m| whole(format!("outline polygon: {m}")))?;
+    let polygon =
+        read_polygon(&exterior, frame).map_err(|m| whole(format!("outline polygon: {m}")))?;
     let polygon = Polygon::new(polygon.exterior().clone(), Vec::new());
     if let Err(e) = polygon.check_validation() {
         return Err(whole(format!("outline polygon is not valid: {e}")));
@@ -108,7 +108,9 @@ mod tests {
         let text = std::fs::read_to_string(&p).expect("text");
         let fc: FeatureCollection = text.parse().expect("fc");
         std::fs::write(&p, fc.features[0].to_string()).expect("write");
-        assert!((read_outline(&p, &frame()).expect("feature").unsigned_area() - 875.0).abs() < 0.05);
+        assert!(
+            (read_outline(&p, &frame()).expect("feature").unsigned_area() - 875.0).abs() < 0.05
+        );
     }
 
     #[test]
@@ -117,7 +119,10 @@ mod tests {
         let p = dir.path().join("outline.geojson");
         std::fs::write(&p, r#"{"type": "FeatureCollection", "features": []}"#).expect("w");
         let e = read_outline(&p, &frame()).unwrap_err().to_string();
-        assert!(e.contains("outline.geojson") && e.contains("0 polygon"), "{e}");
+        assert!(
+            e.contains("outline.geojson") && e.contains("0 polygon"),
+            "{e}"
+        );
         std::fs::write(&p, r#"{"type": "Point", "coordinates": [11, 48]}"#).expect("w");
         let e = read_outline(&p, &frame()).unwrap_err().to_string();
         assert!(e.contains("Point"), "{e}");
@@ -132,7 +137,12 @@ mod tests {
             r#"{"type": "Polygon", "coordinates": [[[11, 48], [11.001, 48], [11.001, 48.001], [11, 48.2]]]}"#,
         )
         .expect("w");
-        assert!(read_outline(&p, &frame()).unwrap_err().to_string().contains("closed"));
+        assert!(
+            read_outline(&p, &frame())
+                .unwrap_err()
+                .to_string()
+                .contains("closed")
+        );
         std::fs::write(&p, "{").expect("w");
         assert!(read_outline(&p, &frame()).is_err());
     }

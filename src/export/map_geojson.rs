@@ -45,7 +45,11 @@ pub fn map_to_geojson(map: &HexMapSnapshot, frame: &LocalFrame) -> FeatureCollec
 }
 
 /// As [`map_to_geojson`] for a map holding the counts of `walks` walks.
-pub fn walks_map_to_geojson(map: &HexMapSnapshot, frame: &LocalFrame, walks: u32) -> FeatureCollection {
+pub fn walks_map_to_geojson(
+    map: &HexMapSnapshot,
+    frame: &LocalFrame,
+    walks: u32,
+) -> FeatureCollection {
     let grid = HexGrid::new(map.radius);
     let features = map
         .cells

@@ -295,7 +295,8 @@ impl FootSlam {
                     prior,
                     offset,
                 };
-                let mut log_factor = log_map_factor(&grid, &mut p.map, edges, correct, p.pose, pose);
+                let mut log_factor =
+                    log_map_factor(&grid, &mut p.map, edges, correct, p.pose, pose);
                 // GPS fixes that fell during the step, at the point walked by then.
                 if let Some(gps) = gps {
                     log_factor += log_gps_factor(&gps, fixes, p.pose, pose);
@@ -419,9 +420,12 @@ impl FootSlam {
         let (dx, dy) = self.grid.center(self.offset);
         let (mut dx, mut dy) = (self.offset_pull * dx, self.offset_pull * dy);
         let replayed = self.replay_path(index);
-        if let Some(prior) = &self.prior {
+        if let Some(outline) = self.prior.as_ref().and_then(|p| p.outline()) {
             let points: Vec<(f64, f64)> = replayed.iter().map(|p| (p.x + dx, p.y + dy)).collect();
-            let (sx, sy) = fit_outline_shift(&points, &self.grid, prior, self.outline_fit_sigma);
+            let cost = (self.config.alpha / self.config.outline_alpha).ln();
+            let margin = self.config.outline_margin;
+            let (sx, sy) =
+                fit_outline_shift(&points, outline, margin, cost, self.outline_fit_sigma);
             dx += sx;
             dy += sy;
         }

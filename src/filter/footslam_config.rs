@@ -31,6 +31,9 @@ pub struct FootSlamConfig {
     /// Dirichlet prior of edges that cross a building outline (`α_out`, see
     /// [`crate::map::edge_prior`]). Default 0.05.
     pub outline_alpha: f64,
+    /// How well a building outline is known, metres: the outline fit counts a crossing only
+    /// from this far inside to this far outside ([`crate::filter::outline_fit`]). Default 1.5 m.
+    pub outline_margin: f64,
     /// Weight `w` of a prior map's counts as pseudo-counts on top of `α`. Default 1.
     pub prior_weight: f64,
     /// Step error model.
@@ -53,6 +56,7 @@ impl Default for FootSlamConfig {
             start_position_sigma: 0.0,
             start_heading_sigma: 0.0,
             outline_alpha: 0.05,
+            outline_margin: 1.5,
             prior_weight: 1.0,
             motion: StepMotionConfig::default(),
             resample: ResampleConfig::default(),
@@ -96,9 +100,14 @@ impl FootSlamConfig {
             ("start_position_sigma", self.start_position_sigma, 10_000.0),
             ("start_heading_sigma", self.start_heading_sigma, 1000.0),
             ("prior_weight", self.prior_weight, 1000.0),
+            ("outline_margin", self.outline_margin, 100.0),
         ] {
             if !(v.is_finite() && (0.0..=hi).contains(&v)) {
-                return bad(field, v.to_string(), "must be a finite number ≥ 0 (and not absurd)");
+                return bad(
+                    field,
+                    v.to_string(),
+                    "must be a finite number ≥ 0 (and not absurd)",
+                );
             }
         }
         if !(self.outline_alpha.is_finite()

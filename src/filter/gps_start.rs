@@ -79,7 +79,11 @@ mod tests {
             steps.push(Step {
                 t: 0.5 * (i + 1) as f64,
                 length: 0.7,
-                dheading: if i == 20 { std::f64::consts::FRAC_PI_2 } else { 0.0 },
+                dheading: if i == 20 {
+                    std::f64::consts::FRAC_PI_2
+                } else {
+                    0.0
+                },
                 dz: 0.0,
                 heading: None,
             });
@@ -107,7 +111,11 @@ mod tests {
             })
             .collect();
         let (theta, sigma) = heading_from_fixes(&fixes, &steps).expect("heading");
-        assert!((theta - heading).abs() < 2f64.to_radians(), "{}", theta.to_degrees());
+        assert!(
+            (theta - heading).abs() < 2f64.to_radians(),
+            "{}",
+            theta.to_degrees()
+        );
         assert!(sigma < 0.4 && sigma >= MIN_HEADING_SIGMA, "{sigma}");
         // Too few fixes, or standing still: no heading.
         assert!(heading_from_fixes(&fixes[..2], &steps).is_none());

@@ -1,5 +1,5 @@
 //! Placing a learned walk against a rough building outline: the most probable shift of the
-//! whole path given the GPS bias it may carry and the outline it should not cross.
+//! whole path given the GPS bias it may carry and the outline it should rarely cross.
 //!
 //! Inside the filter the outline is a low Dirichlet prior on the edges that cross it
 //! ([`crate::map::edge_prior`]); that steers the shape, but GPS fixes counted as independent
@@ -8,55 +8,104 @@
 //! once the path is learned, its absolute place is re-estimated: the path is shifted by
 //! `s`, where `s` maximises
 //!
-//! `ln N(s; 0, σ²I) + Σ_{outline edges e crossed by path + s, once each} ln(min(α^e, α) / α)`
+//! `ln N(s; 0, σ²I) − c · (crossings of the outline by path + s)`
 //!
-//! — the GPS bias prior (`σ`: the bias spread left after the walks averaged into the frame)
-//! and eq. (6)'s penalty for each first crossing of an outline edge (an edge opened by a
-//! prior map's counts costs less or nothing). The maximum is searched on a square grid of
-//! shifts 0.25 m apart within `±3σ` (at most ±10 m); ties go to the smaller shift.
+//! with `σ` the bias spread left after the walks averaged into the frame and
+//! `c = ln(α / α_out)`, eq. (6)'s price of an unseen crossing of an outline edge. Because
+//! the outline is known only to `margin` metres, a crossing counts only when the path goes
+//! from more than `margin` inside to more than `margin` outside, or back (hysteresis): the
+//! true path, which enters and leaves through doors, crosses exactly as often as it enters
+//! and leaves, wherever within the margin the true walls are, while a path pushed through a
+//! wall by a bias adds a crossing pair at every room or corridor that pokes out. The maximum
+//! is searched on a square grid of shifts 0.25 m apart within `±3σ` (at most ±10 m); ties
+//! go to the smaller shift.
 
-use crate::geometry::HexGrid;
-use crate::map::EdgePrior;
+use geo::{Contains, Coord, Polygon};
 use rayon::prelude::*;
-use rustc_hash::FxHashSet;
 
 /// Spacing of the shifts tried, metres.
 const SHIFT_STEP: f64 = 0.25;
 /// The widest shift tried, metres.
 const MAX_SHIFT: f64 = 10.0;
 
-/// The most probable shift of `path` (positions in walking order) given the outline edges
-/// of `prior` and a Gaussian bias prior of spread `sigma` per axis. `(0, 0)` when `prior`
-/// has no outline or `sigma` is 0.
-pub fn fit_outline_shift(path: &[(f64, f64)], grid: &HexGrid, prior: &EdgePrior, sigma: f64) -> (f64, f64) {
-    if !prior.has_outline() || !(sigma > 0.0) || path.len() < 2 {
+/// Distance from `p` to the segment `a`–`b`.
+fn segment_distance(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len2 = dx * dx + dy * dy;
+    let u = if len2 > 0.0 {
+        (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p.0 - a.0 - u * dx).hypot(p.1 - a.1 - u * dy)
+}
+
+/// +1 deeper than `margin` inside `outline`, −1 deeper than `margin` outside, 0 in between.
+fn side(outline: &Polygon<f64>, ring: &[(f64, f64)], margin: f64, p: (f64, f64)) -> i8 {
+    let d = ring
+        .windows(2)
+        .map(|w| segment_distance(p, w[0], w[1]))
+        .fold(f64::INFINITY, f64::min);
+    if d <= margin {
+        0
+    } else if outline.contains(&Coord { x: p.0, y: p.1 }) {
+        1
+    } else {
+        -1
+    }
+}
+
+/// Crossings of the outline by `path` moved by `s`, with hysteresis `margin`.
+fn crossings(
+    path: &[(f64, f64)],
+    outline: &Polygon<f64>,
+    ring: &[(f64, f64)],
+    margin: f64,
+    s: (f64, f64),
+) -> u32 {
+    let mut last = 0i8;
+    let mut n = 0;
+    for &(x, y) in path {
+        let now = side(outline, ring, margin, (x + s.0, y + s.1));
+        if now != 0 {
+            if last != 0 && now != last {
+                n += 1;
+            }
+            last = now;
+        }
+    }
+    n
+}
+
+/// The most probable shift of `path` (positions in walking order) given `outline` (known to
+/// `margin` metres), the cost `cost` of a crossing and a Gaussian bias prior of spread
+/// `sigma` per axis; `(0, 0)` when `sigma` is 0 or the path is too short.
+pub fn fit_outline_shift(
+    path: &[(f64, f64)],
+    outline: &Polygon<f64>,
+    margin: f64,
+    cost: f64,
+    sigma: f64,
+) -> (f64, f64) {
+    if !(sigma > 0.0) || path.len() < 2 {
         return (0.0, 0.0);
     }
+    let ring: Vec<(f64, f64)> = outline.exterior().coords().map(|c| (c.x, c.y)).collect();
     let reach = (3.0 * sigma).min(MAX_SHIFT);
     let k = (reach / SHIFT_STEP).floor() as i32;
-    let alpha = prior.base_alpha();
     let shifts: Vec<(f64, f64)> = (-k..=k)
         .flat_map(|i| (-k..=k).map(move |j| (f64::from(i) * SHIFT_STEP, f64::from(j) * SHIFT_STEP)))
         .collect();
-    let score = |&(sx, sy): &(f64, f64)| {
-        let mut crossed = FxHashSet::default();
-        let mut penalty = 0.0;
-        for w in path.windows(2) {
-            grid.for_each_crossing((w[0].0 + sx, w[0].1 + sy), (w[1].0 + sx, w[1].1 + sy), |c| {
-                if prior.is_outline_edge(c.from, c.edge) {
-                    let key = if c.edge < 3 { (c.from, c.edge) } else { (c.to, c.edge - 3) };
-                    if crossed.insert(key) {
-                        penalty += (prior.alpha(c.from, c.edge).min(alpha) / alpha).ln();
-                    }
-                }
-            });
-        }
-        penalty - (sx * sx + sy * sy) / (2.0 * sigma * sigma)
-    };
-    let scored: Vec<f64> = shifts.par_iter().map(score).collect();
+    let scores: Vec<f64> = shifts
+        .par_iter()
+        .map(|&s| {
+            let n = crossings(path, outline, &ring, margin, s);
+            -cost * f64::from(n) - (s.0 * s.0 + s.1 * s.1) / (2.0 * sigma * sigma)
+        })
+        .collect();
     // The first maximum in a fixed order (by score, then by the smaller shift).
     let mut best = (f64::NEG_INFINITY, f64::INFINITY, (0.0, 0.0));
-    for (&s, &v) in shifts.iter().zip(&scored) {
+    for (&s, &v) in shifts.iter().zip(&scores) {
         let r = s.0 * s.0 + s.1 * s.1;
         if v > best.0 + 1e-12 || ((v - best.0).abs() <= 1e-12 && r < best.1) {
             best = (v, r, s);
@@ -70,26 +119,57 @@ mod tests {
     use super::*;
     use geo::Rect;
 
+    fn walk() -> Vec<(f64, f64)> {
+        // From the yard through a door at (10, -2), laps of a loop 2–3 m inside the walls of
+        // a 24 m × 24 m building, and out again.
+        let mut corners: Vec<(f64, f64)> = vec![(10.0, -8.0), (10.0, 1.0)];
+        for _ in 0..3 {
+            corners.extend([
+                (19.0, 1.0),
+                (19.0, 19.0),
+                (1.0, 19.0),
+                (1.0, 1.0),
+                (10.0, 1.0),
+            ]);
+        }
+        corners.push((10.0, -8.0));
+        let corners = corners;
+        // A point every half metre.
+        let mut path = Vec::new();
+        for w in corners.windows(2) {
+            let n = ((w[1].0 - w[0].0).hypot(w[1].1 - w[0].1) / 0.5).ceil() as usize;
+            for i in 0..n {
+                let u = i as f64 / n as f64;
+                path.push((
+                    w[0].0 + u * (w[1].0 - w[0].0),
+                    w[0].1 + u * (w[1].1 - w[0].1),
+                ));
+            }
+        }
+        path
+    }
+
     #[test]
     fn a_path_pushed_through_a_wall_is_pulled_back_inside() {
-        let grid = HexGrid::new(0.5);
-        let outline = Rect::new((0.0, 0.0), (20.0, 20.0)).to_polygon();
-        let mut prior = EdgePrior::uniform(0.8);
-        prior.add_outline(&grid, &outline, 0.05);
-        // Laps of a loop 1 m inside the walls, entered once through a door at (10, 0) —
-        // but seen 2.5 m too far south-east (a GPS bias).
-        let mut path = vec![(10.0, -8.0), (10.0, 1.0)];
-        for _ in 0..3 {
-            path.extend([(19.0, 1.0), (19.0, 19.0), (1.0, 19.0), (1.0, 1.0), (10.0, 1.0)]);
-        }
-        path.push((10.0, -8.0));
-        let biased: Vec<(f64, f64)> = path.iter().map(|&(x, y)| (x + 2.5, y - 2.5)).collect();
-        let (sx, sy) = fit_outline_shift(&biased, &grid, &prior, 3.0);
-        // Back inside: the loop's east and south sides no longer cross the walls.
-        assert!(sx <= -1.5 && sx >= -3.5, "{sx}");
-        assert!(sy >= 1.5 && sy <= 3.5, "{sy}");
-        // The true path needs no shift; without an outline nothing moves.
-        assert_eq!(fit_outline_shift(&path, &grid, &prior, 3.0), (0.0, 0.0));
-        assert_eq!(fit_outline_shift(&biased, &grid, &EdgePrior::uniform(0.8), 3.0), (0.0, 0.0));
+        let outline = Rect::new((-2.0, -2.0), (22.0, 22.0)).to_polygon();
+        let ring: Vec<(f64, f64)> = outline.exterior().coords().map(|c| (c.x, c.y)).collect();
+        let cost = (0.8f64 / 0.05).ln();
+        let path = walk();
+        assert_eq!(crossings(&path, &outline, &ring, 0.5, (0.0, 0.0)), 2);
+        // Seen 5 m too far south-east (a GPS bias): pulled back to within the margin.
+        let biased: Vec<(f64, f64)> = path.iter().map(|&(x, y)| (x + 5.0, y - 5.0)).collect();
+        assert_eq!(crossings(&biased, &outline, &ring, 0.5, (0.0, 0.0)), 6);
+        let (sx, sy) = fit_outline_shift(&biased, &outline, 0.5, cost, 3.0);
+        assert!((-6.0..=-1.5).contains(&sx), "{sx}");
+        assert!((1.5..=6.0).contains(&sy), "{sy}");
+        assert_eq!(crossings(&biased, &outline, &ring, 0.5, (sx, sy)), 2);
+        // The true path needs no shift.
+        assert_eq!(
+            fit_outline_shift(&path, &outline, 0.5, cost, 3.0),
+            (0.0, 0.0)
+        );
+        // An outline off by a metre (within the margin) does not move the true path.
+        let off = Rect::new((-2.0, -1.0), (23.0, 22.0)).to_polygon();
+        assert_eq!(fit_outline_shift(&path, &off, 1.5, cost, 3.0), (0.0, 0.0));
     }
 }

@@ -32,6 +32,8 @@ pub struct EdgePrior {
     cells: FxHashMap<Hex, [f64; 7]>,
     /// The edges an outline crosses, each as (hexagon, edge 0..3) of the hexagon owning it.
     outline: FxHashSet<(Hex, u8)>,
+    /// The outline itself.
+    outline_polygon: Option<Polygon<f64>>,
 }
 
 /// An edge named from the hexagon that owns it (edges 0..3: E, NE, NW).
@@ -51,6 +53,7 @@ impl EdgePrior {
             alpha,
             cells: FxHashMap::default(),
             outline: FxHashSet::default(),
+            outline_polygon: None,
         }
     }
 
@@ -77,6 +80,11 @@ impl EdgePrior {
     /// True when an outline was added.
     pub fn has_outline(&self) -> bool {
         !self.outline.is_empty()
+    }
+
+    /// The outline given to [`EdgePrior::add_outline`] (the last one).
+    pub fn outline(&self) -> Option<&Polygon<f64>> {
+        self.outline_polygon.as_ref()
     }
 
     /// `α^e_h`.
@@ -112,7 +120,12 @@ impl EdgePrior {
     /// Lowers to `alpha_outline` the prior of every edge that crosses `outline` (joins a
     /// hexagon whose centre is inside to one whose centre is outside). Returns the number of
     /// edges changed.
-    pub fn add_outline(&mut self, grid: &HexGrid, outline: &Polygon<f64>, alpha_outline: f64) -> usize {
+    pub fn add_outline(
+        &mut self,
+        grid: &HexGrid,
+        outline: &Polygon<f64>,
+        alpha_outline: f64,
+    ) -> usize {
         let inside = |h: Hex| {
             let (x, y) = grid.center(h);
             outline.contains(&Coord { x, y })
@@ -140,6 +153,7 @@ impl EdgePrior {
                 }
             }
         }
+        self.outline_polygon = Some(outline.clone());
         edges.sort_unstable_by_key(|&(h, e)| (h.x, h.y, e));
         edges.dedup();
         for &(h, e) in &edges {
@@ -220,7 +234,10 @@ mod tests {
             let (bx, by) = (1.0 + 20.0 * a.cos(), 1.0 + 20.0 * a.sin());
             let mut low = 0;
             grid.for_each_crossing((1.0, 1.0), (bx, by), |c| {
-                assert_eq!(p.is_outline_edge(c.from, c.edge), p.alpha(c.from, c.edge) < 0.1);
+                assert_eq!(
+                    p.is_outline_edge(c.from, c.edge),
+                    p.alpha(c.from, c.edge) < 0.1
+                );
                 if p.alpha(c.from, c.edge) < 0.1 {
                     low += 1;
                     assert_eq!(p.alpha(c.to, (c.edge + 3) % 6), 0.05);

@@ -127,7 +127,9 @@ mod tests {
         let a = map(&[((0, 0), [1, 0, 0, 0, 0, 0])]);
         let mut b = a.clone();
         b.radius = 0.6;
-        assert!(merge_maps(&[(&a, 1.0), (&b, 1.0)]).is_err_and(|e| e.to_string().contains("radius")));
+        assert!(
+            merge_maps(&[(&a, 1.0), (&b, 1.0)]).is_err_and(|e| e.to_string().contains("radius"))
+        );
         assert!(merge_maps(&[(&a, f64::NAN)]).is_err());
         assert!(merge_maps(&[]).is_err());
     }

@@ -23,7 +23,8 @@ pub fn register_maps(
     max_shift: f64,
 ) -> (Hex, u64) {
     let grid = HexGrid::new(map.radius);
-    let cells: FxHashMap<Hex, [u32; 6]> = reference.cells.iter().map(|c| (c.hex, c.counts)).collect();
+    let cells: FxHashMap<Hex, [u32; 6]> =
+        reference.cells.iter().map(|c| (c.hex, c.counts)).collect();
     // Every grid vector whose centre lies within max_shift of the origin.
     let reach = (max_shift / grid.radius()).ceil() as i32 + 1;
     let mut shifts: Vec<(Hex, f64)> = Vec::new();
@@ -37,20 +38,25 @@ pub fn register_maps(
             }
         }
     }
-    shifts.sort_by(|a, b| a.1.total_cmp(&b.1).then((a.0.x, a.0.y).cmp(&(b.0.x, b.0.y))));
+    shifts.sort_by(|a, b| {
+        a.1.total_cmp(&b.1)
+            .then((a.0.x, a.0.y).cmp(&(b.0.x, b.0.y)))
+    });
     let scores: Vec<u64> = shifts
         .par_iter()
         .map(|&(s, _)| {
             map.cells
                 .iter()
                 .map(|c| {
-                    cells.get(&Hex::new(c.hex.x + s.x, c.hex.y + s.y)).map_or(0, |other| {
-                        c.counts
-                            .iter()
-                            .zip(other)
-                            .map(|(&a, &b)| u64::from(a.min(b)))
-                            .sum::<u64>()
-                    })
+                    cells
+                        .get(&Hex::new(c.hex.x + s.x, c.hex.y + s.y))
+                        .map_or(0, |other| {
+                            c.counts
+                                .iter()
+                                .zip(other)
+                                .map(|(&a, &b)| u64::from(a.min(b)))
+                                .sum::<u64>()
+                        })
                 })
                 .sum()
         })
@@ -74,7 +80,15 @@ mod tests {
     fn loop_map(x0: f64, y0: f64) -> HexMapSnapshot {
         let grid = HexGrid::new(0.5);
         let mut m = HexTransitionMap::new();
-        let corners = [(0.0, 0.0), (20.0, 0.0), (20.0, 10.0), (0.0, 10.0), (0.0, 0.0), (7.0, 0.0), (7.0, -4.0)];
+        let corners = [
+            (0.0, 0.0),
+            (20.0, 0.0),
+            (20.0, 10.0),
+            (0.0, 10.0),
+            (0.0, 0.0),
+            (7.0, 0.0),
+            (7.0, -4.0),
+        ];
         for _ in 0..2 {
             for w in corners.windows(2) {
                 let (a, b) = ((w[0].0 + x0, w[0].1 + y0), (w[1].0 + x0, w[1].1 + y0));

@@ -169,7 +169,12 @@ mod tests {
     use super::*;
 
     fn fix(x: f64, y: f64, sigma: f64) -> GpsObservation {
-        GpsObservation { t: 0.0, x, y, sigma }
+        GpsObservation {
+            t: 0.0,
+            x,
+            y,
+            sigma,
+        }
     }
 
     #[test]

@@ -66,9 +66,20 @@ mod tests {
         };
         assert!(check_fix(&ok, Some(0.5)).is_ok());
         assert!(check_fix(&ok, Some(1.0)).is_err_and(|m| m.contains("increasing")));
-        assert!(check_fix(&GpsFix { lat: 91.0, ..ok }, None).is_err_and(|m| m.contains("latitude")));
+        assert!(
+            check_fix(&GpsFix { lat: 91.0, ..ok }, None).is_err_and(|m| m.contains("latitude"))
+        );
         assert!(check_fix(&GpsFix { lon: -181.0, ..ok }, None).is_err());
-        assert!(check_fix(&GpsFix { accuracy: 0.0, ..ok }, None).is_err());
+        assert!(
+            check_fix(
+                &GpsFix {
+                    accuracy: 0.0,
+                    ..ok
+                },
+                None
+            )
+            .is_err()
+        );
         assert!(check_fix(&GpsFix { t: f64::NAN, ..ok }, None).is_err());
     }
 }

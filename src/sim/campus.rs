@@ -90,12 +90,17 @@ impl Campus {
             .bounds()
             .ok_or_else(|| Error::Input("the office has no surfaces".into()))?;
         let (a, _) = office.config.centre_line_size();
-        let x = lobby_axis(&office, x0.max(-c / 2.0), x1.min(a + c / 2.0), config.lobby_width + 2.0 * t)
-            .ok_or(Error::Config {
-                field: "campus.lobby_width",
-                value: config.lobby_width.to_string(),
-                reason: "no gap between the south side's outer rooms is wide enough for the lobby",
-            })?;
+        let x = lobby_axis(
+            &office,
+            x0.max(-c / 2.0),
+            x1.min(a + c / 2.0),
+            config.lobby_width + 2.0 * t,
+        )
+        .ok_or(Error::Config {
+            field: "campus.lobby_width",
+            value: config.lobby_width.to_string(),
+            reason: "no gap between the south side's outer rooms is wide enough for the lobby",
+        })?;
         let (hl, hd) = (config.lobby_width / 2.0, config.door_width / 2.0);
         let outline = Rect::new((x0 - t, y0 - t), (x1 + t, y1 + t));
         let w = config.yard_width;
@@ -128,10 +133,7 @@ impl Campus {
             plan,
             outline,
             lobby: Coord { x, y: 0.0 },
-            door: Coord {
-                x,
-                y: y0 - t / 2.0,
-            },
+            door: Coord { x, y: y0 - t / 2.0 },
             grounds,
         })
     }
@@ -188,7 +190,8 @@ mod tests {
 
     #[test]
     fn lobby_door_and_yard_connect_the_corridor_to_the_outside() {
-        let campus = Campus::new(&OfficeConfig::default(), &CampusConfig::default()).expect("campus");
+        let campus =
+            Campus::new(&OfficeConfig::default(), &CampusConfig::default()).expect("campus");
         let named = |n: &str| {
             campus
                 .plan
@@ -219,7 +222,8 @@ mod tests {
     #[test]
     fn rough_outline_stays_within_the_error() {
         use rand::SeedableRng;
-        let campus = Campus::new(&OfficeConfig::default(), &CampusConfig::default()).expect("campus");
+        let campus =
+            Campus::new(&OfficeConfig::default(), &CampusConfig::default()).expect("campus");
         let mut rng = Pcg64Mcg::seed_from_u64(3);
         let rough = campus.rough_outline(1.5, &mut rng);
         for (p, q) in rough

@@ -111,7 +111,14 @@ pub fn simulate_campus(config: &CampusSimConfig, frame: &LocalFrame) -> Result<C
     let mut outline_rng = Pcg64Mcg::seed_from_u64(stream_seed(config.seed, OUTLINE_STREAM));
     let outline = campus.rough_outline(config.campus.outline_error, &mut outline_rng);
     let walks = (1..=config.walks as u64)
-        .map(|k| simulate_one(&campus, config, stream_seed(config.seed, WALKS_STREAM + k), frame))
+        .map(|k| {
+            simulate_one(
+                &campus,
+                config,
+                stream_seed(config.seed, WALKS_STREAM + k),
+                frame,
+            )
+        })
         .collect::<Result<Vec<_>>>()?;
     Ok(CampusSimulation {
         plan: campus.plan,
@@ -145,7 +152,12 @@ fn simulate_one(
         level: 0,
         heading: (p1.y - p0.y).atan2(p1.x - p0.x),
     };
-    let steps = measure_steps_from(&truth, &start, &config.noise, stream_seed(seed, NOISE_STREAM))?;
+    let steps = measure_steps_from(
+        &truth,
+        &start,
+        &config.noise,
+        stream_seed(seed, NOISE_STREAM),
+    )?;
     let gps = receive_fixes(
         &start,
         &truth,
@@ -210,9 +222,19 @@ mod tests {
             assert!(campus.is_outdoors(w.start.x, w.start.y));
             let last = w.truth.poses.last().expect("poses");
             assert!(campus.is_outdoors(last.x, last.y));
-            let indoors = w.truth.poses.iter().filter(|p| !campus.is_outdoors(p.x, p.y)).count();
+            let indoors = w
+                .truth
+                .poses
+                .iter()
+                .filter(|p| !campus.is_outdoors(p.x, p.y))
+                .count();
             assert!(indoors > 350, "{indoors} steps indoors");
-            assert!(w.truth.poses.iter().all(|p| sim.plan.is_walkable(p.x, p.y, Some(0))));
+            assert!(
+                w.truth
+                    .poses
+                    .iter()
+                    .all(|p| sim.plan.is_walkable(p.x, p.y, Some(0)))
+            );
             // Fixes only outdoors, about one a second there; none indoors.
             assert!(w.gps.fixes.len() > 40, "{} fixes", w.gps.fixes.len());
             let mean = w.gps.errors.iter().sum::<f64>() / w.gps.errors.len() as f64;

@@ -89,7 +89,10 @@ pub fn position_at(start: &TruePose, truth: &TruePath, t: f64) -> (f64, f64) {
     match poses.get(i) {
         Some(next) if next.t > prev.t => {
             let u = ((t - prev.t) / (next.t - prev.t)).clamp(0.0, 1.0);
-            (prev.x + u * (next.x - prev.x), prev.y + u * (next.y - prev.y))
+            (
+                prev.x + u * (next.x - prev.x),
+                prev.y + u * (next.y - prev.y),
+            )
         }
         Some(next) => (next.x, next.y),
         None => (prev.x, prev.y),
@@ -113,7 +116,10 @@ pub fn receive_fixes(
     let dt = 1.0 / config.rate;
     let phi = (-dt / config.bias_time).exp();
     let drive = config.bias_sigma * (1.0 - phi * phi).sqrt();
-    let mut bias = (config.bias_sigma * gauss(&mut rng), config.bias_sigma * gauss(&mut rng));
+    let mut bias = (
+        config.bias_sigma * gauss(&mut rng),
+        config.bias_sigma * gauss(&mut rng),
+    );
     let accuracy = config.stated_accuracy();
     let mut record = GpsRecord {
         fixes: Vec::new(),
@@ -134,7 +140,10 @@ pub fn receive_fixes(
         k += 1;
         // Draw the noise every epoch, so that one epoch's draws do not depend on where the
         // walker was at the others.
-        let noise = (config.noise_sigma * gauss(&mut rng), config.noise_sigma * gauss(&mut rng));
+        let noise = (
+            config.noise_sigma * gauss(&mut rng),
+            config.noise_sigma * gauss(&mut rng),
+        );
         let outlier = rng.random_bool(config.outlier_probability);
         let (distance, angle) = (
             rng.random_range(50.0..100.0),
@@ -192,10 +201,21 @@ mod tests {
             outlier_probability: 0.0,
             ..Default::default()
         };
-        let rec = receive_fixes(&start, &truth, |x, _| x < 300.0 || x > 600.0, &frame, &config, 5)
-            .expect("fixes");
+        let rec = receive_fixes(
+            &start,
+            &truth,
+            |x, _| x < 300.0 || x > 600.0,
+            &frame,
+            &config,
+            5,
+        )
+        .expect("fixes");
         // 1.4 m/s: x < 300 for t < 214.3 s, x > 600 from t > 428.6 s to 1000 s.
-        assert!((780..=790).contains(&rec.fixes.len()), "{}", rec.fixes.len());
+        assert!(
+            (780..=790).contains(&rec.fixes.len()),
+            "{}",
+            rec.fixes.len()
+        );
         for (f, e) in rec.fixes.iter().zip(&rec.errors) {
             let (x, y) = position_at(&start, &truth, f.t);
             let (fx, fy) = frame.to_local(f.lon, f.lat);
@@ -208,8 +228,15 @@ mod tests {
         assert!((rec.fixes[0].accuracy - 3.354).abs() < 1e-3);
         assert_eq!(
             rec,
-            receive_fixes(&start, &truth, |x, _| x < 300.0 || x > 600.0, &frame, &config, 5)
-                .expect("again")
+            receive_fixes(
+                &start,
+                &truth,
+                |x, _| x < 300.0 || x > 600.0,
+                &frame,
+                &config,
+                5
+            )
+            .expect("again")
         );
     }
 
@@ -223,7 +250,17 @@ mod tests {
         };
         let rec = receive_fixes(&start, &truth, |_, _| true, &frame, &config, 1).expect("fixes");
         let far = rec.errors.iter().filter(|&&e| e > 35.0).count();
-        assert!(far > rec.errors.len() / 4 && far < rec.errors.len() * 3 / 4, "{far}");
-        assert!(GpsSimConfig { rate: 0.0, ..Default::default() }.validate().is_err());
+        assert!(
+            far > rec.errors.len() / 4 && far < rec.errors.len() * 3 / 4,
+            "{far}"
+        );
+        assert!(
+            GpsSimConfig {
+                rate: 0.0,
+                ..Default::default()
+            }
+            .validate()
+            .is_err()
+        );
     }
 }
