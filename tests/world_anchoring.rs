@@ -25,7 +25,7 @@ fn footslam() -> Command {
     Command::cargo_bin("footslam").expect("binary")
 }
 
-fn simulate(dir: &Path, seed: u64, walks: usize) -> PathBuf {
+fn simulate(dir: &Path, seed: u64, walks: usize, laps: usize) -> PathBuf {
     let sim = dir.join(format!("sim-{seed}"));
     footslam()
         .args(["simulate", "--building", "campus", "--origin", ORIGIN])
@@ -34,6 +34,8 @@ fn simulate(dir: &Path, seed: u64, walks: usize) -> PathBuf {
             &seed.to_string(),
             "--walks",
             &walks.to_string(),
+            "--laps",
+            &laps.to_string(),
             "--out",
         ])
         .arg(&sim)
@@ -91,7 +93,7 @@ fn outdoor_indoor_outdoor_walks_are_anchored_and_the_outline_helps() {
     let (mut alone_sum, mut outline_sum) = (0.0, 0.0);
     let seeds = [21, 22, 23];
     for seed in seeds {
-        let sim = simulate(dir.path(), seed, 1);
+        let sim = simulate(dir.path(), seed, 1, 3);
         let (steps, gps, truth) = (
             sim.join("steps.csv"),
             sim.join("gps.csv"),
@@ -139,7 +141,7 @@ fn outdoor_indoor_outdoor_walks_are_anchored_and_the_outline_helps() {
 /// One building's five walks: each alone (a batch), then in sequence, each walk after the
 /// first learned from the previous walk's merged map. Returns (alone p95s, sequence p95s).
 fn five_walks(dir: &Path, seed: u64) -> (Vec<f64>, Vec<f64>) {
-    let sim = simulate(dir, seed, 5);
+    let sim = simulate(dir, seed, 5, 3);
     let alone = dir.join(format!("alone-{seed}"));
     footslam()
         .args([

@@ -262,7 +262,12 @@ pub fn run(args: Args) -> Result<()> {
         origin: frame,
         version: env!("CARGO_PKG_VERSION"),
     };
-    folder.write_json("config.json", &config)?;
+    // One walk: the configuration it ran with (start from its fixes included); a batch: the
+    // shared one (each walk's own is in its folder).
+    match (batch, runs.first()) {
+        (false, Some(run)) => folder.write_json("config.json", &run.config)?,
+        _ => folder.write_json("config.json", &config)?,
+    }
     folder.write_json("summary.json", &summary)?;
     let out = folder.commit()?;
     for (i, s) in summary.single.iter().chain(&summary.walks).enumerate() {
