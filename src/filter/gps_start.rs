@@ -116,7 +116,7 @@ mod tests {
             "{}",
             theta.to_degrees()
         );
-        assert!(sigma < 0.4 && sigma >= MIN_HEADING_SIGMA, "{sigma}");
+        assert!((MIN_HEADING_SIGMA..0.4).contains(&sigma), "{sigma}");
         // Too few fixes, or standing still: no heading.
         assert!(heading_from_fixes(&fixes[..2], &steps).is_none());
         assert!(heading_from_fixes(&fixes, &steps[..5]).is_none());

@@ -87,7 +87,7 @@ pub fn fit_outline_shift(
     cost: f64,
     sigma: f64,
 ) -> (f64, f64) {
-    if !(sigma > 0.0) || path.len() < 2 {
+    if sigma.is_nan() || sigma <= 0.0 || path.len() < 2 {
         return (0.0, 0.0);
     }
     let ring: Vec<(f64, f64)> = outline.exterior().coords().map(|c| (c.x, c.y)).collect();

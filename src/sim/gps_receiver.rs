@@ -204,7 +204,7 @@ mod tests {
         let rec = receive_fixes(
             &start,
             &truth,
-            |x, _| x < 300.0 || x > 600.0,
+            |x, _| !(300.0..=600.0).contains(&x),
             &frame,
             &config,
             5,
@@ -231,7 +231,7 @@ mod tests {
             receive_fixes(
                 &start,
                 &truth,
-                |x, _| x < 300.0 || x > 600.0,
+                |x, _| !(300.0..=600.0).contains(&x),
                 &frame,
                 &config,
                 5
