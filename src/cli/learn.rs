@@ -4,11 +4,9 @@
 use super::common::{
     Progress, bundled, output_dir, parse_origin, peak_memory_bytes, read_config, require_file,
 };
-use anyhow::{Context, Result, bail};
-use footslam::dataset::{
-    TimedPoint, TrackPoint, parse_utc_time, read_gps_csv, read_gpx, read_outline, read_steps,
-    write_trajectory,
-};
+use super::learn_inputs::{Walk, check_same_grid, read_walks};
+use anyhow::{Context, Result};
+use footslam::dataset::{TimedPoint, TrackPoint, parse_utc_time, read_outline, write_trajectory};
 use footslam::export::RunFolder;
 use footslam::export::map_geojson::{read_stored_map, write_map_geojson, write_walks_map_geojson};
 use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
@@ -19,18 +17,15 @@ use footslam::geometry::Hex;
 use footslam::geometry::{HexGrid, LocalFrame};
 use footslam::map::{EdgePrior, HexMapSnapshot, merge_maps, register_maps, shift_map};
 use footslam::model::GpsObservation;
-use footslam::sensor::{GpsFix, StepTrace};
 use rayon::prelude::*;
 use serde::Serialize;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 /// The bundled sample walk, used when `--steps` is not given.
 const DEFAULT_STEPS: &str = "datasets/office/steps.csv";
 /// The widest shift searched when registering a walk's map onto a prior map, metres.
 const MAX_REGISTRATION: f64 = 25.0;
-/// Two frames whose origins are closer than this are the same, metres.
-const SAME_ORIGIN: f64 = 1e-3;
 
 /// Arguments of `footslam learn`.
 #[derive(Debug, clap::Args)]
@@ -85,15 +80,6 @@ pub struct Args {
     /// Worker threads (default: all cores). Results do not depend on it.
     #[arg(long)]
     threads: Option<usize>,
-}
-
-/// One walk to learn.
-#[derive(Debug)]
-struct Walk {
-    steps_path: PathBuf,
-    gps_path: Option<PathBuf>,
-    trace: StepTrace,
-    fixes: Vec<GpsFix>,
 }
 
 #[derive(Debug, Serialize)]
@@ -159,7 +145,7 @@ pub fn run(args: Args) -> Result<()> {
         config.prior_weight = w;
     }
     config.validate()?;
-    let walks = read_walks(&args)?;
+    let walks = read_walks(&args.steps, &args.gps, args.gps_t0, &bundled(DEFAULT_STEPS))?;
     let prior_map = match &args.prior_map {
         Some(p) => {
             require_file(p, "prior map")?;
@@ -271,12 +257,20 @@ pub fn run(args: Args) -> Result<()> {
     folder.write_json("summary.json", &summary)?;
     let out = folder.commit()?;
     for (i, s) in summary.single.iter().chain(&summary.walks).enumerate() {
+        let walk = if batch {
+            format!("walk {}: ", i + 1)
+        } else {
+            String::new()
+        };
+        let gps = if s.gps_fixes > 0 {
+            format!(" and {} GPS fixes", s.gps_fixes_used)
+        } else {
+            String::new()
+        };
         outln!(
-            "walk {}: learned {} hexagons from {} steps ({} GPS fixes) with {} particles in {:.2} s ({:.2e} particle-steps/s); final ESS {:.0}",
-            i + 1,
+            "{walk}learned {} hexagons from {} steps{gps} with {} particles in {:.2} s ({:.2e} particle-steps/s); final ESS {:.0}",
             s.hexagons,
             s.steps,
-            s.gps_fixes_used,
             s.particles,
             s.filter_runtime_s,
             s.particle_steps_per_s,
@@ -284,142 +278,6 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     outln!("outputs: {}", out.display());
-    Ok(())
-}
-
-/// The walks named by `--steps` (files or folders) with their GPS fixes.
-fn read_walks(args: &Args) -> Result<Vec<Walk>> {
-    let mut found: Vec<(PathBuf, Option<PathBuf>)> = Vec::new();
-    if args.steps.is_empty() {
-        found.push((bundled(DEFAULT_STEPS), None));
-    }
-    for path in &args.steps {
-        if path.is_dir() {
-            found.extend(walks_in_folder(path)?);
-        } else {
-            require_file(path, "step trace")?;
-            found.push((path.clone(), None));
-        }
-    }
-    if !args.gps.is_empty() {
-        if args.gps.len() != found.len() {
-            bail!(
-                "{} --gps files for {} walks: give one per walk, in the order of the walks",
-                args.gps.len(),
-                found.len()
-            );
-        }
-        for (walk, gps) in found.iter_mut().zip(&args.gps) {
-            require_file(gps, "GPS file")?;
-            walk.1 = Some(gps.clone());
-        }
-    }
-    found
-        .into_iter()
-        .map(|(steps_path, gps_path)| {
-            let trace = read_steps(&steps_path)?;
-            let fixes = match &gps_path {
-                Some(p) => read_fixes(p, args.gps_t0, &trace)?,
-                None => Vec::new(),
-            };
-            Ok(Walk {
-                steps_path,
-                gps_path,
-                trace,
-                fixes,
-            })
-        })
-        .collect()
-}
-
-/// `DIR/steps.csv`, or every `DIR/*/steps.csv` in name order, each with `gps.csv` or
-/// `gps.gpx` beside it when present.
-fn walks_in_folder(dir: &Path) -> Result<Vec<(PathBuf, Option<PathBuf>)>> {
-    let walk = |d: &Path| {
-        let steps = d.join("steps.csv");
-        steps.is_file().then(|| {
-            let gps = ["gps.csv", "gps.gpx"]
-                .iter()
-                .map(|n| d.join(n))
-                .find(|p| p.is_file());
-            (steps, gps)
-        })
-    };
-    if let Some(w) = walk(dir) {
-        return Ok(vec![w]);
-    }
-    let mut subdirs: Vec<PathBuf> = std::fs::read_dir(dir)
-        .with_context(|| format!("{}", dir.display()))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.is_dir())
-        .collect();
-    subdirs.sort();
-    let walks: Vec<_> = subdirs.iter().filter_map(|d| walk(d)).collect();
-    if walks.is_empty() {
-        bail!(
-            "folder `{}` holds no steps.csv, nor sub-folders that do",
-            dir.display()
-        );
-    }
-    Ok(walks)
-}
-
-/// Fixes from CSV or GPX, checked to overlap the walk in time.
-fn read_fixes(path: &Path, t0: Option<f64>, trace: &StepTrace) -> Result<Vec<GpsFix>> {
-    let is_gpx = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("gpx"));
-    let fixes = if is_gpx {
-        read_gpx(path, t0.unwrap_or(0.0))?
-    } else {
-        read_gps_csv(path)?
-    };
-    let steps = trace.steps();
-    let (a, b) = (steps[0].t, steps[steps.len() - 1].t);
-    if !fixes.iter().any(|f| f.t >= a - 60.0 && f.t <= b) {
-        let hint = if is_gpx {
-            "; pass --gps-t0 with the UTC time of the steps' t = 0"
-        } else {
-            ""
-        };
-        bail!(
-            "{}: no fix falls within the walk's time span [{a}, {b}] s (fixes run from {} to {} s){hint}",
-            path.display(),
-            fixes[0].t,
-            fixes[fixes.len() - 1].t
-        );
-    }
-    Ok(fixes)
-}
-
-/// The prior map must lie on the run's hexagon grid.
-fn check_same_grid(
-    path: &Path,
-    radius: f64,
-    map_frame: &LocalFrame,
-    run_radius: f64,
-    frame: &LocalFrame,
-) -> Result<()> {
-    if (radius - run_radius).abs() > 1e-9 {
-        bail!(
-            "{}: hexagons of radius {radius} m, but this run uses {run_radius} m: pass --hex-radius {radius}",
-            path.display()
-        );
-    }
-    let off = frame.distance_to(map_frame);
-    if off > SAME_ORIGIN {
-        bail!(
-            "{}: its origin ({}, {}) lies {off:.3} m from this run's ({}, {}); hexagons of \
-             different origins do not line up: pass --origin {},{} (or leave --origin out)",
-            path.display(),
-            map_frame.lat,
-            map_frame.lon,
-            frame.lat,
-            frame.lon,
-            map_frame.lat,
-            map_frame.lon
-        );
-    }
     Ok(())
 }
 

@@ -11,6 +11,7 @@ macro_rules! outln {
 mod common;
 mod eval;
 mod learn;
+mod learn_inputs;
 mod merge;
 mod simulate;
 mod simulate_campus;

@@ -15,6 +15,8 @@
 //! outline and maps of earlier walks become per-edge Dirichlet priors `α^e_h` in eq. (6)
 //! ([`EdgePrior`]), one read-only table shared by every particle.
 
+pub use super::footslam_anchors::Anchors;
+use super::footslam_anchors::{GpsQueue, StepFix, log_gps_factor, sample_start};
 pub use super::footslam_config::FootSlamConfig;
 use super::lineage::Lineage;
 use super::outline_fit::fit_outline_shift;
@@ -22,11 +24,10 @@ use super::resample::{self, ResampleMethod};
 use crate::error::Result;
 use crate::geometry::{Hex, HexGrid, Pose2};
 use crate::map::{EdgePrior, HexMapSnapshot, HexTransitionMap};
-use crate::model::{GpsLikelihood, GpsObservation, StepErrorState, StepMotion};
+use crate::model::{GpsLikelihood, StepErrorState, StepMotion};
 use crate::random::{filter_stream, stream};
 use crate::sensor::Step;
 use rand::RngExt;
-use rand_distr::StandardNormal;
 use rayon::prelude::*;
 use std::sync::Arc;
 
@@ -63,38 +64,6 @@ pub struct FootSlamEstimate {
     /// particle read the prior `δ` away, and the answer moved by `κ·δ` plus the outline
     /// fit): add the prior's counts shifted by it to `map` to merge them consistently.
     pub prior_shift: Hex,
-}
-
-/// What anchors a walk to the world, beyond its steps (all optional).
-#[derive(Debug, Clone, Default)]
-pub struct Anchors {
-    /// GPS fixes in the local frame on the steps' clock, in time order.
-    pub gps: Vec<GpsObservation>,
-    /// Per-edge Dirichlet priors (outline, earlier maps); `None`: `α` everywhere.
-    pub prior: Option<EdgePrior>,
-    /// Walks whose counts the prior holds (0: no prior map, only an outline or nothing).
-    pub prior_walks: u32,
-    /// `δ`: where the walk's grid meets the prior map's — a hexagon of this walk is read in
-    /// the prior at itself plus `δ` (see [`FootSlam::with_anchors`]). Zero without GPS.
-    pub prior_offset: Hex,
-}
-
-/// GPS fixes waiting to be applied.
-#[derive(Debug)]
-struct GpsQueue {
-    likelihood: GpsLikelihood,
-    fixes: Vec<GpsObservation>,
-    /// Index of the next fix to apply.
-    next: usize,
-}
-
-/// One fix applied at a step: where along the step it falls and its tempering exponent.
-#[derive(Debug, Clone, Copy)]
-struct StepFix {
-    fix: GpsObservation,
-    /// Fraction of the step walked at the fix's time, in [0, 1].
-    along: f64,
-    temper: f64,
 }
 
 /// The FootSLAM Rao-Blackwellised particle filter.
@@ -319,21 +288,8 @@ impl FootSlam {
     fn collect_step_fixes(&mut self, t: f64) {
         self.step_fixes.clear();
         let previous = self.last_t.replace(t);
-        let Some(gps) = self.gps.as_mut() else {
-            return;
-        };
-        while let Some(&fix) = gps.fixes.get(gps.next).filter(|f| f.t <= t) {
-            let dt = gps.next.checked_sub(1).map(|j| fix.t - gps.fixes[j].t);
-            let along = match previous {
-                Some(t0) if t > t0 => ((fix.t - t0) / (t - t0)).clamp(0.0, 1.0),
-                _ => 0.0,
-            };
-            self.step_fixes.push(StepFix {
-                fix,
-                along,
-                temper: gps.likelihood.temper(dt),
-            });
-            gps.next += 1;
+        if let Some(gps) = self.gps.as_mut() {
+            gps.take_step(previous, t, &mut self.step_fixes);
         }
     }
 
@@ -477,24 +433,6 @@ impl FootSlam {
     }
 }
 
-/// The start pose `P_0` of one particle: `config.start`, spread by
-/// `start_position_sigma` and `start_heading_sigma` (uniform heading from π up). Draws
-/// nothing when both are 0, so walks without anchors replay as before.
-fn sample_start(config: &FootSlamConfig, rng: &mut impl rand::Rng) -> Pose2 {
-    let mut pose = config.start;
-    if config.start_position_sigma > 0.0 {
-        pose.x += config.start_position_sigma * rng.sample::<f64, _>(StandardNormal);
-        pose.y += config.start_position_sigma * rng.sample::<f64, _>(StandardNormal);
-    }
-    let s = config.start_heading_sigma;
-    if s >= std::f64::consts::PI {
-        pose.heading = rng.random_range(-std::f64::consts::PI..std::f64::consts::PI);
-    } else if s > 0.0 {
-        pose.heading += s * rng.sample::<f64, _>(StandardNormal);
-    }
-    pose
-}
-
 /// The Dirichlet prior of eq. (6): `α` on every edge, or per-edge values.
 #[derive(Debug, Clone, Copy)]
 struct MapPrior<'a> {
@@ -539,164 +477,5 @@ fn log_map_factor(
     log_factor
 }
 
-/// `Σ_j τ_j · ln p(z_j | P)` over the fixes taken during a step from `from` to `to`, each
-/// at the point walked by its time (linear along the step).
-fn log_gps_factor(gps: &GpsLikelihood, fixes: &[StepFix], from: Pose2, to: Pose2) -> f64 {
-    fixes
-        .iter()
-        .map(|f| {
-            let x = from.x + f.along * (to.x - from.x);
-            let y = from.y + f.along * (to.y - from.y);
-            f.temper * gps.log_likelihood(&f.fix, (x, y))
-        })
-        .sum()
-}
-
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn square_walk(laps: usize) -> Vec<Step> {
-        let mut steps = Vec::new();
-        let mut t = 0.0;
-        for _ in 0..laps {
-            for side in 0..4 {
-                for s in 0..10 {
-                    t += 0.5;
-                    let turn = if s == 0 && (side > 0 || t > 1.0) {
-                        std::f64::consts::FRAC_PI_2
-                    } else {
-                        0.0
-                    };
-                    steps.push(Step {
-                        t,
-                        length: 0.7,
-                        dheading: turn,
-                        dz: 0.0,
-                        heading: None,
-                    });
-                }
-            }
-        }
-        steps
-    }
-
-    #[test]
-    fn replayed_path_ends_at_the_particle() {
-        let config = FootSlamConfig {
-            particles: 300,
-            seed: 7,
-            ..Default::default()
-        };
-        let mut f = FootSlam::new(config).expect("valid");
-        for s in square_walk(2) {
-            f.update(&s);
-        }
-        assert!(f.resamplings() > 0, "revisits must trigger resampling");
-        for i in [0, 17, 299] {
-            let path = f.replay_path(i);
-            let end = path.last().expect("non-empty");
-            assert_eq!(*end, f.particles[i].pose);
-        }
-        let e = f.estimate();
-        assert_eq!(e.path.len(), 80);
-        assert!(!e.map.cells.is_empty());
-    }
-
-    #[test]
-    fn estimate_maximises_the_whole_path_likelihood() {
-        let config = FootSlamConfig {
-            particles: 400,
-            seed: 9,
-            ..Default::default()
-        };
-        let mut f = FootSlam::new(config).expect("valid");
-        for s in square_walk(2) {
-            f.update(&s);
-        }
-        let e = f.estimate();
-        let max = f
-            .particles
-            .iter()
-            .map(|p| p.path_log_likelihood)
-            .fold(f64::NEG_INFINITY, f64::max);
-        assert_eq!(e.path_log_likelihood, max);
-        assert_eq!(f.particles[e.index].path_log_likelihood, max);
-    }
-
-    #[test]
-    fn results_do_not_depend_on_thread_count() {
-        let run = |threads| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .expect("pool");
-            pool.install(|| {
-                let mut f = FootSlam::new(FootSlamConfig {
-                    particles: 500,
-                    seed: 3,
-                    ..Default::default()
-                })
-                .expect("valid");
-                for s in square_walk(2) {
-                    f.update(&s);
-                }
-                f.estimate().path
-            })
-        };
-        assert_eq!(run(1), run(3));
-    }
-
-    #[test]
-    fn revisiting_particles_gain_weight() {
-        // Two edges: one crossed before (count 1), one never; the known one is likelier.
-        let grid = HexGrid::new(0.5);
-        let mut map = HexTransitionMap::new();
-        let uniform = MapPrior {
-            alpha: 0.8,
-            prior: None,
-            offset: Hex::ZERO,
-        };
-        let a = Pose2::new(0.0, 0.0, 0.0);
-        let b = Pose2::new(0.866, 0.0, 0.0);
-        let first = log_map_factor(&grid, &mut map, uniform, false, a, b);
-        assert!(
-            (first - (0.8f64 / 4.8).ln()).abs() < 1e-12,
-            "an unknown hexagon gives 1/6"
-        );
-        let back = log_map_factor(&grid, &mut map, uniform, false, b, a);
-        // Leaving b through the edge entered: (1 + 0.8) / (1 + 4.8).
-        assert!((back - (1.8f64 / 5.8).ln()).abs() < 1e-12);
-        let c = Pose2::new(0.2, 0.2, 0.0);
-        assert_eq!(
-            log_map_factor(&grid, &mut map, uniform, false, a, c),
-            0.0,
-            "no crossing, no update"
-        );
-    }
-
-    #[test]
-    fn rejects_bad_configuration() {
-        assert!(
-            FootSlam::new(FootSlamConfig {
-                particles: 0,
-                ..Default::default()
-            })
-            .is_err()
-        );
-        assert!(
-            FootSlam::new(FootSlamConfig {
-                hex_radius: f64::NAN,
-                ..Default::default()
-            })
-            .is_err()
-        );
-        assert!(
-            FootSlam::new(FootSlamConfig {
-                alpha: -1.0,
-                ..Default::default()
-            })
-            .is_err()
-        );
-    }
-}
+mod tests;

@@ -2,6 +2,7 @@
 
 pub mod cluster;
 pub mod footslam;
+pub mod footslam_anchors;
 pub mod footslam_config;
 pub mod gps_start;
 pub mod kld;
