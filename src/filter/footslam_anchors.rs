@@ -19,7 +19,7 @@ pub struct Anchors {
     /// Walks whose counts the prior holds (0: no prior map, only an outline or nothing).
     pub prior_walks: u32,
     /// `δ`: where the walk's grid meets the prior map's — a hexagon of this walk is read in
-    /// the prior at itself plus `δ` (see [`FootSlam::with_anchors`]). Zero without GPS.
+    /// the prior at itself plus `δ` (see [`super::FootSlam::with_anchors`]). Zero without GPS.
     pub prior_offset: Hex,
 }
 
