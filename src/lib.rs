@@ -5,7 +5,10 @@
 //! * **FootSLAM** (Robertson et al. 2009): a Rao-Blackwellised particle filter that reads
 //!   step traces and learns, per particle, a hexagon transition map — Dirichlet-multinomial
 //!   counts of crossings of each hexagon edge. See [`filter::FootSlam`] and
-//!   [`map::HexTransitionMap`].
+//!   [`map::HexTransitionMap`]. Anchored to the world ([`filter::Anchors`]): GPS fixes
+//!   ([`model::GpsLikelihood`]), a rough building outline and maps of earlier walks as
+//!   per-edge Dirichlet priors ([`map::EdgePrior`]), maps merged across walks
+//!   ([`map::merge_maps`], [`map::register_maps`]).
 //! * **Tracking on known floor plans** (Woodman & Harle 2008): a particle filter on 2.5D
 //!   floor polygons — walls kill particles, stairs are weighed by height change, unknown
 //!   start, KLD-sampling, mean-shift clusters, recovery when every particle dies. See

@@ -1,28 +1,63 @@
-//! `footslam learn`: FootSLAM on a step trace.
+//! `footslam learn`: FootSLAM on one walk or a batch of walks, optionally anchored to the
+//! world by GPS fixes, a rough building outline and a map learned on earlier walks.
 
 use super::common::{
     Progress, bundled, output_dir, parse_origin, peak_memory_bytes, read_config, require_file,
 };
+use super::learn_inputs::{Walk, check_same_grid, read_walks};
 use anyhow::{Context, Result};
-use footslam::dataset::{TimedPoint, read_steps, write_trajectory};
+use footslam::dataset::{TimedPoint, TrackPoint, parse_utc_time, read_outline, write_trajectory};
 use footslam::export::RunFolder;
-use footslam::export::map_geojson::write_map_geojson;
+use footslam::export::map_geojson::{read_stored_map, write_map_geojson, write_walks_map_geojson};
 use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
-use footslam::filter::{FootSlam, FootSlamConfig};
-use footslam::geometry::LocalFrame;
+use footslam::export::track_geojson::write_track_geojson;
+use footslam::filter::gps_start::heading_from_fixes;
+use footslam::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
+use footslam::geometry::Hex;
+use footslam::geometry::{HexGrid, LocalFrame};
+use footslam::map::{EdgePrior, HexMapSnapshot, merge_maps, register_maps, shift_map};
+use footslam::model::GpsObservation;
+use rayon::prelude::*;
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
 
 /// The bundled sample walk, used when `--steps` is not given.
 const DEFAULT_STEPS: &str = "datasets/office/steps.csv";
+/// The widest shift searched when registering a walk's map onto a prior map, metres.
+const MAX_REGISTRATION: f64 = 25.0;
 
 /// Arguments of `footslam learn`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Step trace CSV (`t,length,dheading[,dz][,heading]`). Default: the bundled sample walk.
+    /// Step trace CSV (`t,length,dheading[,dz][,heading]`), or a folder holding `steps.csv`
+    /// or sub-folders that do (one walk each, with `gps.csv` or `gps.gpx` beside it when
+    /// there is one). Repeat for a batch of walks, learned in parallel (walk i has seed
+    /// `seed + i`). Default: the bundled sample walk.
     #[arg(long)]
-    steps: Option<PathBuf>,
+    steps: Vec<PathBuf>,
+    /// GPS fixes: CSV `t,lat,lon[,accuracy]` on the steps' clock, or GPX 1.1 (by the `.gpx`
+    /// extension). Repeat once per walk, in the order of the walks.
+    #[arg(long)]
+    gps: Vec<PathBuf>,
+    /// UTC time of the steps' `t = 0` for GPX files (RFC 3339, e.g. 2024-05-01T10:00:00Z,
+    /// or Unix seconds). Default: the steps' `t` are Unix seconds.
+    #[arg(long, value_parser = parse_utc_time)]
+    gps_t0: Option<f64>,
+    /// Building outline (GeoJSON Polygon, Feature or FeatureCollection of one), known to a
+    /// few metres: crossing it becomes improbable (low Dirichlet prior `outline_alpha`).
+    #[arg(long)]
+    outline: Option<PathBuf>,
+    /// A map learned earlier (map.geojson, a `footslam merge` of several, or the
+    /// merged.geojson of a walk learned with a prior map): its counts become prior
+    /// pseudo-counts. Its origin becomes the default origin. The run then also writes
+    /// merged.geojson: the prior and this walk's map in this walk's frame (the next walk's
+    /// prior; with GPS the frame averages the walks' GPS biases).
+    #[arg(long)]
+    prior_map: Option<PathBuf>,
+    /// Weight of the prior map's counts (overrides the config file; default 1).
+    #[arg(long)]
+    prior_weight: Option<f64>,
     /// Number of particles (overrides the config file).
     #[arg(long)]
     particles: Option<usize>,
@@ -32,7 +67,8 @@ pub struct Args {
     /// Hexagon circumradius in metres (overrides the config file; default 0.5).
     #[arg(long)]
     hex_radius: Option<f64>,
-    /// WGS84 origin of the local frame, `LAT,LON` in degrees (default 0,0).
+    /// WGS84 origin of the local frame, `LAT,LON` in degrees. Default: the prior map's
+    /// origin, else the first GPS fix, else 0,0.
     #[arg(long, value_parser = parse_origin, allow_hyphen_values = true)]
     origin: Option<LocalFrame>,
     /// FootSLAM configuration (TOML, or JSON such as a previous run's config.json).
@@ -49,11 +85,11 @@ pub struct Args {
 #[derive(Debug, Serialize)]
 struct Summary {
     steps_file: String,
+    gps_file: Option<String>,
     particles: usize,
     steps: usize,
     seed: u64,
     threads: usize,
-    runtime_s: f64,
     filter_runtime_s: f64,
     particle_steps_per_s: f64,
     final_effective_sample_size: f64,
@@ -65,6 +101,25 @@ struct Summary {
     hexagons: usize,
     map_area_m2: f64,
     path_length_m: f64,
+    gps_fixes: usize,
+    gps_fixes_used: usize,
+    /// How far path and map were moved towards the prior map's frame, metres.
+    prior_offset_m: (f64, f64),
+    origin: LocalFrame,
+}
+
+/// `summary.json`: one walk's figures at the top level, or a batch's under `walks`.
+#[derive(Debug, Serialize)]
+struct RunSummary {
+    #[serde(flatten)]
+    single: Option<Summary>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    walks: Vec<Summary>,
+    runtime_s: f64,
+    threads: usize,
+    outline_edges: usize,
+    prior_map_hexagons: usize,
+    prior_map_walks: u32,
     peak_memory_bytes: Option<u64>,
     origin: LocalFrame,
     version: &'static str,
@@ -86,34 +141,241 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(r) = args.hex_radius {
         config.hex_radius = r;
     }
+    if let Some(w) = args.prior_weight {
+        config.prior_weight = w;
+    }
     config.validate()?;
-    let origin = args.origin.unwrap_or_default();
-    let steps_path = args.steps.clone().unwrap_or_else(|| bundled(DEFAULT_STEPS));
-    require_file(&steps_path, "step trace")?;
-    let trace = read_steps(&steps_path)?;
+    let walks = read_walks(&args.steps, &args.gps, args.gps_t0, &bundled(DEFAULT_STEPS))?;
+    let prior_map = match &args.prior_map {
+        Some(p) => {
+            require_file(p, "prior map")?;
+            Some(read_stored_map(p)?)
+        }
+        None => None,
+    };
+    let first_fix = walks.iter().find_map(|w| w.fixes.first());
+    let frame = args
+        .origin
+        .or(prior_map.as_ref().map(|m| m.frame))
+        .or(first_fix.and_then(|f| LocalFrame::new(f.lat, f.lon)))
+        .unwrap_or_default();
+
+    let grid = HexGrid::new(config.hex_radius);
+    let mut prior = EdgePrior::uniform(config.alpha);
+    let mut outline_edges = 0;
+    if let Some(path) = &args.outline {
+        require_file(path, "outline")?;
+        let outline = read_outline(path, &frame)?;
+        outline_edges = prior.add_outline(&grid, &outline, config.outline_alpha);
+    }
+    let (mut prior_map_hexagons, mut prior_walks) = (0, 0);
+    if let (Some(stored), Some(path)) = (&prior_map, &args.prior_map) {
+        check_same_grid(
+            path,
+            stored.map.radius,
+            &stored.frame,
+            config.hex_radius,
+            &frame,
+        )?;
+        prior.add_counts(&stored.map, config.prior_weight);
+        prior_map_hexagons = stored.map.cells.len();
+        prior_walks = stored.walks;
+    }
+
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .build()
         .context("cannot start worker threads")?;
     let threads = pool.current_num_threads();
-
-    let filter_started = Instant::now();
-    let filter = pool.install(|| -> Result<FootSlam> {
-        let mut filter = FootSlam::new(config.clone())?;
-        let mut progress = Progress::new(trace.len() as u64, "learning");
-        for step in trace.steps() {
-            filter.update(step);
-            progress.inc();
-        }
-        progress.finish();
-        Ok(filter)
+    let batch = walks.len() > 1;
+    let runs = pool.install(|| {
+        walks
+            .par_iter()
+            .enumerate()
+            .map(|(i, walk)| {
+                let mut config = config.clone();
+                config.seed = config.seed.wrapping_add(i as u64);
+                let stored = prior_map.as_ref().map(|m| &m.map);
+                learn_walk(walk, config, &frame, &prior, stored, prior_walks, !batch)
+            })
+            .collect::<Result<Vec<_>>>()
     })?;
-    let filter_runtime = filter_started.elapsed().as_secs_f64();
-    let estimate = filter.estimate();
 
     let out = output_dir(args.out, "learn");
     let folder = RunFolder::create(&out)?;
-    let track: Vec<TimedPoint> = trace
+    let mut summaries = Vec::with_capacity(runs.len());
+    for (i, (walk, run)) in walks.iter().zip(&runs).enumerate() {
+        let prefix = if batch {
+            let name = format!("walk-{}", i + 1);
+            folder.create_dir(&name)?;
+            format!("{name}/")
+        } else {
+            String::new()
+        };
+        summaries.push(write_walk(&folder, &prefix, walk, run, &frame, threads)?);
+        if let Some(stored) = &prior_map {
+            // The prior and this walk, in this walk's frame: the next walk's prior.
+            let prior = shift_map(&stored.map, run.estimate.prior_shift);
+            let merged = merge_maps(&[(&prior, 1.0), (&run.estimate.map, 1.0)])?;
+            let path = folder.path(&format!("{prefix}merged.geojson"));
+            write_walks_map_geojson(&path, &merged, &frame, stored.walks + 1)?;
+        }
+    }
+    if batch && prior_map.is_none() {
+        let maps: Vec<_> = runs.iter().map(|r| (&r.estimate.map, 1.0)).collect();
+        let walks = maps.len() as u32;
+        write_walks_map_geojson(
+            &folder.path("merged.geojson"),
+            &merge_maps(&maps)?,
+            &frame,
+            walks,
+        )?;
+    }
+    let (single, summaries) = if batch {
+        (None, summaries)
+    } else {
+        (summaries.pop(), Vec::new())
+    };
+    let summary = RunSummary {
+        single,
+        walks: summaries,
+        runtime_s: started.elapsed().as_secs_f64(),
+        threads,
+        outline_edges,
+        prior_map_hexagons,
+        prior_map_walks: prior_walks,
+        peak_memory_bytes: peak_memory_bytes(),
+        origin: frame,
+        version: env!("CARGO_PKG_VERSION"),
+    };
+    // One walk: the configuration it ran with (start from its fixes included); a batch: the
+    // shared one (each walk's own is in its folder).
+    match (batch, runs.first()) {
+        (false, Some(run)) => folder.write_json("config.json", &run.config)?,
+        _ => folder.write_json("config.json", &config)?,
+    }
+    folder.write_json("summary.json", &summary)?;
+    let out = folder.commit()?;
+    for (i, s) in summary.single.iter().chain(&summary.walks).enumerate() {
+        let walk = if batch {
+            format!("walk {}: ", i + 1)
+        } else {
+            String::new()
+        };
+        let gps = if s.gps_fixes > 0 {
+            format!(" and {} GPS fixes", s.gps_fixes_used)
+        } else {
+            String::new()
+        };
+        outln!(
+            "{walk}learned {} hexagons from {} steps{gps} with {} particles in {:.2} s ({:.2e} particle-steps/s); final ESS {:.0}",
+            s.hexagons,
+            s.steps,
+            s.particles,
+            s.filter_runtime_s,
+            s.particle_steps_per_s,
+            s.final_effective_sample_size
+        );
+    }
+    outln!("outputs: {}", out.display());
+    Ok(())
+}
+
+/// The result of learning one walk.
+struct WalkRun {
+    config: FootSlamConfig,
+    filter: FootSlam,
+    estimate: FootSlamEstimate,
+    runtime_s: f64,
+}
+
+/// Learns one walk: with GPS it starts at the first fix (spread by its accuracy), heading
+/// from the first fixes ([`heading_from_fixes`]) or, when they do not tell, unknown
+/// (uniform) — unless the configuration gives a heading spread.
+fn learn_walk(
+    walk: &Walk,
+    mut config: FootSlamConfig,
+    frame: &LocalFrame,
+    prior: &EdgePrior,
+    prior_map: Option<&HexMapSnapshot>,
+    prior_walks: u32,
+    progress: bool,
+) -> Result<WalkRun> {
+    let gps: Vec<GpsObservation> = walk
+        .fixes
+        .iter()
+        .map(|f| GpsObservation::from_fix(f, frame))
+        .collect();
+    if let Some(first) = gps.first() {
+        config.start.x = first.x;
+        config.start.y = first.y;
+        config.start_position_sigma = config.start_position_sigma.max(first.sigma);
+        if config.start_heading_sigma == 0.0 {
+            match heading_from_fixes(&gps, walk.trace.steps()) {
+                Some((heading, sigma)) => {
+                    config.start.heading = heading;
+                    config.start_heading_sigma = sigma;
+                }
+                None => config.start_heading_sigma = std::f64::consts::PI,
+            }
+        }
+    }
+    let started = Instant::now();
+    // With GPS and a prior map: first learn the walk alone, in its own GPS frame, and
+    // register its map onto the prior to find where the two frames meet.
+    let mut prior_offset = Hex::ZERO;
+    if let (Some(map), false) = (prior_map, gps.is_empty()) {
+        let alone = Anchors {
+            gps: gps.clone(),
+            ..Default::default()
+        };
+        let mut first = FootSlam::with_anchors(config.clone(), alone)?;
+        for step in walk.trace.steps() {
+            first.update(step);
+        }
+        let n = f64::from(prior_walks.max(1));
+        let reach = (3.0 * config.gps.bias_sigma * (1.0 + 1.0 / n).sqrt()).min(MAX_REGISTRATION);
+        prior_offset = register_maps(&first.estimate().map, map, reach).0;
+    }
+    let anchors = Anchors {
+        gps,
+        prior: Some(prior.clone()),
+        prior_walks,
+        prior_offset,
+    };
+    let mut filter = FootSlam::with_anchors(config.clone(), anchors)?;
+    let mut bar = progress.then(|| Progress::new(walk.trace.len() as u64, "learning"));
+    for step in walk.trace.steps() {
+        filter.update(step);
+        if let Some(b) = bar.as_mut() {
+            b.inc();
+        }
+    }
+    if let Some(b) = bar {
+        b.finish();
+    }
+    let runtime_s = started.elapsed().as_secs_f64();
+    let estimate = filter.estimate();
+    Ok(WalkRun {
+        config,
+        filter,
+        estimate,
+        runtime_s,
+    })
+}
+
+/// Writes one walk's outputs under `prefix` and returns its summary.
+fn write_walk(
+    folder: &RunFolder,
+    prefix: &str,
+    walk: &Walk,
+    run: &WalkRun,
+    frame: &LocalFrame,
+    threads: usize,
+) -> Result<Summary> {
+    let (config, estimate, filter) = (&run.config, &run.estimate, &run.filter);
+    let track: Vec<TimedPoint> = walk
+        .trace
         .steps()
         .iter()
         .zip(&estimate.path)
@@ -123,8 +385,20 @@ pub fn run(args: Args) -> Result<()> {
             y: p.y,
         })
         .collect();
-    write_trajectory(&folder.path("track.csv"), &track)?;
-    write_map_geojson(&folder.path("map.geojson"), &estimate.map, &origin)?;
+    let at = |name: &str| folder.path(&format!("{prefix}{name}"));
+    write_trajectory(&at("track.csv"), &track)?;
+    let points: Vec<TrackPoint> = track
+        .iter()
+        .map(|p| TrackPoint {
+            t: p.t,
+            x: p.x,
+            y: p.y,
+            z: 0.0,
+            level: 0,
+        })
+        .collect();
+    write_track_geojson(&at("track.geojson"), &points, frame)?;
+    write_map_geojson(&at("map.geojson"), &estimate.map, frame)?;
     let path: Vec<(f64, f64)> = track.iter().map(|p| (p.x, p.y)).collect();
     let picture = MapPicture {
         map: &estimate.map,
@@ -132,19 +406,21 @@ pub fn run(args: Args) -> Result<()> {
         truth: None,
         plan: None,
     };
-    write_map_png(&folder.path("map.png"), &picture, &PictureConfig::default())?;
-    folder.write_json("config.json", &config)?;
-
+    write_map_png(&at("map.png"), &picture, &PictureConfig::default())?;
+    if !prefix.is_empty() {
+        folder.write_json(&format!("{prefix}config.json"), config)?;
+    }
     let ess = filter.ess_history();
-    let summary = Summary {
-        steps_file: steps_path.display().to_string(),
+    let steps = walk.trace.len();
+    Ok(Summary {
+        steps_file: walk.steps_path.display().to_string(),
+        gps_file: walk.gps_path.as_ref().map(|p| p.display().to_string()),
         particles: config.particles,
-        steps: trace.len(),
+        steps,
         seed: config.seed,
         threads,
-        runtime_s: started.elapsed().as_secs_f64(),
-        filter_runtime_s: filter_runtime,
-        particle_steps_per_s: (config.particles * trace.len()) as f64 / filter_runtime.max(1e-9),
+        filter_runtime_s: run.runtime_s,
+        particle_steps_per_s: (config.particles * steps) as f64 / run.runtime_s.max(1e-9),
         final_effective_sample_size: filter.effective_sample_size(),
         min_effective_sample_size: ess.iter().copied().fold(f64::INFINITY, f64::min),
         resamplings: filter.resamplings(),
@@ -152,29 +428,14 @@ pub fn run(args: Args) -> Result<()> {
         best_particle_weight: estimate.weight,
         best_path_log_likelihood: estimate.path_log_likelihood,
         hexagons: estimate.map.cells.len(),
-        map_area_m2: estimate.map.cells.len() as f64
-            * footslam::geometry::HexGrid::new(config.hex_radius).cell_area(),
+        map_area_m2: estimate.map.cells.len() as f64 * HexGrid::new(config.hex_radius).cell_area(),
         path_length_m: path
             .windows(2)
             .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
             .sum(),
-        peak_memory_bytes: peak_memory_bytes(),
-        origin,
-        version: env!("CARGO_PKG_VERSION"),
-    };
-    folder.write_json("summary.json", &summary)?;
-    let out = folder.commit()?;
-    {
-        outln!(
-            "learned {} hexagons from {} steps with {} particles in {:.2} s ({:.2e} particle-steps/s); final ESS {:.0}",
-            summary.hexagons,
-            summary.steps,
-            summary.particles,
-            summary.filter_runtime_s,
-            summary.particle_steps_per_s,
-            summary.final_effective_sample_size
-        );
-        outln!("outputs: {}", out.display());
-    }
-    Ok(())
+        gps_fixes: walk.fixes.len(),
+        gps_fixes_used: filter.gps_fixes_used(),
+        prior_offset_m: estimate.prior_offset,
+        origin: *frame,
+    })
 }

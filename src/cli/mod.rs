@@ -11,7 +11,10 @@ macro_rules! outln {
 mod common;
 mod eval;
 mod learn;
+mod learn_inputs;
+mod merge;
 mod simulate;
+mod simulate_campus;
 mod survey;
 mod track;
 
@@ -29,6 +32,8 @@ struct Cli {
 enum Command {
     /// Learn a hexagon transition map and the walker's path from a step trace (FootSLAM).
     Learn(learn::Args),
+    /// Combine maps learned on several walks of one building (same frame).
+    Merge(merge::Args),
     /// Locate and track a walker on a known 2.5D floor plan from step events.
     Track(track::Args),
     /// Build a WiFi radio map from walks tracked on a known floor plan.
@@ -44,6 +49,7 @@ pub fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Learn(a) => learn::run(a),
+        Command::Merge(a) => merge::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Track(a) => track::run(a),
         Command::Survey(a) => survey::run(a),

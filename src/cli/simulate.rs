@@ -31,6 +31,9 @@ enum Building {
     Office,
     /// A multi-floor building with two stairwells of treads (known-map tracking).
     Tower,
+    /// The office in a yard with a front door: outdoor–indoor–outdoor walks with GPS fixes
+    /// outdoors, and the building's rough outline.
+    Campus,
 }
 
 /// Which tour the tower's walker takes.
@@ -63,19 +66,23 @@ pub struct Args {
     tour: Option<Tour>,
     /// Random seed (overrides the config file).
     #[arg(long)]
-    seed: Option<u64>,
-    /// Office: laps of the corridor loop (overrides the config file).
+    pub(super) seed: Option<u64>,
+    /// Office, campus: laps of the corridor loop (overrides the config file).
     #[arg(long)]
-    laps: Option<usize>,
+    pub(super) laps: Option<usize>,
+    /// Campus: number of walks of the building, written to walk-1/ … walk-N/ when more
+    /// than one (overrides the config file).
+    #[arg(long)]
+    pub(super) walks: Option<usize>,
     /// Simulation configuration (TOML, or JSON such as a previous run's config.json).
     #[arg(long)]
-    config: Option<PathBuf>,
+    pub(super) config: Option<PathBuf>,
     /// WGS84 origin of the local frame for the floor plan GeoJSON, `LAT,LON` (default 0,0).
     #[arg(long, value_parser = parse_origin, allow_hyphen_values = true)]
-    origin: Option<LocalFrame>,
+    pub(super) origin: Option<LocalFrame>,
     /// Output folder (default: a new folder under `outputs/`).
     #[arg(long)]
-    out: Option<PathBuf>,
+    pub(super) out: Option<PathBuf>,
 }
 
 #[derive(Debug, Serialize)]
@@ -110,6 +117,7 @@ pub fn run(args: Args) -> Result<()> {
     match args.building {
         Building::Office => run_office(args),
         Building::Tower => run_tower(args),
+        Building::Campus => super::simulate_campus::run(args),
     }
 }
 

@@ -4,6 +4,9 @@
 pub mod csv_table;
 pub mod floor_plan_geojson;
 pub mod geojson_file;
+pub mod gps_csv;
+pub mod gpx_file;
+pub mod outline_geojson;
 pub mod radio_truth_csv;
 pub mod steps_csv;
 pub mod track_csv;
@@ -11,6 +14,9 @@ pub mod trajectory_csv;
 pub mod truth_csv;
 pub mod wifi_csv;
 
+pub use gps_csv::{read_gps_csv, write_gps_csv};
+pub use gpx_file::{parse_utc_time, read_gpx};
+pub use outline_geojson::{read_outline, write_outline};
 pub use steps_csv::read_steps;
 pub use track_csv::{TrackPoint, read_track, write_track};
 pub use trajectory_csv::{TimedPoint, read_trajectory, write_trajectory};

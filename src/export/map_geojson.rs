@@ -18,8 +18,9 @@
 //!
 //! Foreign members of the collection make the file self-describing, so that
 //! [`read_map_geojson`] can restore the map exactly: `origin` (`{"lat", "lon"}` of the local
-//! frame), `hex_radius` (metres), `alpha` (the Dirichlet prior per edge) and `edge_order`
-//! (`["E","NE","NW","W","SW","SE"]`).
+//! frame), `hex_radius` (metres), `alpha` (the Dirichlet prior per edge), `edge_order`
+//! (`["E","NE","NW","W","SW","SE"]`) and `walks` (how many walks' counts the map holds: 1 for
+//! a learned map, the sum for a merge; read as 1 when absent).
 
 use crate::error::{Error, Result};
 use crate::geometry::{HexGrid, LocalFrame};
@@ -40,6 +41,15 @@ const CENTRE_TOLERANCE: f64 = 0.05;
 
 /// The map as a GeoJSON feature collection placed on the globe by `frame`.
 pub fn map_to_geojson(map: &HexMapSnapshot, frame: &LocalFrame) -> FeatureCollection {
+    walks_map_to_geojson(map, frame, 1)
+}
+
+/// As [`map_to_geojson`] for a map holding the counts of `walks` walks.
+pub fn walks_map_to_geojson(
+    map: &HexMapSnapshot,
+    frame: &LocalFrame,
+    walks: u32,
+) -> FeatureCollection {
     let grid = HexGrid::new(map.radius);
     let features = map
         .cells
@@ -54,6 +64,7 @@ pub fn map_to_geojson(map: &HexMapSnapshot, frame: &LocalFrame) -> FeatureCollec
     members.insert("hex_radius".into(), json!(map.radius));
     members.insert("alpha".into(), json!(map.alpha));
     members.insert("edge_order".into(), json!(EDGE_ORDER));
+    members.insert("walks".into(), json!(walks));
     FeatureCollection {
         bbox: None,
         features,
@@ -64,6 +75,47 @@ pub fn map_to_geojson(map: &HexMapSnapshot, frame: &LocalFrame) -> FeatureCollec
 /// Writes [`map_to_geojson`] to `path` atomically.
 pub fn write_map_geojson(path: &Path, map: &HexMapSnapshot, frame: &LocalFrame) -> Result<()> {
     super::write_geojson(path, &map_to_geojson(map, frame))
+}
+
+/// Writes [`walks_map_to_geojson`] to `path` atomically.
+pub fn write_walks_map_geojson(
+    path: &Path,
+    map: &HexMapSnapshot,
+    frame: &LocalFrame,
+    walks: u32,
+) -> Result<()> {
+    super::write_geojson(path, &walks_map_to_geojson(map, frame, walks))
+}
+
+/// A map read back with its frame and the number of walks it holds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StoredMap {
+    /// The counts.
+    pub map: HexMapSnapshot,
+    /// The frame it is placed by.
+    pub frame: LocalFrame,
+    /// Walks whose counts it holds (at least 1).
+    pub walks: u32,
+}
+
+/// Reads a map written by [`write_map_geojson`] or [`write_walks_map_geojson`].
+pub fn read_stored_map(path: &Path) -> Result<StoredMap> {
+    let walks = {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let value: JsonValue = serde_json::from_str(&text).unwrap_or(JsonValue::Null);
+        match value.get("walks") {
+            None | Some(JsonValue::Null) => 1,
+            Some(v) => v
+                .as_u64()
+                .and_then(|w| u32::try_from(w).ok())
+                .filter(|&w| w >= 1)
+                .ok_or_else(|| {
+                    Error::parse(path, 0, format!("walks = {v}: must be an integer ≥ 1"))
+                })?,
+        }
+    };
+    let (map, frame) = read_map_geojson(path)?;
+    Ok(StoredMap { map, frame, walks })
 }
 
 /// Reads a map written by [`write_map_geojson`], with the frame it was placed by.

@@ -55,6 +55,12 @@ impl RunFolder {
         std::fs::write(&p, bytes).map_err(|e| Error::io(p, e))
     }
 
+    /// Creates the sub-folder `name` (for runs with several parts).
+    pub fn create_dir(&self, name: &str) -> Result<()> {
+        let p = self.path(name);
+        std::fs::create_dir_all(&p).map_err(|e| Error::io(p, e))
+    }
+
     /// Writes `value` as pretty JSON into `name`.
     pub fn write_json<T: serde::Serialize>(&self, name: &str, value: &T) -> Result<()> {
         let text = serde_json::to_string_pretty(value)

@@ -9,14 +9,22 @@
 //! * (c) weight by the map's posterior predictive of every edge crossed, eq. (6);
 //! * (e) count the crossings in the particle's map;
 //! * (d) normalise; (f) resample when the effective sample size is low.
+//!
+//! Anchors to the world (sec. 4.1–4.3), all optional ([`Anchors`]): GPS fixes weight the
+//! particles at the steps they fall in ([`crate::model::GpsLikelihood`]); a rough building
+//! outline and maps of earlier walks become per-edge Dirichlet priors `α^e_h` in eq. (6)
+//! ([`EdgePrior`]), one read-only table shared by every particle.
 
+pub use super::footslam_anchors::Anchors;
+use super::footslam_anchors::{GpsQueue, StepFix, log_gps_factor, sample_start};
 pub use super::footslam_config::FootSlamConfig;
 use super::lineage::Lineage;
+use super::outline_fit::fit_outline_shift;
 use super::resample::{self, ResampleMethod};
 use crate::error::Result;
-use crate::geometry::{HexGrid, Pose2};
-use crate::map::{HexMapSnapshot, HexTransitionMap};
-use crate::model::{StepErrorState, StepMotion};
+use crate::geometry::{Hex, HexGrid, Pose2};
+use crate::map::{EdgePrior, HexMapSnapshot, HexTransitionMap};
+use crate::model::{GpsLikelihood, StepErrorState, StepMotion};
 use crate::random::{filter_stream, stream};
 use crate::sensor::Step;
 use rand::RngExt;
@@ -49,6 +57,13 @@ pub struct FootSlamEstimate {
     pub path: Vec<Pose2>,
     /// Its map.
     pub map: HexMapSnapshot,
+    /// How far path and map were moved: `κ·δ` towards a prior map's frame plus the
+    /// outline fit ([`super::outline_fit`]), metres.
+    pub prior_offset: (f64, f64),
+    /// The grid vector that moves the prior map into the frame of `path` and `map` (the
+    /// particle read the prior `δ` away, and the answer moved by `κ·δ` plus the outline
+    /// fit): add the prior's counts shifted by it to `map` to merge them consistently.
+    pub prior_shift: Hex,
 }
 
 /// The FootSLAM Rao-Blackwellised particle filter.
@@ -57,6 +72,18 @@ pub struct FootSlam {
     config: FootSlamConfig,
     motion: StepMotion,
     grid: HexGrid,
+    prior: Option<EdgePrior>,
+    gps: Option<GpsQueue>,
+    /// Fixes applied at the current step (scratch).
+    step_fixes: Vec<StepFix>,
+    /// Time of the previous step.
+    last_t: Option<f64>,
+    /// The prior-map offset `δ`.
+    offset: Hex,
+    /// Share `κ` of the offset applied to the answer (see [`FootSlam::with_anchors`]).
+    offset_pull: f64,
+    /// Spread of the GPS bias left for the outline fit, metres (0: no fit).
+    outline_fit_sigma: f64,
     particles: Vec<Particle>,
     /// Normalised log weights, `ln wᵢ`.
     log_weights: Vec<f64>,
@@ -76,21 +103,82 @@ impl FootSlam {
     /// A filter with all particles at the start pose (Algorithm step 1) and `E_0` drawn
     /// from its initial distribution.
     pub fn new(config: FootSlamConfig) -> Result<Self> {
+        Self::with_anchors(config, Anchors::default())
+    }
+
+    /// A filter anchored to the world by `anchors`: the start pose is drawn about
+    /// `config.start` with the configured spreads, and with GPS fixes the per-walk stride
+    /// scale spread is `gps.length_scale_sigma0`.
+    ///
+    /// **GPS and a prior map together.** The prior map (merged from `n` earlier walks) sits
+    /// in the frame of their GPS fixes, off the truth by the mean of their biases; this
+    /// walk's fixes are off by their own bias. Neither frame is the truth, so the particles
+    /// read the prior map `δ = anchors.prior_offset` away from where they walk (`δ`: the
+    /// prior's frame less this walk's GPS frame, found by registering a map of this walk
+    /// learned without the prior, [`crate::map::register_maps`]). The answer is placed
+    /// between the two frames, `κ = n / (n + 1)` of the way towards the prior (the
+    /// least-squares combination of one bias and a mean of `n` independent ones), so that
+    /// successive walks average their GPS biases: the path moves by `κ·δ`, the map by the
+    /// grid vector nearest it.
+    pub fn with_anchors(config: FootSlamConfig, anchors: Anchors) -> Result<Self> {
         config.validate()?;
-        let motion = StepMotion::new(config.motion);
+        let mut motion_config = config.motion;
+        if !anchors.gps.is_empty() {
+            motion_config.length_scale_sigma0 = config.gps.length_scale_sigma0;
+            if let Some(w) = anchors.gps.windows(2).find(|w| w[1].t <= w[0].t) {
+                return Err(crate::error::Error::Input(format!(
+                    "GPS fixes must be in increasing time order (fix at {} s after {} s)",
+                    w[1].t, w[0].t
+                )));
+            }
+        }
+        let motion = StepMotion::new(motion_config);
+        let grid = HexGrid::new(config.hex_radius);
+        let prior = anchors.prior.filter(|p| !p.is_empty());
+        let (offset, offset_pull) =
+            if !anchors.gps.is_empty() && prior.is_some() && anchors.prior_walks > 0 {
+                let n = f64::from(anchors.prior_walks);
+                (anchors.prior_offset, n / (n + 1.0))
+            } else {
+                (Hex::ZERO, 0.0)
+            };
+        // The bias spread of the frame after this walk joins the `n` averaged before it.
+        let outline_fit_sigma = match &prior {
+            Some(p) if p.has_outline() && !anchors.gps.is_empty() => {
+                config.gps.bias_sigma / f64::from(anchors.prior_walks + 1).sqrt()
+            }
+            _ => 0.0,
+        };
         let n = config.particles;
         let particles: Vec<Particle> = (0..n)
             .into_par_iter()
-            .map(|i| Particle {
-                pose: config.start,
-                error: motion.sample_initial(&mut stream(config.seed, 0, i as u64)),
-                map: HexTransitionMap::new(),
-                lineage: Lineage::root(i as u32),
-                path_log_likelihood: 0.0,
+            .map(|i| {
+                let mut rng = stream(config.seed, 0, i as u64);
+                let error = motion.sample_initial(&mut rng);
+                let pose = sample_start(&config, &mut rng);
+                Particle {
+                    error,
+                    pose,
+                    map: HexTransitionMap::new(),
+                    lineage: Lineage::root(i as u32),
+                    path_log_likelihood: 0.0,
+                }
             })
             .collect();
+        let gps = (!anchors.gps.is_empty()).then(|| GpsQueue {
+            likelihood: GpsLikelihood::new(config.gps),
+            fixes: anchors.gps,
+            next: 0,
+        });
         Ok(Self {
-            grid: HexGrid::new(config.hex_radius),
+            grid,
+            prior,
+            gps,
+            step_fixes: Vec::new(),
+            last_t: None,
+            offset,
+            offset_pull,
+            outline_fit_sigma,
             motion,
             log_weights: vec![-(n as f64).ln(); n],
             weights: vec![1.0 / n as f64; n],
@@ -131,6 +219,11 @@ impl FootSlam {
         resample::effective_sample_size(&self.weights)
     }
 
+    /// GPS fixes applied so far.
+    pub fn gps_fixes_used(&self) -> usize {
+        self.gps.as_ref().map_or(0, |g| g.next)
+    }
+
     /// Current positions and normalised weights of all particles.
     pub fn particle_positions(&self) -> impl Iterator<Item = ((f64, f64), f64)> + '_ {
         self.particles
@@ -149,8 +242,12 @@ impl FootSlam {
         }
         self.steps.push((z.length, z.dheading));
         let k = self.steps.len() as u64;
+        self.collect_step_fixes(z.t);
         let (seed, motion, grid) = (self.config.seed, self.motion, self.grid);
         let (alpha, correct) = (self.config.alpha, self.config.direction_correction);
+        let prior = self.prior.as_ref();
+        let offset = self.offset;
+        let (gps, fixes) = (self.gps.as_ref().map(|g| g.likelihood), &self.step_fixes);
         self.particles
             .par_iter_mut()
             .zip(self.log_weights.par_iter_mut())
@@ -162,7 +259,17 @@ impl FootSlam {
                 // (b) P_k = P_{k-1} + U_k.
                 let pose = motion.sample_step(p.pose, p.error, z.length, z.dheading, &mut rng);
                 // (c) and (e): weight by every edge crossed, then count it.
-                let log_factor = log_map_factor(&grid, &mut p.map, alpha, correct, p.pose, pose);
+                let edges = MapPrior {
+                    alpha,
+                    prior,
+                    offset,
+                };
+                let mut log_factor =
+                    log_map_factor(&grid, &mut p.map, edges, correct, p.pose, pose);
+                // GPS fixes that fell during the step, at the point walked by then.
+                if let Some(gps) = gps {
+                    log_factor += log_gps_factor(&gps, fixes, p.pose, pose);
+                }
                 *log_w += log_factor;
                 p.path_log_likelihood += log_factor;
                 p.pose = pose;
@@ -174,6 +281,16 @@ impl FootSlam {
         // (f) resample if required (before the next step moves the particles).
         self.resample_pending =
             ess < self.config.resample.ess_threshold * self.particles.len() as f64;
+    }
+
+    /// The GPS fixes taken after the previous step and up to `t` (those before the first
+    /// step apply at the start pose), with their tempering exponents.
+    fn collect_step_fixes(&mut self, t: f64) {
+        self.step_fixes.clear();
+        let previous = self.last_t.replace(t);
+        if let Some(gps) = self.gps.as_mut() {
+            gps.take_step(previous, t, &mut self.step_fixes);
+        }
     }
 
     /// Normalises the log weights and fills the linear weights; sums in index order so the
@@ -240,6 +357,9 @@ impl FootSlam {
     /// "Most probable" is judged on the whole path: the particle whose path has the
     /// largest product of eq. (6)'s factors since the first step, rather than the largest
     /// current weight, which only reflects the steps since the last resampling.
+    ///
+    /// With GPS and a prior map, the path and map are moved `κ·δ` towards the prior's frame
+    /// (see [`FootSlam::with_anchors`]).
     pub fn estimate(&self) -> FootSlamEstimate {
         let index = self
             .particles
@@ -253,26 +373,50 @@ impl FootSlam {
                 }
             })
             .0;
+        let (dx, dy) = self.grid.center(self.offset);
+        let (mut dx, mut dy) = (self.offset_pull * dx, self.offset_pull * dy);
+        let replayed = self.replay_path(index);
+        if let Some(outline) = self.prior.as_ref().and_then(|p| p.outline()) {
+            let points: Vec<(f64, f64)> = replayed.iter().map(|p| (p.x + dx, p.y + dy)).collect();
+            let cost = (self.config.alpha / self.config.outline_alpha).ln();
+            let margin = self.config.outline_margin;
+            let (sx, sy) =
+                fit_outline_shift(&points, outline, margin, cost, self.outline_fit_sigma);
+            dx += sx;
+            dy += sy;
+        }
+        let shift = self.grid.hex_at(dx, dy);
+        let prior_shift = Hex::new(shift.x - self.offset.x, shift.y - self.offset.y);
+        let mut map = self.particles[index]
+            .map
+            .snapshot(self.config.hex_radius, self.config.alpha);
+        for c in &mut map.cells {
+            c.hex = Hex::new(c.hex.x + shift.x, c.hex.y + shift.y);
+        }
+        let path = replayed
+            .into_iter()
+            .map(|p| Pose2::new(p.x + dx, p.y + dy, p.heading))
+            .collect();
         FootSlamEstimate {
             index,
             weight: self.weights.get(index).copied().unwrap_or(0.0),
             path_log_likelihood: self.particles[index].path_log_likelihood,
-            path: self.replay_path(index),
-            map: self.particles[index]
-                .map
-                .snapshot(self.config.hex_radius, self.config.alpha),
+            path,
+            map,
+            prior_offset: (dx, dy),
+            prior_shift,
         }
     }
 
     /// Re-draws particle `index`'s whole path from the random streams its ancestors used;
-    /// the motion does not depend on the map (eq. 5), so this reproduces it exactly.
+    /// the motion does not depend on the map (eq. 5), so this reproduces it exactly (in the
+    /// particle's own frame, before any move towards a prior map).
     pub fn replay_path(&self, index: usize) -> Vec<Pose2> {
         let seed = self.config.seed;
         let indices = self.particles[index].lineage.indices(self.steps.len() + 1);
-        let mut error = self
-            .motion
-            .sample_initial(&mut stream(seed, 0, u64::from(indices[0])));
-        let mut pose = self.config.start;
+        let mut rng = stream(seed, 0, u64::from(indices[0]));
+        let mut error = self.motion.sample_initial(&mut rng);
+        let mut pose = sample_start(&self.config, &mut rng);
         self.steps
             .iter()
             .enumerate()
@@ -289,14 +433,34 @@ impl FootSlam {
     }
 }
 
+/// The Dirichlet prior of eq. (6): `α` on every edge, or per-edge values.
+#[derive(Debug, Clone, Copy)]
+struct MapPrior<'a> {
+    alpha: f64,
+    prior: Option<&'a EdgePrior>,
+    /// Where the particles read the prior, relative to their own grid.
+    offset: Hex,
+}
+
+impl MapPrior<'_> {
+    /// `(α^e_h, Σ_e α^e_h)`.
+    fn alpha_and_total(&self, h: Hex, edge: u8) -> (f64, f64) {
+        match self.prior {
+            Some(p) => p.alpha_and_total(Hex::new(h.x + self.offset.x, h.y + self.offset.y), edge),
+            None => (self.alpha, 6.0 * self.alpha),
+        }
+    }
+}
+
 /// Eq. (6) for one step: the product over every edge crossed between `from` and `to` of
-/// `(N^ẽ_h̃ + α) / (N_h̃ + 6α)` with the counts so far, raised to the direction correction
-/// (sec. 3); each crossing is counted in `map` right after it is weighed (step 2e), so a
-/// step over several edges multiplies one factor per edge. Returns the log of the product.
+/// `(N^ẽ_h̃ + α^ẽ_h̃) / (N_h̃ + Σ_e α^e_h̃)` with the counts so far, raised to the direction
+/// correction (sec. 3); each crossing is counted in `map` right after it is weighed (step
+/// 2e), so a step over several edges multiplies one factor per edge. Returns the log of the
+/// product.
 fn log_map_factor(
     grid: &HexGrid,
     map: &mut HexTransitionMap,
-    alpha: f64,
+    prior: MapPrior<'_>,
     correct: bool,
     from: Pose2,
     to: Pose2,
@@ -304,7 +468,8 @@ fn log_map_factor(
     let mut log_factor = 0.0;
     grid.for_each_crossing((from.x, from.y), (to.x, to.y), |c| {
         let (n_e, n_h) = map.record_crossing(c.from, c.edge); // step (e), counts before it
-        log_factor += ((f64::from(n_e) + alpha) / (f64::from(n_h) + 6.0 * alpha)).ln(); // eq. (6)
+        let (alpha_e, alpha_h) = prior.alpha_and_total(c.from, c.edge);
+        log_factor += ((f64::from(n_e) + alpha_e) / (f64::from(n_h) + alpha_h)).ln(); // eq. (6)
     });
     if correct && log_factor != 0.0 {
         log_factor *= HexGrid::direction_exponent_of(to.x - from.x, to.y - from.y);
@@ -313,145 +478,4 @@ fn log_map_factor(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn square_walk(laps: usize) -> Vec<Step> {
-        let mut steps = Vec::new();
-        let mut t = 0.0;
-        for _ in 0..laps {
-            for side in 0..4 {
-                for s in 0..10 {
-                    t += 0.5;
-                    let turn = if s == 0 && (side > 0 || t > 1.0) {
-                        std::f64::consts::FRAC_PI_2
-                    } else {
-                        0.0
-                    };
-                    steps.push(Step {
-                        t,
-                        length: 0.7,
-                        dheading: turn,
-                        dz: 0.0,
-                        heading: None,
-                    });
-                }
-            }
-        }
-        steps
-    }
-
-    #[test]
-    fn replayed_path_ends_at_the_particle() {
-        let config = FootSlamConfig {
-            particles: 300,
-            seed: 7,
-            ..Default::default()
-        };
-        let mut f = FootSlam::new(config).expect("valid");
-        for s in square_walk(2) {
-            f.update(&s);
-        }
-        assert!(f.resamplings() > 0, "revisits must trigger resampling");
-        for i in [0, 17, 299] {
-            let path = f.replay_path(i);
-            let end = path.last().expect("non-empty");
-            assert_eq!(*end, f.particles[i].pose);
-        }
-        let e = f.estimate();
-        assert_eq!(e.path.len(), 80);
-        assert!(!e.map.cells.is_empty());
-    }
-
-    #[test]
-    fn estimate_maximises_the_whole_path_likelihood() {
-        let config = FootSlamConfig {
-            particles: 400,
-            seed: 9,
-            ..Default::default()
-        };
-        let mut f = FootSlam::new(config).expect("valid");
-        for s in square_walk(2) {
-            f.update(&s);
-        }
-        let e = f.estimate();
-        let max = f
-            .particles
-            .iter()
-            .map(|p| p.path_log_likelihood)
-            .fold(f64::NEG_INFINITY, f64::max);
-        assert_eq!(e.path_log_likelihood, max);
-        assert_eq!(f.particles[e.index].path_log_likelihood, max);
-    }
-
-    #[test]
-    fn results_do_not_depend_on_thread_count() {
-        let run = |threads| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .expect("pool");
-            pool.install(|| {
-                let mut f = FootSlam::new(FootSlamConfig {
-                    particles: 500,
-                    seed: 3,
-                    ..Default::default()
-                })
-                .expect("valid");
-                for s in square_walk(2) {
-                    f.update(&s);
-                }
-                f.estimate().path
-            })
-        };
-        assert_eq!(run(1), run(3));
-    }
-
-    #[test]
-    fn revisiting_particles_gain_weight() {
-        // Two edges: one crossed before (count 1), one never; the known one is likelier.
-        let grid = HexGrid::new(0.5);
-        let mut map = HexTransitionMap::new();
-        let a = Pose2::new(0.0, 0.0, 0.0);
-        let b = Pose2::new(0.866, 0.0, 0.0);
-        let first = log_map_factor(&grid, &mut map, 0.8, false, a, b);
-        assert!(
-            (first - (0.8f64 / 4.8).ln()).abs() < 1e-12,
-            "an unknown hexagon gives 1/6"
-        );
-        let back = log_map_factor(&grid, &mut map, 0.8, false, b, a);
-        // Leaving b through the edge entered: (1 + 0.8) / (1 + 4.8).
-        assert!((back - (1.8f64 / 5.8).ln()).abs() < 1e-12);
-        let c = Pose2::new(0.2, 0.2, 0.0);
-        assert_eq!(
-            log_map_factor(&grid, &mut map, 0.8, false, a, c),
-            0.0,
-            "no crossing, no update"
-        );
-    }
-
-    #[test]
-    fn rejects_bad_configuration() {
-        assert!(
-            FootSlam::new(FootSlamConfig {
-                particles: 0,
-                ..Default::default()
-            })
-            .is_err()
-        );
-        assert!(
-            FootSlam::new(FootSlamConfig {
-                hex_radius: f64::NAN,
-                ..Default::default()
-            })
-            .is_err()
-        );
-        assert!(
-            FootSlam::new(FootSlamConfig {
-                alpha: -1.0,
-                ..Default::default()
-            })
-            .is_err()
-        );
-    }
-}
+mod tests;

@@ -3,7 +3,7 @@
 use super::resample::ResampleConfig;
 use crate::error::{Error, Result};
 use crate::geometry::Pose2;
-use crate::model::StepMotionConfig;
+use crate::model::{GpsConfig, StepMotionConfig};
 use serde::{Deserialize, Serialize};
 
 /// FootSLAM's parameters; every default in one place.
@@ -22,10 +22,26 @@ pub struct FootSlamConfig {
     pub direction_correction: bool,
     /// The walk's start pose (x, y metres, heading radians). Default (0, 0, 0).
     pub start: Pose2,
+    /// Spread (1σ per axis) of the start position about `start`, metres. Default 0 (the
+    /// walk defines the frame); with GPS the first fix's accuracy.
+    pub start_position_sigma: f64,
+    /// Spread (1σ) of the start heading about `start.heading`, radians; π or more draws it
+    /// uniformly. Default 0; with GPS uniform (the heading is not known).
+    pub start_heading_sigma: f64,
+    /// Dirichlet prior of edges that cross a building outline (`α_out`, see
+    /// [`crate::map::edge_prior`]). Default 0.05.
+    pub outline_alpha: f64,
+    /// How well a building outline is known, metres: the outline fit counts a crossing only
+    /// from this far inside to this far outside ([`crate::filter::outline_fit`]). Default 1.5 m.
+    pub outline_margin: f64,
+    /// Weight `w` of a prior map's counts as pseudo-counts on top of `α`. Default 1.
+    pub prior_weight: f64,
     /// Step error model.
     pub motion: StepMotionConfig,
     /// Resampling.
     pub resample: ResampleConfig,
+    /// GPS likelihood (used when fixes are given).
+    pub gps: GpsConfig,
 }
 
 impl Default for FootSlamConfig {
@@ -37,8 +53,14 @@ impl Default for FootSlamConfig {
             alpha: 0.8,
             direction_correction: true,
             start: Pose2::default(),
+            start_position_sigma: 0.0,
+            start_heading_sigma: 0.0,
+            outline_alpha: 0.05,
+            outline_margin: 1.5,
+            prior_weight: 1.0,
             motion: StepMotionConfig::default(),
             resample: ResampleConfig::default(),
+            gps: GpsConfig::default(),
         }
     }
 }
@@ -74,6 +96,33 @@ impl FootSlamConfig {
         if !(s.x.is_finite() && s.y.is_finite() && s.heading.is_finite()) {
             return bad("start", format!("{s:?}"), "must be finite");
         }
+        for (field, v, hi) in [
+            ("start_position_sigma", self.start_position_sigma, 10_000.0),
+            ("start_heading_sigma", self.start_heading_sigma, 1000.0),
+            ("prior_weight", self.prior_weight, 1000.0),
+            ("outline_margin", self.outline_margin, 100.0),
+        ] {
+            if !(v.is_finite() && (0.0..=hi).contains(&v)) {
+                return bad(
+                    field,
+                    v.to_string(),
+                    "must be a finite number ≥ 0 (and not absurd)",
+                );
+            }
+        }
+        if !(self.outline_alpha.is_finite()
+            && self.outline_alpha > 0.0
+            && self.outline_alpha <= self.alpha)
+        {
+            return bad(
+                "outline_alpha",
+                self.outline_alpha.to_string(),
+                "must be in (0, alpha]",
+            );
+        }
+        self.gps
+            .validate()
+            .or_else(|(field, v, reason)| bad(field, v.to_string(), reason))?;
         let t = self.resample.ess_threshold;
         if !(t.is_finite() && (0.0..=1.0).contains(&t)) {
             return bad("resample.ess_threshold", t.to_string(), "must be in [0, 1]");

@@ -2,9 +2,12 @@
 
 pub mod cluster;
 pub mod footslam;
+pub mod footslam_anchors;
 pub mod footslam_config;
+pub mod gps_start;
 pub mod kld;
 pub mod lineage;
+pub mod outline_fit;
 pub mod recovery;
 pub mod resample;
 pub mod rf_assist;
@@ -14,7 +17,7 @@ pub mod tracker;
 pub mod tracker_config;
 
 pub use cluster::{Cluster, ClusterConfig};
-pub use footslam::{FootSlam, FootSlamConfig, FootSlamEstimate};
+pub use footslam::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
 pub use kld::KldConfig;
 pub use lineage::Lineage;
 pub use recovery::{Recovery, RecoveryConfig};

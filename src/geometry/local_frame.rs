@@ -55,6 +55,12 @@ impl LocalFrame {
         (lon, lat)
     }
 
+    /// Distance in metres between this origin and `other`'s, measured in this frame.
+    pub fn distance_to(&self, other: &LocalFrame) -> f64 {
+        let (x, y) = self.to_local(other.lon, other.lat);
+        x.hypot(y)
+    }
+
     /// (lon, lat) degrees to local (x east, y north) metres.
     pub fn to_local(&self, lon: f64, lat: f64) -> (f64, f64) {
         let (m, n) = self.radii();

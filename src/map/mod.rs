@@ -1,15 +1,21 @@
 //! Layer 1: the maps.
 
 pub mod cell_raster;
+pub mod edge_prior;
 pub mod floor_plan;
 pub mod floor_topology;
 pub mod hex_transitions;
+pub mod map_merge;
+pub mod map_registration;
 pub mod radio_cells;
 pub mod radio_map;
 
 pub use cell_raster::{CellField, CellRaster};
+pub use edge_prior::EdgePrior;
 pub use floor_plan::{Barrier, FloorPlan, FloorPolygon};
 pub use floor_topology::{FloorTopology, Segment, SegmentKind, TopologyConfig};
 pub use hex_transitions::{HexCell, HexMapSnapshot, HexTransitionMap};
+pub use map_merge::{merge_maps, shift_map};
+pub use map_registration::register_maps;
 pub use radio_cells::{CellConfig, CellMap, RadioCell, Room};
 pub use radio_map::{ApStats, CellRadio, RadioMap, RadioMapCell};

@@ -1,7 +1,9 @@
 //! Layer 1: measurements as recorded, as plain validated data.
 
+pub mod gps;
 pub mod step;
 pub mod wifi;
 
+pub use gps::GpsFix;
 pub use step::{Step, StepTrace};
 pub use wifi::{WifiReading, WifiScan};

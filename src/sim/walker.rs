@@ -132,24 +132,25 @@ pub fn simulate_walk(office: &Office, config: &WalkConfig, seed: u64) -> Result<
     let waypoints = plan_route(office, config, &mut rng);
     let cap = (office.config.corridor_width / 2.0).min(office.config.entry_depth);
     let route = Route::rounded(&waypoints, config.corner_radius.min(cap));
-    walk(office, &route, config, &mut rng)
+    walk(&office.plan, &route, config, &mut rng)
 }
 
-/// Walks `route` stride by stride.
-fn walk(
-    office: &Office,
+/// Walks `route` stride by stride over the surfaces of `plan` (level 0), from the route's
+/// first point.
+pub(super) fn walk(
+    plan: &crate::map::FloorPlan,
     route: &Route,
     config: &WalkConfig,
     rng: &mut Pcg64Mcg,
 ) -> Result<TruePath> {
-    let on_floor = |q: Coord<f64>| office.plan.is_walkable(q.x, q.y, Some(0));
-    let mut previous = Coord { x: 0.0, y: 0.0 };
+    let on_floor = |q: Coord<f64>| plan.is_walkable(q.x, q.y, Some(0));
+    let mut previous = route.at(0.0).0;
     let mut poses = Vec::with_capacity((route.length() / config.step_length_mean) as usize + 1);
     for stride in strides(route, config.gait(), |_| None, rng) {
         let on_route = stride.on_route;
         if !on_floor(on_route) {
             return Err(Error::Input(format!(
-                "simulated route leaves the floor at ({:.3}, {:.3}); the office layout is inconsistent",
+                "simulated route leaves the floor at ({:.3}, {:.3}); the building's layout is inconsistent",
                 on_route.x, on_route.y
             )));
         }

@@ -1,0 +1,78 @@
+//! `footslam merge`: combine maps learned on several walks of one building.
+
+use super::common::require_file;
+use anyhow::{Result, bail};
+use footslam::export::map_geojson::{read_stored_map, write_walks_map_geojson};
+use footslam::map::merge_maps;
+use std::path::PathBuf;
+
+/// Two frames whose origins are closer than this are the same, metres.
+const SAME_ORIGIN: f64 = 1e-3;
+
+/// Arguments of `footslam merge`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Learned maps (map.geojson) sharing one frame (origin and hexagon radius), as
+    /// GPS-anchored walks learned with one `--origin` (or one prior map) do.
+    #[arg(required = true, num_args = 1..)]
+    maps: Vec<PathBuf>,
+    /// Weight of each map's counts, comma-separated, one per map (default all 1).
+    #[arg(long, value_delimiter = ',')]
+    weights: Vec<f64>,
+    /// The merged map (GeoJSON, the format of map.geojson).
+    #[arg(long)]
+    out: PathBuf,
+}
+
+/// Runs `footslam merge`.
+pub fn run(args: Args) -> Result<()> {
+    if !args.weights.is_empty() && args.weights.len() != args.maps.len() {
+        bail!(
+            "{} weights for {} maps: give one weight per map",
+            args.weights.len(),
+            args.maps.len()
+        );
+    }
+    let mut maps = Vec::with_capacity(args.maps.len());
+    for path in &args.maps {
+        require_file(path, "map")?;
+        maps.push(read_stored_map(path)?);
+    }
+    let frame = maps[0].frame;
+    for (path, f) in args.maps.iter().zip(maps.iter().map(|m| &m.frame)).skip(1) {
+        let off = frame.distance_to(f);
+        if off > SAME_ORIGIN {
+            bail!(
+                "{}: its origin ({}, {}) lies {off:.3} m from the first map's ({}, {}); \
+                 only maps in one frame merge (learn the walks with one --origin)",
+                path.display(),
+                f.lat,
+                f.lon,
+                frame.lat,
+                frame.lon
+            );
+        }
+    }
+    let weighted: Vec<_> = maps
+        .iter()
+        .enumerate()
+        .map(|(i, m)| (&m.map, args.weights.get(i).copied().unwrap_or(1.0)))
+        .collect();
+    let merged = merge_maps(&weighted)?;
+    // The walks behind the merge: those of every map that counts.
+    let walks: u32 = maps
+        .iter()
+        .zip(&weighted)
+        .filter(|(_, (_, w))| *w > 0.0)
+        .map(|(m, _)| m.walks)
+        .sum();
+    write_walks_map_geojson(&args.out, &merged, &frame, walks.max(1))?;
+    outln!(
+        "merged {} maps ({} walks) into {} hexagons: {}",
+        maps.len(),
+        walks,
+        merged.cells.len(),
+        args.out.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,144 @@
+//! `footslam simulate --building campus`: outdoor–indoor–outdoor walks of the office in its
+//! yard, with GPS fixes outdoors and the building's rough outline.
+
+use super::common::{output_dir, read_config};
+use super::simulate::Args;
+use anyhow::Result;
+use footslam::dataset::floor_plan_geojson::write_floor_plan;
+use footslam::dataset::steps_csv::write_steps;
+use footslam::dataset::truth_csv::write_truth;
+use footslam::dataset::{write_gps_csv, write_outline};
+use footslam::export::RunFolder;
+use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
+use footslam::map::HexMapSnapshot;
+use footslam::sim::{CampusSimConfig, CampusWalk, simulate_campus};
+use serde::Serialize;
+
+#[derive(Debug, Serialize)]
+struct WalkSummary {
+    folder: String,
+    steps: usize,
+    duration_s: f64,
+    path_length_m: f64,
+    gps_fixes: usize,
+    gps_error_mean_m: f64,
+    gps_error_rms_m: f64,
+    gps_error_p95_m: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct Summary {
+    walks: Vec<WalkSummary>,
+    floor_polygons: usize,
+    seed: u64,
+    origin: footslam::geometry::LocalFrame,
+}
+
+/// Runs the campus simulation.
+pub fn run(args: Args) -> Result<()> {
+    let mut config: CampusSimConfig = match &args.config {
+        Some(p) => read_config(p)?,
+        None => CampusSimConfig::default(),
+    };
+    if let Some(s) = args.seed {
+        config.seed = s;
+    }
+    if let Some(l) = args.laps {
+        config.walk.laps = l;
+    }
+    if let Some(w) = args.walks {
+        config.walks = w;
+    }
+    let origin = args.origin.unwrap_or_default();
+    let sim = simulate_campus(&config, &origin)?;
+    let folder = RunFolder::create(&output_dir(args.out, "simulate"))?;
+    write_floor_plan(&folder.path("floor.geojson"), &sim.plan, &origin)?;
+    write_outline(&folder.path("outline.geojson"), &sim.outline, &origin)?;
+    let several = sim.walks.len() > 1;
+    let mut walks = Vec::new();
+    for (i, walk) in sim.walks.iter().enumerate() {
+        let prefix = if several {
+            let name = format!("walk-{}", i + 1);
+            folder.create_dir(&name)?;
+            format!("{name}/")
+        } else {
+            String::new()
+        };
+        walks.push(write_walk(&folder, &prefix, walk, &sim.plan)?);
+    }
+    folder.write_json("config.json", &config)?;
+    let summary = Summary {
+        walks,
+        floor_polygons: sim.plan.polygons.len(),
+        seed: config.seed,
+        origin,
+    };
+    folder.write_json("summary.json", &summary)?;
+    let out = folder.commit()?;
+    for w in &summary.walks {
+        outln!(
+            "simulated {} steps ({:.0} m, {:.0} s) with {} GPS fixes outdoors (error mean {:.1} m, p95 {:.1} m){}",
+            w.steps,
+            w.path_length_m,
+            w.duration_s,
+            w.gps_fixes,
+            w.gps_error_mean_m,
+            w.gps_error_p95_m,
+            if w.folder.is_empty() {
+                String::new()
+            } else {
+                format!(" in {}", w.folder)
+            }
+        );
+    }
+    outln!("outputs: {}", out.display());
+    Ok(())
+}
+
+fn write_walk(
+    folder: &RunFolder,
+    prefix: &str,
+    walk: &CampusWalk,
+    plan: &footslam::map::FloorPlan,
+) -> Result<WalkSummary> {
+    let at = |name: &str| folder.path(&format!("{prefix}{name}"));
+    write_steps(&at("steps.csv"), &walk.steps)?;
+    write_truth(&at("truth.csv"), &walk.truth)?;
+    write_gps_csv(&at("gps.csv"), &walk.gps.fixes)?;
+    let truth: Vec<(f64, f64)> = std::iter::once((walk.start.x, walk.start.y))
+        .chain(walk.truth.poses.iter().map(|p| (p.x, p.y)))
+        .collect();
+    let empty = HexMapSnapshot {
+        radius: 0.5,
+        alpha: 0.8,
+        cells: Vec::new(),
+    };
+    let picture = MapPicture {
+        map: &empty,
+        path: &truth,
+        truth: None,
+        plan: Some(plan),
+    };
+    write_map_png(&at("truth.png"), &picture, &PictureConfig::default())?;
+    let errors = &walk.gps.errors;
+    let n = errors.len().max(1) as f64;
+    let mut sorted = errors.clone();
+    sorted.sort_by(f64::total_cmp);
+    let p95 = sorted
+        .get(((sorted.len() as f64 * 0.95).ceil() as usize).saturating_sub(1))
+        .copied()
+        .unwrap_or(0.0);
+    Ok(WalkSummary {
+        folder: prefix.trim_end_matches('/').to_string(),
+        steps: walk.steps.len(),
+        duration_s: walk.truth.poses.last().map_or(0.0, |p| p.t),
+        path_length_m: truth
+            .windows(2)
+            .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
+            .sum(),
+        gps_fixes: walk.gps.fixes.len(),
+        gps_error_mean_m: errors.iter().sum::<f64>() / n,
+        gps_error_rms_m: (errors.iter().map(|e| e * e).sum::<f64>() / n).sqrt(),
+        gps_error_p95_m: p95,
+    })
+}

@@ -1,0 +1,149 @@
+//! A building's outline (outer perimeter) as RFC 7946 GeoJSON: a `Polygon` (or a
+//! `MultiPolygon` of one part) given as a bare geometry, a `Feature`, or a
+//! `FeatureCollection` holding exactly one polygon feature. Only the exterior ring is used.
+
+use super::floor_plan_geojson::{polygon_positions, read_polygon};
+use crate::error::{Error, Result};
+use crate::geometry::LocalFrame;
+use geo::{Polygon, Validation};
+use geojson::{Feature, FeatureCollection, GeoJson, Geometry, GeometryValue, JsonObject};
+use serde_json::json;
+use std::path::Path;
+
+/// Reads the outline polygon in the local frame `frame`; errors name the file and problem.
+pub fn read_outline(path: &Path, frame: &LocalFrame) -> Result<Polygon<f64>> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let whole = |m: String| Error::parse(path, 0, m);
+    let json: GeoJson = serde_json::from_str(&text)
+        .map_err(|e| Error::parse(path, e.line(), format!("not GeoJSON: {e}")))?;
+    let geometry = match json {
+        GeoJson::Geometry(g) => g,
+        GeoJson::Feature(f) => f
+            .geometry
+            .ok_or_else(|| whole("the feature has no geometry".into()))?,
+        GeoJson::FeatureCollection(fc) => {
+            let polygons: Vec<Geometry> = fc
+                .features
+                .into_iter()
+                .filter_map(|f| f.geometry)
+                .filter(|g| {
+                    matches!(
+                        g.value,
+                        GeometryValue::Polygon { .. } | GeometryValue::MultiPolygon { .. }
+                    )
+                })
+                .collect();
+            match <[Geometry; 1]>::try_from(polygons) {
+                Ok([g]) => g,
+                Err(v) => {
+                    return Err(whole(format!(
+                        "the collection holds {} polygon features; an outline is exactly one",
+                        v.len()
+                    )));
+                }
+            }
+        }
+    };
+    let rings = match geometry.value {
+        GeometryValue::Polygon { coordinates } => coordinates,
+        GeometryValue::MultiPolygon { coordinates } if coordinates.len() == 1 => {
+            coordinates.into_iter().next().unwrap_or_default()
+        }
+        other => {
+            return Err(whole(format!(
+                "geometry type {} is not an outline (expected one Polygon)",
+                other.type_name()
+            )));
+        }
+    };
+    let exterior: geojson::PolygonType = rings.into_iter().take(1).collect();
+    let polygon =
+        read_polygon(&exterior, frame).map_err(|m| whole(format!("outline polygon: {m}")))?;
+    let polygon = Polygon::new(polygon.exterior().clone(), Vec::new());
+    if let Err(e) = polygon.check_validation() {
+        return Err(whole(format!("outline polygon is not valid: {e}")));
+    }
+    Ok(polygon)
+}
+
+/// Writes `outline` (local coordinates placed by `frame`) as a FeatureCollection holding one
+/// Polygon feature, atomically.
+pub fn write_outline(path: &Path, outline: &Polygon<f64>, frame: &LocalFrame) -> Result<()> {
+    let mut properties = JsonObject::new();
+    properties.insert("name".into(), json!("outline"));
+    let feature = Feature {
+        bbox: None,
+        geometry: Some(Geometry::new(GeometryValue::new_polygon(
+            polygon_positions(outline, frame),
+        ))),
+        id: None,
+        properties: Some(properties),
+        foreign_members: None,
+    };
+    let collection = FeatureCollection {
+        bbox: None,
+        features: vec![feature],
+        foreign_members: Some(super::geojson_file::origin_member(frame)),
+    };
+    crate::export::write_geojson(path, &collection)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geo::{Area, Rect};
+
+    fn frame() -> LocalFrame {
+        LocalFrame::new(48.0, 11.0).expect("frame")
+    }
+
+    #[test]
+    fn round_trips_and_accepts_a_bare_feature() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let p = dir.path().join("outline.geojson");
+        let rect = Rect::new((-5.0, -5.0), (30.0, 20.0)).to_polygon();
+        write_outline(&p, &rect, &frame()).expect("write");
+        let back = read_outline(&p, &frame()).expect("read");
+        assert!((back.unsigned_area() - 35.0 * 25.0).abs() < 0.05);
+        let text = std::fs::read_to_string(&p).expect("text");
+        let fc: FeatureCollection = text.parse().expect("fc");
+        std::fs::write(&p, fc.features[0].to_string()).expect("write");
+        assert!(
+            (read_outline(&p, &frame()).expect("feature").unsigned_area() - 875.0).abs() < 0.05
+        );
+    }
+
+    #[test]
+    fn bad_outlines_are_explained() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let p = dir.path().join("outline.geojson");
+        std::fs::write(&p, r#"{"type": "FeatureCollection", "features": []}"#).expect("w");
+        let e = read_outline(&p, &frame()).unwrap_err().to_string();
+        assert!(
+            e.contains("outline.geojson") && e.contains("0 polygon"),
+            "{e}"
+        );
+        std::fs::write(&p, r#"{"type": "Point", "coordinates": [11, 48]}"#).expect("w");
+        let e = read_outline(&p, &frame()).unwrap_err().to_string();
+        assert!(e.contains("Point"), "{e}");
+        std::fs::write(
+            &p,
+            r#"{"type": "Polygon", "coordinates": [[[11, 48], [11.001, 48], [11.001, 48.001], [11, 48]]]}"#,
+        )
+        .expect("w");
+        assert!(read_outline(&p, &frame()).is_ok());
+        std::fs::write(
+            &p,
+            r#"{"type": "Polygon", "coordinates": [[[11, 48], [11.001, 48], [11.001, 48.001], [11, 48.2]]]}"#,
+        )
+        .expect("w");
+        assert!(
+            read_outline(&p, &frame())
+                .unwrap_err()
+                .to_string()
+                .contains("closed")
+        );
+        std::fs::write(&p, "{").expect("w");
+        assert!(read_outline(&p, &frame()).is_err());
+    }
+}

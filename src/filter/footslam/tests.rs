@@ -1,0 +1,237 @@
+//! Tests of the FootSLAM filter.
+use super::*;
+use crate::model::GpsObservation;
+
+fn square_walk(laps: usize) -> Vec<Step> {
+    let mut steps = Vec::new();
+    let mut t = 0.0;
+    for _ in 0..laps {
+        for side in 0..4 {
+            for s in 0..10 {
+                t += 0.5;
+                let turn = if s == 0 && (side > 0 || t > 1.0) {
+                    std::f64::consts::FRAC_PI_2
+                } else {
+                    0.0
+                };
+                steps.push(Step {
+                    t,
+                    length: 0.7,
+                    dheading: turn,
+                    dz: 0.0,
+                    heading: None,
+                });
+            }
+        }
+    }
+    steps
+}
+
+#[test]
+fn replayed_path_ends_at_the_particle() {
+    let config = FootSlamConfig {
+        particles: 300,
+        seed: 7,
+        ..Default::default()
+    };
+    let mut f = FootSlam::new(config).expect("valid");
+    for s in square_walk(2) {
+        f.update(&s);
+    }
+    assert!(f.resamplings() > 0, "revisits must trigger resampling");
+    for i in [0, 17, 299] {
+        let path = f.replay_path(i);
+        let end = path.last().expect("non-empty");
+        assert_eq!(*end, f.particles[i].pose);
+    }
+    let e = f.estimate();
+    assert_eq!(e.path.len(), 80);
+    assert!(!e.map.cells.is_empty());
+}
+
+#[test]
+fn estimate_maximises_the_whole_path_likelihood() {
+    let config = FootSlamConfig {
+        particles: 400,
+        seed: 9,
+        ..Default::default()
+    };
+    let mut f = FootSlam::new(config).expect("valid");
+    for s in square_walk(2) {
+        f.update(&s);
+    }
+    let e = f.estimate();
+    let max = f
+        .particles
+        .iter()
+        .map(|p| p.path_log_likelihood)
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert_eq!(e.path_log_likelihood, max);
+    assert_eq!(f.particles[e.index].path_log_likelihood, max);
+}
+
+#[test]
+fn results_do_not_depend_on_thread_count() {
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool");
+        pool.install(|| {
+            let mut f = FootSlam::new(FootSlamConfig {
+                particles: 500,
+                seed: 3,
+                ..Default::default()
+            })
+            .expect("valid");
+            for s in square_walk(2) {
+                f.update(&s);
+            }
+            f.estimate().path
+        })
+    };
+    assert_eq!(run(1), run(3));
+}
+
+/// Fixes at the true positions of a square walk started at (10, 5) facing north.
+fn anchored(laps: usize) -> (Vec<Step>, Vec<Pose2>, Anchors) {
+    let steps = square_walk(laps);
+    let mut pose = Pose2::new(10.0, 5.0, std::f64::consts::FRAC_PI_2);
+    let truth: Vec<Pose2> = steps
+        .iter()
+        .map(|s| {
+            pose = pose.step(s.length, s.dheading);
+            pose
+        })
+        .collect();
+    let gps = steps
+        .iter()
+        .zip(&truth)
+        .step_by(2)
+        .map(|(s, p)| GpsObservation {
+            t: s.t,
+            x: p.x,
+            y: p.y,
+            sigma: 2.0,
+        })
+        .collect();
+    let anchors = Anchors {
+        gps,
+        ..Default::default()
+    };
+    (steps, truth, anchors)
+}
+
+#[test]
+fn gps_fixes_find_an_unknown_start_and_heading() {
+    let (steps, truth, anchors) = anchored(2);
+    let config = FootSlamConfig {
+        particles: 2000,
+        seed: 4,
+        start: Pose2::new(11.0, 4.0, 0.0),
+        start_position_sigma: 2.0,
+        start_heading_sigma: std::f64::consts::PI,
+        ..Default::default()
+    };
+    let mut f = FootSlam::with_anchors(config, anchors).expect("valid");
+    for s in &steps {
+        f.update(s);
+    }
+    assert_eq!(f.gps_fixes_used(), 40);
+    let path = f.estimate().path;
+    let worst = path
+        .iter()
+        .zip(&truth)
+        .skip(10)
+        .map(|(p, q)| (p.x - q.x).hypot(p.y - q.y))
+        .fold(0.0, f64::max);
+    assert!(
+        worst < 1.5,
+        "worst error {worst} m after the first 10 steps"
+    );
+}
+
+#[test]
+fn anchored_results_do_not_depend_on_thread_count() {
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool");
+        pool.install(|| {
+            let (steps, _, mut anchors) = anchored(2);
+            let mut prior = EdgePrior::uniform(0.8);
+            let outline = geo::Rect::new((8.0, 3.0), (19.0, 14.0)).to_polygon();
+            prior.add_outline(&HexGrid::new(0.5), &outline, 0.05);
+            anchors.prior = Some(prior);
+            let config = FootSlamConfig {
+                particles: 500,
+                seed: 3,
+                start: Pose2::new(10.0, 5.0, 1.5),
+                start_position_sigma: 1.0,
+                start_heading_sigma: 0.2,
+                ..Default::default()
+            };
+            let mut f = FootSlam::with_anchors(config, anchors).expect("valid");
+            for s in &steps {
+                f.update(s);
+            }
+            let e = f.estimate();
+            (e.path, e.prior_offset)
+        })
+    };
+    assert_eq!(run(1), run(3));
+}
+
+#[test]
+fn revisiting_particles_gain_weight() {
+    // Two edges: one crossed before (count 1), one never; the known one is likelier.
+    let grid = HexGrid::new(0.5);
+    let mut map = HexTransitionMap::new();
+    let uniform = MapPrior {
+        alpha: 0.8,
+        prior: None,
+        offset: Hex::ZERO,
+    };
+    let a = Pose2::new(0.0, 0.0, 0.0);
+    let b = Pose2::new(0.866, 0.0, 0.0);
+    let first = log_map_factor(&grid, &mut map, uniform, false, a, b);
+    assert!(
+        (first - (0.8f64 / 4.8).ln()).abs() < 1e-12,
+        "an unknown hexagon gives 1/6"
+    );
+    let back = log_map_factor(&grid, &mut map, uniform, false, b, a);
+    // Leaving b through the edge entered: (1 + 0.8) / (1 + 4.8).
+    assert!((back - (1.8f64 / 5.8).ln()).abs() < 1e-12);
+    let c = Pose2::new(0.2, 0.2, 0.0);
+    assert_eq!(
+        log_map_factor(&grid, &mut map, uniform, false, a, c),
+        0.0,
+        "no crossing, no update"
+    );
+}
+
+#[test]
+fn rejects_bad_configuration() {
+    assert!(
+        FootSlam::new(FootSlamConfig {
+            particles: 0,
+            ..Default::default()
+        })
+        .is_err()
+    );
+    assert!(
+        FootSlam::new(FootSlamConfig {
+            hex_radius: f64::NAN,
+            ..Default::default()
+        })
+        .is_err()
+    );
+    assert!(
+        FootSlam::new(FootSlamConfig {
+            alpha: -1.0,
+            ..Default::default()
+        })
+        .is_err()
+    );
+}

@@ -1,0 +1,99 @@
+//! What anchors a FootSLAM walk to the world beyond its steps (Robertson et al. 2009,
+//! sec. 4.1–4.3): the start pose, GPS fixes applied at the steps they fall in, and the
+//! per-edge Dirichlet priors of an outline or earlier maps ([`Anchors`]).
+
+use super::footslam_config::FootSlamConfig;
+use crate::geometry::{Hex, Pose2};
+use crate::map::EdgePrior;
+use crate::model::{GpsLikelihood, GpsObservation};
+use rand::RngExt;
+use rand_distr::StandardNormal;
+
+/// What anchors a walk to the world, beyond its steps (all optional).
+#[derive(Debug, Clone, Default)]
+pub struct Anchors {
+    /// GPS fixes in the local frame on the steps' clock, in time order.
+    pub gps: Vec<GpsObservation>,
+    /// Per-edge Dirichlet priors (outline, earlier maps); `None`: `α` everywhere.
+    pub prior: Option<EdgePrior>,
+    /// Walks whose counts the prior holds (0: no prior map, only an outline or nothing).
+    pub prior_walks: u32,
+    /// `δ`: where the walk's grid meets the prior map's — a hexagon of this walk is read in
+    /// the prior at itself plus `δ` (see [`super::FootSlam::with_anchors`]). Zero without GPS.
+    pub prior_offset: Hex,
+}
+
+/// GPS fixes waiting to be applied.
+#[derive(Debug)]
+pub(super) struct GpsQueue {
+    pub(super) likelihood: GpsLikelihood,
+    pub(super) fixes: Vec<GpsObservation>,
+    /// Index of the next fix to apply.
+    pub(super) next: usize,
+}
+
+/// One fix applied at a step: where along the step it falls and its tempering exponent.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct StepFix {
+    fix: GpsObservation,
+    /// Fraction of the step walked at the fix's time, in [0, 1].
+    along: f64,
+    temper: f64,
+}
+
+impl GpsQueue {
+    /// Moves the fixes taken after `previous` and up to `t` (those before the first step
+    /// apply at the start pose) into `out`, with where along the step each falls and its
+    /// tempering exponent.
+    pub(super) fn take_step(&mut self, previous: Option<f64>, t: f64, out: &mut Vec<StepFix>) {
+        while let Some(&fix) = self.fixes.get(self.next).filter(|f| f.t <= t) {
+            let dt = self.next.checked_sub(1).map(|j| fix.t - self.fixes[j].t);
+            let along = match previous {
+                Some(t0) if t > t0 => ((fix.t - t0) / (t - t0)).clamp(0.0, 1.0),
+                _ => 0.0,
+            };
+            out.push(StepFix {
+                fix,
+                along,
+                temper: self.likelihood.temper(dt),
+            });
+            self.next += 1;
+        }
+    }
+}
+
+/// The start pose `P_0` of one particle: `config.start`, spread by
+/// `start_position_sigma` and `start_heading_sigma` (uniform heading from π up). Draws
+/// nothing when both are 0, so walks without anchors replay as before.
+pub(super) fn sample_start(config: &FootSlamConfig, rng: &mut impl rand::Rng) -> Pose2 {
+    let mut pose = config.start;
+    if config.start_position_sigma > 0.0 {
+        pose.x += config.start_position_sigma * rng.sample::<f64, _>(StandardNormal);
+        pose.y += config.start_position_sigma * rng.sample::<f64, _>(StandardNormal);
+    }
+    let s = config.start_heading_sigma;
+    if s >= std::f64::consts::PI {
+        pose.heading = rng.random_range(-std::f64::consts::PI..std::f64::consts::PI);
+    } else if s > 0.0 {
+        pose.heading += s * rng.sample::<f64, _>(StandardNormal);
+    }
+    pose
+}
+
+/// `Σ_j τ_j · ln p(z_j | P)` over the fixes taken during a step from `from` to `to`, each
+/// at the point walked by its time (linear along the step).
+pub(super) fn log_gps_factor(
+    gps: &GpsLikelihood,
+    fixes: &[StepFix],
+    from: Pose2,
+    to: Pose2,
+) -> f64 {
+    fixes
+        .iter()
+        .map(|f| {
+            let x = from.x + f.along * (to.x - from.x);
+            let y = from.y + f.along * (to.y - from.y);
+            f.temper * gps.log_likelihood(&f.fix, (x, y))
+        })
+        .sum()
+}

@@ -1,0 +1,175 @@
+//! Placing a learned walk against a rough building outline: the most probable shift of the
+//! whole path given the GPS bias it may carry and the outline it should rarely cross.
+//!
+//! Inside the filter the outline is a low Dirichlet prior on the edges that cross it
+//! ([`crate::map::edge_prior`]); that steers the shape, but GPS fixes counted as independent
+//! pin the path's absolute position far more firmly than a few improbable crossings can
+//! move it, although their common bias (metres, slowly varying) moves every fix alike. So,
+//! once the path is learned, its absolute place is re-estimated: the path is shifted by
+//! `s`, where `s` maximises
+//!
+//! `ln N(s; 0, σ²I) − c · (crossings of the outline by path + s)`
+//!
+//! with `σ` the bias spread left after the walks averaged into the frame and
+//! `c = ln(α / α_out)`, eq. (6)'s price of an unseen crossing of an outline edge. Because
+//! the outline is known only to `margin` metres, a crossing counts only when the path goes
+//! from more than `margin` inside to more than `margin` outside, or back (hysteresis): the
+//! true path, which enters and leaves through doors, crosses exactly as often as it enters
+//! and leaves, wherever within the margin the true walls are, while a path pushed through a
+//! wall by a bias adds a crossing pair at every room or corridor that pokes out. The maximum
+//! is searched on a square grid of shifts 0.25 m apart within `±3σ` (at most ±10 m); ties
+//! go to the smaller shift.
+
+use geo::{Contains, Coord, Polygon};
+use rayon::prelude::*;
+
+/// Spacing of the shifts tried, metres.
+const SHIFT_STEP: f64 = 0.25;
+/// The widest shift tried, metres.
+const MAX_SHIFT: f64 = 10.0;
+
+/// Distance from `p` to the segment `a`–`b`.
+fn segment_distance(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len2 = dx * dx + dy * dy;
+    let u = if len2 > 0.0 {
+        (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p.0 - a.0 - u * dx).hypot(p.1 - a.1 - u * dy)
+}
+
+/// +1 deeper than `margin` inside `outline`, −1 deeper than `margin` outside, 0 in between.
+fn side(outline: &Polygon<f64>, ring: &[(f64, f64)], margin: f64, p: (f64, f64)) -> i8 {
+    let d = ring
+        .windows(2)
+        .map(|w| segment_distance(p, w[0], w[1]))
+        .fold(f64::INFINITY, f64::min);
+    if d <= margin {
+        0
+    } else if outline.contains(&Coord { x: p.0, y: p.1 }) {
+        1
+    } else {
+        -1
+    }
+}
+
+/// Crossings of the outline by `path` moved by `s`, with hysteresis `margin`.
+fn crossings(
+    path: &[(f64, f64)],
+    outline: &Polygon<f64>,
+    ring: &[(f64, f64)],
+    margin: f64,
+    s: (f64, f64),
+) -> u32 {
+    let mut last = 0i8;
+    let mut n = 0;
+    for &(x, y) in path {
+        let now = side(outline, ring, margin, (x + s.0, y + s.1));
+        if now != 0 {
+            if last != 0 && now != last {
+                n += 1;
+            }
+            last = now;
+        }
+    }
+    n
+}
+
+/// The most probable shift of `path` (positions in walking order) given `outline` (known to
+/// `margin` metres), the cost `cost` of a crossing and a Gaussian bias prior of spread
+/// `sigma` per axis; `(0, 0)` when `sigma` is 0 or the path is too short.
+pub fn fit_outline_shift(
+    path: &[(f64, f64)],
+    outline: &Polygon<f64>,
+    margin: f64,
+    cost: f64,
+    sigma: f64,
+) -> (f64, f64) {
+    if sigma.is_nan() || sigma <= 0.0 || path.len() < 2 {
+        return (0.0, 0.0);
+    }
+    let ring: Vec<(f64, f64)> = outline.exterior().coords().map(|c| (c.x, c.y)).collect();
+    let reach = (3.0 * sigma).min(MAX_SHIFT);
+    let k = (reach / SHIFT_STEP).floor() as i32;
+    let shifts: Vec<(f64, f64)> = (-k..=k)
+        .flat_map(|i| (-k..=k).map(move |j| (f64::from(i) * SHIFT_STEP, f64::from(j) * SHIFT_STEP)))
+        .collect();
+    let scores: Vec<f64> = shifts
+        .par_iter()
+        .map(|&s| {
+            let n = crossings(path, outline, &ring, margin, s);
+            -cost * f64::from(n) - (s.0 * s.0 + s.1 * s.1) / (2.0 * sigma * sigma)
+        })
+        .collect();
+    // The first maximum in a fixed order (by score, then by the smaller shift).
+    let mut best = (f64::NEG_INFINITY, f64::INFINITY, (0.0, 0.0));
+    for (&s, &v) in shifts.iter().zip(&scores) {
+        let r = s.0 * s.0 + s.1 * s.1;
+        if v > best.0 + 1e-12 || ((v - best.0).abs() <= 1e-12 && r < best.1) {
+            best = (v, r, s);
+        }
+    }
+    best.2
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geo::Rect;
+
+    fn walk() -> Vec<(f64, f64)> {
+        // From the yard through a door at (10, -2), laps of a loop 2–3 m inside the walls of
+        // a 24 m × 24 m building, and out again.
+        let mut corners: Vec<(f64, f64)> = vec![(10.0, -8.0), (10.0, 1.0)];
+        for _ in 0..3 {
+            corners.extend([
+                (19.0, 1.0),
+                (19.0, 19.0),
+                (1.0, 19.0),
+                (1.0, 1.0),
+                (10.0, 1.0),
+            ]);
+        }
+        corners.push((10.0, -8.0));
+        let corners = corners;
+        // A point every half metre.
+        let mut path = Vec::new();
+        for w in corners.windows(2) {
+            let n = ((w[1].0 - w[0].0).hypot(w[1].1 - w[0].1) / 0.5).ceil() as usize;
+            for i in 0..n {
+                let u = i as f64 / n as f64;
+                path.push((
+                    w[0].0 + u * (w[1].0 - w[0].0),
+                    w[0].1 + u * (w[1].1 - w[0].1),
+                ));
+            }
+        }
+        path
+    }
+
+    #[test]
+    fn a_path_pushed_through_a_wall_is_pulled_back_inside() {
+        let outline = Rect::new((-2.0, -2.0), (22.0, 22.0)).to_polygon();
+        let ring: Vec<(f64, f64)> = outline.exterior().coords().map(|c| (c.x, c.y)).collect();
+        let cost = (0.8f64 / 0.05).ln();
+        let path = walk();
+        assert_eq!(crossings(&path, &outline, &ring, 0.5, (0.0, 0.0)), 2);
+        // Seen 5 m too far south-east (a GPS bias): pulled back to within the margin.
+        let biased: Vec<(f64, f64)> = path.iter().map(|&(x, y)| (x + 5.0, y - 5.0)).collect();
+        assert_eq!(crossings(&biased, &outline, &ring, 0.5, (0.0, 0.0)), 6);
+        let (sx, sy) = fit_outline_shift(&biased, &outline, 0.5, cost, 3.0);
+        assert!((-6.0..=-1.5).contains(&sx), "{sx}");
+        assert!((1.5..=6.0).contains(&sy), "{sy}");
+        assert_eq!(crossings(&biased, &outline, &ring, 0.5, (sx, sy)), 2);
+        // The true path needs no shift.
+        assert_eq!(
+            fit_outline_shift(&path, &outline, 0.5, cost, 3.0),
+            (0.0, 0.0)
+        );
+        // An outline off by a metre (within the margin) does not move the true path.
+        let off = Rect::new((-2.0, -1.0), (23.0, 22.0)).to_polygon();
+        assert_eq!(fit_outline_shift(&path, &off, 1.5, cost, 3.0), (0.0, 0.0));
+    }
+}
