@@ -86,6 +86,7 @@ mod tests {
                 z: 3.0 * f64::from(level),
                 level,
                 heading: 0.0,
+                spread: 0.5,
                 weight: 1.0,
                 particles: 100,
             }),

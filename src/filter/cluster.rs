@@ -31,6 +31,7 @@ const CONVERGED: f64 = 1e-3;
 /// | `max_dz`       | 1 m     | particles less than this apart vertically share a kernel    |
 /// | `max_dheading` | 45°     | particles less than this apart in heading share a kernel (π = ignore heading) |
 /// | `min_weight`   | 0.01    | clusters holding less of the weight are not counted         |
+/// | `max_spread`   | 2 m     | a lone cluster wider than this (RMS radius) is not yet a fix |
 /// | `max_particles`| 10,000  | beliefs with more particles are not clustered               |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -43,6 +44,10 @@ pub struct ClusterConfig {
     pub max_dheading: f64,
     /// Clusters below this share of the total weight are stragglers, not counted.
     pub min_weight: f64,
+    /// A single cluster localises the walker only when its particles' RMS horizontal
+    /// distance from its mean is at most this, metres: a blob stretched along a corridor
+    /// (e.g. a WiFi prior region one kernel wide) is one cluster but not yet a position.
+    pub max_spread: f64,
     /// Clustering runs only when there are at most this many particles.
     pub max_particles: usize,
 }
@@ -54,6 +59,7 @@ impl Default for ClusterConfig {
             max_dz: 1.0,
             max_dheading: std::f64::consts::FRAC_PI_4,
             min_weight: 0.01,
+            max_spread: 2.0,
             max_particles: 10_000,
         }
     }
@@ -99,6 +105,13 @@ impl ClusterConfig {
                 "must be in [0, 0.5)",
             );
         }
+        if !(self.max_spread.is_finite() && (0.1..=1000.0).contains(&self.max_spread)) {
+            return bad(
+                "cluster.max_spread",
+                self.max_spread.to_string(),
+                "must be in [0.1, 1000] metres",
+            );
+        }
         if self.max_particles > 10_000_000 {
             return bad(
                 "cluster.max_particles",
@@ -140,6 +153,8 @@ pub struct Cluster {
     pub level: i32,
     /// Weighted circular mean heading, radians in (−π, π].
     pub heading: f64,
+    /// Weighted RMS horizontal distance of its particles from the mean, metres.
+    pub spread: f64,
     /// Share of the total weight, in [0, 1].
     pub weight: f64,
     /// Number of particles.
@@ -219,6 +234,8 @@ struct Sums {
     z: f64,
     cos: f64,
     sin: f64,
+    /// Weighted sum of `x² + y²`.
+    r2: f64,
     n: usize,
     levels: Vec<(i32, f64)>,
 }
@@ -232,6 +249,7 @@ impl Sums {
         self.z += w * f64::from(p.z);
         self.cos += w * f64::from(p.heading).cos();
         self.sin += w * f64::from(p.heading).sin();
+        self.r2 += w * (f64::from(p.x).powi(2) + f64::from(p.y).powi(2));
         self.n += 1;
         match self.levels.iter_mut().find(|(l, _)| *l == p.level) {
             Some((_, lw)) => *lw += w,
@@ -251,6 +269,9 @@ impl Sums {
             z: self.z / self.w,
             level,
             heading: self.sin.atan2(self.cos),
+            spread: (self.r2 / self.w - (self.x / self.w).powi(2) - (self.y / self.w).powi(2))
+                .max(0.0)
+                .sqrt(),
             weight: self.w / total,
             particles: self.n,
         }
@@ -404,6 +425,8 @@ mod tests {
         assert!((c.x - 10.0).abs() < 0.1 && (c.y + 4.0).abs() < 0.1, "{c:?}");
         assert_eq!((c.level, c.particles), (1, 2000));
         assert!((c.weight - 1.0).abs() < 1e-9 && (c.z - 3.0).abs() < 1e-6);
+        // Two axes of 1 m spread: an RMS radius of √2 m.
+        assert!((c.spread - 2f64.sqrt()).abs() < 0.1, "{c:?}");
     }
 
     #[test]

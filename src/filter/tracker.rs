@@ -12,7 +12,8 @@
 //!    ([`super::kld`]);
 //! 4. **resample** that many particles systematically;
 //! 5. **cluster** the particles by mean shift once there are few enough of them; the walker
-//!    is localised when one cluster remains, and the estimate is the heaviest cluster's mean.
+//!    is localised when one cluster remains (no wider than `cluster.max_spread`), and the
+//!    estimate is the heaviest cluster's mean.
 //!
 //! Each particle also carries a per-walk step length scale (a few percent off for a whole
 //! walk is common) and, optionally, a heading-drift rate (a gyro's bias turns every step a
@@ -257,7 +258,9 @@ impl<'a> Tracker<'a> {
             self.resample(n, SALT_RESAMPLE);
         }
         let clusters = self.cluster();
-        let localised = clusters.as_ref().is_some_and(|c| c.len() == 1);
+        let localised = clusters
+            .as_ref()
+            .is_some_and(|c| c.len() == 1 && c[0].spread <= self.config.cluster.max_spread);
         self.localised_once |= localised;
         self.localised_now = localised;
         self.remember(step, localised);
