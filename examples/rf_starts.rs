@@ -6,6 +6,7 @@
 //! ```sh
 //! cargo run --release --example rf_starts -- 20 400 1   # starts, 1.8 Hz steps of walking, survey walks
 //! APS=4 cargo run --release --example rf_starts        # 4 access points a floor
+//! ONCE=1 cargo run --release --example rf_starts        # each scan once, not at every step
 //! ```
 
 #![allow(clippy::print_stdout)] // an example reports on stdout
@@ -85,6 +86,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         exponent: std::env::var("EXPONENT").ok().and_then(|v| v.parse().ok()),
                         ..Default::default()
                     },
+                    // ONCE=1: each scan once, at the first step after it.
+                    every_step: std::env::var("ONCE").is_err(),
                     ..Default::default()
                 },
             )

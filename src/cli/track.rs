@@ -75,6 +75,10 @@ pub struct Args {
     /// Region threshold ε, dBm (default: the radio map's calibration, else 9.5).
     #[arg(long)]
     rf_epsilon: Option<f64>,
+    /// Apply each scan once, at the first step after it, instead of the latest scan at every
+    /// step (eq. 12).
+    #[arg(long, requires = "radiomap")]
+    rf_once: bool,
 }
 
 /// `--rf-mode` values.
@@ -200,6 +204,9 @@ pub fn run(args: Args) -> Result<()> {
     }
     if args.rf_epsilon.is_some() {
         config.rf.epsilon = args.rf_epsilon;
+    }
+    if args.rf_once {
+        config.rf.every_step = false;
     }
     config.validate()?;
     let plan_path = args.plan.clone().unwrap_or_else(|| bundled(DEFAULT_PLAN));

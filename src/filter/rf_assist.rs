@@ -49,6 +49,7 @@ pub enum RfMode {
 /// | `likelihood_floor` | 1e-6     | probabilistic: least weight relative to the likeliest cell |
 /// | `min_scans`        | 1        | cells with fewer scans are unknown (always inside)       |
 /// | `max_scan_age`     | 5 s      | a scan older than this at a step is not used             |
+/// | `every_step`       | true     | apply the latest scan at every step (eq. 12), or once    |
 /// | `raster`           | 0.25 m   | grid of the point-to-cell lookup                         |
 /// | `likelihood`       | see [`LikelihoodConfig`] | eq. 14's histogram smoothing              |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -69,6 +70,11 @@ pub struct RfConfig {
     pub min_scans: u32,
     /// Oldest usable scan at a step, seconds.
     pub max_scan_age: f64,
+    /// Apply the latest scan's measurement at every step until the next scan (the paper's
+    /// eq. 12: "the last WiFi scan to be completed prior to the completion of the step");
+    /// false: once, at the first step after it (a reused scan judges the walker where it no
+    /// longer is: localises in a step or two more, tracks a few centimetres closer).
+    pub every_step: bool,
     /// Side of the point-to-cell grid, metres.
     pub raster: f64,
     /// The histogram likelihood (eq. 14).
@@ -85,6 +91,7 @@ impl Default for RfConfig {
             likelihood_floor: 1e-6,
             min_scans: 1,
             max_scan_age: 5.0,
+            every_step: true,
             raster: 0.25,
             likelihood: LikelihoodConfig::default(),
         }

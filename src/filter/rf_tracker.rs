@@ -1,8 +1,8 @@
 //! The known-map tracker driven by step events and WiFi scans together (Woodman & Harle
 //! 2009, sec. 5): the filter starts at the first scan with its prior drawn in that scan's
-//! region `R_prior` (eq. 2) — or about a known start — and each later scan is applied at
-//! the first step after it ([`super::rf_assist`]; the paper applies the latest scan at every
-//! step, which with scans every ~2 s judges particles up to 2.5 m from where it was taken).
+//! region `R_prior` (eq. 2) — or about a known start — and the latest scan is applied at
+//! every step until the next (eq. 12; [`super::rf_assist`]), or with `every_step = false`
+//! once, at the first step after it.
 //!
 //! Steps before the first scan come before any WiFi information; without a known start they
 //! are reported without particles (and count towards the steps to localise).
@@ -109,10 +109,12 @@ impl<'a> RfTracker<'a> {
                 recovery: None,
             });
         };
-        // Each scan once, at the first step after it: a scan reused at later steps would
-        // judge the walker where it no longer is (a scan every ~2 s, a step every ~0.55 s).
+        // The latest scan at every step (eq. 12), or each scan once, at the first step after
+        // it: a reused scan judges the walker where it no longer is (a scan every ~2 s, a
+        // stride every ~1.1 s).
+        let every_step = self.rf.config().every_step;
         let measurement = match (latest, &self.current) {
-            (Some(i), Some((j, m))) if i == *j && self.applied != Some(i) => {
+            (Some(i), Some((j, m))) if i == *j && (every_step || self.applied != Some(i)) => {
                 self.applied = Some(i);
                 m.as_ref()
             }
