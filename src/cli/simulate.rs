@@ -36,13 +36,17 @@ enum Building {
     Campus,
 }
 
+/// `--tour survey` without `--minutes` walks the whole tour, up to this long.
+const SURVEY_MINUTES_CAP: f64 = 600.0;
+
 /// Which tour the tower's walker takes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 enum Tour {
     /// Room after random room from a random start.
     Random,
     /// A radio survey: every room swept lane by lane, both stairwells between every pair of
-    /// floors (ends where the tour ends, or after `--minutes`).
+    /// floors (ends where the tour ends — about 23 minutes on the default building — or
+    /// after `--minutes` when given).
     Survey,
 }
 
@@ -143,6 +147,10 @@ fn run_tower(args: Args) -> Result<()> {
             Tour::Random => TourKind::Random,
             Tour::Survey => TourKind::Survey,
         };
+        if t == Tour::Survey && args.minutes.is_none() {
+            // The whole tour: a survey walk ends where it has covered the building.
+            config.walk.minutes = SURVEY_MINUTES_CAP;
+        }
     }
     let origin = args.origin.unwrap_or_default();
     let sim = simulate_tower(&config)?;
