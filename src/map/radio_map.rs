@@ -182,21 +182,9 @@ impl RadioMap {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sensor::WifiReading;
 
     fn scan(readings: &[(&str, f64)]) -> WifiScan {
-        WifiScan {
-            t: 0.0,
-            readings: readings
-                .iter()
-                .map(|&(b, rssi)| WifiReading {
-                    bssid: b.into(),
-                    rssi,
-                    ssid: None,
-                    freq: None,
-                })
-                .collect(),
-        }
+        WifiScan::from_readings(0.0, readings)
     }
 
     #[test]

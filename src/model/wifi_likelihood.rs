@@ -169,22 +169,10 @@ impl HistogramLikelihood {
 mod tests {
     use super::*;
     use crate::map::{CellRadio, RadioMapCell};
-    use crate::sensor::WifiReading;
     use geo::MultiPolygon;
 
     fn scan(readings: &[(&str, f64)]) -> WifiScan {
-        WifiScan {
-            t: 0.0,
-            readings: readings
-                .iter()
-                .map(|&(b, rssi)| WifiReading {
-                    bssid: b.into(),
-                    rssi,
-                    ssid: None,
-                    freq: None,
-                })
-                .collect(),
-        }
+        WifiScan::from_readings(0.0, readings)
     }
 
     #[test]

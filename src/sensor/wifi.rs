@@ -30,6 +30,23 @@ pub struct WifiScan {
 }
 
 impl WifiScan {
+    /// A scan at `t` of `(bssid, rssi)` readings without SSID or frequency (BSSIDs as given:
+    /// no normalisation, no checks — for data already validated, and for tests).
+    pub fn from_readings(t: f64, readings: &[(&str, f64)]) -> Self {
+        Self {
+            t,
+            readings: readings
+                .iter()
+                .map(|&(bssid, rssi)| WifiReading {
+                    bssid: bssid.into(),
+                    rssi,
+                    ssid: None,
+                    freq: None,
+                })
+                .collect(),
+        }
+    }
+
     /// The RSSI of `bssid` in this scan, if it was heard.
     pub fn rssi(&self, bssid: &str) -> Option<f64> {
         self.readings
