@@ -316,3 +316,59 @@ fn missing_files_and_bad_arguments_are_reported() {
         .failure();
     assert!(String::from_utf8_lossy(&a.get_output().stderr).contains("particles"));
 }
+
+/// A track from a run whose local frame sits elsewhere (learn --gps puts its origin at the
+/// first fix) is compared in the truth's frame, using the origins in each run's summary.json.
+#[test]
+fn eval_moves_a_track_into_the_truths_frame() {
+    use footslam::geometry::LocalFrame;
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (truth_dir, track_dir) = (dir.path().join("sim"), dir.path().join("run"));
+    std::fs::create_dir_all(&truth_dir).expect("dir");
+    std::fs::create_dir_all(&track_dir).expect("dir");
+    let truth_frame = LocalFrame::new(48.15, 11.57).expect("frame");
+    let track_frame = LocalFrame::new(48.1502, 11.5705).expect("frame"); // ~37 m east, 22 m north
+    let summary =
+        |f: &LocalFrame| format!(r#"{{"origin": {{"lat": {}, "lon": {}}}}}"#, f.lat, f.lon);
+    std::fs::write(truth_dir.join("summary.json"), summary(&truth_frame)).expect("write");
+    let anchored =
+        summary(&track_frame).replace("{\"origin\"", "{\"gps_file\": \"gps.csv\", \"origin\"");
+    std::fs::write(track_dir.join("summary.json"), &anchored).expect("write");
+    let (mut truth, mut track) = (String::from("t,x,y\n"), String::from("t,x,y\n"));
+    for i in 0..20 {
+        let (x, y) = (i as f64 * 0.7, 3.0 + (i as f64 * 0.3).sin());
+        truth.push_str(&format!("{},{x},{y}\n", i + 1));
+        let (lon, lat) = truth_frame.to_lon_lat(x, y);
+        let (tx, ty) = track_frame.to_local(lon, lat);
+        track.push_str(&format!("{},{tx},{ty}\n", i + 1));
+    }
+    std::fs::write(truth_dir.join("truth.csv"), truth).expect("write");
+    std::fs::write(track_dir.join("track.csv"), track).expect("write");
+    let out = footslam()
+        .arg("eval")
+        .arg("--truth")
+        .arg(truth_dir.join("truth.csv"))
+        .arg("--track")
+        .arg(track_dir.join("track.csv"))
+        .arg("--json")
+        .assert()
+        .success();
+    let value: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).expect("json");
+    let p95 = value["track"]["p95"].as_f64().expect("p95");
+    assert!(p95 < 0.01, "p95 {p95} m: the frames were not reconciled");
+    assert!(value["track_reprojected_from"]["lat"].as_f64().is_some());
+    // A walk learned from steps alone starts at (0, 0) whatever its origin: left as it is.
+    std::fs::write(track_dir.join("summary.json"), summary(&track_frame)).expect("write");
+    let out = footslam()
+        .arg("eval")
+        .arg("--truth")
+        .arg(truth_dir.join("truth.csv"))
+        .arg("--track")
+        .arg(track_dir.join("track.csv"))
+        .arg("--json")
+        .assert()
+        .success();
+    let value: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).expect("json");
+    assert!(value["track_reprojected_from"].is_null());
+    assert!(value["track"]["p95"].as_f64().expect("p95") > 10.0);
+}

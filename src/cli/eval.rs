@@ -7,7 +7,7 @@ use footslam::dataset::{TimedPoint, read_steps, read_track, read_trajectory};
 use footslam::eval::{Alignment, ErrorReport, floor_accuracy, position_errors, walkable_fraction};
 use footslam::export::map_geojson::read_map_geojson;
 use footslam::geometry::LocalFrame;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `footslam eval`.
 #[derive(Debug, clap::Args)]
@@ -55,7 +55,22 @@ pub fn run(args: Args) -> Result<()> {
     require_file(&args.truth, "truth file")?;
     require_file(&args.track, "track file")?;
     let truth = read_trajectory(&args.truth)?;
-    let track = read_trajectory(&args.track)?;
+    let mut track = read_trajectory(&args.track)?;
+    // Runs anchored to the world (learn --gps) put their local frame's origin at the first
+    // fix, not where the simulator put the truth's: compare in the truth's frame.
+    let reprojected = match (
+        run_origin(&args.truth, false),
+        run_origin(&args.track, true),
+    ) {
+        (Some(truth_frame), Some(track_frame)) if truth_frame.distance_to(&track_frame) > 1e-3 => {
+            for p in &mut track {
+                let (lon, lat) = track_frame.to_lon_lat(p.x, p.y);
+                (p.x, p.y) = truth_frame.to_local(lon, lat);
+            }
+            Some((track_frame, truth_frame))
+        }
+        _ => None,
+    };
     let alignment = match args.align {
         AlignArg::None => Alignment::None,
         AlignArg::Rigid => Alignment::Rigid,
@@ -106,9 +121,19 @@ pub fn run(args: Args) -> Result<()> {
             "dead_reckoning": dead_reckoning,
             "walkable_fraction": walkable,
             "floor_accuracy": floors,
+            "track_reprojected_from": reprojected.map(|(from, _)| from),
         });
         outln!("{}", serde_json::to_string_pretty(&value)?);
     } else {
+        if let Some((from, to)) = reprojected {
+            outln!(
+                "track moved from its run's origin ({:.6}, {:.6}) to the truth's ({:.6}, {:.6})",
+                from.lat,
+                from.lon,
+                to.lat,
+                to.lon
+            );
+        }
         let rows: [(&str, Statistic); 6] = [
             ("p50", |r| r.p50),
             ("p75", |r| r.p75),
@@ -140,4 +165,20 @@ pub fn run(args: Args) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The WGS84 origin recorded in the `summary.json` beside a run's CSV file (simulate, learn,
+/// track and survey write one), if there is one. With `anchored`, only for runs whose local
+/// frame is tied to the world — `learn --gps` or a floor plan (`track`) — and not for a walk
+/// learned from steps alone, which starts at (0, 0) whatever its origin.
+fn run_origin(csv: &Path, anchored: bool) -> Option<LocalFrame> {
+    let summary = csv.parent()?.join("summary.json");
+    let text = std::fs::read_to_string(summary).ok()?;
+    let value: serde_json::Value = serde_json::from_str(&text).ok()?;
+    let tied = |key: &str| value.get(key).is_some_and(|v| !v.is_null());
+    if anchored && !(tied("gps_file") || tied("plan_file")) {
+        return None;
+    }
+    let origin = value.get("origin")?;
+    LocalFrame::new(origin.get("lat")?.as_f64()?, origin.get("lon")?.as_f64()?)
 }
