@@ -344,31 +344,25 @@ fn eval_moves_a_track_into_the_truths_frame() {
     }
     std::fs::write(truth_dir.join("truth.csv"), truth).expect("write");
     std::fs::write(track_dir.join("track.csv"), track).expect("write");
-    let out = footslam()
-        .arg("eval")
-        .arg("--truth")
-        .arg(truth_dir.join("truth.csv"))
-        .arg("--track")
-        .arg(track_dir.join("track.csv"))
-        .arg("--json")
-        .assert()
-        .success();
-    let value: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).expect("json");
+    let eval = || -> serde_json::Value {
+        let out = footslam()
+            .arg("eval")
+            .arg("--truth")
+            .arg(truth_dir.join("truth.csv"))
+            .arg("--track")
+            .arg(track_dir.join("track.csv"))
+            .arg("--json")
+            .assert()
+            .success();
+        serde_json::from_slice(&out.get_output().stdout).expect("json")
+    };
+    let value = eval();
     let p95 = value["track"]["p95"].as_f64().expect("p95");
     assert!(p95 < 0.01, "p95 {p95} m: the frames were not reconciled");
     assert!(value["track_reprojected_from"]["lat"].as_f64().is_some());
     // A walk learned from steps alone starts at (0, 0) whatever its origin: left as it is.
     std::fs::write(track_dir.join("summary.json"), summary(&track_frame)).expect("write");
-    let out = footslam()
-        .arg("eval")
-        .arg("--truth")
-        .arg(truth_dir.join("truth.csv"))
-        .arg("--track")
-        .arg(track_dir.join("track.csv"))
-        .arg("--json")
-        .assert()
-        .success();
-    let value: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).expect("json");
+    let value = eval();
     assert!(value["track_reprojected_from"].is_null());
     assert!(value["track"]["p95"].as_f64().expect("p95") > 10.0);
 }

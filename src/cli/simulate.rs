@@ -36,7 +36,8 @@ enum Building {
     Campus,
 }
 
-/// `--tour survey` without `--minutes` walks the whole tour, up to this long.
+/// `--tour survey` without `--minutes` (or a config file) walks the whole tour, up to this
+/// long.
 const SURVEY_MINUTES_CAP: f64 = 600.0;
 
 /// Which tour the tower's walker takes.
@@ -147,8 +148,9 @@ fn run_tower(args: Args) -> Result<()> {
             Tour::Random => TourKind::Random,
             Tour::Survey => TourKind::Survey,
         };
-        if t == Tour::Survey && args.minutes.is_none() {
-            // The whole tour: a survey walk ends where it has covered the building.
+        if t == Tour::Survey && args.minutes.is_none() && args.config.is_none() {
+            // The whole tour: a survey walk ends where it has covered the building (a
+            // config file's `walk.minutes` is kept).
             config.walk.minutes = SURVEY_MINUTES_CAP;
         }
     }

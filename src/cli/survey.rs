@@ -273,15 +273,13 @@ pub fn run(args: Args) -> Result<()> {
         ));
     }
     folder.write("coverage.csv", coverage.as_bytes())?;
-    let mut bssids: Vec<&String> = map.cells.iter().flat_map(|c| c.radio.aps.keys()).collect();
-    bssids.sort();
-    bssids.dedup();
-    for (i, bssid) in bssids.iter().enumerate() {
+    let bssids = map.access_points();
+    for (i, &bssid) in bssids.iter().enumerate() {
         let heat: Vec<PlanCell> = map
             .cells
             .iter()
             .filter_map(|c| {
-                let mean = c.radio.aps.get(*bssid)?.mean()?;
+                let mean = c.radio.aps.get(bssid)?.mean()?;
                 let t = ((mean - HEATMAP_FLOOR) / (HEATMAP_TOP - HEATMAP_FLOOR)).clamp(0.0, 1.0);
                 let v = viridis_rgb(t);
                 Some(PlanCell {
@@ -296,7 +294,7 @@ pub fn run(args: Args) -> Result<()> {
         let strongest = map
             .cells
             .iter()
-            .filter_map(|c| Some((c, c.radio.aps.get(*bssid)?)))
+            .filter_map(|c| Some((c, c.radio.aps.get(bssid)?)))
             .filter_map(|(c, s)| Some((c, s.mean()?, s.n)))
             .max_by(|a, b| (a.2 >= 2).cmp(&(b.2 >= 2)).then(a.1.total_cmp(&b.1)));
         let markers = strongest

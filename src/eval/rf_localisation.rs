@@ -7,6 +7,7 @@ use crate::error::Result;
 use crate::filter::{RfLocaliser, RfTracker, StartPose, TrackStep, Tracker, TrackerConfig};
 use crate::filter::{calibrate_map, survey_assignments, survey_walk};
 use crate::map::{CellMap, FloorTopology, RadioMap};
+use crate::sensor::Step;
 use crate::sim::{RadioWorld, TowerSimulation, expected_field};
 use serde::Serialize;
 
@@ -79,12 +80,7 @@ pub fn survey_simulations(
             ..config.clone()
         };
         let mut tracker = Tracker::new(topology, &config)?;
-        let reports: Vec<TrackStep> = sim
-            .steps
-            .steps()
-            .iter()
-            .map(|s| tracker.update(s))
-            .collect::<Result<_>>()?;
+        let reports = track_walk(sim, |s| tracker.update(s))?;
         survey_walk(&mut map, cells, topology, &reports, &sim.wifi);
         walks.push((
             survey_assignments(cells, topology, &reports, &sim.wifi),
@@ -109,23 +105,13 @@ pub fn compare_localisation(
     };
     let mut plain = Tracker::new(topology, &config)?;
     let plain_initial = plain.initial_particles();
-    let reports: Vec<TrackStep> = sim
-        .steps
-        .steps()
-        .iter()
-        .map(|s| plain.update(s))
-        .collect::<Result<_>>()?;
+    let reports = track_walk(sim, |s| plain.update(s))?;
     let plain_score = score_tracking(&sim.truth.poses, &reports);
     drop(plain);
     let mut rf = Vec::with_capacity(rfs.len());
     for localiser in rfs {
         let mut tracker = RfTracker::new(topology, &config, localiser, &sim.wifi)?;
-        let reports: Vec<TrackStep> = sim
-            .steps
-            .steps()
-            .iter()
-            .map(|s| tracker.update(s))
-            .collect::<Result<_>>()?;
+        let reports = track_walk(sim, |s| tracker.update(s))?;
         rf.push(RfRun {
             score: score_tracking(&sim.truth.poses, &reports),
             initial: tracker.initial_particles(),
@@ -137,6 +123,14 @@ pub fn compare_localisation(
         plain_initial,
         rf,
     })
+}
+
+/// One report per step of `sim`'s walk from `update`.
+fn track_walk(
+    sim: &TowerSimulation,
+    update: impl FnMut(&Step) -> Result<TrackStep>,
+) -> Result<Vec<TrackStep>> {
+    sim.steps.steps().iter().map(update).collect()
 }
 
 /// RMS difference, dB, between each cell's mean RSSI and the expected field averaged over
@@ -152,7 +146,7 @@ pub fn radio_map_rms(
     min_readings: u32,
 ) -> (f64, usize) {
     let field = expected_field(world, topology, spacing);
-    let mut sums = vec![(0.0, 0usize); map.cells.len()];
+    let mut points = vec![0usize; map.cells.len()];
     let mut per_cell: Vec<Vec<f64>> = vec![vec![0.0; world.access_points().len()]; map.cells.len()];
     for (level, x, y, rssi) in &field {
         let Some(c) = topology
@@ -161,7 +155,7 @@ pub fn radio_map_rms(
         else {
             continue;
         };
-        sums[c].1 += 1;
+        points[c] += 1;
         for (acc, r) in per_cell[c].iter_mut().zip(rssi) {
             *acc += r;
         }
@@ -169,8 +163,7 @@ pub fn radio_map_rms(
     let mut squared = 0.0;
     let mut pairs = 0;
     for (c, cell) in map.cells.iter().enumerate() {
-        let points = sums[c].1;
-        if points == 0 {
+        if points[c] == 0 {
             continue;
         }
         for (a, ap) in world.access_points().iter().enumerate() {
@@ -181,7 +174,7 @@ pub fn radio_map_rms(
                 continue;
             }
             let Some(mean) = stats.mean() else { continue };
-            let expected = per_cell[c][a] / points as f64;
+            let expected = per_cell[c][a] / points[c] as f64;
             squared += (mean - expected).powi(2);
             pairs += 1;
         }

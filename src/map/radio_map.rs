@@ -129,6 +129,18 @@ impl RadioMap {
         }
     }
 
+    /// Every access point heard in any cell, sorted (a stable column order).
+    pub fn access_points(&self) -> Vec<&str> {
+        let mut bssids: Vec<&str> = self
+            .cells
+            .iter()
+            .flat_map(|c| c.radio.aps.keys().map(String::as_str))
+            .collect();
+        bssids.sort_unstable();
+        bssids.dedup();
+        bssids
+    }
+
     /// Adds `other`'s readings cell by cell; both maps must have the same cell ids in the
     /// same order (maps of one plan at one granularity).
     pub fn merge(&mut self, other: &RadioMap) -> Result<()> {

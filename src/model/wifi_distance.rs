@@ -29,13 +29,11 @@ impl Fingerprints {
     /// The fingerprints of `map`'s cells; cells with fewer than `min_scans` scans (at least
     /// one) are unknown. Readings weaker than `missing_rssi` count as `missing_rssi`.
     pub fn new(map: &RadioMap, missing_rssi: f64, min_scans: u32) -> Self {
-        let mut bssids: Vec<&String> = map.cells.iter().flat_map(|c| c.radio.aps.keys()).collect();
-        bssids.sort();
-        bssids.dedup();
-        let columns: FxHashMap<String, usize> = bssids
-            .iter()
+        let columns: FxHashMap<String, usize> = map
+            .access_points()
+            .into_iter()
             .enumerate()
-            .map(|(i, b)| ((*b).clone(), i))
+            .map(|(i, b)| (b.to_owned(), i))
             .collect();
         let cells = map
             .cells

@@ -76,13 +76,11 @@ impl HistogramLikelihood {
     /// The likelihood over `map`'s cells; cells with fewer than `min_scans` scans (at least
     /// one) are unknown.
     pub fn new(map: &RadioMap, config: &LikelihoodConfig, min_scans: u32) -> Self {
-        let mut bssids: Vec<&String> = map.cells.iter().flat_map(|c| c.radio.aps.keys()).collect();
-        bssids.sort();
-        bssids.dedup();
-        let columns: FxHashMap<String, usize> = bssids
-            .iter()
+        let columns: FxHashMap<String, usize> = map
+            .access_points()
+            .into_iter()
             .enumerate()
-            .map(|(i, b)| ((*b).clone(), i))
+            .map(|(i, b)| (b.to_owned(), i))
             .collect();
         let cells = map
             .cells
