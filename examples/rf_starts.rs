@@ -38,11 +38,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Ok(v) = std::env::var("APS") {
         base.wifi.aps_per_floor = v.parse()?;
     }
+    // SURVEY_SEED / START_SEED: first seed of the survey walks (1000) and of the starts (1).
+    let env_seed = |name: &str, default: u64| {
+        std::env::var(name)
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(default)
+    };
+    let (survey_seed, start_seed) = (env_seed("SURVEY_SEED", 1000), env_seed("START_SEED", 1));
     let started = Instant::now();
     let sims = (0..surveys)
         .map(|k| {
             let mut survey = TowerSimConfig {
-                seed: 1000 + k,
+                seed: survey_seed + k,
                 ..base
             };
             survey.walk.tour = TourKind::Survey;
@@ -95,7 +103,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect::<Result<Vec<_>, _>>()?;
     let rfs: Vec<&RfLocaliser> = localisers.iter().collect();
     let minutes = steps as f64 / 1.8 / 60.0;
-    let results: Vec<(u64, RfComparison)> = (1..=starts)
+    let results: Vec<(u64, RfComparison)> = (start_seed..start_seed + starts)
         .into_par_iter()
         .map(|seed| {
             let mut config = TowerSimConfig { seed, ..base };
@@ -112,7 +120,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect::<Result<_, String>>()?;
     let show = |s: Option<usize>| s.map_or("never".to_string(), |s| s.to_string());
     println!(
-        "seed  steps  plain(n0, steps)  containment  probabilistic  prior-only   (* = first fix > 3 m off, ! = lost)"
+        "seed  steps  plain(n0, steps)  rf n0  containment  probabilistic  prior-only   (* = first fix > 3 m off, ! = lost)"
     );
     for (seed, c) in &results {
         let runs: Vec<String> =
@@ -127,9 +135,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 })
                 .collect();
         println!(
-            "{seed:>4} {:>6} {:>9} {:>6}   {}",
+            "{seed:>4} {:>6} {:>9} {:>7} {:>6}   {}",
             c.steps,
             c.plain_initial,
+            c.rf[0].initial.unwrap_or(0),
             show(c.plain.steps_to_localise),
             runs.join("        ")
         );

@@ -8,8 +8,9 @@
 //! that without the map, no run loses the walker and no first fix is more than 3 m off (the
 //! issue's "fewer than 2 % failures" over 20 starts; a lone cluster must also be compact,
 //! `cluster.max_spread`, so a cloud stretched along a corridor is not taken for a fix).
-//! The prior drawn in `R_prior` is smaller than the uniform prior, though not tenfold on
-//! this small building (README).
+//! The prior drawn in `R_prior` (the uniform prior's density on the region's share of the
+//! floor area) is asserted at most a ninth of the uniform prior: these seeds give 9.7×,
+//! other survey and start seeds 10.5–12.3× (README), the target being tenfold.
 
 use footslam::eval::rf_localisation::{
     RfComparison, compare_localisation, steps_or_all, survey_simulations,
@@ -96,8 +97,8 @@ fn a_radio_map_halves_the_steps_to_localise_without_losing_walkers() {
         );
         assert!(with <= 0.5 * plain, "{name}: {with:.1} vs {plain:.1} steps");
         assert!(
-            n0 < plain_n0 / 2.0,
-            "{name}: prior {n0:.0} vs {plain_n0:.0}"
+            9.0 * n0 <= plain_n0,
+            "{name}: prior {n0:.0} vs {plain_n0:.0}, not cut ninefold"
         );
         assert_eq!(lost, 0, "{name} lost {lost} of {STARTS} walkers");
         assert_eq!(

@@ -159,7 +159,21 @@ mod tests {
         let mut tracker =
             Tracker::new_in_region(&topology, &config, Some(region.clone())).expect("tracker");
         let uniform = Tracker::new(&topology, &config).expect("uniform");
-        assert!(tracker.initial_particles() * 5 < uniform.initial_particles());
+        // The uniform prior's density on the region: its share of the floor area.
+        let area = |inside: &dyn Fn(&crate::map::RadioCell) -> bool| {
+            cells
+                .cells()
+                .iter()
+                .filter(|c| inside(c))
+                .map(|c| geo::Area::unsigned_area(&c.area))
+                .sum::<f64>()
+        };
+        let share = area(&|c| {
+            c.level == 1
+                && geo::BoundingRect::bounding_rect(&c.area).is_some_and(|b| b.max().x <= 10.0)
+        }) / area(&|_| true);
+        let ratio = tracker.initial_particles() as f64 / uniform.initial_particles() as f64;
+        assert!((ratio / share - 1.0).abs() < 0.05, "{ratio} vs {share}");
         assert!(
             tracker
                 .particles()

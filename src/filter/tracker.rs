@@ -46,9 +46,6 @@ pub const CHUNK: usize = 16_384;
 const PRIOR_BATCH: usize = 8;
 /// Tries to place one prior particle on a surface before giving up on it.
 const PLACEMENT_TRIES: usize = 64;
-/// Points drawn per placement try of a prior particle inside a prior region (so a region
-/// of 1 % of the plan still places nearly every particle).
-const REGION_TRIES: usize = 16;
 /// Stream salts, so that the prior, the steps and every recovery draw unrelated numbers.
 const SALT_PRIOR: u64 = 0x5EED_0001;
 const SALT_STEP: u64 = 0x5EED_0002;
@@ -582,22 +579,24 @@ impl<'a> Tracker<'a> {
     }
 
     /// The uniform prior over every surface and heading, restricted to where `region` is
-    /// finite (by rejection) when given.
+    /// finite when given: candidates are drawn uniformly over the whole plan and counted by
+    /// the KLD rule exactly as the unrestricted prior, and those outside the region are
+    /// dropped. The prior thus has the unrestricted prior's density, its particle count
+    /// proportional to the region's floor area (Woodman & Harle 2009, sec. 2 and 5.1) — KLD
+    /// counted over the region's own bins would ask for more particles per square metre the
+    /// more fragmented the region (every cell's edge bins count whole).
     fn draw_prior_in(&mut self, salt: u64, region: Option<&CellField>) -> Result<()> {
         let topology = self.topology;
         let (lo, hi) = SCALE_RANGE;
         let scale_sigma = self.config.scale_sigma as f32;
         let drift_sigma = self.config.drift_sigma as f32;
-        self.draw_prior(salt, move |rng| {
-            let (surface, [x, y]) = match region {
-                None => topology.sample_uniform(rng),
-                Some(r) => (0..REGION_TRIES)
-                    .map(|_| topology.sample_uniform(rng))
-                    .find(|(s, [x, y])| {
-                        r.at(topology.level(*s), *x as f32, *y as f32) > f32::NEG_INFINITY
-                    })?,
-            };
-            Some(TrackParticle {
+        let at_least = self.config.kld.min_particles;
+        self.draw_candidates(salt, at_least, move |rng| {
+            let (surface, [x, y]) = topology.sample_uniform(rng);
+            let keep = region.is_none_or(|r| {
+                r.at(topology.level(surface), x as f32, y as f32) > f32::NEG_INFINITY
+            });
+            let particle = TrackParticle {
                 x: x as f32,
                 y: y as f32,
                 heading: rng.random_range(-PI..PI),
@@ -608,7 +607,8 @@ impl<'a> Tracker<'a> {
                     0.0
                 },
                 surface,
-            })
+            };
+            Some((particle, keep))
         })
     }
 
@@ -619,13 +619,27 @@ impl<'a> Tracker<'a> {
         salt: u64,
         draw: impl Fn(&mut Pcg64Mcg) -> Option<TrackParticle> + Sync,
     ) -> Result<()> {
+        self.draw_candidates(salt, 0, move |rng| draw(rng).map(|p| (p, true)))
+    }
+
+    /// The KLD rule of [`Self::draw_prior`] over candidates `(particle, keep)`: every
+    /// candidate counts towards `n` and its bin, only kept ones become particles; drawing
+    /// goes on (up to `max_particles` candidates) until at least `at_least` are kept.
+    fn draw_candidates(
+        &mut self,
+        salt: u64,
+        at_least: usize,
+        draw: impl Fn(&mut Pcg64Mcg) -> Option<(TrackParticle, bool)> + Sync,
+    ) -> Result<()> {
         let seed = self.config.seed ^ salt;
         let max = self.config.kld.max_particles;
         let mut drawn: Vec<TrackParticle> = Vec::new();
+        let mut candidates = 0usize;
+        let mut settled = false;
         self.bins.clear();
         let mut chunk = 0usize;
         'outer: loop {
-            let batch: Vec<Vec<TrackParticle>> = (chunk..chunk + PRIOR_BATCH)
+            let batch: Vec<Vec<(TrackParticle, bool)>> = (chunk..chunk + PRIOR_BATCH)
                 .into_par_iter()
                 .map(|c| {
                     let mut rng = crate::random::stream(seed, 0, c as u64);
@@ -640,14 +654,25 @@ impl<'a> Tracker<'a> {
                     "no prior particle could be placed on a walkable surface".into(),
                 ));
             }
-            for p in batch.into_iter().flatten() {
-                let level = self.topology.level(p.surface);
-                self.bins.mark(self.bins.bin(p.x, p.y, p.heading, level));
-                drawn.push(p);
-                if self.bins.enough(drawn.len(), self.bins.occupied()) || drawn.len() >= max {
+            for (p, keep) in batch.into_iter().flatten() {
+                candidates += 1;
+                if !settled {
+                    let level = self.topology.level(p.surface);
+                    self.bins.mark(self.bins.bin(p.x, p.y, p.heading, level));
+                    settled = self.bins.enough(candidates, self.bins.occupied());
+                }
+                if keep {
+                    drawn.push(p);
+                }
+                if (settled && drawn.len() >= at_least) || candidates >= max {
                     break 'outer;
                 }
             }
+        }
+        if drawn.is_empty() {
+            return Err(Error::Input(
+                "no prior particle could be placed inside the prior region".into(),
+            ));
         }
         drawn.shrink_to_fit();
         self.particles = drawn;

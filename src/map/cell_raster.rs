@@ -9,7 +9,7 @@
 
 use super::radio_map::RadioMap;
 use crate::error::{Error, Result};
-use geo::{BoundingRect, Intersects, Point};
+use geo::{BoundingRect, Coord, Intersects, Point, Rect};
 use std::sync::Arc;
 
 /// Marks grid squares of no cell.
@@ -66,38 +66,55 @@ impl CellRaster {
             })?;
         let mut squares = vec![NONE; size];
         let mut placed = 0usize;
-        for (c, cell) in map.cells.iter().enumerate() {
-            if cell.level < levels.0 || cell.level > levels.1 {
-                continue;
-            }
-            let Some(b) = cell.area.bounding_rect() else {
-                continue;
-            };
-            let li = (cell.level - levels.0) as usize;
-            let index = |v: f64, lo: f64, n: usize| {
-                (((v - lo) / resolution).floor().max(0.0) as usize).min(n - 1)
-            };
-            let (i0, i1) = (
-                index(b.min().x, bounds[0], nx),
-                index(b.max().x, bounds[0], nx),
-            );
-            let (j0, j1) = (
-                index(b.min().y, bounds[1], ny),
-                index(b.max().y, bounds[1], ny),
-            );
-            for j in j0..=j1 {
-                for i in i0..=i1 {
-                    let k = (li * ny + j) * nx + i;
-                    if squares[k] != NONE {
-                        continue;
-                    }
-                    let centre = Point::new(
-                        bounds[0] + (i as f64 + 0.5) * resolution,
-                        bounds[1] + (j as f64 + 0.5) * resolution,
-                    );
-                    if cell.area.intersects(&centre) {
-                        squares[k] = c as u32;
-                        placed += 1;
+        // First every square whose centre is in a cell; then the squares along the cells'
+        // edges that a cell only partly covers, so that no point of a cell falls in no cell
+        // (a point of no cell takes the field's `elsewhere` value: inside every region).
+        for partial in [false, true] {
+            for (c, cell) in map.cells.iter().enumerate() {
+                if cell.level < levels.0 || cell.level > levels.1 {
+                    continue;
+                }
+                let Some(b) = cell.area.bounding_rect() else {
+                    continue;
+                };
+                let li = (cell.level - levels.0) as usize;
+                let index = |v: f64, lo: f64, n: usize| {
+                    (((v - lo) / resolution).floor().max(0.0) as usize).min(n - 1)
+                };
+                let (i0, i1) = (
+                    index(b.min().x, bounds[0], nx),
+                    index(b.max().x, bounds[0], nx),
+                );
+                let (j0, j1) = (
+                    index(b.min().y, bounds[1], ny),
+                    index(b.max().y, bounds[1], ny),
+                );
+                for j in j0..=j1 {
+                    for i in i0..=i1 {
+                        let k = (li * ny + j) * nx + i;
+                        if squares[k] != NONE {
+                            continue;
+                        }
+                        let (x, y) = (
+                            bounds[0] + i as f64 * resolution,
+                            bounds[1] + j as f64 * resolution,
+                        );
+                        let inside = if partial {
+                            cell.area.intersects(&Rect::new(
+                                Coord { x, y },
+                                Coord {
+                                    x: x + resolution,
+                                    y: y + resolution,
+                                },
+                            ))
+                        } else {
+                            cell.area
+                                .intersects(&Point::new(x + 0.5 * resolution, y + 0.5 * resolution))
+                        };
+                        if inside {
+                            squares[k] = c as u32;
+                            placed += 1;
+                        }
                     }
                 }
             }
@@ -222,5 +239,27 @@ mod tests {
             epsilon: None,
         };
         assert!(CellRaster::build(&elsewhere, [0.0, 0.0, 6.0, 2.0], (0, 1), 0.25).is_err());
+    }
+
+    #[test]
+    fn every_point_of_a_cell_off_the_grid_finds_a_cell() {
+        // Edges at 0.1 and 2.9 m: the squares along them have their centres outside.
+        let map = RadioMap {
+            cells: vec![
+                cell("a", 0, Rect::new((0.1, 0.1), (2.9, 1.9))),
+                cell("b", 0, Rect::new((3.1, 0.1), (5.9, 1.9))),
+            ],
+            epsilon: None,
+        };
+        let r = CellRaster::build(&map, [0.0, 0.0, 6.0, 2.0], (0, 0), 0.25).expect("raster");
+        for i in 0..=280 {
+            let x = 0.1 + 0.01 * i as f32;
+            assert_eq!(r.cell_at(0, x, 0.11), Some(0), "x = {x}");
+            assert_eq!(r.cell_at(0, x + 3.0, 1.89), Some(1), "x = {x}");
+        }
+        // In the gap between them, a point takes the cell of its square.
+        assert_eq!(r.cell_at(0, 2.95, 1.0), Some(0));
+        assert_eq!(r.cell_at(0, 3.05, 1.0), Some(1));
+        assert_eq!(r.cell_at(0, 1.0, 1.99), Some(0));
     }
 }

@@ -89,9 +89,13 @@ impl Fingerprints {
     }
 }
 
-/// Leave-one-out normalised distances of a survey (the paper's Fig. 11, computed from the
-/// survey itself): for each `(scan, cell)` of `assignments`, `ndist` between the scan and
-/// its cell's fingerprint without that scan; cells left with no other scan are skipped.
+/// Leave-one-visit-out normalised distances of a survey (the paper's Fig. 11, computed
+/// from the survey itself): for each `(scan, cell)` of `assignments` (in time order), `ndist`
+/// between the scan and its cell's fingerprint without any scan of the same visit — the run
+/// of consecutive assignments to that cell. Scans of one visit share the walker's place and
+/// heading (so its body shadowing): against a fingerprint that still holds them, a scan
+/// looks closer to its cell than a later walker's scan will, and `ε` calibrated on it is
+/// too tight. Cells with no scan outside the visit are skipped.
 pub fn leave_one_out_ndist(
     map: &RadioMap,
     assignments: &[(usize, Option<usize>)],
@@ -100,17 +104,15 @@ pub fn leave_one_out_ndist(
 ) -> Vec<f64> {
     let prints = Fingerprints::new(map, missing_rssi, 1);
     let mut out = Vec::with_capacity(assignments.len());
-    for &(s, cell) in assignments {
-        let (Some(c), Some(scan)) = (cell, scans.get(s)) else {
-            continue;
-        };
+    for visit in assignments.chunk_by(|a, b| a.1 == b.1) {
+        let Some(c) = visit[0].1 else { continue };
         let Some(radio) = map.cells.get(c).map(|c| &c.radio) else {
             continue;
         };
-        if radio.scans < 2 {
+        let held: Vec<&WifiScan> = visit.iter().filter_map(|&(s, _)| scans.get(s)).collect();
+        if radio.scans as usize <= held.len() {
             continue;
         }
-        let z = prints.scan_vector(scan);
         let mut means = vec![missing_rssi; prints.columns.len()];
         let mut visible = 0;
         for (bssid, stats) in &radio.aps {
@@ -118,7 +120,7 @@ pub fn leave_one_out_ndist(
                 continue;
             };
             let (mut n, mut sum) = (stats.n, stats.sum);
-            if let Some(r) = scan.rssi(bssid) {
+            for r in held.iter().filter_map(|scan| scan.rssi(bssid)) {
                 n = n.saturating_sub(1);
                 sum -= r;
             }
@@ -127,7 +129,9 @@ pub fn leave_one_out_ndist(
                 visible += 1;
             }
         }
-        out.push(ndist(&z, &means, visible));
+        for scan in held {
+            out.push(ndist(&prints.scan_vector(scan), &means, visible));
+        }
     }
     out
 }
@@ -205,9 +209,13 @@ mod tests {
     }
 
     #[test]
-    fn leave_one_out_and_calibration() {
+    fn leave_one_visit_out_and_calibration() {
         let mut radio = CellRadio::default();
-        let scans = [scan(&[("a", -60.0), ("b", -80.0)]), scan(&[("a", -64.0)])];
+        let scans = [
+            scan(&[("a", -60.0), ("b", -80.0)]),
+            scan(&[("a", -64.0)]),
+            scan(&[("a", -70.0)]),
+        ];
         for s in &scans {
             radio.add_scan(s);
         }
@@ -220,17 +228,22 @@ mod tests {
             }],
             epsilon: None,
         };
+        // Visits: scans 0 and 1 (one visit), then scan 2 after leaving the cell.
         let d = leave_one_out_ndist(
             &map,
-            &[(0, Some(0)), (1, Some(0)), (1, None)],
+            &[(0, Some(0)), (1, Some(0)), (3, None), (2, Some(0))],
             &scans,
             -96.0,
         );
-        // Scan 0 against the cell without it: a = −64, b unseen (−96): √(16 + 256) / 1.
-        assert!((d[0] - 272f64.sqrt()).abs() < 1e-9, "{d:?}");
-        // Scan 1 against a = −60, b = −80: √(16 + 256) / 2.
-        assert!((d[1] - 272f64.sqrt() / 2.0).abs() < 1e-9, "{d:?}");
-        assert_eq!(d.len(), 2);
+        assert_eq!(d.len(), 3, "{d:?}");
+        // Scans 0 and 1 against scan 2 alone (a = −70, b unseen = −96; one AP visible).
+        assert!((d[0] - (100f64 + 256.0).sqrt()).abs() < 1e-9, "{d:?}");
+        assert!((d[1] - 6.0).abs() < 1e-9, "{d:?}");
+        // Scan 2 against scans 0 and 1: a = −62, b = −80; scan 2 misses b (−96).
+        assert!((d[2] - (64f64 + 256.0).sqrt() / 2.0).abs() < 1e-9, "{d:?}");
+        // A cell whose only visit is held out is skipped.
+        let one_visit = [(0, Some(0)), (1, Some(0)), (2, Some(0))];
+        assert!(leave_one_out_ndist(&map, &one_visit, &scans, -96.0).is_empty());
         let e = calibrate_epsilon(&[1.0, 2.0, 3.0, 4.0], 0.25).expect("epsilon");
         assert!((e - 3.03).abs() < 1e-9);
         assert!((calibrate_epsilon(&[1.0, 2.0, 3.0, 4.0], 0.0).expect("max") - 4.04).abs() < 1e-9);
