@@ -14,11 +14,10 @@
 
 #![allow(clippy::print_stdout)] // an example reports on stdout
 
-use footslam::eval::rf_localisation::survey_simulations;
-use footslam::filter::{RfConfig, RfLocaliser, TrackerConfig};
-use footslam::map::{CellMap, FloorTopology, TopologyConfig};
+use footslam::eval::rf_localisation::{SimulatedSurvey, simulate_survey};
+use footslam::filter::{RfConfig, RfLocaliser};
 use footslam::model::wifi_distance::Fingerprints;
-use footslam::sim::{TourKind, TowerSimConfig, simulate_tower};
+use footslam::sim::{TowerSimConfig, simulate_tower};
 use geo::Area;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -32,29 +31,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Ok(v) = std::env::var("BUILDING") {
         base.building = serde_json::from_str(&v)?;
     }
-    let sims = (0..surveys)
-        .map(|k| {
-            let mut survey = TowerSimConfig {
-                seed: 1000 + k,
-                ..base
-            };
-            survey.walk.tour = TourKind::Survey;
-            survey.walk.minutes = 30.0;
-            simulate_tower(&survey)
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let plan = &sims[0].plan;
-    let topology = FloorTopology::build(plan, &TopologyConfig::default())?;
-    let cells = CellMap::build(plan, &topology, &Default::default())?;
-    let refs: Vec<_> = sims.iter().collect();
-    let map = survey_simulations(
-        &refs,
-        &topology,
-        &cells,
-        &TrackerConfig::default(),
-        -96.0,
-        0.001,
-    )?;
+    let SimulatedSurvey {
+        tours: sims,
+        topology,
+        cells,
+        map,
+    } = simulate_survey(&base, 1000, surveys)?;
     let epsilon = std::env::var("EPSILON")
         .ok()
         .and_then(|v| v.parse().ok())

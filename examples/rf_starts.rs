@@ -12,11 +12,11 @@
 #![allow(clippy::print_stdout)] // an example reports on stdout
 
 use footslam::eval::rf_localisation::{
-    RfComparison, compare_localisation, radio_map_rms, steps_or_all, survey_simulations,
+    RfComparison, SimulatedSurvey, compare_localisation, radio_map_rms, simulate_survey,
+    steps_or_all,
 };
 use footslam::filter::{RfConfig, RfLocaliser, RfMode, TrackerConfig};
-use footslam::map::{CellMap, FloorTopology, TopologyConfig};
-use footslam::sim::{TourKind, TowerSimConfig, simulate_tower};
+use footslam::sim::{TowerSimConfig, simulate_tower};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -47,29 +47,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let (survey_seed, start_seed) = (env_seed("SURVEY_SEED", 1000), env_seed("START_SEED", 1));
     let started = Instant::now();
-    let sims = (0..surveys)
-        .map(|k| {
-            let mut survey = TowerSimConfig {
-                seed: survey_seed + k,
-                ..base
-            };
-            survey.walk.tour = TourKind::Survey;
-            survey.walk.minutes = 30.0;
-            simulate_tower(&survey)
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let plan = &sims[0].plan;
-    let topology = FloorTopology::build(plan, &TopologyConfig::default())?;
-    let cells = CellMap::build(plan, &topology, &Default::default())?;
-    let refs: Vec<_> = sims.iter().collect();
-    let map = survey_simulations(
-        &refs,
-        &topology,
-        &cells,
-        &TrackerConfig::default(),
-        -96.0,
-        0.001,
-    )?;
+    let SimulatedSurvey {
+        tours: sims,
+        topology,
+        cells,
+        map,
+    } = simulate_survey(&base, survey_seed, surveys)?;
     let (coverage, scans) = map.coverage();
     let (rms, pairs) = radio_map_rms(&map, &cells, &topology, &sims[0].radio, 0.5, 3);
     let walk_s: f64 = sims

@@ -13,11 +13,10 @@
 //! other survey and start seeds 10.5–12.3× (README), the target being tenfold.
 
 use footslam::eval::rf_localisation::{
-    RfComparison, compare_localisation, steps_or_all, survey_simulations,
+    RfComparison, SimulatedSurvey, compare_localisation, simulate_survey, steps_or_all,
 };
 use footslam::filter::{RfConfig, RfLocaliser, RfMode, TrackerConfig};
-use footslam::map::{CellMap, FloorTopology, TopologyConfig};
-use footslam::sim::{TourKind, TowerSimConfig, simulate_tower};
+use footslam::sim::{TowerSimConfig, simulate_tower};
 use rayon::prelude::*;
 
 const STARTS: u64 = 20;
@@ -26,31 +25,8 @@ const MINUTES: f64 = 3.7;
 
 #[test]
 fn a_radio_map_halves_the_steps_to_localise_without_losing_walkers() {
-    let surveys: Vec<_> = [2000, 2001]
-        .into_iter()
-        .map(|seed| {
-            let mut c = TowerSimConfig {
-                seed,
-                ..Default::default()
-            };
-            c.walk.tour = TourKind::Survey;
-            c.walk.minutes = 30.0;
-            simulate_tower(&c).expect("survey walk")
-        })
-        .collect();
-    let topology =
-        FloorTopology::build(&surveys[0].plan, &TopologyConfig::default()).expect("topology");
-    let cells = CellMap::build(&surveys[0].plan, &topology, &Default::default()).expect("cells");
-    let refs: Vec<_> = surveys.iter().collect();
-    let map = survey_simulations(
-        &refs,
-        &topology,
-        &cells,
-        &TrackerConfig::default(),
-        -96.0,
-        0.001,
-    )
-    .expect("survey");
+    let SimulatedSurvey { topology, map, .. } =
+        simulate_survey(&TowerSimConfig::default(), 2000, 2).expect("survey");
     let localiser = |mode| {
         RfLocaliser::new(
             &map,

@@ -6,9 +6,12 @@ use super::tracking::{TrackingScore, score_tracking};
 use crate::error::Result;
 use crate::filter::{RfLocaliser, RfTracker, StartPose, TrackStep, Tracker, TrackerConfig};
 use crate::filter::{calibrate_map, survey_assignments, survey_walk};
+use crate::map::TopologyConfig;
 use crate::map::{CellMap, FloorTopology, RadioMap};
 use crate::sensor::Step;
-use crate::sim::{RadioWorld, TowerSimulation, expected_field};
+use crate::sim::{
+    RadioWorld, TourKind, TowerSimConfig, TowerSimulation, expected_field, simulate_tower,
+};
 use serde::Serialize;
 
 /// One walk localised with and without the radio map.
@@ -54,6 +57,56 @@ impl RfRun {
 /// Steps to localise, counting a walk never localised as all its steps (a lower bound).
 pub fn steps_or_all(score: &TrackingScore, steps: usize) -> usize {
     score.steps_to_localise.unwrap_or(steps)
+}
+
+/// A simulated building surveyed: its survey tours, the plan's topology and radio cells
+/// (default granularity), and the radio map surveyed on the tours.
+#[derive(Debug, Clone)]
+pub struct SimulatedSurvey {
+    /// The survey tours.
+    pub tours: Vec<TowerSimulation>,
+    /// The building's topology.
+    pub topology: FloorTopology,
+    /// Its radio cells.
+    pub cells: CellMap,
+    /// The radio map, calibrated (ε missing 0.1 % of the tours' scans, missing readings at
+    /// −96 dBm).
+    pub map: RadioMap,
+}
+
+/// Simulates `count` 30-minute survey tours (`TourKind::Survey`) of `base`'s building with
+/// seeds `first_seed..`, and surveys them from their known starts with the default tracker.
+pub fn simulate_survey(
+    base: &TowerSimConfig,
+    first_seed: u64,
+    count: u64,
+) -> Result<SimulatedSurvey> {
+    let tours = (first_seed..first_seed + count.max(1))
+        .map(|seed| {
+            let mut survey = TowerSimConfig { seed, ..*base };
+            survey.walk.tour = TourKind::Survey;
+            survey.walk.minutes = 30.0;
+            simulate_tower(&survey)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let plan = &tours[0].plan;
+    let topology = FloorTopology::build(plan, &TopologyConfig::default())?;
+    let cells = CellMap::build(plan, &topology, &Default::default())?;
+    let refs: Vec<&TowerSimulation> = tours.iter().collect();
+    let map = survey_simulations(
+        &refs,
+        &topology,
+        &cells,
+        &TrackerConfig::default(),
+        -96.0,
+        0.001,
+    )?;
+    Ok(SimulatedSurvey {
+        tours,
+        topology,
+        cells,
+        map,
+    })
 }
 
 /// Tracks each of `sims` (walks of one building) from its known start, surveys their scans
