@@ -6,6 +6,7 @@
 use crate::error::{Error, Result};
 use crate::sensor::WifiScan;
 use geo::MultiPolygon;
+use rustc_hash::FxHashMap;
 use std::collections::BTreeMap;
 
 /// One access point's readings in one cell.
@@ -139,6 +140,16 @@ impl RadioMap {
         bssids.sort_unstable();
         bssids.dedup();
         bssids
+    }
+
+    /// The column of each access point in [`Self::access_points`]' order (a model's
+    /// per-access-point vectors).
+    pub fn access_point_columns(&self) -> FxHashMap<String, usize> {
+        self.access_points()
+            .into_iter()
+            .enumerate()
+            .map(|(i, b)| (b.to_owned(), i))
+            .collect()
     }
 
     /// Adds `other`'s readings cell by cell; both maps must have the same cell ids in the

@@ -9,7 +9,7 @@
 //! shadowing) costs less than one missing from the cell (eqs. 6–11). Access points the map
 //! never heard carry no information about place and are left out.
 
-use crate::map::RadioMap;
+use crate::map::{CellRadio, RadioMap};
 use crate::sensor::WifiScan;
 use rustc_hash::FxHashMap;
 
@@ -29,28 +29,13 @@ impl Fingerprints {
     /// The fingerprints of `map`'s cells; cells with fewer than `min_scans` scans (at least
     /// one) are unknown. Readings weaker than `missing_rssi` count as `missing_rssi`.
     pub fn new(map: &RadioMap, missing_rssi: f64, min_scans: u32) -> Self {
-        let columns: FxHashMap<String, usize> = map
-            .access_points()
-            .into_iter()
-            .enumerate()
-            .map(|(i, b)| (b.to_owned(), i))
-            .collect();
+        let columns = map.access_point_columns();
         let cells = map
             .cells
             .iter()
             .map(|c| {
-                if c.radio.scans < min_scans.max(1) {
-                    return None;
-                }
-                let mut means = vec![missing_rssi; columns.len()];
-                let mut visible = 0;
-                for (bssid, stats) in &c.radio.aps {
-                    if let (Some(&col), Some(mean)) = (columns.get(bssid), stats.mean()) {
-                        means[col] = mean.max(missing_rssi);
-                        visible += 1;
-                    }
-                }
-                Some((means, visible))
+                (c.radio.scans >= min_scans.max(1))
+                    .then(|| fingerprint(&c.radio, &columns, missing_rssi, &[]))
             })
             .collect();
         Self {
@@ -113,27 +98,41 @@ pub fn leave_one_out_ndist(
         if radio.scans as usize <= held.len() {
             continue;
         }
-        let mut means = vec![missing_rssi; prints.columns.len()];
-        let mut visible = 0;
-        for (bssid, stats) in &radio.aps {
-            let Some(&col) = prints.columns.get(bssid) else {
-                continue;
-            };
-            let (mut n, mut sum) = (stats.n, stats.sum);
-            for r in held.iter().filter_map(|scan| scan.rssi(bssid)) {
-                n = n.saturating_sub(1);
-                sum -= r;
-            }
-            if n > 0 {
-                means[col] = (sum / f64::from(n)).max(missing_rssi);
-                visible += 1;
-            }
-        }
+        let (means, visible) = fingerprint(radio, &prints.columns, missing_rssi, &held);
         for scan in held {
             out.push(ndist(&prints.scan_vector(scan), &means, visible));
         }
     }
     out
+}
+
+/// A cell's fingerprint over `columns`: the mean RSSI of every access point it heard
+/// (readings weaker than `missing` count as `missing`), not counting the readings of the
+/// scans `without` (held out), `missing` for the others; and the number of access points
+/// heard.
+fn fingerprint(
+    radio: &CellRadio,
+    columns: &FxHashMap<String, usize>,
+    missing: f64,
+    without: &[&WifiScan],
+) -> (Vec<f64>, usize) {
+    let mut means = vec![missing; columns.len()];
+    let mut visible = 0;
+    for (bssid, stats) in &radio.aps {
+        let Some(&col) = columns.get(bssid) else {
+            continue;
+        };
+        let (mut n, mut sum) = (stats.n, stats.sum);
+        for r in without.iter().filter_map(|scan| scan.rssi(bssid)) {
+            n = n.saturating_sub(1);
+            sum -= r;
+        }
+        if n > 0 {
+            means[col] = (sum / f64::from(n)).max(missing);
+            visible += 1;
+        }
+    }
+    (means, visible)
 }
 
 /// The threshold `ε` under which a share `1 − miss` of `distances` fall (the paper's

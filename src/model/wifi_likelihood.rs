@@ -76,12 +76,7 @@ impl HistogramLikelihood {
     /// The likelihood over `map`'s cells; cells with fewer than `min_scans` scans (at least
     /// one) are unknown.
     pub fn new(map: &RadioMap, config: &LikelihoodConfig, min_scans: u32) -> Self {
-        let columns: FxHashMap<String, usize> = map
-            .access_points()
-            .into_iter()
-            .enumerate()
-            .map(|(i, b)| (b.to_owned(), i))
-            .collect();
+        let columns = map.access_point_columns();
         let cells = map
             .cells
             .iter()
