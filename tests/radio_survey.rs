@@ -4,15 +4,28 @@
 //! expected field, speed against real time, and `footslam track --radiomap` using the map.
 
 use assert_cmd::Command;
-use footslam::eval::rf_localisation::{radio_map_rms, survey_simulations};
-use footslam::filter::TrackerConfig;
-use footslam::map::{CellMap, FloorTopology, TopologyConfig};
-use footslam::sim::{TourKind, TowerSimConfig, simulate_tower};
+use footslam::eval::rf_localisation::{SimulatedSurvey, radio_map_rms, simulate_survey};
+use footslam::sim::TowerSimConfig;
 use predicates::prelude::*;
 use std::path::Path;
 
 fn footslam() -> Command {
     Command::cargo_bin("footslam").expect("binary")
+}
+
+/// `footslam track` of the simulated walk in `walk` with the radio map `radiomap`, into `out`.
+fn track_with_map(walk: &Path, radiomap: &Path, out: &Path) -> Command {
+    let mut cmd = footslam();
+    cmd.arg("track")
+        .arg("--plan")
+        .arg(walk.join("floor.geojson"))
+        .arg("--steps")
+        .arg(walk.join("steps.csv"))
+        .arg("--radiomap")
+        .arg(radiomap)
+        .arg("--out")
+        .arg(out);
+    cmd
 }
 
 fn json(path: &Path) -> serde_json::Value {
@@ -91,18 +104,10 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
         .success();
     for mode in ["containment", "probabilistic", "prior-only"] {
         let run = dir.path().join(format!("track-{mode}"));
-        footslam()
-            .arg("track")
-            .arg("--plan")
-            .arg(other.join("floor.geojson"))
-            .arg("--steps")
-            .arg(other.join("steps.csv"))
-            .arg("--radiomap")
-            .arg(out.join("radiomap.geojson"))
+        track_with_map(&other, &out.join("radiomap.geojson"), &run)
             .arg("--wifi")
             .arg(other.join("wifi.csv"))
-            .args(["--rf-mode", mode, "--out"])
-            .arg(&run)
+            .args(["--rf-mode", mode])
             .assert()
             .success()
             .stdout(predicate::str::contains("localised after"));
@@ -117,18 +122,10 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
         .iter()
         .map(|threads| {
             let run = dir.path().join(format!("threads-{threads}"));
-            footslam()
-                .arg("track")
-                .arg("--plan")
-                .arg(other.join("floor.geojson"))
-                .arg("--steps")
-                .arg(other.join("steps.csv"))
-                .arg("--radiomap")
-                .arg(out.join("radiomap.geojson"))
+            track_with_map(&other, &out.join("radiomap.geojson"), &run)
                 .arg("--wifi")
                 .arg(other.join("wifi.csv"))
-                .args(["--threads", threads, "--out"])
-                .arg(&run)
+                .args(["--threads", threads])
                 .assert()
                 .success();
             std::fs::read_to_string(run.join("track.csv")).expect("track.csv")
@@ -136,19 +133,14 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
         .collect();
     assert_eq!(tracks[0], tracks[1]);
     // A radio map needs its scans, and a map of another place is refused.
-    footslam()
-        .arg("track")
-        .arg("--plan")
-        .arg(other.join("floor.geojson"))
-        .arg("--steps")
-        .arg(other.join("steps.csv"))
-        .arg("--radiomap")
-        .arg(out.join("radiomap.geojson"))
-        .arg("--out")
-        .arg(dir.path().join("no-wifi"))
-        .assert()
-        .failure()
-        .stderr(predicate::str::contains("--wifi"));
+    track_with_map(
+        &other,
+        &out.join("radiomap.geojson"),
+        &dir.path().join("no-wifi"),
+    )
+    .assert()
+    .failure()
+    .stderr(predicate::str::contains("--wifi"));
     let elsewhere = dir.path().join("elsewhere");
     footslam()
         .args([
@@ -164,49 +156,32 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
         .arg(&elsewhere)
         .assert()
         .success();
-    footslam()
-        .arg("track")
-        .arg("--plan")
-        .arg(elsewhere.join("floor.geojson"))
-        .arg("--steps")
-        .arg(elsewhere.join("steps.csv"))
-        .arg("--radiomap")
-        .arg(out.join("radiomap.geojson"))
-        .arg("--wifi")
-        .arg(elsewhere.join("wifi.csv"))
-        .arg("--out")
-        .arg(dir.path().join("elsewhere-run"))
-        .assert()
-        .failure()
-        .stderr(predicate::str::contains(
-            "no radio-map cell lies on the floor plan",
-        ));
+    track_with_map(
+        &elsewhere,
+        &out.join("radiomap.geojson"),
+        &dir.path().join("elsewhere-run"),
+    )
+    .arg("--wifi")
+    .arg(elsewhere.join("wifi.csv"))
+    .assert()
+    .failure()
+    .stderr(predicate::str::contains(
+        "no radio-map cell lies on the floor plan",
+    ));
 }
 
 #[test]
 fn surveyed_cell_means_are_within_3_db_rms_of_the_expected_field() {
-    let mut config = TowerSimConfig {
-        seed: 33,
-        ..Default::default()
-    };
-    config.walk.tour = TourKind::Survey;
-    config.walk.minutes = 30.0;
-    let sim = simulate_tower(&config).expect("simulation");
-    let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default()).expect("topology");
-    let cells = CellMap::build(&sim.plan, &topology, &Default::default()).expect("cells");
-    let map = survey_simulations(
-        &[&sim],
-        &topology,
-        &cells,
-        &TrackerConfig::default(),
-        -96.0,
-        0.001,
-    )
-    .expect("survey");
+    let SimulatedSurvey {
+        tours,
+        topology,
+        cells,
+        map,
+    } = simulate_survey(&TowerSimConfig::default(), 33, 1).expect("survey");
     let (coverage, _) = map.coverage();
     assert!(coverage >= 0.96, "coverage {coverage}");
     // Cells with a few readings of an access point heard in every scan there.
-    let (rms, pairs) = radio_map_rms(&map, &cells, &topology, &sim.radio, 0.5, 3);
+    let (rms, pairs) = radio_map_rms(&map, &cells, &topology, &tours[0].radio, 0.5, 3);
     assert!(pairs > 300, "{pairs} cell/AP pairs");
     assert!(rms <= 3.0, "RMS {rms:.2} dB over {pairs} pairs");
 }

@@ -51,23 +51,20 @@ fn simulate(dir: &Path, seed: u64, walks: usize, laps: usize) -> PathBuf {
     sim
 }
 
-fn learn(steps: &Path, gps: &Path, out: &Path, seed: u64, extra: &[&Path], flags: &[&str]) {
+/// `footslam learn` with the tests' particles, origin and `seed`, writing to `out`.
+fn learn_command(seed: u64, out: &Path) -> Command {
     let mut cmd = footslam();
-    cmd.args([
-        "learn",
-        "--particles",
-        PARTICLES,
-        "--origin",
-        ORIGIN,
-        "--seed",
-    ])
-    .arg(seed.to_string())
-    .arg("--steps")
-    .arg(steps)
-    .arg("--gps")
-    .arg(gps)
-    .arg("--out")
-    .arg(out);
+    cmd.args(["learn", "--particles", PARTICLES, "--origin", ORIGIN])
+        .arg("--seed")
+        .arg(seed.to_string())
+        .arg("--out")
+        .arg(out);
+    cmd
+}
+
+fn learn(steps: &Path, gps: &Path, out: &Path, seed: u64, extra: &[&Path], flags: &[&str]) {
+    let mut cmd = learn_command(seed, out);
+    cmd.arg("--steps").arg(steps).arg("--gps").arg(gps);
     for (flag, path) in flags.iter().zip(extra) {
         cmd.arg(flag).arg(path);
     }
@@ -168,20 +165,9 @@ fn outdoor_indoor_outdoor_walks_are_anchored_and_the_outline_helps() {
 fn five_walks(dir: &Path, seed: u64) -> (Vec<f64>, Vec<f64>) {
     let sim = simulate(dir, seed, 5, 3);
     let alone = dir.join(format!("alone-{seed}"));
-    footslam()
-        .args([
-            "learn",
-            "--particles",
-            PARTICLES,
-            "--origin",
-            ORIGIN,
-            "--seed",
-        ])
-        .arg(seed.to_string())
+    learn_command(seed, &alone)
         .arg("--steps")
         .arg(&sim)
-        .arg("--out")
-        .arg(&alone)
         .assert()
         .success();
     let walk = |k: usize| sim.join(format!("walk-{k}"));
