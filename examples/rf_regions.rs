@@ -80,12 +80,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 continue;
             };
             heard += scan.readings.len();
-            let inside = rf.in_region(scan);
+            // The region of eqs. 2 and 12 (`RfLocaliser::in_region`), from the distances.
+            let d = prints.ndist(scan);
+            let inside: Vec<bool> = d
+                .iter()
+                .map(|d| d.is_none_or(|d| d < rf.epsilon()))
+                .collect();
             let region = share(&|c| inside[c]);
             own_floor += share(&|c| inside[c] && map.cells[c].level == pose.level) / region;
             misses += usize::from(!inside[own]);
             shares.push(region);
-            let d = prints.ndist(scan);
             own_d.push(d[own].unwrap_or(0.0));
             all_d.push(d);
         }

@@ -376,7 +376,9 @@ impl FootSlam {
         let (dx, dy) = self.grid.center(self.offset);
         let (mut dx, mut dy) = (self.offset_pull * dx, self.offset_pull * dy);
         let replayed = self.replay_path(index);
-        if let Some(outline) = self.prior.as_ref().and_then(|p| p.outline()) {
+        if let Some(outline) = self.prior.as_ref().and_then(|p| p.outline())
+            && self.outline_fit_sigma > 0.0
+        {
             let points: Vec<(f64, f64)> = replayed.iter().map(|p| (p.x + dx, p.y + dy)).collect();
             let cost = (self.config.alpha / self.config.outline_alpha).ln();
             let margin = self.config.outline_margin;
@@ -386,12 +388,12 @@ impl FootSlam {
             dy += sy;
         }
         let shift = self.grid.hex_at(dx, dy);
-        let prior_shift = Hex::new(shift.x - self.offset.x, shift.y - self.offset.y);
+        let prior_shift = shift - self.offset;
         let mut map = self.particles[index]
             .map
             .snapshot(self.config.hex_radius, self.config.alpha);
         for c in &mut map.cells {
-            c.hex = Hex::new(c.hex.x + shift.x, c.hex.y + shift.y);
+            c.hex += shift;
         }
         let path = replayed
             .into_iter()
@@ -446,7 +448,7 @@ impl MapPrior<'_> {
     /// `(α^e_h, Σ_e α^e_h)`.
     fn alpha_and_total(&self, h: Hex, edge: u8) -> (f64, f64) {
         match self.prior {
-            Some(p) => p.alpha_and_total(Hex::new(h.x + self.offset.x, h.y + self.offset.y), edge),
+            Some(p) => p.alpha_and_total(h + self.offset, edge),
             None => (self.alpha, 6.0 * self.alpha),
         }
     }

@@ -179,7 +179,8 @@ pub struct RfLocaliser {
     epsilon: f64,
     raster: Arc<CellRaster>,
     prints: Fingerprints,
-    likelihood: HistogramLikelihood,
+    /// The histograms' likelihood, built for [`RfMode::Probabilistic`] only.
+    likelihood: Option<HistogramLikelihood>,
 }
 
 impl RfLocaliser {
@@ -198,7 +199,8 @@ impl RfLocaliser {
             epsilon: config.epsilon.or(map.epsilon).unwrap_or(PAPER_EPSILON),
             raster: Arc::new(raster),
             prints,
-            likelihood: HistogramLikelihood::new(map, &config.likelihood, config.min_scans),
+            likelihood: (config.mode == RfMode::Probabilistic)
+                .then(|| HistogramLikelihood::new(map, &config.likelihood, config.min_scans)),
         })
     }
 
@@ -221,35 +223,24 @@ impl RfLocaliser {
             .collect()
     }
 
-    /// `R_prior` of `scan` (eq. 2): 0 inside, −∞ outside.
-    pub fn prior_region(&self, scan: &WifiScan) -> CellField {
-        self.field(
-            self.in_region(scan)
-                .into_iter()
-                .map(|inside| if inside { 0.0 } else { f32::NEG_INFINITY })
-                .collect(),
-        )
-    }
-
-    /// The measurement of `scan` for the configured mode: the containment region's
-    /// log-weights (eq. 13) or the cells' relative log-likelihoods (eq. 14); `None` for
-    /// [`RfMode::PriorOnly`].
-    pub fn measurement(&self, scan: &WifiScan) -> Option<CellField> {
-        match self.config.mode {
-            RfMode::PriorOnly => None,
-            RfMode::Containment => {
-                let outside = self.config.outside_weight.ln() as f32;
-                Some(
-                    self.field(
-                        self.in_region(scan)
-                            .into_iter()
-                            .map(|inside| if inside { 0.0 } else { outside })
-                            .collect(),
-                    ),
-                )
-            }
-            RfMode::Probabilistic => {
-                let ll = self.likelihood.log_likelihood(scan);
+    /// What `scan` says, from one set of distances: its region `R_prior` as a prior (eq. 2;
+    /// 0 inside, −∞ outside), and its measurement for the configured mode — the containment
+    /// region's log-weights (eq. 13) or the cells' relative log-likelihoods (eq. 14); `None`
+    /// for [`RfMode::PriorOnly`].
+    pub fn scan_fields(&self, scan: &WifiScan) -> (CellField, Option<CellField>) {
+        let inside = self.in_region(scan);
+        let region = |outside: f32| {
+            self.field(
+                inside
+                    .iter()
+                    .map(|&i| if i { 0.0 } else { outside })
+                    .collect(),
+            )
+        };
+        let measurement = match (self.config.mode, &self.likelihood) {
+            (RfMode::Containment, _) => Some(region(self.config.outside_weight.ln() as f32)),
+            (RfMode::Probabilistic, Some(likelihood)) => {
+                let ll = likelihood.log_likelihood(scan);
                 let best = ll
                     .iter()
                     .flatten()
@@ -264,7 +255,9 @@ impl RfLocaliser {
                     ),
                 )
             }
-        }
+            _ => None,
+        };
+        (region(f32::NEG_INFINITY), measurement)
     }
 
     fn field(&self, values: Vec<f32>) -> CellField {

@@ -85,8 +85,7 @@ impl<'a> RfTracker<'a> {
         if let Some(i) = latest
             && self.current.as_ref().is_none_or(|c| c.0 != i)
         {
-            let scan = &self.scans[i];
-            let prior = self.rf.prior_region(scan);
+            let (prior, measurement) = self.rf.scan_fields(&self.scans[i]);
             match self.tracker.as_mut() {
                 Some(t) => t.set_region(Some(prior)),
                 None => {
@@ -97,7 +96,7 @@ impl<'a> RfTracker<'a> {
                     )?);
                 }
             }
-            self.current = Some((i, self.rf.measurement(scan)));
+            self.current = Some((i, measurement));
         }
         let Some(tracker) = self.tracker.as_mut() else {
             return Ok(TrackStep {

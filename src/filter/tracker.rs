@@ -328,13 +328,12 @@ impl<'a> Tracker<'a> {
     fn measure(&mut self, m: &CellField) {
         let topology = self.topology;
         let value = |p: &TrackParticle| m.at(topology.level(p.surface), p.x, p.y);
-        let alive = self
+        let any_alive = self
             .proposal
             .par_iter()
             .zip(self.log_weights.par_iter())
-            .filter(|(p, lw)| **lw > f32::NEG_INFINITY && value(p) > f32::NEG_INFINITY)
-            .count();
-        if alive == 0 {
+            .any(|(p, lw)| *lw > f32::NEG_INFINITY && value(p) > f32::NEG_INFINITY);
+        if !any_alive {
             self.ignored += 1;
             return;
         }

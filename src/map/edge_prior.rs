@@ -57,16 +57,6 @@ impl EdgePrior {
         }
     }
 
-    /// The default `α`.
-    pub fn base_alpha(&self) -> f64 {
-        self.alpha
-    }
-
-    /// Hexagons with at least one non-default edge.
-    pub fn len(&self) -> usize {
-        self.cells.len()
-    }
-
     /// True when every edge has the default `α`.
     pub fn is_empty(&self) -> bool {
         self.cells.is_empty()

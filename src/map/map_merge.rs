@@ -66,7 +66,7 @@ pub fn shift_map(map: &HexMapSnapshot, by: Hex) -> HexMapSnapshot {
         .cells
         .iter()
         .map(|c| HexCell {
-            hex: Hex::new(c.hex.x + by.x, c.hex.y + by.y),
+            hex: c.hex + by,
             counts: c.counts,
         })
         .collect();

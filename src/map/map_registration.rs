@@ -48,15 +48,13 @@ pub fn register_maps(
             map.cells
                 .iter()
                 .map(|c| {
-                    cells
-                        .get(&Hex::new(c.hex.x + s.x, c.hex.y + s.y))
-                        .map_or(0, |other| {
-                            c.counts
-                                .iter()
-                                .zip(other)
-                                .map(|(&a, &b)| u64::from(a.min(b)))
-                                .sum::<u64>()
-                        })
+                    cells.get(&(c.hex + s)).map_or(0, |other| {
+                        c.counts
+                            .iter()
+                            .zip(other)
+                            .map(|(&a, &b)| u64::from(a.min(b)))
+                            .sum::<u64>()
+                    })
                 })
                 .sum()
         })

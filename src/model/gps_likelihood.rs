@@ -116,6 +116,8 @@ pub struct GpsLikelihood {
     config: GpsConfig,
     /// `ln(ε / (π R²))`, the outlier floor.
     log_outlier: f64,
+    /// `ln(1 − ε)`, the inliers' share.
+    log_inlier: f64,
 }
 
 impl GpsLikelihood {
@@ -124,21 +126,16 @@ impl GpsLikelihood {
         let r = config.outlier_radius;
         Self {
             log_outlier: (config.outlier_probability / (PI * r * r)).ln(),
+            log_inlier: (1.0 - config.outlier_probability).ln(),
             config,
         }
-    }
-
-    /// The configuration.
-    pub fn config(&self) -> &GpsConfig {
-        &self.config
     }
 
     /// `ln p(z | P)` of fix `z` for a particle at `(x, y)`, untempered.
     pub fn log_likelihood(&self, z: &GpsObservation, (x, y): (f64, f64)) -> f64 {
         let d2 = (z.x - x).powi(2) + (z.y - y).powi(2);
         let s2 = z.sigma * z.sigma;
-        let log_gauss =
-            (1.0 - self.config.outlier_probability).ln() - (2.0 * PI * s2).ln() - d2 / (2.0 * s2);
+        let log_gauss = self.log_inlier - (2.0 * PI * s2).ln() - d2 / (2.0 * s2);
         log_add(log_gauss, self.log_outlier)
     }
 

@@ -52,13 +52,7 @@ impl Fingerprints {
 
     /// The scan as a vector over the map's access points (`missing` where not heard).
     pub fn scan_vector(&self, scan: &WifiScan) -> Vec<f64> {
-        let mut z = vec![self.missing; self.columns.len()];
-        for r in &scan.readings {
-            if let Some(&col) = self.columns.get(&r.bssid) {
-                z[col] = r.rssi.max(self.missing);
-            }
-        }
-        z
+        scan_vector(&self.columns, self.missing, scan)
     }
 
     /// `ndist(z, c_i)` for every cell (eqs. 2–11), `None` for unknown cells.
@@ -87,7 +81,7 @@ pub fn leave_one_out_ndist(
     scans: &[WifiScan],
     missing_rssi: f64,
 ) -> Vec<f64> {
-    let prints = Fingerprints::new(map, missing_rssi, 1);
+    let columns = map.access_point_columns();
     let mut out = Vec::with_capacity(assignments.len());
     for visit in assignments.chunk_by(|a, b| a.1 == b.1) {
         let Some(c) = visit[0].1 else { continue };
@@ -98,12 +92,28 @@ pub fn leave_one_out_ndist(
         if radio.scans as usize <= held.len() {
             continue;
         }
-        let (means, visible) = fingerprint(radio, &prints.columns, missing_rssi, &held);
+        let (means, visible) = fingerprint(radio, &columns, missing_rssi, &held);
         for scan in held {
-            out.push(ndist(&prints.scan_vector(scan), &means, visible));
+            out.push(ndist(
+                &scan_vector(&columns, missing_rssi, scan),
+                &means,
+                visible,
+            ));
         }
     }
     out
+}
+
+/// `scan` as a vector over `columns` (`missing` where not heard; weaker readings count as
+/// `missing`).
+fn scan_vector(columns: &FxHashMap<String, usize>, missing: f64, scan: &WifiScan) -> Vec<f64> {
+    let mut z = vec![missing; columns.len()];
+    for r in &scan.readings {
+        if let Some(&col) = columns.get(&r.bssid) {
+            z[col] = r.rssi.max(missing);
+        }
+    }
+    z
 }
 
 /// A cell's fingerprint over `columns`: the mean RSSI of every access point it heard

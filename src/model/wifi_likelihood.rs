@@ -55,11 +55,12 @@ impl Default for LikelihoodConfig {
     }
 }
 
-/// One access point's histogram in one cell: readings and their 1 dB bins.
+/// One access point's histogram in one cell: readings, their 1 dB bins and the bins' total.
 #[derive(Debug, Clone, PartialEq)]
 struct Histogram {
     n: u32,
     bins: Vec<(f64, f64)>,
+    total: f64,
 }
 
 /// The histograms of a radio map's cells, ready for eq. 14.
@@ -100,7 +101,12 @@ impl HistogramLikelihood {
                             .map(|(&b, &k)| (f64::from(b), f64::from(k)))
                             .collect()
                     };
-                    hists[col] = Some(Histogram { n: s.n, bins });
+                    let total = bins.iter().map(|b| b.1).sum();
+                    hists[col] = Some(Histogram {
+                        n: s.n,
+                        bins,
+                        total,
+                    });
                 }
                 Some((c.radio.scans, hists))
             })
@@ -140,13 +146,12 @@ impl HistogramLikelihood {
                         (None, _) => (1.0 - heard).ln(),
                         (Some(r), hist) => {
                             let kernel = hist.as_ref().map_or(0.0, |h| {
-                                let total: f64 = h.bins.iter().map(|b| b.1).sum();
                                 h.bins
                                     .iter()
                                     .map(|&(b, k)| k * (-0.5 * ((r - b) / sigma).powi(2)).exp())
                                     .sum::<f64>()
                                     * norm
-                                    / total.max(1.0)
+                                    / h.total.max(1.0)
                             });
                             (heard * ((1.0 - beta) * kernel + beta / RSSI_RANGE)).ln()
                         }
