@@ -202,7 +202,7 @@ pub fn mean_shift(points: &[ClusterPoint], config: &ClusterConfig) -> Vec<Cluste
     }
     let mut clusters: Vec<Cluster> = sums
         .into_iter()
-        .filter(|s| s.w > 0.0)
+        .filter(|s| s.m.w > 0.0)
         .map(|s| s.cluster(total))
         .filter(|c| c.weight >= config.min_weight)
         .collect();
@@ -225,15 +225,44 @@ fn heading_gap(a: f64, b: f64) -> f64 {
     wrap_angle(a - b).abs()
 }
 
-/// Weighted sums of a cluster's particles.
-#[derive(Debug, Clone, Default)]
-struct Sums {
+/// Weighted sums of position and heading: a mode's kernel.
+#[derive(Debug, Clone, Copy, Default)]
+struct Moments {
     w: f64,
     x: f64,
     y: f64,
     z: f64,
     cos: f64,
     sin: f64,
+}
+
+impl Moments {
+    fn add(&mut self, p: &ClusterPoint) {
+        let w = f64::from(p.weight);
+        self.w += w;
+        self.x += w * f64::from(p.x);
+        self.y += w * f64::from(p.y);
+        self.z += w * f64::from(p.z);
+        self.cos += w * f64::from(p.heading).cos();
+        self.sin += w * f64::from(p.heading).sin();
+    }
+
+    /// The weighted mean, its circular mean heading and the weight as density.
+    fn mode(&self) -> Mode {
+        Mode {
+            x: self.x / self.w,
+            y: self.y / self.w,
+            z: self.z / self.w,
+            heading: self.sin.atan2(self.cos),
+            density: self.w,
+        }
+    }
+}
+
+/// Weighted sums of a cluster's particles.
+#[derive(Debug, Clone, Default)]
+struct Sums {
+    m: Moments,
     /// Weighted sum of `x² + y²`.
     r2: f64,
     n: usize,
@@ -243,12 +272,7 @@ struct Sums {
 impl Sums {
     fn add(&mut self, p: &ClusterPoint) {
         let w = f64::from(p.weight);
-        self.w += w;
-        self.x += w * f64::from(p.x);
-        self.y += w * f64::from(p.y);
-        self.z += w * f64::from(p.z);
-        self.cos += w * f64::from(p.heading).cos();
-        self.sin += w * f64::from(p.heading).sin();
+        self.m.add(p);
         self.r2 += w * (f64::from(p.x).powi(2) + f64::from(p.y).powi(2));
         self.n += 1;
         match self.levels.iter_mut().find(|(l, _)| *l == p.level) {
@@ -263,16 +287,21 @@ impl Sums {
             .iter()
             .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
             .map_or(0, |l| l.0);
+        let Mode {
+            x,
+            y,
+            z,
+            heading,
+            density: w,
+        } = self.m.mode();
         Cluster {
-            x: self.x / self.w,
-            y: self.y / self.w,
-            z: self.z / self.w,
+            x,
+            y,
+            z,
             level,
-            heading: self.sin.atan2(self.cos),
-            spread: (self.r2 / self.w - (self.x / self.w).powi(2) - (self.y / self.w).powi(2))
-                .max(0.0)
-                .sqrt(),
-            weight: self.w / total,
+            heading,
+            spread: (self.r2 / w - x.powi(2) - y.powi(2)).max(0.0).sqrt(),
+            weight: w / total,
             particles: self.n,
         }
     }
@@ -316,7 +345,7 @@ impl Grid {
 /// Bin seeding: the weighted mean of the particles of each occupied bin of edge `cell`
 /// (per metre of height, per `sector` of heading), in a deterministic order.
 fn seeds(points: &[ClusterPoint], cell: f64, sector: f64) -> Vec<Mode> {
-    let mut bins: FxHashMap<(i64, i64, i64, i64), Sums> = FxHashMap::default();
+    let mut bins: FxHashMap<(i64, i64, i64, i64), Moments> = FxHashMap::default();
     for p in points.iter().filter(|p| p.weight > 0.0) {
         let (kx, ky) = Grid::key(f64::from(p.x), f64::from(p.y), cell);
         let kz = f64::from(p.z).floor() as i64;
@@ -325,23 +354,14 @@ fn seeds(points: &[ClusterPoint], cell: f64, sector: f64) -> Vec<Mode> {
     }
     let mut keyed: Vec<_> = bins.into_iter().collect();
     keyed.sort_by_key(|(k, _)| *k);
-    keyed
-        .into_iter()
-        .map(|(_, s)| Mode {
-            x: s.x / s.w,
-            y: s.y / s.w,
-            z: s.z / s.w,
-            heading: s.sin.atan2(s.cos),
-            density: s.w,
-        })
-        .collect()
+    keyed.into_iter().map(|(_, s)| s.mode()).collect()
 }
 
 /// Mean shift of one mode to convergence.
 fn shift(mut m: Mode, points: &[ClusterPoint], grid: &Grid, config: &ClusterConfig) -> Mode {
     let r2 = config.radius * config.radius;
     for _ in 0..MAX_ITERATIONS {
-        let mut s = Sums::default();
+        let mut s = Moments::default();
         grid.around(m.x, m.y, |i| {
             let p = &points[i as usize];
             let (dx, dy) = (f64::from(p.x) - m.x, f64::from(p.y) - m.y);
@@ -355,13 +375,7 @@ fn shift(mut m: Mode, points: &[ClusterPoint], grid: &Grid, config: &ClusterConf
         if s.w <= 0.0 {
             break;
         }
-        let next = Mode {
-            x: s.x / s.w,
-            y: s.y / s.w,
-            z: s.z / s.w,
-            heading: s.sin.atan2(s.cos),
-            density: s.w,
-        };
+        let next = s.mode();
         let moved = (next.x - m.x).hypot(next.y - m.y)
             + (next.z - m.z).abs()
             + heading_gap(next.heading, m.heading);
