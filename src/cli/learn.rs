@@ -89,7 +89,6 @@ struct Summary {
     particles: usize,
     steps: usize,
     seed: u64,
-    threads: usize,
     filter_runtime_s: f64,
     particle_steps_per_s: f64,
     final_effective_sample_size: f64,
@@ -105,7 +104,6 @@ struct Summary {
     gps_fixes_used: usize,
     /// How far path and map were moved towards the prior map's frame, metres.
     prior_offset_m: (f64, f64),
-    origin: LocalFrame,
 }
 
 /// `summary.json`: one walk's figures at the top level, or a batch's under `walks`.
@@ -212,7 +210,7 @@ pub fn run(args: Args) -> Result<()> {
         } else {
             String::new()
         };
-        summaries.push(write_walk(&folder, &prefix, walk, run, &frame, threads)?);
+        summaries.push(write_walk(&folder, &prefix, walk, run, &frame)?);
         if let Some(stored) = &prior_map {
             // The prior and this walk, in this walk's frame: the next walk's prior.
             let prior = shift_map(&stored.map, run.estimate.prior_shift);
@@ -371,7 +369,6 @@ fn write_walk(
     walk: &Walk,
     run: &WalkRun,
     frame: &LocalFrame,
-    threads: usize,
 ) -> Result<Summary> {
     let (config, estimate, filter) = (&run.config, &run.estimate, &run.filter);
     let track: Vec<TimedPoint> = walk
@@ -418,7 +415,6 @@ fn write_walk(
         particles: config.particles,
         steps,
         seed: config.seed,
-        threads,
         filter_runtime_s: run.runtime_s,
         particle_steps_per_s: (config.particles * steps) as f64 / run.runtime_s.max(1e-9),
         final_effective_sample_size: filter.effective_sample_size(),
@@ -436,6 +432,5 @@ fn write_walk(
         gps_fixes: walk.fixes.len(),
         gps_fixes_used: filter.gps_fixes_used(),
         prior_offset_m: estimate.prior_offset,
-        origin: *frame,
     })
 }

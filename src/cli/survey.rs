@@ -128,7 +128,9 @@ struct Summary {
 }
 
 /// Cells, the radio map over them, and per walk the scans added and skipped.
-type Surveyed = (CellMap, RadioMap, Vec<(usize, usize)>);
+/// A survey at one granularity: its cells, the map, each walk's scans (added, skipped) and
+/// where they went.
+type Surveyed = (CellMap, RadioMap, Vec<(usize, usize)>, Vec<Assignments>);
 
 /// Runs `footslam survey`.
 pub fn run(args: Args) -> Result<()> {
@@ -155,6 +157,9 @@ pub fn run(args: Args) -> Result<()> {
     }
     config.tracker.validate()?;
     config.cells.validate()?;
+    if !(config.epsilon_miss.is_finite() && (0.0..=0.5).contains(&config.epsilon_miss)) {
+        bail!("epsilon_miss = {} must be in [0, 0.5]", config.epsilon_miss);
+    }
     require_file(&args.plan, "floor plan")?;
     let (plan, frame) = read_floor_plan(&args.plan, args.origin)?;
     let topology = FloorTopology::build(&plan, &config.tracker.topology)
@@ -212,17 +217,22 @@ pub fn run(args: Args) -> Result<()> {
             },
         )?;
         let mut map = RadioMap::empty(&cells);
-        let counts = runs
+        let assignments: Vec<Assignments> = runs
             .iter()
             .zip(&scans)
-            .map(|(reports, scans)| {
-                let c = survey_walk(&mut map, &cells, &topology, reports, scans);
+            .map(|(reports, scans)| survey_assignments(&cells, &topology, reports, scans))
+            .collect();
+        let counts = assignments
+            .iter()
+            .zip(&scans)
+            .map(|(a, scans)| {
+                let c = survey_walk(&mut map, a, scans);
                 (c.added, c.skipped)
             })
             .collect();
-        Ok((cells, map, counts))
+        Ok((cells, map, counts, assignments))
     };
-    let (cells, mut map, counts) = build(config.cells.granularity)?;
+    let (cells, mut map, counts, assignments) = build(config.cells.granularity)?;
     for path in &args.merge {
         require_file(path, "radio map")?;
         let (earlier, _) = read_radio_map_geojson(path, Some(frame))?;
@@ -234,25 +244,14 @@ pub fn run(args: Args) -> Result<()> {
             )
         })?;
     }
-    let merged_epsilon = map.epsilon;
-    if !(config.epsilon_miss.is_finite() && (0.0..=0.5).contains(&config.epsilon_miss)) {
-        bail!("epsilon_miss = {} must be in [0, 0.5]", config.epsilon_miss);
-    }
-    let assignments: Vec<(Assignments, &[WifiScan])> = runs
-        .iter()
-        .zip(&scans)
-        .map(|(reports, s)| (survey_assignments(&cells, &topology, reports, s), *s))
-        .collect();
+    let calibration: Vec<(Assignments, &[WifiScan])> =
+        assignments.into_iter().zip(scans.iter().copied()).collect();
     let distances = calibrate_map(
         &mut map,
-        &assignments,
+        &calibration,
         config.tracker.rf.missing_rssi,
         config.epsilon_miss,
     );
-    // Merged maps alone keep their calibration.
-    if distances.is_empty() {
-        map.epsilon = merged_epsilon;
-    }
     let quantile = |q: f64| {
         (!distances.is_empty())
             .then(|| distances[((distances.len() - 1) as f64 * q).round() as usize])
@@ -263,7 +262,7 @@ pub fn run(args: Args) -> Result<()> {
     write_radio_map_csv(&folder.path("radiomap.csv"), &map)?;
     let mut coverage = String::from("granularity_m,cells,coverage_percent,mean_scans_per_cell\n");
     for g in COVERAGE_GRANULARITIES {
-        let (_, m, _) = build(g)?;
+        let (_, m, ..) = build(g)?;
         let (share, mean) = m.coverage();
         coverage.push_str(&format!(
             "{g},{},{:.1},{:.2}\n",

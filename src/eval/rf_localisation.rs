@@ -134,11 +134,9 @@ pub fn survey_simulations(
         };
         let mut tracker = Tracker::new(topology, &config)?;
         let reports = track_walk(sim, |s| tracker.update(s))?;
-        survey_walk(&mut map, cells, topology, &reports, &sim.wifi);
-        walks.push((
-            survey_assignments(cells, topology, &reports, &sim.wifi),
-            sim.wifi.as_slice(),
-        ));
+        let assignments = survey_assignments(cells, topology, &reports, &sim.wifi);
+        survey_walk(&mut map, &assignments, &sim.wifi);
+        walks.push((assignments, sim.wifi.as_slice()));
     }
     calibrate_map(&mut map, &walks, missing_rssi, miss);
     Ok(map)

@@ -58,17 +58,15 @@ pub fn survey_assignments(
     out
 }
 
-/// Adds to `map` (built over `cells`) each scan of `scans` completed after localisation, in
-/// the cell of the next step's estimate ([`survey_assignments`]).
+/// Adds to `map` each scan of `scans` completed after localisation, in the cell of the next
+/// step's estimate: `assignments` are the walk's [`survey_assignments`] over `map`'s cells.
 pub fn survey_walk(
     map: &mut RadioMap,
-    cells: &CellMap,
-    topology: &FloorTopology,
-    reports: &[TrackStep],
+    assignments: &Assignments,
     scans: &[WifiScan],
 ) -> SurveyCounts {
     let mut counts = SurveyCounts::default();
-    for (scan, cell) in survey_assignments(cells, topology, reports, scans) {
+    for &(scan, cell) in assignments {
         match cell {
             Some(c) => {
                 map.cells[c].radio.add_scan(&scans[scan]);
@@ -83,7 +81,8 @@ pub fn survey_walk(
 /// Sets `map.epsilon` to the region threshold `ε` that a share `1 − miss` of the surveyed
 /// scans' leave-one-out distances to their own cells fall under (the paper's way of choosing
 /// ε, sec. 5.3, on the survey itself): `walks` are each walk's [`survey_assignments`] and
-/// scans. Returns the distances, sorted.
+/// scans. Without any distance (e.g. only merged maps) `map.epsilon` is left as it is.
+/// Returns the distances, sorted.
 pub fn calibrate_map(
     map: &mut RadioMap,
     walks: &[(Assignments, &[WifiScan])],
@@ -95,7 +94,9 @@ pub fn calibrate_map(
         .flat_map(|(assignments, scans)| leave_one_out_ndist(map, assignments, scans, missing_rssi))
         .collect();
     d.sort_by(f64::total_cmp);
-    map.epsilon = calibrate_epsilon(&d, miss);
+    if let Some(epsilon) = calibrate_epsilon(&d, miss) {
+        map.epsilon = Some(epsilon);
+    }
     d
 }
 
@@ -133,7 +134,8 @@ mod tests {
             .map(|s| tracker.update(s).expect("step"))
             .collect();
         let mut map = RadioMap::empty(&cells);
-        let counts = survey_walk(&mut map, &cells, &topology, &reports, &sim.wifi);
+        let assignments = survey_assignments(&cells, &topology, &reports, &sim.wifi);
+        let counts = survey_walk(&mut map, &assignments, &sim.wifi);
         assert!(counts.added > sim.wifi.len() * 9 / 10, "{counts:?}");
         assert!(counts.added <= sim.wifi.len());
         let (share, per_cell) = map.coverage();
