@@ -5,6 +5,7 @@ use super::common::{
     Progress, output_dir, parse_origin, peak_memory_bytes, read_config, require_file,
 };
 use anyhow::{Context, Result, bail};
+use footslam::dataset::csv_table::CsvTable;
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
 use footslam::dataset::{read_steps, read_wifi};
 use footslam::export::RunFolder;
@@ -396,40 +397,18 @@ pub fn run(args: Args) -> Result<()> {
 /// manifest's folder); errors name the file and line.
 fn read_manifest(path: &std::path::Path) -> Result<Vec<(PathBuf, PathBuf)>> {
     require_file(path, "walk manifest")?;
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("{}: cannot read the walk manifest", path.display()))?;
     let base = path.parent().unwrap_or(std::path::Path::new("."));
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty());
-    let header: Vec<&str> = match lines.next() {
-        Some((_, h)) => h.split(',').map(str::trim).collect(),
-        None => bail!("{}: the walk manifest is empty", path.display()),
-    };
-    let column = |name: &str| {
-        header.iter().position(|h| *h == name).with_context(|| {
-            format!(
-                "{}:1: the walk manifest needs columns `steps,wifi`",
-                path.display()
-            )
-        })
-    };
-    let (s, w) = (column("steps")?, column("wifi")?);
+    let mut table = CsvTable::open(path)?;
+    let (s, w) = (table.column("steps")?, table.column("wifi")?);
     let mut pairs = Vec::new();
-    for (i, line) in lines {
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        match (fields.get(s), fields.get(w)) {
-            (Some(a), Some(b)) if !a.is_empty() && !b.is_empty() => {
-                pairs.push((base.join(a), base.join(b)));
-            }
-            _ => bail!(
-                "{}:{}: expected a step trace and a WiFi log, got `{line}`",
-                path.display(),
-                i + 1
-            ),
+    table.for_each_row(|row| {
+        let (steps, wifi) = (row.text(s), row.text(w));
+        if steps.is_empty() || wifi.is_empty() {
+            return Err(row.error("expected a step trace and a WiFi log"));
         }
-    }
+        pairs.push((base.join(steps), base.join(wifi)));
+        Ok(())
+    })?;
     if pairs.is_empty() {
         bail!("{}: the walk manifest lists no walk", path.display());
     }

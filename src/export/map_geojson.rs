@@ -100,21 +100,15 @@ pub struct StoredMap {
 
 /// Reads a map written by [`write_map_geojson`] or [`write_walks_map_geojson`].
 pub fn read_stored_map(path: &Path) -> Result<StoredMap> {
-    let walks = {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        let value: JsonValue = serde_json::from_str(&text).unwrap_or(JsonValue::Null);
-        match value.get("walks") {
-            None | Some(JsonValue::Null) => 1,
-            Some(v) => v
-                .as_u64()
-                .and_then(|w| u32::try_from(w).ok())
-                .filter(|&w| w >= 1)
-                .ok_or_else(|| {
-                    Error::parse(path, 0, format!("walks = {v}: must be an integer ≥ 1"))
-                })?,
-        }
+    let (map, frame, members) = read_map_and_members(path)?;
+    let walks = match members.get("walks") {
+        None | Some(JsonValue::Null) => 1,
+        Some(v) => v
+            .as_u64()
+            .and_then(|w| u32::try_from(w).ok())
+            .filter(|&w| w >= 1)
+            .ok_or_else(|| Error::parse(path, 0, format!("walks = {v}: must be an integer ≥ 1")))?,
     };
-    let (map, frame) = read_map_geojson(path)?;
     Ok(StoredMap { map, frame, walks })
 }
 
@@ -124,6 +118,11 @@ pub fn read_stored_map(path: &Path) -> Result<StoredMap> {
 /// (within 5 % of a radius), which catches files whose `origin` or `hex_radius` was edited.
 /// Errors name the file and the zero-based feature index.
 pub fn read_map_geojson(path: &Path) -> Result<(HexMapSnapshot, LocalFrame)> {
+    read_map_and_members(path).map(|(map, frame, _)| (map, frame))
+}
+
+/// [`read_map_geojson`], with the collection's foreign members.
+fn read_map_and_members(path: &Path) -> Result<(HexMapSnapshot, LocalFrame, JsonObject)> {
     let collection = crate::dataset::geojson_file::read_feature_collection(path)?;
     let whole = |message: String| Error::parse(path, 0, message);
     let members = collection.foreign_members.unwrap_or_default();
@@ -149,6 +148,7 @@ pub fn read_map_geojson(path: &Path) -> Result<(HexMapSnapshot, LocalFrame)> {
             cells,
         },
         frame,
+        members,
     ))
 }
 
