@@ -232,7 +232,7 @@ pub fn run(args: Args) -> Result<()> {
             let scans = read_wifi(wifi_path)?;
             let rf = RfLocaliser::new(&map, &topology, &config.rf)
                 .with_context(|| format!("{}: not usable on this plan", map_path.display()))?;
-            Some((rf, scans))
+            Some((rf, scans, map_path, wifi_path))
         }
         _ => None,
     };
@@ -250,12 +250,11 @@ pub fn run(args: Args) -> Result<()> {
     let (reports, snapshots, initial, bytes_per_particle, track, ignored) =
         pool.install(|| -> Result<_> {
             let mut walker = match &radio {
-                Some((rf, scans)) => {
+                Some((rf, scans, ..)) => {
                     Walker::Rf(Box::new(RfTracker::new(&topology, &config, rf, scans)?))
                 }
                 None => Walker::Plain(Box::new(Tracker::new(&topology, &config)?)),
             };
-            let mut initial = walker.tracker().map_or(0, Tracker::initial_particles);
             let mut snapshots = Vec::new();
             if let Some(tracker) = walker.tracker()
                 && wanted(0, trace.is_empty())
@@ -267,11 +266,7 @@ pub fn run(args: Args) -> Result<()> {
             let mut track: Vec<TrackPoint> = Vec::new();
             let mut localised_before = false;
             for (i, step) in trace.steps().iter().enumerate() {
-                let started_before = walker.tracker().is_some();
                 let report = walker.update(step)?;
-                if !started_before && let Some(t) = walker.tracker() {
-                    initial = t.initial_particles();
-                }
                 let first_fix = report.localised && !localised_before;
                 localised_before |= report.localised;
                 if localised_before && let Some(c) = report.estimate {
@@ -298,7 +293,8 @@ pub fn run(args: Args) -> Result<()> {
             Ok((
                 reports,
                 snapshots,
-                initial,
+                // The prior's particles: an RF tracker starts at the first scan.
+                walker.tracker().map_or(0, Tracker::initial_particles),
                 walker.tracker().map_or(0.0, Tracker::bytes_per_particle),
                 track,
                 walker.tracker().map_or(0, Tracker::measurements_ignored),
@@ -343,21 +339,17 @@ pub fn run(args: Args) -> Result<()> {
     let first = reports.iter().position(|r| r.localised);
     let particle_steps: usize = reports.iter().map(|r| r.particles).sum();
     let summary = Summary {
-        rf: radio.as_ref().map(|(rf, scans)| RfSummary {
-            radiomap_file: args
-                .radiomap
-                .as_ref()
-                .map_or(String::new(), |p| p.display().to_string()),
-            wifi_file: args
-                .wifi
-                .as_ref()
-                .map_or(String::new(), |p| p.display().to_string()),
-            scans: scans.len(),
-            mode: rf.config().mode,
-            epsilon_dbm: rf.epsilon(),
-            started_at_step: reports.iter().position(|r| r.particles > 0).map(|i| i + 1),
-            measurements_ignored: ignored,
-        }),
+        rf: radio
+            .as_ref()
+            .map(|(rf, scans, map_path, wifi_path)| RfSummary {
+                radiomap_file: map_path.display().to_string(),
+                wifi_file: wifi_path.display().to_string(),
+                scans: scans.len(),
+                mode: rf.config().mode,
+                epsilon_dbm: rf.epsilon(),
+                started_at_step: reports.iter().position(|r| r.particles > 0).map(|i| i + 1),
+                measurements_ignored: ignored,
+            }),
         plan_file: plan_path.display().to_string(),
         steps_file: steps_path.display().to_string(),
         steps: trace.len(),
