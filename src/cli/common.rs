@@ -6,6 +6,9 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+/// Two local frames whose origins are closer than this are the same, metres.
+pub const SAME_ORIGIN: f64 = 1e-3;
+
 /// Parses `LAT,LON` (degrees).
 pub fn parse_origin(s: &str) -> Result<LocalFrame, String> {
     let (lat, lon) = s
@@ -132,6 +135,58 @@ pub fn require_file(path: &Path, what: &str) -> Result<()> {
             path.display()
         );
     }
+    Ok(())
+}
+
+/// Length of a polyline, metres.
+pub fn path_length(points: impl IntoIterator<Item = (f64, f64)>) -> f64 {
+    let mut points = points.into_iter();
+    let Some(mut last) = points.next() else {
+        return 0.0;
+    };
+    points
+        .map(|p| {
+            let d = (p.0 - last.0).hypot(p.1 - last.1);
+            last = p;
+            d
+        })
+        .sum()
+}
+
+/// Where walk `i` of a run writes: its own `walk-<i+1>/` folder (created) when the run has
+/// several, else the run folder itself; the prefix for its file names.
+pub fn walk_prefix(
+    folder: &footslam::export::RunFolder,
+    i: usize,
+    several: bool,
+) -> Result<String> {
+    if !several {
+        return Ok(String::new());
+    }
+    let name = format!("walk-{}", i + 1);
+    folder.create_dir(&name)?;
+    Ok(format!("{name}/"))
+}
+
+/// `truth.png`: a simulated walk's true path over its floor plan.
+pub fn write_truth_png(
+    path: &Path,
+    plan: &footslam::map::FloorPlan,
+    truth: &[(f64, f64)],
+) -> Result<()> {
+    use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
+    let empty = footslam::map::HexMapSnapshot {
+        radius: 0.5,
+        alpha: 0.8,
+        cells: Vec::new(),
+    };
+    let picture = MapPicture {
+        map: &empty,
+        path: truth,
+        truth: None,
+        plan: Some(plan),
+    };
+    write_map_png(path, &picture, &PictureConfig::default())?;
     Ok(())
 }
 

@@ -1,6 +1,6 @@
 //! `footslam eval`: position error of a track against the truth.
 
-use super::common::{parse_origin, require_file};
+use super::common::{SAME_ORIGIN, parse_origin, require_file};
 use anyhow::Result;
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
 use footslam::dataset::{TimedPoint, read_steps, read_track, read_trajectory};
@@ -62,7 +62,9 @@ pub fn run(args: Args) -> Result<()> {
         run_origin(&args.truth, false),
         run_origin(&args.track, true),
     ) {
-        (Some(truth_frame), Some(track_frame)) if truth_frame.distance_to(&track_frame) > 1e-3 => {
+        (Some(truth_frame), Some(track_frame))
+            if truth_frame.distance_to(&track_frame) > SAME_ORIGIN =>
+        {
             for p in &mut track {
                 let (lon, lat) = track_frame.to_lon_lat(p.x, p.y);
                 (p.x, p.y) = truth_frame.to_local(lon, lat);
@@ -179,6 +181,5 @@ fn run_origin(csv: &Path, anchored: bool) -> Option<LocalFrame> {
     if anchored && !(tied("gps_file") || tied("plan_file")) {
         return None;
     }
-    let origin = value.get("origin")?;
-    LocalFrame::new(origin.get("lat")?.as_f64()?, origin.get("lon")?.as_f64()?)
+    footslam::dataset::geojson_file::read_origin(value.get("origin")?).ok()
 }

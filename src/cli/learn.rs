@@ -2,7 +2,8 @@
 //! world by GPS fixes, a rough building outline and a map learned on earlier walks.
 
 use super::common::{
-    Progress, bundled, output_dir, parse_origin, peak_memory_bytes, read_config, require_file,
+    Progress, bundled, output_dir, parse_origin, path_length, peak_memory_bytes, read_config,
+    require_file, walk_prefix,
 };
 use super::learn_inputs::{Walk, check_same_grid, read_walks};
 use anyhow::{Context, Result};
@@ -203,13 +204,7 @@ pub fn run(args: Args) -> Result<()> {
     let folder = RunFolder::create(&out)?;
     let mut summaries = Vec::with_capacity(runs.len());
     for (i, (walk, run)) in walks.iter().zip(&runs).enumerate() {
-        let prefix = if batch {
-            let name = format!("walk-{}", i + 1);
-            folder.create_dir(&name)?;
-            format!("{name}/")
-        } else {
-            String::new()
-        };
+        let prefix = walk_prefix(&folder, i, batch)?;
         summaries.push(write_walk(&folder, &prefix, walk, run, &frame)?);
         if let Some(stored) = &prior_map {
             // The prior and this walk, in this walk's frame: the next walk's prior.
@@ -425,10 +420,7 @@ fn write_walk(
         best_path_log_likelihood: estimate.path_log_likelihood,
         hexagons: estimate.map.cells.len(),
         map_area_m2: estimate.map.cells.len() as f64 * HexGrid::new(config.hex_radius).cell_area(),
-        path_length_m: path
-            .windows(2)
-            .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
-            .sum(),
+        path_length_m: path_length(path.iter().copied()),
         gps_fixes: walk.fixes.len(),
         gps_fixes_used: filter.gps_fixes_used(),
         prior_offset_m: estimate.prior_offset,

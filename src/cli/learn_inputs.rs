@@ -1,15 +1,12 @@
 //! The inputs of `footslam learn`: walks from files and folders, their GPS fixes, and the
 //! check that a prior map lies on the run's grid.
 
-use super::common::require_file;
+use super::common::{SAME_ORIGIN, require_file};
 use anyhow::{Context, Result, bail};
 use footslam::dataset::{read_gps_csv, read_gpx, read_steps};
 use footslam::geometry::LocalFrame;
 use footslam::sensor::{GpsFix, StepTrace};
 use std::path::{Path, PathBuf};
-
-/// Two frames whose origins are closer than this are the same, metres.
-const SAME_ORIGIN: f64 = 1e-3;
 
 /// One walk to learn.
 #[derive(Debug)]

@@ -1,13 +1,10 @@
 //! `footslam merge`: combine maps learned on several walks of one building.
 
-use super::common::require_file;
+use super::common::{SAME_ORIGIN, require_file};
 use anyhow::{Result, bail};
 use footslam::export::map_geojson::{read_stored_map, write_walks_map_geojson};
 use footslam::map::merge_maps;
 use std::path::PathBuf;
-
-/// Two frames whose origins are closer than this are the same, metres.
-const SAME_ORIGIN: f64 = 1e-3;
 
 /// Arguments of `footslam merge`.
 #[derive(Debug, clap::Args)]

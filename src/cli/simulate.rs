@@ -1,7 +1,7 @@
 //! `footslam simulate`: a building, a walk through it and its step trace: the single-floor
 //! office of the FootSLAM experiments, or the multi-floor tower for known-map tracking.
 
-use super::common::{output_dir, parse_origin, read_config};
+use super::common::{output_dir, parse_origin, path_length, read_config, write_truth_png};
 use anyhow::Result;
 use footslam::dataset::floor_plan_geojson::write_floor_plan;
 use footslam::dataset::radio_truth_csv::{write_access_points, write_radio_field};
@@ -9,10 +9,8 @@ use footslam::dataset::steps_csv::write_steps;
 use footslam::dataset::truth_csv::write_truth;
 use footslam::dataset::write_wifi;
 use footslam::export::RunFolder;
-use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::export::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, write_plan_png};
 use footslam::geometry::LocalFrame;
-use footslam::map::HexMapSnapshot;
 use footslam::map::{FloorTopology, TopologyConfig};
 use footslam::sim::{
     SimConfig, TourKind, TowerSimConfig, TruePose, expected_field, floor_changes,
@@ -193,10 +191,7 @@ fn run_tower(args: Args) -> Result<()> {
     let summary = TowerSummary {
         steps: sim.steps.len(),
         duration_s: sim.truth.poses.last().map_or(0.0, |p| p.t),
-        path_length_m: truth
-            .windows(2)
-            .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
-            .sum(),
+        path_length_m: path_length(truth.iter().map(|p| (p.0, p.1))),
         floor_polygons: sim.plan.polygons.len(),
         floors: config.building.floors,
         identical_floors: config.building.identical_floors,
@@ -242,22 +237,7 @@ fn run_office(args: Args) -> Result<()> {
     write_steps(&folder.path("steps.csv"), &sim.steps)?;
     write_truth(&folder.path("truth.csv"), &sim.truth)?;
     let truth: Vec<(f64, f64)> = sim.truth.poses.iter().map(|p| (p.x, p.y)).collect();
-    let empty = HexMapSnapshot {
-        radius: 0.5,
-        alpha: 0.8,
-        cells: Vec::new(),
-    };
-    let picture = MapPicture {
-        map: &empty,
-        path: &truth,
-        truth: None,
-        plan: Some(&sim.plan),
-    };
-    write_map_png(
-        &folder.path("truth.png"),
-        &picture,
-        &PictureConfig::default(),
-    )?;
+    write_truth_png(&folder.path("truth.png"), &sim.plan, &truth)?;
     folder.write_json("config.json", &config)?;
     let summary = Summary {
         steps: sim.steps.len(),

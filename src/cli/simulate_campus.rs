@@ -1,7 +1,7 @@
 //! `footslam simulate --building campus`: outdoor–indoor–outdoor walks of the office in its
 //! yard, with GPS fixes outdoors and the building's rough outline.
 
-use super::common::{output_dir, read_config};
+use super::common::{output_dir, path_length, read_config, walk_prefix, write_truth_png};
 use super::simulate::Args;
 use anyhow::Result;
 use footslam::dataset::floor_plan_geojson::write_floor_plan;
@@ -9,8 +9,6 @@ use footslam::dataset::steps_csv::write_steps;
 use footslam::dataset::truth_csv::write_truth;
 use footslam::dataset::{write_gps_csv, write_outline};
 use footslam::export::RunFolder;
-use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
-use footslam::map::HexMapSnapshot;
 use footslam::sim::{CampusSimConfig, CampusWalk, simulate_campus};
 use serde::Serialize;
 
@@ -57,13 +55,7 @@ pub fn run(args: Args) -> Result<()> {
     let several = sim.walks.len() > 1;
     let mut walks = Vec::new();
     for (i, walk) in sim.walks.iter().enumerate() {
-        let prefix = if several {
-            let name = format!("walk-{}", i + 1);
-            folder.create_dir(&name)?;
-            format!("{name}/")
-        } else {
-            String::new()
-        };
+        let prefix = walk_prefix(&folder, i, several)?;
         walks.push(write_walk(&folder, &prefix, walk, &sim.plan)?);
     }
     folder.write_json("config.json", &config)?;
@@ -108,18 +100,7 @@ fn write_walk(
     let truth: Vec<(f64, f64)> = std::iter::once((walk.start.x, walk.start.y))
         .chain(walk.truth.poses.iter().map(|p| (p.x, p.y)))
         .collect();
-    let empty = HexMapSnapshot {
-        radius: 0.5,
-        alpha: 0.8,
-        cells: Vec::new(),
-    };
-    let picture = MapPicture {
-        map: &empty,
-        path: &truth,
-        truth: None,
-        plan: Some(plan),
-    };
-    write_map_png(&at("truth.png"), &picture, &PictureConfig::default())?;
+    write_truth_png(&at("truth.png"), plan, &truth)?;
     let errors = &walk.gps.errors;
     let n = errors.len().max(1) as f64;
     let mut sorted = errors.clone();
@@ -132,10 +113,7 @@ fn write_walk(
         folder: prefix.trim_end_matches('/').to_string(),
         steps: walk.steps.len(),
         duration_s: walk.truth.poses.last().map_or(0.0, |p| p.t),
-        path_length_m: truth
-            .windows(2)
-            .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
-            .sum(),
+        path_length_m: path_length(truth.iter().copied()),
         gps_fixes: walk.gps.fixes.len(),
         gps_error_mean_m: errors.iter().sum::<f64>() / n,
         gps_error_rms_m: (errors.iter().map(|e| e * e).sum::<f64>() / n).sqrt(),

@@ -2,7 +2,7 @@
 //! colour bar explaining a heatmap's colours, drawn by [`super::plan_png`].
 
 use super::glyphs::{self, GLYPH_HEIGHT};
-use super::map_png::canvas::{INK, WHITE, fill, push_ring, rgb, stroke};
+use super::map_png::canvas::{INK, WHITE, fill, rect, rgb, stroke};
 use tiny_skia::{FillRule, PathBuilder, Pixmap};
 
 /// A labelled marker over the plan.
@@ -77,26 +77,11 @@ pub(super) fn draw_colour_bar(
     for i in 0..steps {
         let [r, g, b] = (bar.colour)((f64::from(i) + 0.5) / f64::from(steps));
         let x = x0 + i as f32 * w;
-        let mut pb = PathBuilder::new();
-        push_ring(
-            &mut pb,
-            [
-                (x, top),
-                (x + w + 0.5, top),
-                (x + w + 0.5, top + h),
-                (x, top + h),
-            ],
-        );
-        if let Some(p) = pb.finish() {
+        if let Some(p) = rect(x, top, w + 0.5, h) {
             fill(pixmap, &p, rgb(r, g, b), FillRule::Winding);
         }
     }
-    let mut pb = PathBuilder::new();
-    push_ring(
-        &mut pb,
-        [(x0, top), (x1, top), (x1, top + h), (x0, top + h)],
-    );
-    if let Some(p) = pb.finish() {
+    if let Some(p) = rect(x0, top, x1 - x0, h) {
         stroke(pixmap, &p, INK, 1.0, None);
     }
 }
