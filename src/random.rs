@@ -21,6 +21,11 @@ pub fn stream(seed: u64, step: u64, index: u64) -> Pcg64Mcg {
     Pcg64Mcg::new((u128::from(a) << 64) | u128::from(b))
 }
 
+/// A standard normal draw.
+pub fn gauss(rng: &mut impl rand::Rng) -> f64 {
+    rand::RngExt::sample::<f64, _>(rng, rand_distr::StandardNormal)
+}
+
 /// A stream for whole-filter draws at `step` (e.g. resampling), distinct from every
 /// particle's stream.
 pub fn filter_stream(seed: u64, step: u64) -> Pcg64Mcg {

@@ -13,8 +13,7 @@
 //! noise on length and heading change.
 
 use crate::geometry::Pose2;
-use rand::RngExt;
-use rand_distr::StandardNormal;
+use crate::random::gauss;
 use serde::{Deserialize, Serialize};
 
 /// Noise parameters of the step model; every default in one place.
@@ -107,10 +106,6 @@ pub struct StepErrorState {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StepMotion {
     config: StepMotionConfig,
-}
-
-fn gauss(rng: &mut impl rand::Rng) -> f64 {
-    rng.sample::<f64, _>(StandardNormal)
 }
 
 impl StepMotion {

@@ -11,9 +11,9 @@
 use super::truth::{TruePath, TruePose};
 use crate::error::Result;
 use crate::geometry::LocalFrame;
+use crate::random::gauss;
 use crate::sensor::GpsFix;
 use rand::{RngExt, SeedableRng};
-use rand_distr::StandardNormal;
 use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};
 
@@ -76,29 +76,6 @@ pub struct GpsRecord {
     pub errors: Vec<f64>,
 }
 
-fn gauss(rng: &mut Pcg64Mcg) -> f64 {
-    rng.sample::<f64, _>(StandardNormal)
-}
-
-/// The true position at time `t`, linear between poses (the walker stands at `start` until
-/// the first step and at the last pose after it).
-pub fn position_at(start: &TruePose, truth: &TruePath, t: f64) -> (f64, f64) {
-    let poses = &truth.poses;
-    let i = poses.partition_point(|p| p.t < t);
-    let prev = if i == 0 { start } else { &poses[i - 1] };
-    match poses.get(i) {
-        Some(next) if next.t > prev.t => {
-            let u = ((t - prev.t) / (next.t - prev.t)).clamp(0.0, 1.0);
-            (
-                prev.x + u * (next.x - prev.x),
-                prev.y + u * (next.y - prev.y),
-            )
-        }
-        Some(next) => (next.x, next.y),
-        None => (prev.x, prev.y),
-    }
-}
-
 /// The fixes of a walk from `start` (at time `start.t`) along `truth`, taken every `1/rate`
 /// seconds while `outdoors(x, y)` holds at the true position, placed on the globe by
 /// `frame`; drawn from a generator seeded with `seed`.
@@ -149,7 +126,7 @@ pub fn receive_fixes(
             rng.random_range(50.0..100.0),
             rng.random_range(0.0..std::f64::consts::TAU),
         );
-        let (x, y) = position_at(start, truth, t);
+        let TruePose { x, y, .. } = truth.pose_at(start, t);
         if !outdoors(x, y) {
             continue;
         }
@@ -217,7 +194,7 @@ mod tests {
             rec.fixes.len()
         );
         for (f, e) in rec.fixes.iter().zip(&rec.errors) {
-            let (x, y) = position_at(&start, &truth, f.t);
+            let TruePose { x, y, .. } = truth.pose_at(&start, f.t);
             let (fx, fy) = frame.to_local(f.lon, f.lat);
             assert!(((fx - x).hypot(fy - y) - e).abs() < 1e-3);
             assert!(!(300.0..=600.0).contains(&x));

@@ -11,9 +11,9 @@
 use super::truth::{TruePath, TruePose};
 use crate::error::{Error, Result};
 use crate::geometry::angle::wrap_angle;
+use crate::random::gauss;
 use crate::sensor::step::{MAX_STEP_LENGTH, Step, StepTrace};
 use rand::{RngExt, SeedableRng};
-use rand_distr::StandardNormal;
 use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};
 
@@ -84,10 +84,6 @@ impl StepNoiseConfig {
         ensure_in_range!("noise.dz_sigma", self.dz_sigma, 0.0..=0.2, " m");
         Ok(())
     }
-}
-
-fn gauss(rng: &mut Pcg64Mcg) -> f64 {
-    rng.sample::<f64, _>(StandardNormal)
 }
 
 /// The steps a sensor with errors `config` measures along `truth`, drawing from a generator

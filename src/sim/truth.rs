@@ -33,6 +33,27 @@ pub struct TruePath {
 }
 
 impl TruePath {
+    /// The walker at time `t`: the position linear between the poses around it (standing at
+    /// `start` until the first step, at the last pose after it), with the next pose's level,
+    /// height and heading.
+    pub fn pose_at(&self, start: &TruePose, t: f64) -> TruePose {
+        let i = self.poses.partition_point(|p| p.t < t);
+        let before = if i == 0 { start } else { &self.poses[i - 1] };
+        let Some(after) = self.poses.get(i) else {
+            return TruePose { t, ..*before };
+        };
+        let (x, y) = if after.t > before.t {
+            let u = ((t - before.t) / (after.t - before.t)).clamp(0.0, 1.0);
+            (
+                before.x + u * (after.x - before.x),
+                before.y + u * (after.y - before.y),
+            )
+        } else {
+            (after.x, after.y)
+        };
+        TruePose { t, x, y, ..*after }
+    }
+
     /// Number of poses (steps).
     pub fn len(&self) -> usize {
         self.poses.len()

@@ -327,25 +327,8 @@ impl RadioWorld {
         };
         let mut scans = Vec::new();
         let mut t = start.t + rng.random_range(0.0..c.scan_interval);
-        let mut k = 0; // index of the first pose at or after t
         while t <= end {
-            while k < truth.poses.len() && truth.poses[k].t < t {
-                k += 1;
-            }
-            let after = truth.poses.get(k).unwrap_or(start);
-            let before = if k == 0 { start } else { &truth.poses[k - 1] };
-            let span = after.t - before.t;
-            let u = if span > 0.0 {
-                ((t - before.t) / span).clamp(0.0, 1.0)
-            } else {
-                1.0
-            };
-            let pose = TruePose {
-                t,
-                x: before.x + u * (after.x - before.x),
-                y: before.y + u * (after.y - before.y),
-                ..*after
-            };
+            let pose = truth.pose_at(start, t);
             scans.push(self.scan((t * 1000.0).round() / 1000.0, &pose, &mut rng));
             let step =
                 c.scan_interval * (1.0 + c.scan_jitter * rng.sample::<f64, _>(StandardNormal));
