@@ -10,11 +10,10 @@
 use super::campus::{Campus, CampusConfig};
 use super::gps_receiver::{GpsRecord, GpsSimConfig, receive_fixes};
 use super::office::OfficeConfig;
-use super::route::Route;
 use super::step_sensor::{StepNoiseConfig, measure_steps_from};
 use super::tour::plan_route;
 use super::truth::{TruePath, TruePose};
-use super::walker::{WalkConfig, walk};
+use super::walker::{WalkConfig, walk_waypoints};
 use super::{NOISE_STREAM, WALK_STREAM, stream_seed};
 use crate::error::Result;
 use crate::geometry::LocalFrame;
@@ -139,10 +138,13 @@ fn simulate_one(
     let mut waypoints = arrive.clone();
     waypoints.extend(tour);
     waypoints.extend(leave.iter().rev());
-    let office = &campus.office.config;
-    let cap = (office.corridor_width / 2.0).min(office.entry_depth);
-    let route = Route::rounded(&waypoints, config.walk.corner_radius.min(cap));
-    let truth = walk(&campus.plan, &route, &config.walk, &mut rng)?;
+    let truth = walk_waypoints(
+        &campus.office,
+        &campus.plan,
+        &waypoints,
+        &config.walk,
+        &mut rng,
+    )?;
     let (p0, p1) = (waypoints[0], waypoints[1]);
     let start = TruePose {
         t: 0.0,

@@ -130,9 +130,21 @@ pub fn simulate_walk(office: &Office, config: &WalkConfig, seed: u64) -> Result<
     config.validate()?;
     let mut rng = Pcg64Mcg::seed_from_u64(seed);
     let waypoints = plan_route(office, config, &mut rng);
+    walk_waypoints(office, &office.plan, &waypoints, config, &mut rng)
+}
+
+/// Walks through `waypoints` over `plan`, the corners rounded no wider than `office`'s
+/// corridors and room entries allow.
+pub(super) fn walk_waypoints(
+    office: &Office,
+    plan: &crate::map::FloorPlan,
+    waypoints: &[Coord<f64>],
+    config: &WalkConfig,
+    rng: &mut Pcg64Mcg,
+) -> Result<TruePath> {
     let cap = (office.config.corridor_width / 2.0).min(office.config.entry_depth);
-    let route = Route::rounded(&waypoints, config.corner_radius.min(cap));
-    walk(&office.plan, &route, config, &mut rng)
+    let route = Route::rounded(waypoints, config.corner_radius.min(cap));
+    walk(plan, &route, config, rng)
 }
 
 /// Walks `route` stride by stride over the surfaces of `plan` (level 0), from the route's
