@@ -127,45 +127,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     let k = results.len().max(1) as f64;
-    let plain_steps: f64 = results
-        .iter()
-        .map(|(_, c)| steps_or_all(&c.plain, c.steps) as f64)
-        .sum::<f64>()
-        / k;
-    let plain_n0: f64 = results
-        .iter()
-        .map(|(_, c)| c.plain_initial as f64)
-        .sum::<f64>()
-        / k;
-    let plain_p50: f64 = results
-        .iter()
-        .map(|(_, c)| c.plain.errors.as_ref().map_or(f64::NAN, |e| e.p50))
-        .sum::<f64>()
-        / k;
+    let mean =
+        |f: &dyn Fn(&RfComparison) -> f64| results.iter().map(|(_, c)| f(c)).sum::<f64>() / k;
+    let plain_steps = mean(&|c| steps_or_all(&c.plain, c.steps) as f64);
+    let plain_n0 = mean(&|c| c.plain_initial as f64);
+    let plain_p50 = mean(&|c| c.plain.errors.as_ref().map_or(f64::NAN, |e| e.p50));
     println!(
         "without the radio map: mean {plain_steps:.1} steps to localise, mean p50 error after {plain_p50:.2} m, prior {plain_n0:.0} particles"
     );
     for (m, &(_, name)) in MODES.iter().enumerate() {
-        let rf_steps: f64 = results
-            .iter()
-            .map(|(_, c)| steps_or_all(&c.rf[m].score, c.steps) as f64)
-            .sum::<f64>()
-            / k;
-        let n0: f64 = results
-            .iter()
-            .map(|(_, c)| c.rf[m].initial.unwrap_or(0) as f64)
-            .sum::<f64>()
-            / k;
+        let rf_steps = mean(&|c| steps_or_all(&c.rf[m].score, c.steps) as f64);
+        let n0 = mean(&|c| c.rf[m].initial.unwrap_or(0) as f64);
+        let p50 = mean(&|c| c.rf[m].score.errors.as_ref().map_or(f64::NAN, |e| e.p50));
         let wrong = results
             .iter()
             .filter(|(_, c)| c.rf[m].first_fix_wrong())
             .count();
         let lost = results.iter().filter(|(_, c)| c.rf[m].lost()).count();
-        let p50: f64 = results
-            .iter()
-            .map(|(_, c)| c.rf[m].score.errors.as_ref().map_or(f64::NAN, |e| e.p50))
-            .sum::<f64>()
-            / k;
         println!(
             "{name:>13}: mean {rf_steps:.1} steps ({:.2} of without), first fix > 3 m off {wrong}/{}, lost {lost}/{}, mean p50 error after {p50:.2} m, prior {n0:.0} particles ({:.1}× fewer)",
             rf_steps / plain_steps,
