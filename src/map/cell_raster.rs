@@ -190,11 +190,6 @@ impl CellField {
             .cell_at(level, x, y)
             .map_or(self.elsewhere, |c| self.values[c])
     }
-
-    /// The values per cell.
-    pub fn values(&self) -> &[f32] {
-        &self.values
-    }
 }
 
 #[cfg(test)]

@@ -676,10 +676,9 @@ fn boundary_segments(plan: &FloorPlan, config: &TopologyConfig) -> Vec<Segment> 
             if dz.abs() > config.max_connection_dz {
                 return;
             }
-            if let Some((t0, p0, t1, p1)) = collinear_overlap(e, f, config.connection_tolerance) {
+            if let Some(ends) = collinear_overlap(e, f, config.connection_tolerance) {
                 shared.push(SharedSpan {
-                    t: (t0, t1),
-                    ends: (p0, p1),
+                    ends,
                     surface: f.surface,
                 });
             }
@@ -687,11 +686,7 @@ fn boundary_segments(plan: &FloorPlan, config: &TopologyConfig) -> Vec<Segment> 
         // Cut points: the edge's ends and the other edges' corners that fall on it, at
         // those corners' own coordinates (so the pieces meet the neighbours' edges exactly).
         let mut cuts: Vec<(f64, [f64; 2])> = vec![(0.0, e.a), (1.0, e.b)];
-        cuts.extend(
-            shared
-                .iter()
-                .flat_map(|s| [(s.t.0, s.ends.0), (s.t.1, s.ends.1)]),
-        );
+        cuts.extend(shared.iter().flat_map(|s| s.ends));
         cuts.sort_by(|a, b| a.0.total_cmp(&b.0));
         cuts.dedup_by(|a, b| (a.0 - b.0).abs() < 1e-12);
         let length = (e.b[0] - e.a[0]).hypot(e.b[1] - e.a[1]);
@@ -703,7 +698,7 @@ fn boundary_segments(plan: &FloorPlan, config: &TopologyConfig) -> Vec<Segment> 
             let mid = 0.5 * (t0 + t1);
             let other = shared
                 .iter()
-                .filter(|s| s.t.0 <= mid && mid <= s.t.1)
+                .filter(|s| s.ends[0].0 <= mid && mid <= s.ends[1].0)
                 .map(|s| s.surface)
                 .min();
             let kind = match other {
@@ -720,10 +715,8 @@ fn boundary_segments(plan: &FloorPlan, config: &TopologyConfig) -> Vec<Segment> 
 
 /// A stretch of one edge shared with another surface's edge.
 struct SharedSpan {
-    /// Parameter interval along the edge.
-    t: (f64, f64),
-    /// The points bounding it.
-    ends: ([f64; 2], [f64; 2]),
+    /// Its ends: parameter along the edge and point, the lower parameter first.
+    ends: [(f64, [f64; 2]); 2],
     /// The other surface.
     surface: u32,
 }
@@ -731,7 +724,7 @@ struct SharedSpan {
 /// The parameter interval of `e` over which `f` lies on `e`'s line (within `tol`), if it is
 /// longer than [`MIN_PIECE`], with the points bounding it: `f`'s corners where they fall on
 /// `e`, else `e`'s own ends.
-fn collinear_overlap(e: &Edge, f: &Edge, tol: f64) -> Option<(f64, [f64; 2], f64, [f64; 2])> {
+fn collinear_overlap(e: &Edge, f: &Edge, tol: f64) -> Option<[(f64, [f64; 2]); 2]> {
     let (dx, dy) = (e.b[0] - e.a[0], e.b[1] - e.a[1]);
     let len2 = dx * dx + dy * dy;
     let len = len2.sqrt();
@@ -740,11 +733,11 @@ fn collinear_overlap(e: &Edge, f: &Edge, tol: f64) -> Option<(f64, [f64; 2], f64
         return None;
     }
     let param = |p: [f64; 2]| ((p[0] - e.a[0]) * dx + (p[1] - e.a[1]) * dy) / len2;
-    let (mut ends, (u0, u1)) = ([(param(f.a), f.a), (param(f.b), f.b)], (0.0, 1.0));
+    let mut ends = [(param(f.a), f.a), (param(f.b), f.b)];
     ends.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let lo = if ends[0].0 > u0 { ends[0] } else { (u0, e.a) };
-    let hi = if ends[1].0 < u1 { ends[1] } else { (u1, e.b) };
-    ((hi.0 - lo.0) * len > MIN_PIECE).then_some((lo.0, lo.1, hi.0, hi.1))
+    let lo = if ends[0].0 > 0.0 { ends[0] } else { (0.0, e.a) };
+    let hi = if ends[1].0 < 1.0 { ends[1] } else { (1.0, e.b) };
+    ((hi.0 - lo.0) * len > MIN_PIECE).then_some([lo, hi])
 }
 
 /// Edges binned by their bounding boxes, for finding collinear neighbours.
