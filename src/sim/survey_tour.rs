@@ -138,21 +138,11 @@ mod tests {
         let (start, path) = simulate_tower_walk(&tower, &topology, &config, 5).expect("walk");
         let minutes = path.poses.last().expect("poses").t / 60.0;
         assert!((15.0..40.0).contains(&minutes), "{minutes} min");
-        let mut surface = topology
-            .locate(start.x, start.y, Some(start.level), Some(start.z))
-            .expect("start");
-        let mut from = (start.x, start.y);
+        crate::sim::tower_walk::walk_on_plan(&topology, &start, &path)
+            .unwrap_or_else(|i| panic!("step {i} through a wall"));
         let mut levels = [0usize; 3];
-        for (i, p) in path.poses.iter().enumerate() {
-            surface = topology
-                .walk(
-                    surface,
-                    [from.0 as f32, from.1 as f32],
-                    [p.x as f32, p.y as f32],
-                )
-                .unwrap_or_else(|| panic!("step {i} through a wall"));
+        for p in &path.poses {
             levels[p.level as usize] += 1;
-            from = (p.x, p.y);
         }
         assert!(levels.iter().all(|&n| n > 300), "{levels:?}");
         assert_eq!((start.level, path.poses.last().expect("end").level), (0, 0));

@@ -382,6 +382,28 @@ pub fn floor_resolved_at(start: &TruePose, truth: &TruePath, levels: (i32, i32))
 }
 
 #[cfg(test)]
+/// The surface after each step of `path` from `start`, walked on `topology`; the first
+/// step through a wall as the error.
+pub(crate) fn walk_on_plan(
+    topology: &FloorTopology,
+    start: &TruePose,
+    path: &TruePath,
+) -> Result<Vec<u32>, usize> {
+    let mut surface = topology
+        .locate(start.x, start.y, Some(start.level), Some(start.z))
+        .ok_or(0usize)?;
+    let mut from = [start.x as f32, start.y as f32];
+    let mut surfaces = Vec::with_capacity(path.len());
+    for (i, p) in path.poses.iter().enumerate() {
+        let to = [p.x as f32, p.y as f32];
+        surface = topology.walk(surface, from, to).ok_or(i)?;
+        surfaces.push(surface);
+        from = to;
+    }
+    Ok(surfaces)
+}
+
+#[cfg(test)]
 mod tests {
     use super::*;
     use crate::map::TopologyConfig;
@@ -407,18 +429,10 @@ mod tests {
             assert!(changes.len() >= 2, "seed {seed}: {changes:?}");
             assert!(floor_resolved_at(&start, &path, (0, 2)).is_some());
             // Every step is a legal move on the plan: the tracker's model of the building.
-            let mut surface = topology
-                .locate(start.x, start.y, Some(start.level), Some(start.z))
-                .expect("start on the plan");
+            let surfaces = walk_on_plan(&topology, &start, &path)
+                .unwrap_or_else(|i| panic!("seed {seed} step {i}: through a wall"));
             let mut from = (start.x, start.y);
-            for (i, p) in path.poses.iter().enumerate() {
-                let to = topology
-                    .walk(
-                        surface,
-                        [from.0 as f32, from.1 as f32],
-                        [p.x as f32, p.y as f32],
-                    )
-                    .unwrap_or_else(|| panic!("seed {seed} step {i}: through a wall"));
+            for (i, (p, &to)) in path.poses.iter().zip(&surfaces).enumerate() {
                 assert!(
                     (f64::from(topology.z(to)) - p.z).abs() < 1e-6,
                     "seed {seed} step {i}"
@@ -426,7 +440,7 @@ mod tests {
                 assert_eq!(topology.level(to), p.level);
                 let d = (p.x - from.0).hypot(p.y - from.1);
                 assert!(d < 2.2, "seed {seed} step {i}: {d} m");
-                (surface, from) = (to, (p.x, p.y));
+                from = (p.x, p.y);
             }
         }
     }
