@@ -62,10 +62,11 @@ fn learn_command(seed: u64, out: &Path) -> Command {
     cmd
 }
 
-fn learn(steps: &Path, gps: &Path, out: &Path, seed: u64, extra: &[&Path], flags: &[&str]) {
+/// `learn` of one walk with GPS, plus `files` given as `(flag, path)`.
+fn learn(steps: &Path, gps: &Path, out: &Path, seed: u64, files: &[(&str, &Path)]) {
     let mut cmd = learn_command(seed, out);
     cmd.arg("--steps").arg(steps).arg("--gps").arg(gps);
-    for (flag, path) in flags.iter().zip(extra) {
+    for (flag, path) in files {
         cmd.arg(flag).arg(path);
     }
     cmd.assert().success();
@@ -112,9 +113,9 @@ fn outdoor_indoor_outdoor_walks_are_anchored_and_the_outline_helps() {
             let (steps, gps) = (sim.join("steps.csv"), sim.join("gps.csv"));
             if outline {
                 let shape = sim.join("outline.geojson");
-                learn(&steps, &gps, &out, f, &[&shape], &["--outline"]);
+                learn(&steps, &gps, &out, f, &[("--outline", &shape)]);
             } else {
-                learn(&steps, &gps, &out, f, &[], &[]);
+                learn(&steps, &gps, &out, f, &[]);
             }
             p95(&sim.join("truth.csv"), &out.join("track.csv"))
         })
@@ -190,8 +191,7 @@ fn five_walks(dir: &Path, seed: u64) -> (Vec<f64>, Vec<f64>) {
             &gps,
             &out,
             seed + k as u64 - 1,
-            &[&prior],
-            &["--prior-map"],
+            &[("--prior-map", &prior)],
         );
         sequence.push(p95(&walk(k).join("truth.csv"), &out.join("track.csv")));
         prior = out.join("merged.geojson");
