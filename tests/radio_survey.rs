@@ -7,10 +7,38 @@ use assert_cmd::Command;
 use footslam::eval::rf_localisation::{SimulatedSurvey, radio_map_rms, simulate_survey};
 use footslam::sim::TowerSimConfig;
 use predicates::prelude::*;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 fn footslam() -> Command {
     Command::cargo_bin("footslam").expect("binary")
+}
+
+/// The origin the survey's walks are placed by.
+const ORIGIN: &str = "52.21,0.091";
+
+/// `footslam simulate --building tower` of `minutes` with `seed` and `origin` (plus `extra`
+/// arguments) into `dir/name`.
+fn simulate_tower(
+    dir: &Path,
+    name: &str,
+    minutes: u32,
+    seed: u64,
+    origin: &str,
+    extra: &[&str],
+) -> PathBuf {
+    let out = dir.join(name);
+    footslam()
+        .args(["simulate", "--building", "tower", "--minutes"])
+        .arg(minutes.to_string())
+        .arg("--seed")
+        .arg(seed.to_string())
+        .args(["--origin", origin])
+        .args(extra)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success();
+    out
 }
 
 /// `footslam track` of the simulated walk in `walk` with the radio map `radiomap`, into `out`.
@@ -35,21 +63,14 @@ fn json(path: &Path) -> serde_json::Value {
 #[test]
 fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let sim = dir.path().join("survey-walk");
-    footslam()
-        .args([
-            "simulate",
-            "--building",
-            "tower",
-            "--tour",
-            "survey",
-            "--minutes",
-            "30",
-        ])
-        .args(["--seed", "31", "--origin", "52.21,0.091", "--out"])
-        .arg(&sim)
-        .assert()
-        .success();
+    let sim = simulate_tower(
+        dir.path(),
+        "survey-walk",
+        30,
+        31,
+        ORIGIN,
+        &["--tour", "survey"],
+    );
     let walk = json(&sim.join("summary.json"));
     let minutes = walk["duration_s"].as_f64().expect("duration") / 60.0;
     assert!((20.0..=30.0).contains(&minutes), "{minutes} min");
@@ -87,21 +108,7 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
     assert!((three[2].parse::<f64>().expect("percent") - 100.0 * coverage).abs() < 0.06);
 
     // Another walk in the same building, localised with the map in each mode.
-    let other = dir.path().join("walk");
-    footslam()
-        .args([
-            "simulate",
-            "--building",
-            "tower",
-            "--minutes",
-            "3",
-            "--seed",
-            "32",
-        ])
-        .args(["--origin", "52.21,0.091", "--out"])
-        .arg(&other)
-        .assert()
-        .success();
+    let other = simulate_tower(dir.path(), "walk", 3, 32, ORIGIN, &[]);
     for mode in ["containment", "probabilistic", "prior-only"] {
         let run = dir.path().join(format!("track-{mode}"));
         track_with_map(&other, &out.join("radiomap.geojson"), &run)
@@ -141,21 +148,7 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
     .assert()
     .failure()
     .stderr(predicate::str::contains("--wifi"));
-    let elsewhere = dir.path().join("elsewhere");
-    footslam()
-        .args([
-            "simulate",
-            "--building",
-            "tower",
-            "--minutes",
-            "1",
-            "--seed",
-            "32",
-        ])
-        .args(["--origin", "10,10", "--out"])
-        .arg(&elsewhere)
-        .assert()
-        .success();
+    let elsewhere = simulate_tower(dir.path(), "elsewhere", 1, 32, "10,10", &[]);
     track_with_map(
         &elsewhere,
         &out.join("radiomap.geojson"),
