@@ -27,17 +27,23 @@ fn square_walk(laps: usize) -> Vec<Step> {
     steps
 }
 
-#[test]
-fn replayed_path_ends_at_the_particle() {
-    let config = FootSlamConfig {
-        particles: 300,
-        seed: 7,
+/// A filter of `particles` seeded with `seed` after two laps of the square walk.
+fn after_square_walk(particles: usize, seed: u64) -> FootSlam {
+    let mut f = FootSlam::new(FootSlamConfig {
+        particles,
+        seed,
         ..Default::default()
-    };
-    let mut f = FootSlam::new(config).expect("valid");
+    })
+    .expect("valid");
     for s in square_walk(2) {
         f.update(&s);
     }
+    f
+}
+
+#[test]
+fn replayed_path_ends_at_the_particle() {
+    let f = after_square_walk(300, 7);
     assert!(f.resamplings() > 0, "revisits must trigger resampling");
     for i in [0, 17, 299] {
         let path = f.replay_path(i);
@@ -51,15 +57,7 @@ fn replayed_path_ends_at_the_particle() {
 
 #[test]
 fn estimate_maximises_the_whole_path_likelihood() {
-    let config = FootSlamConfig {
-        particles: 400,
-        seed: 9,
-        ..Default::default()
-    };
-    let mut f = FootSlam::new(config).expect("valid");
-    for s in square_walk(2) {
-        f.update(&s);
-    }
+    let f = after_square_walk(400, 9);
     let e = f.estimate();
     let max = f
         .particles
@@ -77,18 +75,7 @@ fn results_do_not_depend_on_thread_count() {
             .num_threads(threads)
             .build()
             .expect("pool");
-        pool.install(|| {
-            let mut f = FootSlam::new(FootSlamConfig {
-                particles: 500,
-                seed: 3,
-                ..Default::default()
-            })
-            .expect("valid");
-            for s in square_walk(2) {
-                f.update(&s);
-            }
-            f.estimate().path
-        })
+        pool.install(|| after_square_walk(500, 3).estimate().path)
     };
     assert_eq!(run(1), run(3));
 }
