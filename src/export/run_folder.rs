@@ -68,13 +68,17 @@ impl RunFolder {
         self.write(name, text.as_bytes())
     }
 
-    /// Moves every staged file into the destination folder.
+    /// Moves every staged file and folder into the destination folder; a staged folder
+    /// replaces a folder of the same name there (a re-run's `walk-N/`).
     pub fn commit(mut self) -> Result<PathBuf> {
         std::fs::create_dir_all(&self.destination).map_err(|e| Error::io(&self.destination, e))?;
         let entries = std::fs::read_dir(&self.staging).map_err(|e| Error::io(&self.staging, e))?;
         for entry in entries {
             let entry = entry.map_err(|e| Error::io(&self.staging, e))?;
             let to = self.destination.join(entry.file_name());
+            if entry.path().is_dir() && to.is_dir() {
+                std::fs::remove_dir_all(&to).map_err(|e| Error::io(&to, e))?;
+            }
             std::fs::rename(entry.path(), &to).map_err(|e| Error::io(&to, e))?;
         }
         let _ = std::fs::remove_dir_all(&self.staging);
@@ -88,5 +92,30 @@ impl Drop for RunFolder {
         if !self.committed {
             let _ = std::fs::remove_dir_all(&self.staging);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_rerun_replaces_files_and_folders_of_the_same_names() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let out = dir.path().join("run");
+        for (text, stale) in [("first", true), ("second", false)] {
+            let folder = RunFolder::create(&out).expect("create");
+            folder.create_dir("walk-1").expect("dir");
+            folder.write("walk-1/track.csv", text.as_bytes()).expect("write");
+            if stale {
+                folder.write("walk-1/old.csv", b"x").expect("write");
+            }
+            folder.write("summary.json", text.as_bytes()).expect("write");
+            folder.commit().expect("commit");
+        }
+        let read = |name: &str| std::fs::read_to_string(out.join(name)).expect("read");
+        assert_eq!(read("summary.json"), "second");
+        assert_eq!(read("walk-1/track.csv"), "second");
+        assert!(!out.join("walk-1/old.csv").exists());
     }
 }
