@@ -344,18 +344,19 @@ fn eval_moves_a_track_into_the_truths_frame() {
     }
     std::fs::write(truth_dir.join("truth.csv"), truth).expect("write");
     std::fs::write(track_dir.join("track.csv"), track).expect("write");
-    let eval = || -> serde_json::Value {
+    let eval_track = |track: &Path| -> serde_json::Value {
         let out = footslam()
             .arg("eval")
             .arg("--truth")
             .arg(truth_dir.join("truth.csv"))
             .arg("--track")
-            .arg(track_dir.join("track.csv"))
+            .arg(track)
             .arg("--json")
             .assert()
             .success();
         serde_json::from_slice(&out.get_output().stdout).expect("json")
     };
+    let eval = || eval_track(&track_dir.join("track.csv"));
     let value = eval();
     let p95 = value["track"]["p95"].as_f64().expect("p95");
     assert!(p95 < 0.01, "p95 {p95} m: the frames were not reconciled");
@@ -365,4 +366,28 @@ fn eval_moves_a_track_into_the_truths_frame() {
     let value = eval();
     assert!(value["track_reprojected_from"].is_null());
     assert!(value["track"]["p95"].as_f64().expect("p95") > 10.0);
+    // A walk of a batch (`walk-N/`): its record is `walks[N − 1]` of the batch's summary.
+    let walk_dir = dir.path().join("batch").join("walk-2");
+    std::fs::create_dir_all(&walk_dir).expect("dir");
+    std::fs::copy(track_dir.join("track.csv"), walk_dir.join("track.csv")).expect("copy");
+    let batch = summary(&track_frame).replace(
+        "{\"origin\"",
+        "{\"walks\": [{\"gps_file\": null}, {\"gps_file\": \"gps.csv\"}], \"origin\"",
+    );
+    std::fs::write(dir.path().join("batch").join("summary.json"), batch).expect("write");
+    let out = footslam()
+        .arg("eval")
+        .arg("--truth")
+        .arg(truth_dir.join("truth.csv"))
+        .arg("--track")
+        .arg(walk_dir.join("track.csv"))
+        .arg("--json")
+        .assert()
+        .success();
+    let value: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).expect("json");
+    let p95 = value["track"]["p95"].as_f64().expect("p95");
+    assert!(
+        p95 < 0.01,
+        "batch walk: p95 {p95} m, the frames were not reconciled"
+    );
 }

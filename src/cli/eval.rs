@@ -170,14 +170,34 @@ pub fn run(args: Args) -> Result<()> {
 }
 
 /// The WGS84 origin recorded in the `summary.json` beside a run's CSV file (simulate, learn,
-/// track and survey write one), if there is one. With `anchored`, only for runs whose local
+/// track and survey write one), or for a walk of a batch (`walk-N/`) in the batch's
+/// `summary.json` one folder up, if there is one. With `anchored`, only for runs whose local
 /// frame is tied to the world — `learn --gps` or a floor plan (`track`) — and not for a walk
 /// learned from steps alone, which starts at (0, 0) whatever its origin.
 fn run_origin(csv: &Path, anchored: bool) -> Option<LocalFrame> {
-    let summary = csv.parent()?.join("summary.json");
-    let text = std::fs::read_to_string(summary).ok()?;
-    let value: serde_json::Value = serde_json::from_str(&text).ok()?;
-    let tied = |key: &str| value.get(key).is_some_and(|v| !v.is_null());
+    let read = |folder: &Path| -> Option<serde_json::Value> {
+        let text = std::fs::read_to_string(folder.join("summary.json")).ok()?;
+        serde_json::from_str(&text).ok()
+    };
+    let folder = csv.parent()?;
+    let (value, walk) = match read(folder) {
+        Some(value) => (value, None),
+        None => {
+            // A batch's walk: `walks[N − 1]` of the batch's summary holds its own figures.
+            let n: usize = folder
+                .file_name()?
+                .to_str()?
+                .strip_prefix("walk-")?
+                .parse()
+                .ok()?;
+            (read(folder.parent()?)?, Some(n.checked_sub(1)?))
+        }
+    };
+    let record = match walk {
+        Some(i) => value.get("walks")?.get(i)?,
+        None => &value,
+    };
+    let tied = |key: &str| record.get(key).is_some_and(|v| !v.is_null());
     if anchored && !(tied("gps_file") || tied("plan_file")) {
         return None;
     }

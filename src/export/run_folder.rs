@@ -106,11 +106,15 @@ mod tests {
         for (text, stale) in [("first", true), ("second", false)] {
             let folder = RunFolder::create(&out).expect("create");
             folder.create_dir("walk-1").expect("dir");
-            folder.write("walk-1/track.csv", text.as_bytes()).expect("write");
+            folder
+                .write("walk-1/track.csv", text.as_bytes())
+                .expect("write");
             if stale {
                 folder.write("walk-1/old.csv", b"x").expect("write");
             }
-            folder.write("summary.json", text.as_bytes()).expect("write");
+            folder
+                .write("summary.json", text.as_bytes())
+                .expect("write");
             folder.commit().expect("commit");
         }
         let read = |name: &str| std::fs::read_to_string(out.join(name)).expect("read");
