@@ -9,6 +9,7 @@
 //! ```sh
 //! cargo run --release --example rf_regions -- 8 2          # test walks, survey walks
 //! EPSILON=3.0 cargo run --release --example rf_regions     # another threshold
+//! DISTANCE=paper cargo run --release --example rf_regions  # the paper's ndist (÷ k, not √k)
 //! WIFI='{"floor_loss":20}' BUILDING='{"corridor_length":80}' cargo run --release --example rf_regions
 //! ```
 
@@ -16,7 +17,7 @@
 
 use footslam::eval::rf_localisation::{SimulatedSurvey, simulate_survey};
 use footslam::filter::{RfConfig, RfLocaliser};
-use footslam::model::wifi_distance::Fingerprints;
+use footslam::model::wifi_distance::{Fingerprints, Normalisation};
 use footslam::sim::{TowerSimConfig, simulate_tower};
 use geo::Area;
 
@@ -37,19 +38,28 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         cells,
         map,
     } = simulate_survey(&base, 1000, surveys)?;
-    let epsilon = std::env::var("EPSILON")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .or(map.epsilon);
+    let epsilon = std::env::var("EPSILON").ok().and_then(|v| v.parse().ok());
+    let distance = match std::env::var("DISTANCE").as_deref() {
+        Ok("paper") => Some(Normalisation::Paper),
+        Ok("sqrt") => Some(Normalisation::Sqrt),
+        Ok(other) => return Err(format!("DISTANCE={other}: expected paper or sqrt").into()),
+        Err(_) => None,
+    };
     let rf = RfLocaliser::new(
         &map,
         &topology,
         &RfConfig {
             epsilon,
+            distance,
             ..Default::default()
         },
     )?;
-    let prints = Fingerprints::new(&map, rf.config().missing_rssi, rf.config().min_scans);
+    let prints = Fingerprints::new(
+        &map,
+        rf.config().missing_rssi,
+        rf.config().min_scans,
+        rf.distance(),
+    );
     let areas: Vec<f64> = map.cells.iter().map(|c| c.area.unsigned_area()).collect();
     let total: f64 = areas.iter().sum();
     let share = |inside: &dyn Fn(usize) -> bool| {
@@ -98,9 +108,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mean: f64 = shares.iter().sum::<f64>() / n;
     shares.sort_by(f64::total_cmp);
     println!(
-        "{} APs, {:.1} heard a scan; epsilon {:.2}; {} scans: region mean {:.1} % of the area ({:.1}× fewer particles), median {:.1} %, p90 {:.1} %; {:.0} % of it on the walker's floor; own cell missed {misses} ({:.2} %)",
+        "{} APs, {:.1} heard a scan; {} distance, epsilon {:.2}; {} scans: region mean {:.1} % of the area ({:.1}× fewer particles), median {:.1} %, p90 {:.1} %; {:.0} % of it on the walker's floor; own cell missed {misses} ({:.2} %)",
         sims[0].radio.access_points().len(),
         heard as f64 / n,
+        rf.distance().name(),
         rf.epsilon(),
         shares.len(),
         100.0 * mean,

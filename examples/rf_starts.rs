@@ -6,7 +6,8 @@
 //! ```sh
 //! cargo run --release --example rf_starts -- 20 400 1   # starts, 1.8 Hz steps of walking, survey walks
 //! APS=4 cargo run --release --example rf_starts        # 4 access points a floor
-//! ONCE=1 cargo run --release --example rf_starts        # each scan once, not at every step
+//! EVERY_STEP=1 cargo run --release --example rf_starts  # the latest scan at every step
+//! DISTANCE=paper cargo run --release --example rf_starts # the paper's ndist (÷ k, not √k)
 //! ```
 
 #![allow(clippy::print_stdout)] // an example reports on stdout
@@ -16,6 +17,7 @@ use footslam::eval::rf_localisation::{
     steps_or_all,
 };
 use footslam::filter::{RfConfig, RfLocaliser, RfMode, TrackerConfig};
+use footslam::model::wifi_distance::Normalisation;
 use footslam::sim::{TowerSimConfig, simulate_tower};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -60,11 +62,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|s| s.truth.poses.last().map_or(0.0, |p| p.t))
         .sum();
     println!(
-        "survey: {:.1} min of walking, coverage {:.1} %, {scans:.1} scans a covered cell, RMS {rms:.2} dB over {pairs} cell/AP pairs, epsilon {:.2} dBm",
+        "survey: {:.1} min of walking, coverage {:.1} %, {scans:.1} scans a covered cell, RMS {rms:.2} dB over {pairs} cell/AP pairs, epsilon {:.2} dBm (paper's distance), {:.2} dBm (÷ √k)",
         walk_s / 60.0,
         100.0 * coverage,
-        map.epsilon.unwrap_or(f64::NAN)
+        map.epsilon.unwrap_or(f64::NAN),
+        map.epsilon_sqrt.unwrap_or(f64::NAN)
     );
+    let distance = match std::env::var("DISTANCE").as_deref() {
+        Ok("paper") => Some(Normalisation::Paper),
+        Ok("sqrt") => Some(Normalisation::Sqrt),
+        Ok(other) => return Err(format!("DISTANCE={other}: expected paper or sqrt").into()),
+        Err(_) => None,
+    };
     let localisers = MODES
         .iter()
         .map(|&(mode, _)| {
@@ -77,8 +86,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         exponent: std::env::var("EXPONENT").ok().and_then(|v| v.parse().ok()),
                         ..Default::default()
                     },
-                    // ONCE=1: each scan once, at the first step after it.
-                    every_step: std::env::var("ONCE").is_err(),
+                    // EVERY_STEP=1: the latest scan at every step, where the particles are then.
+                    every_step: std::env::var("EVERY_STEP").is_ok(),
+                    distance,
                     ..Default::default()
                 },
             )

@@ -20,9 +20,11 @@ use footslam::filter::{
     survey_walk,
 };
 use footslam::map::{CellConfig, CellMap, FloorTopology, RadioMap};
+use footslam::model::wifi_distance::Normalisation;
 use footslam::sensor::WifiScan;
 use geo::Centroid;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -120,7 +122,9 @@ struct Summary {
     coverage: f64,
     mean_scans_per_covered_cell: f64,
     epsilon: Option<f64>,
-    ndist_leave_one_out_p50_p90_p99_max: [Option<f64>; 4],
+    epsilon_sqrt: Option<f64>,
+    /// Per distance (`paper`, `sqrt`): quantiles of the held-out distances ε is chosen from.
+    ndist_leave_one_out_p50_p90_p99_max: BTreeMap<&'static str, [Option<f64>; 4]>,
     access_points: usize,
     runtime_s: f64,
     walk_duration_s: f64,
@@ -247,16 +251,21 @@ pub fn run(args: Args) -> Result<()> {
     }
     let calibration: Vec<(Assignments, &[WifiScan])> =
         assignments.into_iter().zip(scans.iter().copied()).collect();
-    let distances = calibrate_map(
+    let held = calibrate_map(
         &mut map,
         &calibration,
         config.tracker.rf.missing_rssi,
         config.epsilon_miss,
     );
-    let quantile = |q: f64| {
-        (!distances.is_empty())
-            .then(|| distances[((distances.len() - 1) as f64 * q).round() as usize])
-    };
+    let quantiles: BTreeMap<&'static str, [Option<f64>; 4]> = Normalisation::ALL
+        .into_iter()
+        .map(|norm| {
+            let mut d: Vec<f64> = held.iter().map(|h| h.ndist(norm)).collect();
+            d.sort_by(f64::total_cmp);
+            let q = |q: f64| (!d.is_empty()).then(|| d[((d.len() - 1) as f64 * q).round() as usize]);
+            (norm.name(), [q(0.5), q(0.9), q(0.99), q(1.0)])
+        })
+        .collect();
 
     let folder = RunFolder::create(&output_dir(args.out, "survey"))?;
     write_radio_map_geojson(&folder.path("radiomap.geojson"), &map, &frame)?;
@@ -362,12 +371,8 @@ pub fn run(args: Args) -> Result<()> {
         coverage: share,
         mean_scans_per_covered_cell: mean,
         epsilon: map.epsilon,
-        ndist_leave_one_out_p50_p90_p99_max: [
-            quantile(0.5),
-            quantile(0.9),
-            quantile(0.99),
-            quantile(1.0),
-        ],
+        epsilon_sqrt: map.epsilon_sqrt,
+        ndist_leave_one_out_p50_p90_p99_max: quantiles,
         access_points: bssids.len(),
         runtime_s: runtime,
         walk_duration_s: duration,

@@ -15,6 +15,7 @@ use footslam::filter::{
 };
 use footslam::geometry::LocalFrame;
 use footslam::map::FloorTopology;
+use footslam::model::wifi_distance::Normalisation;
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -72,13 +73,26 @@ pub struct Args {
     /// default), `probabilistic` (eq. 14) or `prior-only`.
     #[arg(long, value_enum)]
     rf_mode: Option<RfModeArg>,
-    /// Region threshold ε, dBm (default: the radio map's calibration, else 9.5).
-    #[arg(long)]
-    rf_epsilon: Option<f64>,
-    /// Apply each scan once, at the first step after it, instead of the latest scan at every
-    /// step (eq. 12).
+    /// The scan-to-cell distance's divisor: `paper` (the number k of access points a cell
+    /// hears, eqs. 8 and 11) or `sqrt` (√k). Default: `sqrt` where the radio map holds a
+    /// threshold calibrated for it (`footslam survey` writes one), else `paper`.
+    #[arg(long, value_enum, requires = "radiomap")]
+    rf_distance: Option<RfDistanceArg>,
+    /// Region threshold ε, dBm (default: the radio map's calibration for the distance, else
+    /// the paper's 9.5 for its distance).
     #[arg(long, requires = "radiomap")]
-    rf_once: bool,
+    rf_epsilon: Option<f64>,
+    /// Apply the latest scan at every step where the particles are then (eq. 12 read
+    /// literally), instead of once, where they were when the scan was taken.
+    #[arg(long, requires = "radiomap")]
+    rf_every_step: bool,
+}
+
+/// `--rf-distance` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum RfDistanceArg {
+    Paper,
+    Sqrt,
 }
 
 /// `--rf-mode` values.
@@ -152,6 +166,8 @@ struct RfSummary {
     wifi_file: String,
     scans: usize,
     mode: RfMode,
+    /// The distance's divisor used: `paper` (k) or `sqrt` (√k).
+    distance: Normalisation,
     /// The region threshold used.
     epsilon_dbm: f64,
     /// The step at which the filter started (the first after the first scan).
@@ -205,8 +221,14 @@ pub fn run(args: Args) -> Result<()> {
     if args.rf_epsilon.is_some() {
         config.rf.epsilon = args.rf_epsilon;
     }
-    if args.rf_once {
-        config.rf.every_step = false;
+    if let Some(d) = args.rf_distance {
+        config.rf.distance = Some(match d {
+            RfDistanceArg::Paper => Normalisation::Paper,
+            RfDistanceArg::Sqrt => Normalisation::Sqrt,
+        });
+    }
+    if args.rf_every_step {
+        config.rf.every_step = true;
     }
     config.validate()?;
     let plan_path = args.plan.clone().unwrap_or_else(|| bundled(DEFAULT_PLAN));
@@ -346,6 +368,7 @@ pub fn run(args: Args) -> Result<()> {
                 wifi_file: wifi_path.display().to_string(),
                 scans: scans.len(),
                 mode: rf.config().mode,
+                distance: rf.distance(),
                 epsilon_dbm: rf.epsilon(),
                 started_at_step: reports.iter().position(|r| r.particles > 0).map(|i| i + 1),
                 measurements_ignored: ignored,

@@ -5,7 +5,9 @@
 //! One `Polygon` or `MultiPolygon` feature per cell, in WGS84 (exterior rings
 //! counter-clockwise, no `crs` member), with properties `cell` (id), `level`, `scans` and
 //! `aps`: `{bssid: {"n": readings, "mean": dBm, "hist": {"<dBm>": count}}}`. The collection's
-//! foreign member `origin` (`{"lat", "lon"}`) names the local frame.
+//! foreign member `origin` (`{"lat", "lon"}`) names the local frame; `epsilon` and
+//! `epsilon_sqrt`, where known, are the region thresholds calibrated on the survey for the
+//! paper's distance and for the one divided by `√k` ([`crate::model::wifi_distance`]).
 //!
 //! The CSV has one row per cell and access point: `cell,level,bssid,n,mean,std,misses`
 //! (`misses` = scans of the cell that did not hear the access point).
@@ -70,8 +72,10 @@ pub fn radio_map_to_geojson(map: &RadioMap, frame: &LocalFrame) -> FeatureCollec
         })
         .collect();
     let mut members = origin_member(frame);
-    if let Some(e) = map.epsilon {
-        members.insert("epsilon".into(), json!((e * 1000.0).round() / 1000.0));
+    for (name, e) in [("epsilon", map.epsilon), ("epsilon_sqrt", map.epsilon_sqrt)] {
+        if let Some(e) = e {
+            members.insert(name.into(), json!((e * 1000.0).round() / 1000.0));
+        }
     }
     FeatureCollection {
         bbox: None,
@@ -126,19 +130,26 @@ pub fn read_radio_map_geojson(
     if let Some(w) = ids.windows(2).find(|w| w[0] == w[1]) {
         return Err(whole(format!("cell `{}` appears twice", w[0])));
     }
-    let epsilon = match collection
+    let threshold = |name: &str| match collection
         .foreign_members
         .as_ref()
-        .and_then(|m| m.get("epsilon"))
+        .and_then(|m| m.get(name))
     {
-        None | Some(JsonValue::Null) => None,
-        Some(v) => Some(
-            v.as_f64()
-                .filter(|e| e.is_finite() && *e > 0.0)
-                .ok_or_else(|| whole(format!("member `epsilon` = {v} is not a positive number")))?,
-        ),
+        None | Some(JsonValue::Null) => Ok(None),
+        Some(v) => v
+            .as_f64()
+            .filter(|e| e.is_finite() && *e > 0.0)
+            .map(Some)
+            .ok_or_else(|| whole(format!("member `{name}` = {v} is not a positive number"))),
     };
-    Ok((RadioMap { cells, epsilon }, frame))
+    Ok((
+        RadioMap {
+            cells,
+            epsilon: threshold("epsilon")?,
+            epsilon_sqrt: threshold("epsilon_sqrt")?,
+        },
+        frame,
+    ))
 }
 
 fn read_cell(feature: &Feature, frame: &LocalFrame) -> Result<RadioMapCell, String> {

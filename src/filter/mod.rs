@@ -25,5 +25,5 @@ pub use resample::{ResampleConfig, ResampleMethod};
 pub use rf_assist::{RfConfig, RfLocaliser, RfMode};
 pub use rf_tracker::RfTracker;
 pub use survey::{Assignments, SurveyCounts, calibrate_map, survey_assignments, survey_walk};
-pub use tracker::{TrackParticle, TrackStep, Tracker};
+pub use tracker::{StepMeasurement, TrackParticle, TrackStep, Tracker};
 pub use tracker_config::{StartPose, TrackerConfig};

@@ -15,7 +15,7 @@
 
 use crate::error::{Error, Result};
 use crate::map::{CellField, CellRaster, FloorTopology, RadioMap};
-use crate::model::wifi_distance::Fingerprints;
+use crate::model::wifi_distance::{Fingerprints, Normalisation};
 use crate::model::wifi_likelihood::{HistogramLikelihood, LikelihoodConfig};
 use crate::sensor::WifiScan;
 use serde::{Deserialize, Serialize};
@@ -43,13 +43,14 @@ pub enum RfMode {
 /// | field              | default  | meaning                                                 |
 /// |--------------------|----------|---------------------------------------------------------|
 /// | `mode`             | containment | containment (eqs. 12–13), probabilistic (eq. 14) or prior only |
-/// | `epsilon`          | none     | region threshold on `ndist` (eqs. 2, 12): none = the map's calibrated `ε`, else the paper's 9.5 dBm |
+/// | `distance`         | none     | `ndist`'s divisor: `paper` (`k`, eqs. 8, 11) or `sqrt` (`√k`); none = `sqrt` where the map is calibrated for it, else `paper` |
+/// | `epsilon`          | none     | region threshold on `ndist` (eqs. 2, 12): none = the map's calibrated `ε` for the distance, else the paper's 9.5 dBm (`paper` only) |
 /// | `missing_rssi`     | −96 dBm  | fill for missing readings (the receiver's floor)         |
 /// | `outside_weight`   | 0        | containment weight outside `R_t` (eq. 13: 0)             |
 /// | `likelihood_floor` | 1e-6     | probabilistic: least weight relative to the likeliest cell |
 /// | `min_scans`        | 1        | cells with fewer scans are unknown (always inside)       |
 /// | `max_scan_age`     | 5 s      | a scan older than this at a step is not used             |
-/// | `every_step`       | true     | apply the latest scan at every step (eq. 12), or once    |
+/// | `every_step`       | false    | apply the latest scan at every step where the particles are then, or (false) once, where they were at the scan's time |
 /// | `raster`           | 0.25 m   | grid of the point-to-cell lookup                         |
 /// | `likelihood`       | see [`LikelihoodConfig`] | eq. 14's histogram smoothing              |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -57,8 +58,12 @@ pub enum RfMode {
 pub struct RfConfig {
     /// Measurement after the prior.
     pub mode: RfMode,
+    /// What the scan-to-cell distance is divided by ([`Normalisation`]); `None` = `√k`
+    /// where the radio map holds a threshold calibrated for it (`footslam survey` measures
+    /// one), else the paper's `k`.
+    pub distance: Option<Normalisation>,
     /// Region threshold `ε` on the normalised distance, dBm; `None` = the radio map's own
-    /// calibration (`footslam survey` measures it), else [`PAPER_EPSILON`].
+    /// calibration for the distance, else (the paper's distance only) [`PAPER_EPSILON`].
     pub epsilon: Option<f64>,
     /// Fill for missing readings, dBm.
     pub missing_rssi: f64,
@@ -70,10 +75,11 @@ pub struct RfConfig {
     pub min_scans: u32,
     /// Oldest usable scan at a step, seconds.
     pub max_scan_age: f64,
-    /// Apply the latest scan's measurement at every step until the next scan (the paper's
-    /// eq. 12: "the last WiFi scan to be completed prior to the completion of the step");
-    /// false: once, at the first step after it (a reused scan judges the walker where it no
-    /// longer is: localises in a step or two more, tracks a few centimetres closer).
+    /// Apply the latest scan's measurement at every step until the next scan, at the
+    /// particles' places then (eq. 12 read literally: "the last WiFi scan to be completed
+    /// prior to the completion of the step"); false: once, at the first step after it, at
+    /// each particle's place at the scan's time ([`super::RfTracker`]) — a reused scan judges
+    /// the walker up to a few metres from where it was taken.
     pub every_step: bool,
     /// Side of the point-to-cell grid, metres.
     pub raster: f64,
@@ -85,13 +91,14 @@ impl Default for RfConfig {
     fn default() -> Self {
         Self {
             mode: RfMode::Containment,
+            distance: None,
             epsilon: None,
             missing_rssi: -96.0,
             outside_weight: 0.0,
             likelihood_floor: 1e-6,
             min_scans: 1,
             max_scan_age: 5.0,
-            every_step: true,
+            every_step: false,
             raster: 0.25,
             likelihood: LikelihoodConfig::default(),
         }
@@ -176,6 +183,7 @@ impl RfConfig {
 #[derive(Debug, Clone)]
 pub struct RfLocaliser {
     config: RfConfig,
+    distance: Normalisation,
     epsilon: f64,
     raster: Arc<CellRaster>,
     prints: Fingerprints,
@@ -187,8 +195,9 @@ impl RfLocaliser {
     /// Prepares `map` (cells in the plan's local frame) for tracking on `topology`.
     pub fn new(map: &RadioMap, topology: &FloorTopology, config: &RfConfig) -> Result<Self> {
         config.validate()?;
+        let (distance, epsilon) = threshold(map, config)?;
         let raster = CellRaster::build(map, topology.bounds(), topology.levels(), config.raster)?;
-        let prints = Fingerprints::new(map, config.missing_rssi, config.min_scans);
+        let prints = Fingerprints::new(map, config.missing_rssi, config.min_scans, distance);
         if prints.access_points() == 0 {
             return Err(Error::Input(
                 "the radio map has no access point readings".into(),
@@ -196,7 +205,8 @@ impl RfLocaliser {
         }
         Ok(Self {
             config: *config,
-            epsilon: config.epsilon.or(map.epsilon).unwrap_or(PAPER_EPSILON),
+            distance,
+            epsilon,
             raster: Arc::new(raster),
             prints,
             likelihood: (config.mode == RfMode::Probabilistic)
@@ -212,6 +222,11 @@ impl RfLocaliser {
     /// The region threshold in use, dBm.
     pub fn epsilon(&self) -> f64 {
         self.epsilon
+    }
+
+    /// The distance's divisor in use.
+    pub fn distance(&self) -> Normalisation {
+        self.distance
     }
 
     /// Whether each cell is in the scan's region (eqs. 2, 12); unknown cells are.
@@ -264,4 +279,27 @@ impl RfLocaliser {
         debug_assert_eq!(values.len(), self.raster.cells());
         CellField::new(self.raster.clone(), values, 0.0)
     }
+}
+
+/// The distance and threshold `config` asks for on `map`: as given, else the map's
+/// calibration for the distance; with neither given, `√k` where the map is calibrated for
+/// it, else the paper's distance with the map's `ε` or [`PAPER_EPSILON`]. The paper's 9.5
+/// dBm is a threshold for its own distance, so `√k` without a calibration or an `ε` is an
+/// error.
+fn threshold(map: &RadioMap, config: &RfConfig) -> Result<(Normalisation, f64)> {
+    let distance = config.distance.unwrap_or(if map.epsilon_sqrt.is_some() {
+        Normalisation::Sqrt
+    } else {
+        Normalisation::Paper
+    });
+    let calibrated = match distance {
+        Normalisation::Paper => map.epsilon.or(Some(PAPER_EPSILON)),
+        Normalisation::Sqrt => map.epsilon_sqrt,
+    };
+    let epsilon = config.epsilon.or(calibrated).ok_or(Error::Config {
+        field: "rf.distance",
+        value: "sqrt".into(),
+        reason: "needs a region threshold: the radio map has no `epsilon_sqrt` (survey it with `footslam survey`); give rf.epsilon, or use the paper's distance",
+    })?;
+    Ok((distance, epsilon))
 }

@@ -1,14 +1,22 @@
 //! The known-map tracker driven by step events and WiFi scans together (Woodman & Harle
 //! 2009, sec. 5): the filter starts at the first scan with its prior drawn in that scan's
-//! region `R_prior` (eq. 2) — or about a known start — and the latest scan is applied at
-//! every step until the next (eq. 12; [`super::rf_assist`]), or with `every_step = false`
-//! once, at the first step after it.
+//! region `R_prior` (eq. 2) — or about a known start — and then each scan weighs the
+//! particles (eq. 12; [`super::rf_assist`]) where they were when it was taken: at the first
+//! step after the scan, at the point of each particle's move at the scan's time (interpolated
+//! between the step events before and after it).
+//!
+//! This is eq. 12's "latest scan at every step", judged at the scan's time: a containment
+//! region applied again at the following steps to where each particle was at the scan
+//! changes nothing (every particle descends from one already inside). With `every_step`
+//! the latest scan is instead applied at every step where the particles are then, as the
+//! paper's words read: with tight regions (a threshold calibrated on the survey) that cuts
+//! off the walker's lead over a scan up to 5 s old and drags the belief behind.
 //!
 //! Steps before the first scan come before any WiFi information; without a known start they
 //! are reported without particles (and count towards the steps to localise).
 
 use super::rf_assist::RfLocaliser;
-use super::tracker::{TrackStep, Tracker};
+use super::tracker::{StepMeasurement, TrackStep, Tracker};
 use super::tracker_config::TrackerConfig;
 use crate::error::{Error, Result};
 use crate::map::{CellField, FloorTopology};
@@ -28,6 +36,8 @@ pub struct RfTracker<'a> {
     current: Option<(usize, Option<CellField>)>,
     /// The last scan applied.
     applied: Option<usize>,
+    /// Time of the last step processed.
+    last_step: Option<f64>,
 }
 
 impl<'a> RfTracker<'a> {
@@ -59,6 +69,7 @@ impl<'a> RfTracker<'a> {
             next_scan: 0,
             current: None,
             applied: None,
+            last_step: None,
         })
     }
 
@@ -82,6 +93,9 @@ impl<'a> RfTracker<'a> {
             .next_scan
             .checked_sub(1)
             .filter(|&i| step.t - self.scans[i].t <= max_age);
+        // The prior was drawn at this step for this scan: it stands where the walker was
+        // when the scan was taken.
+        let mut started = false;
         if let Some(i) = latest
             && self.current.as_ref().is_none_or(|c| c.0 != i)
         {
@@ -94,10 +108,12 @@ impl<'a> RfTracker<'a> {
                         &self.config,
                         Some(prior),
                     )?);
+                    started = true;
                 }
             }
             self.current = Some((i, measurement));
         }
+        let previous = self.last_step.replace(step.t);
         let Some(tracker) = self.tracker.as_mut() else {
             return Ok(TrackStep {
                 t: step.t,
@@ -108,18 +124,35 @@ impl<'a> RfTracker<'a> {
                 recovery: None,
             });
         };
-        // The latest scan at every step (eq. 12), or each scan once, at the first step after
-        // it: a reused scan judges the walker where it no longer is (a scan every ~2 s, a
-        // stride every ~1.1 s).
         let every_step = self.rf.config().every_step;
         let measurement = match (latest, &self.current) {
-            (Some(i), Some((j, m))) if i == *j && (every_step || self.applied != Some(i)) => {
+            (Some(i), Some((j, Some(m)))) if i == *j && (every_step || self.applied != Some(i)) => {
                 self.applied = Some(i);
-                m.as_ref()
+                Some(if every_step {
+                    StepMeasurement::at_end(m)
+                } else {
+                    StepMeasurement {
+                        field: m,
+                        at: if started {
+                            0.0
+                        } else {
+                            share_of_step(previous, step.t, self.scans[i].t)
+                        },
+                    }
+                })
             }
             _ => None,
         };
         tracker.update_with(step, measurement)
+    }
+}
+
+/// The share of the move from the step event at `previous` to the one at `t` done at
+/// `scan_t` (clamped to [0, 1]); 1 without an earlier step, when the move's start is unknown.
+fn share_of_step(previous: Option<f64>, t: f64, scan_t: f64) -> f32 {
+    match previous {
+        Some(p) if t > p => ((scan_t - p) / (t - p)).clamp(0.0, 1.0) as f32,
+        _ => 1.0,
     }
 }
 
@@ -187,10 +220,14 @@ mod tests {
             heading: None,
         };
         let nowhere = CellField::new(raster, Vec::new(), f32::NEG_INFINITY);
-        let r = tracker.update_with(&step, Some(&nowhere)).expect("step");
+        let r = tracker
+            .update_with(&step, Some(StepMeasurement::at_end(&nowhere)))
+            .expect("step");
         assert_eq!(tracker.measurements_ignored(), 1);
         assert!(r.particles > 0 && r.recovery.is_none());
-        let r = tracker.update_with(&step, Some(&region)).expect("step");
+        let r = tracker
+            .update_with(&step, Some(StepMeasurement::at_end(&region)))
+            .expect("step");
         assert_eq!(tracker.measurements_ignored(), 1);
         assert!(r.particles > 0);
     }

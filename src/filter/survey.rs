@@ -5,7 +5,7 @@
 
 use super::tracker::TrackStep;
 use crate::map::{CellMap, FloorTopology, RadioMap};
-use crate::model::wifi_distance::{calibrate_epsilon, leave_one_out_ndist};
+use crate::model::wifi_distance::{HeldOut, Normalisation, calibrate_epsilon, leave_one_out_ndist};
 use crate::sensor::WifiScan;
 
 /// What one survey pass added.
@@ -78,26 +78,32 @@ pub fn survey_walk(
     counts
 }
 
-/// Sets `map.epsilon` to the region threshold `ε` that a share `1 − miss` of the surveyed
-/// scans' leave-one-out distances to their own cells fall under (the paper's way of choosing
+/// Sets `map.epsilon` and `map.epsilon_sqrt` to the region thresholds `ε` (the paper's
+/// distance and the one divided by `√k`) that a share `1 − miss` of the surveyed scans'
+/// leave-one-visit-out distances to their own cells fall under (the paper's way of choosing
 /// ε, sec. 5.3, on the survey itself): `walks` are each walk's [`survey_assignments`] and
-/// scans. Without any distance (e.g. only merged maps) `map.epsilon` is left as it is.
-/// Returns the distances, sorted.
+/// scans. Without any distance (e.g. only merged maps) the thresholds are left as they are.
+/// Returns the held-out distances.
 pub fn calibrate_map(
     map: &mut RadioMap,
     walks: &[(Assignments, &[WifiScan])],
     missing_rssi: f64,
     miss: f64,
-) -> Vec<f64> {
-    let mut d: Vec<f64> = walks
+) -> Vec<HeldOut> {
+    let held: Vec<HeldOut> = walks
         .iter()
         .flat_map(|(assignments, scans)| leave_one_out_ndist(map, assignments, scans, missing_rssi))
         .collect();
-    d.sort_by(f64::total_cmp);
-    if let Some(epsilon) = calibrate_epsilon(&d, miss) {
-        map.epsilon = Some(epsilon);
+    for norm in Normalisation::ALL {
+        let d: Vec<f64> = held.iter().map(|h| h.ndist(norm)).collect();
+        if let Some(epsilon) = calibrate_epsilon(&d, miss) {
+            match norm {
+                Normalisation::Paper => map.epsilon = Some(epsilon),
+                Normalisation::Sqrt => map.epsilon_sqrt = Some(epsilon),
+            }
+        }
     }
-    d
+    held
 }
 
 #[cfg(test)]

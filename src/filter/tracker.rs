@@ -74,6 +74,26 @@ pub struct TrackParticle {
     pub surface: u32,
 }
 
+/// An extra measurement for one step ([`Tracker::update_with`]): a field over the plan, and
+/// when within the step it was taken.
+#[derive(Debug, Clone, Copy)]
+pub struct StepMeasurement<'m> {
+    /// Log-weight at each place.
+    pub field: &'m CellField,
+    /// Share of the step's motion done when the measurement was taken: 0 = where the
+    /// particle stood before the step, 1 = where the step took it. Each particle is judged
+    /// at that point of its own straight move, so a scan taken mid-step judges it where the
+    /// walker was when the scan was taken.
+    pub at: f32,
+}
+
+impl<'m> StepMeasurement<'m> {
+    /// `field` judged where the step took each particle.
+    pub fn at_end(field: &'m CellField) -> Self {
+        Self { field, at: 1.0 }
+    }
+}
+
 /// What one step did to the belief.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TrackStep {
@@ -232,14 +252,15 @@ impl<'a> Tracker<'a> {
         self.update_with(step, None)
     }
 
-    /// [`Self::update`] with an extra measurement: `measurement`'s value at each particle's
-    /// place is added to its log-weight (e.g. a WiFi containment region, eqs. 12–13 of the
-    /// 2009 paper, or a likelihood, eq. 14) before resampling. A measurement no particle is
-    /// consistent with is ignored (counted in [`Self::measurements_ignored`]).
+    /// [`Self::update`] with an extra measurement: its field's value at each particle's
+    /// place (at the measurement's time within the step) is added to the particle's
+    /// log-weight (e.g. a WiFi containment region, eqs. 12–13 of the 2009 paper, or a
+    /// likelihood, eq. 14) before resampling. A measurement no particle is consistent with is
+    /// ignored (counted in [`Self::measurements_ignored`]).
     pub fn update_with(
         &mut self,
         step: &Step,
-        measurement: Option<&CellField>,
+        measurement: Option<StepMeasurement<'_>>,
     ) -> Result<TrackStep> {
         let input = StepInput::of(step)?;
         self.steps += 1;
@@ -248,7 +269,11 @@ impl<'a> Tracker<'a> {
             recovery = Some(self.recover(&input));
         }
         if !matches!(recovery, Some(Recovery::Global)) {
-            if let Some(m) = measurement {
+            if let Some(mut m) = measurement {
+                // History fitting replaces the particles: nothing is left to interpolate from.
+                if matches!(recovery, Some(Recovery::History { .. })) {
+                    m.at = 1.0;
+                }
                 self.measure(m);
             }
             let n = self.weigh();
@@ -324,23 +349,38 @@ impl<'a> Tracker<'a> {
     }
 
     /// Adds `m`'s value at every proposed particle to its log-weight, unless that would leave
-    /// no particle alive (eq. 1 of the 2009 paper: `w_t = w_{t−1} · p(z_t | s_t)`).
-    fn measure(&mut self, m: &CellField) {
-        let topology = self.topology;
-        let value = |p: &TrackParticle| m.at(topology.level(p.surface), p.x, p.y);
+    /// no particle alive (eq. 1 of the 2009 paper: `w_t = w_{t−1} · p(z_t | s_t)`). Each
+    /// particle is judged at the share `m.at` of its move from its parent (`particles[i]`,
+    /// which `proposal[i]` was propagated from), on the floor of the nearer end.
+    fn measure(&mut self, m: StepMeasurement<'_>) {
+        let (topology, at) = (self.topology, m.at.clamp(0.0, 1.0));
+        let paired = self.particles.len() == self.proposal.len();
+        let value = |from: &TrackParticle, to: &TrackParticle| {
+            if at >= 1.0 || !paired {
+                return m.field.at(topology.level(to.surface), to.x, to.y);
+            }
+            let level = topology.level(if at < 0.5 { from.surface } else { to.surface });
+            let x = from.x + at * (to.x - from.x);
+            let y = from.y + at * (to.y - from.y);
+            m.field.at(level, x, y)
+        };
+        // Without pairs, `from` is never read; any slice of the right length will do.
+        let parents = if paired { &self.particles } else { &self.proposal };
         let any_alive = self
             .proposal
             .par_iter()
+            .zip(parents.par_iter())
             .zip(self.log_weights.par_iter())
-            .any(|(p, lw)| *lw > f32::NEG_INFINITY && value(p) > f32::NEG_INFINITY);
+            .any(|((to, from), lw)| *lw > f32::NEG_INFINITY && value(from, to) > f32::NEG_INFINITY);
         if !any_alive {
             self.ignored += 1;
             return;
         }
         self.proposal
             .par_iter()
+            .zip(parents.par_iter())
             .zip(self.log_weights.par_iter_mut())
-            .for_each(|(p, lw)| *lw += value(p));
+            .for_each(|((to, from), lw)| *lw += value(from, to));
     }
 
     /// Turns the proposal's log-weights into weights (relative to the largest), fills the

@@ -217,6 +217,7 @@ mod tests {
                 cell("far", 5, Rect::new((0.0, 0.0), (6.0, 2.0))),
             ],
             epsilon: None,
+            epsilon_sqrt: None,
         };
         let r = CellRaster::build(&map, [0.0, 0.0, 6.0, 2.0], (0, 1), 0.25).expect("raster");
         assert_eq!(r.cell_at(0, 1.0, 1.0), Some(0));
@@ -232,6 +233,7 @@ mod tests {
         let elsewhere = RadioMap {
             cells: vec![cell("x", 0, Rect::new((100.0, 100.0), (103.0, 102.0)))],
             epsilon: None,
+            epsilon_sqrt: None,
         };
         assert!(CellRaster::build(&elsewhere, [0.0, 0.0, 6.0, 2.0], (0, 1), 0.25).is_err());
     }
@@ -245,6 +247,7 @@ mod tests {
                 cell("b", 0, Rect::new((3.1, 0.1), (5.9, 1.9))),
             ],
             epsilon: None,
+            epsilon_sqrt: None,
         };
         let r = CellRaster::build(&map, [0.0, 0.0, 6.0, 2.0], (0, 0), 0.25).expect("raster");
         for i in 0..=280 {

@@ -107,9 +107,12 @@ pub struct RadioMapCell {
 pub struct RadioMap {
     /// The cells.
     pub cells: Vec<RadioMapCell>,
-    /// The region threshold `ε` calibrated on the survey (dBm, see
+    /// The region threshold `ε` calibrated on the survey for the paper's distance (dBm, see
     /// [`crate::model::wifi_distance::calibrate_epsilon`]), if known.
     pub epsilon: Option<f64>,
+    /// The same for the distance divided by `√k` (`Normalisation::Sqrt` of
+    /// [`crate::model::wifi_distance`]), if known.
+    pub epsilon_sqrt: Option<f64>,
 }
 
 impl RadioMap {
@@ -127,6 +130,7 @@ impl RadioMap {
                 })
                 .collect(),
             epsilon: None,
+            epsilon_sqrt: None,
         }
     }
 
@@ -171,10 +175,12 @@ impl RadioMap {
             a.radio.merge(&b.radio);
         }
         // The larger of two calibrations is the safer threshold for the merged map.
-        self.epsilon = match (self.epsilon, other.epsilon) {
+        let safer = |a: Option<f64>, b: Option<f64>| match (a, b) {
             (Some(a), Some(b)) => Some(a.max(b)),
             (a, b) => a.or(b),
         };
+        self.epsilon = safer(self.epsilon, other.epsilon);
+        self.epsilon_sqrt = safer(self.epsilon_sqrt, other.epsilon_sqrt);
         Ok(())
     }
 

@@ -4,14 +4,57 @@
 //!
 //! A cell's fingerprint `c_i` is the mean RSSI of every access point it heard. The distance is
 //! Euclidean over the access points of the map, missing readings in both the scan and the
-//! cell filled with the weakest measurable RSSI, and divided by the number of access points
-//! visible from the cell, so that a strong access point missing from the scan (body
-//! shadowing) costs less than one missing from the cell (eqs. 6–11). Access points the map
-//! never heard carry no information about place and are left out.
+//! cell filled with the weakest measurable RSSI, and divided by a function of the number `k`
+//! of access points visible from the cell, so that a strong access point missing from the
+//! scan (body shadowing) costs less than one missing from the cell (eqs. 6–11). Access points
+//! the map never heard carry no information about place and are left out.
+//!
+//! [`Normalisation`] chooses the divisor: the paper's `k` (eqs. 8 and 11), or `√k`. With
+//! independent errors of spread `σ` on each of the `k` readings, the Euclidean distance of a
+//! scan to its own cell grows as `σ·√k`, so the paper's `ndist` is about `σ/√k`: one
+//! threshold `ε` is then tight for cells that hear few access points and loose for cells
+//! that hear many, and to miss few walkers in the former it admits many wrong cells of the
+//! latter. Divided by `√k` the distance to the walker's own cell is about `σ` wherever the
+//! cell is, so one `ε` misses equally often everywhere and the regions are smaller for the
+//! same miss rate (on the simulated building, half the area at a 0.1 % miss rate).
 
 use crate::map::{CellRadio, RadioMap};
 use crate::sensor::WifiScan;
 use rustc_hash::FxHashMap;
+use serde::{Deserialize, Serialize};
+
+/// What the Euclidean scan-to-cell distance is divided by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Normalisation {
+    /// The number of access points visible from the cell, `k` (the paper's eqs. 8 and 11).
+    Paper,
+    /// Its square root, `√k`: a distance whose spread to the walker's own cell does not
+    /// depend on how many access points the cell hears.
+    Sqrt,
+}
+
+impl Normalisation {
+    /// Both, the paper's first.
+    pub const ALL: [Normalisation; 2] = [Normalisation::Paper, Normalisation::Sqrt];
+
+    /// The divisor for a cell that hears `visible` access points (at least one).
+    pub fn divisor(self, visible: usize) -> f64 {
+        let k = visible.max(1) as f64;
+        match self {
+            Normalisation::Paper => k,
+            Normalisation::Sqrt => k.sqrt(),
+        }
+    }
+
+    /// Its name in configs and maps: `paper` or `sqrt`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Normalisation::Paper => "paper",
+            Normalisation::Sqrt => "sqrt",
+        }
+    }
+}
 
 /// Mean-RSSI fingerprints of a radio map's cells.
 #[derive(Debug, Clone, PartialEq)]
@@ -23,12 +66,15 @@ pub struct Fingerprints {
     cells: Vec<Option<(Vec<f64>, usize)>>,
     /// The fill for missing readings, dBm.
     missing: f64,
+    /// The distance's divisor.
+    norm: Normalisation,
 }
 
 impl Fingerprints {
     /// The fingerprints of `map`'s cells; cells with fewer than `min_scans` scans (at least
-    /// one) are unknown. Readings weaker than `missing_rssi` count as `missing_rssi`.
-    pub fn new(map: &RadioMap, missing_rssi: f64, min_scans: u32) -> Self {
+    /// one) are unknown. Readings weaker than `missing_rssi` count as `missing_rssi`;
+    /// distances are divided as `norm` says.
+    pub fn new(map: &RadioMap, missing_rssi: f64, min_scans: u32, norm: Normalisation) -> Self {
         let columns = map.access_point_columns();
         let cells = map
             .cells
@@ -42,6 +88,7 @@ impl Fingerprints {
             columns,
             cells,
             missing: missing_rssi,
+            norm,
         }
     }
 
@@ -62,15 +109,31 @@ impl Fingerprints {
             .iter()
             .map(|c| {
                 c.as_ref()
-                    .map(|(means, visible)| ndist(&z, means, *visible))
+                    .map(|(means, visible)| euclidean(&z, means) / self.norm.divisor(*visible))
             })
             .collect()
     }
 }
 
-/// Leave-one-visit-out normalised distances of a survey (the paper's Fig. 11, computed
-/// from the survey itself): for each `(scan, cell)` of `assignments` (in time order), `ndist`
-/// between the scan and its cell's fingerprint without any scan of the same visit — the run
+/// A scan's distance to its own cell's fingerprint, before normalisation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeldOut {
+    /// The Euclidean distance over the map's access points, dB.
+    pub euclidean: f64,
+    /// Access points visible from the cell without the held-out scans.
+    pub visible: usize,
+}
+
+impl HeldOut {
+    /// The normalised distance.
+    pub fn ndist(&self, norm: Normalisation) -> f64 {
+        self.euclidean / norm.divisor(self.visible)
+    }
+}
+
+/// Leave-one-visit-out distances of a survey (the paper's Fig. 11, computed from the survey
+/// itself): for each `(scan, cell)` of `assignments` (in time order), the distance between
+/// the scan and its cell's fingerprint without any scan of the same visit — the run
 /// of consecutive assignments to that cell. Scans of one visit share the walker's place and
 /// heading (so its body shadowing): against a fingerprint that still holds them, a scan
 /// looks closer to its cell than a later walker's scan will, and `ε` calibrated on it is
@@ -80,7 +143,7 @@ pub fn leave_one_out_ndist(
     assignments: &[(usize, Option<usize>)],
     scans: &[WifiScan],
     missing_rssi: f64,
-) -> Vec<f64> {
+) -> Vec<HeldOut> {
     let columns = map.access_point_columns();
     let mut out = Vec::with_capacity(assignments.len());
     for visit in assignments.chunk_by(|a, b| a.1 == b.1) {
@@ -94,11 +157,10 @@ pub fn leave_one_out_ndist(
         }
         let (means, visible) = fingerprint(radio, &columns, missing_rssi, &held);
         for scan in held {
-            out.push(ndist(
-                &scan_vector(&columns, missing_rssi, scan),
-                &means,
+            out.push(HeldOut {
+                euclidean: euclidean(&scan_vector(&columns, missing_rssi, scan), &means),
                 visible,
-            ));
+            });
         }
     }
     out
@@ -163,13 +225,21 @@ pub fn calibrate_epsilon(distances: &[f64], miss: f64) -> Option<f64> {
     Some(d[rank.clamp(1, d.len()) - 1] * 1.01)
 }
 
-/// The normalised distance of eqs. 8 and 11: the Euclidean distance between the filled
-/// vectors `z` and `c`, divided by the number of access points visible from the cell (at
-/// least one).
-pub fn ndist(z: &[f64], c: &[f64], visible: usize) -> f64 {
+/// The normalised distance of eqs. 8 and 11 (with [`Normalisation::Paper`]): the Euclidean
+/// distance between the filled vectors `z` and `c`, divided as `norm` says by the number of
+/// access points visible from the cell.
+pub fn ndist(z: &[f64], c: &[f64], visible: usize, norm: Normalisation) -> f64 {
+    euclidean(z, c) / norm.divisor(visible)
+}
+
+/// The Euclidean distance between the filled vectors `z` and `c`.
+fn euclidean(z: &[f64], c: &[f64]) -> f64 {
     debug_assert_eq!(z.len(), c.len());
-    let squared: f64 = z.iter().zip(c).map(|(a, b)| (a - b) * (a - b)).sum();
-    squared.sqrt() / visible.max(1) as f64
+    z.iter()
+        .zip(c)
+        .map(|(a, b)| (a - b) * (a - b))
+        .sum::<f64>()
+        .sqrt()
 }
 
 #[cfg(test)]
@@ -185,11 +255,17 @@ mod tests {
     #[test]
     fn the_papers_examples() {
         // Eqs. 6–8: the scan misses an access point the cell hears: 7.1 dBm.
-        let d = ndist(&[-82.0, -73.0, -96.0], &[-84.0, -75.0, -75.0], 3);
+        let paper = Normalisation::Paper;
+        let d = ndist(&[-82.0, -73.0, -96.0], &[-84.0, -75.0, -75.0], 3, paper);
         assert!((d - 7.06).abs() < 0.01, "{d}");
         // Eqs. 9–11: the cell misses one the scan hears: 10.6 dBm.
-        let d = ndist(&[-84.0, -75.0, -75.0], &[-82.0, -73.0, -96.0], 2);
+        let d = ndist(&[-84.0, -75.0, -75.0], &[-82.0, -73.0, -96.0], 2, paper);
         assert!((d - 10.6).abs() < 0.01, "{d}");
+        // Divided by √k instead: 21.2 / √3 and 21.2 / √2.
+        let d = ndist(&[-82.0, -73.0, -96.0], &[-84.0, -75.0, -75.0], 3, Normalisation::Sqrt);
+        assert!((d - 449f64.sqrt() / 3f64.sqrt()).abs() < 1e-9, "{d}");
+        let d = ndist(&[-84.0, -75.0, -75.0], &[-82.0, -73.0, -96.0], 2, Normalisation::Sqrt);
+        assert!((d - 449f64.sqrt() / 2f64.sqrt()).abs() < 1e-9, "{d}");
     }
 
     #[test]
@@ -206,15 +282,20 @@ mod tests {
         let map = RadioMap {
             cells: vec![cell(heard), cell(CellRadio::default())],
             epsilon: None,
+            epsilon_sqrt: None,
         };
-        let prints = Fingerprints::new(&map, -96.0, 1);
+        let prints = Fingerprints::new(&map, -96.0, 1, Normalisation::Paper);
         assert_eq!(prints.access_points(), 3);
         // "zz" is unknown to the map and left out; "c" (heard below the floor) counts as −96.
-        let d = prints.ndist(&scan(&[("a", -82.0), ("b", -73.0), ("zz", -40.0)]));
+        let z = scan(&[("a", -82.0), ("b", -73.0), ("zz", -40.0)]);
+        let d = prints.ndist(&z);
         assert_eq!(d.len(), 2);
         assert!((d[0].expect("known") - 8f64.sqrt() / 3.0).abs() < 1e-9);
         assert_eq!(d[1], None);
-        assert_eq!(Fingerprints::new(&map, -96.0, 3).ndist(&scan(&[]))[0], None);
+        let d = Fingerprints::new(&map, -96.0, 1, Normalisation::Sqrt).ndist(&z);
+        assert!((d[0].expect("known") - 8f64.sqrt() / 3f64.sqrt()).abs() < 1e-9);
+        let unknown = Fingerprints::new(&map, -96.0, 3, Normalisation::Paper);
+        assert_eq!(unknown.ndist(&scan(&[]))[0], None);
     }
 
     #[test]
@@ -236,14 +317,18 @@ mod tests {
                 radio,
             }],
             epsilon: None,
+            epsilon_sqrt: None,
         };
         // Visits: scans 0 and 1 (one visit), then scan 2 after leaving the cell.
-        let d = leave_one_out_ndist(
+        let d: Vec<f64> = leave_one_out_ndist(
             &map,
             &[(0, Some(0)), (1, Some(0)), (3, None), (2, Some(0))],
             &scans,
             -96.0,
-        );
+        )
+        .iter()
+        .map(|h| h.ndist(Normalisation::Paper))
+        .collect();
         assert_eq!(d.len(), 3, "{d:?}");
         // Scans 0 and 1 against scan 2 alone (a = −70, b unseen = −96; one AP visible).
         assert!((d[0] - (100f64 + 256.0).sqrt()).abs() < 1e-9, "{d:?}");

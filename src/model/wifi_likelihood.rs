@@ -194,6 +194,7 @@ mod tests {
                 cell(&[]),
             ],
             epsilon: None,
+            epsilon_sqrt: None,
         };
         let config = LikelihoodConfig {
             exponent: Some(1.0),
