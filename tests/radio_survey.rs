@@ -98,6 +98,9 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
     assert!(speed >= 100.0, "{speed}× real time");
     let epsilon = summary["epsilon"].as_f64().expect("calibrated epsilon");
     assert!(epsilon > 0.0 && epsilon < 20.0, "{epsilon}");
+    let epsilon_sqrt = summary["epsilon_sqrt"].as_f64().expect("calibrated for √k");
+    // The same held-out distances times √k ≥ 1: a larger threshold.
+    assert!(epsilon_sqrt > epsilon && epsilon_sqrt < 60.0, "{epsilon_sqrt}");
     let table = std::fs::read_to_string(out.join("coverage.csv")).expect("coverage.csv");
     let three: Vec<&str> = table
         .lines()
@@ -122,8 +125,46 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
         assert_eq!(config["rf"]["mode"], mode.replace('-', "_"));
         let rf = &json(&run.join("summary.json"))["rf"];
         assert_eq!(rf["measurements_ignored"], 0, "{mode}");
-        assert!((rf["epsilon_dbm"].as_f64().expect("epsilon") - epsilon).abs() < 0.01);
+        // The map is calibrated for √k, so that is the default distance.
+        assert_eq!(rf["distance"], "sqrt");
+        assert!((rf["epsilon_dbm"].as_f64().expect("epsilon") - epsilon_sqrt).abs() < 0.01);
     }
+    // The paper's distance on request, with its own calibrated threshold.
+    let run = dir.path().join("track-paper");
+    track_with_map(&other, &out.join("radiomap.geojson"), &run)
+        .arg("--wifi")
+        .arg(other.join("wifi.csv"))
+        .args(["--rf-distance", "paper"])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("localised after"));
+    let rf = &json(&run.join("summary.json"))["rf"];
+    assert_eq!(rf["distance"], "paper");
+    assert!((rf["epsilon_dbm"].as_f64().expect("epsilon") - epsilon).abs() < 0.01);
+    // Another tool's map without thresholds: the paper's distance and its 9.5 dBm; √k
+    // without a threshold is refused with the reason.
+    let mut foreign = json(&out.join("radiomap.geojson"));
+    let members = foreign.as_object_mut().expect("collection");
+    members.remove("epsilon");
+    members.remove("epsilon_sqrt");
+    let foreign_path = dir.path().join("foreign.geojson");
+    std::fs::write(&foreign_path, foreign.to_string()).expect("write");
+    let run = dir.path().join("track-foreign");
+    track_with_map(&other, &foreign_path, &run)
+        .arg("--wifi")
+        .arg(other.join("wifi.csv"))
+        .assert()
+        .success();
+    let rf = &json(&run.join("summary.json"))["rf"];
+    assert_eq!(rf["distance"], "paper");
+    assert_eq!(rf["epsilon_dbm"], 9.5);
+    track_with_map(&other, &foreign_path, &dir.path().join("track-foreign-sqrt"))
+        .arg("--wifi")
+        .arg(other.join("wifi.csv"))
+        .args(["--rf-distance", "sqrt"])
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("rf.distance").and(predicate::str::contains("epsilon_sqrt")));
     // The same run on one thread and on two.
     let tracks: Vec<String> = ["1", "2"]
         .iter()

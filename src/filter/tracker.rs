@@ -1102,4 +1102,61 @@ mod tests {
         }
         assert!(deaths > 0);
     }
+
+    #[test]
+    fn a_measurement_judges_each_particle_where_it_was_at_the_measurements_time() {
+        use crate::map::{CellConfig, CellMap, CellRaster, RadioMap};
+        use std::sync::Arc;
+        let (sim, topology) = office();
+        let cells = CellMap::build(
+            &sim.plan,
+            &topology,
+            &CellConfig {
+                granularity: 1.0,
+                ..Default::default()
+            },
+        )
+        .expect("cells");
+        let raster = Arc::new(
+            CellRaster::build(&RadioMap::empty(&cells), topology.bounds(), topology.levels(), 0.25)
+                .expect("raster"),
+        );
+        // Inside: the 1 m cell the walker starts in, east along the corridor from (0, 0).
+        let start = raster.cell_at(0, 0.0, 0.0).expect("a cell at the start");
+        let values = (0..raster.cells())
+            .map(|c| if c == start { 0.0 } else { f32::NEG_INFINITY })
+            .collect();
+        let region = CellField::new(raster, values, f32::NEG_INFINITY);
+        let config = TrackerConfig {
+            start: Some(StartPose {
+                x: 0.0,
+                y: 0.0,
+                heading: 0.0,
+                level: Some(0),
+            }),
+            ..small()
+        };
+        // A 2 m step east leaves the start's cell: judged before the step (at = 0) every
+        // particle is inside, after it (at = 1) none is, so that measurement is ignored.
+        let step = Step {
+            t: 1.0,
+            length: 2.0,
+            dheading: 0.0,
+            dz: 0.0,
+            heading: None,
+        };
+        let run = |at: f32| {
+            let mut tracker = Tracker::new(&topology, &config).expect("tracker");
+            let m = StepMeasurement {
+                field: &region,
+                at,
+            };
+            let r = tracker.update_with(&step, Some(m)).expect("step");
+            (tracker.measurements_ignored(), r.estimate.expect("estimate").x)
+        };
+        let (ignored, x) = run(0.0);
+        assert_eq!(ignored, 0);
+        assert!((x - 2.0).abs() < 0.5, "{x}");
+        assert_eq!(run(1.0).0, 1);
+    }
 }
