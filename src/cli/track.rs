@@ -434,6 +434,16 @@ pub fn run(args: Args) -> Result<()> {
             summary.deaths
         ),
     }
+    if let Some(rf) = &summary.rf {
+        outln!(
+            "radio map: {:?} measurements, {} distance, epsilon {:.2} dBm, started at step {}, {} scan(s) ignored",
+            rf.mode,
+            rf.distance.name(),
+            rf.epsilon_dbm,
+            rf.started_at_step.map_or("-".into(), |s| s.to_string()),
+            rf.measurements_ignored
+        );
+    }
     outln!(
         "filter: {:.2} s, {:.2e} particle-steps/s",
         summary.filter_runtime_s,
