@@ -3,11 +3,16 @@
 //!
 //! * **prior** — `R_prior = ∪ Cell_i | ndist(z_0, c_i) < ε` (eq. 2): particles are drawn only
 //!   there ([`super::Tracker::new_in_region`]), KLD-sized;
-//! * **containment** (the paper's choice) — at each step the region `R_t` of the latest scan
-//!   (eq. 12) weights particles 1 inside and `outside_weight` outside (eq. 13 with 0);
+//! * **containment** (the paper's choice) — the region `R_t` of the latest scan (eq. 12)
+//!   weights particles 1 inside and `outside_weight` outside (eq. 13 with 0), judged where
+//!   each particle was when the scan was taken ([`super::RfTracker`]);
 //! * **probabilistic** (the paper's alternative) — `p(z_t | c_i)` of the cell a particle
 //!   stands in (eq. 14, [`crate::model::wifi_likelihood`]; tempered by the number of access
 //!   points), relative to the likeliest cell and floored at `likelihood_floor`.
+//!
+//! `ndist` is the paper's distance divided by the number `k` of access points the cell hears,
+//! or by `√k` ([`Normalisation`]; the default where the map holds a threshold calibrated for
+//! it): one threshold then misses the walker's cell equally often whatever `k` is.
 //!
 //! Cells without scans (not surveyed) and places in no cell are always inside: what the map
 //! does not know cannot rule a place out. A measurement no particle survives is ignored,
