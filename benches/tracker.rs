@@ -1,15 +1,17 @@
 //! The known-map tracker's whole step (move, wall test through the floor polygons, height
 //! weight, KLD bins and sample size, systematic resampling) at fixed particle counts on the
 //! simulated three-floor building, from the uniform prior (the hardest phase: every particle
-//! tests walls). Throughput is in particle-steps per second. Also the floor topology's
-//! `walk` on its own.
+//! tests walls). Throughput is in particle-steps per second. Also the same step with a WiFi
+//! containment region judged at the scan's time within the step (eqs. 12–13 of Woodman &
+//! Harle 2009; a raster lookup per particle), and the floor topology's `walk` on its own.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use footslam::filter::{KldConfig, Tracker, TrackerConfig};
-use footslam::map::{FloorTopology, TopologyConfig};
+use footslam::filter::{KldConfig, StepMeasurement, Tracker, TrackerConfig};
+use footslam::map::{CellField, CellMap, CellRaster, FloorTopology, RadioMap, TopologyConfig};
 use footslam::sim::{TowerSimConfig, simulate_tower};
 use rand::RngExt;
 use std::hint::black_box;
+use std::sync::Arc;
 use std::time::Duration;
 
 #[global_allocator]
@@ -48,6 +50,59 @@ fn tracker_step(c: &mut Criterion) {
     g.finish();
 }
 
+fn tracker_step_with_wifi(c: &mut Criterion) {
+    let sim = simulate_tower(&TowerSimConfig {
+        seed: 1,
+        ..Default::default()
+    })
+    .expect("simulation");
+    let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default()).expect("topology");
+    let cells = CellMap::build(&sim.plan, &topology, &Default::default()).expect("cells");
+    let raster = Arc::new(
+        CellRaster::build(
+            &RadioMap::empty(&cells),
+            topology.bounds(),
+            topology.levels(),
+            0.25,
+        )
+        .expect("raster"),
+    );
+    // Every other cell inside: about half the particles outside at every step.
+    let values = (0..raster.cells())
+        .map(|c| if c % 2 == 0 { 0.0 } else { f32::NEG_INFINITY })
+        .collect();
+    let region = CellField::new(raster, values, 0.0);
+    let steps = sim.steps.steps();
+    let mut g = c.benchmark_group("tracker_step_wifi_containment");
+    g.sample_size(10).measurement_time(Duration::from_secs(8));
+    let n = 1_000_000usize;
+    let config = TrackerConfig {
+        kld: KldConfig {
+            min_particles: n,
+            max_particles: n,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let mut tracker = Tracker::new(&topology, &config).expect("tracker");
+    let mut k = 0;
+    g.throughput(Throughput::Elements(n as u64));
+    g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+        b.iter(|| {
+            let m = StepMeasurement {
+                field: &region,
+                at: 0.5,
+            };
+            let report = tracker
+                .update_with(&steps[k % steps.len()], Some(m))
+                .expect("step");
+            k += 1;
+            black_box(report.particles)
+        })
+    });
+    g.finish();
+}
+
 fn topology_walk(c: &mut Criterion) {
     let sim = simulate_tower(&TowerSimConfig::default()).expect("simulation");
     let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default()).expect("topology");
@@ -71,5 +126,5 @@ fn topology_walk(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, tracker_step, topology_walk);
+criterion_group!(benches, tracker_step, tracker_step_with_wifi, topology_walk);
 criterion_main!(benches);
