@@ -100,7 +100,10 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
     assert!(epsilon > 0.0 && epsilon < 20.0, "{epsilon}");
     let epsilon_sqrt = summary["epsilon_sqrt"].as_f64().expect("calibrated for √k");
     // The same held-out distances times √k ≥ 1: a larger threshold.
-    assert!(epsilon_sqrt > epsilon && epsilon_sqrt < 60.0, "{epsilon_sqrt}");
+    assert!(
+        epsilon_sqrt > epsilon && epsilon_sqrt < 60.0,
+        "{epsilon_sqrt}"
+    );
     let table = std::fs::read_to_string(out.join("coverage.csv")).expect("coverage.csv");
     let three: Vec<&str> = table
         .lines()
@@ -158,13 +161,17 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
     let rf = &json(&run.join("summary.json"))["rf"];
     assert_eq!(rf["distance"], "paper");
     assert_eq!(rf["epsilon_dbm"], 9.5);
-    track_with_map(&other, &foreign_path, &dir.path().join("track-foreign-sqrt"))
-        .arg("--wifi")
-        .arg(other.join("wifi.csv"))
-        .args(["--rf-distance", "sqrt"])
-        .assert()
-        .failure()
-        .stderr(predicate::str::contains("rf.distance").and(predicate::str::contains("epsilon_sqrt")));
+    track_with_map(
+        &other,
+        &foreign_path,
+        &dir.path().join("track-foreign-sqrt"),
+    )
+    .arg("--wifi")
+    .arg(other.join("wifi.csv"))
+    .args(["--rf-distance", "sqrt"])
+    .assert()
+    .failure()
+    .stderr(predicate::str::contains("rf.distance").and(predicate::str::contains("epsilon_sqrt")));
     // The same run on one thread and on two.
     let tracks: Vec<String> = ["1", "2"]
         .iter()

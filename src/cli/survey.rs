@@ -262,7 +262,8 @@ pub fn run(args: Args) -> Result<()> {
         .map(|norm| {
             let mut d: Vec<f64> = held.iter().map(|h| h.ndist(norm)).collect();
             d.sort_by(f64::total_cmp);
-            let q = |q: f64| (!d.is_empty()).then(|| d[((d.len() - 1) as f64 * q).round() as usize]);
+            let q =
+                |q: f64| (!d.is_empty()).then(|| d[((d.len() - 1) as f64 * q).round() as usize]);
             (norm.name(), [q(0.5), q(0.9), q(0.99), q(1.0)])
         })
         .collect();

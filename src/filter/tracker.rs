@@ -365,7 +365,11 @@ impl<'a> Tracker<'a> {
             m.field.at(level, x, y)
         };
         // Without pairs, `from` is never read; any slice of the right length will do.
-        let parents = if paired { &self.particles } else { &self.proposal };
+        let parents = if paired {
+            &self.particles
+        } else {
+            &self.proposal
+        };
         let any_alive = self
             .proposal
             .par_iter()
@@ -1118,8 +1122,13 @@ mod tests {
         )
         .expect("cells");
         let raster = Arc::new(
-            CellRaster::build(&RadioMap::empty(&cells), topology.bounds(), topology.levels(), 0.25)
-                .expect("raster"),
+            CellRaster::build(
+                &RadioMap::empty(&cells),
+                topology.bounds(),
+                topology.levels(),
+                0.25,
+            )
+            .expect("raster"),
         );
         // Inside: the 1 m cell the walker starts in, east along the corridor from (0, 0).
         let start = raster.cell_at(0, 0.0, 0.0).expect("a cell at the start");
@@ -1147,12 +1156,12 @@ mod tests {
         };
         let run = |at: f32| {
             let mut tracker = Tracker::new(&topology, &config).expect("tracker");
-            let m = StepMeasurement {
-                field: &region,
-                at,
-            };
+            let m = StepMeasurement { field: &region, at };
             let r = tracker.update_with(&step, Some(m)).expect("step");
-            (tracker.measurements_ignored(), r.estimate.expect("estimate").x)
+            (
+                tracker.measurements_ignored(),
+                r.estimate.expect("estimate").x,
+            )
         };
         let (ignored, x) = run(0.0);
         assert_eq!(ignored, 0);

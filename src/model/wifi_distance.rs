@@ -262,9 +262,19 @@ mod tests {
         let d = ndist(&[-84.0, -75.0, -75.0], &[-82.0, -73.0, -96.0], 2, paper);
         assert!((d - 10.6).abs() < 0.01, "{d}");
         // Divided by √k instead: 21.2 / √3 and 21.2 / √2.
-        let d = ndist(&[-82.0, -73.0, -96.0], &[-84.0, -75.0, -75.0], 3, Normalisation::Sqrt);
+        let d = ndist(
+            &[-82.0, -73.0, -96.0],
+            &[-84.0, -75.0, -75.0],
+            3,
+            Normalisation::Sqrt,
+        );
         assert!((d - 449f64.sqrt() / 3f64.sqrt()).abs() < 1e-9, "{d}");
-        let d = ndist(&[-84.0, -75.0, -75.0], &[-82.0, -73.0, -96.0], 2, Normalisation::Sqrt);
+        let d = ndist(
+            &[-84.0, -75.0, -75.0],
+            &[-82.0, -73.0, -96.0],
+            2,
+            Normalisation::Sqrt,
+        );
         assert!((d - 449f64.sqrt() / 2f64.sqrt()).abs() < 1e-9, "{d}");
     }
 
