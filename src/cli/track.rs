@@ -436,8 +436,8 @@ pub fn run(args: Args) -> Result<()> {
     }
     if let Some(rf) = &summary.rf {
         outln!(
-            "radio map: {:?} measurements, {} distance, epsilon {:.2} dBm, started at step {}, {} scan(s) ignored",
-            rf.mode,
+            "radio map: {} measurements, {} distance, epsilon {:.2} dBm, started at step {}, {} scan(s) ignored",
+            rf.mode.name(),
             rf.distance.name(),
             rf.epsilon_dbm,
             rf.started_at_step.map_or("-".into(), |s| s.to_string()),

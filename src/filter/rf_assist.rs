@@ -43,6 +43,17 @@ pub enum RfMode {
     PriorOnly,
 }
 
+impl RfMode {
+    /// Its name on the command line: `containment`, `probabilistic` or `prior-only`.
+    pub fn name(self) -> &'static str {
+        match self {
+            RfMode::Containment => "containment",
+            RfMode::Probabilistic => "probabilistic",
+            RfMode::PriorOnly => "prior-only",
+        }
+    }
+}
+
 /// RF-assisted localisation's parameters; every default in one place.
 ///
 /// | field              | default  | meaning                                                 |
