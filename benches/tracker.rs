@@ -8,7 +8,7 @@
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use footslam::filter::{KldConfig, StepMeasurement, Tracker, TrackerConfig};
 use footslam::map::{CellField, CellMap, CellRaster, FloorTopology, RadioMap, TopologyConfig};
-use footslam::sim::{TowerSimConfig, simulate_tower};
+use footslam::sim::{TowerSimConfig, TowerSimulation, simulate_tower};
 use rand::RngExt;
 use std::hint::black_box;
 use std::sync::Arc;
@@ -17,17 +17,30 @@ use std::time::Duration;
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
-fn tracker_step(c: &mut Criterion) {
+/// The simulated tower's plan, as the tracker sees it, and its steps.
+fn tower() -> (TowerSimulation, FloorTopology) {
     let sim = simulate_tower(&TowerSimConfig {
         seed: 1,
         ..Default::default()
     })
     .expect("simulation");
     let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default()).expect("topology");
+    (sim, topology)
+}
+
+/// Whole steps at fixed particle counts, each with `region` (if any) judged half-way
+/// through the step.
+fn step_group(
+    c: &mut Criterion,
+    name: &str,
+    counts: &[usize],
+    (sim, topology): &(TowerSimulation, FloorTopology),
+    region: Option<&CellField>,
+) {
     let steps = sim.steps.steps();
-    let mut g = c.benchmark_group("tracker_step");
+    let mut g = c.benchmark_group(name);
     g.sample_size(10).measurement_time(Duration::from_secs(8));
-    for n in [100_000usize, 1_000_000, 4_500_000] {
+    for &n in counts {
         let config = TrackerConfig {
             kld: KldConfig {
                 min_particles: n,
@@ -36,12 +49,15 @@ fn tracker_step(c: &mut Criterion) {
             },
             ..Default::default()
         };
-        let mut tracker = Tracker::new(&topology, &config).expect("tracker");
+        let mut tracker = Tracker::new(topology, &config).expect("tracker");
         let mut k = 0;
         g.throughput(Throughput::Elements(n as u64));
         g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
             b.iter(|| {
-                let report = tracker.update(&steps[k % steps.len()]).expect("step");
+                let m = region.map(|field| StepMeasurement { field, at: 0.5 });
+                let report = tracker
+                    .update_with(&steps[k % steps.len()], m)
+                    .expect("step");
                 k += 1;
                 black_box(report.particles)
             })
@@ -50,57 +66,34 @@ fn tracker_step(c: &mut Criterion) {
     g.finish();
 }
 
-fn tracker_step_with_wifi(c: &mut Criterion) {
-    let sim = simulate_tower(&TowerSimConfig {
-        seed: 1,
-        ..Default::default()
-    })
-    .expect("simulation");
-    let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default()).expect("topology");
-    let cells = CellMap::build(&sim.plan, &topology, &Default::default()).expect("cells");
-    let raster = Arc::new(
-        CellRaster::build(
-            &RadioMap::empty(&cells),
-            topology.bounds(),
-            topology.levels(),
-            0.25,
-        )
-        .expect("raster"),
+fn tracker_step(c: &mut Criterion) {
+    step_group(
+        c,
+        "tracker_step",
+        &[100_000, 1_000_000, 4_500_000],
+        &tower(),
+        None,
     );
+}
+
+fn tracker_step_with_wifi(c: &mut Criterion) {
+    let tower = tower();
+    let (sim, topology) = &tower;
+    let cells = CellMap::build(&sim.plan, topology, &Default::default()).expect("cells");
+    let raster =
+        Arc::new(CellRaster::on_plan(&RadioMap::empty(&cells), topology, 0.25).expect("raster"));
     // Every other cell inside: about half the particles outside at every step.
     let values = (0..raster.cells())
         .map(|c| if c % 2 == 0 { 0.0 } else { f32::NEG_INFINITY })
         .collect();
     let region = CellField::new(raster, values, 0.0);
-    let steps = sim.steps.steps();
-    let mut g = c.benchmark_group("tracker_step_wifi_containment");
-    g.sample_size(10).measurement_time(Duration::from_secs(8));
-    let n = 1_000_000usize;
-    let config = TrackerConfig {
-        kld: KldConfig {
-            min_particles: n,
-            max_particles: n,
-            ..Default::default()
-        },
-        ..Default::default()
-    };
-    let mut tracker = Tracker::new(&topology, &config).expect("tracker");
-    let mut k = 0;
-    g.throughput(Throughput::Elements(n as u64));
-    g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
-        b.iter(|| {
-            let m = StepMeasurement {
-                field: &region,
-                at: 0.5,
-            };
-            let report = tracker
-                .update_with(&steps[k % steps.len()], Some(m))
-                .expect("step");
-            k += 1;
-            black_box(report.particles)
-        })
-    });
-    g.finish();
+    step_group(
+        c,
+        "tracker_step_wifi_containment",
+        &[1_000_000],
+        &tower,
+        Some(&region),
+    );
 }
 
 fn topology_walk(c: &mut Criterion) {

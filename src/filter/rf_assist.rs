@@ -212,7 +212,7 @@ impl RfLocaliser {
     pub fn new(map: &RadioMap, topology: &FloorTopology, config: &RfConfig) -> Result<Self> {
         config.validate()?;
         let (distance, epsilon) = threshold(map, config)?;
-        let raster = CellRaster::build(map, topology.bounds(), topology.levels(), config.raster)?;
+        let raster = CellRaster::on_plan(map, topology, config.raster)?;
         let prints = Fingerprints::new(map, config.missing_rssi, config.min_scans, distance);
         if prints.access_points() == 0 {
             return Err(Error::Input(

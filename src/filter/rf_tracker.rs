@@ -169,9 +169,7 @@ mod tests {
         let topology = FloorTopology::build(&tower.plan, &TopologyConfig::default()).expect("topo");
         let cells = CellMap::build(&tower.plan, &topology, &Default::default()).expect("cells");
         let map = RadioMap::empty(&cells);
-        let raster = Arc::new(
-            CellRaster::build(&map, topology.bounds(), topology.levels(), 0.25).expect("raster"),
-        );
+        let raster = Arc::new(CellRaster::on_plan(&map, &topology, 0.25).expect("raster"));
         // The region: the cells of level 1 west of x = 10 m.
         let values: Vec<f32> = cells
             .cells()

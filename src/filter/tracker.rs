@@ -945,6 +945,19 @@ mod tests {
         }
     }
 
+    /// [`small`] with a known start at the office's origin, on level 0.
+    fn at_origin(heading: f64) -> TrackerConfig {
+        TrackerConfig {
+            start: Some(StartPose {
+                x: 0.0,
+                y: 0.0,
+                heading,
+                level: Some(0),
+            }),
+            ..small()
+        }
+    }
+
     #[test]
     fn particle_is_24_bytes_and_memory_is_at_most_64_bytes_per_particle() {
         assert_eq!(std::mem::size_of::<TrackParticle>(), 24);
@@ -960,15 +973,7 @@ mod tests {
     #[test]
     fn known_start_tracks_a_walk_closely() {
         let (sim, topology) = office();
-        let config = TrackerConfig {
-            start: Some(StartPose {
-                x: 0.0,
-                y: 0.0,
-                heading: 0.0,
-                level: Some(0),
-            }),
-            ..small()
-        };
+        let config = at_origin(0.0);
         let mut tracker = Tracker::new(&topology, &config).expect("tracker");
         assert!(tracker.initial_particles() < 50_000);
         let mut errors = Vec::new();
@@ -995,15 +1000,9 @@ mod tests {
         let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default()).expect("topo");
         let p95 = |drift_sigma: f64| {
             let config = TrackerConfig {
-                start: Some(StartPose {
-                    x: 0.0,
-                    y: 0.0,
-                    heading: 0.0,
-                    level: Some(0),
-                }),
                 drift_sigma,
                 drift_walk_sigma: drift_sigma / 30.0,
-                ..small()
+                ..at_origin(0.0)
             };
             let mut tracker = Tracker::new(&topology, &config).expect("tracker");
             let mut errors: Vec<f64> = sim
@@ -1072,15 +1071,7 @@ mod tests {
     #[test]
     fn a_walk_through_a_wall_is_recovered_not_a_crash() {
         let (_, topology) = office();
-        let config = TrackerConfig {
-            start: Some(StartPose {
-                x: 0.0,
-                y: 0.0,
-                heading: -std::f64::consts::FRAC_PI_2,
-                level: Some(0),
-            }),
-            ..small()
-        };
+        let config = at_origin(-std::f64::consts::FRAC_PI_2);
         let mut tracker = Tracker::new(&topology, &config).expect("tracker");
         // Straight south from the corridor's centre line: through its south wall.
         let steps: Vec<Step> = (0..30)
@@ -1122,13 +1113,7 @@ mod tests {
         )
         .expect("cells");
         let raster = Arc::new(
-            CellRaster::build(
-                &RadioMap::empty(&cells),
-                topology.bounds(),
-                topology.levels(),
-                0.25,
-            )
-            .expect("raster"),
+            CellRaster::on_plan(&RadioMap::empty(&cells), &topology, 0.25).expect("raster"),
         );
         // Inside: the 1 m cell the walker starts in, east along the corridor from (0, 0).
         let start = raster.cell_at(0, 0.0, 0.0).expect("a cell at the start");
@@ -1136,15 +1121,7 @@ mod tests {
             .map(|c| if c == start { 0.0 } else { f32::NEG_INFINITY })
             .collect();
         let region = CellField::new(raster, values, f32::NEG_INFINITY);
-        let config = TrackerConfig {
-            start: Some(StartPose {
-                x: 0.0,
-                y: 0.0,
-                heading: 0.0,
-                level: Some(0),
-            }),
-            ..small()
-        };
+        let config = at_origin(0.0);
         // A 2 m step east leaves the start's cell: judged before the step (at = 0) every
         // particle is inside, after it (at = 1) none is, so that measurement is ignored.
         let step = Step {

@@ -136,6 +136,15 @@ impl CellRaster {
         })
     }
 
+    /// [`Self::build`] over the whole of `topology`'s plan: its bounds and levels.
+    pub fn on_plan(
+        map: &RadioMap,
+        topology: &super::FloorTopology,
+        resolution: f64,
+    ) -> Result<Self> {
+        Self::build(map, topology.bounds(), topology.levels(), resolution)
+    }
+
     /// Number of cells of the map rasterised.
     pub fn cells(&self) -> usize {
         self.cells
