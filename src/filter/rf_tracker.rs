@@ -229,4 +229,13 @@ mod tests {
         assert_eq!(tracker.measurements_ignored(), 1);
         assert!(r.particles > 0);
     }
+
+    #[test]
+    fn a_scan_falls_at_its_share_of_the_step() {
+        assert_eq!(share_of_step(Some(1.0), 2.0, 1.25), 0.25);
+        assert_eq!(share_of_step(Some(1.0), 2.0, 0.5), 0.0);
+        assert_eq!(share_of_step(Some(1.0), 2.0, 2.0), 1.0);
+        assert_eq!(share_of_step(Some(2.0), 2.0, 2.0), 1.0);
+        assert_eq!(share_of_step(None, 2.0, 1.5), 1.0);
+    }
 }
