@@ -15,15 +15,15 @@ groups sightings into scans and shifts the clock:
     # A CSV from an Android logger with a header (columns counted from 0, header skipped):
     scripts/wifi_log_to_csv.py scans.csv --skip 1 --t 0 --bssid 1 --rssi 2 --t-scale 1e-3
 
-Scans: sightings whose time is within `--gap` seconds (default 0.5) of the first sighting
-of the current scan belong to it and get its time (a scan's results arrive together; an
+Scans: sightings whose time is within `--gap` seconds (default 0.5), before or after, of
+the first sighting of the current scan belong to it and get its time (a scan's results arrive together; an
 AP's own "last seen" time would split one scan apart, so pick the time the app received the
 results). A BSSID seen twice in one scan keeps its strongest reading. `--t0` is subtracted
 from every time after `--t-scale` (e.g. the Unix time of the step trace's t = 0).
 
 Lines that are malformed (too few fields, a time or RSSI that is not a number, an RSSI
 outside -120..0 dBm, an empty BSSID) stop the conversion with the file and line named, as
-footslam itself does; times must not go backwards.
+footslam itself does; times must not go back by more than `--gap`.
 """
 import argparse
 import csv
@@ -80,7 +80,7 @@ def main(argv):
                 sys.exit(f"{where}: empty BSSID")
             ssid = fields[a.ssid].strip() if a.ssid is not None else ""
             freq = fields[a.freq].strip() if a.freq is not None else ""
-            if scans and t < scans[-1][0] - 1e-9:
+            if scans and t < scans[-1][0] - a.gap:
                 sys.exit(f"{where}: time {t} is before the previous scan's {scans[-1][0]}")
             if not scans or t - scans[-1][0] > a.gap:
                 scans.append([t, {}])
