@@ -253,7 +253,7 @@ pub fn run(args: Args) -> Result<()> {
             let (map, _) = read_radio_map_geojson(map_path, Some(frame))?;
             let scans = read_wifi(wifi_path)?;
             let rf = RfLocaliser::new(&map, &topology, &config.rf)
-                .with_context(|| format!("{}: not usable on this plan", map_path.display()))?;
+                .with_context(|| format!("{}: cannot localise with this radio map", map_path.display()))?;
             Some((rf, scans, map_path, wifi_path))
         }
         _ => None,

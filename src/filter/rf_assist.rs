@@ -315,7 +315,7 @@ fn threshold(map: &RadioMap, config: &RfConfig) -> Result<(Normalisation, f64)> 
     let epsilon = config.epsilon.or(calibrated).ok_or(Error::Config {
         field: "rf.distance",
         value: "sqrt".into(),
-        reason: "needs a region threshold: the radio map has no `epsilon_sqrt` (survey it with `footslam survey`); give rf.epsilon, or use the paper's distance",
+        reason: "needs a region threshold: the radio map has no `epsilon_sqrt` (survey it with `footslam survey`); give rf.epsilon (--rf-epsilon), or use the paper's distance (--rf-distance paper)",
     })?;
     Ok((distance, epsilon))
 }
