@@ -252,8 +252,12 @@ pub fn run(args: Args) -> Result<()> {
             require_file(wifi_path, "WiFi log")?;
             let (map, _) = read_radio_map_geojson(map_path, Some(frame))?;
             let scans = read_wifi(wifi_path)?;
-            let rf = RfLocaliser::new(&map, &topology, &config.rf)
-                .with_context(|| format!("{}: cannot localise with this radio map", map_path.display()))?;
+            let rf = RfLocaliser::new(&map, &topology, &config.rf).with_context(|| {
+                format!(
+                    "{}: cannot localise with this radio map",
+                    map_path.display()
+                )
+            })?;
             Some((rf, scans, map_path, wifi_path))
         }
         _ => None,
