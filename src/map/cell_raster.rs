@@ -225,8 +225,7 @@ mod tests {
                 cell("c", 1, Rect::new((0.0, 0.0), (6.0, 2.0))),
                 cell("far", 5, Rect::new((0.0, 0.0), (6.0, 2.0))),
             ],
-            epsilon: None,
-            epsilon_sqrt: None,
+            ..Default::default()
         };
         let r = CellRaster::build(&map, [0.0, 0.0, 6.0, 2.0], (0, 1), 0.25).expect("raster");
         assert_eq!(r.cell_at(0, 1.0, 1.0), Some(0));
@@ -241,8 +240,7 @@ mod tests {
         assert_eq!(field.at(3, 4.0, 1.0), -1.0);
         let elsewhere = RadioMap {
             cells: vec![cell("x", 0, Rect::new((100.0, 100.0), (103.0, 102.0)))],
-            epsilon: None,
-            epsilon_sqrt: None,
+            ..Default::default()
         };
         assert!(CellRaster::build(&elsewhere, [0.0, 0.0, 6.0, 2.0], (0, 1), 0.25).is_err());
     }
@@ -255,8 +253,7 @@ mod tests {
                 cell("a", 0, Rect::new((0.1, 0.1), (2.9, 1.9))),
                 cell("b", 0, Rect::new((3.1, 0.1), (5.9, 1.9))),
             ],
-            epsilon: None,
-            epsilon_sqrt: None,
+            ..Default::default()
         };
         let r = CellRaster::build(&map, [0.0, 0.0, 6.0, 2.0], (0, 0), 0.25).expect("raster");
         for i in 0..=280 {

@@ -129,8 +129,7 @@ impl RadioMap {
                     radio: CellRadio::default(),
                 })
                 .collect(),
-            epsilon: None,
-            epsilon_sqrt: None,
+            ..Default::default()
         }
     }
 

@@ -291,8 +291,7 @@ mod tests {
         };
         let map = RadioMap {
             cells: vec![cell(heard), cell(CellRadio::default())],
-            epsilon: None,
-            epsilon_sqrt: None,
+            ..Default::default()
         };
         let prints = Fingerprints::new(&map, -96.0, 1, Normalisation::Paper);
         assert_eq!(prints.access_points(), 3);
@@ -326,8 +325,7 @@ mod tests {
                 area: MultiPolygon::new(Vec::new()),
                 radio,
             }],
-            epsilon: None,
-            epsilon_sqrt: None,
+            ..Default::default()
         };
         // Visits: scans 0 and 1 (one visit), then scan 2 after leaving the cell.
         let d: Vec<f64> = leave_one_out_ndist(

@@ -193,8 +193,7 @@ mod tests {
                 cell(&[&[("a", -80.0)], &[("a", -82.0)]]),
                 cell(&[]),
             ],
-            epsilon: None,
-            epsilon_sqrt: None,
+            ..Default::default()
         };
         let config = LikelihoodConfig {
             exponent: Some(1.0),
