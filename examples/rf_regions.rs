@@ -17,7 +17,7 @@
 
 use footslam::eval::rf_localisation::{SimulatedSurvey, simulate_survey};
 use footslam::filter::{RfConfig, RfLocaliser};
-use footslam::model::wifi_distance::{Fingerprints, Normalisation};
+use footslam::model::wifi_distance::Normalisation;
 use footslam::sim::{TowerSimConfig, simulate_tower};
 use geo::Area;
 
@@ -39,12 +39,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         map,
     } = simulate_survey(&base, 1000, surveys)?;
     let epsilon = std::env::var("EPSILON").ok().and_then(|v| v.parse().ok());
-    let distance = match std::env::var("DISTANCE").as_deref() {
-        Ok("paper") => Some(Normalisation::Paper),
-        Ok("sqrt") => Some(Normalisation::Sqrt),
-        Ok(other) => return Err(format!("DISTANCE={other}: expected paper or sqrt").into()),
-        Err(_) => None,
-    };
+    // DISTANCE=paper|sqrt, by the config's own names.
+    let distance: Option<Normalisation> = std::env::var("DISTANCE")
+        .ok()
+        .map(|v| serde_json::from_value(serde_json::Value::String(v)))
+        .transpose()?;
     let rf = RfLocaliser::new(
         &map,
         &topology,
@@ -54,12 +53,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ..Default::default()
         },
     )?;
-    let prints = Fingerprints::new(
-        &map,
-        rf.config().missing_rssi,
-        rf.config().min_scans,
-        rf.distance(),
-    );
     let areas: Vec<f64> = map.cells.iter().map(|c| c.area.unsigned_area()).collect();
     let total: f64 = areas.iter().sum();
     let share = |inside: &dyn Fn(usize) -> bool| {
@@ -91,7 +84,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             };
             heard += scan.readings.len();
             // The region of eqs. 2 and 12 (`RfLocaliser::in_region`), from the distances.
-            let d = prints.ndist(scan);
+            let d = rf.ndist(scan);
             let inside: Vec<bool> = d
                 .iter()
                 .map(|d| d.is_none_or(|d| d < rf.epsilon()))

@@ -68,12 +68,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         map.epsilon.unwrap_or(f64::NAN),
         map.epsilon_sqrt.unwrap_or(f64::NAN)
     );
-    let distance = match std::env::var("DISTANCE").as_deref() {
-        Ok("paper") => Some(Normalisation::Paper),
-        Ok("sqrt") => Some(Normalisation::Sqrt),
-        Ok(other) => return Err(format!("DISTANCE={other}: expected paper or sqrt").into()),
-        Err(_) => None,
-    };
+    // DISTANCE=paper|sqrt, by the config's own names.
+    let distance: Option<Normalisation> = std::env::var("DISTANCE")
+        .ok()
+        .map(|v| serde_json::from_value(serde_json::Value::String(v)))
+        .transpose()?;
     let localisers = MODES
         .iter()
         .map(|&(mode, _)| {

@@ -375,16 +375,7 @@ fn eval_moves_a_track_into_the_truths_frame() {
         "{\"walks\": [{\"gps_file\": null}, {\"gps_file\": \"gps.csv\"}], \"origin\"",
     );
     std::fs::write(dir.path().join("batch").join("summary.json"), batch).expect("write");
-    let out = footslam()
-        .arg("eval")
-        .arg("--truth")
-        .arg(truth_dir.join("truth.csv"))
-        .arg("--track")
-        .arg(walk_dir.join("track.csv"))
-        .arg("--json")
-        .assert()
-        .success();
-    let value: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).expect("json");
+    let value = eval_track(&walk_dir.join("track.csv"));
     let p95 = value["track"]["p95"].as_f64().expect("p95");
     assert!(
         p95 < 0.01,

@@ -92,6 +92,7 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
         .success()
         .stdout(predicate::str::contains("surveyed 1 walk(s)"));
     let summary = json(&out.join("summary.json"));
+    let radiomap = out.join("radiomap.geojson");
     let coverage = summary["coverage"].as_f64().expect("coverage");
     assert!(coverage >= 0.96, "coverage {coverage}");
     let speed = summary["speed_vs_real_time"].as_f64().expect("speed");
@@ -117,7 +118,7 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
     let other = simulate_tower(dir.path(), "walk", 3, 32, ORIGIN, &[]);
     for mode in ["containment", "probabilistic", "prior-only"] {
         let run = dir.path().join(format!("track-{mode}"));
-        track_with_map(&other, &out.join("radiomap.geojson"), &run)
+        track_with_map(&other, &radiomap, &run)
             .arg("--wifi")
             .arg(other.join("wifi.csv"))
             .args(["--rf-mode", mode])
@@ -134,7 +135,7 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
     }
     // The paper's distance on request, with its own calibrated threshold.
     let run = dir.path().join("track-paper");
-    track_with_map(&other, &out.join("radiomap.geojson"), &run)
+    track_with_map(&other, &radiomap, &run)
         .arg("--wifi")
         .arg(other.join("wifi.csv"))
         .args(["--rf-distance", "paper"])
@@ -146,7 +147,7 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
     assert!((rf["epsilon_dbm"].as_f64().expect("epsilon") - epsilon).abs() < 0.01);
     // Another tool's map without thresholds: the paper's distance and its 9.5 dBm; √k
     // without a threshold is refused with the reason.
-    let mut foreign = json(&out.join("radiomap.geojson"));
+    let mut foreign = json(&radiomap);
     let members = foreign.as_object_mut().expect("collection");
     members.remove("epsilon");
     members.remove("epsilon_sqrt");
@@ -177,7 +178,7 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
         .iter()
         .map(|threads| {
             let run = dir.path().join(format!("threads-{threads}"));
-            track_with_map(&other, &out.join("radiomap.geojson"), &run)
+            track_with_map(&other, &radiomap, &run)
                 .arg("--wifi")
                 .arg(other.join("wifi.csv"))
                 .args(["--threads", threads])
@@ -188,27 +189,19 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
         .collect();
     assert_eq!(tracks[0], tracks[1]);
     // A radio map needs its scans, and a map of another place is refused.
-    track_with_map(
-        &other,
-        &out.join("radiomap.geojson"),
-        &dir.path().join("no-wifi"),
-    )
-    .assert()
-    .failure()
-    .stderr(predicate::str::contains("--wifi"));
+    track_with_map(&other, &radiomap, &dir.path().join("no-wifi"))
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("--wifi"));
     let elsewhere = simulate_tower(dir.path(), "elsewhere", 1, 32, "10,10", &[]);
-    track_with_map(
-        &elsewhere,
-        &out.join("radiomap.geojson"),
-        &dir.path().join("elsewhere-run"),
-    )
-    .arg("--wifi")
-    .arg(elsewhere.join("wifi.csv"))
-    .assert()
-    .failure()
-    .stderr(predicate::str::contains(
-        "no radio-map cell lies on the floor plan",
-    ));
+    track_with_map(&elsewhere, &radiomap, &dir.path().join("elsewhere-run"))
+        .arg("--wifi")
+        .arg(elsewhere.join("wifi.csv"))
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains(
+            "no radio-map cell lies on the floor plan",
+        ));
 }
 
 #[test]

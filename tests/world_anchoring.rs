@@ -111,12 +111,9 @@ fn outdoor_indoor_outdoor_walks_are_anchored_and_the_outline_helps() {
             let sim = &sims[w];
             let out = dir.path().join(format!("run-{}-{f}-{outline}", walks[w]));
             let (steps, gps) = (sim.join("steps.csv"), sim.join("gps.csv"));
-            if outline {
-                let shape = sim.join("outline.geojson");
-                learn(&steps, &gps, &out, f, &[("--outline", &shape)]);
-            } else {
-                learn(&steps, &gps, &out, f, &[]);
-            }
+            let shape = sim.join("outline.geojson");
+            let extra = outline.then_some(("--outline", shape.as_path()));
+            learn(&steps, &gps, &out, f, extra.as_slice());
             p95(&sim.join("truth.csv"), &out.join("track.csv"))
         })
         .collect();

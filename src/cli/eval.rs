@@ -1,6 +1,6 @@
 //! `footslam eval`: position error of a track against the truth.
 
-use super::common::{SAME_ORIGIN, parse_origin, require_file};
+use super::common::{SAME_ORIGIN, parse_origin, read_config, require_file};
 use anyhow::Result;
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
 use footslam::dataset::{TimedPoint, read_steps, read_track, read_trajectory};
@@ -175,10 +175,7 @@ pub fn run(args: Args) -> Result<()> {
 /// frame is tied to the world — `learn --gps` or a floor plan (`track`) — and not for a walk
 /// learned from steps alone, which starts at (0, 0) whatever its origin.
 fn run_origin(csv: &Path, anchored: bool) -> Option<LocalFrame> {
-    let read = |folder: &Path| -> Option<serde_json::Value> {
-        let text = std::fs::read_to_string(folder.join("summary.json")).ok()?;
-        serde_json::from_str(&text).ok()
-    };
+    let read = |folder: &Path| read_config::<serde_json::Value>(&folder.join("summary.json")).ok();
     let folder = csv.parent()?;
     let (value, walk) = match read(folder) {
         Some(value) => (value, None),

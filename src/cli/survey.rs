@@ -132,7 +132,6 @@ struct Summary {
     peak_memory_bytes: Option<u64>,
 }
 
-/// Cells, the radio map over them, and per walk the scans added and skipped.
 /// A survey at one granularity: its cells, the map, each walk's scans (added, skipped) and
 /// where they went.
 type Surveyed = (CellMap, RadioMap, Vec<(usize, usize)>, Vec<Assignments>);

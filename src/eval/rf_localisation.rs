@@ -92,9 +92,8 @@ pub fn simulate_survey(
     let plan = &tours[0].plan;
     let topology = FloorTopology::build(plan, &TopologyConfig::default())?;
     let cells = CellMap::build(plan, &topology, &Default::default())?;
-    let refs: Vec<&TowerSimulation> = tours.iter().collect();
     let map = survey_simulations(
-        &refs,
+        &tours,
         &topology,
         &cells,
         &TrackerConfig::default(),
@@ -110,10 +109,11 @@ pub fn simulate_survey(
 }
 
 /// Tracks each of `sims` (walks of one building) from its known start, surveys their scans
-/// into one map over `cells` and calibrates the map's `ε` on all of them for a per-scan miss
-/// rate `miss` (missing readings at `missing_rssi`).
+/// into one map over `cells` and calibrates the map's thresholds (`epsilon`,
+/// `epsilon_sqrt`) on all of them for a per-scan miss rate `miss` (missing readings at
+/// `missing_rssi`).
 pub fn survey_simulations(
-    sims: &[&TowerSimulation],
+    sims: &[TowerSimulation],
     topology: &FloorTopology,
     cells: &CellMap,
     config: &TrackerConfig,

@@ -245,10 +245,15 @@ impl RfLocaliser {
         self.distance
     }
 
+    /// `ndist(z, c_i)` of `scan` to every cell with the distance in use (eqs. 2–11); `None`
+    /// for unknown cells.
+    pub fn ndist(&self, scan: &WifiScan) -> Vec<Option<f64>> {
+        self.prints.ndist(scan)
+    }
+
     /// Whether each cell is in the scan's region (eqs. 2, 12); unknown cells are.
     pub fn in_region(&self, scan: &WifiScan) -> Vec<bool> {
-        self.prints
-            .ndist(scan)
+        self.ndist(scan)
             .into_iter()
             .map(|d| d.is_none_or(|d| d < self.epsilon))
             .collect()
@@ -308,10 +313,9 @@ fn threshold(map: &RadioMap, config: &RfConfig) -> Result<(Normalisation, f64)> 
     } else {
         Normalisation::Paper
     });
-    let calibrated = match distance {
-        Normalisation::Paper => map.epsilon.or(Some(PAPER_EPSILON)),
-        Normalisation::Sqrt => map.epsilon_sqrt,
-    };
+    let calibrated = distance
+        .epsilon_of(map)
+        .or((distance == Normalisation::Paper).then_some(PAPER_EPSILON));
     let epsilon = config.epsilon.or(calibrated).ok_or(Error::Config {
         field: "rf.distance",
         value: "sqrt".into(),

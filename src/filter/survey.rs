@@ -97,10 +97,7 @@ pub fn calibrate_map(
     for norm in Normalisation::ALL {
         let d: Vec<f64> = held.iter().map(|h| h.ndist(norm)).collect();
         if let Some(epsilon) = calibrate_epsilon(&d, miss) {
-            match norm {
-                Normalisation::Paper => map.epsilon = Some(epsilon),
-                Normalisation::Sqrt => map.epsilon_sqrt = Some(epsilon),
-            }
+            *norm.epsilon_of_mut(map) = Some(epsilon);
         }
     }
     held

@@ -270,7 +270,8 @@ impl<'a> Tracker<'a> {
         }
         if !matches!(recovery, Some(Recovery::Global)) {
             if let Some(mut m) = measurement {
-                // History fitting replaces the particles: nothing is left to interpolate from.
+                // History fitting re-seeds and replays the belief: its particles are judged
+                // where this step took them.
                 if matches!(recovery, Some(Recovery::History { .. })) {
                     m.at = 1.0;
                 }
@@ -351,12 +352,13 @@ impl<'a> Tracker<'a> {
     /// Adds `m`'s value at every proposed particle to its log-weight, unless that would leave
     /// no particle alive (eq. 1 of the 2009 paper: `w_t = w_{t−1} · p(z_t | s_t)`). Each
     /// particle is judged at the share `m.at` of its move from its parent (`particles[i]`,
-    /// which `proposal[i]` was propagated from), on the floor of the nearer end.
+    /// which `proposal[i]` was propagated from: every path here ends in [`Self::propagate`]),
+    /// on the floor of the nearer end.
     fn measure(&mut self, m: StepMeasurement<'_>) {
         let (topology, at) = (self.topology, m.at.clamp(0.0, 1.0));
-        let paired = self.particles.len() == self.proposal.len();
+        debug_assert_eq!(self.particles.len(), self.proposal.len());
         let value = |from: &TrackParticle, to: &TrackParticle| {
-            if at >= 1.0 || !paired {
+            if at >= 1.0 {
                 return m.field.at(topology.level(to.surface), to.x, to.y);
             }
             let level = topology.level(if at < 0.5 { from.surface } else { to.surface });
@@ -364,12 +366,7 @@ impl<'a> Tracker<'a> {
             let y = from.y + at * (to.y - from.y);
             m.field.at(level, x, y)
         };
-        // Without pairs, `from` is never read; any slice of the right length will do.
-        let parents = if paired {
-            &self.particles
-        } else {
-            &self.proposal
-        };
+        let parents = &self.particles;
         let any_alive = self
             .proposal
             .par_iter()

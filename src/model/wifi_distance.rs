@@ -47,6 +47,22 @@ impl Normalisation {
         }
     }
 
+    /// `map`'s region threshold calibrated for this distance, if any.
+    pub fn epsilon_of(self, map: &RadioMap) -> Option<f64> {
+        match self {
+            Normalisation::Paper => map.epsilon,
+            Normalisation::Sqrt => map.epsilon_sqrt,
+        }
+    }
+
+    /// The same, to set it.
+    pub fn epsilon_of_mut(self, map: &mut RadioMap) -> &mut Option<f64> {
+        match self {
+            Normalisation::Paper => &mut map.epsilon,
+            Normalisation::Sqrt => &mut map.epsilon_sqrt,
+        }
+    }
+
     /// Its name in configs and maps: `paper` or `sqrt`.
     pub fn name(self) -> &'static str {
         match self {
@@ -109,7 +125,7 @@ impl Fingerprints {
             .iter()
             .map(|c| {
                 c.as_ref()
-                    .map(|(means, visible)| euclidean(&z, means) / self.norm.divisor(*visible))
+                    .map(|(means, visible)| ndist(&z, means, *visible, self.norm))
             })
             .collect()
     }

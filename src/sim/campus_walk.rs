@@ -139,7 +139,7 @@ fn simulate_one(
     waypoints.extend(tour);
     waypoints.extend(leave.iter().rev());
     let truth = walk_waypoints(
-        &campus.office,
+        &campus.office.config,
         &campus.plan,
         &waypoints,
         &config.walk,

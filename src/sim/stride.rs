@@ -4,8 +4,6 @@
 use super::route::Route;
 use crate::error::Result;
 use geo::Coord;
-use rand::RngExt;
-use rand_distr::StandardNormal;
 use rand_pcg::Pcg64Mcg;
 
 /// Correlation of the sideways wander from one step to the next.
@@ -68,7 +66,7 @@ pub(super) fn strides<'a>(
         if total - s < MIN_FINAL_STRIDE {
             return None;
         }
-        let mut gauss = || rng.sample::<f64, _>(StandardNormal);
+        let mut gauss = || crate::random::gauss(&mut *rng);
         let mean = gait.length_mean;
         let mut stride = (mean + gait.length_sigma * gauss()).clamp(0.5 * mean, 1.5 * mean);
         let cap = [route.at(s).0, route.at((s + stride).min(total)).0]

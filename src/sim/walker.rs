@@ -130,26 +130,26 @@ pub fn simulate_walk(office: &Office, config: &WalkConfig, seed: u64) -> Result<
     config.validate()?;
     let mut rng = Pcg64Mcg::seed_from_u64(seed);
     let waypoints = plan_route(office, config, &mut rng);
-    walk_waypoints(office, &office.plan, &waypoints, config, &mut rng)
+    walk_waypoints(&office.config, &office.plan, &waypoints, config, &mut rng)
 }
 
-/// Walks through `waypoints` over `plan`, the corners rounded no wider than `office`'s
-/// corridors and room entries allow.
+/// Walks through `waypoints` over `plan`, the corners rounded no wider than the office's
+/// corridors and room entries (`office`) allow.
 pub(super) fn walk_waypoints(
-    office: &Office,
+    office: &super::office::OfficeConfig,
     plan: &crate::map::FloorPlan,
     waypoints: &[Coord<f64>],
     config: &WalkConfig,
     rng: &mut Pcg64Mcg,
 ) -> Result<TruePath> {
-    let cap = (office.config.corridor_width / 2.0).min(office.config.entry_depth);
+    let cap = (office.corridor_width / 2.0).min(office.entry_depth);
     let route = Route::rounded(waypoints, config.corner_radius.min(cap));
     walk(plan, &route, config, rng)
 }
 
 /// Walks `route` stride by stride over the surfaces of `plan` (level 0), from the route's
 /// first point.
-pub(super) fn walk(
+fn walk(
     plan: &crate::map::FloorPlan,
     route: &Route,
     config: &WalkConfig,

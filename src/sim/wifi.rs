@@ -19,9 +19,9 @@
 use super::truth::{TruePath, TruePose};
 use crate::error::{Error, Result};
 use crate::map::{FloorTopology, SegmentKind};
+use crate::random::gauss;
 use crate::sensor::{WifiReading, WifiScan};
 use rand::{RngExt, SeedableRng};
-use rand_distr::StandardNormal;
 use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};
 
@@ -233,8 +233,8 @@ impl RadioWorld {
             .map(|_| {
                 (0..FEATURES)
                     .map(|_| Feature {
-                        wx: rng.sample::<f64, _>(StandardNormal) / length,
-                        wy: rng.sample::<f64, _>(StandardNormal) / length,
+                        wx: gauss(&mut rng) / length,
+                        wy: gauss(&mut rng) / length,
                         phase: rng.random_range(0.0..std::f64::consts::TAU),
                     })
                     .collect()
@@ -302,7 +302,7 @@ impl RadioWorld {
         for (i, a) in self.aps.iter().enumerate() {
             let bearing = (a.y - pose.y).atan2(a.x - pose.x);
             let body = c.body_loss_max * (1.0 - (bearing - pose.heading).cos()) / 2.0;
-            let noise = c.temporal_sigma * rng.sample::<f64, _>(StandardNormal);
+            let noise = c.temporal_sigma * gauss(rng);
             let rssi =
                 (self.unobstructed_rssi(i, pose.x, pose.y, pose.level) - body + noise).round();
             if rssi >= c.detection_floor {
@@ -330,8 +330,7 @@ impl RadioWorld {
         while t <= end {
             let pose = truth.pose_at(start, t);
             scans.push(self.scan((t * 1000.0).round() / 1000.0, &pose, &mut rng));
-            let step =
-                c.scan_interval * (1.0 + c.scan_jitter * rng.sample::<f64, _>(StandardNormal));
+            let step = c.scan_interval * (1.0 + c.scan_jitter * gauss(&mut rng));
             t += step.max(0.2 * c.scan_interval);
         }
         scans
