@@ -67,6 +67,7 @@ pub mod eval;
 pub mod export;
 pub mod filter;
 pub mod geometry;
+pub mod inertial;
 pub mod map;
 pub mod model;
 pub mod random;

@@ -6,6 +6,7 @@ pub mod floor_plan_geojson;
 pub mod geojson_file;
 pub mod gps_csv;
 pub mod gpx_file;
+pub mod imu_csv;
 pub mod outline_geojson;
 pub mod radio_truth_csv;
 pub mod steps_csv;
@@ -16,6 +17,7 @@ pub mod wifi_csv;
 
 pub use gps_csv::{read_gps_csv, write_gps_csv};
 pub use gpx_file::{parse_utc_time, read_gpx};
+pub use imu_csv::{read_imu, write_imu};
 pub use outline_geojson::{read_outline, write_outline};
 pub use steps_csv::read_steps;
 pub use track_csv::{TrackPoint, read_track, write_track};

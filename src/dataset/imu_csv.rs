@@ -1,0 +1,252 @@
+//! IMU recordings as CSV: header `t,ax,ay,az,gx,gy,gz` (seconds, m/s² with gravity, rad/s,
+//! sensor frame) and optionally `mx,my,mz` (µT), `qx,qy,qz,qw` (orientation sensor → ENU,
+//! as Android's rotation vector) and `pressure` (hPa); extra columns are ignored.
+//!
+//! Real logs are uneven. A row that repeats the previous row's time is dropped (counted in
+//! the [`crate::sensor::SamplingReport`]); a time before the previous row's is an error. An
+//! optional channel logged more slowly than the accelerometer may leave cells empty: each
+//! empty cell holds the channel's previous value (its first value before it starts); a
+//! channel whose column is present but empty throughout counts as absent. Errors name the
+//! file, line and problem.
+
+use super::csv_table::{CsvRow, CsvTable};
+use crate::error::{Error, Result};
+use crate::sensor::imu::{ImuRecording, ImuSample, check_sample};
+use std::path::Path;
+
+/// Reads and validates an IMU recording.
+pub fn read_imu(path: &Path) -> Result<ImuRecording> {
+    let mut table = CsvTable::open(path)?;
+    let required = ["t", "ax", "ay", "az", "gx", "gy", "gz"]
+        .map(|name| table.column(name))
+        .into_iter()
+        .collect::<Result<Vec<_>>>()?;
+    let group = |names: &[&str]| -> Result<Option<Vec<usize>>> {
+        let found: Vec<_> = names.iter().map(|n| table.optional_column(n)).collect();
+        match found.iter().filter(|c| c.is_some()).count() {
+            0 => Ok(None),
+            n if n == names.len() => Ok(Some(found.into_iter().flatten().collect())),
+            _ => Err(Error::parse(
+                path,
+                1,
+                format!(
+                    "columns {} go together: found only some of them",
+                    names.join(",")
+                ),
+            )),
+        }
+    };
+    let mag_cols = group(&["mx", "my", "mz"])?;
+    let quat_cols = group(&["qx", "qy", "qz", "qw"])?;
+    let pressure_col = table.optional_column("pressure");
+
+    let mut samples: Vec<ImuSample> = Vec::new();
+    let mut duplicates = 0usize;
+    let mut lines: Vec<usize> = Vec::new();
+    let mut mag = Channel::<3>::default();
+    let mut quat = Channel::<4>::default();
+    let mut pressure = Channel::<1>::default();
+    table.for_each_row(|row| {
+        let v: Vec<f64> = required
+            .iter()
+            .zip(["t", "ax", "ay", "az", "gx", "gy", "gz"])
+            .map(|(&c, name)| row.number(c, name))
+            .collect::<Result<_>>()?;
+        let t = v[0];
+        if let Some(last) = samples.last() {
+            if t == last.t {
+                duplicates += 1;
+                return Ok(());
+            }
+            if t < last.t {
+                return Err(row.error(format!(
+                    "time {t} s is before the previous row's {} s (rows must be sorted by time)",
+                    last.t
+                )));
+            }
+        }
+        let index = samples.len();
+        mag.read(row, mag_cols.as_deref(), &["mx", "my", "mz"], index)?;
+        quat.read(row, quat_cols.as_deref(), &["qx", "qy", "qz", "qw"], index)?;
+        let p = pressure_col.map(|c| vec![c]);
+        pressure.read(row, p.as_deref(), &["pressure"], index)?;
+        samples.push(ImuSample {
+            t,
+            accel: [v[1], v[2], v[3]],
+            gyro: [v[4], v[5], v[6]],
+            mag: mag.current(),
+            orientation: quat.current(),
+            pressure: pressure.current().map(|[p]| p),
+        });
+        lines.push(row.line());
+        Ok(())
+    })?;
+    if samples.is_empty() {
+        return Err(Error::parse(
+            path,
+            0,
+            "no samples: the file has a header but no data rows",
+        ));
+    }
+    mag.backfill(&mut samples, |s, v| s.mag = Some(v));
+    quat.backfill(&mut samples, |s, v| s.orientation = Some(v));
+    pressure.backfill(&mut samples, |s, [v]| s.pressure = Some(v));
+    for (s, &line) in samples.iter().zip(&lines) {
+        check_sample(s).map_err(|m| Error::parse(path, line, m))?;
+    }
+    ImuRecording::new(samples, duplicates).map_err(|(i, m)| {
+        Error::parse(path, lines.get(i).copied().unwrap_or(0), m)
+    })
+}
+
+/// An optional channel read row by row, holding its last value over empty cells.
+#[derive(Default)]
+struct Channel<const N: usize> {
+    last: Option<[f64; N]>,
+    /// Index of the first sample with a value, and that value.
+    first: Option<(usize, [f64; N])>,
+}
+
+impl<const N: usize> Channel<N> {
+    fn read(
+        &mut self,
+        row: &CsvRow<'_>,
+        columns: Option<&[usize]>,
+        names: &[&str],
+        index: usize,
+    ) -> Result<()> {
+        let Some(columns) = columns else {
+            return Ok(());
+        };
+        let empty = columns.iter().filter(|&&c| row.text(c).is_empty()).count();
+        if empty == N {
+            return Ok(());
+        }
+        if empty > 0 {
+            return Err(row.error(format!(
+                "columns {} go together: some are empty on this row",
+                names.join(",")
+            )));
+        }
+        let mut value = [0.0; N];
+        for (slot, (&c, name)) in value.iter_mut().zip(columns.iter().zip(names)) {
+            *slot = row.number(c, name)?;
+        }
+        self.last = Some(value);
+        self.first.get_or_insert((index, value));
+        Ok(())
+    }
+
+    fn current(&self) -> Option<[f64; N]> {
+        self.last
+    }
+
+    /// Gives the samples before the channel's first value that first value.
+    fn backfill(&self, samples: &mut [ImuSample], set: impl Fn(&mut ImuSample, [f64; N])) {
+        if let Some((first, value)) = self.first {
+            for s in &mut samples[..first] {
+                set(s, value);
+            }
+        }
+    }
+}
+
+/// Writes an IMU recording as CSV with the optional columns it carries.
+pub fn write_imu(path: &Path, recording: &ImuRecording) -> Result<()> {
+    use std::fmt::Write as _;
+    let mut text = String::from("t,ax,ay,az,gx,gy,gz");
+    if recording.has_magnetometer() {
+        text.push_str(",mx,my,mz");
+    }
+    if recording.has_orientation() {
+        text.push_str(",qx,qy,qz,qw");
+    }
+    if recording.has_pressure() {
+        text.push_str(",pressure");
+    }
+    text.push('\n');
+    for s in recording.samples() {
+        let _ = write!(text, "{:.4}", s.t);
+        for v in s.accel.iter().chain(&s.gyro) {
+            let _ = write!(text, ",{v:.6}");
+        }
+        for v in s.mag.iter().flatten() {
+            let _ = write!(text, ",{v:.4}");
+        }
+        for v in s.orientation.iter().flatten() {
+            let _ = write!(text, ",{v:.7}");
+        }
+        if let Some(p) = s.pressure {
+            let _ = write!(text, ",{p:.4}");
+        }
+        text.push('\n');
+    }
+    crate::export::write_atomically(path, text.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(text: &str) -> Result<ImuRecording> {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let p = dir.path().join("imu.csv");
+        std::fs::write(&p, text).expect("write");
+        read_imu(&p)
+    }
+
+    const HEAD: &str = "t,ax,ay,az,gx,gy,gz";
+
+    #[test]
+    fn reads_unix_times_drops_duplicates_and_holds_slow_channels() {
+        let r = read(&format!(
+            "{HEAD},pressure,extra\n\
+             1700000000.00,0,0,9.8,0,0,0,,a\n\
+             1700000000.01,0,0,9.8,0,0,0,1013.2,b\n\
+             1700000000.01,0,0,9.8,0,0,0,1013.2,b\n\
+             1700000000.02,0,0,9.8,0,0,0,,c\n"
+        ))
+        .expect("valid");
+        assert_eq!(r.samples().len(), 3);
+        assert_eq!(r.report().duplicate_times, 1);
+        assert_eq!(r.samples()[0].t, 1_700_000_000.0);
+        assert!(r.samples().iter().all(|s| s.pressure == Some(1013.2)));
+        assert!(!r.has_magnetometer() && !r.has_orientation());
+    }
+
+    #[test]
+    fn errors_name_line_and_problem() {
+        let e = |text: &str| read(text).unwrap_err().to_string();
+        let msg = e(&format!("{HEAD}\n0,0,0,9.8,0,0,0\n-1,0,0,9.8,0,0,0\n"));
+        assert!(msg.contains("imu.csv:3") && msg.contains("sorted"), "{msg}");
+        let msg = e(&format!("{HEAD}\n0,0,0,9.8,0,0,0\n1,0,NaN,9.8,0,0,0\n"));
+        assert!(msg.contains(":3") && msg.contains("ay"), "{msg}");
+        let msg = e("t,ax,ay,az,gx,gy\n0,0,0,9.8,0,0\n");
+        assert!(msg.contains("gz"), "{msg}");
+        let msg = e(&format!("{HEAD},mx,my\n0,0,0,9.8,0,0,0,1,2\n"));
+        assert!(msg.contains("mx,my,mz"), "{msg}");
+        let msg = e(&format!("{HEAD}\n"));
+        assert!(msg.contains("no samples"), "{msg}");
+        let msg = e(&format!("{HEAD}\n0,0,0,9.8,0,0\n"));
+        assert!(msg.contains(":2"), "{msg}");
+        let msg = e(&format!("{HEAD}\n0,0,0,9.8,0,0,0\n1,0,0,900,0,0,0\n"));
+        assert!(msg.contains(":3") && msg.contains("acceleration"), "{msg}");
+        let msg = e(&format!(
+            "{HEAD},qx,qy,qz,qw\n0,0,0,9.8,0,0,0,0,0,0,2\n1,0,0,9.8,0,0,0,0,0,0,1\n"
+        ));
+        assert!(msg.contains(":2") && msg.contains("norm"), "{msg}");
+    }
+
+    #[test]
+    fn round_trips() {
+        let r = read(&format!(
+            "{HEAD},mx,my,mz,qx,qy,qz,qw\n0,0.1,0.2,9.8,0.01,0.02,0.03,20,5,-40,0,0,0,1\n\
+             0.01,0.1,0.2,9.8,0.01,0.02,0.03,20,5,-40,0,0,0.7071068,0.7071068\n"
+        ))
+        .expect("valid");
+        let dir = tempfile::tempdir().expect("tempdir");
+        let p = dir.path().join("out.csv");
+        write_imu(&p, &r).expect("write");
+        assert_eq!(read_imu(&p).expect("read back"), r);
+    }
+}

@@ -1,0 +1,263 @@
+//! Raw inertial recordings: accelerometer, gyroscope and, when logged, magnetometer,
+//! orientation (Android's rotation vector) and barometer, sample by sample.
+//!
+//! Real logs are uneven: samples come late, twice or not at all. [`ImuRecording::new`] keeps
+//! the samples in strictly increasing time (the readers drop exact duplicates before) and
+//! measures the sampling in a [`SamplingReport`], so the step detectors integrate with each
+//! sample's true `dt` and can break a stride at a gap.
+
+use serde::{Deserialize, Serialize};
+
+/// One IMU sample, in the sensor's own frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImuSample {
+    /// Time, seconds (any epoch; Unix seconds are fine: kept in f64).
+    pub t: f64,
+    /// Specific force (gravity included), m/s², sensor frame.
+    pub accel: [f64; 3],
+    /// Angular rate, rad/s, sensor frame.
+    pub gyro: [f64; 3],
+    /// Magnetic field, µT, sensor frame, when logged.
+    pub mag: Option<[f64; 3]>,
+    /// Orientation, sensor → east-north-up, as a unit quaternion `[x, y, z, w]` (Android's
+    /// rotation vector), when logged.
+    pub orientation: Option<[f64; 4]>,
+    /// Air pressure, hPa, when logged.
+    pub pressure: Option<f64>,
+}
+
+/// Largest accepted specific force per axis, m/s² (±16 g: the range of common IMUs).
+pub const MAX_ACCEL: f64 = 16.0 * 9.81;
+/// Largest accepted angular rate per axis, rad/s (about 2,300 °/s).
+pub const MAX_GYRO: f64 = 40.0;
+/// Largest accepted magnetic field per axis, µT (Earth's is 25–65 µT; steel adds some).
+pub const MAX_MAG: f64 = 2_000.0;
+/// Accepted air pressure, hPa (from the Dead Sea shore to above Everest's summit).
+pub const PRESSURE_RANGE: std::ops::RangeInclusive<f64> = 250.0..=1_100.0;
+
+/// Why a sample is unusable, if it is.
+pub fn check_sample(s: &ImuSample) -> Result<(), String> {
+    if !s.t.is_finite() {
+        return Err("time must be a finite number".into());
+    }
+    let axes = |v: &[f64; 3], max: f64, what: &str, unit: &str| -> Result<(), String> {
+        for (a, name) in v.iter().zip(["x", "y", "z"]) {
+            if !a.is_finite() {
+                return Err(format!("{what} {name} is not a finite number"));
+            }
+            if a.abs() > max {
+                return Err(format!(
+                    "{what} {name} = {a} {unit} is beyond ±{max} {unit}"
+                ));
+            }
+        }
+        Ok(())
+    };
+    axes(&s.accel, MAX_ACCEL, "acceleration", "m/s²")?;
+    axes(&s.gyro, MAX_GYRO, "angular rate", "rad/s")?;
+    if let Some(m) = &s.mag {
+        axes(m, MAX_MAG, "magnetic field", "µT")?;
+    }
+    if let Some(q) = &s.orientation {
+        if q.iter().any(|v| !v.is_finite()) {
+            return Err("orientation quaternion is not finite".into());
+        }
+        let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if !(0.9..=1.1).contains(&norm) {
+            return Err(format!(
+                "orientation quaternion has norm {norm:.3}, not 1 (expected qx,qy,qz,qw of a unit quaternion)"
+            ));
+        }
+    }
+    if let Some(p) = s.pressure
+        && !(p.is_finite() && PRESSURE_RANGE.contains(&p))
+    {
+        return Err(format!(
+            "pressure {p} hPa is outside [{}, {}] hPa",
+            PRESSURE_RANGE.start(),
+            PRESSURE_RANGE.end()
+        ));
+    }
+    Ok(())
+}
+
+/// How a recording was sampled, for the user and for the detectors.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SamplingReport {
+    /// Samples kept.
+    pub samples: usize,
+    /// Time from the first to the last sample, seconds.
+    pub duration_s: f64,
+    /// Median interval between samples, seconds.
+    pub median_dt_s: f64,
+    /// Rate implied by the median interval, Hz.
+    pub rate_hz: f64,
+    /// Rows dropped because they repeated the previous row's time.
+    pub duplicate_times: usize,
+    /// Intervals longer than [`GAP_FACTOR`] × the median interval (samples missing).
+    pub gaps: usize,
+    /// The longest interval between samples, seconds.
+    pub longest_gap_s: f64,
+    /// Intervals that differ from the median by more than 25 % (uneven sampling).
+    pub uneven_intervals: usize,
+}
+
+/// An interval longer than this many median intervals counts as a gap.
+pub const GAP_FACTOR: f64 = 5.0;
+
+/// A validated IMU recording: at least two samples, times strictly increasing, values finite
+/// and within the documented ranges; optional channels present in every sample or in none.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImuRecording {
+    samples: Vec<ImuSample>,
+    report: SamplingReport,
+}
+
+impl ImuRecording {
+    /// A recording from samples; `duplicate_times` is how many rows the reader dropped for
+    /// repeating a time (reported). The error names the 0-based sample index.
+    pub fn new(samples: Vec<ImuSample>, duplicate_times: usize) -> Result<Self, (usize, String)> {
+        if samples.len() < 2 {
+            return Err((
+                samples.len().saturating_sub(1),
+                format!(
+                    "a recording needs at least two samples, found {}",
+                    samples.len()
+                ),
+            ));
+        }
+        let first = &samples[0];
+        for (i, s) in samples.iter().enumerate() {
+            check_sample(s).map_err(|m| (i, m))?;
+            if i > 0 && s.t <= samples[i - 1].t {
+                return Err((
+                    i,
+                    format!(
+                        "time {} s is not after the previous sample's {} s (samples must be sorted by time)",
+                        s.t,
+                        samples[i - 1].t
+                    ),
+                ));
+            }
+            let same = |a: bool, b: bool, what: &str| {
+                if a == b {
+                    Ok(())
+                } else {
+                    Err((
+                        i,
+                        format!("{what} is given in some samples and missing in others"),
+                    ))
+                }
+            };
+            same(s.mag.is_some(), first.mag.is_some(), "the magnetometer")?;
+            same(
+                s.orientation.is_some(),
+                first.orientation.is_some(),
+                "the orientation",
+            )?;
+            same(s.pressure.is_some(), first.pressure.is_some(), "pressure")?;
+        }
+        let report = sampling_report(&samples, duplicate_times);
+        Ok(Self { samples, report })
+    }
+
+    /// The samples, in time order.
+    pub fn samples(&self) -> &[ImuSample] {
+        &self.samples
+    }
+
+    /// How the recording was sampled.
+    pub fn report(&self) -> &SamplingReport {
+        &self.report
+    }
+
+    /// True when every sample carries a magnetometer reading.
+    pub fn has_magnetometer(&self) -> bool {
+        self.samples[0].mag.is_some()
+    }
+
+    /// True when every sample carries an orientation quaternion.
+    pub fn has_orientation(&self) -> bool {
+        self.samples[0].orientation.is_some()
+    }
+
+    /// True when every sample carries air pressure.
+    pub fn has_pressure(&self) -> bool {
+        self.samples[0].pressure.is_some()
+    }
+}
+
+fn sampling_report(samples: &[ImuSample], duplicate_times: usize) -> SamplingReport {
+    let mut dts: Vec<f64> = samples.windows(2).map(|w| w[1].t - w[0].t).collect();
+    let longest_gap_s = dts.iter().copied().fold(0.0, f64::max);
+    let (gaps, uneven) = {
+        let mut sorted = dts.clone();
+        sorted.sort_by(f64::total_cmp);
+        let median = sorted[sorted.len() / 2];
+        let gaps = dts.iter().filter(|&&d| d > GAP_FACTOR * median).count();
+        let uneven = dts
+            .iter()
+            .filter(|&&d| (d - median).abs() > 0.25 * median)
+            .count();
+        dts = sorted;
+        (gaps, uneven)
+    };
+    let median_dt_s = dts[dts.len() / 2];
+    SamplingReport {
+        samples: samples.len(),
+        duration_s: samples[samples.len() - 1].t - samples[0].t,
+        median_dt_s,
+        rate_hz: 1.0 / median_dt_s,
+        duplicate_times,
+        gaps,
+        longest_gap_s,
+        uneven_intervals: uneven,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample(t: f64) -> ImuSample {
+        ImuSample {
+            t,
+            accel: [0.0, 0.0, 9.81],
+            gyro: [0.0; 3],
+            mag: None,
+            orientation: None,
+            pressure: None,
+        }
+    }
+
+    #[test]
+    fn reports_rate_gaps_and_duplicates() {
+        let mut s: Vec<_> = (0..100).map(|i| sample(1.7e9 + i as f64 * 0.01)).collect();
+        s.extend((0..10).map(|i| sample(1.7e9 + 2.0 + i as f64 * 0.01)));
+        let r = ImuRecording::new(s, 3).expect("valid");
+        let rep = r.report();
+        assert_eq!(rep.samples, 110);
+        assert!((rep.rate_hz - 100.0).abs() < 1e-3, "{}", rep.rate_hz);
+        assert_eq!(rep.gaps, 1);
+        assert_eq!(rep.duplicate_times, 3);
+        assert!((rep.longest_gap_s - 1.01).abs() < 1e-6);
+    }
+
+    #[test]
+    fn rejects_unsorted_absurd_and_mixed_channels() {
+        assert_eq!(
+            ImuRecording::new(vec![sample(1.0), sample(0.5)], 0)
+                .unwrap_err()
+                .0,
+            1
+        );
+        let mut bad = sample(1.0);
+        bad.accel[2] = 1e6;
+        assert!(ImuRecording::new(vec![sample(0.0), bad], 0).is_err());
+        let mut with_mag = sample(1.0);
+        with_mag.mag = Some([20.0, 0.0, -40.0]);
+        let e = ImuRecording::new(vec![sample(0.0), with_mag], 0).unwrap_err();
+        assert!(e.1.contains("magnetometer"), "{}", e.1);
+        assert!(ImuRecording::new(vec![sample(0.0)], 0).is_err());
+    }
+}
