@@ -13,6 +13,7 @@ pub mod steps_csv;
 pub mod track_csv;
 pub mod trajectory_csv;
 pub mod truth_csv;
+pub mod waypoints_csv;
 pub mod wifi_csv;
 
 pub use gps_csv::{read_gps_csv, write_gps_csv};
@@ -22,4 +23,5 @@ pub use outline_geojson::{read_outline, write_outline};
 pub use steps_csv::read_steps;
 pub use track_csv::{TrackPoint, read_track, write_track};
 pub use trajectory_csv::{TimedPoint, read_trajectory, write_trajectory};
+pub use waypoints_csv::{Waypoint, read_waypoints, write_waypoints};
 pub use wifi_csv::{read_wifi, write_wifi};
