@@ -1,10 +1,12 @@
 //! `footslam eval`: position error of a track against the truth.
 
 use super::common::{SAME_ORIGIN, parse_origin, read_config, require_file};
-use anyhow::Result;
+use anyhow::{Context, Result};
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
-use footslam::dataset::{TimedPoint, read_steps, read_track, read_trajectory};
-use footslam::eval::{Alignment, ErrorReport, floor_accuracy, position_errors, walkable_fraction};
+use footslam::dataset::{TimedPoint, read_steps, read_track, read_trajectory, read_waypoints};
+use footslam::eval::{
+    Alignment, ErrorReport, floor_accuracy, position_errors, walkable_fraction, waypoint_errors,
+};
 use footslam::export::map_geojson::read_map_geojson;
 use footslam::geometry::LocalFrame;
 use std::path::{Path, PathBuf};
@@ -13,8 +15,18 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Ground truth CSV with `t,x,y` columns (e.g. the simulator's truth.csv).
+    #[arg(
+        long,
+        required_unless_present = "waypoints",
+        conflicts_with = "waypoints"
+    )]
+    truth: Option<PathBuf>,
+    /// Sparse ground truth `t,x,y[,level]` (e.g. an importer's waypoints.csv): the error at
+    /// each waypoint, the track interpolated at its time. With `--steps`, dead reckoning
+    /// starts at the first waypoint (with the steps' absolute heading when they carry one,
+    /// else rigidly aligned).
     #[arg(long)]
-    truth: PathBuf,
+    waypoints: Option<PathBuf>,
     /// Estimated track CSV with `t,x,y` columns (e.g. learn's or track's track.csv); with
     /// `z` and `level` columns in both files, the share on the right floor is reported too.
     #[arg(long)]
@@ -52,14 +64,17 @@ type Statistic = fn(&ErrorReport) -> f64;
 
 /// Runs `footslam eval`.
 pub fn run(args: Args) -> Result<()> {
-    require_file(&args.truth, "truth file")?;
     require_file(&args.track, "track file")?;
-    let truth = read_trajectory(&args.truth)?;
+    let Some(truth_path) = args.truth.clone() else {
+        return run_waypoints(args);
+    };
+    require_file(&truth_path, "truth file")?;
+    let truth = read_trajectory(&truth_path)?;
     let mut track = read_trajectory(&args.track)?;
     // Runs anchored to the world (learn --gps) put their local frame's origin at the first
     // fix, not where the simulator put the truth's: compare in the truth's frame.
     let reprojected = match (
-        run_origin(&args.truth, false),
+        run_origin(&truth_path, false),
         run_origin(&args.track, true),
     ) {
         (Some(truth_frame), Some(track_frame))
@@ -98,7 +113,7 @@ pub fn run(args: Args) -> Result<()> {
         None => None,
     };
     // Both files with `z` and `level` columns (truth.csv, track's track.csv): floor accuracy.
-    let floors = match (read_track(&args.truth), read_track(&args.track)) {
+    let floors = match (read_track(&truth_path), read_track(&args.track)) {
         (Ok(truth), Ok(track)) => {
             let levels = |v: &[footslam::dataset::TrackPoint]| -> Vec<(f64, i32)> {
                 v.iter().map(|p| (p.t, p.level)).collect()
@@ -136,29 +151,7 @@ pub fn run(args: Args) -> Result<()> {
                 to.lon
             );
         }
-        let rows: [(&str, Statistic); 6] = [
-            ("p50", |r| r.p50),
-            ("p75", |r| r.p75),
-            ("p95", |r| r.p95),
-            ("max", |r| r.max),
-            ("mean", |r| r.mean),
-            ("rmse", |r| r.rmse),
-        ];
-        match &dead_reckoning {
-            Some(dr) => {
-                outln!("{:<6} {:>10} {:>15}", "", "track", "dead reckoning");
-                outln!("{:<6} {:>10} {:>15}", "points", report.n, dr.n);
-                for (name, f) in rows {
-                    outln!("{name:<6} {:>8.3} m {:>13.3} m", f(&report), f(dr));
-                }
-            }
-            None => {
-                outln!("{:<6} {:>10}", "points", report.n);
-                for (name, f) in rows {
-                    outln!("{name:<6} {:>8.3} m", f(&report));
-                }
-            }
-        }
+        print_table(&report, dead_reckoning.as_ref());
         if let Some(f) = floors {
             outln!("right floor {:.1} % of track points", 100.0 * f);
         }
@@ -167,6 +160,134 @@ pub fn run(args: Args) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Prints the error table, with dead reckoning's beside the track's when given.
+fn print_table(report: &ErrorReport, dead_reckoning: Option<&ErrorReport>) {
+    let rows: [(&str, Statistic); 7] = [
+        ("p50", |r| r.p50),
+        ("p75", |r| r.p75),
+        ("p90", |r| r.p90),
+        ("p95", |r| r.p95),
+        ("max", |r| r.max),
+        ("mean", |r| r.mean),
+        ("rmse", |r| r.rmse),
+    ];
+    match dead_reckoning {
+        Some(dr) => {
+            outln!("{:<6} {:>10} {:>15}", "", "track", "dead reckoning");
+            outln!("{:<6} {:>10} {:>15}", "points", report.n, dr.n);
+            for (name, f) in rows {
+                outln!("{name:<6} {:>8.3} m {:>13.3} m", f(report), f(dr));
+            }
+        }
+        None => {
+            outln!("{:<6} {:>10}", "points", report.n);
+            for (name, f) in rows {
+                outln!("{name:<6} {:>8.3} m", f(report));
+            }
+        }
+    }
+}
+
+/// `eval --waypoints`: errors at sparse ground-truth points.
+fn run_waypoints(args: Args) -> Result<()> {
+    let Some(path) = &args.waypoints else {
+        anyhow::bail!("give --truth or --waypoints");
+    };
+    require_file(path, "waypoints file")?;
+    let waypoints = read_waypoints(path)?;
+    let track = read_trajectory(&args.track)?;
+    let alignment = match args.align {
+        AlignArg::None => Alignment::None,
+        AlignArg::Rigid => Alignment::Rigid,
+    };
+    let errors = waypoint_errors(&waypoints, &track, alignment)
+        .with_context(|| format!("{} against {}", args.track.display(), path.display()))?;
+    let dead_reckoning = match &args.steps {
+        Some(steps) => {
+            require_file(steps, "step trace")?;
+            let trace = read_steps(steps)?;
+            let absolute = trace.steps().first().and_then(|s| s.heading).is_some();
+            let dr = dead_reckoning_from(&trace, &waypoints[0], absolute);
+            let align = if absolute {
+                alignment
+            } else {
+                Alignment::Rigid
+            };
+            Some((waypoint_errors(&waypoints, &dr, align)?, absolute))
+        }
+        None => None,
+    };
+    if args.json {
+        let value = serde_json::json!({
+            "track": errors.report,
+            "waypoints": errors.points,
+            "dead_reckoning": dead_reckoning.as_ref().map(|(d, _)| &d.report),
+            "dead_reckoning_waypoints": dead_reckoning.as_ref().map(|(d, _)| &d.points),
+            "dead_reckoning_heading": dead_reckoning.as_ref().map(|(_, a)| if *a { "absolute" } else { "rigidly aligned" }),
+        });
+        outln!("{}", serde_json::to_string_pretty(&value)?);
+    } else {
+        print_table(
+            &errors.report,
+            dead_reckoning.as_ref().map(|(d, _)| &d.report),
+        );
+        if errors.report.skipped > 0 {
+            outln!(
+                "{} waypoints outside the track's time span were skipped",
+                errors.report.skipped
+            );
+        }
+        if let Some((_, false)) = dead_reckoning {
+            outln!("dead reckoning rigidly aligned: the steps carry no absolute heading");
+        }
+    }
+    Ok(())
+}
+
+/// Dead reckoning placed at the first waypoint at its time: the walker stands at the start
+/// until the first step; with `absolute`, the heading before the first step is the first
+/// step's measured heading less its turn, so the path follows the measured headings.
+fn dead_reckoning_from(
+    trace: &footslam::sensor::StepTrace,
+    first: &footslam::dataset::Waypoint,
+    absolute: bool,
+) -> Vec<TimedPoint> {
+    let steps = trace.steps();
+    let heading = match steps.first() {
+        Some(s) if absolute => s.heading.unwrap_or(0.0) - s.dheading,
+        _ => 0.0,
+    };
+    let start = footslam::geometry::Pose2 {
+        x: 0.0,
+        y: 0.0,
+        heading,
+    };
+    let t0 = steps.first().map_or(first.t, |s| first.t.min(s.t - 1e-3));
+    let mut points = vec![TimedPoint {
+        t: t0,
+        x: 0.0,
+        y: 0.0,
+    }];
+    points.extend(
+        steps
+            .iter()
+            .zip(trace.dead_reckon(start))
+            .map(|(s, p)| TimedPoint {
+                t: s.t,
+                x: p.x,
+                y: p.y,
+            }),
+    );
+    // Shift so that the path passes the first waypoint at its time.
+    if let Some((x, y)) = footslam::eval::position_error::interpolate_at(&points, first.t) {
+        for p in &mut points {
+            p.x += first.x - x;
+            p.y += first.y - y;
+        }
+    }
+    points
 }
 
 /// The WGS84 origin recorded in the `summary.json` beside a run's CSV file (simulate, learn,

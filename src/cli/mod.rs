@@ -15,6 +15,7 @@ mod learn_inputs;
 mod merge;
 mod simulate;
 mod simulate_campus;
+mod steps;
 mod survey;
 mod track;
 
@@ -34,6 +35,8 @@ enum Command {
     Learn(learn::Args),
     /// Combine maps learned on several walks of one building (same frame).
     Merge(merge::Args),
+    /// Turn a raw IMU recording (foot-mounted or phone) into step events.
+    Steps(steps::Args),
     /// Locate and track a walker on a known 2.5D floor plan from step events.
     Track(track::Args),
     /// Build a WiFi radio map from walks tracked on a known floor plan.
@@ -51,6 +54,7 @@ pub fn main() -> std::process::ExitCode {
         Command::Learn(a) => learn::run(a),
         Command::Merge(a) => merge::run(a),
         Command::Simulate(a) => simulate::run(a),
+        Command::Steps(a) => steps::run(a),
         Command::Track(a) => track::run(a),
         Command::Survey(a) => survey::run(a),
         Command::Eval(a) => eval::run(a),

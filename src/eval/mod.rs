@@ -1,13 +1,15 @@
 //! Evaluation of estimates against references: position errors of a track against the
-//! ground truth, how often a 2.5D track is on the right floor, and how much of a learned map lies in a floor plan's walkable space.
+//! ground truth or at sparse waypoints, how often a 2.5D track is on the right floor, and how much of a learned map lies in a floor plan's walkable space.
 
 pub mod floor_accuracy;
 pub mod position_error;
 pub mod rf_localisation;
 pub mod tracking;
 pub mod walkable;
+pub mod waypoint_error;
 
 pub use floor_accuracy::floor_accuracy;
 pub use position_error::{Alignment, ErrorReport, position_errors};
 pub use tracking::{TrackingScore, score_tracking};
 pub use walkable::walkable_fraction;
+pub use waypoint_error::{WaypointError, WaypointErrors, waypoint_errors};

@@ -36,6 +36,8 @@ pub struct ErrorReport {
     pub p50: f64,
     /// 75th percentile (nearest rank).
     pub p75: f64,
+    /// 90th percentile (nearest rank).
+    pub p90: f64,
     /// 95th percentile (nearest rank).
     pub p95: f64,
     /// Largest error.
@@ -63,7 +65,7 @@ pub fn position_errors(
     check_series(track, "track")?;
     let (estimated, reference): (Vec<_>, Vec<_>) = track
         .iter()
-        .filter_map(|p| truth_at(truth, p.t).map(|q| ((p.x, p.y), q)))
+        .filter_map(|p| interpolate_at(truth, p.t).map(|q| ((p.x, p.y), q)))
         .unzip();
     let n = estimated.len();
     if n == 0 {
@@ -92,6 +94,7 @@ pub fn position_errors(
         skipped: track.len() - n,
         p50: nearest_rank(&errors, 50),
         p75: nearest_rank(&errors, 75),
+        p90: nearest_rank(&errors, 90),
         p95: nearest_rank(&errors, 95),
         max: errors[n - 1],
         mean: errors.iter().sum::<f64>() / count,
@@ -106,8 +109,9 @@ fn nearest_rank(sorted: &[f64], percent: usize) -> f64 {
     sorted[rank.min(sorted.len()) - 1]
 }
 
-/// The truth's position at time `t`, linearly interpolated; `None` outside its time span.
-fn truth_at(truth: &[TimedPoint], t: f64) -> Option<(f64, f64)> {
+/// The position of a series (time order) at time `t`, linearly interpolated; `None` outside
+/// its time span.
+pub fn interpolate_at(truth: &[TimedPoint], t: f64) -> Option<(f64, f64)> {
     let i = truth.partition_point(|p| p.t < t);
     let b = truth.get(i)?;
     if b.t == t {

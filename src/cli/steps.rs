@@ -1,0 +1,158 @@
+//! `footslam steps`: a raw IMU recording → step events (`steps.csv`), with the detector's
+//! figures and a picture of the dead-reckoned path.
+
+use super::common::{output_dir, read_config, require_file};
+use anyhow::{Context, Result};
+use footslam::dataset::{read_imu, steps_csv::write_steps};
+use footslam::export::RunFolder;
+use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
+use footslam::inertial::{
+    HeadingSource, Mount, StepEvents, StepsConfig, detect_steps, detect_strides,
+};
+use footslam::map::hex_transitions::HexMapSnapshot;
+use footslam::sensor::SamplingReport;
+use serde::Serialize;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Arguments of `footslam steps`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// IMU recording CSV: `t,ax,ay,az,gx,gy,gz` (s, m/s² with gravity, rad/s, sensor frame),
+    /// optionally `mx,my,mz` (µT), `qx,qy,qz,qw` (orientation sensor → ENU) and `pressure`
+    /// (hPa); extra columns are ignored.
+    #[arg(long)]
+    imu: PathBuf,
+    /// Where the IMU was worn: `foot` (zero-velocity-aided INS, one event per stride) or
+    /// `phone` (held in the hand: step-and-heading system, one event per step).
+    #[arg(long, value_enum)]
+    mount: MountArg,
+    /// Detector configuration (TOML, or JSON such as a previous run's config.json).
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// Output folder (default: a new folder under `outputs/`).
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+enum MountArg {
+    Foot,
+    Phone,
+}
+
+#[derive(Debug, Serialize)]
+struct Summary<F: Serialize> {
+    imu_file: String,
+    mount: Mount,
+    steps: usize,
+    duration_s: f64,
+    /// Steps (or strides) per minute over the time spent walking (first to last event).
+    cadence_per_min: f64,
+    mean_stride_m: f64,
+    total_length_m: f64,
+    net_height_change_m: f64,
+    heading_source: HeadingSource,
+    steps_with_heading: usize,
+    sampling: SamplingReport,
+    detector: F,
+    runtime_s: f64,
+    version: &'static str,
+}
+
+/// Runs `footslam steps`.
+pub fn run(args: Args) -> Result<()> {
+    require_file(&args.imu, "IMU recording")?;
+    let config: StepsConfig = match &args.config {
+        Some(p) => read_config(p)?,
+        None => StepsConfig::default(),
+    };
+    config.validate()?;
+    let started = Instant::now();
+    let recording = read_imu(&args.imu)?;
+    let sampling = recording.report().clone();
+    let out = output_dir(args.out.clone(), "steps");
+    let folder = RunFolder::create(&out)?;
+    let context = || format!("{}: cannot detect steps", args.imu.display());
+    let (mount, trace_len) = match args.mount {
+        MountArg::Foot => {
+            let events = detect_strides(&recording, &config.foot).with_context(context)?;
+            let n = events.trace.len();
+            write_outputs(&folder, &args, Mount::Foot, events, sampling, started)?;
+            (Mount::Foot, n)
+        }
+        MountArg::Phone => {
+            let events = detect_steps(&recording, &config.phone).with_context(context)?;
+            let n = events.trace.len();
+            write_outputs(&folder, &args, Mount::Phone, events, sampling, started)?;
+            (Mount::Phone, n)
+        }
+    };
+    folder.write_json("config.json", &config)?;
+    let out = folder.commit()?;
+    let what = match mount {
+        Mount::Foot => "strides",
+        Mount::Phone => "steps",
+    };
+    outln!("{trace_len} {what}: {}", out.join("steps.csv").display());
+    outln!("outputs: {}", out.display());
+    Ok(())
+}
+
+fn write_outputs<F: Serialize>(
+    folder: &RunFolder,
+    args: &Args,
+    mount: Mount,
+    events: StepEvents<F>,
+    sampling: SamplingReport,
+    started: Instant,
+) -> Result<()> {
+    let steps = events.trace.steps();
+    if steps.is_empty() {
+        anyhow::bail!(
+            "{}: no {} detected in {:.1} s of data (is --mount right? is the walker moving?)",
+            args.imu.display(),
+            match mount {
+                Mount::Foot => "strides",
+                Mount::Phone => "steps",
+            },
+            sampling.duration_s
+        );
+    }
+    write_steps(&folder.path("steps.csv"), &events.trace)?;
+    let path: Vec<(f64, f64)> = events.path.iter().map(|p| (p[0], p[1])).collect();
+    let empty = HexMapSnapshot {
+        radius: 0.5,
+        alpha: 0.8,
+        cells: Vec::new(),
+    };
+    write_map_png(
+        &folder.path("steps.png"),
+        &MapPicture::new(&empty, &path),
+        &PictureConfig::default(),
+    )?;
+    let total_length_m: f64 = steps.iter().map(|s| s.length).sum();
+    let walking_s = steps[steps.len() - 1].t - steps[0].t;
+    let summary = Summary {
+        imu_file: args.imu.display().to_string(),
+        mount,
+        steps: steps.len(),
+        duration_s: sampling.duration_s,
+        cadence_per_min: if walking_s > 0.0 {
+            60.0 * (steps.len() - 1) as f64 / walking_s
+        } else {
+            0.0
+        },
+        mean_stride_m: total_length_m / steps.len() as f64,
+        total_length_m,
+        net_height_change_m: steps.iter().map(|s| s.dz).sum(),
+        heading_source: events.heading_source,
+        steps_with_heading: steps.iter().filter(|s| s.heading.is_some()).count(),
+        sampling,
+        detector: events.figures,
+        runtime_s: started.elapsed().as_secs_f64(),
+        version: env!("CARGO_PKG_VERSION"),
+    };
+    folder.write_json("summary.json", &summary)?;
+    Ok(())
+}

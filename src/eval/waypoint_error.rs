@@ -1,0 +1,133 @@
+//! Position error at sparse ground-truth points (waypoints), as real datasets give it: the
+//! track is linearly interpolated at each waypoint's time and compared with the waypoint.
+//! Waypoints outside the track's time span are skipped and counted (a track that starts at
+//! localisation has no estimate before it).
+
+use super::position_error::{Alignment, ErrorReport, interpolate_at, position_errors};
+use crate::dataset::{TimedPoint, Waypoint};
+use crate::error::{Error, Result};
+use serde::Serialize;
+
+/// One waypoint's error.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct WaypointError {
+    /// The waypoint's time, seconds.
+    pub t: f64,
+    /// The waypoint, local metres.
+    pub x: f64,
+    /// North, metres.
+    pub y: f64,
+    /// The track at `t` (after the alignment), local metres.
+    pub estimate_x: f64,
+    /// North, metres.
+    pub estimate_y: f64,
+    /// Distance between the two, metres.
+    pub error: f64,
+}
+
+/// The errors at every waypoint within the track's time span, and their summary.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct WaypointErrors {
+    /// Summary (`skipped` counts waypoints outside the track's time span).
+    pub report: ErrorReport,
+    /// Per waypoint, in time order.
+    pub points: Vec<WaypointError>,
+}
+
+/// Errors of `track` (time order, local metres) at `waypoints` (time order; of waypoints that
+/// share a time the first counts).
+pub fn waypoint_errors(
+    waypoints: &[Waypoint],
+    track: &[TimedPoint],
+    alignment: Alignment,
+) -> Result<WaypointErrors> {
+    if waypoints.is_empty() {
+        return Err(Error::Input("there are no waypoints".into()));
+    }
+    let mut truth: Vec<TimedPoint> = Vec::with_capacity(waypoints.len());
+    for w in waypoints {
+        if truth.last().is_none_or(|p| w.t > p.t) {
+            truth.push(TimedPoint {
+                t: w.t,
+                x: w.x,
+                y: w.y,
+            });
+        }
+    }
+    let estimates: Vec<TimedPoint> = truth
+        .iter()
+        .filter_map(|w| interpolate_at(track, w.t).map(|(x, y)| TimedPoint { t: w.t, x, y }))
+        .collect();
+    if estimates.is_empty() {
+        let span = |v: &[TimedPoint]| (v[0].t, v[v.len() - 1].t);
+        let (w0, w1) = span(&truth);
+        return Err(Error::Input(match track.is_empty() {
+            true => "the track has no points".into(),
+            false => {
+                let (t0, t1) = span(track);
+                format!(
+                    "none of the {} waypoints ([{w0}, {w1}] s) lies within the track's time span [{t0}, {t1}] s: are they on the same clock?",
+                    truth.len()
+                )
+            }
+        }));
+    }
+    let mut report = position_errors(&truth, &estimates, alignment)?;
+    report.skipped = truth.len() - estimates.len();
+    let points = estimates
+        .iter()
+        .filter_map(|e| {
+            let w = truth.iter().find(|w| w.t == e.t)?;
+            let (x, y) = report.transform.map_or((e.x, e.y), |t| t.apply((e.x, e.y)));
+            Some(WaypointError {
+                t: w.t,
+                x: w.x,
+                y: w.y,
+                estimate_x: x,
+                estimate_y: y,
+                error: (x - w.x).hypot(y - w.y),
+            })
+        })
+        .collect();
+    Ok(WaypointErrors { report, points })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tp(t: f64, x: f64, y: f64) -> TimedPoint {
+        TimedPoint { t, x, y }
+    }
+
+    fn wp(t: f64, x: f64, y: f64) -> Waypoint {
+        Waypoint {
+            t,
+            x,
+            y,
+            level: None,
+        }
+    }
+
+    #[test]
+    fn interpolates_the_track_at_each_waypoint() {
+        let track = [tp(10.0, 0.0, 0.0), tp(20.0, 10.0, 0.0)];
+        // t = 15: track (5, 0), waypoint (5, 3) → 3 m; t = 20: 0 m; t = 5 and 25 outside.
+        let w = [
+            wp(5.0, 0.0, 0.0),
+            wp(15.0, 5.0, 3.0),
+            wp(15.0, 9.0, 9.0),
+            wp(20.0, 10.0, 0.0),
+            wp(25.0, 0.0, 0.0),
+        ];
+        let r = waypoint_errors(&w, &track, Alignment::None).expect("errors");
+        assert_eq!((r.report.n, r.report.skipped), (2, 2));
+        assert_eq!(r.report.max, 3.0);
+        assert_eq!(r.points[0].error, 3.0);
+        assert_eq!((r.points[0].estimate_x, r.points[0].estimate_y), (5.0, 0.0));
+        let e = waypoint_errors(&[wp(100.0, 0.0, 0.0)], &track, Alignment::None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("same clock"), "{e}");
+    }
+}
