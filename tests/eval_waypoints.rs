@@ -32,7 +32,11 @@ fn errors_at_waypoints_and_dead_reckoning_from_the_first() {
     let waypoints = write(
         dir.path(),
         "waypoints.csv",
-        &format!("t,x,y\n{t0},10,5\n{},10,10\n{},10,15\n", t0 + 5.0, t0 + 10.0),
+        &format!(
+            "t,x,y\n{t0},10,5\n{},10,10\n{},10,15\n",
+            t0 + 5.0,
+            t0 + 10.0
+        ),
     );
     let out = footslam()
         .args(["eval", "--json", "--track"])
@@ -47,10 +51,16 @@ fn errors_at_waypoints_and_dead_reckoning_from_the_first() {
     // The first waypoint precedes the track: skipped; the other two are 1 m off.
     assert_eq!(v["track"]["n"], 2);
     assert_eq!(v["track"]["skipped"], 1);
-    assert!((v["track"]["p50"].as_f64().expect("p50") - 1.0).abs() < 1e-6, "{v}");
+    assert!(
+        (v["track"]["p50"].as_f64().expect("p50") - 1.0).abs() < 1e-6,
+        "{v}"
+    );
     // Dead reckoning from the first waypoint with the absolute heading is exact.
     assert_eq!(v["dead_reckoning"]["n"], 3);
-    assert!(v["dead_reckoning"]["max"].as_f64().expect("max") < 1e-3, "{v}");
+    assert!(
+        v["dead_reckoning"]["max"].as_f64().expect("max") < 1e-3,
+        "{v}"
+    );
     assert_eq!(v["dead_reckoning_heading"], "absolute");
     assert_eq!(v["waypoints"].as_array().expect("points").len(), 2);
 }

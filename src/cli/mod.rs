@@ -10,6 +10,7 @@ macro_rules! outln {
 
 mod common;
 mod eval;
+mod fingerprint;
 mod learn;
 mod learn_inputs;
 mod merge;
@@ -43,6 +44,8 @@ enum Command {
     Survey(survey::Args),
     /// Simulate a building (office floor or multi-floor tower), a walk and its sensors.
     Simulate(simulate::Args),
+    /// Place each WiFi scan by a radio map alone (weighted k-nearest fingerprints).
+    Fingerprint(fingerprint::Args),
     /// Position error of a track against the truth.
     Eval(eval::Args),
 }
@@ -58,6 +61,7 @@ pub fn main() -> std::process::ExitCode {
         Command::Track(a) => track::run(a),
         Command::Survey(a) => survey::run(a),
         Command::Eval(a) => eval::run(a),
+        Command::Fingerprint(a) => fingerprint::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

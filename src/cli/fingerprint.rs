@@ -1,0 +1,102 @@
+//! `footslam fingerprint`: each WiFi scan placed by the radio map alone (weighted k-nearest
+//! fingerprints) — the baseline that tracking with the radio map should beat.
+
+use super::common::{output_dir, read_config, require_file};
+use anyhow::{Result, bail};
+use footslam::dataset::{TrackPoint, read_wifi, write_track};
+use footslam::export::RunFolder;
+use footslam::export::radio_map_geojson::read_radio_map_geojson;
+use footslam::filter::{FingerprintConfig, NearestFingerprint};
+use serde::Serialize;
+use std::path::PathBuf;
+
+/// Arguments of `footslam fingerprint`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Radio map (`radiomap.geojson` as `footslam survey` writes it, or another tool's with
+    /// the same properties).
+    #[arg(long)]
+    radiomap: PathBuf,
+    /// WiFi log CSV (`t,bssid,rssi[,ssid,freq]`).
+    #[arg(long)]
+    wifi: PathBuf,
+    /// Nearest cells averaged (overrides the config file).
+    #[arg(long)]
+    k: Option<usize>,
+    /// Configuration (TOML, or JSON such as a previous run's config.json).
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// Output folder (default: a new folder under `outputs/`).
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+#[derive(Debug, Serialize)]
+struct Summary {
+    radiomap_file: String,
+    wifi_file: String,
+    scans: usize,
+    placed: usize,
+    /// Scans that share no access point with the map.
+    unplaced: usize,
+    version: &'static str,
+}
+
+/// Runs `footslam fingerprint`.
+pub fn run(args: Args) -> Result<()> {
+    require_file(&args.radiomap, "radio map")?;
+    require_file(&args.wifi, "WiFi log")?;
+    let mut config: FingerprintConfig = match &args.config {
+        Some(p) => read_config(p)?,
+        None => FingerprintConfig::default(),
+    };
+    if let Some(k) = args.k {
+        config.k = k;
+    }
+    let (map, _) = read_radio_map_geojson(&args.radiomap, None)?;
+    let localiser = NearestFingerprint::new(&map, &config)?;
+    let scans = read_wifi(&args.wifi)?;
+    let fixes: Vec<_> = scans.iter().filter_map(|s| localiser.locate(s)).collect();
+    if fixes.is_empty() {
+        bail!(
+            "none of the {} scans of {} shares an access point with the radio map {}: is it \
+             the same building?",
+            scans.len(),
+            args.wifi.display(),
+            args.radiomap.display()
+        );
+    }
+    let out = output_dir(args.out, "fingerprint");
+    let folder = RunFolder::create(&out)?;
+    let track: Vec<TrackPoint> = fixes
+        .iter()
+        .map(|f| TrackPoint {
+            t: f.t,
+            x: f.x,
+            y: f.y,
+            z: 0.0,
+            level: f.level,
+        })
+        .collect();
+    write_track(&folder.path("track.csv"), &track)?;
+    folder.write_json("config.json", &config)?;
+    folder.write_json(
+        "summary.json",
+        &Summary {
+            radiomap_file: args.radiomap.display().to_string(),
+            wifi_file: args.wifi.display().to_string(),
+            scans: scans.len(),
+            placed: fixes.len(),
+            unplaced: scans.len() - fixes.len(),
+            version: env!("CARGO_PKG_VERSION"),
+        },
+    )?;
+    let out = folder.commit()?;
+    outln!(
+        "placed {} of {} scans by the radio map alone: {}",
+        fixes.len(),
+        scans.len(),
+        out.join("track.csv").display()
+    );
+    Ok(())
+}

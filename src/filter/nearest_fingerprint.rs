@@ -1,0 +1,238 @@
+//! The radio map used alone: weighted k-nearest-neighbour fingerprinting (RADAR, Bahl &
+//! Padmanabhan 2000), the baseline a map-aided tracker must beat. Each scan is placed at the
+//! mean of the centroids of the `k` cells whose fingerprints are nearest to it (the radio
+//! map's `ndist`, [`crate::model::wifi_distance`]), weighted by `1 / (ndist + δ)`; the level
+//! is the nearest cell's.
+
+use crate::error::{Error, Result};
+use crate::map::RadioMap;
+use crate::model::wifi_distance::{Fingerprints, Normalisation};
+use crate::sensor::WifiScan;
+use geo::Centroid;
+use serde::{Deserialize, Serialize};
+
+/// Parameters of [`NearestFingerprint`]; every default in one place.
+///
+/// | field          | default | meaning                                                    |
+/// |----------------|---------|------------------------------------------------------------|
+/// | `k`            | 3       | nearest cells averaged                                     |
+/// | `delta`        | 0.5 dBm | added to each distance before inverting it (weights)       |
+/// | `missing_rssi` | −96 dBm | fill for access points not heard (as the tracker's `rf`)   |
+/// | `min_scans`    | 1       | cells with fewer scans are not candidates                  |
+/// | `distance`     | `sqrt`  | `ndist`'s divisor: `paper` (k) or `sqrt` (√k)              |
+/// | `min_common`   | 1       | fewest of a scan's access points the map must know         |
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FingerprintConfig {
+    /// Nearest cells averaged.
+    pub k: usize,
+    /// Added to each distance before inverting it, dBm.
+    pub delta: f64,
+    /// Fill for access points not heard, dBm.
+    pub missing_rssi: f64,
+    /// Cells with fewer scans are not candidates.
+    pub min_scans: u32,
+    /// The distance's divisor.
+    pub distance: Normalisation,
+    /// A scan that shares fewer access points with the map is not placed.
+    pub min_common: usize,
+}
+
+impl Default for FingerprintConfig {
+    fn default() -> Self {
+        Self {
+            k: 3,
+            delta: 0.5,
+            missing_rssi: -96.0,
+            min_scans: 1,
+            distance: Normalisation::Sqrt,
+            min_common: 1,
+        }
+    }
+}
+
+impl FingerprintConfig {
+    /// Checks every field against its documented range.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |field, value: String, reason| {
+            Err(Error::Config {
+                field,
+                value,
+                reason,
+            })
+        };
+        if !(1..=100).contains(&self.k) {
+            return bad("fingerprint.k", self.k.to_string(), "must be in 1..=100");
+        }
+        if !(self.delta.is_finite() && self.delta > 0.0) {
+            return bad(
+                "fingerprint.delta",
+                self.delta.to_string(),
+                "must be > 0 dBm",
+            );
+        }
+        if !(self.missing_rssi.is_finite() && (-130.0..=-30.0).contains(&self.missing_rssi)) {
+            return bad(
+                "fingerprint.missing_rssi",
+                self.missing_rssi.to_string(),
+                "must be in [-130, -30] dBm",
+            );
+        }
+        Ok(())
+    }
+}
+
+/// A scan's estimated place.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FingerprintFix {
+    /// Time of the scan, seconds.
+    pub t: f64,
+    /// East, local metres.
+    pub x: f64,
+    /// North, local metres.
+    pub y: f64,
+    /// Level of the nearest cell.
+    pub level: i32,
+    /// `ndist` to the nearest cell, dBm.
+    pub ndist: f64,
+}
+
+/// Weighted k-nearest-fingerprint positioning on a radio map.
+#[derive(Debug, Clone)]
+pub struct NearestFingerprint {
+    prints: Fingerprints,
+    /// Centroid and level of each cell.
+    centres: Vec<(f64, f64, i32)>,
+    bssids: rustc_hash::FxHashSet<String>,
+    config: FingerprintConfig,
+}
+
+impl NearestFingerprint {
+    /// A localiser on `map`; fails when the map has no cell with scans.
+    pub fn new(map: &RadioMap, config: &FingerprintConfig) -> Result<Self> {
+        config.validate()?;
+        if !map
+            .cells
+            .iter()
+            .any(|c| c.radio.scans >= config.min_scans.max(1))
+        {
+            return Err(Error::Input("the radio map has no cell with scans".into()));
+        }
+        let centres = map
+            .cells
+            .iter()
+            .map(|c| {
+                let p = c
+                    .area
+                    .centroid()
+                    .map_or((f64::NAN, f64::NAN), |p| (p.x(), p.y()));
+                (p.0, p.1, c.level)
+            })
+            .collect();
+        Ok(Self {
+            prints: Fingerprints::new(map, config.missing_rssi, config.min_scans, config.distance),
+            centres,
+            bssids: map.access_points().into_iter().map(str::to_owned).collect(),
+            config: config.clone(),
+        })
+    }
+
+    /// The scan's place, `None` when it shares fewer than `min_common` access points with the
+    /// map.
+    pub fn locate(&self, scan: &WifiScan) -> Option<FingerprintFix> {
+        let common = scan
+            .readings
+            .iter()
+            .filter(|r| self.bssids.contains(&r.bssid))
+            .count();
+        if common < self.config.min_common.max(1) {
+            return None;
+        }
+        let mut ranked: Vec<(f64, usize)> = self
+            .prints
+            .ndist(scan)
+            .into_iter()
+            .enumerate()
+            .filter_map(|(i, d)| d.filter(|d| d.is_finite()).map(|d| (d, i)))
+            .filter(|&(_, i)| self.centres[i].0.is_finite())
+            .collect();
+        ranked.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let (best, first) = *ranked.first()?;
+        let level = self.centres[first].2;
+        let (mut sx, mut sy, mut sw) = (0.0, 0.0, 0.0);
+        for &(d, i) in ranked
+            .iter()
+            .filter(|&&(_, i)| self.centres[i].2 == level)
+            .take(self.config.k)
+        {
+            let w = 1.0 / (d + self.config.delta);
+            sx += w * self.centres[i].0;
+            sy += w * self.centres[i].1;
+            sw += w;
+        }
+        Some(FingerprintFix {
+            t: scan.t,
+            x: sx / sw,
+            y: sy / sw,
+            level,
+            ndist: best,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::radio_map::{CellRadio, RadioMapCell};
+    use geo::{MultiPolygon, Rect};
+
+    fn cell(id: &str, x: f64, level: i32, rssi: &[(&str, f64)]) -> RadioMapCell {
+        let mut radio = CellRadio::default();
+        radio.add_scan(&WifiScan::from_readings(0.0, rssi));
+        RadioMapCell {
+            id: id.into(),
+            level,
+            area: MultiPolygon(vec![
+                Rect::new((x - 1.0, -1.0), (x + 1.0, 1.0)).to_polygon(),
+            ]),
+            radio,
+        }
+    }
+
+    #[test]
+    fn places_a_scan_between_its_nearest_cells() {
+        let map = RadioMap {
+            cells: vec![
+                cell("a", 0.0, 0, &[("ap1", -40.0), ("ap2", -80.0)]),
+                cell("b", 10.0, 0, &[("ap1", -80.0), ("ap2", -40.0)]),
+                cell("c", 20.0, 1, &[("ap1", -90.0), ("ap2", -90.0)]),
+            ],
+            ..Default::default()
+        };
+        let config = FingerprintConfig {
+            k: 2,
+            ..Default::default()
+        };
+        let nf = NearestFingerprint::new(&map, &config).expect("localiser");
+        // Equal distances to a and b: halfway, on their level.
+        let fix = nf
+            .locate(&WifiScan::from_readings(
+                5.0,
+                &[("ap1", -60.0), ("ap2", -60.0)],
+            ))
+            .expect("fix");
+        assert!((fix.x - 5.0).abs() < 1e-9 && fix.level == 0, "{fix:?}");
+        // Exactly a's fingerprint: weight 1/δ against 1/(d + δ) pulls it to a.
+        let fix = nf
+            .locate(&WifiScan::from_readings(
+                6.0,
+                &[("ap1", -40.0), ("ap2", -80.0)],
+            ))
+            .expect("fix");
+        assert!(fix.x < 1.0 && fix.ndist == 0.0, "{fix:?}");
+        assert!(
+            nf.locate(&WifiScan::from_readings(7.0, &[("other", -50.0)]))
+                .is_none()
+        );
+    }
+}
