@@ -17,10 +17,11 @@ use std::path::Path;
 /// Reads and validates an IMU recording.
 pub fn read_imu(path: &Path) -> Result<ImuRecording> {
     let mut table = CsvTable::open(path)?;
-    let required = ["t", "ax", "ay", "az", "gx", "gy", "gz"]
-        .map(|name| table.column(name))
-        .into_iter()
-        .collect::<Result<Vec<_>>>()?;
+    const REQUIRED: [&str; 7] = ["t", "ax", "ay", "az", "gx", "gy", "gz"];
+    let mut required = [0usize; 7];
+    for (slot, name) in required.iter_mut().zip(REQUIRED) {
+        *slot = table.column(name)?;
+    }
     let group = |names: &[&str]| -> Result<Option<Vec<usize>>> {
         let found: Vec<_> = names.iter().map(|n| table.optional_column(n)).collect();
         match found.iter().filter(|c| c.is_some()).count() {
@@ -38,7 +39,7 @@ pub fn read_imu(path: &Path) -> Result<ImuRecording> {
     };
     let mag_cols = group(&["mx", "my", "mz"])?;
     let quat_cols = group(&["qx", "qy", "qz", "qw"])?;
-    let pressure_col = table.optional_column("pressure");
+    let pressure_cols = table.optional_column("pressure").map(|c| vec![c]);
 
     let mut samples: Vec<ImuSample> = Vec::new();
     let mut duplicates = 0usize;
@@ -47,11 +48,10 @@ pub fn read_imu(path: &Path) -> Result<ImuRecording> {
     let mut quat = Channel::<4>::default();
     let mut pressure = Channel::<1>::default();
     table.for_each_row(|row| {
-        let v: Vec<f64> = required
-            .iter()
-            .zip(["t", "ax", "ay", "az", "gx", "gy", "gz"])
-            .map(|(&c, name)| row.number(c, name))
-            .collect::<Result<_>>()?;
+        let mut v = [0.0; 7];
+        for ((slot, &c), name) in v.iter_mut().zip(&required).zip(REQUIRED) {
+            *slot = row.number(c, name)?;
+        }
         let t = v[0];
         if let Some(last) = samples.last() {
             if t == last.t {
@@ -68,8 +68,7 @@ pub fn read_imu(path: &Path) -> Result<ImuRecording> {
         let index = samples.len();
         mag.read(row, mag_cols.as_deref(), &["mx", "my", "mz"], index)?;
         quat.read(row, quat_cols.as_deref(), &["qx", "qy", "qz", "qw"], index)?;
-        let p = pressure_col.map(|c| vec![c]);
-        pressure.read(row, p.as_deref(), &["pressure"], index)?;
+        pressure.read(row, pressure_cols.as_deref(), &["pressure"], index)?;
         samples.push(ImuSample {
             t,
             accel: [v[1], v[2], v[3]],

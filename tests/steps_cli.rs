@@ -1,0 +1,84 @@
+//! `footslam steps` on bad recordings: a clear error naming the file, line and problem, no
+//! output folder, never a panic.
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+use std::path::Path;
+
+fn footslam() -> Command {
+    Command::cargo_bin("footslam").expect("binary")
+}
+
+const HEAD: &str = "t,ax,ay,az,gx,gy,gz";
+
+/// Runs `steps` on `text` as imu.csv with both mounts; asserts failure with every `expected`
+/// piece in the message and no output folder.
+fn refuses(dir: &Path, name: &str, text: &str, expected: &[&str]) {
+    let imu = dir.join(format!("{name}.csv"));
+    std::fs::write(&imu, text).expect("write");
+    for mount in ["foot", "phone"] {
+        let out = dir.join(format!("{name}-{mount}"));
+        let mut assert = footslam()
+            .args(["steps", "--mount", mount, "--imu"])
+            .arg(&imu)
+            .arg("--out")
+            .arg(&out)
+            .assert()
+            .failure()
+            .stderr(predicate::str::contains(format!("{name}.csv")))
+            .stderr(predicate::str::contains("panicked").not());
+        for e in expected {
+            assert = assert.stderr(predicate::str::contains(*e));
+        }
+        drop(assert);
+        assert!(!out.exists(), "{name}: no output on failure");
+    }
+}
+
+#[test]
+fn bad_recordings_are_refused_with_file_line_and_reason() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = dir.path();
+    let row = |t: f64| format!("{t},0.1,0.2,9.8,0.01,0.0,0.0\n");
+    refuses(d, "empty", "", &["empty"]);
+    refuses(d, "header_only", &format!("{HEAD}\n"), &["no samples"]);
+    refuses(
+        d,
+        "unsorted",
+        &format!("{HEAD}\n{}{}{}", row(1.0), row(2.0), row(1.5)),
+        &[":4", "sorted"],
+    );
+    refuses(
+        d,
+        "nan",
+        &format!("{HEAD}\n{}2,0.1,NaN,9.8,0,0,0\n", row(1.0)),
+        &[":3", "ay"],
+    );
+    refuses(d, "no_gyro", "t,ax,ay,az\n0,0,0,9.8\n", &["gx"]);
+    refuses(
+        d,
+        "truncated",
+        &format!("{HEAD}\n{}{}2.0,0.1,0.2", row(1.0), row(1.5)),
+        &[":4"],
+    );
+    refuses(
+        d,
+        "absurd",
+        &format!("{HEAD}\n{}2,0.1,0.2,9.8,500,0,0\n", row(1.0)),
+        &[":3", "angular rate"],
+    );
+}
+
+#[test]
+fn a_missing_file_or_mount_is_a_usage_error() {
+    footslam()
+        .args(["steps", "--mount", "foot", "--imu", "/nonexistent/imu.csv"])
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("does not exist"));
+    footslam()
+        .args(["steps", "--mount", "wrist", "--imu", "imu.csv"])
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("foot"));
+}
