@@ -142,7 +142,9 @@ fn evaluate(imu: &Path, wp: &Path, config: &PhoneConfig, totals: &mut Totals) ->
         }
     }
     let f = &events.figures;
-    let name = imu.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned());
+    let name = imu
+        .file_name()
+        .map_or(String::new(), |n| n.to_string_lossy().into_owned());
     println!(
         "{:<28} {:>5.1}s {:>3} steps {:>5.1}/min stride {:.2} m | length pdr {:>5.1} truth {:>5.1} ({:>4.2}) | err median {:>4.1} max {:>4.1} end {:>4.1} m | gaps {}",
         name.trim_end_matches(".imu.csv"),
@@ -248,7 +250,11 @@ fn main() -> Res<()> {
         "\n{} traces, {n} waypoints after the start; K = {}, heading {}",
         t.ratios.len(),
         config.stride.weinberg_k,
-        if config.use_rotation_vector { "rotation vector" } else { "gyro + magnetometer" }
+        if config.use_rotation_vector {
+            "rotation vector"
+        } else {
+            "gyro + magnetometer"
+        }
     );
     println!(
         "error at waypoints: median {:.2} m, p90 {:.2} m; at the walk's end: median {:.2} m, p90 {:.2} m",

@@ -210,7 +210,13 @@ impl HeadingFilter {
     }
 
     /// Feeds one sample `dt` seconds after the previous; returns the heading.
-    pub fn update(&mut self, dt: f64, accel: [f64; 3], gyro: [f64; 3], mag: Option<[f64; 3]>) -> f64 {
+    pub fn update(
+        &mut self,
+        dt: f64,
+        accel: [f64; 3],
+        gyro: [f64; 3],
+        mag: Option<[f64; 3]>,
+    ) -> f64 {
         if !self.started {
             self.restart(accel, mag);
             return self.psi;
@@ -246,9 +252,21 @@ mod tests {
     fn to_sensor(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {
         let [x, y, z, w] = q;
         let r = [
-            [1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - w * z), 2.0 * (x * z + w * y)],
-            [2.0 * (x * y + w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - w * x)],
-            [2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y)],
+            [
+                1.0 - 2.0 * (y * y + z * z),
+                2.0 * (x * y - w * z),
+                2.0 * (x * z + w * y),
+            ],
+            [
+                2.0 * (x * y + w * z),
+                1.0 - 2.0 * (x * x + z * z),
+                2.0 * (y * z - w * x),
+            ],
+            [
+                2.0 * (x * z - w * y),
+                2.0 * (y * z + w * x),
+                1.0 - 2.0 * (x * x + y * y),
+            ],
         ];
         [0, 1, 2].map(|j| r[0][j] * v[0] + r[1][j] * v[1] + r[2][j] * v[2])
     }

@@ -14,8 +14,8 @@ pub mod phone;
 pub mod step_detector;
 pub mod stride_model;
 
-pub use foot::{FootConfig, FootFigures, detect_strides};
 pub use barometer::{BarometerConfig, pressure_height};
+pub use foot::{FootConfig, FootFigures, detect_strides};
 pub use heading_fusion::HeadingConfig;
 pub use phone::{HeadingFigures, PhoneConfig, PhoneFigures, detect_steps};
 pub use step_detector::StepDetectorConfig;

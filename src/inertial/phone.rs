@@ -180,7 +180,8 @@ impl Direction {
 
     /// The heading of a summed forward vector, or `None` when it has no direction.
     fn heading(&self, sum: [f64; 2]) -> Option<f64> {
-        if !(sum[0].hypot(sum[1]) > 1e-9) {
+        let norm = sum[0].hypot(sum[1]);
+        if norm.is_nan() || norm <= 1e-9 {
             return None;
         }
         Some(match self.source {
@@ -435,7 +436,11 @@ mod tests {
         assert!(end[0] < -3.0 && end[1] > 3.0, "{end:?}");
         // Cadence 120 steps/min; pressure falls 0.36 hPa while walking: about +3 m in all.
         assert!((f.cadence_spm - 120.0).abs() < 3.0, "{}", f.cadence_spm);
-        assert!((f.height_change_m - 3.0).abs() < 0.1, "{}", f.height_change_m);
+        assert!(
+            (f.height_change_m - 3.0).abs() < 0.1,
+            "{}",
+            f.height_change_m
+        );
         assert!(f.walking_s > 8.5 && f.standing_s > 4.5, "{f:?}");
     }
 
@@ -444,7 +449,9 @@ mod tests {
         let mut s = walk(100.0, 10.0, 0.0, 99.0);
         s.drain(400..500); // 1 s missing at 4 s
         let r = ImuRecording::new(s, 0).expect("valid");
-        let f = detect_steps(&r, &PhoneConfig::default()).expect("runs").figures;
+        let f = detect_steps(&r, &PhoneConfig::default())
+            .expect("runs")
+            .figures;
         assert_eq!(f.gaps, 1);
         assert!((f.gap_s - 1.01).abs() < 1e-6);
         assert_eq!(f.steps_possibly_missed, 2);
@@ -465,7 +472,12 @@ mod tests {
         let r = ImuRecording::new(s, 0).expect("valid");
         let e = detect_steps(&r, &PhoneConfig::default()).expect("runs");
         assert_eq!(e.heading_source, HeadingSource::Gyroscope);
-        assert!(e.trace.steps().iter().all(|s| s.heading.is_none() && s.dz == 0.0));
+        assert!(
+            e.trace
+                .steps()
+                .iter()
+                .all(|s| s.heading.is_none() && s.dz == 0.0)
+        );
         // No rotation: straight along x.
         let end = e.path[e.path.len() - 1];
         assert!(end[0] > 3.0 && end[1].abs() < 1e-9, "{end:?}");
