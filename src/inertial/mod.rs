@@ -7,11 +7,19 @@
 //! acceleration magnitude, a stride-length model, heading from the orientation or from gyro
 //! and magnetometer fusion, height from the barometer).
 
+pub mod barometer;
 pub mod foot;
+pub mod heading_fusion;
 pub mod phone;
+pub mod step_detector;
+pub mod stride_model;
 
+pub use barometer::{BarometerConfig, pressure_height};
 pub use foot::{FootConfig, FootFigures, detect_strides};
-pub use phone::{PhoneConfig, PhoneFigures, detect_steps};
+pub use heading_fusion::HeadingConfig;
+pub use phone::{HeadingFigures, PhoneConfig, PhoneFigures, detect_steps};
+pub use step_detector::StepDetectorConfig;
+pub use stride_model::{StrideModelConfig, calibrate_constant};
 
 use crate::sensor::StepTrace;
 use serde::{Deserialize, Serialize};
