@@ -82,3 +82,47 @@ fn a_missing_file_or_mount_is_a_usage_error() {
         .failure()
         .stderr(predicate::str::contains("foot"));
 }
+
+#[test]
+fn a_phone_excerpt_gives_steps_with_absolute_heading_a_summary_and_a_picture() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("run");
+    let imu = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/phone_excerpt.csv");
+    footslam()
+        .args(["steps", "--mount", "phone", "--imu"])
+        .arg(&imu)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("steps"));
+    for name in ["steps.csv", "summary.json", "steps.png", "config.json"] {
+        assert!(out.join(name).is_file(), "{name}");
+    }
+    let steps = footslam::dataset::read_steps(&out.join("steps.csv")).expect("steps.csv");
+    // 28 steps by hand count (tests/data/README.md).
+    assert!((25..=31).contains(&steps.len()), "{}", steps.len());
+    assert!(steps.steps().iter().all(|s| s.heading.is_some()));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("read"))
+            .expect("json");
+    assert_eq!(summary["heading_source"], "rotation_vector");
+    assert_eq!(summary["mount"], "phone");
+    assert_eq!(summary["steps"], steps.len());
+    assert!(summary["sampling"]["rate_hz"].as_f64().expect("rate") > 40.0);
+    // The config written beside the outputs repeats the run.
+    let again = dir.path().join("again");
+    footslam()
+        .args(["steps", "--mount", "phone", "--imu"])
+        .arg(&imu)
+        .arg("--config")
+        .arg(out.join("config.json"))
+        .arg("--out")
+        .arg(&again)
+        .assert()
+        .success();
+    assert_eq!(
+        std::fs::read(out.join("steps.csv")).expect("a"),
+        std::fs::read(again.join("steps.csv")).expect("b")
+    );
+}

@@ -46,9 +46,6 @@ struct Summary<F: Serialize> {
     imu_file: String,
     mount: Mount,
     steps: usize,
-    duration_s: f64,
-    /// Steps (or strides) per minute over the time spent walking (first to last event).
-    cadence_per_min: f64,
     mean_stride_m: f64,
     total_length_m: f64,
     net_height_change_m: f64,
@@ -132,17 +129,10 @@ fn write_outputs<F: Serialize>(
         &PictureConfig::default(),
     )?;
     let total_length_m: f64 = steps.iter().map(|s| s.length).sum();
-    let walking_s = steps[steps.len() - 1].t - steps[0].t;
     let summary = Summary {
         imu_file: args.imu.display().to_string(),
         mount,
         steps: steps.len(),
-        duration_s: sampling.duration_s,
-        cadence_per_min: if walking_s > 0.0 {
-            60.0 * (steps.len() - 1) as f64 / walking_s
-        } else {
-            0.0
-        },
         mean_stride_m: total_length_m / steps.len() as f64,
         total_length_m,
         net_height_change_m: steps.iter().map(|s| s.dz).sum(),
