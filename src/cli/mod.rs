@@ -10,6 +10,7 @@ macro_rules! outln {
 
 mod common;
 mod eval;
+mod import;
 mod learn;
 mod learn_inputs;
 mod merge;
@@ -42,6 +43,8 @@ enum Command {
     Simulate(simulate::Args),
     /// Position error of a track against the truth.
     Eval(eval::Args),
+    /// Convert public dataset recordings (Indoor Location Competition, IPIN) into footslam's CSV and GeoJSON.
+    Import(import::Args),
 }
 
 /// Runs the command line and maps errors to an exit code.
@@ -54,6 +57,7 @@ pub fn main() -> std::process::ExitCode {
         Command::Track(a) => track::run(a),
         Command::Survey(a) => survey::run(a),
         Command::Eval(a) => eval::run(a),
+        Command::Import(a) => import::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -32,6 +32,7 @@
 //! [`super::sensor_streams::REORDER_TOLERANCE_S`] (sorted, counted), further is an error. A
 //! trace without accelerometer or gyroscope rows is an error naming the missing sensor.
 
+use super::log_lines::{LogLines, read_log_lines};
 use super::sensor_streams::{ImuStreams, SensorStream, assemble_imu, rotation_vector_quaternion};
 use super::waypoints_csv::Waypoint;
 use crate::error::{Error, Result};
@@ -193,35 +194,15 @@ struct Reader {
 /// Reads an ILC trace file. Errors name the file and line.
 pub fn read_ilc_trace(path: &Path, config: &IlcImportConfig) -> Result<IlcTrace> {
     config.validate()?;
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let text = String::from_utf8_lossy(&bytes);
-    let terminated = text.ends_with('\n');
-    let all: Vec<&str> = text.split('\n').collect();
-    // `split` yields an empty piece after a final newline: not a line.
-    let count = if terminated { all.len() - 1 } else { all.len() };
     let mut reader = Reader::default();
-    let (mut header_lines, mut blank_lines) = (0, 0);
-    let mut truncated_last_line = None;
-    for (i, raw) in all.iter().take(count).enumerate() {
-        let line = i + 1;
-        let raw = raw.strip_suffix('\r').unwrap_or(raw);
-        if raw.trim().is_empty() {
-            blank_lines += 1;
-            continue;
-        }
-        if let Some(rest) = raw.strip_prefix('#') {
-            header_lines += 1;
-            reader.read_header(rest);
-            continue;
-        }
-        if let Err(message) = reader.read_row(raw, line) {
-            if line == count && !terminated {
-                truncated_last_line = Some(line);
-                continue;
-            }
-            return Err(Error::parse(path, line, message));
-        }
-    }
+    let mut header = BTreeMap::new();
+    let seen = read_log_lines(
+        path,
+        '#',
+        |rest| read_header(rest, &mut header),
+        |raw, line| reader.read_row(raw, line),
+    )?;
+    reader.header = header;
     if reader.rows.is_empty() {
         return Err(Error::parse(
             path,
@@ -229,7 +210,16 @@ pub fn read_ilc_trace(path: &Path, config: &IlcImportConfig) -> Result<IlcTrace>
             "no data rows (`unix_ms TYPE values...`): is this an Indoor Location Competition trace?",
         ));
     }
-    reader.finish(path, config, count, header_lines, blank_lines, truncated_last_line)
+    reader.finish(path, config, seen)
+}
+
+/// Collects a header line's `key:value` pairs.
+fn read_header(rest: &str, header: &mut BTreeMap<String, String>) {
+    for pair in rest.split('\t') {
+        if let Some((k, v)) = pair.split_once(':') {
+            header.insert(k.trim().to_string(), v.trim().to_string());
+        }
+    }
 }
 
 /// A finite number from a field.
@@ -254,14 +244,6 @@ fn axes(values: &[&str], what: &str, max: f64) -> Result<[f64; 3], String> {
 }
 
 impl Reader {
-    fn read_header(&mut self, rest: &str) {
-        for pair in rest.split('\t') {
-            if let Some((k, v)) = pair.split_once(':') {
-                self.header.insert(k.trim().to_string(), v.trim().to_string());
-            }
-        }
-    }
-
     fn read_row(&mut self, raw: &str, line: usize) -> Result<(), String> {
         let fields: Vec<&str> = raw.split('\t').collect();
         let (Some(time), Some(kind)) = (fields.first(), fields.get(1)) else {
@@ -426,10 +408,7 @@ impl Reader {
         self,
         path: &Path,
         config: &IlcImportConfig,
-        lines: usize,
-        header_lines: usize,
-        blank_lines: usize,
-        truncated_last_line: Option<usize>,
+        seen: LogLines,
     ) -> Result<IlcTrace> {
         let mut not_converted = self.not_converted;
         let mut sources = BTreeMap::new();
@@ -516,9 +495,9 @@ impl Reader {
             (b, m) => b.or(m).cloned(),
         };
         let summary = IlcTraceSummary {
-            lines,
-            header_lines,
-            blank_lines,
+            lines: seen.lines,
+            header_lines: seen.comment_lines,
+            blank_lines: seen.blank_lines,
             site_id: header.get("SiteID").cloned(),
             floor_name: header.get("FloorName").cloned(),
             device,
@@ -536,7 +515,7 @@ impl Reader {
             waypoints: waypoints.len(),
             not_converted,
             unknown_types: self.unknown,
-            truncated_last_line,
+            truncated_last_line: seen.truncated_last_line,
         };
         Ok(IlcTrace {
             imu,

@@ -10,6 +10,7 @@ pub mod ilc_floor;
 pub mod ilc_trace;
 pub mod imu_csv;
 pub mod ipin_log;
+pub mod log_lines;
 pub mod outline_geojson;
 pub mod radio_truth_csv;
 pub mod sensor_streams;
