@@ -21,6 +21,7 @@
 //! tells by how much).
 
 use crate::error::{Error, Result};
+use super::floor_plan_geojson::written_degrees;
 use crate::geometry::LocalFrame;
 use crate::map::{FloorPlan, FloorPolygon};
 use geo::{
@@ -192,6 +193,7 @@ impl IlcFloor {
             Walkable::Outline => self.outline.clone(),
             Walkable::Corridors => self.outline.difference(&self.shops),
         };
+        let area = self.settle(area)?;
         let mut slivers = 0;
         let mut polygons = Vec::new();
         for part in area {
@@ -246,6 +248,32 @@ impl IlcFloor {
             slivers_dropped: slivers,
         };
         Ok((plan, report))
+    }
+}
+
+impl IlcFloor {
+    /// `area` with its corners moved to where the GeoJSON writer's rounding puts them
+    /// (1e-8°, about a millimetre), cleaned again: boolean operations leave corners a
+    /// fraction of a millimetre apart, which the rounding could make cross. Repeats until
+    /// the rounded area is valid (at most three times).
+    fn settle(&self, area: MultiPolygon<f64>) -> Result<MultiPolygon<f64>> {
+        let frame = self.frame;
+        let snap = |c: Coord<f64>| {
+            let (lon, lat) = written_degrees(c.x, c.y, &frame);
+            let (x, y) = frame.to_local(lon, lat);
+            Coord { x, y }
+        };
+        let mut area = area;
+        for _ in 0..3 {
+            let snapped = area.map_coords(snap);
+            if snapped.is_valid() {
+                return Ok(snapped);
+            }
+            area = geo::unary_union(std::iter::once(&snapped));
+        }
+        Err(Error::Input(
+            "the walkable area does not stay valid at the GeoJSON writer's precision".into(),
+        ))
     }
 }
 
