@@ -26,7 +26,16 @@ fn write_floor(dir: &Path) {
     let rect = |x0: f64, y0: f64, x1: f64, y1: f64| {
         format!(
             "[[[{},{}],[{},{}],[{},{}],[{},{}],[{},{}]]]",
-            lon(x0), lat(y0), lon(x1), lat(y0), lon(x1), lat(y1), lon(x0), lat(y1), lon(x0), lat(y0)
+            lon(x0),
+            lat(y0),
+            lon(x1),
+            lat(y0),
+            lon(x1),
+            lat(y1),
+            lon(x0),
+            lat(y1),
+            lon(x0),
+            lat(y0)
         )
     };
     let map = format!(
@@ -65,7 +74,10 @@ fn ilc_trace_and_floor_convert_to_footslam_files() {
         .assert()
         .success();
     let stdout = String::from_utf8_lossy(&assert.get_output().stdout).into_owned();
-    assert!(stdout.contains("9 stale readings of 30 dropped"), "{stdout}");
+    assert!(
+        stdout.contains("9 stale readings of 30 dropped"),
+        "{stdout}"
+    );
     assert!(stdout.contains("corridors 100.0 % (2/2)"), "{stdout}");
 
     let imu = read_imu(&out.join("imu.csv")).expect("imu.csv");
@@ -87,7 +99,10 @@ fn ilc_trace_and_floor_convert_to_footslam_files() {
     for (got, want) in [(x0, 0.0), (y0, 0.0), (x1, 200.0), (y1, 150.0)] {
         assert!((got - want).abs() < 0.03, "bounds {x0} {y0} {x1} {y1}");
     }
-    assert!(!plan.is_walkable(25.0, 25.0, Some(0)), "the shop is cut out");
+    assert!(
+        !plan.is_walkable(25.0, 25.0, Some(0)),
+        "the shop is cut out"
+    );
     assert!(plan.is_walkable(waypoints[0].x, waypoints[0].y, Some(0)));
 
     let s = summary(&out);
@@ -156,7 +171,10 @@ fn ipin_logfile_converts_to_footslam_files() {
         .assert()
         .success();
     let stdout = String::from_utf8_lossy(&assert.get_output().stdout).into_owned();
-    assert!(stdout.contains("5 stale readings of 15 dropped"), "{stdout}");
+    assert!(
+        stdout.contains("5 stale readings of 15 dropped"),
+        "{stdout}"
+    );
     let imu = read_imu(&out.join("imu.csv")).expect("imu.csv");
     assert_eq!(imu.samples().len(), 250);
     assert!(imu.has_pressure() && imu.has_orientation() && imu.has_magnetometer());
@@ -218,12 +236,30 @@ fn bad_ilc_traces_fail_with_file_and_line() {
     assert!(lines[21].contains("TYPE_ACCELEROMETER\t"), "{}", lines[21]);
     let err = import_fails("ilc", "");
     assert!(err.contains("no data rows"), "{err}");
-    let err = import_fails("ilc", &with_line(22, "1574559495421\tTYPE_ACCELEROMETER\t-0.67"));
-    assert!(err.contains("input.txt:22") && err.contains("expected 3 or 4"), "{err}");
-    let err = import_fails("ilc", &with_line(22, "1574559495421\tTYPE_ACCELEROMETER\tNaN\t1.8\t9.9\t2"));
-    assert!(err.contains("input.txt:22") && err.contains("finite"), "{err}");
-    let err = import_fails("ilc", &with_line(22, "1574559490000\tTYPE_ACCELEROMETER\t0.1\t1.8\t9.9\t2"));
-    assert!(err.contains("input.txt:22") && err.contains("before the same sensor's row"), "{err}");
+    let err = import_fails(
+        "ilc",
+        &with_line(22, "1574559495421\tTYPE_ACCELEROMETER\t-0.67"),
+    );
+    assert!(
+        err.contains("input.txt:22") && err.contains("expected 3 or 4"),
+        "{err}"
+    );
+    let err = import_fails(
+        "ilc",
+        &with_line(22, "1574559495421\tTYPE_ACCELEROMETER\tNaN\t1.8\t9.9\t2"),
+    );
+    assert!(
+        err.contains("input.txt:22") && err.contains("finite"),
+        "{err}"
+    );
+    let err = import_fails(
+        "ilc",
+        &with_line(22, "1574559490000\tTYPE_ACCELEROMETER\t0.1\t1.8\t9.9\t2"),
+    );
+    assert!(
+        err.contains("input.txt:22") && err.contains("before the same sensor's row"),
+        "{err}"
+    );
     let no_gyro: String = lines
         .iter()
         .filter(|l| !l.contains("TYPE_GYROSCOPE"))
@@ -235,7 +271,11 @@ fn bad_ilc_traces_fail_with_file_and_line() {
     // A cut-off last line (no newline) is skipped and reported, not an error.
     let dir = tempfile::tempdir().expect("tempdir");
     let file = dir.path().join("cut.txt");
-    std::fs::write(&file, format!("{text}1574559504999\tTYPE_ACCELEROMETER\t0.1")).expect("write");
+    std::fs::write(
+        &file,
+        format!("{text}1574559504999\tTYPE_ACCELEROMETER\t0.1"),
+    )
+    .expect("write");
     let assert = footslam()
         .args(["import", "ilc", "--trace"])
         .arg(&file)
@@ -244,7 +284,10 @@ fn bad_ilc_traces_fail_with_file_and_line() {
         .assert()
         .success();
     let stdout = String::from_utf8_lossy(&assert.get_output().stdout).into_owned();
-    assert!(stdout.contains(&format!("last line {}", lines.len() + 1)), "{stdout}");
+    assert!(
+        stdout.contains(&format!("last line {}", lines.len() + 1)),
+        "{stdout}"
+    );
 }
 
 #[test]
@@ -254,9 +297,18 @@ fn bad_ipin_logs_fail_with_file_and_line() {
     let err = import_fails("ipin", "");
     assert!(err.contains("no data lines"), "{err}");
     let err = import_fails("ipin", &format!("{good}GYRO;1.000;1.0;0.1;NaN;0.2;3\n"));
-    assert!(err.contains(&format!("input.txt:{n}")) && err.contains("finite"), "{err}");
+    assert!(
+        err.contains(&format!("input.txt:{n}")) && err.contains("finite"),
+        "{err}"
+    );
     let err = import_fails("ipin", &format!("{good}WIFI;1.000;1.0;lab\n"));
-    assert!(err.contains(&format!("input.txt:{n}")) && err.contains("WIFI"), "{err}");
+    assert!(
+        err.contains(&format!("input.txt:{n}")) && err.contains("WIFI"),
+        "{err}"
+    );
     let err = import_fails("ipin", &format!("{good}ACCE;0.1;0.1;0.1;0.2;9.8;3\n"));
-    assert!(err.contains(&format!("input.txt:{n}")) && err.contains("before"), "{err}");
+    assert!(
+        err.contains(&format!("input.txt:{n}")) && err.contains("before"),
+        "{err}"
+    );
 }

@@ -3,11 +3,11 @@
 
 use super::common::parse_origin;
 use anyhow::{Context, Result, bail};
+use footslam::dataset::floor_plan_geojson::{read_floor_plan, write_floor_plan};
 use footslam::dataset::ilc_floor::{IlcFloor, PlanReport, Walkable, read_ilc_floor};
 use footslam::dataset::ilc_trace::{IlcImportConfig, IlcTrace, read_ilc_trace};
 use footslam::dataset::ipin_log::{IpinImportConfig, positions_to_waypoints, read_ipin_log};
 use footslam::dataset::{Waypoint, write_gps_csv, write_imu, write_waypoints, write_wifi};
-use footslam::dataset::floor_plan_geojson::{read_floor_plan, write_floor_plan};
 use footslam::export::RunFolder;
 use footslam::geometry::LocalFrame;
 use footslam::map::{FloorPlan, FloorTopology, TopologyConfig};
@@ -158,7 +158,10 @@ fn run_ilc(args: IlcArgs) -> Result<()> {
     let mut names = std::collections::BTreeSet::new();
     for f in &files {
         if !names.insert(stem(f)) {
-            bail!("two traces are named {}: their folders would clash", stem(f));
+            bail!(
+                "two traces are named {}: their folders would clash",
+                stem(f)
+            );
         }
     }
     let mut traces: Vec<(String, IlcTrace)> = Vec::with_capacity(files.len());
@@ -193,11 +196,18 @@ fn run_ilc(args: IlcArgs) -> Result<()> {
                 format!("{choice:?}").to_lowercase(),
                 json!({"on": share.0, "total": share.1}),
             );
-            share_text.push(format!("{} {}", format!("{choice:?}").to_lowercase(), percent(share)));
+            share_text.push(format!(
+                "{} {}",
+                format!("{choice:?}").to_lowercase(),
+                percent(share)
+            ));
         }
         print_floor(floor, &report);
         if !all_waypoints.is_empty() {
-            outln!("  waypoints on the walkable area: {}", share_text.join(", "));
+            outln!(
+                "  waypoints on the walkable area: {}",
+                share_text.join(", ")
+            );
             let (on, total) = on_plan(&plan, &all_waypoints);
             if (on as f64) < 0.95 * total as f64 {
                 outln!(
@@ -235,7 +245,10 @@ fn run_ilc(args: IlcArgs) -> Result<()> {
             written.push("wifi.csv");
         }
         if !trace.waypoints.is_empty() {
-            write_waypoints(&folder.path(&format!("{prefix}waypoints.csv")), &trace.waypoints)?;
+            write_waypoints(
+                &folder.path(&format!("{prefix}waypoints.csv")),
+                &trace.waypoints,
+            )?;
             written.push("waypoints.csv");
         }
         let share = chosen_plan.as_ref().map(|p| on_plan(p, &trace.waypoints));
@@ -261,7 +274,11 @@ fn run_ilc(args: IlcArgs) -> Result<()> {
     outln!(
         "wrote {} trace(s){} to {} in {:.1} s",
         traces.len(),
-        if floor.is_some() { " and floor.geojson" } else { "" },
+        if floor.is_some() {
+            " and floor.geojson"
+        } else {
+            ""
+        },
         out.display(),
         started.elapsed().as_secs_f64()
     );
@@ -279,7 +296,10 @@ fn check_written_plan(path: &Path, plan: &FloorPlan) -> Result<()> {
         .iter()
         .zip(&back.polygons)
         .flat_map(|(a, b)| {
-            let (mut a, mut b) = (a.polygon.exterior().0.clone(), b.polygon.exterior().0.clone());
+            let (mut a, mut b) = (
+                a.polygon.exterior().0.clone(),
+                b.polygon.exterior().0.clone(),
+            );
             // The writer may turn a ring around (RFC 7946 winding): compare as sets of corners.
             a.sort_by(|p, q| p.x.total_cmp(&q.x).then(p.y.total_cmp(&q.y)));
             b.sort_by(|p, q| p.x.total_cmp(&q.x).then(p.y.total_cmp(&q.y)));
@@ -331,7 +351,10 @@ fn print_trace(name: &str, trace: &IlcTrace, share: Option<(usize, usize)>) {
         s.stale_readings_dropped,
         total_wifi,
         s.waypoints,
-        share.map_or(String::new(), |p| format!(", on the walkable area {}", percent(p)))
+        share.map_or(String::new(), |p| format!(
+            ", on the walkable area {}",
+            percent(p)
+        ))
     );
     if let Some(line) = s.truncated_last_line {
         outln!("  warning: the unterminated last line {line} was malformed and skipped");
@@ -411,7 +434,11 @@ fn run_ipin(args: IpinArgs) -> Result<()> {
         outln!("  warning: the unterminated last line {line} was malformed and skipped");
     }
     if !s.skipped_tags.is_empty() {
-        let list: Vec<String> = s.skipped_tags.iter().map(|(k, v)| format!("{k} ×{v}")).collect();
+        let list: Vec<String> = s
+            .skipped_tags
+            .iter()
+            .map(|(k, v)| format!("{k} ×{v}"))
+            .collect();
         outln!("  not converted: {}", list.join(", "));
     }
     if let Some(f) = frame {

@@ -138,7 +138,10 @@ fn to_positions(ring: &LineString<f64>, frame: &LocalFrame) -> Vec<Vec<f64>> {
 /// `frame.to_local(written_degrees(..))` reads back exactly.
 pub fn written_degrees(x: f64, y: f64, frame: &LocalFrame) -> (f64, f64) {
     let (lon, lat) = frame.to_lon_lat(x, y);
-    (round_to(lon, DEGREE_DECIMALS), round_to(lat, DEGREE_DECIMALS))
+    (
+        round_to(lon, DEGREE_DECIMALS),
+        round_to(lat, DEGREE_DECIMALS),
+    )
 }
 
 fn round_to(v: f64, decimals: i32) -> f64 {

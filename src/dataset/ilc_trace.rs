@@ -313,7 +313,10 @@ impl Reader {
                 let given_w = match values.len() {
                     4 => {
                         let v = number(values[3], "rotation vector w or accuracy")?;
-                        ((x * x + y * y + z * z + v * v) - 1.0).abs().le(&0.02).then_some(v)
+                        ((x * x + y * y + z * z + v * v) - 1.0)
+                            .abs()
+                            .le(&0.02)
+                            .then_some(v)
                     }
                     5 => Some(number(values[3], "rotation vector w")?),
                     _ => None,
@@ -328,9 +331,8 @@ impl Reader {
                         }
                         [x / n, y / n, z / n, w / n]
                     }
-                    None => rotation_vector_quaternion(x, y, z).ok_or_else(|| {
-                        "rotation vector (x, y, z) is longer than 1".to_string()
-                    })?,
+                    None => rotation_vector_quaternion(x, y, z)
+                        .ok_or_else(|| "rotation vector (x, y, z) is longer than 1".to_string())?,
                 };
                 self.orientation.push(t, q, line).map_err(order)?;
             }
@@ -393,31 +395,34 @@ impl Reader {
         };
         check_reading(&reading)?;
         let last_seen = match values.get(4) {
-            Some(v) => Some(
-                v.trim()
-                    .parse::<i64>()
-                    .map_err(|_| format!("last_seen `{v}` is not an integer number of milliseconds"))?,
-            ),
+            Some(v) => Some(v.trim().parse::<i64>().map_err(|_| {
+                format!("last_seen `{v}` is not an integer number of milliseconds")
+            })?),
             None => None,
         };
         self.scans.entry(ms).or_default().push((reading, last_seen));
         Ok(())
     }
 
-    fn finish(
-        self,
-        path: &Path,
-        config: &IlcImportConfig,
-        seen: LogLines,
-    ) -> Result<IlcTrace> {
+    fn finish(self, path: &Path, config: &IlcImportConfig, seen: LogLines) -> Result<IlcTrace> {
         let mut not_converted = self.not_converted;
         let mut sources = BTreeMap::new();
         let mut streams = ImuStreams::default();
         let mut reordered = 0;
         for (axes, name, channel, slot) in [
-            (self.accel, "TYPE_ACCELEROMETER", "accelerometer", &mut streams.accel),
+            (
+                self.accel,
+                "TYPE_ACCELEROMETER",
+                "accelerometer",
+                &mut streams.accel,
+            ),
             (self.gyro, "TYPE_GYROSCOPE", "gyroscope", &mut streams.gyro),
-            (self.mag, "TYPE_MAGNETIC_FIELD", "magnetometer", &mut streams.mag),
+            (
+                self.mag,
+                "TYPE_MAGNETIC_FIELD",
+                "magnetometer",
+                &mut streams.mag,
+            ),
         ] {
             reordered += axes.calibrated.reordered() + axes.uncalibrated.reordered();
             let (stream, source, unused) = axes.choose(name);
@@ -429,7 +434,10 @@ impl Reader {
             }
             *slot = stream;
         }
-        for (channel, name) in [("accelerometer", "TYPE_ACCELEROMETER"), ("gyroscope", "TYPE_GYROSCOPE")] {
+        for (channel, name) in [
+            ("accelerometer", "TYPE_ACCELEROMETER"),
+            ("gyroscope", "TYPE_GYROSCOPE"),
+        ] {
             if !sources.contains_key(channel) {
                 return Err(Error::parse(
                     path,
@@ -539,13 +547,16 @@ mod tests {
 
     /// A small trace: 3 IMU epochs, one scan with a stale reading, two waypoints.
     fn trace() -> String {
-        let mut s = String::from("#\tstartTime:1000\n#\tSiteID:s1\tFloorName:F1\n#\tBrand:X\tModel:Y\n");
+        let mut s =
+            String::from("#\tstartTime:1000\n#\tSiteID:s1\tFloorName:F1\n#\tBrand:X\tModel:Y\n");
         s.push_str("1000\tTYPE_WAYPOINT\t1.5\t2.5\n");
         for (i, ms) in [1000, 1020, 1040].iter().enumerate() {
             let g = 0.1 * i as f64;
             s.push_str(&format!("{ms}\tTYPE_ACCELEROMETER\t0.1\t0.2\t9.8\t3\n"));
             s.push_str(&format!("{ms}\tTYPE_GYROSCOPE\t{g}\t0\t0\t3\n"));
-            s.push_str(&format!("{ms}\tTYPE_GYROSCOPE_UNCALIBRATED\t{g}\t0\t0\t0.01\t0\t0\t3\n"));
+            s.push_str(&format!(
+                "{ms}\tTYPE_GYROSCOPE_UNCALIBRATED\t{g}\t0\t0\t0.01\t0\t0\t3\n"
+            ));
             s.push_str(&format!("{ms}\tTYPE_MAGNETIC_FIELD\t20\t5\t-40\t3\n"));
             s.push_str(&format!("{ms}\tTYPE_ROTATION_VECTOR\t0\t0\t0.6\t3\n"));
         }
@@ -591,7 +602,10 @@ mod tests {
             .map(|l| format!("{l}\n"))
             .collect();
         let r = read(&text).expect("valid");
-        assert_eq!(r.summary.imu_sources["gyroscope"], "TYPE_GYROSCOPE_UNCALIBRATED");
+        assert_eq!(
+            r.summary.imu_sources["gyroscope"],
+            "TYPE_GYROSCOPE_UNCALIBRATED"
+        );
         assert!((r.imu.samples()[0].gyro[0] + 0.01).abs() < 1e-12);
     }
 
@@ -599,9 +613,18 @@ mod tests {
     fn errors_name_the_line() {
         let e = |text: &str| read(text).unwrap_err().to_string();
         let base = trace();
-        let with = |line: &str| base.replacen("1000\tTYPE_WAYPOINT", &format!("{line}\n1000\tTYPE_WAYPOINT"), 1);
+        let with = |line: &str| {
+            base.replacen(
+                "1000\tTYPE_WAYPOINT",
+                &format!("{line}\n1000\tTYPE_WAYPOINT"),
+                1,
+            )
+        };
         let m = e(&with("1000\tTYPE_ACCELEROMETER\t0.1\tNaN\t9.8\t3"));
-        assert!(m.contains("trace.txt:4") && m.contains("acceleration y"), "{m}");
+        assert!(
+            m.contains("trace.txt:4") && m.contains("acceleration y"),
+            "{m}"
+        );
         let m = e(&with("1000\tTYPE_GYROSCOPE\t0.1"));
         assert!(m.contains(":4") && m.contains("expected 3 or 4"), "{m}");
         let m = e(&with("10x0\tTYPE_GYROSCOPE\t0.1\t0\t0"));
@@ -616,10 +639,15 @@ mod tests {
             .map(|l| format!("{l}\n"))
             .collect();
         let m = e(&no_gyro);
-        assert!(m.contains("trace.txt:0") && m.contains("no gyroscope rows"), "{m}");
+        assert!(
+            m.contains("trace.txt:0") && m.contains("no gyroscope rows"),
+            "{m}"
+        );
         let m = e("");
         assert!(m.contains("no data rows"), "{m}");
-        let m = e(&with("1000\tTYPE_WIFI\tlab\tAA:BB:CC:DD:EE:01\t-500\t2412\t1000"));
+        let m = e(&with(
+            "1000\tTYPE_WIFI\tlab\tAA:BB:CC:DD:EE:01\t-500\t2412\t1000",
+        ));
         assert!(m.contains(":4") && m.contains("rssi"), "{m}");
     }
 

@@ -38,7 +38,9 @@ use super::waypoints_csv::Waypoint;
 use crate::error::{Error, Result};
 use crate::geometry::LocalFrame;
 use crate::sensor::gps::{DEFAULT_ACCURACY, GpsFix, check_fix};
-use crate::sensor::imu::{ImuRecording, MAX_ACCEL, MAX_GYRO, MAX_MAG, PRESSURE_RANGE, SamplingReport};
+use crate::sensor::imu::{
+    ImuRecording, MAX_ACCEL, MAX_GYRO, MAX_MAG, PRESSURE_RANGE, SamplingReport,
+};
 use crate::sensor::wifi::{WifiReading, WifiScan, check_reading, normalise_bssid};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -222,7 +224,9 @@ impl Reader {
         }
         let tag = fields[0].trim();
         if !(2..=8).contains(&tag.len())
-            || !tag.chars().all(|c| c.is_ascii_uppercase() || c.is_ascii_digit())
+            || !tag
+                .chars()
+                .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit())
         {
             return Err(format!(
                 "expected `TAG;AppTimestamp;...` (e.g. ACCE, WIFI, POSI), found `{}`",
@@ -235,7 +239,10 @@ impl Reader {
                 Ok(())
             } else {
                 let list: Vec<String> = allowed.iter().map(usize::to_string).collect();
-                Err(format!("{tag} line has {n} fields, expected {} (line cut short?)", list.join(" or ")))
+                Err(format!(
+                    "{tag} line has {n} fields, expected {} (line cut short?)",
+                    list.join(" or ")
+                ))
             }
         };
         let time = |i: usize| -> Result<f64, String> {
@@ -284,21 +291,39 @@ impl Reader {
             "GNSS" => {
                 counts(&[9, 10, 11, 12])?;
                 let t = time(1)?;
-                let (lat, lon) = (number(fields[3], "latitude")?, number(fields[4], "longitude")?);
+                let (lat, lon) = (
+                    number(fields[3], "latitude")?,
+                    number(fields[4], "longitude")?,
+                );
                 let mut accuracy = number(fields[7], "accuracy")?;
                 if accuracy <= 0.0 {
                     accuracy = DEFAULT_ACCURACY;
                     self.gnss_default_accuracy += 1;
                 }
-                check_fix(&GpsFix { t, lat, lon, accuracy }, None)?;
-                self.gnss.push(t, [lat, lon, accuracy], line).map_err(order)?;
+                check_fix(
+                    &GpsFix {
+                        t,
+                        lat,
+                        lon,
+                        accuracy,
+                    },
+                    None,
+                )?;
+                self.gnss
+                    .push(t, [lat, lon, accuracy], line)
+                    .map_err(order)?;
             }
             "POSI" => {
                 counts(&[7])?;
                 let t = time(1)?;
-                let (lat, lon) = (number(fields[3], "latitude")?, number(fields[4], "longitude")?);
+                let (lat, lon) = (
+                    number(fields[3], "latitude")?,
+                    number(fields[4], "longitude")?,
+                );
                 if lat.abs() > 90.0 || lon.abs() > 180.0 {
-                    return Err(format!("position ({lat}, {lon}) is not a latitude and longitude"));
+                    return Err(format!(
+                        "position ({lat}, {lon}) is not a latitude and longitude"
+                    ));
                 }
                 let floor = integer(fields[5], "floor ID")?;
                 let building = integer(fields[6], "building ID")?;
@@ -363,12 +388,17 @@ impl Reader {
     }
 
     fn finish(self, path: &Path, config: &IpinImportConfig, seen: LogLines) -> Result<IpinLog> {
-        for (stream, tag, name) in [(&self.imu.accel, "ACCE", "accelerometer"), (&self.imu.gyro, "GYRO", "gyroscope")] {
+        for (stream, tag, name) in [
+            (&self.imu.accel, "ACCE", "accelerometer"),
+            (&self.imu.gyro, "GYRO", "gyroscope"),
+        ] {
             if stream.is_empty() {
                 return Err(Error::parse(
                     path,
                     0,
-                    format!("no {name} lines ({tag}): footslam needs the accelerometer and the gyroscope"),
+                    format!(
+                        "no {name} lines ({tag}): footslam needs the accelerometer and the gyroscope"
+                    ),
                 ));
             }
         }
@@ -417,7 +447,12 @@ impl Reader {
                 gnss_duplicates += 1;
                 continue;
             }
-            gnss.push(GpsFix { t, lat, lon, accuracy });
+            gnss.push(GpsFix {
+                t,
+                lat,
+                lon,
+                accuracy,
+            });
         }
         let positions: Vec<IpinPosition> = self
             .posi
@@ -476,20 +511,47 @@ pub fn synthetic_ipin_log(seconds: u32, lat: f64, lon: f64) -> String {
         let t = f64::from(k) * 0.02;
         let st = 1000.0 + t;
         let phase = t * 2.0 * std::f64::consts::PI * 1.8;
-        let _ = writeln!(s, "ACCE;{t:.3};{st:.3};{:.5};{:.5};{:.5};3", 0.3 * phase.sin(), 0.2, 9.81 + 1.5 * phase.sin());
-        let _ = writeln!(s, "GYRO;{:.3};{st:.3};{:.5};{:.5};0.01000;3", t + 0.004, 0.05 * phase.cos(), -0.02);
+        let _ = writeln!(
+            s,
+            "ACCE;{t:.3};{st:.3};{:.5};{:.5};{:.5};3",
+            0.3 * phase.sin(),
+            0.2,
+            9.81 + 1.5 * phase.sin()
+        );
+        let _ = writeln!(
+            s,
+            "GYRO;{:.3};{st:.3};{:.5};{:.5};0.01000;3",
+            t + 0.004,
+            0.05 * phase.cos(),
+            -0.02
+        );
         let _ = writeln!(s, "MAGN;{:.3};{st:.3};21.5;4.2;-38.9;3", t + 0.006);
         if k % 5 == 0 {
-            let _ = writeln!(s, "AHRS;{:.3};{st:.3};1.2;-0.8;90.0;0.01;-0.005;0.70710678;3", t + 0.008);
+            let _ = writeln!(
+                s,
+                "AHRS;{:.3};{st:.3};1.2;-0.8;90.0;0.01;-0.005;0.70710678;3",
+                t + 0.008
+            );
             let _ = writeln!(s, "PRES;{:.3};{st:.3};1013.25;3", t + 0.009);
             let _ = writeln!(s, "LIGH;{:.3};{st:.3};120.0;0", t + 0.009);
         }
         if k % 50 == 25 {
             let scan_t = t + 0.011;
             let seen = 5000.0 + scan_t;
-            let _ = writeln!(s, "WIFI;{scan_t:.3};{seen:.3};lab;00:11:22:33:44:55;2412;-55");
-            let _ = writeln!(s, "WIFI;{scan_t:.3};{:.3};lab-5g;00:11:22:33:44:56;5180;-67", seen - 0.4);
-            let _ = writeln!(s, "WIFI;{scan_t:.3};{:.3};old;00:11:22:33:44:57;2437;-80", seen - 9.0);
+            let _ = writeln!(
+                s,
+                "WIFI;{scan_t:.3};{seen:.3};lab;00:11:22:33:44:55;2412;-55"
+            );
+            let _ = writeln!(
+                s,
+                "WIFI;{scan_t:.3};{:.3};lab-5g;00:11:22:33:44:56;5180;-67",
+                seen - 0.4
+            );
+            let _ = writeln!(
+                s,
+                "WIFI;{scan_t:.3};{:.3};old;00:11:22:33:44:57;2437;-80",
+                seen - 9.0
+            );
             let _ = writeln!(s, "SOUN;{scan_t:.3};0.01;0.02;45.0");
             let x = scan_t;
             let _ = writeln!(
@@ -541,7 +603,10 @@ mod tests {
         assert_eq!(log.summary.skipped_tags["SOUN"], 4);
         let frame = LocalFrame::new(40.3, -3.7).expect("frame");
         let w = positions_to_waypoints(&log.positions, &frame);
-        assert!(w[0].x.abs() < 0.01 && (w[1].x - 2.0).abs() < 0.02 && w[1].y.abs() < 0.01, "{w:?}");
+        assert!(
+            w[0].x.abs() < 0.01 && (w[1].x - 2.0).abs() < 0.02 && w[1].y.abs() < 0.01,
+            "{w:?}"
+        );
         assert_eq!(w[1].level, Some(0));
         // The AHRS rotation vector (0.01, -0.005, 0.7071) gives w ≈ 0.7070.
         let q = log.imu.samples()[10].orientation.expect("q");
@@ -565,16 +630,29 @@ mod tests {
         let e = |extra: &str| read(&format!("{base}{extra}\n")).unwrap_err().to_string();
         let n = base.lines().count() + 1;
         let m = e("ACCE;1.0;1.0;0.1;NaN;9.8;3");
-        assert!(m.contains(&format!("log.txt:{n}")) && m.contains("acceleration y"), "{m}");
+        assert!(
+            m.contains(&format!("log.txt:{n}")) && m.contains("acceleration y"),
+            "{m}"
+        );
         let m = e("GYRO;1.0;1.0;0.1");
-        assert!(m.contains(&format!(":{n}")) && m.contains("expected 6 or 7"), "{m}");
+        assert!(
+            m.contains(&format!(":{n}")) && m.contains("expected 6 or 7"),
+            "{m}"
+        );
         let m = e("ACCE;0.1;1.0;0.1;0.1;9.8;3");
-        assert!(m.contains(&format!(":{n}")) && m.contains("before the same sensor's"), "{m}");
+        assert!(
+            m.contains(&format!(":{n}")) && m.contains("before the same sensor's"),
+            "{m}"
+        );
         let m = e("hello world");
         assert!(m.contains(&format!(":{n}")) && m.contains("TAG"), "{m}");
         let m = e("POSI;2.0;3;40.3;-3.7;0.5;1");
         assert!(m.contains("floor ID"), "{m}");
-        let no_gyro: String = base.lines().filter(|l| !l.starts_with("GYRO")).map(|l| format!("{l}\n")).collect();
+        let no_gyro: String = base
+            .lines()
+            .filter(|l| !l.starts_with("GYRO"))
+            .map(|l| format!("{l}\n"))
+            .collect();
         let m = read(&no_gyro).unwrap_err().to_string();
         assert!(m.contains("log.txt:0") && m.contains("no gyroscope"), "{m}");
         let m = read("% only comments\n").unwrap_err().to_string();

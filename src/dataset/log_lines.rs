@@ -36,7 +36,11 @@ pub fn read_log_lines(
     let terminated = text.is_empty() || text.ends_with('\n');
     let pieces: Vec<&str> = text.split('\n').collect();
     // `split` yields an empty piece after a final newline: not a line.
-    let lines = if terminated { pieces.len() - 1 } else { pieces.len() };
+    let lines = if terminated {
+        pieces.len() - 1
+    } else {
+        pieces.len()
+    };
     let mut seen = LogLines {
         lines,
         comment_lines: 0,
@@ -71,18 +75,26 @@ mod tests {
         let p = dir.path().join("log.txt");
         std::fs::write(&p, text).expect("write");
         let mut ok = Vec::new();
-        let seen = read_log_lines(&p, '#', |_| {}, |l, n| {
-            l.parse::<i32>().map_err(|e| e.to_string())?;
-            ok.push(n);
-            Ok(())
-        })?;
+        let seen = read_log_lines(
+            &p,
+            '#',
+            |_| {},
+            |l, n| {
+                l.parse::<i32>().map_err(|e| e.to_string())?;
+                ok.push(n);
+                Ok(())
+            },
+        )?;
         Ok((seen, ok))
     }
 
     #[test]
     fn counts_lines_and_skips_only_an_unterminated_bad_last_line() {
         let (seen, ok) = run("# head\n1\n\n2\r\n3").expect("valid");
-        assert_eq!((seen.lines, seen.comment_lines, seen.blank_lines), (5, 1, 1));
+        assert_eq!(
+            (seen.lines, seen.comment_lines, seen.blank_lines),
+            (5, 1, 1)
+        );
         assert_eq!(ok, vec![2, 4, 5]);
         let (seen, ok) = run("1\n2\n3.").expect("truncated");
         assert_eq!((seen.truncated_last_line, ok), (Some(3), vec![1, 2]));

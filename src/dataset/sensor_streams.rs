@@ -130,11 +130,7 @@ fn nlerp(a: [f64; 4], b: [f64; 4], w: f64) -> [f64; 4] {
     let sign = if dot < 0.0 { -1.0 } else { 1.0 };
     let q: [f64; 4] = std::array::from_fn(|i| a[i] + w * (sign * b[i] - a[i]));
     let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
-    if norm > 0.0 {
-        q.map(|v| v / norm)
-    } else {
-        a
-    }
+    if norm > 0.0 { q.map(|v| v / norm) } else { a }
 }
 
 /// The unit quaternion `[x, y, z, w]` of an Android rotation vector's `x, y, z`, with
@@ -180,9 +176,15 @@ impl ImuStreams {
 /// (the caller says which is missing: this returns `Err((0, message))` then); other errors
 /// carry the 1-based line of the accelerometer row whose sample is invalid.
 pub fn assemble_imu(streams: &ImuStreams) -> Result<ImuRecording, (usize, String)> {
-    for (stream, name) in [(&streams.accel, "accelerometer"), (&streams.gyro, "gyroscope")] {
+    for (stream, name) in [
+        (&streams.accel, "accelerometer"),
+        (&streams.gyro, "gyroscope"),
+    ] {
         if stream.is_empty() {
-            return Err((0, format!("no {name} rows: an IMU recording needs both accelerometer and gyroscope")));
+            return Err((
+                0,
+                format!("no {name} rows: an IMU recording needs both accelerometer and gyroscope"),
+            ));
         }
     }
     let accel = streams.accel.rows_sorted();
@@ -198,7 +200,9 @@ pub fn assemble_imu(streams: &ImuStreams) -> Result<ImuRecording, (usize, String
             duplicates += 1;
             continue;
         }
-        let gyro = gyro.linear(t).ok_or((line, "no gyroscope rows".to_string()))?;
+        let gyro = gyro
+            .linear(t)
+            .ok_or((line, "no gyroscope rows".to_string()))?;
         samples.push(ImuSample {
             t,
             accel: a,
@@ -209,8 +213,7 @@ pub fn assemble_imu(streams: &ImuStreams) -> Result<ImuRecording, (usize, String
         });
         lines.push(line);
     }
-    ImuRecording::new(samples, duplicates)
-        .map_err(|(i, m)| (lines.get(i).copied().unwrap_or(0), m))
+    ImuRecording::new(samples, duplicates).map_err(|(i, m)| (lines.get(i).copied().unwrap_or(0), m))
 }
 
 #[cfg(test)]
@@ -228,12 +231,16 @@ mod tests {
         s.pressure.push(0.0, [1000.0], 12).expect("push");
         s.pressure.push(0.04, [1001.0], 13).expect("push");
         let q = rotation_vector_quaternion(0.0, 0.0, (0.5f64).sin()).expect("q");
-        s.orientation.push(0.0, [0.0, 0.0, 0.0, 1.0], 14).expect("push");
+        s.orientation
+            .push(0.0, [0.0, 0.0, 0.0, 1.0], 14)
+            .expect("push");
         s.orientation.push(0.04, q, 15).expect("push");
         let r = assemble_imu(&s).expect("valid");
         let g: Vec<f64> = r.samples().iter().map(|x| x.gyro[0]).collect();
         // Held before the first row (0.1), interpolated (0.2), held after the last (0.3).
-        assert!((g[0] - 0.1).abs() < 1e-12 && (g[1] - 0.2).abs() < 1e-12 && (g[2] - 0.3).abs() < 1e-12);
+        assert!(
+            (g[0] - 0.1).abs() < 1e-12 && (g[1] - 0.2).abs() < 1e-12 && (g[2] - 0.3).abs() < 1e-12
+        );
         assert_eq!(r.report().duplicate_times, 1);
         assert!((r.samples()[1].pressure.expect("p") - 1000.5).abs() < 1e-9);
         assert!(!r.has_magnetometer());
