@@ -32,7 +32,11 @@ fn hour_of(name: &str) -> ImuRecording {
     let mut tick = t0;
     for w in s.windows(2) {
         while tick <= w[1].t {
-            let nearest = if tick - w[0].t <= w[1].t - tick { w[0] } else { w[1] };
+            let nearest = if tick - w[0].t <= w[1].t - tick {
+                w[0]
+            } else {
+                w[1]
+            };
             at_100.push(ImuSample { t: tick, ..nearest });
             tick += 0.01;
         }
@@ -57,18 +61,24 @@ fn front_ends(c: &mut Criterion) {
     let mut g = c.benchmark_group("steps_one_hour_100hz");
     g.sample_size(10).measurement_time(Duration::from_secs(10));
     g.throughput(Throughput::Elements(HOUR_AT_100_HZ as u64));
-    g.bench_with_input(BenchmarkId::new("foot_ins", HOUR_AT_100_HZ), &foot, |b, r| {
-        b.iter(|| detect_strides(black_box(r), &FootConfig::default()).expect("strides"))
-    });
-    g.bench_with_input(BenchmarkId::new("phone_pdr", HOUR_AT_100_HZ), &phone, |b, r| {
-        b.iter(|| detect_steps(black_box(r), &PhoneConfig::default()).expect("steps"))
-    });
+    g.bench_with_input(
+        BenchmarkId::new("foot_ins", HOUR_AT_100_HZ),
+        &foot,
+        |b, r| b.iter(|| detect_strides(black_box(r), &FootConfig::default()).expect("strides")),
+    );
+    g.bench_with_input(
+        BenchmarkId::new("phone_pdr", HOUR_AT_100_HZ),
+        &phone,
+        |b, r| b.iter(|| detect_steps(black_box(r), &PhoneConfig::default()).expect("steps")),
+    );
     let dir = tempfile::tempdir().expect("tempdir");
     let csv = dir.path().join("imu.csv");
     write_imu(&csv, &phone).expect("write");
-    g.bench_with_input(BenchmarkId::new("read_imu_csv", HOUR_AT_100_HZ), &csv, |b, p| {
-        b.iter(|| read_imu(black_box(p)).expect("read"))
-    });
+    g.bench_with_input(
+        BenchmarkId::new("read_imu_csv", HOUR_AT_100_HZ),
+        &csv,
+        |b, p| b.iter(|| read_imu(black_box(p)).expect("read")),
+    );
     g.finish();
 }
 

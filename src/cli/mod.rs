@@ -11,6 +11,7 @@ macro_rules! outln {
 mod common;
 mod eval;
 mod fingerprint;
+mod import;
 mod learn;
 mod learn_inputs;
 mod merge;
@@ -48,6 +49,8 @@ enum Command {
     Fingerprint(fingerprint::Args),
     /// Position error of a track against the truth.
     Eval(eval::Args),
+    /// Convert public dataset recordings (Indoor Location Competition, IPIN) into footslam's CSV and GeoJSON.
+    Import(import::Args),
 }
 
 /// Runs the command line and maps errors to an exit code.
@@ -62,6 +65,7 @@ pub fn main() -> std::process::ExitCode {
         Command::Survey(a) => survey::run(a),
         Command::Eval(a) => eval::run(a),
         Command::Fingerprint(a) => fingerprint::run(a),
+        Command::Import(a) => import::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

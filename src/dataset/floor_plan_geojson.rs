@@ -32,7 +32,7 @@ use serde_json::json;
 use std::path::Path;
 
 /// Degrees are rounded to this many decimals (1e-8° is about 1.1 mm of latitude).
-const DEGREE_DECIMALS: i32 = 8;
+pub const DEGREE_DECIMALS: i32 = 8;
 
 /// The plan as a GeoJSON feature collection placed on the globe by `frame`.
 pub fn floor_plan_to_geojson(plan: &FloorPlan, frame: &LocalFrame) -> FeatureCollection {
@@ -127,13 +127,21 @@ fn barrier_feature(barrier: &Barrier, frame: &LocalFrame) -> Feature {
 fn to_positions(ring: &LineString<f64>, frame: &LocalFrame) -> Vec<Vec<f64>> {
     ring.coords()
         .map(|c| {
-            let (lon, lat) = frame.to_lon_lat(c.x, c.y);
-            vec![
-                round_to(lon, DEGREE_DECIMALS),
-                round_to(lat, DEGREE_DECIMALS),
-            ]
+            let (lon, lat) = written_degrees(c.x, c.y, frame);
+            vec![lon, lat]
         })
         .collect()
+}
+
+/// The `(lon, lat)` the writer stores for the local point `(x, y)`: placed by `frame`,
+/// rounded to [`DEGREE_DECIMALS`] decimals. A plan whose corners are already
+/// `frame.to_local(written_degrees(..))` reads back exactly.
+pub fn written_degrees(x: f64, y: f64, frame: &LocalFrame) -> (f64, f64) {
+    let (lon, lat) = frame.to_lon_lat(x, y);
+    (
+        round_to(lon, DEGREE_DECIMALS),
+        round_to(lat, DEGREE_DECIMALS),
+    )
 }
 
 fn round_to(v: f64, decimals: i32) -> f64 {

@@ -1,0 +1,449 @@
+//! `footslam import`: convert public dataset recordings (Indoor Location Competition 2.0,
+//! IPIN competition logfiles) into footslam's CSV and GeoJSON files.
+
+use super::common::parse_origin;
+use anyhow::{Context, Result, bail};
+use footslam::dataset::floor_plan_geojson::{read_floor_plan, write_floor_plan};
+use footslam::dataset::ilc_floor::{IlcFloor, PlanReport, Walkable, read_ilc_floor};
+use footslam::dataset::ilc_trace::{IlcImportConfig, IlcTrace, read_ilc_trace};
+use footslam::dataset::ipin_log::{IpinImportConfig, positions_to_waypoints, read_ipin_log};
+use footslam::dataset::{Waypoint, write_gps_csv, write_imu, write_waypoints, write_wifi};
+use footslam::export::RunFolder;
+use footslam::geometry::LocalFrame;
+use footslam::map::{FloorPlan, FloorTopology, TopologyConfig};
+use serde_json::json;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Arguments of `footslam import`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    source: Source,
+}
+
+#[derive(Debug, clap::Subcommand)]
+enum Source {
+    /// Microsoft Indoor Location Competition 2.0: trace files (path_data_files/*.txt) and
+    /// a floor folder (geojson_map.json + floor_info.json).
+    Ilc(IlcArgs),
+    /// IPIN competition smartphone logfile (GetSensorData app, `TAG;AppTimestamp;...`).
+    Ipin(IpinArgs),
+}
+
+/// The walkable area of an ILC floor plan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum WalkableArg {
+    /// The whole floor outline, shops included (a walker entering a shop stays on the plan).
+    Outline,
+    /// The outline minus shops and rooms (public corridors only).
+    Corridors,
+}
+
+impl From<WalkableArg> for Walkable {
+    fn from(w: WalkableArg) -> Self {
+        match w {
+            WalkableArg::Outline => Walkable::Outline,
+            WalkableArg::Corridors => Walkable::Corridors,
+        }
+    }
+}
+
+#[derive(Debug, clap::Args)]
+struct IlcArgs {
+    /// Trace files (*.txt) or folders of them; repeat or list several. One trace file
+    /// writes into --out itself; several (or a folder) write one sub-folder per trace,
+    /// named after the file stem.
+    #[arg(long, num_args = 1..)]
+    trace: Vec<PathBuf>,
+    /// Floor folder holding geojson_map.json and floor_info.json: writes floor.geojson.
+    #[arg(long)]
+    floor: Option<PathBuf>,
+    /// The plan's walkable area. `corridors` (default): in the sample site's F1 all 237
+    /// waypoints of 36 traces lie in the corridors (none in a shop), and the corridors are a
+    /// third of the floor, a far stronger constraint for the tracker. The import reports
+    /// the share for both choices; use `outline` where walkers enter shops.
+    #[arg(long, value_enum, default_value_t = WalkableArg::Corridors)]
+    walkable: WalkableArg,
+    /// WiFi readings last seen longer than this before their scan are stale and dropped,
+    /// seconds.
+    #[arg(long, default_value_t = IlcImportConfig::default().max_wifi_age_s)]
+    max_wifi_age: f64,
+    /// Output folder (written completely or not at all).
+    #[arg(long)]
+    out: PathBuf,
+}
+
+#[derive(Debug, clap::Args)]
+struct IpinArgs {
+    /// The logfile.
+    #[arg(long)]
+    log: PathBuf,
+    /// Origin LAT,LON of the local frame of waypoints.csv (default: the first POSI point).
+    #[arg(long, value_parser = parse_origin)]
+    origin: Option<LocalFrame>,
+    /// WiFi readings last seen longer than this before the newest of their scan are stale
+    /// and dropped, seconds.
+    #[arg(long, default_value_t = IpinImportConfig::default().max_wifi_age_s)]
+    max_wifi_age: f64,
+    /// Output folder (written completely or not at all).
+    #[arg(long)]
+    out: PathBuf,
+}
+
+/// Runs `footslam import`.
+pub fn run(args: Args) -> Result<()> {
+    match args.source {
+        Source::Ilc(a) => run_ilc(a),
+        Source::Ipin(a) => run_ipin(a),
+    }
+}
+
+/// The trace files named: files as given, folders' `*.txt` in name order.
+fn trace_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    for path in paths {
+        if path.is_dir() {
+            let mut found: Vec<PathBuf> = std::fs::read_dir(path)
+                .with_context(|| format!("{}", path.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.is_file() && p.extension().is_some_and(|e| e == "txt"))
+                .collect();
+            if found.is_empty() {
+                bail!("{}: no trace files (*.txt) in this folder", path.display());
+            }
+            found.sort();
+            files.extend(found);
+        } else if path.is_file() {
+            files.push(path.clone());
+        } else {
+            bail!("{}: no such trace file or folder", path.display());
+        }
+    }
+    Ok(files)
+}
+
+fn stem(path: &Path) -> String {
+    path.file_stem()
+        .map_or_else(|| "trace".into(), |s| s.to_string_lossy().into_owned())
+}
+
+/// Share of waypoints on a plan's walkable area: (on, total).
+fn on_plan(plan: &FloorPlan, waypoints: &[Waypoint]) -> (usize, usize) {
+    let on = waypoints
+        .iter()
+        .filter(|w| plan.is_walkable(w.x, w.y, None))
+        .count();
+    (on, waypoints.len())
+}
+
+fn percent((on, total): (usize, usize)) -> String {
+    if total == 0 {
+        "n/a".into()
+    } else {
+        format!("{:.1} % ({on}/{total})", 100.0 * on as f64 / total as f64)
+    }
+}
+
+fn run_ilc(args: IlcArgs) -> Result<()> {
+    let started = Instant::now();
+    if args.trace.is_empty() && args.floor.is_none() {
+        bail!("nothing to import: give --trace (files or folders) and/or --floor");
+    }
+    let config = IlcImportConfig {
+        max_wifi_age_s: args.max_wifi_age,
+    };
+    let files = trace_files(&args.trace)?;
+    let nested = files.len() > 1 || args.trace.iter().any(|p| p.is_dir());
+    let mut names = std::collections::BTreeSet::new();
+    for f in &files {
+        if !names.insert(stem(f)) {
+            bail!(
+                "two traces are named {}: their folders would clash",
+                stem(f)
+            );
+        }
+    }
+    let mut traces: Vec<(String, IlcTrace)> = Vec::with_capacity(files.len());
+    for f in &files {
+        traces.push((stem(f), read_ilc_trace(f, &config)?));
+    }
+    let floor = match &args.floor {
+        Some(dir) => Some(read_ilc_floor(dir)?),
+        None => None,
+    };
+    let folder = RunFolder::create(&args.out)?;
+    let walkable = Walkable::from(args.walkable);
+    let all_waypoints: Vec<Waypoint> = traces
+        .iter()
+        .flat_map(|(_, t)| t.waypoints.iter().copied())
+        .collect();
+    let mut floor_json = serde_json::Value::Null;
+    let mut chosen_plan: Option<FloorPlan> = None;
+    if let Some(floor) = &floor {
+        let (plan, report) = floor.plan(walkable)?;
+        write_floor_plan(&folder.path("floor.geojson"), &plan, &floor.frame)?;
+        check_written_plan(&folder.path("floor.geojson"), &plan)?;
+        let mut shares = serde_json::Map::new();
+        let mut share_text = Vec::new();
+        for choice in [Walkable::Outline, Walkable::Corridors] {
+            let share = if choice == walkable {
+                on_plan(&plan, &all_waypoints)
+            } else {
+                on_plan(&floor.plan(choice)?.0, &all_waypoints)
+            };
+            shares.insert(
+                format!("{choice:?}").to_lowercase(),
+                json!({"on": share.0, "total": share.1}),
+            );
+            share_text.push(format!(
+                "{} {}",
+                format!("{choice:?}").to_lowercase(),
+                percent(share)
+            ));
+        }
+        print_floor(floor, &report);
+        if !all_waypoints.is_empty() {
+            outln!(
+                "  waypoints on the walkable area: {}",
+                share_text.join(", ")
+            );
+            let (on, total) = on_plan(&plan, &all_waypoints);
+            if (on as f64) < 0.95 * total as f64 {
+                outln!(
+                    "  warning: {} of {total} waypoints lie off the walkable area{}",
+                    total - on,
+                    if walkable == Walkable::Corridors {
+                        " (walkers entered shops?): consider --walkable outline"
+                    } else {
+                        ""
+                    }
+                );
+            }
+        }
+        floor_json = json!({
+            "file": "floor.geojson",
+            "origin": {"lat": floor.frame.lat, "lon": floor.frame.lon},
+            "floor": floor.summary,
+            "plan": report,
+            "waypoints_on_walkable": shares,
+        });
+        chosen_plan = Some(plan);
+    }
+    let mut traces_json = Vec::new();
+    for (name, trace) in &traces {
+        let prefix = if nested {
+            folder.create_dir(name)?;
+            format!("{name}/")
+        } else {
+            String::new()
+        };
+        let mut written = vec!["imu.csv"];
+        write_imu(&folder.path(&format!("{prefix}imu.csv")), &trace.imu)?;
+        if !trace.wifi.is_empty() {
+            write_wifi(&folder.path(&format!("{prefix}wifi.csv")), &trace.wifi)?;
+            written.push("wifi.csv");
+        }
+        if !trace.waypoints.is_empty() {
+            write_waypoints(
+                &folder.path(&format!("{prefix}waypoints.csv")),
+                &trace.waypoints,
+            )?;
+            written.push("waypoints.csv");
+        }
+        let share = chosen_plan.as_ref().map(|p| on_plan(p, &trace.waypoints));
+        print_trace(name, trace, share);
+        traces_json.push(json!({
+            "name": name,
+            "folder": if nested { name.as_str() } else { "." },
+            "written": written,
+            "summary": trace.summary,
+            "waypoints_on_walkable": share.map(|(on, total)| json!({"on": on, "total": total})),
+        }));
+    }
+    let summary = json!({
+        "source": "Microsoft Indoor Location Competition 2.0 (MIT licence, XYZ10 Inc.)",
+        "walkable": walkable,
+        "max_wifi_age_s": config.max_wifi_age_s,
+        "floor": floor_json,
+        "traces": traces_json,
+        "seconds": started.elapsed().as_secs_f64(),
+    });
+    folder.write_json("summary.json", &summary)?;
+    let out = folder.commit()?;
+    outln!(
+        "wrote {} trace(s){} to {} in {:.1} s",
+        traces.len(),
+        if floor.is_some() {
+            " and floor.geojson"
+        } else {
+            ""
+        },
+        out.display(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+/// Reads the written plan back: the tracker's topology must accept it and its metres must
+/// equal the plan's within 5 cm.
+fn check_written_plan(path: &Path, plan: &FloorPlan) -> Result<()> {
+    let (back, _) = read_floor_plan(path, None)?;
+    FloorTopology::build(&back, &TopologyConfig::default())
+        .context("the written floor plan is not accepted by the tracker's topology")?;
+    let worst = plan
+        .polygons
+        .iter()
+        .zip(&back.polygons)
+        .flat_map(|(a, b)| {
+            let (mut a, mut b) = (
+                a.polygon.exterior().0.clone(),
+                b.polygon.exterior().0.clone(),
+            );
+            // The writer may turn a ring around (RFC 7946 winding): compare as sets of corners.
+            a.sort_by(|p, q| p.x.total_cmp(&q.x).then(p.y.total_cmp(&q.y)));
+            b.sort_by(|p, q| p.x.total_cmp(&q.x).then(p.y.total_cmp(&q.y)));
+            a.into_iter()
+                .zip(b)
+                .map(|(p, q)| (p.x - q.x).hypot(p.y - q.y))
+                .collect::<Vec<_>>()
+        })
+        .fold(0.0, f64::max);
+    if back.polygons.len() != plan.polygons.len() || worst > 0.05 {
+        bail!(
+            "{}: the plan read back differs from the plan written ({} vs {} surfaces, corners up to {worst:.3} m apart)",
+            path.display(),
+            back.polygons.len(),
+            plan.polygons.len()
+        );
+    }
+    Ok(())
+}
+
+fn print_floor(floor: &IlcFloor, report: &PlanReport) {
+    let s = &floor.summary;
+    outln!(
+        "floor.geojson: {} {:.0} m × {:.0} m (the bounding box spans {:.0} m × {:.0} m on the globe), \
+         {} shops; walkable = {}: {} surface(s), {:.0} m² of {:.0} m² ({} slivers dropped)",
+        s.floor_name.as_deref().unwrap_or("floor"),
+        s.width_m,
+        s.height_m,
+        s.geodesic_width_m,
+        s.geodesic_height_m,
+        s.shops,
+        format!("{:?}", report.walkable).to_lowercase(),
+        report.surfaces,
+        report.walkable_area_m2,
+        s.outline_area_m2,
+        report.slivers_dropped
+    );
+}
+
+fn print_trace(name: &str, trace: &IlcTrace, share: Option<(usize, usize)>) {
+    let s = &trace.summary;
+    let total_wifi = s.wifi_readings + s.stale_readings_dropped + s.duplicate_bssids_dropped;
+    outln!(
+        "{name}: {} IMU samples ({:.0} Hz, {:.1} s), {} WiFi scans ({} stale readings of {} dropped), {} waypoints{}",
+        s.imu.samples,
+        s.imu.rate_hz,
+        s.imu.duration_s,
+        s.wifi_scans,
+        s.stale_readings_dropped,
+        total_wifi,
+        s.waypoints,
+        share.map_or(String::new(), |p| format!(
+            ", on the walkable area {}",
+            percent(p)
+        ))
+    );
+    if let Some(line) = s.truncated_last_line {
+        outln!("  warning: the unterminated last line {line} was malformed and skipped");
+    }
+    if !s.unknown_types.is_empty() {
+        let list: Vec<String> = s
+            .unknown_types
+            .iter()
+            .map(|(k, v)| format!("{k} ×{v}"))
+            .collect();
+        outln!("  skipped unknown row types: {}", list.join(", "));
+    }
+}
+
+fn run_ipin(args: IpinArgs) -> Result<()> {
+    let started = Instant::now();
+    let config = IpinImportConfig {
+        max_wifi_age_s: args.max_wifi_age,
+    };
+    let log = read_ipin_log(&args.log, &config)?;
+    let frame = args.origin.or_else(|| {
+        log.positions
+            .first()
+            .and_then(|p| LocalFrame::new(p.lat, p.lon))
+    });
+    let folder = RunFolder::create(&args.out)?;
+    let mut written = vec!["imu.csv"];
+    write_imu(&folder.path("imu.csv"), &log.imu)?;
+    if !log.wifi.is_empty() {
+        write_wifi(&folder.path("wifi.csv"), &log.wifi)?;
+        written.push("wifi.csv");
+    }
+    if !log.gnss.is_empty() {
+        write_gps_csv(&folder.path("gps.csv"), &log.gnss)?;
+        written.push("gps.csv");
+    }
+    if let (Some(frame), false) = (&frame, log.positions.is_empty()) {
+        write_waypoints(
+            &folder.path("waypoints.csv"),
+            &positions_to_waypoints(&log.positions, frame),
+        )?;
+        written.push("waypoints.csv");
+    }
+    let s = &log.summary;
+    folder.write_json(
+        "summary.json",
+        &json!({
+            "source": "IPIN competition logfile (GetSensorData format)",
+            "log": args.log,
+            "origin": frame.map(|f| json!({"lat": f.lat, "lon": f.lon})),
+            "written": written,
+            "summary": s,
+            "seconds": started.elapsed().as_secs_f64(),
+        }),
+    )?;
+    let out = folder.commit()?;
+    let total_wifi = s.wifi_readings + s.stale_readings_dropped + s.duplicate_bssids_dropped;
+    outln!(
+        "{}: {} IMU samples ({:.0} Hz, {:.1} s{}), {} WiFi scans ({} stale readings of {} dropped), \
+         {} GNSS fixes, {} positions",
+        args.log.display(),
+        s.imu.samples,
+        s.imu.rate_hz,
+        s.imu.duration_s,
+        if s.imu_channels.is_empty() {
+            String::new()
+        } else {
+            format!("; with {}", s.imu_channels.join(", "))
+        },
+        s.wifi_scans,
+        s.stale_readings_dropped,
+        total_wifi,
+        s.gnss_fixes,
+        s.positions
+    );
+    if let Some(line) = s.lines.truncated_last_line {
+        outln!("  warning: the unterminated last line {line} was malformed and skipped");
+    }
+    if !s.skipped_tags.is_empty() {
+        let list: Vec<String> = s
+            .skipped_tags
+            .iter()
+            .map(|(k, v)| format!("{k} ×{v}"))
+            .collect();
+        outln!("  not converted: {}", list.join(", "));
+    }
+    if let Some(f) = frame {
+        outln!("  waypoints.csv frame origin: {:.7},{:.7}", f.lat, f.lon);
+    }
+    outln!("wrote {} to {}", written.join(", "), out.display());
+    Ok(())
+}

@@ -1,0 +1,107 @@
+//! The lines of a phone sensor log (ILC traces, IPIN logfiles): comment lines and blank lines
+//! counted, every other line handed to a parser with its 1-based number.
+//!
+//! A parser's error becomes an error naming the file and line, except on an unterminated
+//! last line: a logger that was cut off (app killed, disk full) leaves one, so it is skipped
+//! and its number reported in [`LogLines::truncated_last_line`]. Bytes that are not UTF-8
+//! (SSIDs in legacy encodings) are replaced, not refused.
+
+use crate::error::{Error, Result};
+use serde::Serialize;
+use std::path::Path;
+
+/// What reading a log's lines saw.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct LogLines {
+    /// Lines in the file.
+    pub lines: usize,
+    /// Comment (header) lines.
+    pub comment_lines: usize,
+    /// Empty lines.
+    pub blank_lines: usize,
+    /// The number of an unterminated, malformed last line that was skipped.
+    pub truncated_last_line: Option<usize>,
+}
+
+/// Reads `path` line by line: lines starting with `comment` go to `on_comment` (without the
+/// marker), other non-blank lines to `on_line` (without a trailing `\r`).
+pub fn read_log_lines(
+    path: &Path,
+    comment: char,
+    mut on_comment: impl FnMut(&str),
+    mut on_line: impl FnMut(&str, usize) -> Result<(), String>,
+) -> Result<LogLines> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let text = String::from_utf8_lossy(&bytes);
+    let terminated = text.is_empty() || text.ends_with('\n');
+    let pieces: Vec<&str> = text.split('\n').collect();
+    // `split` yields an empty piece after a final newline: not a line.
+    let lines = if terminated {
+        pieces.len() - 1
+    } else {
+        pieces.len()
+    };
+    let mut seen = LogLines {
+        lines,
+        comment_lines: 0,
+        blank_lines: 0,
+        truncated_last_line: None,
+    };
+    for (i, raw) in pieces.iter().take(lines).enumerate() {
+        let line = i + 1;
+        let raw = raw.strip_suffix('\r').unwrap_or(raw);
+        if raw.trim().is_empty() {
+            seen.blank_lines += 1;
+        } else if let Some(rest) = raw.strip_prefix(comment) {
+            seen.comment_lines += 1;
+            on_comment(rest);
+        } else if let Err(message) = on_line(raw, line) {
+            if line == lines && !terminated {
+                seen.truncated_last_line = Some(line);
+            } else {
+                return Err(Error::parse(path, line, message));
+            }
+        }
+    }
+    Ok(seen)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(text: &str) -> Result<(LogLines, Vec<usize>)> {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let p = dir.path().join("log.txt");
+        std::fs::write(&p, text).expect("write");
+        let mut ok = Vec::new();
+        let seen = read_log_lines(
+            &p,
+            '#',
+            |_| {},
+            |l, n| {
+                l.parse::<i32>().map_err(|e| e.to_string())?;
+                ok.push(n);
+                Ok(())
+            },
+        )?;
+        Ok((seen, ok))
+    }
+
+    #[test]
+    fn counts_lines_and_skips_only_an_unterminated_bad_last_line() {
+        let (seen, ok) = run("# head\n1\n\n2\r\n3").expect("valid");
+        assert_eq!(
+            (seen.lines, seen.comment_lines, seen.blank_lines),
+            (5, 1, 1)
+        );
+        assert_eq!(ok, vec![2, 4, 5]);
+        let (seen, ok) = run("1\n2\n3.").expect("truncated");
+        assert_eq!((seen.truncated_last_line, ok), (Some(3), vec![1, 2]));
+        let e = run("1\n2\n3.\n").unwrap_err().to_string();
+        assert!(e.contains("log.txt:3"), "{e}");
+        let e = run("1\nx\n3").unwrap_err().to_string();
+        assert!(e.contains("log.txt:2"), "{e}");
+        assert_eq!(run("").expect("empty").0.lines, 0);
+    }
+}
