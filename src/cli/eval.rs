@@ -223,6 +223,7 @@ fn run_waypoints(args: Args) -> Result<()> {
         let value = serde_json::json!({
             "track": errors.report,
             "waypoints": errors.points,
+            "held": errors.held,
             "dead_reckoning": dead_reckoning.as_ref().map(|(d, _)| &d.report),
             "dead_reckoning_waypoints": dead_reckoning.as_ref().map(|(d, _)| &d.points),
             "dead_reckoning_heading": dead_reckoning.as_ref().map(|(_, a)| if *a { "absolute" } else { "rigidly aligned" }),
@@ -233,6 +234,12 @@ fn run_waypoints(args: Args) -> Result<()> {
             &errors.report,
             dead_reckoning.as_ref().map(|(d, _)| &d.report),
         );
+        if errors.held > 0 {
+            outln!(
+                "{} waypoints after the track's last step compared with its end (the walker stands)",
+                errors.held
+            );
+        }
         if errors.report.skipped > 0 {
             outln!(
                 "{} waypoints outside the track's time span were skipped",

@@ -1,12 +1,17 @@
 //! Position error at sparse ground-truth points (waypoints), as real datasets give it: the
 //! track is linearly interpolated at each waypoint's time and compared with the waypoint.
-//! Waypoints outside the track's time span are skipped and counted (a track that starts at
-//! localisation has no estimate before it).
+//! A step-based track has no point while the walker stands after the last step: a waypoint
+//! up to [`HOLD_S`] after the track's end is compared with its last point (and counted as
+//! `held`). Other waypoints outside the track's time span are skipped and counted (a track
+//! that starts at localisation has no estimate before it).
 
 use super::position_error::{Alignment, ErrorReport, interpolate_at, position_errors};
 use crate::dataset::{TimedPoint, Waypoint};
 use crate::error::{Error, Result};
 use serde::Serialize;
+
+/// How long after its last point a track still stands there, seconds.
+pub const HOLD_S: f64 = 5.0;
 
 /// One waypoint's error.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -32,6 +37,8 @@ pub struct WaypointErrors {
     pub report: ErrorReport,
     /// Per waypoint, in time order.
     pub points: Vec<WaypointError>,
+    /// Waypoints after the track's end (within [`HOLD_S`]) compared with its last point.
+    pub held: usize,
 }
 
 /// Errors of `track` (time order, local metres) at `waypoints` (time order; of waypoints that
@@ -54,9 +61,19 @@ pub fn waypoint_errors(
             });
         }
     }
+    let mut held = 0;
     let estimates: Vec<TimedPoint> = truth
         .iter()
-        .filter_map(|w| interpolate_at(track, w.t).map(|(x, y)| TimedPoint { t: w.t, x, y }))
+        .filter_map(|w| {
+            let at = interpolate_at(track, w.t).or_else(|| {
+                let last = track.last()?;
+                (w.t > last.t && w.t - last.t <= HOLD_S).then(|| {
+                    held += 1;
+                    (last.x, last.y)
+                })
+            });
+            at.map(|(x, y)| TimedPoint { t: w.t, x, y })
+        })
         .collect();
     if estimates.is_empty() {
         let span = |v: &[TimedPoint]| (v[0].t, v[v.len() - 1].t);
@@ -89,7 +106,11 @@ pub fn waypoint_errors(
             })
         })
         .collect();
-    Ok(WaypointErrors { report, points })
+    Ok(WaypointErrors {
+        report,
+        points,
+        held,
+    })
 }
 
 #[cfg(test)]
@@ -112,17 +133,20 @@ mod tests {
     #[test]
     fn interpolates_the_track_at_each_waypoint() {
         let track = [tp(10.0, 0.0, 0.0), tp(20.0, 10.0, 0.0)];
-        // t = 15: track (5, 0), waypoint (5, 3) → 3 m; t = 20: 0 m; t = 5 and 25 outside.
+        // t = 15: track (5, 0), waypoint (5, 3) → 3 m; t = 20: 0 m; t = 24: held at the
+        // end (10, 0) → 2 m; t = 5 and 26 outside.
         let w = [
             wp(5.0, 0.0, 0.0),
             wp(15.0, 5.0, 3.0),
             wp(15.0, 9.0, 9.0),
             wp(20.0, 10.0, 0.0),
-            wp(25.0, 0.0, 0.0),
+            wp(24.0, 10.0, 2.0),
+            wp(26.0, 0.0, 0.0),
         ];
         let r = waypoint_errors(&w, &track, Alignment::None).expect("errors");
-        assert_eq!((r.report.n, r.report.skipped), (2, 2));
+        assert_eq!((r.report.n, r.report.skipped, r.held), (3, 2, 1));
         assert_eq!(r.report.max, 3.0);
+        assert_eq!(r.points[2].error, 2.0);
         assert_eq!(r.points[0].error, 3.0);
         assert_eq!((r.points[0].estimate_x, r.points[0].estimate_y), (5.0, 0.0));
         let e = waypoint_errors(&[wp(100.0, 0.0, 0.0)], &track, Alignment::None)
