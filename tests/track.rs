@@ -250,7 +250,9 @@ fn bad_inputs_get_clear_errors() {
         .args(["track", "--start", "1,2,east"])
         .assert()
         .failure()
-        .stderr(predicate::str::contains("HEADING `east` is not a finite number"));
+        .stderr(predicate::str::contains(
+            "HEADING `east` is not a finite number",
+        ));
 }
 
 #[test]
@@ -378,8 +380,7 @@ fn with_headings(sim: &Path, seed: u64) -> PathBuf {
     use footslam::random::{gauss, stream};
     use rand::RngExt;
     let trace = footslam::dataset::read_steps(&sim.join("steps.csv")).expect("steps");
-    let truth =
-        footslam::dataset::truth_csv::read_truth(&sim.join("truth.csv")).expect("truth");
+    let truth = footslam::dataset::truth_csv::read_truth(&sim.join("truth.csv")).expect("truth");
     let mut rng = stream(seed, 0, 0x4EAD);
     let steps: Vec<footslam::sensor::Step> = trace
         .steps()
@@ -444,7 +445,10 @@ fn noisy_compass_headings_localise_sooner_than_ignoring_them() {
         assert_eq!(ignored["headings_used"], false);
         assert_eq!(used["steps_with_heading"], used["steps"]);
         assert_eq!(ignored["steps_with_heading"], used["steps"]);
-        assert!(n_with <= n_without + 5, "seed {seed}: {n_with} vs {n_without}");
+        assert!(
+            n_with <= n_without + 5,
+            "seed {seed}: {n_with} vs {n_without}"
+        );
         assert!(p95_with < 1.5, "seed {seed}: p95 {p95_with:.2} m");
         with += n_with;
         without += n_without;

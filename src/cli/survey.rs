@@ -216,9 +216,8 @@ pub fn run(args: Args) -> Result<()> {
                 start: starts[k],
                 ..config.tracker.clone()
             };
-            let mut tracker = Tracker::new(&topology, &tracker_config).with_context(|| {
-                format!("walk {} ({})", k + 1, pairs[k].steps.display())
-            })?;
+            let mut tracker = Tracker::new(&topology, &tracker_config)
+                .with_context(|| format!("walk {} ({})", k + 1, pairs[k].steps.display()))?;
             let mut reports = Vec::with_capacity(trace.len());
             for step in trace.steps() {
                 reports.push(tracker.update(step)?);
@@ -443,8 +442,7 @@ fn read_manifest(path: &std::path::Path) -> Result<Vec<WalkFiles>> {
         }
         let start = match start.map(|c| row.text(c)).filter(|t| !t.is_empty()) {
             Some(text) => Some(
-                super::track::parse_start(text)
-                    .map_err(|e| row.error(format!("start: {e}")))?,
+                super::track::parse_start(text).map_err(|e| row.error(format!("start: {e}")))?,
             ),
             None => None,
         };

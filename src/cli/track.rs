@@ -294,8 +294,8 @@ pub fn run(args: Args) -> Result<()> {
     };
 
     let filter_started = Instant::now();
-    let (reports, snapshots, initial, bytes_per_particle, track, ignored, headings_used) =
-        pool.install(|| -> Result<_> {
+    let (reports, snapshots, initial, bytes_per_particle, track, ignored, headings_used) = pool
+        .install(|| -> Result<_> {
             let mut walker = match &radio {
                 Some((rf, scans, ..)) => {
                     Walker::Rf(Box::new(RfTracker::new(&topology, &config, rf, scans)?))
