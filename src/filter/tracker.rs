@@ -1142,6 +1142,64 @@ mod tests {
     }
 
     #[test]
+    fn an_unknown_start_heading_is_settled_by_step_headings() {
+        let (sim, topology) = office();
+        let unknown = |enabled: bool| TrackerConfig {
+            start: Some(StartPose {
+                heading: None,
+                ..at_origin(0.0).start.expect("start")
+            }),
+            heading: crate::model::HeadingConfig {
+                enabled,
+                ..Default::default()
+            },
+            ..small()
+        };
+        // The mean resultant length of the particles' headings: 1 when all agree.
+        let agreement = |t: &Tracker| {
+            let (s, c) = t.particles().iter().fold((0.0, 0.0), |(s, c), p| {
+                (
+                    s + f64::from(p.heading.sin()),
+                    c + f64::from(p.heading.cos()),
+                )
+            });
+            s.hypot(c) / t.particles().len() as f64
+        };
+        let steps: Vec<Step> = sim
+            .steps
+            .steps()
+            .iter()
+            .zip(&sim.truth.poses)
+            .map(|(s, p)| Step {
+                heading: Some(p.heading),
+                ..*s
+            })
+            .collect();
+        let mut with = Tracker::new(&topology, &unknown(true)).expect("tracker");
+        let mut without = Tracker::new(&topology, &unknown(false)).expect("tracker");
+        assert!(agreement(&with) < 0.2, "a uniform prior heading");
+        for s in &steps[..2] {
+            with.update(s).expect("update");
+            without.update(s).expect("update");
+        }
+        assert_eq!((with.headings_used(), without.headings_used()), (2, 0));
+        // Two readings leave headings within about 20° (R = e^{−σ²/2} ≈ 0.94 for σ = 20°).
+        assert!(agreement(&with) > 0.9, "{}", agreement(&with));
+        assert!(agreement(&without) < agreement(&with));
+        let mut errors: Vec<f64> = steps[2..]
+            .iter()
+            .zip(&sim.truth.poses[2..])
+            .map(|(s, p)| {
+                let c = with.update(s).expect("update").estimate.expect("cluster");
+                (c.x - p.x).hypot(c.y - p.y)
+            })
+            .collect();
+        errors.sort_by(f64::total_cmp);
+        let p95 = errors[errors.len() * 95 / 100];
+        assert!(p95 < 0.8, "p95 {p95} m");
+    }
+
+    #[test]
     fn a_measurement_judges_each_particle_where_it_was_at_the_measurements_time() {
         use crate::map::{CellConfig, CellMap, CellRaster, RadioMap};
         use std::sync::Arc;
