@@ -3,11 +3,14 @@
 //! simulated three-floor building, from the uniform prior (the hardest phase: every particle
 //! tests walls). Throughput is in particle-steps per second. Also the same step with a WiFi
 //! containment region judged at the scan's time within the step (eqs. 12–13 of Woodman &
-//! Harle 2009; a raster lookup per particle), and the floor topology's `walk` on its own.
+//! Harle 2009; a raster lookup per particle), the same step with an absolute heading on every
+//! step (the compass likelihood: one wrapped difference, `exp` and `ln` per particle), and
+//! the floor topology's `walk` on its own.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use footslam::filter::{KldConfig, StepMeasurement, Tracker, TrackerConfig};
 use footslam::map::{CellField, CellMap, CellRaster, FloorTopology, RadioMap, TopologyConfig};
+use footslam::sensor::Step;
 use footslam::sim::{TowerSimConfig, TowerSimulation, simulate_tower};
 use rand::RngExt;
 use std::hint::black_box;
@@ -29,15 +32,25 @@ fn tower() -> (TowerSimulation, FloorTopology) {
 }
 
 /// Whole steps at fixed particle counts, each with `region` (if any) judged half-way
-/// through the step.
+/// through the step; with `headings`, every step carries its true absolute heading.
 fn step_group(
     c: &mut Criterion,
     name: &str,
     counts: &[usize],
     (sim, topology): &(TowerSimulation, FloorTopology),
     region: Option<&CellField>,
+    headings: bool,
 ) {
-    let steps = sim.steps.steps();
+    let steps: Vec<Step> = sim
+        .steps
+        .steps()
+        .iter()
+        .zip(&sim.truth.poses)
+        .map(|(s, p)| Step {
+            heading: headings.then_some(p.heading),
+            ..*s
+        })
+        .collect();
     let mut g = c.benchmark_group(name);
     g.sample_size(10).measurement_time(Duration::from_secs(8));
     for &n in counts {
@@ -73,6 +86,18 @@ fn tracker_step(c: &mut Criterion) {
         &[100_000, 1_000_000, 4_500_000],
         &tower(),
         None,
+        false,
+    );
+}
+
+fn tracker_step_with_heading(c: &mut Criterion) {
+    step_group(
+        c,
+        "tracker_step_heading",
+        &[1_000_000],
+        &tower(),
+        None,
+        true,
     );
 }
 
@@ -93,6 +118,7 @@ fn tracker_step_with_wifi(c: &mut Criterion) {
         &[1_000_000],
         &tower,
         Some(&region),
+        false,
     );
 }
 
@@ -119,5 +145,11 @@ fn topology_walk(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, tracker_step, tracker_step_with_wifi, topology_walk);
+criterion_group!(
+    benches,
+    tracker_step,
+    tracker_step_with_heading,
+    tracker_step_with_wifi,
+    topology_walk
+);
 criterion_main!(benches);

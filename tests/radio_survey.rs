@@ -219,3 +219,107 @@ fn surveyed_cell_means_are_within_3_db_rms_of_the_expected_field() {
     assert!(pairs > 300, "{pairs} cell/AP pairs");
     assert!(rms <= 3.0, "RMS {rms:.2} dB over {pairs} pairs");
 }
+
+#[test]
+fn manifest_starts_place_each_walk_and_override_the_shared_start() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let walks: Vec<PathBuf> = [41, 42, 43]
+        .iter()
+        .map(|&seed| simulate_tower(dir.path(), &format!("walk-{seed}"), 2, seed, ORIGIN, &[]))
+        .collect();
+    // Each walk's true start (the pose before its first step, as truth.csv's path begins).
+    let starts: Vec<serde_json::Value> = walks
+        .iter()
+        .map(|w| json(&w.join("summary.json"))["start"].clone())
+        .collect();
+    let full =
+        |s: &serde_json::Value| format!("{},{},{},{}", s["x"], s["y"], s["heading"], s["level"]);
+    let no_heading = |s: &serde_json::Value| format!("{},{},,{}", s["x"], s["y"], s["level"]);
+    let manifest = |name: &str, column: Option<[String; 3]>| {
+        let mut text = String::from(if column.is_some() {
+            "steps,wifi,start\n"
+        } else {
+            "steps,wifi\n"
+        });
+        for (i, w) in walks.iter().enumerate() {
+            let name = w.file_name().expect("name").to_string_lossy();
+            text.push_str(&format!("{name}/steps.csv,{name}/wifi.csv"));
+            if let Some(c) = &column {
+                text.push_str(&format!(",\"{}\"", c[i]));
+            }
+            text.push('\n');
+        }
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).expect("write");
+        path
+    };
+    let survey = |manifest: &Path, out: &str, extra: &[String]| {
+        let out = dir.path().join(out);
+        footslam()
+            .arg("survey")
+            .arg("--plan")
+            .arg(walks[0].join("floor.geojson"))
+            .arg("--walks")
+            .arg(manifest)
+            .args(extra)
+            .arg("--out")
+            .arg(&out)
+            .assert()
+            .success()
+            .stdout(predicate::str::contains("surveyed 3 walk(s)"));
+        json(&out.join("summary.json"))["walks"]
+            .as_array()
+            .expect("walks")
+            .clone()
+    };
+    let localised = |w: &serde_json::Value| w["steps_to_localise"].as_u64();
+    // Known starts: the first walk's full pose, the second's place without a heading, the
+    // third unknown.
+    let known = manifest(
+        "known.csv",
+        Some([full(&starts[0]), no_heading(&starts[1]), String::new()]),
+    );
+    let with_starts = survey(&known, "known", &[]);
+    let unknown = survey(&manifest("plain.csv", None), "unknown", &[]);
+    assert_eq!(localised(&with_starts[0]), Some(1));
+    let second = localised(&with_starts[1]).expect("localised");
+    assert!(second <= 15, "localised after {second} steps");
+    assert!(with_starts[1]["start"]["heading"].is_null());
+    assert!(with_starts[2]["start"].is_null());
+    // Unknown starts in three identical floors take far longer, when they localise at all.
+    for (i, w) in unknown.iter().enumerate().take(2) {
+        let steps = localised(w).unwrap_or(u64::MAX);
+        assert!(
+            steps > 15,
+            "walk {i}: localised after {steps} steps without a start"
+        );
+    }
+    assert_eq!(localised(&with_starts[2]), localised(&unknown[2]));
+    assert!(with_starts[2]["scans_added"].as_u64() == unknown[2]["scans_added"].as_u64());
+    assert!(
+        with_starts[0]["scans_added"].as_u64() > unknown[0]["scans_added"].as_u64(),
+        "a known start surveys the walk's scans from its first step"
+    );
+    // A shared --start applies to the walks without their own.
+    let shared = survey(&known, "shared", &[format!("--start={}", full(&starts[2]))]);
+    assert_eq!(localised(&shared[2]), Some(1));
+    assert_eq!(shared[0]["start"], with_starts[0]["start"]);
+    // A malformed start names the manifest's line.
+    let bad = manifest(
+        "bad.csv",
+        Some([full(&starts[0]), "1,2,north".into(), String::new()]),
+    );
+    footslam()
+        .arg("survey")
+        .arg("--plan")
+        .arg(walks[0].join("floor.geojson"))
+        .arg("--walks")
+        .arg(&bad)
+        .arg("--out")
+        .arg(dir.path().join("bad"))
+        .assert()
+        .failure()
+        .stderr(
+            predicate::str::contains("bad.csv:3").and(predicate::str::contains("HEADING `north`")),
+        );
+}

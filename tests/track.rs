@@ -242,10 +242,17 @@ fn bad_inputs_get_clear_errors() {
         "not on a walkable surface",
     );
     footslam()
-        .args(["track", "--start", "1,2"])
+        .args(["track", "--start", "1"])
         .assert()
         .failure()
-        .stderr(predicate::str::contains("X,Y,HEADING"));
+        .stderr(predicate::str::contains("X,Y[,HEADING[,LEVEL]]"));
+    footslam()
+        .args(["track", "--start", "1,2,east"])
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains(
+            "HEADING `east` is not a finite number",
+        ));
 }
 
 #[test]
@@ -325,4 +332,130 @@ fn survey_builds_a_radio_map_from_tracked_walks() {
         .assert()
         .failure()
         .stderr(predicate::str::contains("one --wifi per --steps"));
+}
+
+/// Position errors of `out`'s track.csv against `sim`'s truth.csv, unaligned.
+fn track_errors(sim: &Path, out: &Path) -> footslam::eval::ErrorReport {
+    let truth = footslam::dataset::read_trajectory(&sim.join("truth.csv")).expect("truth");
+    let track = footslam::dataset::read_trajectory(&out.join("track.csv")).expect("track");
+    footslam::eval::position_errors(&truth, &track, footslam::eval::Alignment::None)
+        .expect("errors")
+}
+
+#[test]
+fn a_start_without_a_heading_localises_at_the_known_place() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let sim = simulate_tower(dir.path(), "4", "3");
+    let s = json(&sim.join("summary.json"))["start"].clone();
+    // X,Y (the lowest surface there) and X,Y,,LEVEL: position known, heading not.
+    for (name, arg) in [
+        ("xy", format!("{},{}", s["x"], s["y"])),
+        ("xyl", format!("{},{},,{}", s["x"], s["y"], s["level"])),
+    ] {
+        let out = dir.path().join(name);
+        track(&sim, &out, &[&format!("--start={arg}")]).success();
+        let config = json(&out.join("config.json"));
+        assert!(config["start"]["heading"].is_null(), "{name}");
+        let summary = json(&out.join("summary.json"));
+        let localised = summary["steps_to_localise"].as_u64().expect("localised");
+        assert!(localised <= 15, "{name}: localised after {localised} steps");
+        let errors = track_errors(&sim, &out);
+        assert!(errors.p95 < 1.0, "{name}: p95 {:.2} m", errors.p95);
+    }
+    // An old config.json with a numeric heading still reads.
+    let out = dir.path().join("numeric");
+    let config = dir.path().join("config.json");
+    let text = format!(
+        r#"{{"start": {{"x": {}, "y": {}, "heading": {}, "level": {}}}}}"#,
+        s["x"], s["y"], s["heading"], s["level"]
+    );
+    std::fs::write(&config, text).expect("write");
+    track(&sim, &out, &["--config", config.to_str().expect("utf-8")]).success();
+    assert_eq!(json(&out.join("summary.json"))["steps_to_localise"], 1);
+}
+
+/// `sim`'s steps with absolute headings: the true heading plus 10° of noise, a fifth of
+/// them a further 60° off either way (a disturbed compass), drawn from `seed`.
+fn with_headings(sim: &Path, seed: u64) -> PathBuf {
+    use footslam::random::{gauss, stream};
+    use rand::RngExt;
+    let trace = footslam::dataset::read_steps(&sim.join("steps.csv")).expect("steps");
+    let truth = footslam::dataset::truth_csv::read_truth(&sim.join("truth.csv")).expect("truth");
+    let mut rng = stream(seed, 0, 0x4EAD);
+    let steps: Vec<footslam::sensor::Step> = trace
+        .steps()
+        .iter()
+        .zip(&truth.poses)
+        .map(|(s, p)| {
+            let mut h = p.heading + 10f64.to_radians() * gauss(&mut rng);
+            if rng.random::<f64>() < 0.2 {
+                h += 60f64.to_radians() * if rng.random::<bool>() { 1.0 } else { -1.0 };
+            }
+            footslam::sensor::Step {
+                heading: Some(h.sin().atan2(h.cos())),
+                ..*s
+            }
+        })
+        .collect();
+    let path = sim.join("steps-heading.csv");
+    let trace = footslam::sensor::StepTrace::new(steps).expect("valid");
+    footslam::dataset::steps_csv::write_steps(&path, &trace).expect("write");
+    path
+}
+
+#[test]
+#[allow(clippy::print_stderr)] // reports the figures with --nocapture
+fn noisy_compass_headings_localise_sooner_than_ignoring_them() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (mut with, mut without) = (0, 0);
+    for seed in ["4", "5", "6"] {
+        // One floor: no identical floor for a heading to leave ambiguous.
+        let sim = dir.path().join(format!("one-floor-{seed}"));
+        footslam()
+            .args(["simulate", "--building", "tower", "--floors", "1"])
+            .args(["--minutes", "3", "--seed", seed, "--out"])
+            .arg(&sim)
+            .assert()
+            .success();
+        let steps = with_headings(&sim, seed.parse().expect("seed"));
+        let run = |name: &str, extra: &[&str]| {
+            let out = dir.path().join(format!("{name}-{seed}"));
+            footslam()
+                .arg("track")
+                .arg("--plan")
+                .arg(sim.join("floor.geojson"))
+                .arg("--steps")
+                .arg(&steps)
+                .args(["--seed", seed, "--out"])
+                .arg(&out)
+                .args(extra)
+                .assert()
+                .success();
+            let summary = json(&out.join("summary.json"));
+            let n = summary["steps_to_localise"].as_u64().expect("localised");
+            let p95 = track_errors(&sim, &out).p95;
+            (summary, n, p95)
+        };
+        let (used, n_with, p95_with) = run("with", &[]);
+        let (ignored, n_without, p95_without) = run("without", &["--ignore-heading"]);
+        eprintln!(
+            "seed {seed}: localised after {n_with} steps with headings (p95 {p95_with:.2} m), {n_without} without (p95 {p95_without:.2} m)"
+        );
+        assert_eq!(used["headings_used"], true);
+        assert_eq!(ignored["headings_used"], false);
+        assert_eq!(used["steps_with_heading"], used["steps"]);
+        assert_eq!(ignored["steps_with_heading"], used["steps"]);
+        assert!(
+            n_with <= n_without + 5,
+            "seed {seed}: {n_with} vs {n_without}"
+        );
+        assert!(p95_with < 1.5, "seed {seed}: p95 {p95_with:.2} m");
+        with += n_with;
+        without += n_without;
+    }
+    // Measured: 49 + 34 + 54 = 137 steps with headings, 63 + 79 + 63 = 205 without.
+    assert!(
+        with * 5 <= without * 4,
+        "{with} steps to localise with headings, {without} without"
+    );
 }

@@ -17,7 +17,7 @@ use footslam::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
 use footslam::geometry::Hex;
 use footslam::geometry::{HexGrid, LocalFrame};
 use footslam::map::{EdgePrior, HexMapSnapshot, merge_maps, register_maps, shift_map};
-use footslam::model::GpsObservation;
+use footslam::model::{GpsObservation, HeadingLikelihood};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::PathBuf;
@@ -27,11 +27,15 @@ use std::time::Instant;
 const DEFAULT_STEPS: &str = "datasets/office/steps.csv";
 /// The widest shift searched when registering a walk's map onto a prior map, metres.
 const MAX_REGISTRATION: f64 = 25.0;
+/// Step headings that set a walk's start heading (the most probable under the heading
+/// model, so disturbed ones among them do not pull it).
+const START_HEADING_READINGS: usize = 10;
 
 /// Arguments of `footslam learn`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Step trace CSV (`t,length,dheading[,dz][,heading]`), or a folder holding `steps.csv`
+    /// Step trace CSV (`t,length,dheading[,dz][,heading]`; an absolute `heading` column sets
+    /// the start heading and weights the particles, see `--ignore-heading`), or a folder holding `steps.csv`
     /// or sub-folders that do (one walk each, with `gps.csv` or `gps.gpx` beside it when
     /// there is one). Repeat for a batch of walks, learned in parallel (walk i has seed
     /// `seed + i`). Default: the bundled sample walk.
@@ -81,12 +85,20 @@ pub struct Args {
     /// Worker threads (default: all cores). Results do not depend on it.
     #[arg(long)]
     threads: Option<usize>,
+    /// Ignore the step traces' absolute `heading` column (same as `heading.enabled = false`
+    /// in the config): the walk then starts at `start.heading` (default 0, east).
+    #[arg(long)]
+    ignore_heading: bool,
 }
 
 #[derive(Debug, Serialize)]
 struct Summary {
     steps_file: String,
     gps_file: Option<String>,
+    /// Steps of the trace that carry an absolute heading.
+    steps_with_heading: usize,
+    /// Steps whose absolute heading weighted the particles.
+    headings_used: usize,
     particles: usize,
     steps: usize,
     seed: u64,
@@ -142,6 +154,9 @@ pub fn run(args: Args) -> Result<()> {
     }
     if let Some(w) = args.prior_weight {
         config.prior_weight = w;
+    }
+    if args.ignore_heading {
+        config.heading.enabled = false;
     }
     config.validate()?;
     let walks = read_walks(&args.steps, &args.gps, args.gps_t0, &bundled(DEFAULT_STEPS))?;
@@ -284,7 +299,10 @@ struct WalkRun {
 
 /// Learns one walk: with GPS it starts at the first fix (spread by its accuracy), heading
 /// from the first fixes ([`heading_from_fixes`]) or, when they do not tell, unknown
-/// (uniform) — unless the configuration gives a heading spread.
+/// (uniform) — unless the configuration gives a heading spread. Steps with absolute
+/// headings set the start heading instead (the heading before the first step that best
+/// explains the first readings, [`HeadingLikelihood::start_heading`]), so the learned map
+/// keeps its orientation (x east, y north).
 fn learn_walk(
     walk: &Walk,
     mut config: FootSlamConfig,
@@ -299,6 +317,7 @@ fn learn_walk(
         .iter()
         .map(|f| GpsObservation::from_fix(f, frame))
         .collect();
+    let heading_given = config.start_heading_sigma != 0.0;
     if let Some(first) = gps.first() {
         config.start.x = first.x;
         config.start.y = first.y;
@@ -312,6 +331,15 @@ fn learn_walk(
                 None => config.start_heading_sigma = std::f64::consts::PI,
             }
         }
+    }
+    let compass = HeadingLikelihood::new(config.heading);
+    if !heading_given
+        && compass.enabled()
+        && let Some((heading, sigma)) =
+            compass.start_heading(walk.trace.steps(), START_HEADING_READINGS)
+    {
+        config.start.heading = heading;
+        config.start_heading_sigma = sigma;
     }
     let started = Instant::now();
     // With GPS and a prior map: first learn the walk alone, in its own GPS frame, and
@@ -407,6 +435,13 @@ fn write_walk(
     Ok(Summary {
         steps_file: walk.steps_path.display().to_string(),
         gps_file: walk.gps_path.as_ref().map(|p| p.display().to_string()),
+        steps_with_heading: walk
+            .trace
+            .steps()
+            .iter()
+            .filter(|s| s.heading.is_some())
+            .count(),
+        headings_used: filter.headings_used(),
         particles: config.particles,
         steps,
         seed: config.seed,

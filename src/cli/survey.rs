@@ -48,8 +48,11 @@ pub struct Args {
     /// same position.
     #[arg(long)]
     wifi: Vec<PathBuf>,
-    /// Manifest of walks: a CSV with columns `steps,wifi` (paths relative to the manifest),
-    /// one walk a row; added to any `--steps`/`--wifi` pairs.
+    /// Manifest of walks: a CSV with columns `steps,wifi` (paths relative to the manifest)
+    /// and optionally `start` — the walk's known start `X,Y[,HEADING[,LEVEL]]` as `--start`
+    /// takes it, quoted since it holds commas (e.g. `"12.5,3,,1"`); empty = the start of
+    /// `--start` or the config, else unknown — one walk a row; added to any
+    /// `--steps`/`--wifi` pairs.
     #[arg(long)]
     walks: Option<PathBuf>,
     /// A radio map surveyed before on this plan at this granularity (`radiomap.geojson`),
@@ -59,7 +62,8 @@ pub struct Args {
     /// Cell granularity, metres (default 3).
     #[arg(long)]
     cell: Option<f64>,
-    /// Known start `X,Y,HEADING[,LEVEL]` of every walk (default: unknown).
+    /// Known start `X,Y[,HEADING[,LEVEL]]` of every walk (`X,Y,,LEVEL`: a level without a
+    /// heading), unless the manifest gives the walk its own (default: unknown).
     #[arg(long, value_parser = super::track::parse_start, allow_hyphen_values = true)]
     start: Option<StartPose>,
     /// WGS84 origin `LAT,LON`; overrides the plan's `origin`.
@@ -106,6 +110,8 @@ impl Default for SurveyConfig {
 struct WalkSummary {
     steps_file: String,
     wifi_file: String,
+    /// The walk's known start (its own from the manifest, else the shared one).
+    start: Option<StartPose>,
     steps: usize,
     scans: usize,
     steps_to_localise: Option<usize>,
@@ -168,11 +174,16 @@ pub fn run(args: Args) -> Result<()> {
     let (plan, frame) = read_floor_plan(&args.plan, args.origin)?;
     let topology = FloorTopology::build(&plan, &config.tracker.topology)
         .with_context(|| format!("{}: not a usable floor plan", args.plan.display()))?;
-    let mut pairs: Vec<(PathBuf, PathBuf)> = args
+    let mut pairs: Vec<WalkFiles> = args
         .steps
         .iter()
         .cloned()
         .zip(args.wifi.iter().cloned())
+        .map(|(steps, wifi)| WalkFiles {
+            steps,
+            wifi,
+            start: None,
+        })
         .collect();
     if let Some(manifest) = &args.walks {
         pairs.extend(read_manifest(manifest)?);
@@ -181,11 +192,16 @@ pub fn run(args: Args) -> Result<()> {
         bail!("nothing to survey: give --steps/--wifi pairs, --walks or --merge");
     }
     let mut walks = Vec::with_capacity(pairs.len());
-    for (steps, wifi) in &pairs {
-        require_file(steps, "step trace")?;
-        require_file(wifi, "WiFi log")?;
-        walks.push((read_steps(steps)?, read_wifi(wifi)?));
+    for w in &pairs {
+        require_file(&w.steps, "step trace")?;
+        require_file(&w.wifi, "WiFi log")?;
+        walks.push((read_steps(&w.steps)?, read_wifi(&w.wifi)?));
     }
+    // A walk's own start overrides the shared one.
+    let starts: Vec<Option<StartPose>> = pairs
+        .iter()
+        .map(|w| w.start.or(config.tracker.start))
+        .collect();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .build()
@@ -197,9 +213,11 @@ pub fn run(args: Args) -> Result<()> {
         for (k, (trace, _)) in walks.iter().enumerate() {
             let tracker_config = TrackerConfig {
                 seed: config.tracker.seed.wrapping_add(k as u64),
+                start: starts[k],
                 ..config.tracker.clone()
             };
-            let mut tracker = Tracker::new(&topology, &tracker_config)?;
+            let mut tracker = Tracker::new(&topology, &tracker_config)
+                .with_context(|| format!("walk {} ({})", k + 1, pairs[k].steps.display()))?;
             let mut reports = Vec::with_capacity(trace.len());
             for step in trace.steps() {
                 reports.push(tracker.update(step)?);
@@ -352,11 +370,12 @@ pub fn run(args: Args) -> Result<()> {
             .iter()
             .zip(&runs)
             .zip(&counts)
-            .zip(&pairs)
+            .zip(pairs.iter().zip(&starts))
             .map(
-                |((((trace, wifi), reports), &(added, skipped)), (sp, wp))| WalkSummary {
-                    steps_file: sp.display().to_string(),
-                    wifi_file: wp.display().to_string(),
+                |((((trace, wifi), reports), &(added, skipped)), (files, start))| WalkSummary {
+                    steps_file: files.steps.display().to_string(),
+                    wifi_file: files.wifi.display().to_string(),
+                    start: *start,
                     steps: trace.len(),
                     scans: wifi.len(),
                     steps_to_localise: reports.iter().position(|r| r.localised).map(|i| i + 1),
@@ -398,20 +417,40 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// The `(steps, wifi)` pairs of a manifest CSV (`steps,wifi` header, paths relative to the
-/// manifest's folder); errors name the file and line.
-fn read_manifest(path: &std::path::Path) -> Result<Vec<(PathBuf, PathBuf)>> {
+/// One walk to survey: its files and, when known, its own start.
+#[derive(Debug, Clone)]
+struct WalkFiles {
+    steps: PathBuf,
+    wifi: PathBuf,
+    start: Option<StartPose>,
+}
+
+/// The walks of a manifest CSV (`steps,wifi[,start]` header, paths relative to the
+/// manifest's folder, `start` as `--start` takes it or empty); errors name the file and
+/// line.
+fn read_manifest(path: &std::path::Path) -> Result<Vec<WalkFiles>> {
     require_file(path, "walk manifest")?;
     let base = path.parent().unwrap_or(std::path::Path::new("."));
     let mut table = CsvTable::open(path)?;
     let (s, w) = (table.column("steps")?, table.column("wifi")?);
+    let start = table.optional_column("start");
     let mut pairs = Vec::new();
     table.for_each_row(|row| {
         let (steps, wifi) = (row.text(s), row.text(w));
         if steps.is_empty() || wifi.is_empty() {
             return Err(row.error("expected a step trace and a WiFi log"));
         }
-        pairs.push((base.join(steps), base.join(wifi)));
+        let start = match start.map(|c| row.text(c)).filter(|t| !t.is_empty()) {
+            Some(text) => Some(
+                super::track::parse_start(text).map_err(|e| row.error(format!("start: {e}")))?,
+            ),
+            None => None,
+        };
+        pairs.push(WalkFiles {
+            steps: base.join(steps),
+            wifi: base.join(wifi),
+            start,
+        });
         Ok(())
     })?;
     if pairs.is_empty() {

@@ -36,13 +36,21 @@ pub struct Args {
     /// three-floor building.
     #[arg(long)]
     plan: Option<PathBuf>,
-    /// Step trace CSV (`t,length,dheading,dz`). Default: the bundled walk.
+    /// Step trace CSV (`t,length,dheading[,dz][,heading]`). An absolute `heading` column
+    /// (radians counter-clockwise from east, e.g. from a compass) weights the particles
+    /// (see `--ignore-heading`). Default: the bundled walk.
     #[arg(long)]
     steps: Option<PathBuf>,
-    /// Known start `X,Y,HEADING[,LEVEL]` (local metres; HEADING = heading before the first
-    /// step, radians). Default: unknown (uniform over the whole plan).
+    /// Known start `X,Y[,HEADING[,LEVEL]]` (local metres; HEADING = heading before the first
+    /// step, radians counter-clockwise from east). Without HEADING the heading is unknown
+    /// (uniform at the known position); `X,Y,,LEVEL` gives a level without a heading.
+    /// Default: unknown (uniform over the whole plan).
     #[arg(long, value_parser = parse_start, allow_hyphen_values = true)]
     start: Option<StartPose>,
+    /// Ignore the step trace's absolute `heading` column (same as `heading.enabled = false`
+    /// in the config).
+    #[arg(long)]
+    ignore_heading: bool,
     /// WGS84 origin of the local frame, `LAT,LON`; overrides the plan's `origin` member.
     #[arg(long, value_parser = parse_origin, allow_hyphen_values = true)]
     origin: Option<LocalFrame>,
@@ -103,11 +111,13 @@ enum RfModeArg {
     PriorOnly,
 }
 
-/// Parses `X,Y,HEADING[,LEVEL]`.
+/// Parses `X,Y[,HEADING[,LEVEL]]`; an empty HEADING (`X,Y,,LEVEL`) is unknown.
 pub(super) fn parse_start(s: &str) -> Result<StartPose, String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    if !(3..=4).contains(&parts.len()) {
-        return Err(format!("expected X,Y,HEADING[,LEVEL], got `{s}`"));
+    if !(2..=4).contains(&parts.len()) {
+        return Err(format!(
+            "expected X,Y[,HEADING[,LEVEL]] (X,Y,,LEVEL for a level without a heading), got `{s}`"
+        ));
     }
     let number = |i: usize, what: &str| {
         parts[i]
@@ -115,6 +125,10 @@ pub(super) fn parse_start(s: &str) -> Result<StartPose, String> {
             .ok()
             .filter(|v| v.is_finite())
             .ok_or_else(|| format!("{what} `{}` is not a finite number", parts[i]))
+    };
+    let heading = match parts.get(2) {
+        Some(h) if !h.is_empty() => Some(number(2, "HEADING")?),
+        _ => None,
     };
     let level = match parts.get(3) {
         Some(l) => Some(
@@ -126,7 +140,7 @@ pub(super) fn parse_start(s: &str) -> Result<StartPose, String> {
     Ok(StartPose {
         x: number(0, "X")?,
         y: number(1, "Y")?,
-        heading: number(2, "HEADING")?,
+        heading,
         level,
     })
 }
@@ -134,6 +148,10 @@ pub(super) fn parse_start(s: &str) -> Result<StartPose, String> {
 #[derive(Debug, Serialize)]
 struct Summary {
     rf: Option<RfSummary>,
+    /// Whether the steps' absolute headings weighted the particles.
+    headings_used: bool,
+    /// Steps of the trace that carry an absolute heading.
+    steps_with_heading: usize,
     plan_file: String,
     steps_file: String,
     steps: usize,
@@ -211,6 +229,9 @@ pub fn run(args: Args) -> Result<()> {
     if args.start.is_some() {
         config.start = args.start;
     }
+    if args.ignore_heading {
+        config.heading.enabled = false;
+    }
     if let Some(m) = args.rf_mode {
         config.rf.mode = match m {
             RfModeArg::Containment => RfMode::Containment,
@@ -273,8 +294,8 @@ pub fn run(args: Args) -> Result<()> {
     };
 
     let filter_started = Instant::now();
-    let (reports, snapshots, initial, bytes_per_particle, track, ignored) =
-        pool.install(|| -> Result<_> {
+    let (reports, snapshots, initial, bytes_per_particle, track, ignored, headings_used) = pool
+        .install(|| -> Result<_> {
             let mut walker = match &radio {
                 Some((rf, scans, ..)) => {
                     Walker::Rf(Box::new(RfTracker::new(&topology, &config, rf, scans)?))
@@ -324,6 +345,7 @@ pub fn run(args: Args) -> Result<()> {
                 walker.tracker().map_or(0.0, Tracker::bytes_per_particle),
                 track,
                 walker.tracker().map_or(0, Tracker::measurements_ignored),
+                walker.tracker().map_or(0, Tracker::headings_used),
             ))
         })?;
     let filter_runtime = filter_started.elapsed().as_secs_f64();
@@ -377,6 +399,8 @@ pub fn run(args: Args) -> Result<()> {
                 started_at_step: reports.iter().position(|r| r.particles > 0).map(|i| i + 1),
                 measurements_ignored: ignored,
             }),
+        headings_used: headings_used > 0,
+        steps_with_heading: trace.steps().iter().filter(|s| s.heading.is_some()).count(),
         plan_file: plan_path.display().to_string(),
         steps_file: steps_path.display().to_string(),
         steps: trace.len(),
@@ -506,11 +530,22 @@ mod tests {
     #[test]
     fn starts_parse_or_explain() {
         let s = parse_start("1.5,-2,0.5").expect("start");
-        assert_eq!((s.x, s.y, s.heading, s.level), (1.5, -2.0, 0.5, None));
-        assert_eq!(parse_start("1,2,3,2").expect("level").level, Some(2));
-        assert!(parse_start("1,2").is_err());
-        assert!(parse_start("1,2,x").is_err());
-        assert!(parse_start("1,2,3,1.5").is_err());
-        assert!(parse_start("1,2,NaN").is_err());
+        assert_eq!((s.x, s.y, s.heading, s.level), (1.5, -2.0, Some(0.5), None));
+        let s = parse_start("1.5, -2").expect("no heading");
+        assert_eq!((s.x, s.y, s.heading, s.level), (1.5, -2.0, None, None));
+        let s = parse_start("1,2,3,2").expect("level");
+        assert_eq!((s.heading, s.level), (Some(3.0), Some(2)));
+        let s = parse_start("1,2,,-1").expect("level without heading");
+        assert_eq!((s.x, s.y, s.heading, s.level), (1.0, 2.0, None, Some(-1)));
+        assert_eq!(parse_start("1,2,").expect("trailing comma").heading, None);
+        let err = |s: &str| parse_start(s).expect_err(s);
+        assert!(err("1").contains("expected X,Y[,HEADING[,LEVEL]]"));
+        assert!(err("1,2,3,4,5").contains("X,Y,,LEVEL"));
+        assert!(err("1,2,x").contains("HEADING `x` is not a finite number"));
+        assert!(err("1,2,NaN").contains("HEADING `NaN`"));
+        assert!(err("x,2").contains("X `x`"));
+        assert!(err(",2").contains("X ``"));
+        assert!(err("1,2,3,1.5").contains("level `1.5` is not an integer"));
+        assert!(err("1,2,,").contains("level ``"));
     }
 }

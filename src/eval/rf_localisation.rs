@@ -127,7 +127,7 @@ pub fn survey_simulations(
             start: Some(StartPose {
                 x: sim.start.x,
                 y: sim.start.y,
-                heading: sim.start.heading,
+                heading: Some(sim.start.heading),
                 level: Some(sim.start.level),
             }),
             ..config.clone()

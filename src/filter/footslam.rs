@@ -11,7 +11,10 @@
 //! * (d) normalise; (f) resample when the effective sample size is low.
 //!
 //! Anchors to the world (sec. 4.1–4.3), all optional ([`Anchors`]): GPS fixes weight the
-//! particles at the steps they fall in ([`crate::model::GpsLikelihood`]); a rough building
+//! particles at the steps they fall in ([`crate::model::GpsLikelihood`]); a step's absolute
+//! heading (a compass), where it has one, weights them the same way
+//! ([`crate::model::HeadingLikelihood`]) — a measurement beside eq. (6) that keeps the
+//! learned map's orientation (x east, y north) and checks the heading drift; a rough building
 //! outline and maps of earlier walks become per-edge Dirichlet priors `α^e_h` in eq. (6)
 //! ([`EdgePrior`]), one read-only table shared by every particle.
 
@@ -24,7 +27,7 @@ use super::resample::{self, ResampleMethod};
 use crate::error::Result;
 use crate::geometry::{Hex, HexGrid, Pose2};
 use crate::map::{EdgePrior, HexMapSnapshot, HexTransitionMap};
-use crate::model::{GpsLikelihood, StepErrorState, StepMotion};
+use crate::model::{GpsLikelihood, HeadingLikelihood, StepErrorState, StepMotion};
 use crate::random::{filter_stream, stream};
 use crate::sensor::Step;
 use rand::RngExt;
@@ -76,6 +79,10 @@ pub struct FootSlam {
     gps: Option<GpsQueue>,
     /// Fixes applied at the current step (scratch).
     step_fixes: Vec<StepFix>,
+    /// The absolute-heading model (`None` when disabled).
+    heading: Option<HeadingLikelihood>,
+    /// Steps whose absolute heading weighted the particles.
+    headings_used: usize,
     /// Time of the previous step.
     last_t: Option<f64>,
     /// The prior-map offset `δ`.
@@ -175,6 +182,11 @@ impl FootSlam {
             prior,
             gps,
             step_fixes: Vec::new(),
+            heading: config
+                .heading
+                .enabled
+                .then(|| HeadingLikelihood::new(config.heading)),
+            headings_used: 0,
             last_t: None,
             offset,
             offset_pull,
@@ -224,6 +236,11 @@ impl FootSlam {
         self.gps.as_ref().map_or(0, |g| g.next)
     }
 
+    /// Steps whose absolute heading weighted the particles so far.
+    pub fn headings_used(&self) -> usize {
+        self.headings_used
+    }
+
     /// Current positions and normalised weights of all particles.
     pub fn particle_positions(&self) -> impl Iterator<Item = ((f64, f64), f64)> + '_ {
         self.particles
@@ -248,6 +265,8 @@ impl FootSlam {
         let prior = self.prior.as_ref();
         let offset = self.offset;
         let (gps, fixes) = (self.gps.as_ref().map(|g| g.likelihood), &self.step_fixes);
+        let compass = self.heading.zip(z.heading);
+        self.headings_used += usize::from(compass.is_some());
         self.particles
             .par_iter_mut()
             .zip(self.log_weights.par_iter_mut())
@@ -269,6 +288,11 @@ impl FootSlam {
                 // GPS fixes that fell during the step, at the point walked by then.
                 if let Some(gps) = gps {
                     log_factor += log_gps_factor(&gps, fixes, p.pose, pose);
+                }
+                // The step's absolute heading against the particle's (IMU) heading, which
+                // the measured heading changes integrate.
+                if let Some((model, h)) = compass {
+                    log_factor += model.log_likelihood(h, pose.heading);
                 }
                 *log_w += log_factor;
                 p.path_log_likelihood += log_factor;

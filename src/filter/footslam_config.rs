@@ -3,7 +3,7 @@
 use super::resample::ResampleConfig;
 use crate::error::{Error, Result};
 use crate::geometry::Pose2;
-use crate::model::{GpsConfig, StepMotionConfig};
+use crate::model::{GpsConfig, HeadingConfig, StepMotionConfig};
 use serde::{Deserialize, Serialize};
 
 /// FootSLAM's parameters; every default in one place.
@@ -42,6 +42,9 @@ pub struct FootSlamConfig {
     pub resample: ResampleConfig,
     /// GPS likelihood (used when fixes are given).
     pub gps: GpsConfig,
+    /// Absolute-heading likelihood (used for steps that carry a `heading`, unless
+    /// `heading.enabled` is false). Default: see [`HeadingConfig`] (σ 20°, ε 0.2).
+    pub heading: HeadingConfig,
 }
 
 impl Default for FootSlamConfig {
@@ -61,6 +64,7 @@ impl Default for FootSlamConfig {
             motion: StepMotionConfig::default(),
             resample: ResampleConfig::default(),
             gps: GpsConfig::default(),
+            heading: HeadingConfig::default(),
         }
     }
 }
@@ -121,6 +125,9 @@ impl FootSlamConfig {
             );
         }
         self.gps
+            .validate()
+            .or_else(|(field, v, reason)| bad(field, v.to_string(), reason))?;
+        self.heading
             .validate()
             .or_else(|(field, v, reason)| bad(field, v.to_string(), reason))?;
         let t = self.resample.ess_threshold;

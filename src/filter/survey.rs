@@ -124,7 +124,7 @@ mod tests {
             start: Some(StartPose {
                 x: sim.start.x,
                 y: sim.start.y,
-                heading: sim.start.heading,
+                heading: Some(sim.start.heading),
                 level: Some(sim.start.level),
             }),
             ..Default::default()

@@ -8,10 +8,14 @@
 //!    connection → next polygon) and weight it by the height change,
 //!    `w_t = N_{0,σ_h}(|δz − δz_poly|)` (eqs. 15–17);
 //! 2. **recover** if every particle died (see [`super::recovery`]);
-//! 3. **size** the next particle set by KLD-sampling over 1 m × 1 m × 10° × level bins
+//! 3. **weigh by the step's heading** where the step carries an absolute heading: heading
+//!    measurement (not in Woodman & Harle; a compass as in harle-2013 §V),
+//!    `w_t ← w_t · p(h_t | θ_t)` with the outlier-robust model of
+//!    [`crate::model::HeadingLikelihood`] (eq. 1 there); no heading, no cost;
+//! 4. **size** the next particle set by KLD-sampling over 1 m × 1 m × 10° × level bins
 //!    ([`super::kld`]);
-//! 4. **resample** that many particles systematically;
-//! 5. **cluster** the particles by mean shift once there are few enough of them; the walker
+//! 5. **resample** that many particles systematically;
+//! 6. **cluster** the particles by mean shift once there are few enough of them; the walker
 //!    is localised when one cluster remains (no wider than `cluster.max_spread`), and the
 //!    estimate is the heaviest cluster's mean.
 //!
@@ -31,6 +35,7 @@ use super::recovery::{Recovery, heading_corrections};
 use super::tracker_config::{StartPose, TrackerConfig};
 use crate::error::{Error, Result};
 use crate::map::{CellField, FloorTopology};
+use crate::model::HeadingLikelihood;
 use crate::sensor::Step;
 use rand::RngExt;
 use rand_distr::StandardNormal;
@@ -139,6 +144,10 @@ pub struct Tracker<'a> {
     region: Option<CellField>,
     /// Steps whose extra measurement was ignored because no particle was consistent with it.
     ignored: usize,
+    /// The absolute-heading measurement model.
+    heading: HeadingLikelihood,
+    /// Steps whose absolute heading weighted the particles.
+    headings_used: usize,
 }
 
 /// Step inputs in the particles' precision.
@@ -189,6 +198,8 @@ impl<'a> Tracker<'a> {
             localised_now: false,
             region,
             ignored: 0,
+            heading: HeadingLikelihood::new(config.heading),
+            headings_used: 0,
         };
         if let Some(start) = config.start {
             let s = tracker.locate_start(&start)?;
@@ -210,6 +221,12 @@ impl<'a> Tracker<'a> {
     /// so that it was ignored rather than let kill the belief.
     pub fn measurements_ignored(&self) -> usize {
         self.ignored
+    }
+
+    /// Steps whose absolute heading weighted the particles (0 when the trace has none or
+    /// `heading.enabled` is false).
+    pub fn headings_used(&self) -> usize {
+        self.headings_used
     }
 
     /// The configuration.
@@ -277,6 +294,7 @@ impl<'a> Tracker<'a> {
                 }
                 self.measure(m);
             }
+            self.measure_heading(step);
             let n = self.weigh();
             self.resample(n, SALT_RESAMPLE);
         }
@@ -382,6 +400,22 @@ impl<'a> Tracker<'a> {
             .zip(parents.par_iter())
             .zip(self.log_weights.par_iter_mut())
             .for_each(|((to, from), lw)| *lw += value(from, to));
+    }
+
+    /// Heading measurement (not in Woodman & Harle; a compass as in harle-2013 §V): adds
+    /// `ln p(h_t | θ_t)` of the step's absolute heading to every proposed particle's
+    /// log-weight, where the step has one and the model is enabled. The model's floor keeps
+    /// every particle alive, so a disturbed reading cannot kill the belief.
+    fn measure_heading(&mut self, step: &Step) {
+        let Some(h) = step.heading.filter(|_| self.heading.enabled()) else {
+            return;
+        };
+        let (model, c) = (&self.heading, self.heading.offset_measurement(h));
+        self.proposal
+            .par_iter()
+            .zip(self.log_weights.par_iter_mut())
+            .for_each(|(p, lw)| *lw += model.log_likelihood_f32(&c, p.heading));
+        self.headings_used += 1;
     }
 
     /// Turns the proposal's log-weights into weights (relative to the largest), fills the
@@ -599,10 +633,18 @@ impl<'a> Tracker<'a> {
             if !self.propagate(&h, 0.0, salt ^ crate::random::mix(k as u64 + 1)) {
                 return false;
             }
+            self.replay_heading(s);
             let m = self.weigh();
             self.resample(m, salt ^ crate::random::mix(k as u64 + 1));
         }
         self.propagate(u, 0.0, salt)
+    }
+
+    /// The heading measurement of a replayed step (history fitting), not counted again.
+    fn replay_heading(&mut self, step: &Step) {
+        let used = self.headings_used;
+        self.measure_heading(step);
+        self.headings_used = used;
     }
 
     /// Draws the uniform prior over every surface and heading — inside the region when one
@@ -841,7 +883,11 @@ impl StartSampler<'_> {
             TrackParticle {
                 x: x as f32,
                 y: y as f32,
-                heading: wrap((self.start.heading + self.heading_sigma * g(rng)) as f32),
+                heading: match self.start.heading {
+                    Some(h) => wrap((h + self.heading_sigma * g(rng)) as f32),
+                    // Unknown: uniform over the circle.
+                    None => rng.random_range(-PI..PI),
+                },
                 scale: (1.0 + self.scale_sigma * g(rng)) as f32,
                 drift: (self.drift_sigma * g(rng)) as f32,
                 surface,
@@ -948,7 +994,7 @@ mod tests {
             start: Some(StartPose {
                 x: 0.0,
                 y: 0.0,
-                heading,
+                heading: Some(heading),
                 level: Some(0),
             }),
             ..small()
@@ -1093,6 +1139,64 @@ mod tests {
             );
         }
         assert!(deaths > 0);
+    }
+
+    #[test]
+    fn an_unknown_start_heading_is_settled_by_step_headings() {
+        let (sim, topology) = office();
+        let unknown = |enabled: bool| TrackerConfig {
+            start: Some(StartPose {
+                heading: None,
+                ..at_origin(0.0).start.expect("start")
+            }),
+            heading: crate::model::HeadingConfig {
+                enabled,
+                ..Default::default()
+            },
+            ..small()
+        };
+        // The mean resultant length of the particles' headings: 1 when all agree.
+        let agreement = |t: &Tracker| {
+            let (s, c) = t.particles().iter().fold((0.0, 0.0), |(s, c), p| {
+                (
+                    s + f64::from(p.heading.sin()),
+                    c + f64::from(p.heading.cos()),
+                )
+            });
+            s.hypot(c) / t.particles().len() as f64
+        };
+        let steps: Vec<Step> = sim
+            .steps
+            .steps()
+            .iter()
+            .zip(&sim.truth.poses)
+            .map(|(s, p)| Step {
+                heading: Some(p.heading),
+                ..*s
+            })
+            .collect();
+        let mut with = Tracker::new(&topology, &unknown(true)).expect("tracker");
+        let mut without = Tracker::new(&topology, &unknown(false)).expect("tracker");
+        assert!(agreement(&with) < 0.2, "a uniform prior heading");
+        for s in &steps[..2] {
+            with.update(s).expect("update");
+            without.update(s).expect("update");
+        }
+        assert_eq!((with.headings_used(), without.headings_used()), (2, 0));
+        // Two readings leave headings within about 20° (R = e^{−σ²/2} ≈ 0.94 for σ = 20°).
+        assert!(agreement(&with) > 0.9, "{}", agreement(&with));
+        assert!(agreement(&without) < agreement(&with));
+        let mut errors: Vec<f64> = steps[2..]
+            .iter()
+            .zip(&sim.truth.poses[2..])
+            .map(|(s, p)| {
+                let c = with.update(s).expect("update").estimate.expect("cluster");
+                (c.x - p.x).hypot(c.y - p.y)
+            })
+            .collect();
+        errors.sort_by(f64::total_cmp);
+        let p95 = errors[errors.len() * 95 / 100];
+        assert!(p95 < 0.8, "p95 {p95} m");
     }
 
     #[test]

@@ -6,6 +6,7 @@ use super::recovery::RecoveryConfig;
 use super::rf_assist::RfConfig;
 use crate::error::{Error, Result};
 use crate::map::TopologyConfig;
+use crate::model::HeadingConfig;
 use serde::{Deserialize, Serialize};
 
 /// A known start: where the walker stands before the first step.
@@ -16,8 +17,11 @@ pub struct StartPose {
     pub x: f64,
     /// North, metres.
     pub y: f64,
-    /// Heading before the first step, radians counter-clockwise from east.
-    pub heading: f64,
+    /// Heading before the first step, radians counter-clockwise from east; `None` (or
+    /// missing, or `null`) = unknown: uniform over the circle at the known position (step
+    /// headings, where the trace has them, settle it within a few steps).
+    #[serde(default)]
+    pub heading: Option<f64>,
     /// Floor level; `None` = any surface containing the point (the lowest).
     pub level: Option<i32>,
 }
@@ -36,7 +40,8 @@ pub struct StartPose {
 /// | `drift_walk_sigma`    | 0 (off)   | random walk of the drift rate per step                  |
 /// | `start`               | none      | known start pose (`None` = uniform prior)               |
 /// | `start_position_sigma`| 0.3 m     | spread of a known start's position                      |
-/// | `start_heading_sigma` | 5°        | spread of a known start's heading                       |
+/// | `start_heading_sigma` | 5°        | spread of a known start's heading (when it has one)     |
+/// | `heading`             | see [`HeadingConfig`] | step headings (compass): σ 20°, ε 0.2, on   |
 /// | `ambiguous_min_particles` | 3000  | fewest particles while the belief is not one cluster |
 /// | `kld`                 | see [`KldConfig`]     | adaptive particle count                     |
 /// | `cluster`             | see [`ClusterConfig`] | clusters and localisation                   |
@@ -86,6 +91,9 @@ pub struct TrackerConfig {
     pub topology: TopologyConfig,
     /// RF-assisted localisation (used only with a radio map and scans).
     pub rf: RfConfig,
+    /// The absolute-heading measurement of steps that carry one (`enabled = false`
+    /// ignores the column).
+    pub heading: HeadingConfig,
 }
 
 impl Default for TrackerConfig {
@@ -108,6 +116,7 @@ impl Default for TrackerConfig {
             recovery: RecoveryConfig::default(),
             topology: TopologyConfig::default(),
             rf: RfConfig::default(),
+            heading: HeadingConfig::default(),
         }
     }
 }
@@ -190,7 +199,7 @@ impl TrackerConfig {
             "must be in [0, 4] radians",
         )?;
         if let Some(s) = self.start {
-            for v in [s.x, s.y, s.heading] {
+            for v in [s.x, s.y, s.heading.unwrap_or(0.0)] {
                 check("start", v, -1e7, 1e7, "must be finite")?;
             }
         }
@@ -244,6 +253,13 @@ impl TrackerConfig {
             1e8,
             "must be at most 100000000",
         )?;
+        self.heading
+            .validate()
+            .map_err(|(field, v, reason)| Error::Config {
+                field,
+                value: v.to_string(),
+                reason,
+            })?;
         self.rf.validate()?;
         self.kld.validate()?;
         self.cluster.validate()?;

@@ -222,3 +222,43 @@ fn rejects_bad_configuration() {
         .is_err()
     );
 }
+
+#[test]
+fn compass_headings_pick_the_start_heading_and_count() {
+    // The square walk in a world turned by 0.5 rad, its steps read by an exact compass.
+    let rotation = 0.5;
+    let mut heading = 0.0;
+    let steps: Vec<Step> = square_walk(1)
+        .into_iter()
+        .map(|s| {
+            heading += s.dheading;
+            Step {
+                heading: Some(heading + rotation),
+                ..s
+            }
+        })
+        .collect();
+    let run = |enabled: bool| {
+        let mut f = FootSlam::new(FootSlamConfig {
+            particles: 500,
+            seed: 3,
+            start_heading_sigma: std::f64::consts::PI,
+            heading: crate::model::HeadingConfig {
+                enabled,
+                ..Default::default()
+            },
+            ..Default::default()
+        })
+        .expect("valid");
+        for s in &steps {
+            f.update(s);
+        }
+        f
+    };
+    let with = run(true);
+    assert_eq!(with.headings_used(), steps.len());
+    let end = with.estimate().path.last().copied().expect("a path");
+    let error = (end.heading - heading - rotation).sin().asin().abs();
+    assert!(error < 10f64.to_radians(), "{}°", error.to_degrees());
+    assert_eq!(run(false).headings_used(), 0);
+}
