@@ -122,20 +122,27 @@ def main():
                 f.write(f"{os.path.abspath(os.path.join(a.out, w, 'steps', 'steps.csv'))},{os.path.abspath(wifi)},\"{x0},{y0}\"\n")
         radiomap = os.path.join(a.out, "survey", "radiomap.geojson")
         footslam(a.binary, "survey", "--plan", plan, "--walks", manifest, "--seed", a.seed, *cfg, "--out", os.path.join(a.out, "survey"))
-        rf_tracked, rf_alone = [], []
+        rf_tracked, rf_alone, unanswered, not_localised = [], [], 0, 0
         for w in test_walks:
             wifi = os.path.join(a.imported, w, "wifi.csv")
             if not os.path.isfile(wifi):
                 continue
             wps = os.path.join(a.imported, w, "waypoints.csv")
             run = os.path.join(a.out, w)
+            n_wps = max(0, sum(1 for _ in open(wps)) - 2)
             try:
-                footslam(a.binary, "track", "--plan", plan, "--steps", os.path.join(run, "steps", "steps.csv"), "--radiomap", radiomap, "--wifi", wifi, "--seed", a.seed, *cfg, "--out", os.path.join(run, "rf-track"))
-                e, _ = waypoint_errors(a.binary, wps, os.path.join(run, "rf-track", "track.csv"))
-                rf_tracked += e
                 footslam(a.binary, "fingerprint", "--radiomap", radiomap, "--wifi", wifi, "--out", os.path.join(run, "fingerprint"))
                 e, _ = waypoint_errors(a.binary, wps, os.path.join(run, "fingerprint", "track.csv"))
                 rf_alone += e
+                footslam(a.binary, "track", "--plan", plan, "--steps", os.path.join(run, "steps", "steps.csv"), "--radiomap", radiomap, "--wifi", wifi, "--seed", a.seed, *cfg, "--out", os.path.join(run, "rf-track"))
+                with open(os.path.join(run, "rf-track", "summary.json")) as f:
+                    localised = json.load(f)["track_rows"] > 0
+                if localised:
+                    e, _ = waypoint_errors(a.binary, wps, os.path.join(run, "rf-track", "track.csv"))
+                else:
+                    e, not_localised = [], not_localised + 1
+                rf_tracked += e
+                unanswered += n_wps - len(e)
             except RuntimeError as err:
                 failed.append({"walk": w, "error": str(err)})
                 print(f"{w}: FAILED {err}", file=sys.stderr)
@@ -143,6 +150,8 @@ def main():
             "survey_walks": len(survey_walks),
             "test_walks": len(test_walks),
             "tracked_with_radio_map": summary("WiFi + radio map, unknown start", rf_tracked),
+            "waypoints_before_localisation": unanswered,
+            "walks_never_localised": not_localised,
             "radio_map_alone": summary("radio map alone (nearest fingerprints)", rf_alone),
         }
     with open(os.path.join(a.out, "figures.json"), "w") as f:
@@ -153,6 +162,9 @@ def main():
     print(f"\n{'':40} {'waypoints':>9} {'median':>8} {'p90':>8}")
     for r in rows:
         print(f"{r['name']:40} {r['n']:>9} {r['median_m']:>7.2f}m {r['p90_m']:>7.2f}m")
+    if "radio" in figures:
+        r = figures["radio"]
+        print(f"WiFi + radio map: {r['walks_never_localised']} of {r['test_walks']} walks never localised; {r['waypoints_before_localisation']} waypoints before localisation (no estimate)")
     if failed:
         print(f"{len(failed)} runs failed (see figures.json)")
 
