@@ -1,30 +1,461 @@
-//! Foot-mounted IMU → strides: a zero-velocity-aided strapdown INS.
+//! Foot-mounted IMU → strides: a zero-velocity-aided strapdown INS (Harle 2013 §IV; Foxlin
+//! 2005; Skog et al. 2010 for the stance detector).
+//!
+//! The pipeline, one stage per file:
+//! 1. [`super::stance`]: the SHOE detector marks the samples where the foot is flat and still;
+//! 2. [`super::strapdown`]: from the first stance (roll and pitch from its mean specific
+//!    force, yaw 0) the INS integrates every sample with its own `dt`;
+//! 3. [`super::zupt`]: during stance the error-state filter applies zero-velocity updates;
+//! 4. here: the stances cut the path into strides. Each stance's last sample closes a stride
+//!    from the previous stance (its `t`, horizontal `length`, change of the foot's yaw
+//!    `dheading`, height change `dz`). A stride that is too short in distance or time (a
+//!    shuffle, a spurious stance) is merged into the next one; standing still produces no
+//!    stance end and so no stride. A gap in the samples longer than `max_gap_s` cannot be
+//!    integrated: the open stride is dropped, and the INS restarts at the next stance
+//!    (re-levelled, same yaw, same position).
 
-use super::StepEvents;
+use super::stance::{ShoeDetector, samples_in};
+use super::strapdown::{NavState, heading_axis, heading_of, level};
+use super::zupt::ZuptFilter;
+use super::{HeadingSource, StepEvents};
 use crate::error::{Error, Result};
-use crate::sensor::ImuRecording;
+use crate::sensor::step::{MAX_STEP_DZ, MAX_STEP_LENGTH};
+use crate::sensor::{ImuRecording, Step, StepTrace};
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
 
 /// Parameters of the foot-mounted INS; every default in one place.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+///
+/// | field                    | default        | meaning                                                        |
+/// |--------------------------|----------------|----------------------------------------------------------------|
+/// | `window_s`               | 0.05 s         | SHOE window `W` (10 samples at 200 Hz, 5 at 100 Hz)            |
+/// | `accel_sigma`            | 0.1 m/s²       | SHOE accelerometer scale `σ_a`                                 |
+/// | `gyro_sigma`             | 0.1 rad/s      | SHOE gyroscope scale `σ_ω`                                     |
+/// | `threshold_floor`        | 3              | `γ_floor`: `T` below it is always stance (standing still)      |
+/// | `threshold_ceiling`      | 3 000          | `γ_ceiling`: `T` above it is never stance                      |
+/// | `adaptive_fraction`      | 0.35           | `α`: threshold at this fraction from local log-min to log-max  |
+/// | `adaptive_half_window_s` | 1.0 s          | `H`: half-width of the local min/max window (≈ one stride)     |
+/// | `min_stance_s`           | 0.05 s         | shorter stances are dropped (no zero-velocity update)          |
+/// | `max_hole_s`             | 0.05 s         | shorter motion inside a stance is filled in                    |
+/// | `accel_noise_density`    | 0.1 m/s²/√Hz   | filter's accelerometer noise `√q_a`                            |
+/// | `gyro_noise_density`     | 0.005 rad/s/√Hz| filter's gyroscope noise `√q_ω` (≈ 0.3 °/s/√Hz)                |
+/// | `zero_velocity_sigma`    | 0.01 m/s       | ZUPT measurement noise `σ_z`                                   |
+/// | `initial_tilt_sigma`     | 0.02 rad       | roll/pitch uncertainty after levelling (≈ 1°)                  |
+/// | `gravity`                | none (measured)| `g`, m/s²; none = norm of the first stance's mean specific force |
+/// | `max_level_s`            | 1.0 s          | levelling averages at most this much of a stance               |
+/// | `max_gap_s`              | 0.1 s          | longer intervals between samples cannot be integrated          |
+/// | `min_stride_length`      | 0.1 m          | shorter strides are merged into the next                       |
+/// | `min_stride_s`           | 0.3 s          | quicker strides are merged into the next                       |
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
-pub struct FootConfig {}
+pub struct FootConfig {
+    /// SHOE window `W`, seconds.
+    pub window_s: f64,
+    /// SHOE accelerometer scale `σ_a`, m/s².
+    pub accel_sigma: f64,
+    /// SHOE gyroscope scale `σ_ω`, rad/s.
+    pub gyro_sigma: f64,
+    /// `γ_floor`: a SHOE statistic below it is always stance.
+    pub threshold_floor: f64,
+    /// `γ_ceiling`: a SHOE statistic above it is never stance.
+    pub threshold_ceiling: f64,
+    /// `α`: the adaptive threshold's place between the local log-minimum (0) and
+    /// log-maximum (1) of the statistic.
+    pub adaptive_fraction: f64,
+    /// `H`: half-width of the adaptive threshold's local window, seconds.
+    pub adaptive_half_window_s: f64,
+    /// Shortest stance kept, seconds.
+    pub min_stance_s: f64,
+    /// Longest motion inside a stance that is filled in, seconds.
+    pub max_hole_s: f64,
+    /// Accelerometer noise density of the filter's model, m/s²/√Hz.
+    pub accel_noise_density: f64,
+    /// Gyroscope noise density of the filter's model, rad/s/√Hz.
+    pub gyro_noise_density: f64,
+    /// Zero-velocity measurement noise, m/s.
+    pub zero_velocity_sigma: f64,
+    /// Roll and pitch uncertainty after levelling, radians.
+    pub initial_tilt_sigma: f64,
+    /// Gravity, m/s²; `None` = the norm of the first stance's mean specific force.
+    pub gravity: Option<f64>,
+    /// Levelling averages at most this much of a stance, seconds.
+    pub max_level_s: f64,
+    /// Longest interval between samples that is integrated, seconds.
+    pub max_gap_s: f64,
+    /// Shortest stride emitted, metres; shorter ones are merged into the next.
+    pub min_stride_length: f64,
+    /// Quickest stride emitted, seconds; quicker ones are merged into the next.
+    pub min_stride_s: f64,
+}
+
+impl Default for FootConfig {
+    fn default() -> Self {
+        Self {
+            window_s: 0.05,
+            accel_sigma: 0.1,
+            gyro_sigma: 0.1,
+            threshold_floor: 3.0,
+            threshold_ceiling: 3000.0,
+            adaptive_fraction: 0.35,
+            adaptive_half_window_s: 1.0,
+            min_stance_s: 0.05,
+            max_hole_s: 0.05,
+            accel_noise_density: 0.1,
+            gyro_noise_density: 0.005,
+            zero_velocity_sigma: 0.01,
+            initial_tilt_sigma: 0.02,
+            gravity: None,
+            max_level_s: 1.0,
+            max_gap_s: 0.1,
+            min_stride_length: 0.1,
+            min_stride_s: 0.3,
+        }
+    }
+}
 
 impl FootConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        Ok(())
+        let check = |field: &'static str, v: f64, lo: f64, hi: f64, reason: &'static str| {
+            if v.is_finite() && (lo..=hi).contains(&v) {
+                Ok(())
+            } else {
+                Err(Error::Config {
+                    field,
+                    value: v.to_string(),
+                    reason,
+                })
+            }
+        };
+        check("foot.window_s", self.window_s, 0.005, 1.0, "must be in [0.005, 1] s")?;
+        check("foot.accel_sigma", self.accel_sigma, 1e-4, 10.0, "must be in [1e-4, 10] m/s²")?;
+        check("foot.gyro_sigma", self.gyro_sigma, 1e-5, 10.0, "must be in [1e-5, 10] rad/s")?;
+        check("foot.threshold_floor", self.threshold_floor, 1e-6, 1e9, "must be in [1e-6, 1e9]")?;
+        check(
+            "foot.threshold_ceiling",
+            self.threshold_ceiling,
+            self.threshold_floor,
+            1e12,
+            "must be in [threshold_floor, 1e12]",
+        )?;
+        check("foot.adaptive_fraction", self.adaptive_fraction, 0.0, 1.0, "must be in [0, 1]")?;
+        check(
+            "foot.adaptive_half_window_s",
+            self.adaptive_half_window_s,
+            0.1,
+            10.0,
+            "must be in [0.1, 10] s",
+        )?;
+        check("foot.min_stance_s", self.min_stance_s, 0.0, 1.0, "must be in [0, 1] s")?;
+        check("foot.max_hole_s", self.max_hole_s, 0.0, 1.0, "must be in [0, 1] s")?;
+        check(
+            "foot.accel_noise_density",
+            self.accel_noise_density,
+            1e-5,
+            10.0,
+            "must be in [1e-5, 10] m/s²/√Hz",
+        )?;
+        check(
+            "foot.gyro_noise_density",
+            self.gyro_noise_density,
+            1e-7,
+            1.0,
+            "must be in [1e-7, 1] rad/s/√Hz",
+        )?;
+        check(
+            "foot.zero_velocity_sigma",
+            self.zero_velocity_sigma,
+            1e-4,
+            1.0,
+            "must be in [1e-4, 1] m/s",
+        )?;
+        check(
+            "foot.initial_tilt_sigma",
+            self.initial_tilt_sigma,
+            0.0,
+            0.5,
+            "must be in [0, 0.5] rad",
+        )?;
+        if let Some(g) = self.gravity {
+            check("foot.gravity", g, 9.7, 9.9, "must be in [9.7, 9.9] m/s² (Earth's surface)")?;
+        }
+        check("foot.max_level_s", self.max_level_s, 0.01, 60.0, "must be in [0.01, 60] s")?;
+        check("foot.max_gap_s", self.max_gap_s, 0.001, 10.0, "must be in [0.001, 10] s")?;
+        check(
+            "foot.min_stride_length",
+            self.min_stride_length,
+            0.0,
+            MAX_STEP_LENGTH,
+            "must be in [0, 3] m",
+        )?;
+        check("foot.min_stride_s", self.min_stride_s, 0.0, 10.0, "must be in [0, 10] s")
+    }
+
+    fn detector(&self, gravity: f64) -> ShoeDetector {
+        ShoeDetector {
+            window_s: self.window_s,
+            accel_sigma: self.accel_sigma,
+            gyro_sigma: self.gyro_sigma,
+            gravity,
+            threshold_floor: self.threshold_floor,
+            threshold_ceiling: self.threshold_ceiling,
+            adaptive_fraction: self.adaptive_fraction,
+            adaptive_half_window_s: self.adaptive_half_window_s,
+            min_stance_s: self.min_stance_s,
+            max_hole_s: self.max_hole_s,
+        }
     }
 }
 
-/// The detector's figures.
+/// The foot INS's figures (for `summary.json`).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-pub struct FootFigures {}
+pub struct FootFigures {
+    /// Strides emitted.
+    pub strides: usize,
+    /// Stances detected (maximal runs of zero-velocity samples).
+    pub stances: usize,
+    /// Strides too short in distance or time, merged into the next.
+    pub merged_strides: usize,
+    /// Strides longer than the plausible maximum, split into equal parts.
+    pub split_strides: usize,
+    /// Sum of the stride lengths, metres.
+    pub distance_m: f64,
+    /// Mean stride length, metres (0 without strides).
+    pub mean_stride_length_m: f64,
+    /// Strides per minute of walking (the strides' summed durations).
+    pub cadence_per_min: f64,
+    /// Time in stance (zero-velocity samples), seconds.
+    pub stationary_s: f64,
+    /// Intervals longer than `max_gap_s` (not integrated).
+    pub gaps_skipped: usize,
+    /// Strides dropped because a gap interrupted them.
+    pub strides_lost_to_gaps: usize,
+    /// Median over the recording of the SHOE detector's adaptive threshold `γ`.
+    pub detector_threshold: f64,
+    /// Gravity used, m/s².
+    pub gravity: f64,
+    /// Mean velocity residual `‖v̂‖` of the zero-velocity updates, m/s.
+    pub mean_zupt_residual: f64,
+    /// Largest velocity residual of a zero-velocity update, m/s.
+    pub max_zupt_residual: f64,
+    /// Final height relative to the start, metres.
+    pub final_dz_m: f64,
+}
+
+/// The INS state at a stance that opened a stride.
+#[derive(Debug, Clone, Copy)]
+struct Anchor {
+    t: f64,
+    position: Vector3<f64>,
+    yaw: f64,
+}
 
 /// Strides of a foot-mounted recording.
 pub fn detect_strides(
-    _recording: &ImuRecording,
-    _config: &FootConfig,
+    recording: &ImuRecording,
+    config: &FootConfig,
 ) -> Result<StepEvents<FootFigures>> {
-    Err(Error::Input("the foot-mounted INS is not built yet".into()))
+    config.validate()?;
+    let samples = recording.samples();
+    let n = samples.len();
+    let dt_median = recording.report().median_dt_s;
+    let t: Vec<f64> = samples.iter().map(|s| s.t).collect();
+    let accel: Vec<[f64; 3]> = samples.iter().map(|s| s.accel).collect();
+    let gyro: Vec<[f64; 3]> = samples.iter().map(|s| s.gyro).collect();
+
+    let mask = config
+        .detector(config.gravity.unwrap_or(9.81))
+        .detect(&t, &accel, &gyro, dt_median);
+    let stance = &mask.stance;
+    let mut figures = FootFigures {
+        detector_threshold: mask.median_threshold,
+        ..FootFigures::default()
+    };
+    let level_samples = samples_in(config.max_level_s, dt_median, 1);
+    let mean_force = |k: usize| -> Vector3<f64> {
+        // The mean specific force of the stance run containing sample k, from its start.
+        let mut start = k;
+        while start > 0 && stance[start - 1] {
+            start -= 1;
+        }
+        let mut sum = Vector3::zeros();
+        let mut count = 0.0_f64;
+        for a in accel[start..].iter().zip(&stance[start..]).take(level_samples) {
+            if !*a.1 {
+                break;
+            }
+            sum += Vector3::from(*a.0);
+            count += 1.0;
+        }
+        sum / count.max(1.0)
+    };
+
+    let mut steps: Vec<Step> = Vec::new();
+    let mut path: Vec<[f64; 3]> = Vec::new();
+    let Some(first) = stance.iter().position(|&s| s) else {
+        return finish(steps, path, figures);
+    };
+    let f0 = mean_force(first);
+    let gravity = config.gravity.unwrap_or(f0.norm());
+    if !(5.0..=15.0).contains(&gravity) {
+        return Err(Error::Input(format!(
+            "the first stance's mean specific force is {gravity:.2} m/s², not gravity: are the \
+             accelerations in m/s² (not g)?"
+        )));
+    }
+    figures.gravity = gravity;
+    let axis = heading_axis(&f0);
+    let mut state = NavState::at_rest(Vector3::zeros(), level(&f0, &axis, 0.0), gravity);
+    let mut filter = ZuptFilter::new(
+        config.accel_noise_density,
+        config.gyro_noise_density,
+        config.zero_velocity_sigma,
+        config.initial_tilt_sigma,
+    );
+
+    let mut anchor: Option<Anchor> = None;
+    let mut lost = false; // after a gap, until the next stance
+    let mut reanchor = false; // after a restart, until the stance ends
+    let (mut residual_sum, mut residual_count) = (0.0, 0usize);
+    let mut stride_time = 0.0;
+    for k in first..n {
+        if k > first {
+            let dt = t[k] - t[k - 1];
+            if dt > config.max_gap_s {
+                figures.gaps_skipped += 1;
+                if !(stance[k - 1] && stance[k]) {
+                    // The foot moved across the gap: the open stride cannot be measured.
+                    if anchor.is_some() && !lost {
+                        figures.strides_lost_to_gaps += 1;
+                    }
+                    lost = true;
+                }
+            } else if !lost {
+                let f = 0.5 * (Vector3::from(accel[k - 1]) + Vector3::from(accel[k]));
+                let w = 0.5 * (Vector3::from(gyro[k - 1]) + Vector3::from(gyro[k]));
+                let f_n = state.propagate(&f, &w, dt);
+                filter.predict(&f_n, dt);
+            }
+        }
+        if !stance[k] {
+            continue;
+        }
+        if lost {
+            // Restart cleanly: re-levelled, at rest, same position and yaw.
+            let yaw = heading_of(&state.attitude, &axis);
+            state = NavState::at_rest(state.position, level(&mean_force(k), &axis, yaw), gravity);
+            filter.restart(config.initial_tilt_sigma);
+            lost = false;
+            reanchor = true;
+            if let Some(a) = anchor {
+                // The walker is assumed not to have moved across the gap.
+                state.position = a.position;
+            }
+        }
+        let r = filter.update_zero_velocity(&mut state);
+        residual_sum += r;
+        residual_count += 1;
+        figures.max_zupt_residual = figures.max_zupt_residual.max(r);
+        if k > first {
+            figures.stationary_s += (t[k] - t[k - 1]).min(config.max_gap_s);
+        }
+        let stance_ends = k + 1 == n || !stance[k + 1];
+        if !stance_ends {
+            continue;
+        }
+        figures.stances += 1;
+        let here = Anchor {
+            t: t[k],
+            position: state.position,
+            yaw: heading_of(&state.attitude, &axis),
+        };
+        let Some(from) = anchor.filter(|_| !reanchor) else {
+            if anchor.is_none() {
+                path.push(here.position.into());
+            }
+            anchor = Some(here);
+            reanchor = false;
+            continue;
+        };
+        let d = here.position - from.position;
+        let length = d.xy().norm();
+        if length < config.min_stride_length || here.t - from.t < config.min_stride_s {
+            figures.merged_strides += 1;
+            continue;
+        }
+        stride_time += here.t - from.t;
+        emit(&from, &here, &mut steps, &mut path, &mut figures);
+        anchor = Some(here);
+    }
+    figures.mean_zupt_residual = residual_sum / (residual_count.max(1) as f64);
+    if stride_time > 0.0 {
+        figures.cadence_per_min = 60.0 * steps.len() as f64 / stride_time;
+    }
+    finish(steps, path, figures)
+}
+
+/// Appends the stride `from → to` (split into equal parts if implausibly long).
+fn emit(
+    from: &Anchor,
+    to: &Anchor,
+    steps: &mut Vec<Step>,
+    path: &mut Vec<[f64; 3]>,
+    figures: &mut FootFigures,
+) {
+    let d = to.position - from.position;
+    let length = d.xy().norm();
+    let parts = ((length / MAX_STEP_LENGTH).ceil())
+        .max((d.z.abs() / MAX_STEP_DZ).ceil())
+        .max(1.0);
+    if parts > 1.0 {
+        figures.split_strides += 1;
+    }
+    let m = parts as usize;
+    for i in 1..=m {
+        let s = i as f64 / parts;
+        let p = from.position + d * s;
+        steps.push(Step {
+            t: from.t + (to.t - from.t) * s,
+            length: length / parts,
+            dheading: if i == 1 {
+                wrap_half_open(to.yaw - from.yaw)
+            } else {
+                0.0
+            },
+            dz: d.z / parts,
+            heading: None,
+        });
+        path.push(p.into());
+    }
+}
+
+/// Wraps an angle into `(−π, π]`.
+fn wrap_half_open(a: f64) -> f64 {
+    let w = crate::geometry::wrap_angle(a);
+    if w <= -PI { w + 2.0 * PI } else { w }
+}
+
+fn finish(
+    steps: Vec<Step>,
+    path: Vec<[f64; 3]>,
+    mut figures: FootFigures,
+) -> Result<StepEvents<FootFigures>> {
+    figures.strides = steps.len();
+    figures.distance_m = steps.iter().map(|s| s.length).sum();
+    if !steps.is_empty() {
+        figures.mean_stride_length_m = figures.distance_m / steps.len() as f64;
+    }
+    figures.final_dz_m = match (path.first(), path.last()) {
+        (Some(a), Some(b)) => b[2] - a[2],
+        _ => 0.0,
+    };
+    let trace = StepTrace::new(steps)
+        .map_err(|(i, m)| Error::Input(format!("stride {i} of the foot INS: {m}")))?;
+    Ok(StepEvents {
+        trace,
+        path,
+        heading_source: HeadingSource::Gyroscope,
+        figures,
+    })
 }

@@ -9,6 +9,9 @@
 
 pub mod foot;
 pub mod phone;
+pub mod stance;
+pub mod strapdown;
+pub mod zupt;
 
 pub use foot::{FootConfig, FootFigures, detect_strides};
 pub use phone::{PhoneConfig, PhoneFigures, detect_steps};
