@@ -134,6 +134,16 @@ fn score(dir: &Path, root: &Path, config: &FootConfig) -> Result<Score, Box<dyn 
             && b > a
         {
             length_errors.push(s.length - hdist(&truth[a], &truth[b]));
+            if std::env::var("DUMP").is_ok_and(|d| dir.ends_with(d)) {
+                println!(
+                    "  {:.2} {:.3} truth {:.3} ({}→{})",
+                    s.t,
+                    s.length,
+                    hdist(&truth[a], &truth[b]),
+                    a,
+                    b
+                );
+            }
         }
     }
     let (mut from, mut to) = (Vec::new(), Vec::new());

@@ -38,6 +38,7 @@ use std::f64::consts::PI;
 /// | `adaptive_half_window_s` | 1.0 s          | `H`: half-width of the local min/max window (≈ one stride)     |
 /// | `min_stance_s`           | 0.05 s         | shorter stances are dropped (no zero-velocity update)          |
 /// | `max_hole_s`             | 0.05 s         | shorter motion inside a stance is filled in                    |
+/// | `zupt_margin`            | 1.0 decade     | `δ`: ZUPT where `log₁₀ T` ≤ `m_k + δ` (local minimum + δ)         |
 /// | `accel_noise_density`    | 0.1 m/s²/√Hz   | filter's accelerometer noise `√q_a`                            |
 /// | `gyro_noise_density`     | 0.005 rad/s/√Hz| filter's gyroscope noise `√q_ω` (≈ 0.3 °/s/√Hz)                |
 /// | `zero_velocity_sigma`    | 0.01 m/s       | ZUPT measurement noise `σ_z`                                   |
@@ -69,6 +70,9 @@ pub struct FootConfig {
     pub min_stance_s: f64,
     /// Longest motion inside a stance that is filled in, seconds.
     pub max_hole_s: f64,
+    /// `δ`: zero-velocity updates apply where the SHOE statistic is within `δ` decades of
+    /// its local minimum `m_k` (or below `γ_floor`); a stance without any is dropped.
+    pub zupt_margin: f64,
     /// Accelerometer noise density of the filter's model, m/s²/√Hz.
     pub accel_noise_density: f64,
     /// Gyroscope noise density of the filter's model, rad/s/√Hz.
@@ -101,6 +105,7 @@ impl Default for FootConfig {
             adaptive_half_window_s: 1.0,
             min_stance_s: 0.05,
             max_hole_s: 0.05,
+            zupt_margin: 1.0,
             accel_noise_density: 0.1,
             gyro_noise_density: 0.005,
             zero_velocity_sigma: 0.01,
@@ -149,6 +154,7 @@ impl FootConfig {
         )?;
         check("foot.min_stance_s", self.min_stance_s, 0.0, 1.0, "must be in [0, 1] s")?;
         check("foot.max_hole_s", self.max_hole_s, 0.0, 1.0, "must be in [0, 1] s")?;
+        check("foot.zupt_margin", self.zupt_margin, 0.0, 10.0, "must be in [0, 10] decades")?;
         check(
             "foot.accel_noise_density",
             self.accel_noise_density,
@@ -204,6 +210,7 @@ impl FootConfig {
             adaptive_half_window_s: self.adaptive_half_window_s,
             min_stance_s: self.min_stance_s,
             max_hole_s: self.max_hole_s,
+            zupt_margin: self.zupt_margin,
         }
     }
 }
@@ -353,10 +360,12 @@ pub fn detect_strides(
                 state.position = a.position;
             }
         }
-        let r = filter.update_zero_velocity(&mut state);
-        residual_sum += r;
-        residual_count += 1;
-        figures.max_zupt_residual = figures.max_zupt_residual.max(r);
+        if mask.zupt[k] {
+            let r = filter.update_zero_velocity(&mut state);
+            residual_sum += r;
+            residual_count += 1;
+            figures.max_zupt_residual = figures.max_zupt_residual.max(r);
+        }
         if k > first {
             figures.stationary_s += (t[k] - t[k - 1]).min(config.max_gap_s);
         }

@@ -16,9 +16,12 @@
 //! log domain between the local extremes of `T` over about one gait cycle,
 //!
 //! ```text
-//! log γ_k = m_k + α (M_k − m_k),   m_k, M_k = min, max of log T over [t_k − H, t_k + H]
+//! log γ_k = m_k + α (M_k − m_k)
 //! ```
 //!
+//! with `M_k` the maximum of `log T` over `[t_k − H, t_k + H]` and `m_k` the larger of its
+//! minima over `[t_k − H, t_k]` and `[t_k, t_k + H]` (so that standing still on one side does
+//! not pull the threshold below a brisk walk's stances on the other),
 //! clamped to `[γ_floor, γ_ceiling]`: below the floor the foot is certainly still (standing),
 //! above the ceiling it certainly moves. The mask is then cleaned: holes shorter than
 //! `max_hole` inside a stance are filled, stances shorter than `min_stance` dropped.
@@ -48,13 +51,18 @@ pub struct ShoeDetector {
     pub min_stance_s: f64,
     /// Longest motion inside a stance that is filled in, seconds.
     pub max_hole_s: f64,
+    /// `δ`: zero-velocity updates apply where `log₁₀ T` is within `δ` of the local minimum
+    /// `m_k` (or `T < γ_floor`).
+    pub zupt_margin: f64,
 }
 
 /// What the detector found, sample by sample.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct StanceMask {
-    /// True where the foot is in stance.
+    /// True where the foot is in stance (the stances cut the strides).
     pub stance: Vec<bool>,
+    /// True where a zero-velocity update applies: the stillest part of each stance.
+    pub zupt: Vec<bool>,
     /// The SHOE statistic `T_k`.
     pub statistic: Vec<f64>,
     /// Median of the adaptive threshold `γ_k` over the recording.
@@ -111,8 +119,15 @@ impl ShoeDetector {
         let statistic = self.statistic(accel, gyro, dt);
         let log_t: Vec<f64> = statistic.iter().map(|&v| v.max(1e-12).log10()).collect();
         let h = samples_in(self.adaptive_half_window_s, dt, 1);
-        let lows = sliding_extreme(&log_t, h, |a, b| a <= b);
-        let highs = sliding_extreme(&log_t, h, |a, b| a >= b);
+        // m_k: the larger of the minima before and after k, so that standing still on one
+        // side does not pull the threshold below the walking stances on the other.
+        let below = |a: f64, b: f64| a <= b;
+        let lows: Vec<f64> = sliding_extreme(&log_t, h, 0, below)
+            .into_iter()
+            .zip(sliding_extreme(&log_t, 0, h, below))
+            .map(|(before, after)| before.max(after))
+            .collect();
+        let highs = sliding_extreme(&log_t, h, h, |a, b| a >= b);
         let (floor, ceiling) = (self.threshold_floor.log10(), self.threshold_ceiling.log10());
         let mut thresholds = Vec::with_capacity(log_t.len());
         let mut stance: Vec<bool> = log_t
@@ -128,30 +143,68 @@ impl ShoeDetector {
         clean_runs(&mut stance, t, false, self.min_stance_s);
         thresholds.sort_by(f64::total_cmp);
         let median_threshold = 10f64.powf(thresholds[thresholds.len() / 2]);
+        let zupt = stillest(&mut stance, &log_t, &lows, floor, self.zupt_margin);
         StanceMask {
             stance,
+            zupt,
             statistic,
             median_threshold,
         }
     }
 }
 
+/// The zero-velocity samples: those of a stance whose `log₁₀ T` is within `δ` of the lower of
+/// the stance's own minimum and the local minimum `m_k` (or below the floor). The generous
+/// stance that counts strides includes the foot's landing and rolling, where a zero-velocity
+/// update would shorten the stride; and a brief dip of `T` in mid-swing (the foot's rotation
+/// reverses there) stays far above `m_k`, set by the true stances around it. A stance with no
+/// zero-velocity sample is no stance: it is removed from `stance`.
+fn stillest(stance: &mut [bool], log_t: &[f64], lows: &[f64], floor: f64, margin: f64) -> Vec<bool> {
+    let mut zupt = vec![false; stance.len()];
+    let mut k = 0;
+    while k < stance.len() {
+        if !stance[k] {
+            k += 1;
+            continue;
+        }
+        let start = k;
+        while k < stance.len() && stance[k] {
+            k += 1;
+        }
+        let own = log_t[start..k].iter().copied().fold(f64::INFINITY, f64::min);
+        let mut any = false;
+        for j in start..k {
+            zupt[j] = log_t[j] < floor || log_t[j] <= own.min(lows[j]) + margin;
+            any |= zupt[j];
+        }
+        if !any {
+            stance[start..k].fill(false);
+        }
+    }
+    zupt
+}
+
 /// The extreme (by `keep(candidate, other)`: `<=` for the minimum, `>=` for the maximum) of
-/// `x` over `[k − h, k + h]` for every `k`, in O(n) with a monotonic deque.
-fn sliding_extreme(x: &[f64], h: usize, keep: impl Fn(f64, f64) -> bool) -> Vec<f64> {
+/// `x` over `[k − before, k + after]` for every `k`, in O(n) with a monotonic deque.
+fn sliding_extreme(
+    x: &[f64],
+    before: usize,
+    after: usize,
+    keep: impl Fn(f64, f64) -> bool,
+) -> Vec<f64> {
     let n = x.len();
     let mut out = Vec::with_capacity(n);
     let mut deque: VecDeque<usize> = VecDeque::new();
     let mut next = 0;
     for k in 0..n {
-        while next < n && next <= k + h {
+        while next < n && next <= k + after {
             while deque.back().is_some_and(|&b| keep(x[next], x[b])) {
                 deque.pop_back();
             }
             deque.push_back(next);
             next += 1;
         }
-        while deque.front().is_some_and(|&f| f + h < k) {
+        while deque.front().is_some_and(|&f| f + before < k) {
             deque.pop_front();
         }
         out.push(deque.front().map_or(x[k], |&f| x[f]));
@@ -201,6 +254,7 @@ mod tests {
             adaptive_half_window_s: 1.0,
             min_stance_s: 0.05,
             max_hole_s: 0.05,
+            zupt_margin: 1.0,
         }
     }
 
@@ -226,12 +280,12 @@ mod tests {
     #[test]
     fn sliding_extremes_match_brute_force() {
         let x = [3.0, 1.0, 4.0, 1.0, 5.0, 9.0, 2.0, 6.0];
-        let lo = sliding_extreme(&x, 1, |a, b| a <= b);
-        let hi = sliding_extreme(&x, 2, |a, b| a >= b);
+        let lo = sliding_extreme(&x, 1, 1, |a, b| a <= b);
+        let hi = sliding_extreme(&x, 2, 0, |a, b| a >= b);
         for k in 0..x.len() {
-            let w = |h: usize| &x[k.saturating_sub(h)..(k + h + 1).min(x.len())];
-            assert_eq!(lo[k], w(1).iter().copied().fold(f64::INFINITY, f64::min));
-            assert_eq!(hi[k], w(2).iter().copied().fold(f64::NEG_INFINITY, f64::max));
+            let w = |b: usize, a: usize| &x[k.saturating_sub(b)..(k + a + 1).min(x.len())];
+            assert_eq!(lo[k], w(1, 1).iter().copied().fold(f64::INFINITY, f64::min));
+            assert_eq!(hi[k], w(2, 0).iter().copied().fold(f64::NEG_INFINITY, f64::max));
         }
     }
 
