@@ -45,6 +45,7 @@ use std::f64::consts::PI;
 /// | `initial_tilt_sigma`     | 0.02 rad       | roll/pitch uncertainty after levelling (≈ 1°)                  |
 /// | `gravity`                | none (measured)| `g`, m/s²; none = norm of the first stance's mean specific force |
 /// | `max_level_s`            | 1.0 s          | levelling averages at most this much of a stance               |
+/// | `min_bias_s`             | 0.5 s          | the gyro bias is the mean of a still start this long (0 = off) |
 /// | `max_gap_s`              | 0.1 s          | longer intervals between samples cannot be integrated          |
 /// | `min_stride_length`      | 0.1 m          | shorter strides are merged into the next                       |
 /// | `min_stride_s`           | 0.3 s          | quicker strides are merged into the next                       |
@@ -85,6 +86,9 @@ pub struct FootConfig {
     pub gravity: Option<f64>,
     /// Levelling averages at most this much of a stance, seconds.
     pub max_level_s: f64,
+    /// The gyroscope bias is estimated as its mean over the first stance's still samples when
+    /// they last at least this long, seconds; 0 = never.
+    pub min_bias_s: f64,
     /// Longest interval between samples that is integrated, seconds.
     pub max_gap_s: f64,
     /// Shortest stride emitted, metres; shorter ones are merged into the next.
@@ -112,6 +116,7 @@ impl Default for FootConfig {
             initial_tilt_sigma: 0.02,
             gravity: None,
             max_level_s: 1.0,
+            min_bias_s: 0.5,
             max_gap_s: 0.1,
             min_stride_length: 0.1,
             min_stride_s: 0.3,
@@ -187,6 +192,7 @@ impl FootConfig {
             check("foot.gravity", g, 9.7, 9.9, "must be in [9.7, 9.9] m/s² (Earth's surface)")?;
         }
         check("foot.max_level_s", self.max_level_s, 0.01, 60.0, "must be in [0.01, 60] s")?;
+        check("foot.min_bias_s", self.min_bias_s, 0.0, 60.0, "must be in [0, 60] s")?;
         check("foot.max_gap_s", self.max_gap_s, 0.001, 10.0, "must be in [0.001, 10] s")?;
         check(
             "foot.min_stride_length",
@@ -246,6 +252,8 @@ pub struct FootFigures {
     pub mean_zupt_residual: f64,
     /// Largest velocity residual of a zero-velocity update, m/s.
     pub max_zupt_residual: f64,
+    /// Gyroscope bias removed, rad/s (zero when the recording does not start standing).
+    pub gyro_bias: [f64; 3],
     /// Final height relative to the start, metres.
     pub final_dz_m: f64,
 }
@@ -312,6 +320,8 @@ pub fn detect_strides(
         )));
     }
     figures.gravity = gravity;
+    let bias = gyro_bias(&t, &gyro, &mask.statistic, first, config);
+    figures.gyro_bias = bias.into();
     let axis = heading_axis(&f0);
     let mut state = NavState::at_rest(Vector3::zeros(), level(&f0, &axis, 0.0), gravity);
     let mut filter = ZuptFilter::new(
@@ -340,7 +350,7 @@ pub fn detect_strides(
                 }
             } else if !lost {
                 let f = 0.5 * (Vector3::from(accel[k - 1]) + Vector3::from(accel[k]));
-                let w = 0.5 * (Vector3::from(gyro[k - 1]) + Vector3::from(gyro[k]));
+                let w = 0.5 * (Vector3::from(gyro[k - 1]) + Vector3::from(gyro[k])) - bias;
                 let f_n = state.propagate(&f, &w, dt);
                 filter.predict(&f_n, dt);
             }
@@ -402,6 +412,32 @@ pub fn detect_strides(
         figures.cadence_per_min = 60.0 * steps.len() as f64 / stride_time;
     }
     finish(steps, path, figures)
+}
+
+/// The gyroscope's bias: its mean over the still samples (`T < γ_floor`) of the first stance
+/// when they span at least `min_bias_s` (the walker stands before setting off), else zero.
+fn gyro_bias(
+    t: &[f64],
+    gyro: &[[f64; 3]],
+    statistic: &[f64],
+    first: usize,
+    config: &FootConfig,
+) -> Vector3<f64> {
+    let mut sum = Vector3::zeros();
+    let (mut count, mut span) = (0.0_f64, 0.0);
+    for k in first + 1..t.len() {
+        if statistic[k] >= config.threshold_floor {
+            break;
+        }
+        sum += Vector3::from(gyro[k]);
+        count += 1.0;
+        span = t[k] - t[first];
+    }
+    if config.min_bias_s > 0.0 && span >= config.min_bias_s {
+        sum / count
+    } else {
+        Vector3::zeros()
+    }
 }
 
 /// Appends the stride `from → to` (split into equal parts if implausibly long).
