@@ -34,11 +34,12 @@ use std::f64::consts::PI;
 /// | `gyro_sigma`             | 0.1 rad/s      | SHOE gyroscope scale `σ_ω`                                     |
 /// | `threshold_floor`        | 3              | `γ_floor`: `T` below it is always stance (standing still)      |
 /// | `threshold_ceiling`      | 3 000          | `γ_ceiling`: `T` above it is never stance                      |
-/// | `adaptive_fraction`      | 0.35           | `α`: threshold at this fraction from local log-min to log-max  |
+/// | `adaptive_fraction`      | 0.4            | `α`: threshold at this fraction from local log-min to log-max  |
 /// | `adaptive_half_window_s` | 1.0 s          | `H`: half-width of the local min/max window (≈ one stride)     |
 /// | `min_stance_s`           | 0.05 s         | shorter stances are dropped (no zero-velocity update)          |
 /// | `max_hole_s`             | 0.05 s         | shorter motion inside a stance is filled in                    |
-/// | `zupt_margin`            | 1.0 decade     | `δ`: ZUPT where `log₁₀ T` ≤ `m_k + δ` (local minimum + δ)         |
+/// | `zupt_margin`            | 0.5 decade     | `δ`: ZUPT where `log₁₀ T` ≤ `m_k + δ` (local minimum + δ)         |
+/// | `zupt_gate_speed`        | 2.0 m/s        | a stance starting at a higher INS speed is no stance (within [`GATE_HORIZON_S`] of the last update) |
 /// | `accel_noise_density`    | 0.1 m/s²/√Hz   | filter's accelerometer noise `√q_a`                            |
 /// | `gyro_noise_density`     | 0.005 rad/s/√Hz| filter's gyroscope noise `√q_ω` (≈ 0.3 °/s/√Hz)                |
 /// | `zero_velocity_sigma`    | 0.01 m/s       | ZUPT measurement noise `σ_z`                                   |
@@ -74,6 +75,9 @@ pub struct FootConfig {
     /// `δ`: zero-velocity updates apply where the SHOE statistic is within `δ` decades of
     /// its local minimum `m_k` (or below `γ_floor`); a stance without any is dropped.
     pub zupt_margin: f64,
+    /// A stance whose first zero-velocity sample finds the INS faster than this is rejected
+    /// (when the last update is less than [`GATE_HORIZON_S`] old), m/s.
+    pub zupt_gate_speed: f64,
     /// Accelerometer noise density of the filter's model, m/s²/√Hz.
     pub accel_noise_density: f64,
     /// Gyroscope noise density of the filter's model, rad/s/√Hz.
@@ -105,11 +109,12 @@ impl Default for FootConfig {
             gyro_sigma: 0.1,
             threshold_floor: 3.0,
             threshold_ceiling: 3000.0,
-            adaptive_fraction: 0.35,
+            adaptive_fraction: 0.4,
             adaptive_half_window_s: 1.0,
             min_stance_s: 0.05,
             max_hole_s: 0.05,
-            zupt_margin: 1.0,
+            zupt_margin: 0.5,
+            zupt_gate_speed: 2.0,
             accel_noise_density: 0.1,
             gyro_noise_density: 0.005,
             zero_velocity_sigma: 0.01,
@@ -160,6 +165,7 @@ impl FootConfig {
         check("foot.min_stance_s", self.min_stance_s, 0.0, 1.0, "must be in [0, 1] s")?;
         check("foot.max_hole_s", self.max_hole_s, 0.0, 1.0, "must be in [0, 1] s")?;
         check("foot.zupt_margin", self.zupt_margin, 0.0, 10.0, "must be in [0, 10] decades")?;
+        check("foot.zupt_gate_speed", self.zupt_gate_speed, 0.05, 100.0, "must be in [0.05, 100] m/s")?;
         check(
             "foot.accel_noise_density",
             self.accel_noise_density,
@@ -228,6 +234,8 @@ pub struct FootFigures {
     pub strides: usize,
     /// Stances detected (maximal runs of zero-velocity samples).
     pub stances: usize,
+    /// Stances rejected because the INS's speed at their start exceeded `zupt_gate_speed`.
+    pub gated_stances: usize,
     /// Strides too short in distance or time, merged into the next.
     pub merged_strides: usize,
     /// Strides longer than the plausible maximum, split into equal parts.
@@ -256,6 +264,21 @@ pub struct FootFigures {
     pub gyro_bias: [f64; 3],
     /// Final height relative to the start, metres.
     pub final_dz_m: f64,
+}
+
+/// The gate on zero-velocity updates applies while the last update is this recent, seconds:
+/// after a longer unaided stretch the velocity error itself may exceed the gate.
+pub const GATE_HORIZON_S: f64 = 2.0;
+
+/// Whether the current stance's zero-velocity updates are applied.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Run {
+    /// No zero-velocity sample seen yet.
+    Undecided,
+    /// Applied: the foot is at rest.
+    Accepted,
+    /// Rejected by the gate: a dip of the statistic while the foot moves fast.
+    Rejected,
 }
 
 /// The INS state at a stance that opened a stride.
@@ -334,6 +357,8 @@ pub fn detect_strides(
     let mut anchor: Option<Anchor> = None;
     let mut lost = false; // after a gap, until the next stance
     let mut reanchor = false; // after a restart, until the stance ends
+    let mut run = Run::Undecided; // the current stance's fate
+    let mut last_zupt_t = t[first];
     let (mut residual_sum, mut residual_count) = (0.0, 0usize);
     let mut stride_time = 0.0;
     for k in first..n {
@@ -358,6 +383,9 @@ pub fn detect_strides(
         if !stance[k] {
             continue;
         }
+        if k == first || !stance[k - 1] {
+            run = Run::Undecided;
+        }
         if lost {
             // Restart cleanly: re-levelled, at rest, same position and yaw.
             let yaw = heading_of(&state.attitude, &axis);
@@ -365,12 +393,28 @@ pub fn detect_strides(
             filter.restart(config.initial_tilt_sigma);
             lost = false;
             reanchor = true;
+            run = Run::Accepted;
             if let Some(a) = anchor {
                 // The walker is assumed not to have moved across the gap.
                 state.position = a.position;
             }
         }
+        if mask.zupt[k] && run == Run::Undecided {
+            // Gate (after Foxlin's plausibility tests): a foot at rest after a recent update
+            // cannot have drifted to `zupt_gate_speed`; a mid-swing dip of the statistic can.
+            let recent = t[k] - last_zupt_t < GATE_HORIZON_S;
+            run = if recent && state.velocity.norm() > config.zupt_gate_speed {
+                figures.gated_stances += 1;
+                Run::Rejected
+            } else {
+                Run::Accepted
+            };
+        }
+        if run == Run::Rejected {
+            continue;
+        }
         if mask.zupt[k] {
+            last_zupt_t = t[k];
             let r = filter.update_zero_velocity(&mut state);
             residual_sum += r;
             residual_count += 1;
@@ -380,7 +424,7 @@ pub fn detect_strides(
             figures.stationary_s += (t[k] - t[k - 1]).min(config.max_gap_s);
         }
         let stance_ends = k + 1 == n || !stance[k + 1];
-        if !stance_ends {
+        if !stance_ends || run != Run::Accepted {
             continue;
         }
         figures.stances += 1;
