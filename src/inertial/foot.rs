@@ -548,3 +548,173 @@ fn finish(
         figures,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sensor::ImuSample;
+    use nalgebra::{Rotation3, Vector3};
+    use std::f64::consts::TAU;
+
+    /// A foot on a known trajectory: stands 2 s, then for each `(length, turn)` a 0.7 s swing
+    /// along a straight line (position and yaw follow `s(τ) = τ − sin(2πτ)/2π`, whose speed
+    /// and acceleration vanish at both ends) and a 0.8 s stance; the turn happens in the swing
+    /// and the stride runs along the new heading. The sensor is mounted upside down and tilted
+    /// (z down, 0.1 rad about y). Samples in `drop` (a time interval) are left out.
+    fn synthetic(rate: f64, strides: &[(f64, f64)], drop: Option<(f64, f64)>) -> ImuRecording {
+        let (stand, swing, stance) = (2.0, 0.7, 0.8);
+        let mount = Rotation3::from_euler_angles(std::f64::consts::PI, 0.1, 0.0);
+        let g = 9.81;
+        let duration = stand + strides.len() as f64 * (swing + stance);
+        let mut samples = Vec::new();
+        let mut k = 0;
+        loop {
+            let t = k as f64 / rate;
+            k += 1;
+            if t > duration {
+                break;
+            }
+            if drop.is_some_and(|(a, b)| t > a && t < b) {
+                continue;
+            }
+            // Where in the walk: heading before this stride, and the swing's phase τ.
+            let mut yaw = 0.0;
+            let (mut accel, mut yaw_rate) = (Vector3::zeros(), 0.0);
+            let mut start = stand;
+            for &(length, turn) in strides {
+                if t >= start && t < start + swing {
+                    let tau = (t - start) / swing;
+                    let s = tau - (TAU * tau).sin() / TAU;
+                    let ds = (1.0 - (TAU * tau).cos()) / swing;
+                    let dds = TAU * (TAU * tau).sin() / (swing * swing);
+                    let heading = yaw + turn;
+                    accel = length * dds * Vector3::new(heading.cos(), heading.sin(), 0.0);
+                    yaw_rate = turn * ds;
+                    yaw += turn * s;
+                    break;
+                }
+                if t >= start + swing {
+                    yaw += turn;
+                }
+                start += swing + stance;
+            }
+            let c = Rotation3::from_axis_angle(&Vector3::z_axis(), yaw) * mount;
+            let f = c.inverse() * (accel + Vector3::new(0.0, 0.0, g));
+            let w = mount.inverse() * Vector3::new(0.0, 0.0, yaw_rate);
+            samples.push(ImuSample {
+                t,
+                accel: f.into(),
+                gyro: w.into(),
+                mag: None,
+                orientation: None,
+                pressure: None,
+            });
+        }
+        ImuRecording::new(samples, 0).expect("valid synthetic recording")
+    }
+
+    const WALK: [(f64, f64); 4] = [(1.2, 0.0), (1.4, 0.5), (1.0, -1.2), (1.3, 0.0)];
+
+    #[test]
+    fn synthetic_strides_are_measured_at_any_rate() {
+        for rate in [100.0, 200.0, 250.0] {
+            let e = detect_strides(&synthetic(rate, &WALK, None), &FootConfig::default())
+                .expect("strides");
+            let steps = e.trace.steps();
+            assert_eq!(steps.len(), WALK.len(), "{rate} Hz: {steps:?}");
+            assert_eq!(e.path.len(), WALK.len() + 1);
+            for (s, &(length, turn)) in steps.iter().zip(&WALK) {
+                assert!((s.length - length).abs() < 0.03, "{rate} Hz: {s:?} vs {length}");
+                assert!((s.dheading - turn).abs() < 0.01, "{rate} Hz: {s:?} vs {turn}");
+                assert!(s.dz.abs() < 0.01 && s.heading.is_none());
+            }
+            // Each stride ends with its stance: 2 + i (0.7 + 0.8) s.
+            assert!((steps[3].t - 8.0).abs() < 0.02, "{}", steps[3].t);
+            let f = &e.figures;
+            assert_eq!((f.strides, f.gaps_skipped, f.merged_strides), (4, 0, 0));
+            assert!((f.gravity - 9.81).abs() < 1e-6);
+            assert!((f.distance_m - 4.9).abs() < 0.1, "{f:?}");
+            // 4 strides in 4 × 1.5 s of walking: 40 per minute.
+            assert!((f.cadence_per_min - 40.0).abs() < 1.0, "{f:?}");
+        }
+    }
+
+    #[test]
+    fn a_gap_drops_the_open_stride_and_the_walk_resumes() {
+        // Half a second missing in the middle of the second swing (3.5 s + 0.35 s).
+        let rec = synthetic(200.0, &WALK, Some((3.7, 4.2)));
+        let e = detect_strides(&rec, &FootConfig::default()).expect("strides");
+        let f = &e.figures;
+        assert_eq!((f.gaps_skipped, f.strides_lost_to_gaps), (1, 1), "{f:?}");
+        let steps = e.trace.steps();
+        assert_eq!(steps.len(), 3, "{steps:?}");
+        // The strides before and after the gap keep their lengths and turns.
+        assert!((steps[0].length - 1.2).abs() < 0.03);
+        assert!((steps[1].length - 1.0).abs() < 0.03 && (steps[1].dheading + 1.2).abs() < 0.02);
+        assert!((steps[2].length - 1.3).abs() < 0.03);
+        // The path holds one point per stride plus the start, each stride its length apart.
+        assert_eq!(e.path.len(), 4);
+        for (s, w) in steps.iter().zip(e.path.windows(2)) {
+            let d = (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]);
+            assert!((d - s.length).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn standing_still_makes_no_strides() {
+        // A minute at 100 Hz of a still sensor with a little deterministic noise.
+        let samples = (0..6000)
+            .map(|k| {
+                let n = |i: f64| (k as f64 * 0.37 + i).sin();
+                ImuSample {
+                    t: k as f64 * 0.01,
+                    accel: [0.02 * n(1.0), 0.02 * n(2.0), -9.81 + 0.02 * n(3.0)],
+                    gyro: [0.003 * n(4.0), 0.003 * n(5.0), 0.003 * n(6.0)],
+                    mag: None,
+                    orientation: None,
+                    pressure: None,
+                }
+            })
+            .collect();
+        let rec = ImuRecording::new(samples, 0).expect("valid");
+        let e = detect_strides(&rec, &FootConfig::default()).expect("strides");
+        assert!(e.trace.is_empty());
+        assert_eq!(e.path.len(), 1);
+        assert_eq!(e.figures.stances, 1);
+        assert!(e.figures.stationary_s > 59.0, "{:?}", e.figures);
+    }
+
+    #[test]
+    fn short_shuffles_are_merged() {
+        // A 5 cm shuffle then a real stride: one stride of 1.25 m.
+        let e = detect_strides(
+            &synthetic(200.0, &[(0.05, 0.0), (1.2, 0.0)], None),
+            &FootConfig::default(),
+        )
+        .expect("strides");
+        assert_eq!(e.trace.len(), 1, "{:?}", e.trace);
+        assert_eq!(e.figures.merged_strides, 1);
+        assert!((e.trace.steps()[0].length - 1.25).abs() < 0.03);
+    }
+
+    #[test]
+    fn config_defaults_validate_and_unknown_fields_are_refused() {
+        assert!(FootConfig::default().validate().is_ok());
+        let c: FootConfig = serde_json::from_str(r#"{"max_gap_s": 0.2}"#).expect("parse");
+        assert_eq!(c.max_gap_s, 0.2);
+        assert_eq!(c.window_s, FootConfig::default().window_s);
+        assert!(serde_json::from_str::<FootConfig>(r#"{"window": 1}"#).is_err());
+        let bad = FootConfig {
+            threshold_ceiling: 1.0,
+            ..FootConfig::default()
+        };
+        assert!(bad.validate().is_err());
+    }
+
+    #[test]
+    fn turns_wrap_into_the_half_open_interval() {
+        assert!((wrap_half_open(-PI) - PI).abs() < 1e-12);
+        assert!((wrap_half_open(PI) - PI).abs() < 1e-12);
+        assert!((wrap_half_open(1.5 * PI) + 0.5 * PI).abs() < 1e-12);
+    }
+}
