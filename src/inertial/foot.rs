@@ -558,8 +558,9 @@ mod tests {
 
     /// A foot on a known trajectory: stands 2 s, then for each `(length, turn)` a 0.7 s swing
     /// along a straight line (position and yaw follow `s(τ) = τ − sin(2πτ)/2π`, whose speed
-    /// and acceleration vanish at both ends) and a 0.8 s stance; the turn happens in the swing
-    /// and the stride runs along the new heading. The sensor is mounted upside down and tilted
+    /// and acceleration vanish at both ends; the foot pitches by up to [`PITCH`] and back, as
+    /// a real foot does — a pure translation would look still to any IMU at mid-swing) and a
+    /// 0.8 s stance; the turn happens in the swing and the stride runs along the new heading. The sensor is mounted upside down and tilted
     /// (z down, 0.1 rad about y). Samples in `drop` (a time interval) are left out.
     fn synthetic(rate: f64, strides: &[(f64, f64)], drop: Option<(f64, f64)>) -> ImuRecording {
         let (stand, swing, stance) = (2.0, 0.7, 0.8);
@@ -580,6 +581,7 @@ mod tests {
             // Where in the walk: heading before this stride, and the swing's phase τ.
             let mut yaw = 0.0;
             let (mut accel, mut yaw_rate) = (Vector3::zeros(), 0.0);
+            let (mut pitch, mut pitch_rate) = (0.0, 0.0);
             let mut start = stand;
             for &(length, turn) in strides {
                 if t >= start && t < start + swing {
@@ -591,6 +593,9 @@ mod tests {
                     accel = length * dds * Vector3::new(heading.cos(), heading.sin(), 0.0);
                     yaw_rate = turn * ds;
                     yaw += turn * s;
+                    // The foot pitches up to PITCH and back: β = P sin²(πτ).
+                    pitch = PITCH * (std::f64::consts::PI * tau).sin().powi(2);
+                    pitch_rate = PITCH * std::f64::consts::PI * (TAU * tau).sin() / swing;
                     break;
                 }
                 if t >= start + swing {
@@ -598,9 +603,12 @@ mod tests {
                 }
                 start += swing + stance;
             }
-            let c = Rotation3::from_axis_angle(&Vector3::z_axis(), yaw) * mount;
+            // C = R_z(ψ) R_y(β) M; ω^n = ψ̇ ẑ + R_z(ψ) β̇ ŷ; ω^b = Cᵀ ω^n.
+            let rz = Rotation3::from_axis_angle(&Vector3::z_axis(), yaw);
+            let c = rz * Rotation3::from_axis_angle(&Vector3::y_axis(), pitch) * mount;
             let f = c.inverse() * (accel + Vector3::new(0.0, 0.0, g));
-            let w = mount.inverse() * Vector3::new(0.0, 0.0, yaw_rate);
+            let w_n = Vector3::new(0.0, 0.0, yaw_rate) + rz * Vector3::new(0.0, pitch_rate, 0.0);
+            let w = c.inverse() * w_n;
             samples.push(ImuSample {
                 t,
                 accel: f.into(),
@@ -612,6 +620,9 @@ mod tests {
         }
         ImuRecording::new(samples, 0).expect("valid synthetic recording")
     }
+
+    /// The foot's largest pitch in a swing, radians.
+    const PITCH: f64 = 0.5;
 
     const WALK: [(f64, f64); 4] = [(1.2, 0.0), (1.4, 0.5), (1.0, -1.2), (1.3, 0.0)];
 
@@ -692,8 +703,8 @@ mod tests {
             &FootConfig::default(),
         )
         .expect("strides");
-        assert_eq!(e.trace.len(), 1, "{:?}", e.trace);
-        assert_eq!(e.figures.merged_strides, 1);
+        assert_eq!(e.trace.len(), 1, "{:?} {:?}", e.trace, e.figures);
+        assert_eq!(e.figures.merged_strides, 1, "{:?}", e.figures);
         assert!((e.trace.steps()[0].length - 1.25).abs() < 0.03);
     }
 
