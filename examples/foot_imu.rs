@@ -48,7 +48,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let walks = find_walks(&root);
     if walks.is_empty() {
-        println!("no walks (imu.csv + strides.csv) under {}: skipped", root.display());
+        println!(
+            "no walks (imu.csv + strides.csv) under {}: skipped",
+            root.display()
+        );
         return Ok(());
     }
     println!(
@@ -115,7 +118,11 @@ fn nearest(truth: &[[f64; 4]], t: f64) -> Option<usize> {
     (d <= MATCH_S).then_some(i)
 }
 
-fn score(dir: &Path, root: &Path, config: &FootConfig) -> Result<Score, Box<dyn std::error::Error>> {
+fn score(
+    dir: &Path,
+    root: &Path,
+    config: &FootConfig,
+) -> Result<Score, Box<dyn std::error::Error>> {
     let recording = read_imu(&dir.join("imu.csv"))?;
     let truth = read_truth(&dir.join("strides.csv"))?;
     let start = Instant::now();
@@ -165,11 +172,7 @@ fn score(dir: &Path, root: &Path, config: &FootConfig) -> Result<Score, Box<dyn 
         percentile(&mut e, 0.95)
     });
     Ok(Score {
-        name: dir
-            .strip_prefix(root)
-            .unwrap_or(dir)
-            .display()
-            .to_string(),
+        name: dir.strip_prefix(root).unwrap_or(dir).display().to_string(),
         truth_strides: truth.len().saturating_sub(1),
         strides: steps.len(),
         length_errors,
@@ -199,8 +202,14 @@ fn aggregate(scores: &[Score]) {
         .iter()
         .map(|s| (s.strides as f64 - s.truth_strides as f64).abs() / s.truth_strides as f64)
         .fold(0.0, f64::max);
-    let exact = scores.iter().filter(|s| s.strides == s.truth_strides).count();
-    let errors: Vec<f64> = scores.iter().flat_map(|s| s.length_errors.clone()).collect();
+    let exact = scores
+        .iter()
+        .filter(|s| s.strides == s.truth_strides)
+        .count();
+    let errors: Vec<f64> = scores
+        .iter()
+        .flat_map(|s| s.length_errors.clone())
+        .collect();
     let mut dist: Vec<f64> = scores
         .iter()
         .map(|s| (s.distance - s.truth_distance).abs() / s.truth_distance)

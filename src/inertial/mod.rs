@@ -8,6 +8,7 @@
 //! and magnetometer fusion, height from the barometer).
 
 pub mod foot;
+pub mod foot_config;
 pub mod phone;
 pub mod stance;
 pub mod strapdown;

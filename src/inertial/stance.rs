@@ -159,7 +159,13 @@ impl ShoeDetector {
 /// update would shorten the stride; and a brief dip of `T` in mid-swing (the foot's rotation
 /// reverses there) stays far above `m_k`, set by the true stances around it. A stance with no
 /// zero-velocity sample is no stance: it is removed from `stance`.
-fn stillest(stance: &mut [bool], log_t: &[f64], lows: &[f64], floor: f64, margin: f64) -> Vec<bool> {
+fn stillest(
+    stance: &mut [bool],
+    log_t: &[f64],
+    lows: &[f64],
+    floor: f64,
+    margin: f64,
+) -> Vec<bool> {
     let mut zupt = vec![false; stance.len()];
     let mut k = 0;
     while k < stance.len() {
@@ -171,7 +177,10 @@ fn stillest(stance: &mut [bool], log_t: &[f64], lows: &[f64], floor: f64, margin
         while k < stance.len() && stance[k] {
             k += 1;
         }
-        let own = log_t[start..k].iter().copied().fold(f64::INFINITY, f64::min);
+        let own = log_t[start..k]
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
         let mut any = false;
         for j in start..k {
             zupt[j] = log_t[j] < floor || log_t[j] <= own.min(lows[j]) + margin;
@@ -285,7 +294,10 @@ mod tests {
         for k in 0..x.len() {
             let w = |b: usize, a: usize| &x[k.saturating_sub(b)..(k + a + 1).min(x.len())];
             assert_eq!(lo[k], w(1, 1).iter().copied().fold(f64::INFINITY, f64::min));
-            assert_eq!(hi[k], w(2, 0).iter().copied().fold(f64::NEG_INFINITY, f64::max));
+            assert_eq!(
+                hi[k],
+                w(2, 0).iter().copied().fold(f64::NEG_INFINITY, f64::max)
+            );
         }
     }
 

@@ -58,7 +58,9 @@ pub fn level(f: &Vector3<f64>, heading_axis: &Vector3<f64>, yaw: f64) -> UnitQua
     let up = Vector3::z();
     let tilt = UnitQuaternion::rotation_between(f, &up)
         // f points exactly down: any half turn about a horizontal axis will do.
-        .unwrap_or_else(|| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI));
+        .unwrap_or_else(|| {
+            UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI)
+        });
     let now = heading_of(&tilt, heading_axis);
     UnitQuaternion::from_axis_angle(&Vector3::z_axis(), yaw - now) * tilt
 }
@@ -110,7 +112,10 @@ mod tests {
         // 90°/s about the vertical for 1 s at 200 Hz turns the heading by exactly π/2, and a
         // sensor at rest (f = +g up) stays at rest whatever its rotation about z.
         let mut s = NavState::at_rest(Vector3::zeros(), UnitQuaternion::identity(), 9.81);
-        let (f, w) = (Vector3::new(0.0, 0.0, 9.81), Vector3::new(0.0, 0.0, FRAC_PI_2));
+        let (f, w) = (
+            Vector3::new(0.0, 0.0, 9.81),
+            Vector3::new(0.0, 0.0, FRAC_PI_2),
+        );
         for _ in 0..200 {
             s.propagate(&f, &w, 0.005);
         }

@@ -135,7 +135,11 @@ mod tests {
         assert!((r - 0.2).abs() < 1e-12);
         // Scalar Kalman gain on v_x: K = P/(P + σ²): v = 0.2 σ²/(P + σ²).
         let expect = 0.2 * 1e-4 / (before + 1e-4);
-        assert!((s.velocity.x - expect).abs() < 1e-9, "{} vs {expect}", s.velocity.x);
+        assert!(
+            (s.velocity.x - expect).abs() < 1e-9,
+            "{} vs {expect}",
+            s.velocity.x
+        );
         assert!(f.covariance[(3, 3)] < before);
     }
 }
