@@ -94,8 +94,9 @@ pub fn read_imu(path: &Path) -> Result<ImuRecording> {
     for (s, &line) in samples.iter().zip(&lines) {
         check_sample(s).map_err(|m| Error::parse(path, line, m))?;
     }
-    ImuRecording::new(samples, duplicates)
-        .map_err(|(i, m)| Error::parse(path, lines.get(i).copied().unwrap_or(0), m))
+    ImuRecording::new(samples, duplicates).map_err(|(i, m)| {
+        Error::parse(path, lines.get(i).copied().unwrap_or(0), m)
+    })
 }
 
 /// An optional channel read row by row, holding its last value over empty cells.

@@ -26,7 +26,5 @@ pub fn detect_steps(
     _recording: &ImuRecording,
     _config: &PhoneConfig,
 ) -> Result<StepEvents<PhoneFigures>> {
-    Err(Error::Input(
-        "the phone step-and-heading system is not built yet".into(),
-    ))
+    Err(Error::Input("the phone step-and-heading system is not built yet".into()))
 }
