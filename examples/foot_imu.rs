@@ -143,6 +143,12 @@ fn score(
     let events = detect_strides(&recording, config)?;
     let seconds = start.elapsed().as_secs_f64();
     let steps = events.trace.steps();
+    if std::env::var("DUMP").is_ok_and(|d| dir.ends_with(d)) {
+        println!("  {}", serde_json::to_string(&events.figures)?);
+        for s in steps {
+            println!("  stride {:.2} {:.3}", s.t, s.length);
+        }
+    }
     let hdist = |a: &[f64; 4], b: &[f64; 4]| (a[1] - b[1]).hypot(a[2] - b[2]);
     let truth_distance: f64 = truth.windows(2).map(|w| hdist(&w[0], &w[1])).sum();
     // The path's points: the first stance (its time is not in the trace; it is matched to

@@ -36,8 +36,9 @@ enum Run {
     Undecided,
     /// Applied: the foot is at rest.
     Accepted,
-    /// Rejected by the gate: a dip of the statistic while the foot moves fast.
-    Rejected,
+    /// Every zero-velocity sample so far failed the gate: a dip of the statistic while the
+    /// foot moves fast.
+    Gated,
 }
 
 /// The INS state at a stance that opened a stride.
@@ -162,31 +163,36 @@ pub fn detect_strides(
                 state.position = a.position;
             }
         }
-        if mask.zupt[k] && run == Run::Undecided {
+        if mask.zupt[k] && run != Run::Accepted {
             // Gate (after Foxlin's plausibility tests): a foot at rest after a recent update
             // cannot have drifted to `zupt_gate_speed`; a mid-swing dip of the statistic can.
+            // Each zero-velocity sample is tested until one passes: the landing may fail,
+            // the foot flat a moment later passes; a mid-swing dip fails throughout.
+            // A clear stance (as still as its neighbours) needs no gate: gating it after a
+            // wrong update would only carry the error on.
             let recent = t[k] - last_zupt_t < GATE_HORIZON_S;
-            run = if recent && state.velocity.norm() > config.zupt_gate_speed {
-                figures.gated_stances += 1;
-                Run::Rejected
+            run = if !mask.clear[k] && recent && state.velocity.norm() > config.zupt_gate_speed {
+                Run::Gated
             } else {
                 Run::Accepted
             };
         }
-        if run == Run::Rejected {
-            continue;
-        }
-        if mask.zupt[k] {
-            last_zupt_t = t[k];
-            let r = filter.update_zero_velocity(&mut state);
-            residual_sum += r;
-            residual_count += 1;
-            figures.max_zupt_residual = figures.max_zupt_residual.max(r);
-        }
-        if k > first {
-            figures.stationary_s += (t[k] - t[k - 1]).min(config.max_gap_s);
+        if run == Run::Accepted {
+            if mask.zupt[k] {
+                last_zupt_t = t[k];
+                let r = filter.update_zero_velocity(&mut state);
+                residual_sum += r;
+                residual_count += 1;
+                figures.max_zupt_residual = figures.max_zupt_residual.max(r);
+            }
+            if k > first {
+                figures.stationary_s += (t[k] - t[k - 1]).min(config.max_gap_s);
+            }
         }
         let stance_ends = k + 1 == n || !stance[k + 1];
+        if stance_ends && run == Run::Gated {
+            figures.gated_stances += 1;
+        }
         if !stance_ends || run != Run::Accepted {
             continue;
         }

@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 /// | `min_stance_s`           | 0.05 s         | shorter stances are dropped (no zero-velocity update)          |
 /// | `max_hole_s`             | 0.05 s         | shorter motion inside a stance is filled in                    |
 /// | `zupt_margin`            | 0.5 decade     | `δ`: ZUPT where `log₁₀ T` ≤ `m_k + δ` (local minimum + δ)         |
-/// | `zupt_gate_speed`        | 2.0 m/s        | a stance starting at a higher INS speed is no stance (within [`GATE_HORIZON_S`](super::foot::GATE_HORIZON_S) of the last update) |
+/// | `zupt_gate_speed`        | 2.0 m/s        | a stance whose every ZUPT sample finds the INS faster is no stance (within [`GATE_HORIZON_S`](super::foot::GATE_HORIZON_S) of the last update) |
 /// | `accel_noise_density`    | 0.1 m/s²/√Hz   | filter's accelerometer noise `√q_a`                            |
 /// | `gyro_noise_density`     | 0.005 rad/s/√Hz| filter's gyroscope noise `√q_ω` (≈ 0.3 °/s/√Hz)                |
 /// | `zero_velocity_sigma`    | 0.01 m/s       | ZUPT measurement noise `σ_z`                                   |
@@ -56,7 +56,7 @@ pub struct FootConfig {
     /// `δ`: zero-velocity updates apply where the SHOE statistic is within `δ` decades of
     /// its local minimum `m_k` (or below `γ_floor`); a stance without any is dropped.
     pub zupt_margin: f64,
-    /// A stance whose first zero-velocity sample finds the INS faster than this is rejected
+    /// A stance whose every zero-velocity sample finds the INS faster than this is rejected
     /// (when the last update is less than [`GATE_HORIZON_S`](super::foot::GATE_HORIZON_S) old), m/s.
     pub zupt_gate_speed: f64,
     /// Accelerometer noise density of the filter's model, m/s²/√Hz.
@@ -300,7 +300,8 @@ pub struct FootFigures {
     pub strides: usize,
     /// Stances detected (maximal runs of zero-velocity samples).
     pub stances: usize,
-    /// Stances rejected because the INS's speed at their start exceeded `zupt_gate_speed`.
+    /// Stances rejected because the INS's speed at each of their zero-velocity samples
+    /// exceeded `zupt_gate_speed`.
     pub gated_stances: usize,
     /// Strides too short in distance or time, merged into the next.
     pub merged_strides: usize,

@@ -63,11 +63,20 @@ pub struct StanceMask {
     pub stance: Vec<bool>,
     /// True where a zero-velocity update applies: the stillest part of each stance.
     pub zupt: Vec<bool>,
+    /// True on the samples of a *clear* stance: one whose minimum of `log₁₀ T` is within
+    /// [`CLEAR_STANCE_DECADES`] of the local minimum `m_k` (the stances around it). Only
+    /// the others can be mid-swing dips, so only they need the INS's plausibility gate.
+    pub clear: Vec<bool>,
     /// The SHOE statistic `T_k`.
     pub statistic: Vec<f64>,
     /// Median of the adaptive threshold `γ_k` over the recording.
     pub median_threshold: f64,
 }
+
+/// A stance whose minimum of `log₁₀ T` lies within this many decades of the local minimum
+/// `m_k` is clear: as still as the stances around it (mid-swing dips stay ≥ 0.4 decade above
+/// on the shared data, at 100 and 200 Hz).
+pub const CLEAR_STANCE_DECADES: f64 = 0.2;
 
 /// Number of samples spanning `seconds` at sampling interval `dt`, at least `min`.
 pub fn samples_in(seconds: f64, dt: f64, min: usize) -> usize {
@@ -143,10 +152,11 @@ impl ShoeDetector {
         clean_runs(&mut stance, t, false, self.min_stance_s);
         thresholds.sort_by(f64::total_cmp);
         let median_threshold = 10f64.powf(thresholds[thresholds.len() / 2]);
-        let zupt = stillest(&mut stance, &log_t, &lows, floor, self.zupt_margin);
+        let (zupt, clear) = stillest(&mut stance, &log_t, &lows, floor, self.zupt_margin);
         StanceMask {
             stance,
             zupt,
+            clear,
             statistic,
             median_threshold,
         }
@@ -158,15 +168,17 @@ impl ShoeDetector {
 /// stance that counts strides includes the foot's landing and rolling, where a zero-velocity
 /// update would shorten the stride; and a brief dip of `T` in mid-swing (the foot's rotation
 /// reverses there) stays far above `m_k`, set by the true stances around it. A stance with no
-/// zero-velocity sample is no stance: it is removed from `stance`.
+/// zero-velocity sample is no stance: it is removed from `stance`. Also returns which samples
+/// belong to a clear stance ([`CLEAR_STANCE_DECADES`]).
 fn stillest(
     stance: &mut [bool],
     log_t: &[f64],
     lows: &[f64],
     floor: f64,
     margin: f64,
-) -> Vec<bool> {
+) -> (Vec<bool>, Vec<bool>) {
     let mut zupt = vec![false; stance.len()];
+    let mut clear = vec![false; stance.len()];
     let mut k = 0;
     while k < stance.len() {
         if !stance[k] {
@@ -181,6 +193,10 @@ fn stillest(
             .iter()
             .copied()
             .fold(f64::INFINITY, f64::min);
+        let local = lows[start..k].iter().copied().fold(f64::INFINITY, f64::min);
+        if own < floor || own <= local + CLEAR_STANCE_DECADES {
+            clear[start..k].fill(true);
+        }
         let mut any = false;
         for j in start..k {
             zupt[j] = log_t[j] < floor || log_t[j] <= own.min(lows[j]) + margin;
@@ -188,9 +204,10 @@ fn stillest(
         }
         if !any {
             stance[start..k].fill(false);
+            clear[start..k].fill(false);
         }
     }
-    zupt
+    (zupt, clear)
 }
 
 /// The extreme (by `keep(candidate, other)`: `<=` for the minimum, `>=` for the maximum) of
@@ -339,5 +356,12 @@ mod tests {
             .filter(|(a, b)| a == b)
             .count();
         assert!(agree >= n - 20, "{agree} of {n}");
+        // Every stance here is as still as its neighbours: clear (no gate needed).
+        for k in 0..n {
+            assert!(!mask.clear[k] || mask.stance[k]);
+            if mask.stance[k] {
+                assert!(mask.clear[k] && mask.zupt[k], "sample {k}");
+            }
+        }
     }
 }
