@@ -19,8 +19,8 @@ use serde::{Deserialize, Serialize};
 /// | `adaptive_half_window_s` | 1.0 s          | `H`: half-width of the local min/max window (≈ one stride)     |
 /// | `min_stance_s`           | 0.05 s         | shorter stances are dropped (no zero-velocity update)          |
 /// | `max_hole_s`             | 0.05 s         | shorter motion inside a stance is filled in                    |
-/// | `zupt_margin`            | 0.5 decade     | `δ`: ZUPT where `log₁₀ T` ≤ `m_k + δ` (local minimum + δ)         |
-/// | `zupt_gate_speed`        | 2.0 m/s        | a stance whose every ZUPT sample finds the INS faster is no stance (within [`GATE_HORIZON_S`](super::foot::GATE_HORIZON_S) of the last update) |
+/// | `zupt_margin`            | 0.5 decade     | `δ`: ZUPT where `log₁₀ T` ≤ min(stance's own minimum, `m_k`) + `δ` |
+/// | `zupt_gate_speed`        | 2.0 m/s        | a stance less still than its neighbours whose every ZUPT sample finds the INS faster is no stance (a mid-swing dip; applies within [`GATE_HORIZON_S`](super::foot::GATE_HORIZON_S) = 2 s of the last update) |
 /// | `accel_noise_density`    | 0.1 m/s²/√Hz   | filter's accelerometer noise `√q_a`                            |
 /// | `gyro_noise_density`     | 0.005 rad/s/√Hz| filter's gyroscope noise `√q_ω` (≈ 0.3 °/s/√Hz)                |
 /// | `zero_velocity_sigma`    | 0.01 m/s       | ZUPT measurement noise `σ_z`                                   |
@@ -54,9 +54,11 @@ pub struct FootConfig {
     /// Longest motion inside a stance that is filled in, seconds.
     pub max_hole_s: f64,
     /// `δ`: zero-velocity updates apply where the SHOE statistic is within `δ` decades of
-    /// its local minimum `m_k` (or below `γ_floor`); a stance without any is dropped.
+    /// the lower of its stance's own minimum and the local minimum `m_k` (or below
+    /// `γ_floor`); a stance without any is dropped.
     pub zupt_margin: f64,
-    /// A stance whose every zero-velocity sample finds the INS faster than this is rejected
+    /// A stance that is not clear (see [`super::stance::CLEAR_STANCE_DECADES`]) and whose
+    /// every zero-velocity sample finds the INS faster than this is rejected
     /// (when the last update is less than [`GATE_HORIZON_S`](super::foot::GATE_HORIZON_S) old), m/s.
     pub zupt_gate_speed: f64,
     /// Accelerometer noise density of the filter's model, m/s²/√Hz.
