@@ -2,10 +2,15 @@
 //! 2005; Skog et al. 2010 for the stance detector).
 //!
 //! The pipeline, one stage per file:
-//! 1. [`super::stance`]: the SHOE detector marks the samples where the foot is flat and still;
+//! 1. [`super::stance`]: the SHOE detector marks the samples where the foot is flat (with a
+//!    gait-adaptive threshold), the stillest of them for zero-velocity updates, and which
+//!    stances are clear (as still as their neighbours);
 //! 2. [`super::strapdown`]: from the first stance (roll and pitch from its mean specific
-//!    force, yaw 0) the INS integrates every sample with its own `dt`;
-//! 3. [`super::zupt`]: during stance the error-state filter applies zero-velocity updates;
+//!    force, yaw 0; the gyro bias from it when the walker stands still long enough) the INS
+//!    integrates every sample with its own `dt`;
+//! 3. [`super::zupt`]: during stance the error-state filter applies zero-velocity updates —
+//!    unless the stance is not clear and the INS is faster than `zupt_gate_speed` at each of
+//!    its update samples (a mid-swing dip of the statistic, not a stance);
 //! 4. here: the stances cut the path into strides. Each stance's last sample closes a stride
 //!    from the previous stance (its `t`, horizontal `length`, change of the foot's yaw
 //!    `dheading`, height change `dz`). A stride that is too short in distance or time (a
@@ -49,7 +54,10 @@ struct Anchor {
     yaw: f64,
 }
 
-/// Strides of a foot-mounted recording.
+/// Strides of a foot-mounted recording: one event per stride, the INS path at each stance
+/// (the first point is the first stance) and the figures. A recording without any stance
+/// gives no strides. Errors: an invalid `config`, or a first stance whose specific force is
+/// not gravity (accelerations not in m/s²).
 pub fn detect_strides(
     recording: &ImuRecording,
     config: &FootConfig,

@@ -300,7 +300,8 @@ impl FootConfig {
 pub struct FootFigures {
     /// Strides emitted.
     pub strides: usize,
-    /// Stances detected (maximal runs of zero-velocity samples).
+    /// Stances accepted (maximal runs of stance samples whose zero-velocity updates were
+    /// applied), the first included.
     pub stances: usize,
     /// Stances rejected because the INS's speed at each of their zero-velocity samples
     /// exceeded `zupt_gate_speed`.
