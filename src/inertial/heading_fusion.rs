@@ -29,7 +29,7 @@ use serde::{Deserialize, Serialize};
 /// Parameters of the heading estimate; every default in one place.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
-pub struct HeadingConfig {
+pub struct HeadingFusionConfig {
     /// Magnetic declination at the site, radians, east positive: absolute headings
     /// (rotation vector and magnetometer, both referenced to magnetic north) are turned
     /// to true north by `ψ_true = ψ_mag − declination`. Default 0 (on the ILC 2.0 site the
@@ -46,7 +46,7 @@ pub struct HeadingConfig {
     pub magnetic_field_range: [f64; 2],
 }
 
-impl Default for HeadingConfig {
+impl Default for HeadingFusionConfig {
     fn default() -> Self {
         Self {
             declination: 0.0,
@@ -57,7 +57,7 @@ impl Default for HeadingConfig {
     }
 }
 
-impl HeadingConfig {
+impl HeadingFusionConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
         let bad = |field: &'static str, value: String, reason: &'static str| {
@@ -154,7 +154,7 @@ pub fn heading_of(forward: [f64; 2], declination: f64) -> f64 {
 /// (no allocation).
 #[derive(Debug, Clone)]
 pub struct HeadingFilter {
-    config: HeadingConfig,
+    config: HeadingFusionConfig,
     /// Low-passed specific force, sensor frame, m/s².
     up: [f64; 3],
     /// Heading ψ, radians CCW from east (or from the start for the gyroscope alone).
@@ -167,7 +167,7 @@ pub struct HeadingFilter {
 
 impl HeadingFilter {
     /// A filter; `config` must be valid. Without a magnetometer the heading starts at 0.
-    pub fn new(config: &HeadingConfig) -> Self {
+    pub fn new(config: &HeadingFusionConfig) -> Self {
         Self {
             config: config.clone(),
             up: [0.0; 3],
@@ -335,7 +335,7 @@ mod tests {
 
     #[test]
     fn gyro_turn_about_gravity_integrates_and_the_magnetometer_pulls_back() {
-        let mut f = HeadingFilter::new(&HeadingConfig::default());
+        let mut f = HeadingFilter::new(&HeadingFusionConfig::default());
         // Phone flat: up = +z. 1 s at 0.5 rad/s about z at 100 Hz, no magnetometer.
         f.restart([0.0, 0.0, 9.81], None);
         for _ in 0..100 {

@@ -9,14 +9,18 @@
 
 pub mod barometer;
 pub mod foot;
+pub mod foot_config;
 pub mod heading_fusion;
 pub mod phone;
+pub mod stance;
 pub mod step_detector;
+pub mod strapdown;
 pub mod stride_model;
+pub mod zupt;
 
 pub use barometer::{BarometerConfig, pressure_height};
 pub use foot::{FootConfig, FootFigures, detect_strides};
-pub use heading_fusion::HeadingConfig;
+pub use heading_fusion::HeadingFusionConfig;
 pub use phone::{HeadingFigures, PhoneConfig, PhoneFigures, detect_steps};
 pub use step_detector::StepDetectorConfig;
 pub use stride_model::{StrideModelConfig, calibrate_constant};

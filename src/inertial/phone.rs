@@ -23,7 +23,7 @@
 
 use super::barometer::{Barometer, BarometerConfig};
 use super::heading_fusion::{
-    HeadingConfig, HeadingFilter, forward_from_quaternion, heading_of, wrap_heading_change,
+    HeadingFilter, HeadingFusionConfig, forward_from_quaternion, heading_of, wrap_heading_change,
 };
 use super::step_detector::{DetectedStep, StepDetector, StepDetectorConfig};
 use super::stride_model::StrideModelConfig;
@@ -43,7 +43,7 @@ pub struct PhoneConfig {
     /// The stride-length model and its one calibratable constant.
     pub stride: StrideModelConfig,
     /// Heading: declination, magnetometer fusion.
-    pub heading: HeadingConfig,
+    pub heading: HeadingFusionConfig,
     /// Barometric height.
     pub barometer: BarometerConfig,
     /// Longest interval between two samples that is still integrated, seconds; a longer one
@@ -61,7 +61,7 @@ impl Default for PhoneConfig {
         Self {
             steps: StepDetectorConfig::default(),
             stride: StrideModelConfig::default(),
-            heading: HeadingConfig::default(),
+            heading: HeadingFusionConfig::default(),
             barometer: BarometerConfig::default(),
             max_gap_s: 0.2,
             use_rotation_vector: true,
