@@ -126,3 +126,28 @@ fn a_phone_excerpt_gives_steps_with_absolute_heading_a_summary_and_a_picture() {
         std::fs::read(again.join("steps.csv")).expect("b")
     );
 }
+
+#[test]
+fn a_foot_excerpt_gives_strides_without_absolute_heading() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("run");
+    let imu = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/foot_excerpt.csv");
+    footslam()
+        .args(["steps", "--mount", "foot", "--imu"])
+        .arg(&imu)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("strides"));
+    let steps = footslam::dataset::read_steps(&out.join("steps.csv")).expect("steps.csv");
+    // The excerpt's truth (tests/data/README.md): three strides of 1.11–1.26 m after a stand.
+    assert!((3..=4).contains(&steps.len()), "{}", steps.len());
+    assert!(steps.steps().iter().all(|s| s.heading.is_none()));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("read"))
+            .expect("json");
+    assert_eq!(summary["heading_source"], "gyroscope");
+    assert_eq!(summary["mount"], "foot");
+    assert!(out.join("steps.png").is_file());
+}
