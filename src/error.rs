@@ -43,6 +43,26 @@ pub enum Error {
 /// Shorthand for results carrying [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
+/// `Ok` when `value` is finite and within `[lo, hi]`, else an [`Error::Config`] naming
+/// `field` with `reason` (the configs' `validate` methods).
+pub fn check_range(
+    field: &'static str,
+    value: f64,
+    lo: f64,
+    hi: f64,
+    reason: &'static str,
+) -> Result<()> {
+    if value.is_finite() && (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(Error::Config {
+            field,
+            value: value.to_string(),
+            reason,
+        })
+    }
+}
+
 impl Error {
     /// An I/O error on `path`.
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {

@@ -32,7 +32,7 @@
 //! [`super::sensor_streams::REORDER_TOLERANCE_S`] (sorted, counted), further is an error. A
 //! trace without accelerometer or gyroscope rows is an error naming the missing sensor.
 
-use super::log_lines::{LogLines, read_log_lines};
+use super::log_lines::{LogLines, axes, number, read_log_lines};
 use super::sensor_streams::{ImuStreams, SensorStream, assemble_imu, rotation_vector_quaternion};
 use super::waypoints_csv::Waypoint;
 use crate::error::{Error, Result};
@@ -220,27 +220,6 @@ fn read_header(rest: &str, header: &mut BTreeMap<String, String>) {
             header.insert(k.trim().to_string(), v.trim().to_string());
         }
     }
-}
-
-/// A finite number from a field.
-fn number(field: &str, what: &str) -> Result<f64, String> {
-    match field.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
-        Ok(_) => Err(format!("{what} `{field}` is not a finite number")),
-        Err(_) => Err(format!("{what} `{field}` is not a number")),
-    }
-}
-
-/// Values of a 3-axis sensor within `max`.
-fn axes(values: &[&str], what: &str, max: f64) -> Result<[f64; 3], String> {
-    let mut v = [0.0; 3];
-    for (slot, (field, axis)) in v.iter_mut().zip(values.iter().zip(["x", "y", "z"])) {
-        *slot = number(field, &format!("{what} {axis}"))?;
-        if slot.abs() > max {
-            return Err(format!("{what} {axis} = {slot} is beyond ±{max}"));
-        }
-    }
-    Ok(v)
 }
 
 impl Reader {

@@ -32,7 +32,7 @@
 //! previous line is an error naming the file and line (an unterminated malformed last line
 //! is skipped and reported, see [`super::log_lines`]).
 
-use super::log_lines::{LogLines, read_log_lines};
+use super::log_lines::{LogLines, axes, number, read_log_lines};
 use super::sensor_streams::{ImuStreams, SensorStream, assemble_imu, rotation_vector_quaternion};
 use super::waypoints_csv::Waypoint;
 use crate::error::{Error, Result};
@@ -184,27 +184,6 @@ pub fn read_ipin_log(path: &Path, config: &IpinImportConfig) -> Result<IpinLog> 
         ));
     }
     reader.finish(path, config, seen)
-}
-
-/// A finite number from a field.
-fn number(field: &str, what: &str) -> Result<f64, String> {
-    match field.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
-        Ok(_) => Err(format!("{what} `{field}` is not a finite number")),
-        Err(_) => Err(format!("{what} `{field}` is not a number")),
-    }
-}
-
-/// Three finite numbers within ±`max`.
-fn axes(fields: &[&str], what: &str, max: f64) -> Result<[f64; 3], String> {
-    let mut v = [0.0; 3];
-    for (slot, (field, axis)) in v.iter_mut().zip(fields.iter().zip(["x", "y", "z"])) {
-        *slot = number(field, &format!("{what} {axis}"))?;
-        if slot.abs() > max {
-            return Err(format!("{what} {axis} = {slot} is beyond ±{max}"));
-        }
-    }
-    Ok(v)
 }
 
 /// An integer-valued field.

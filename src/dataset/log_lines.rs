@@ -66,6 +66,27 @@ pub fn read_log_lines(
     Ok(seen)
 }
 
+/// A finite number from a log's field; the error names `what`.
+pub fn number(field: &str, what: &str) -> Result<f64, String> {
+    match field.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        Ok(_) => Err(format!("{what} `{field}` is not a finite number")),
+        Err(_) => Err(format!("{what} `{field}` is not a number")),
+    }
+}
+
+/// A 3-axis sensor's three finite values within ±`max`.
+pub fn axes(fields: &[&str], what: &str, max: f64) -> Result<[f64; 3], String> {
+    let mut v = [0.0; 3];
+    for (slot, (field, axis)) in v.iter_mut().zip(fields.iter().zip(["x", "y", "z"])) {
+        *slot = number(field, &format!("{what} {axis}"))?;
+        if slot.abs() > max {
+            return Err(format!("{what} {axis} = {slot} is beyond ±{max}"));
+        }
+    }
+    Ok(v)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -124,17 +124,7 @@ impl Default for RfConfig {
 impl RfConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let check = |field: &'static str, v: f64, lo: f64, hi: f64, reason: &'static str| {
-            if v.is_finite() && (lo..=hi).contains(&v) {
-                Ok(())
-            } else {
-                Err(Error::Config {
-                    field,
-                    value: v.to_string(),
-                    reason,
-                })
-            }
-        };
+        let check = crate::error::check_range;
         if let Some(e) = self.epsilon {
             check("rf.epsilon", e, 0.0, 200.0, "must be in [0, 200] dBm")?;
         }

@@ -2,7 +2,7 @@
 //! every parameter, its unit and default.
 
 use super::stance::ShoeDetector;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::sensor::step::MAX_STEP_LENGTH;
 use serde::{Deserialize, Serialize};
 
@@ -115,17 +115,7 @@ impl Default for FootConfig {
 impl FootConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let check = |field: &'static str, v: f64, lo: f64, hi: f64, reason: &'static str| {
-            if v.is_finite() && (lo..=hi).contains(&v) {
-                Ok(())
-            } else {
-                Err(Error::Config {
-                    field,
-                    value: v.to_string(),
-                    reason,
-                })
-            }
-        };
+        let check = crate::error::check_range;
         check(
             "foot.window_s",
             self.window_s,

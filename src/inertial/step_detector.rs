@@ -18,7 +18,7 @@
 //! keeps a phone at rest (swing ≈ 0.1 m/s²) silent; the adaptive part rejects the small
 //! secondary bumps of a vigorous gait.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -57,17 +57,7 @@ impl Default for StepDetectorConfig {
 impl StepDetectorConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let check = |field: &'static str, v: f64, lo: f64, hi: f64, reason: &'static str| {
-            if v.is_finite() && (lo..=hi).contains(&v) {
-                Ok(())
-            } else {
-                Err(Error::Config {
-                    field,
-                    value: v.to_string(),
-                    reason,
-                })
-            }
-        };
+        let check = crate::error::check_range;
         check(
             "phone.steps.low_pass_hz",
             self.low_pass_hz,
