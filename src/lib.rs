@@ -13,7 +13,11 @@
 //!   floor polygons — walls kill particles, stairs are weighed by height change, unknown
 //!   start, KLD-sampling, mean-shift clusters, recovery when every particle dies. See
 //!   [`filter::Tracker`] and [`map::FloorTopology`].
-//! * Readers for step traces and floor plans ([`dataset`]), exporters to RFC 7946 GeoJSON
+//! * **Raw IMU recordings to step events** ([`inertial`]): a foot-mounted zero-velocity-aided
+//!   INS ([`inertial::detect_strides`]) and a phone's step-and-heading system
+//!   ([`inertial::detect_steps`]), over [`sensor::ImuRecording`].
+//! * Readers for step traces, IMU recordings, floor plans and public datasets (the Indoor
+//!   Location Competition 2.0, IPIN logfiles) ([`dataset`]), exporters to RFC 7946 GeoJSON
 //!   and pictures ([`export`]), a simulator of office and multi-floor walks with a
 //!   foot-mounted-grade error model ([`sim`]) and evaluation ([`eval`]).
 //!
@@ -58,7 +62,7 @@
 //! # Ok::<(), footslam::Error>(())
 //! ```
 //!
-//! Layers point down only: [`geometry`] → [`sensor`], [`map`] → [`model`] → [`filter`] →
+//! Layers point down only: [`geometry`] → [`sensor`] → [`inertial`], [`map`] → [`model`] → [`filter`] →
 //! [`dataset`], [`export`] (and [`sim`], [`eval`]). The library never prints.
 
 pub mod dataset;
