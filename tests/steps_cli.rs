@@ -151,3 +151,28 @@ fn a_foot_excerpt_gives_strides_without_absolute_heading() {
     assert_eq!(summary["mount"], "foot");
     assert!(out.join("steps.png").is_file());
 }
+
+#[test]
+fn the_wrong_mount_is_said_not_swallowed() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    for (file, mount, hint) in [
+        ("foot_excerpt.csv", "phone", "--mount foot"),
+        ("phone_excerpt.csv", "foot", "--mount phone"),
+    ] {
+        let out = dir.path().join(mount);
+        footslam()
+            .args(["steps", "--mount", mount, "--imu"])
+            .arg(data.join(file))
+            .arg("--out")
+            .arg(&out)
+            .assert()
+            .success()
+            .stderr(predicate::str::contains("warning").and(predicate::str::contains(hint)));
+        let summary: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(out.join("summary.json")).expect("read"),
+        )
+        .expect("json");
+        assert_eq!(summary["warnings"].as_array().expect("warnings").len(), 1);
+    }
+}

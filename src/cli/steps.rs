@@ -7,10 +7,10 @@ use footslam::dataset::{read_imu, steps_csv::write_steps};
 use footslam::export::RunFolder;
 use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::inertial::{
-    HeadingSource, Mount, StepEvents, StepsConfig, detect_steps, detect_strides,
+    HeadingSource, Mount, StepEvents, StepsConfig, check_mount, detect_steps, detect_strides,
 };
 use footslam::map::hex_transitions::HexMapSnapshot;
-use footslam::sensor::SamplingReport;
+use footslam::sensor::{ImuRecording, SamplingReport};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -51,6 +51,8 @@ struct Summary<F: Serialize> {
     net_height_change_m: f64,
     heading_source: HeadingSource,
     steps_with_heading: usize,
+    /// Why the output may be wrong (e.g. the recording does not look like the mount).
+    warnings: Vec<String>,
     sampling: SamplingReport,
     detector: F,
     runtime_s: f64,
@@ -67,7 +69,6 @@ pub fn run(args: Args) -> Result<()> {
     config.validate()?;
     let started = Instant::now();
     let recording = read_imu(&args.imu)?;
-    let sampling = recording.report().clone();
     let out = output_dir(args.out.clone(), "steps");
     let folder = RunFolder::create(&out)?;
     let context = || format!("{}: cannot detect steps", args.imu.display());
@@ -75,13 +76,13 @@ pub fn run(args: Args) -> Result<()> {
         MountArg::Foot => {
             let events = detect_strides(&recording, &config.foot).with_context(context)?;
             let n = events.trace.len();
-            write_outputs(&folder, &args, Mount::Foot, events, sampling, started)?;
+            write_outputs(&folder, &args, &recording, Mount::Foot, events, started)?;
             (Mount::Foot, n)
         }
         MountArg::Phone => {
             let events = detect_steps(&recording, &config.phone).with_context(context)?;
             let n = events.trace.len();
-            write_outputs(&folder, &args, Mount::Phone, events, sampling, started)?;
+            write_outputs(&folder, &args, &recording, Mount::Phone, events, started)?;
             (Mount::Phone, n)
         }
     };
@@ -99,11 +100,12 @@ pub fn run(args: Args) -> Result<()> {
 fn write_outputs<F: Serialize>(
     folder: &RunFolder,
     args: &Args,
+    recording: &ImuRecording,
     mount: Mount,
     events: StepEvents<F>,
-    sampling: SamplingReport,
     started: Instant,
 ) -> Result<()> {
+    let sampling = recording.report().clone();
     let steps = events.trace.steps();
     if steps.is_empty() {
         anyhow::bail!(
@@ -117,6 +119,15 @@ fn write_outputs<F: Serialize>(
         );
     }
     write_steps(&folder.path("steps.csv"), &events.trace)?;
+    let warnings: Vec<String> = check_mount(recording, mount, steps.len())
+        .into_iter()
+        .collect();
+    for w in &warnings {
+        #[allow(clippy::print_stderr)]
+        {
+            eprintln!("warning: {}: {w}", args.imu.display());
+        }
+    }
     let path: Vec<(f64, f64)> = events.path.iter().map(|p| (p[0], p[1])).collect();
     let empty = HexMapSnapshot {
         radius: 0.5,
@@ -138,6 +149,7 @@ fn write_outputs<F: Serialize>(
         net_height_change_m: steps.iter().map(|s| s.dz).sum(),
         heading_source: events.heading_source,
         steps_with_heading: steps.iter().filter(|s| s.heading.is_some()).count(),
+        warnings,
         sampling,
         detector: events.figures,
         runtime_s: started.elapsed().as_secs_f64(),
