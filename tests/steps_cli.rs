@@ -169,10 +169,9 @@ fn the_wrong_mount_is_said_not_swallowed() {
             .assert()
             .success()
             .stderr(predicate::str::contains("warning").and(predicate::str::contains(hint)));
-        let summary: serde_json::Value = serde_json::from_str(
-            &std::fs::read_to_string(out.join("summary.json")).expect("read"),
-        )
-        .expect("json");
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("read"))
+                .expect("json");
         assert_eq!(summary["warnings"].as_array().expect("warnings").len(), 1);
     }
 }
