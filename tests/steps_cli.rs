@@ -61,6 +61,10 @@ fn bad_recordings_are_refused_with_file_line_and_reason() {
         &format!("{HEAD}\n{}{}2.0,0.1,0.2", row(1.0), row(1.5)),
         &[":4"],
     );
+    let in_g: String = (0..20)
+        .map(|i| format!("{i},0.01,0.02,1.0,0.01,0,0\n"))
+        .collect();
+    refuses(d, "in_g", &format!("{HEAD}\n{in_g}"), &["in g?"]);
     refuses(
         d,
         "absurd",

@@ -54,7 +54,8 @@ pub fn check_sample(s: &ImuSample) -> Result<(), String> {
         Ok(())
     };
     axes(&s.accel, MAX_ACCEL, "acceleration", "m/s²")?;
-    axes(&s.gyro, MAX_GYRO, "angular rate", "rad/s")?;
+    axes(&s.gyro, MAX_GYRO, "angular rate", "rad/s")
+        .map_err(|m| format!("{m} (degrees per second? the columns take rad/s)"))?;
     if let Some(m) = &s.mag {
         axes(m, MAX_MAG, "magnetic field", "µT")?;
     }
@@ -101,6 +102,11 @@ pub struct SamplingReport {
     /// Intervals that differ from the median by more than 25 % (uneven sampling).
     pub uneven_intervals: usize,
 }
+
+/// Accepted median magnitude of the specific force over a recording, m/s²: about gravity's
+/// 9.81 for a phone, up to twice that for a foot IMU on a brisk walk (16.9 and 21.2 m/s²
+/// measured on two fast Vicon-room walks). A recording in g (median 1–2.5) falls below.
+pub const GRAVITY_RANGE: std::ops::RangeInclusive<f64> = 4.0..=60.0;
 
 /// An interval longer than this many median intervals counts as a gap.
 pub const GAP_FACTOR: f64 = 5.0;
@@ -156,6 +162,24 @@ impl ImuRecording {
                 "the orientation",
             )?;
             same(s.pressure.is_some(), first.pressure.is_some(), "pressure")?;
+        }
+        let mut magnitudes: Vec<f64> = samples
+            .iter()
+            .map(|s| s.accel.iter().map(|a| a * a).sum::<f64>().sqrt())
+            .collect();
+        let mid = magnitudes.len() / 2;
+        let median = *magnitudes.select_nth_unstable_by(mid, f64::total_cmp).1;
+        if !GRAVITY_RANGE.contains(&median) {
+            return Err((
+                0,
+                format!(
+                    "the acceleration's median magnitude over the whole recording is {median:.2}, \
+                     outside [{}, {}] m/s² around gravity's 9.81 (in g? multiply by 9.81; the \
+                     columns take m/s² with gravity included)",
+                    GRAVITY_RANGE.start(),
+                    GRAVITY_RANGE.end()
+                ),
+            ));
         }
         let report = sampling_report(&samples, duplicate_times);
         Ok(Self { samples, report })
@@ -254,6 +278,14 @@ mod tests {
         let mut bad = sample(1.0);
         bad.accel[2] = 1e6;
         assert!(ImuRecording::new(vec![sample(0.0), bad], 0).is_err());
+        let in_g: Vec<_> = (0..10)
+            .map(|i| ImuSample {
+                accel: [0.0, 0.0, 1.0],
+                ..sample(i as f64)
+            })
+            .collect();
+        let e = ImuRecording::new(in_g, 0).unwrap_err();
+        assert!(e.1.contains("in g?"), "{}", e.1);
         let mut with_mag = sample(1.0);
         with_mag.mag = Some([20.0, 0.0, -40.0]);
         let e = ImuRecording::new(vec![sample(0.0), with_mag], 0).unwrap_err();
