@@ -35,6 +35,7 @@
 use super::log_lines::{LogLines, axes, number, read_log_lines};
 use super::sensor_streams::{ImuStreams, SensorStream, assemble_imu, rotation_vector_quaternion};
 use super::waypoints_csv::Waypoint;
+use super::wifi_sightings::{DroppedSightings, fresh_readings};
 use crate::error::{Error, Result};
 use crate::sensor::imu::{ImuRecording, MAX_ACCEL, MAX_GYRO, MAX_MAG, SamplingReport};
 use crate::sensor::wifi::{WifiReading, WifiScan, check_reading, normalise_bssid};
@@ -436,25 +437,14 @@ impl Reader {
         let imu = assemble_imu(&streams).map_err(|(line, m)| Error::parse(path, line, m))?;
 
         let max_age_ms = config.max_wifi_age_s * 1000.0;
-        let (mut stale, mut empty, mut duplicates, mut readings) = (0, 0, 0, 0);
+        let (mut dropped, mut empty, mut readings) = (DroppedSightings::default(), 0, 0);
         let mut wifi = Vec::with_capacity(self.scans.len());
         for (ms, pending) in self.scans {
-            let mut kept: Vec<(WifiReading, Option<i64>)> = Vec::with_capacity(pending.len());
-            for (reading, seen) in pending {
-                if seen.is_some_and(|s| (ms - s) as f64 > max_age_ms) {
-                    stale += 1;
-                    continue;
-                }
-                match kept.iter_mut().find(|(r, _)| r.bssid == reading.bssid) {
-                    Some(slot) => {
-                        duplicates += 1;
-                        if seen > slot.1 {
-                            *slot = (reading, seen);
-                        }
-                    }
-                    None => kept.push((reading, seen)),
-                }
-            }
+            let sightings = pending
+                .into_iter()
+                .map(|(r, seen)| (r, seen.map(|s| s as f64)))
+                .collect();
+            let kept = fresh_readings(sightings, ms as f64, max_age_ms, &mut dropped);
             if kept.is_empty() {
                 empty += 1;
                 continue;
@@ -462,7 +452,7 @@ impl Reader {
             readings += kept.len();
             wifi.push(WifiScan {
                 t: ms as f64 / 1000.0,
-                readings: kept.into_iter().map(|(r, _)| r).collect(),
+                readings: kept,
             });
         }
         let waypoints: Vec<Waypoint> = self
@@ -494,10 +484,10 @@ impl Reader {
             reordered_rows: reordered,
             wifi_scans: wifi.len(),
             wifi_readings: readings,
-            stale_readings_dropped: stale,
+            stale_readings_dropped: dropped.stale,
             max_wifi_age_s: config.max_wifi_age_s,
             empty_scans_dropped: empty,
-            duplicate_bssids_dropped: duplicates,
+            duplicate_bssids_dropped: dropped.duplicates,
             ssids_blanked: self.ssids_blanked,
             waypoints: waypoints.len(),
             not_converted,

@@ -35,6 +35,7 @@
 use super::log_lines::{LogLines, axes, number, read_log_lines};
 use super::sensor_streams::{ImuStreams, SensorStream, assemble_imu, rotation_vector_quaternion};
 use super::waypoints_csv::Waypoint;
+use super::wifi_sightings::{DroppedSightings, fresh_readings};
 use crate::error::{Error, Result};
 use crate::geometry::LocalFrame;
 use crate::sensor::gps::{DEFAULT_ACCURACY, GpsFix, check_fix};
@@ -392,31 +393,17 @@ impl Reader {
             }
         }
         let imu = assemble_imu(&self.imu).map_err(|(line, m)| Error::parse(path, line, m))?;
-        let (mut stale, mut duplicates, mut readings) = (0, 0, 0);
+        let (mut dropped, mut readings) = (DroppedSightings::default(), 0);
         let mut wifi = Vec::with_capacity(self.scans.len());
         for (key, pending) in self.scans {
             let newest = pending.iter().map(|(_, s)| *s).fold(f64::MIN, f64::max);
-            let mut kept: Vec<(WifiReading, f64)> = Vec::with_capacity(pending.len());
-            for (reading, seen) in pending {
-                if newest - seen > config.max_wifi_age_s {
-                    stale += 1;
-                    continue;
-                }
-                match kept.iter_mut().find(|(r, _)| r.bssid == reading.bssid) {
-                    Some(slot) => {
-                        duplicates += 1;
-                        if seen > slot.1 {
-                            *slot = (reading, seen);
-                        }
-                    }
-                    None => kept.push((reading, seen)),
-                }
-            }
+            let sightings = pending.into_iter().map(|(r, s)| (r, Some(s))).collect();
             // The newest reading is never stale, so a scan keeps at least one.
+            let kept = fresh_readings(sightings, newest, config.max_wifi_age_s, &mut dropped);
             readings += kept.len();
             wifi.push(WifiScan {
                 t: key as f64 / 1000.0,
-                readings: kept.into_iter().map(|(r, _)| r).collect(),
+                readings: kept,
             });
         }
         let mut gnss: Vec<GpsFix> = Vec::new();
@@ -454,9 +441,9 @@ impl Reader {
             reordered_rows: reordered,
             wifi_scans: wifi.len(),
             wifi_readings: readings,
-            stale_readings_dropped: stale,
+            stale_readings_dropped: dropped.stale,
             max_wifi_age_s: config.max_wifi_age_s,
-            duplicate_bssids_dropped: duplicates,
+            duplicate_bssids_dropped: dropped.duplicates,
             ssids_blanked: self.ssids_blanked,
             gnss_fixes: gnss.len(),
             gnss_duplicates_dropped: gnss_duplicates,

@@ -20,6 +20,7 @@ pub mod trajectory_csv;
 pub mod truth_csv;
 pub mod waypoints_csv;
 pub mod wifi_csv;
+pub mod wifi_sightings;
 
 pub use gps_csv::{read_gps_csv, write_gps_csv};
 pub use gpx_file::{parse_utc_time, read_gpx};
