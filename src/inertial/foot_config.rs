@@ -267,20 +267,11 @@ impl FootConfig {
         )
     }
 
-    /// The stance detector's parameters, with gravity `gravity` (m/s²).
-    pub(super) fn detector(&self, gravity: f64) -> ShoeDetector {
+    /// The stance detector on this configuration, with gravity `gravity` (m/s²).
+    pub(super) fn detector(&self, gravity: f64) -> ShoeDetector<'_> {
         ShoeDetector {
-            window_s: self.window_s,
-            accel_sigma: self.accel_sigma,
-            gyro_sigma: self.gyro_sigma,
+            config: self,
             gravity,
-            threshold_floor: self.threshold_floor,
-            threshold_ceiling: self.threshold_ceiling,
-            adaptive_fraction: self.adaptive_fraction,
-            adaptive_half_window_s: self.adaptive_half_window_s,
-            min_stance_s: self.min_stance_s,
-            max_hole_s: self.max_hole_s,
-            zupt_margin: self.zupt_margin,
         }
     }
 }

@@ -26,34 +26,17 @@
 //! above the ceiling it certainly moves. The mask is then cleaned: holes shorter than
 //! `max_hole` inside a stance are filled, stances shorter than `min_stance` dropped.
 
+use super::FootConfig;
 use std::collections::VecDeque;
 
-/// The detector's parameters (see [`super::FootConfig`] for units and defaults).
+/// The detector: the foot INS's configuration (see [`FootConfig`] for units and defaults)
+/// and the recording's gravity.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ShoeDetector {
-    /// Window length, seconds.
-    pub window_s: f64,
-    /// Accelerometer deviation scale `σ_a`, m/s².
-    pub accel_sigma: f64,
-    /// Gyroscope scale `σ_ω`, rad/s.
-    pub gyro_sigma: f64,
+pub struct ShoeDetector<'a> {
+    /// Window, scales, thresholds and cleaning.
+    pub config: &'a FootConfig,
     /// Gravity, m/s².
     pub gravity: f64,
-    /// `γ_floor`: below it, always stance.
-    pub threshold_floor: f64,
-    /// `γ_ceiling`: above it, never stance.
-    pub threshold_ceiling: f64,
-    /// `α`: where between the local log-minimum and log-maximum the threshold sits.
-    pub adaptive_fraction: f64,
-    /// `H`: half-width of the local window, seconds.
-    pub adaptive_half_window_s: f64,
-    /// Shortest stance kept, seconds.
-    pub min_stance_s: f64,
-    /// Longest motion inside a stance that is filled in, seconds.
-    pub max_hole_s: f64,
-    /// `δ`: zero-velocity updates apply where `log₁₀ T` is within `δ` of the local minimum
-    /// `m_k` (or `T < γ_floor`).
-    pub zupt_margin: f64,
 }
 
 /// What the detector found, sample by sample.
@@ -83,17 +66,17 @@ pub fn samples_in(seconds: f64, dt: f64, min: usize) -> usize {
     ((seconds / dt).round() as usize).max(min)
 }
 
-impl ShoeDetector {
+impl ShoeDetector<'_> {
     /// The SHOE statistic `T_k` (eq. 11) of every sample; the window is centred on `k` and
     /// shrinks at the ends. `dt` is the median sampling interval.
     pub fn statistic(&self, accel: &[[f64; 3]], gyro: &[[f64; 3]], dt: f64) -> Vec<f64> {
         debug_assert_eq!(accel.len(), gyro.len());
         let n = accel.len();
-        let w = samples_in(self.window_s, dt, 2);
+        let w = samples_in(self.config.window_s, dt, 2);
         let (before, after) = ((w - 1) / 2, w / 2);
         let (ia2, iw2) = (
-            1.0 / (self.accel_sigma * self.accel_sigma),
-            1.0 / (self.gyro_sigma * self.gyro_sigma),
+            1.0 / (self.config.accel_sigma * self.config.accel_sigma),
+            1.0 / (self.config.gyro_sigma * self.config.gyro_sigma),
         );
         (0..n)
             .map(|k| {
@@ -127,7 +110,7 @@ impl ShoeDetector {
     pub fn detect(&self, t: &[f64], accel: &[[f64; 3]], gyro: &[[f64; 3]], dt: f64) -> StanceMask {
         let statistic = self.statistic(accel, gyro, dt);
         let log_t: Vec<f64> = statistic.iter().map(|&v| v.max(1e-12).log10()).collect();
-        let h = samples_in(self.adaptive_half_window_s, dt, 1);
+        let h = samples_in(self.config.adaptive_half_window_s, dt, 1);
         // m_k: the larger of the minima before and after k, so that standing still on one
         // side does not pull the threshold below the walking stances on the other.
         let below = |a: f64, b: f64| a <= b;
@@ -137,22 +120,25 @@ impl ShoeDetector {
             .map(|(before, after)| before.max(after))
             .collect();
         let highs = sliding_extreme(&log_t, h, h, |a, b| a >= b);
-        let (floor, ceiling) = (self.threshold_floor.log10(), self.threshold_ceiling.log10());
+        let (floor, ceiling) = (
+            self.config.threshold_floor.log10(),
+            self.config.threshold_ceiling.log10(),
+        );
         let mut thresholds = Vec::with_capacity(log_t.len());
         let mut stance: Vec<bool> = log_t
             .iter()
             .zip(lows.iter().zip(&highs))
             .map(|(&l, (&m, &big_m))| {
-                let gamma = (m + self.adaptive_fraction * (big_m - m)).clamp(floor, ceiling);
+                let gamma = (m + self.config.adaptive_fraction * (big_m - m)).clamp(floor, ceiling);
                 thresholds.push(gamma);
                 l < gamma
             })
             .collect();
-        clean_runs(&mut stance, t, true, self.max_hole_s);
-        clean_runs(&mut stance, t, false, self.min_stance_s);
+        clean_runs(&mut stance, t, true, self.config.max_hole_s);
+        clean_runs(&mut stance, t, false, self.config.min_stance_s);
         thresholds.sort_by(f64::total_cmp);
         let median_threshold = 10f64.powf(thresholds[thresholds.len() / 2]);
-        let (zupt, clear) = stillest(&mut stance, &log_t, &lows, floor, self.zupt_margin);
+        let (zupt, clear) = stillest(&mut stance, &log_t, &lows, floor, self.config.zupt_margin);
         StanceMask {
             stance,
             zupt,
@@ -268,25 +254,26 @@ fn clean_runs(mask: &mut [bool], t: &[f64], fill_with: bool, max_s: f64) {
 mod tests {
     use super::*;
 
-    fn detector() -> ShoeDetector {
-        ShoeDetector {
-            window_s: 0.05,
-            accel_sigma: 0.1,
-            gyro_sigma: 0.1,
-            gravity: 9.81,
-            threshold_floor: 3.0,
-            threshold_ceiling: 3000.0,
+    /// The defaults with a lower adaptive fraction and a wider ZUPT margin.
+    fn config() -> FootConfig {
+        FootConfig {
             adaptive_fraction: 0.35,
-            adaptive_half_window_s: 1.0,
-            min_stance_s: 0.05,
-            max_hole_s: 0.05,
             zupt_margin: 1.0,
+            ..Default::default()
+        }
+    }
+
+    fn detector(config: &FootConfig) -> ShoeDetector<'_> {
+        ShoeDetector {
+            config,
+            gravity: 9.81,
         }
     }
 
     #[test]
     fn statistic_is_zero_at_rest_and_large_in_motion() {
-        let d = detector();
+        let config = config();
+        let d = detector(&config);
         // At rest, tilted: the specific force is gravity along any direction, no rotation.
         let s = 9.81 / 2f64.sqrt();
         let rest = d.statistic(&[[s, 0.0, s]; 10], &[[0.0; 3]; 10], 0.01);
@@ -339,10 +326,11 @@ mod tests {
         let dt = 0.01;
         let n = 400;
         let t: Vec<f64> = (0..n).map(|i| i as f64 * dt).collect();
-        let d = detector();
+        let config = config();
+        let d = detector(&config);
         let stance_truth: Vec<bool> = (0..n).map(|i| (i / 40) % 2 == 0).collect();
         // Build samples whose statistic is the wanted level: a constant rotation rate.
-        let rate = |level: f64| (level * d.gyro_sigma * d.gyro_sigma).sqrt();
+        let rate = |level: f64| (level * d.config.gyro_sigma * d.config.gyro_sigma).sqrt();
         let gyro: Vec<[f64; 3]> = stance_truth
             .iter()
             .map(|&s| [0.0, 0.0, if s { rate(500.0) } else { rate(50_000.0) }])
