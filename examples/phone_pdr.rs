@@ -62,15 +62,6 @@ fn percentile(v: &mut [f64], q: f64) -> f64 {
     v[((v.len() - 1) as f64 * q).round() as usize]
 }
 
-fn wrap(a: f64) -> f64 {
-    let w = (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
-    if w <= -std::f64::consts::PI {
-        w + std::f64::consts::TAU
-    } else {
-        w
-    }
-}
-
 #[derive(Default)]
 struct Totals {
     errors: Vec<f64>,
@@ -138,7 +129,7 @@ fn evaluate(imu: &Path, wp: &Path, config: &PhoneConfig, totals: &mut Totals) ->
         if c != 0.0 || s != 0.0 {
             totals
                 .heading_offsets
-                .push(wrap(s.atan2(c) - dy.atan2(dx)).to_degrees());
+                .push(footslam::geometry::wrap_turn(s.atan2(c) - dy.atan2(dx)).to_degrees());
         }
     }
     let f = &events.figures;

@@ -54,31 +54,28 @@ impl Default for FingerprintConfig {
 impl FingerprintConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let bad = |field, value: String, reason| {
-            Err(Error::Config {
-                field,
-                value,
-                reason,
-            })
-        };
-        if !(1..=100).contains(&self.k) {
-            return bad("fingerprint.k", self.k.to_string(), "must be in 1..=100");
-        }
-        if !(self.delta.is_finite() && self.delta > 0.0) {
-            return bad(
-                "fingerprint.delta",
-                self.delta.to_string(),
-                "must be > 0 dBm",
-            );
-        }
-        if !(self.missing_rssi.is_finite() && (-130.0..=-30.0).contains(&self.missing_rssi)) {
-            return bad(
-                "fingerprint.missing_rssi",
-                self.missing_rssi.to_string(),
-                "must be in [-130, -30] dBm",
-            );
-        }
-        Ok(())
+        let check = crate::error::check_range;
+        check(
+            "fingerprint.k",
+            self.k as f64,
+            1.0,
+            100.0,
+            "must be in 1..=100",
+        )?;
+        check(
+            "fingerprint.delta",
+            self.delta,
+            f64::MIN_POSITIVE,
+            f64::MAX,
+            "must be > 0 dBm",
+        )?;
+        check(
+            "fingerprint.missing_rssi",
+            self.missing_rssi,
+            -130.0,
+            -30.0,
+            "must be in [-130, -30] dBm",
+        )
     }
 }
 

@@ -294,7 +294,9 @@ impl<'a> Tracker<'a> {
                 }
                 self.measure(m);
             }
-            self.measure_heading(step);
+            if self.measure_heading(step) {
+                self.headings_used += 1;
+            }
             let n = self.weigh();
             self.resample(n, SALT_RESAMPLE);
         }
@@ -405,17 +407,18 @@ impl<'a> Tracker<'a> {
     /// Heading measurement (not in Woodman & Harle; a compass as in harle-2013 §V): adds
     /// `ln p(h_t | θ_t)` of the step's absolute heading to every proposed particle's
     /// log-weight, where the step has one and the model is enabled. The model's floor keeps
-    /// every particle alive, so a disturbed reading cannot kill the belief.
-    fn measure_heading(&mut self, step: &Step) {
+    /// every particle alive, so a disturbed reading cannot kill the belief. Returns whether
+    /// the step had a heading to apply.
+    fn measure_heading(&mut self, step: &Step) -> bool {
         let Some(h) = step.heading.filter(|_| self.heading.enabled()) else {
-            return;
+            return false;
         };
         let (model, c) = (&self.heading, self.heading.offset_measurement(h));
         self.proposal
             .par_iter()
             .zip(self.log_weights.par_iter_mut())
             .for_each(|(p, lw)| *lw += model.log_likelihood_f32(&c, p.heading));
-        self.headings_used += 1;
+        true
     }
 
     /// Turns the proposal's log-weights into weights (relative to the largest), fills the
@@ -633,18 +636,12 @@ impl<'a> Tracker<'a> {
             if !self.propagate(&h, 0.0, salt ^ crate::random::mix(k as u64 + 1)) {
                 return false;
             }
-            self.replay_heading(s);
+            // A replayed step's heading weighs again but is not counted again.
+            self.measure_heading(s);
             let m = self.weigh();
             self.resample(m, salt ^ crate::random::mix(k as u64 + 1));
         }
         self.propagate(u, 0.0, salt)
-    }
-
-    /// The heading measurement of a replayed step (history fitting), not counted again.
-    fn replay_heading(&mut self, step: &Step) {
-        let used = self.headings_used;
-        self.measure_heading(step);
-        self.headings_used = used;
     }
 
     /// Draws the uniform prior over every surface and heading — inside the region when one

@@ -10,7 +10,7 @@ pub mod local_frame;
 pub mod pose;
 
 pub use alignment::RigidTransform;
-pub use angle::wrap_angle;
+pub use angle::{wrap_angle, wrap_turn};
 pub use hex_grid::{Crossing, Hex, HexGrid};
 pub use local_frame::LocalFrame;
 pub use pose::Pose2;

@@ -28,7 +28,6 @@ use crate::error::{Error, Result};
 use crate::sensor::step::{MAX_STEP_DZ, MAX_STEP_LENGTH};
 use crate::sensor::{ImuRecording, Step, StepTrace};
 use nalgebra::Vector3;
-use std::f64::consts::PI;
 
 /// The gate on zero-velocity updates applies while the last update is this recent, seconds:
 /// after a longer unaided stretch the velocity error itself may exceed the gate.
@@ -285,7 +284,7 @@ fn emit(
             t: from.t + (to.t - from.t) * s,
             length: length / parts,
             dheading: if i == 1 {
-                wrap_half_open(to.yaw - from.yaw)
+                crate::geometry::wrap_turn(to.yaw - from.yaw)
             } else {
                 0.0
             },
@@ -294,12 +293,6 @@ fn emit(
         });
         path.push(p.into());
     }
-}
-
-/// Wraps an angle into `(−π, π]`.
-fn wrap_half_open(a: f64) -> f64 {
-    let w = crate::geometry::wrap_angle(a);
-    if w <= -PI { w + 2.0 * PI } else { w }
 }
 
 fn finish(
@@ -503,12 +496,5 @@ mod tests {
             ..FootConfig::default()
         };
         assert!(bad.validate().is_err());
-    }
-
-    #[test]
-    fn turns_wrap_into_the_half_open_interval() {
-        assert!((wrap_half_open(-PI) - PI).abs() < 1e-12);
-        assert!((wrap_half_open(PI) - PI).abs() < 1e-12);
-        assert!((wrap_half_open(1.5 * PI) + 0.5 * PI).abs() < 1e-12);
     }
 }

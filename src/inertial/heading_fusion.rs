@@ -23,7 +23,7 @@
 //! strength is outside the geomagnetic range (steel, motors) are skipped.
 
 use crate::error::{Error, Result};
-use crate::geometry::angle::wrap_angle;
+use crate::geometry::wrap_turn;
 use serde::{Deserialize, Serialize};
 
 /// Parameters of the heading estimate; every default in one place.
@@ -102,11 +102,6 @@ impl HeadingFusionConfig {
     }
 }
 
-/// Wraps an angle into `(−π, π]` (heading changes).
-pub fn wrap_heading_change(a: f64) -> f64 {
-    -wrap_angle(-a)
-}
-
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
@@ -147,7 +142,7 @@ pub fn forward_from_magnetometer(up: [f64; 3], mag: [f64; 3]) -> Option<[f64; 2]
 
 /// Heading of a forward vector, radians CCW from east, turned by the declination.
 pub fn heading_of(forward: [f64; 2], declination: f64) -> f64 {
-    wrap_heading_change(forward[1].atan2(forward[0]) - declination)
+    wrap_turn(forward[1].atan2(forward[0]) - declination)
 }
 
 /// Gyroscope (+ magnetometer) heading: the complementary filter above, one sample at a time
@@ -230,9 +225,9 @@ impl HeadingFilter {
         }
         if let Some(psi_mag) = mag.and_then(|m| self.magnetometer_heading(m)) {
             let k = dt / (self.config.magnetometer_time_constant_s + dt);
-            self.psi += k * wrap_heading_change(psi_mag - self.psi); // magnetometer correction
+            self.psi += k * wrap_turn(psi_mag - self.psi); // magnetometer correction
         }
-        self.psi = wrap_heading_change(self.psi);
+        self.psi = wrap_turn(self.psi);
         self.psi
     }
 }
@@ -281,13 +276,6 @@ mod tests {
             aw * bz + ax * by - ay * bx + az * bw,
             aw * bw - ax * bx - ay * by - az * bz,
         ]
-    }
-
-    #[test]
-    fn wraps_heading_changes_into_minus_pi_exclusive_to_pi_inclusive() {
-        assert!((wrap_heading_change(PI) - PI).abs() < 1e-12);
-        assert!((wrap_heading_change(-PI) - PI).abs() < 1e-12);
-        assert!((wrap_heading_change(1.5 * PI) + 0.5 * PI).abs() < 1e-12);
     }
 
     #[test]

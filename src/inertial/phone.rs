@@ -23,12 +23,13 @@
 
 use super::barometer::{Barometer, BarometerConfig};
 use super::heading_fusion::{
-    HeadingFilter, HeadingFusionConfig, forward_from_quaternion, heading_of, wrap_heading_change,
+    HeadingFilter, HeadingFusionConfig, forward_from_quaternion, heading_of,
 };
 use super::step_detector::{DetectedStep, StepDetector, StepDetectorConfig};
 use super::stride_model::StrideModelConfig;
 use super::{HeadingSource, StepEvents};
 use crate::error::{Error, Result};
+use crate::geometry::wrap_turn;
 use crate::sensor::step::MAX_STEP_DZ;
 use crate::sensor::{ImuRecording, ImuSample, Step, StepTrace};
 use serde::{Deserialize, Serialize};
@@ -224,7 +225,7 @@ impl Walk {
     ) {
         let length = config.stride.length(found.a_max, found.a_min);
         let heading = direction.heading(self.sum).unwrap_or(self.last_heading);
-        let dheading = wrap_heading_change(heading - self.last_heading);
+        let dheading = wrap_turn(heading - self.last_heading);
         let mut dz = self.height - self.last_height;
         if dz.abs() > MAX_STEP_DZ {
             dz = dz.clamp(-MAX_STEP_DZ, MAX_STEP_DZ);

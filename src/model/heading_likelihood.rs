@@ -7,7 +7,7 @@
 //! modelled as a mixture of a wrapped-normal error about the particle's heading `θ` and a
 //! uniform density over the circle (a disturbed reading that says nothing):
 //!
-//! `p(h | θ) = (1 − ε) · N(wrap(h + offset − θ); 0, σ) + ε / (2π)`        (1)
+//! `p(h | θ) = (1 − ε) · N(wrap_angle(h + offset − θ); 0, σ) + ε / (2π)`        (1)
 //!
 //! (the wrapped normal is approximated by the normal of the wrapped difference, exact to
 //! within `e^{−2π²/σ²}`, below 10⁻²⁰ for `σ ≤ 30°`). The uniform floor bounds what one
@@ -31,6 +31,7 @@
 //! Not in Woodman & Harle 2008 (whose foot-mounted INS has only relative heading); a
 //! compass used the same way in Harle's 2013 survey of pedestrian dead reckoning (§V).
 
+use crate::geometry::wrap_angle;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{PI, TAU};
 
@@ -127,7 +128,7 @@ impl HeadingLikelihood {
     /// `ln p(h | θ)` (eq. 1) of the measured heading `measured` (before the offset) for a
     /// particle heading `heading`, both radians counter-clockwise from east (any turn).
     pub fn log_likelihood(&self, measured: f64, heading: f64) -> f64 {
-        let e = wrap(measured + self.config.offset - heading);
+        let e = wrap_angle(measured + self.config.offset - heading);
         (self.inlier_peak * (-e * e * self.half_precision).exp() + self.floor).ln()
     }
 
@@ -154,7 +155,7 @@ impl HeadingLikelihood {
     /// The constants of [`Self::log_likelihood_f32`] for one reading `measured`.
     pub fn offset_measurement(&self, measured: f64) -> HeadingConstants {
         HeadingConstants {
-            measured: wrap(measured + self.config.offset) as f32,
+            measured: wrap_angle(measured + self.config.offset) as f32,
             inlier_peak: self.inlier_peak as f32,
             floor: self.floor as f32,
             half_precision: self.half_precision as f32,
@@ -198,11 +199,11 @@ impl HeadingLikelihood {
                 (0.0, f64::NEG_INFINITY),
                 |a, b| if b.1 > a.1 { b } else { a },
             );
-        let best = wrap(best);
+        let best = wrap_angle(best);
         let sigma = self.config.sigma;
         let inliers = back
             .iter()
-            .filter(|&&h| wrap(h + self.config.offset - best).abs() <= 2.0 * sigma)
+            .filter(|&&h| wrap_angle(h + self.config.offset - best).abs() <= 2.0 * sigma)
             .count()
             .max(1);
         Some((
@@ -220,11 +221,6 @@ pub struct HeadingConstants {
     inlier_peak: f32,
     floor: f32,
     half_precision: f32,
-}
-
-/// Wraps an angle to `[−π, π)`.
-fn wrap(a: f64) -> f64 {
-    (a + PI).rem_euclid(TAU) - PI
 }
 
 #[cfg(test)]
