@@ -59,6 +59,15 @@ enum AlignArg {
     Rigid,
 }
 
+impl From<AlignArg> for Alignment {
+    fn from(a: AlignArg) -> Self {
+        match a {
+            AlignArg::None => Alignment::None,
+            AlignArg::Rigid => Alignment::Rigid,
+        }
+    }
+}
+
 /// Picks one figure out of an error report.
 type Statistic = fn(&ErrorReport) -> f64;
 
@@ -88,10 +97,7 @@ pub fn run(args: Args) -> Result<()> {
         }
         _ => None,
     };
-    let alignment = match args.align {
-        AlignArg::None => Alignment::None,
-        AlignArg::Rigid => Alignment::Rigid,
-    };
+    let alignment = Alignment::from(args.align);
     let report = position_errors(&truth, &track, alignment)?;
     let dead_reckoning = match &args.steps {
         Some(path) => {
@@ -198,10 +204,7 @@ fn run_waypoints(args: Args) -> Result<()> {
     require_file(path, "waypoints file")?;
     let waypoints = read_waypoints(path)?;
     let track = read_trajectory(&args.track)?;
-    let alignment = match args.align {
-        AlignArg::None => Alignment::None,
-        AlignArg::Rigid => Alignment::Rigid,
-    };
+    let alignment = Alignment::from(args.align);
     let errors = waypoint_errors(&waypoints, &track, alignment)
         .with_context(|| format!("{} against {}", args.track.display(), path.display()))?;
     let dead_reckoning = match &args.steps {

@@ -356,16 +356,25 @@ fn print_trace(name: &str, trace: &IlcTrace, share: Option<(usize, usize)>) {
             percent(p)
         ))
     );
-    if let Some(line) = s.truncated_last_line {
+    print_log_notes(
+        s.truncated_last_line,
+        "skipped unknown row types",
+        &s.unknown_types,
+    );
+}
+
+/// A log's cut-off last line (skipped) and the kinds of lines it counted but did not convert.
+fn print_log_notes(
+    truncated_last_line: Option<usize>,
+    what: &str,
+    counts: &std::collections::BTreeMap<String, usize>,
+) {
+    if let Some(line) = truncated_last_line {
         outln!("  warning: the unterminated last line {line} was malformed and skipped");
     }
-    if !s.unknown_types.is_empty() {
-        let list: Vec<String> = s
-            .unknown_types
-            .iter()
-            .map(|(k, v)| format!("{k} ×{v}"))
-            .collect();
-        outln!("  skipped unknown row types: {}", list.join(", "));
+    if !counts.is_empty() {
+        let list: Vec<String> = counts.iter().map(|(k, v)| format!("{k} ×{v}")).collect();
+        outln!("  {what}: {}", list.join(", "));
     }
 }
 
@@ -430,17 +439,11 @@ fn run_ipin(args: IpinArgs) -> Result<()> {
         s.gnss_fixes,
         s.positions
     );
-    if let Some(line) = s.lines.truncated_last_line {
-        outln!("  warning: the unterminated last line {line} was malformed and skipped");
-    }
-    if !s.skipped_tags.is_empty() {
-        let list: Vec<String> = s
-            .skipped_tags
-            .iter()
-            .map(|(k, v)| format!("{k} ×{v}"))
-            .collect();
-        outln!("  not converted: {}", list.join(", "));
-    }
+    print_log_notes(
+        s.lines.truncated_last_line,
+        "not converted",
+        &s.skipped_tags,
+    );
     if let Some(f) = frame {
         outln!("  waypoints.csv frame origin: {:.7},{:.7}", f.lat, f.lon);
     }

@@ -435,12 +435,7 @@ fn write_walk(
     Ok(Summary {
         steps_file: walk.steps_path.display().to_string(),
         gps_file: walk.gps_path.as_ref().map(|p| p.display().to_string()),
-        steps_with_heading: walk
-            .trace
-            .steps()
-            .iter()
-            .filter(|s| s.heading.is_some())
-            .count(),
+        steps_with_heading: walk.trace.with_heading(),
         headings_used: filter.headings_used(),
         particles: config.particles,
         steps,

@@ -148,7 +148,7 @@ fn write_outputs<F: Serialize>(
         total_length_m,
         net_height_change_m: steps.iter().map(|s| s.dz).sum(),
         heading_source: events.heading_source,
-        steps_with_heading: steps.iter().filter(|s| s.heading.is_some()).count(),
+        steps_with_heading: events.trace.with_heading(),
         warnings,
         sampling,
         detector: events.figures,

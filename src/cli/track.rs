@@ -400,7 +400,7 @@ pub fn run(args: Args) -> Result<()> {
                 measurements_ignored: ignored,
             }),
         headings_used: headings_used > 0,
-        steps_with_heading: trace.steps().iter().filter(|s| s.heading.is_some()).count(),
+        steps_with_heading: trace.with_heading(),
         plan_file: plan_path.display().to_string(),
         steps_file: steps_path.display().to_string(),
         steps: trace.len(),

@@ -62,7 +62,7 @@ pub fn waypoint_errors(
         }
     }
     let mut held = 0;
-    let estimates: Vec<TimedPoint> = truth
+    let (matched, estimates): (Vec<TimedPoint>, Vec<TimedPoint>) = truth
         .iter()
         .filter_map(|w| {
             let at = interpolate_at(track, w.t).or_else(|| {
@@ -72,9 +72,9 @@ pub fn waypoint_errors(
                     (last.x, last.y)
                 })
             });
-            at.map(|(x, y)| TimedPoint { t: w.t, x, y })
+            at.map(|(x, y)| (*w, TimedPoint { t: w.t, x, y }))
         })
-        .collect();
+        .unzip();
     if estimates.is_empty() {
         let span = |v: &[TimedPoint]| (v[0].t, v[v.len() - 1].t);
         let (w0, w1) = span(&truth);
@@ -89,21 +89,21 @@ pub fn waypoint_errors(
             }
         }));
     }
-    let mut report = position_errors(&truth, &estimates, alignment)?;
+    let mut report = position_errors(&matched, &estimates, alignment)?;
     report.skipped = truth.len() - estimates.len();
-    let points = estimates
+    let points = matched
         .iter()
-        .filter_map(|e| {
-            let w = truth.iter().find(|w| w.t == e.t)?;
+        .zip(&estimates)
+        .map(|(w, e)| {
             let (x, y) = report.transform.map_or((e.x, e.y), |t| t.apply((e.x, e.y)));
-            Some(WaypointError {
+            WaypointError {
                 t: w.t,
                 x: w.x,
                 y: w.y,
                 estimate_x: x,
                 estimate_y: y,
                 error: (x - w.x).hypot(y - w.y),
-            })
+            }
         })
         .collect();
     Ok(WaypointErrors {

@@ -86,6 +86,11 @@ impl StepTrace {
         self.steps.len()
     }
 
+    /// Steps that carry an absolute heading.
+    pub fn with_heading(&self) -> usize {
+        self.steps.iter().filter(|s| s.heading.is_some()).count()
+    }
+
     /// True when there are no steps.
     pub fn is_empty(&self) -> bool {
         self.steps.is_empty()
