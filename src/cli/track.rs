@@ -5,13 +5,16 @@ use super::common::{
 };
 use anyhow::{Context, Result, bail};
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
-use footslam::dataset::{TrackPoint, read_steps, read_wifi, write_track};
+use footslam::dataset::{
+    SmoothedPoint, TrackPoint, read_steps, read_wifi, write_smoothed_track, write_track,
+};
 use footslam::export::RunFolder;
 use footslam::export::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, PlanPoints};
 use footslam::export::radio_map_geojson::read_radio_map_geojson;
 use footslam::export::track_geojson::write_track_geojson;
 use footslam::filter::{
-    Recovery, RfLocaliser, RfMode, RfTracker, StartPose, TrackStep, Tracker, TrackerConfig,
+    Recovery, RfLocaliser, RfMode, RfTracker, SmoothedStep, StartPose, TrackStep, Tracker,
+    TrackerConfig,
 };
 use footslam::geometry::LocalFrame;
 use footslam::map::FloorTopology;
@@ -28,6 +31,7 @@ const AUTO_SNAPSHOTS: [usize; 2] = [5, 25];
 /// Colours of the pictures.
 const PARTICLE_COLOUR: [u8; 3] = [200, 30, 30];
 const TRACK_COLOUR: [u8; 3] = [20, 60, 200];
+const FILTERED_COLOUR: [u8; 3] = [230, 150, 30];
 
 /// Arguments of `footslam track`.
 #[derive(Debug, clap::Args)]
@@ -94,6 +98,12 @@ pub struct Args {
     /// literally), instead of once, where they were when the scan was taken.
     #[arg(long, requires = "radiomap")]
     rf_every_step: bool,
+    /// Causal answers only: `track.csv` holds each step's estimate as the filter saw it
+    /// (from localisation on) and no ancestry is kept. By default `track.csv` is the
+    /// smoothed whole-walk answer for every step, and the filtered one is
+    /// `track_filtered.csv`.
+    #[arg(long)]
+    online: bool,
 }
 
 /// `--rf-distance` values.
@@ -157,7 +167,10 @@ struct Summary {
     steps: usize,
     steps_to_localise: Option<usize>,
     localised_at_t: Option<f64>,
+    /// Rows of the filtered track (from localisation on).
     track_rows: usize,
+    /// The whole-walk answer (absent with `--online`).
+    smoothing: Option<SmoothingSummary>,
     particles_initial: usize,
     particles_max: usize,
     particles_final: usize,
@@ -192,6 +205,28 @@ struct RfSummary {
     started_at_step: Option<usize>,
     /// Scans no particle was consistent with (ignored).
     measurements_ignored: usize,
+}
+
+/// What the smoother answered.
+#[derive(Debug, Serialize)]
+struct SmoothingSummary {
+    /// Steps with a smoothed estimate (`track.csv` rows).
+    steps_estimated: usize,
+    /// Steps whose place the whole walk settles (one hypothesis).
+    steps_certain: usize,
+    /// The first certain step (1-based).
+    first_certain_step: Option<usize>,
+    /// Largest number of path nodes held (16 bytes each).
+    path_nodes_peak: usize,
+    /// Seconds spent smoothing after the last step.
+    runtime_s: f64,
+}
+
+/// The smoothed belief per step of the walk.
+struct Smoothing {
+    steps: Vec<Option<SmoothedStep>>,
+    path_nodes_peak: usize,
+    runtime_s: f64,
 }
 
 #[derive(Debug, Serialize)]
@@ -251,6 +286,9 @@ pub fn run(args: Args) -> Result<()> {
     if args.rf_every_step {
         config.rf.every_step = true;
     }
+    if args.online {
+        config.smoothing = false;
+    }
     config.validate()?;
     let plan_path = args.plan.clone().unwrap_or_else(|| bundled(DEFAULT_PLAN));
     let steps_path = args.steps.clone().unwrap_or_else(|| bundled(DEFAULT_STEPS));
@@ -294,8 +332,8 @@ pub fn run(args: Args) -> Result<()> {
     };
 
     let filter_started = Instant::now();
-    let (reports, snapshots, initial, bytes_per_particle, track, ignored, headings_used) = pool
-        .install(|| -> Result<_> {
+    let (reports, snapshots, initial, bytes_per_particle, track, ignored, headings_used, smoothing) =
+        pool.install(|| -> Result<_> {
             let mut walker = match &radio {
                 Some((rf, scans, ..)) => {
                     Walker::Rf(Box::new(RfTracker::new(&topology, &config, rf, scans)?))
@@ -337,6 +375,13 @@ pub fn run(args: Args) -> Result<()> {
                 progress.inc();
             }
             progress.finish();
+            let smoothing_started = Instant::now();
+            let smoothed = walker.smoothed();
+            let smoothing = smoothed.map(|steps| Smoothing {
+                steps,
+                path_nodes_peak: walker.tracker().map_or(0, Tracker::path_nodes_peak),
+                runtime_s: smoothing_started.elapsed().as_secs_f64(),
+            });
             Ok((
                 reports,
                 snapshots,
@@ -346,14 +391,52 @@ pub fn run(args: Args) -> Result<()> {
                 track,
                 walker.tracker().map_or(0, Tracker::measurements_ignored),
                 walker.tracker().map_or(0, Tracker::headings_used),
+                smoothing,
             ))
         })?;
     let filter_runtime = filter_started.elapsed().as_secs_f64();
 
     let out = output_dir(args.out, "track");
     let folder = RunFolder::create(&out)?;
-    write_track(&folder.path("track.csv"), &track)?;
-    write_track_geojson(&folder.path("track.geojson"), &track, &frame)?;
+    let smoothed_track: Option<Vec<SmoothedPoint>> = smoothing.as_ref().map(|s| {
+        trace
+            .steps()
+            .iter()
+            .zip(&s.steps)
+            .filter_map(|(step, k)| {
+                let k = k.as_ref()?;
+                let c = k.estimate?;
+                Some(SmoothedPoint {
+                    point: TrackPoint {
+                        t: step.t,
+                        x: c.x,
+                        y: c.y,
+                        z: c.z,
+                        level: c.level,
+                    },
+                    certain: k.certain,
+                    hypotheses: k.hypotheses,
+                })
+            })
+            .collect()
+    });
+    // The answer: the smoothed track's certain steps, else (online) the filtered track.
+    let answer: Vec<TrackPoint> = match &smoothed_track {
+        Some(points) => {
+            write_smoothed_track(&folder.path("track.csv"), points)?;
+            write_track(&folder.path("track_filtered.csv"), &track)?;
+            points
+                .iter()
+                .filter(|p| p.certain)
+                .map(|p| p.point)
+                .collect()
+        }
+        None => {
+            write_track(&folder.path("track.csv"), &track)?;
+            track.clone()
+        }
+    };
+    write_track_geojson(&folder.path("track.geojson"), &answer, &frame)?;
     let track_points: Vec<(f64, f64, i32)> = track.iter().map(|p| (p.x, p.y, p.level)).collect();
     let pictures: Vec<PlanPicture> = snapshots
         .iter()
@@ -382,6 +465,46 @@ pub fn run(args: Args) -> Result<()> {
             &PlanPictureConfig::default(),
         )?;
     }
+    if let Some(points) = &smoothed_track {
+        let certain: Vec<(f64, f64, i32)> = answer.iter().map(|p| (p.x, p.y, p.level)).collect();
+        let uncertain: Vec<(f32, f32, i32)> = points
+            .iter()
+            .filter(|p| !p.certain)
+            .map(|p| (p.point.x as f32, p.point.y as f32, p.point.level))
+            .collect();
+        footslam::export::plan_png::write_plan_png(
+            &folder.path("track.png"),
+            &[PlanPicture {
+                plan: &plan,
+                title: Some(format!(
+                    "smoothed: {} of {} steps certain",
+                    certain.len(),
+                    trace.len()
+                )),
+                paths: vec![
+                    PlanPath {
+                        points: &track_points,
+                        colour: FILTERED_COLOUR,
+                        label: "filtered",
+                    },
+                    PlanPath {
+                        points: &certain,
+                        colour: TRACK_COLOUR,
+                        label: "smoothed (certain)",
+                    },
+                ],
+                points: vec![PlanPoints {
+                    points: &uncertain,
+                    colour: PARTICLE_COLOUR,
+                    label: "smoothed (uncertain)",
+                }],
+                cells: Vec::new(),
+                markers: Vec::new(),
+                colour_bar: None,
+            }],
+            &PlanPictureConfig::default(),
+        )?;
+    }
     folder.write_json("config.json", &config)?;
 
     let first = reports.iter().position(|r| r.localised);
@@ -407,6 +530,22 @@ pub fn run(args: Args) -> Result<()> {
         steps_to_localise: first.map(|i| i + 1),
         localised_at_t: first.map(|i| reports[i].t),
         track_rows: track.len(),
+        smoothing: smoothing.as_ref().map(|s| SmoothingSummary {
+            steps_estimated: s
+                .steps
+                .iter()
+                .flatten()
+                .filter(|k| k.estimate.is_some())
+                .count(),
+            steps_certain: s.steps.iter().flatten().filter(|k| k.certain).count(),
+            first_certain_step: s
+                .steps
+                .iter()
+                .position(|k| k.is_some_and(|k| k.certain))
+                .map(|i| i + 1),
+            path_nodes_peak: s.path_nodes_peak,
+            runtime_s: s.runtime_s,
+        }),
         particles_initial: initial,
         particles_max: reports
             .iter()
@@ -492,6 +631,15 @@ impl<'a> Walker<'a> {
         match self {
             Walker::Plain(t) => Some(t),
             Walker::Rf(t) => t.tracker(),
+        }
+    }
+
+    /// The smoothed belief after each step processed (`None` without smoothing).
+    fn smoothed(&self) -> Option<Vec<Option<SmoothedStep>>> {
+        match self {
+            // Tracker step k + 1 stands after the walk's step k; step 0 is the prior.
+            Walker::Plain(t) => Some(t.smoothed()?.into_iter().skip(1).map(Some).collect()),
+            Walker::Rf(t) => t.smoothed(),
         }
     }
 

@@ -47,23 +47,53 @@ pub fn read_track(path: &Path) -> Result<Vec<TrackPoint>> {
     Ok(points)
 }
 
+/// A smoothed position with how sure the whole walk makes it (`footslam track`'s
+/// `track.csv`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SmoothedPoint {
+    /// The heaviest hypothesis' position.
+    pub point: TrackPoint,
+    /// True when one hypothesis, no wider than the localisation spread, remains.
+    pub certain: bool,
+    /// Hypotheses (clusters) at this step.
+    pub hypotheses: usize,
+}
+
 /// Writes `t,x,y,z,level` rows (millimetre precision).
 pub fn write_track(path: &Path, points: &[TrackPoint]) -> Result<()> {
     let mut text = String::from("t,x,y,z,level\n");
     for p in points {
-        if !(p.t.is_finite() && p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
-            return Err(Error::Input(format!(
-                "track point at t = {} is not finite; nothing written to {}",
-                p.t,
-                path.display()
-            )));
-        }
-        text.push_str(&format!(
-            "{:.3},{:.3},{:.3},{:.3},{}\n",
-            p.t, p.x, p.y, p.z, p.level
-        ));
+        push_point(&mut text, p, path)?;
+        text.push('\n');
     }
     crate::export::write_atomically(path, text.as_bytes())
+}
+
+/// Writes `t,x,y,z,level,certain,hypotheses` rows (`certain` 1 or 0): a reader of
+/// `t,x,y,z,level` reads it as a track.
+pub fn write_smoothed_track(path: &Path, points: &[SmoothedPoint]) -> Result<()> {
+    let mut text = String::from("t,x,y,z,level,certain,hypotheses\n");
+    for p in points {
+        push_point(&mut text, &p.point, path)?;
+        text.push_str(&format!(",{},{}\n", u8::from(p.certain), p.hypotheses));
+    }
+    crate::export::write_atomically(path, text.as_bytes())
+}
+
+/// Appends `t,x,y,z,level` of one finite point.
+fn push_point(text: &mut String, p: &TrackPoint, path: &Path) -> Result<()> {
+    if !(p.t.is_finite() && p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
+        return Err(Error::Input(format!(
+            "track point at t = {} is not finite; nothing written to {}",
+            p.t,
+            path.display()
+        )));
+    }
+    text.push_str(&format!(
+        "{:.3},{:.3},{:.3},{:.3},{}",
+        p.t, p.x, p.y, p.z, p.level
+    ));
+    Ok(())
 }
 
 #[cfg(test)]

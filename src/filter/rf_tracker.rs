@@ -15,6 +15,7 @@
 //! Steps before the first scan come before any WiFi information; without a known start they
 //! are reported without particles (and count towards the steps to localise).
 
+use super::path_tree::SmoothedStep;
 use super::rf_assist::RfLocaliser;
 use super::tracker::{StepMeasurement, TrackStep, Tracker};
 use super::tracker_config::TrackerConfig;
@@ -38,6 +39,10 @@ pub struct RfTracker<'a> {
     applied: Option<usize>,
     /// Time of the last step processed.
     last_step: Option<f64>,
+    /// Steps processed.
+    steps: usize,
+    /// Steps processed before the tracker started (its prior stands after the last of them).
+    started_after: Option<usize>,
 }
 
 impl<'a> RfTracker<'a> {
@@ -60,6 +65,7 @@ impl<'a> RfTracker<'a> {
             Some(_) => Some(Tracker::new(topology, config)?),
             None => None,
         };
+        let started_after = tracker.as_ref().map(|_| 0);
         Ok(Self {
             topology,
             config: config.clone(),
@@ -70,7 +76,27 @@ impl<'a> RfTracker<'a> {
             current: None,
             applied: None,
             last_step: None,
+            steps: 0,
+            started_after,
         })
+    }
+
+    /// The whole-walk answer for each step processed (the belief after it), from the
+    /// tracker's ancestry ([`Tracker::smoothed`]); `None` for the steps before the tracker
+    /// started (no scan yet) except the last of them, where its prior stands. `None` when
+    /// smoothing is off.
+    pub fn smoothed(&self) -> Option<Vec<Option<SmoothedStep>>> {
+        let mut out = vec![None; self.steps];
+        let (Some(tracker), Some(before)) = (self.tracker.as_ref(), self.started_after) else {
+            return self.config.smoothing.then_some(out);
+        };
+        // Tracker step g stands after this walk's step `before + g` (1-based).
+        for (g, s) in tracker.smoothed()?.into_iter().enumerate() {
+            if let Some(slot) = (before + g).checked_sub(1).and_then(|i| out.get_mut(i)) {
+                *slot = Some(s);
+            }
+        }
+        Some(out)
     }
 
     /// The tracker, once started.
@@ -114,6 +140,10 @@ impl<'a> RfTracker<'a> {
             self.current = Some((i, measurement));
         }
         let previous = self.last_step.replace(step.t);
+        if started {
+            self.started_after = Some(self.steps);
+        }
+        self.steps += 1;
         let Some(tracker) = self.tracker.as_mut() else {
             return Ok(TrackStep {
                 t: step.t,

@@ -31,6 +31,7 @@
 
 use super::cluster::{Cluster, ClusterPoint, mean_shift};
 use super::kld::KldBins;
+use super::path_tree::{PathNode, PathTree, SmoothedStep};
 use super::recovery::{Recovery, heading_corrections};
 use super::tracker_config::{StartPose, TrackerConfig};
 use crate::error::{Error, Result};
@@ -148,6 +149,10 @@ pub struct Tracker<'a> {
     heading: HeadingLikelihood,
     /// Steps whose absolute heading weighted the particles.
     headings_used: usize,
+    /// The belief's ancestry for the smoothed answer (`config.smoothing`).
+    tree: Option<PathTree>,
+    /// The resampling ancestor of each particle of the belief (kept with the tree only).
+    ancestors: Vec<u32>,
 }
 
 /// Step inputs in the particles' precision.
@@ -200,6 +205,10 @@ impl<'a> Tracker<'a> {
             ignored: 0,
             heading: HeadingLikelihood::new(config.heading),
             headings_used: 0,
+            tree: config
+                .smoothing
+                .then(|| PathTree::new(config.smoothing_lag)),
+            ancestors: Vec::new(),
         };
         if let Some(start) = config.start {
             let s = tracker.locate_start(&start)?;
@@ -208,6 +217,7 @@ impl<'a> Tracker<'a> {
             tracker.draw_uniform_prior(SALT_PRIOR)?;
         }
         tracker.initial = tracker.particles.len();
+        tracker.root_tree(0);
         Ok(tracker)
     }
 
@@ -254,13 +264,28 @@ impl<'a> Tracker<'a> {
         let bytes = (self.particles.capacity() + self.proposal.capacity())
             * std::mem::size_of::<TrackParticle>()
             + self.log_weights.capacity() * 4
-            + self.bin_index.capacity() * 4;
+            + self.bin_index.capacity() * 4
+            + self.ancestors.capacity() * 4;
         let n = self
             .particles
             .capacity()
             .max(self.proposal.capacity())
             .max(1);
         bytes as f64 / n as f64
+    }
+
+    /// The whole-walk answer: the smoothed belief after each step `0..=steps` (0 = the prior),
+    /// from the ancestral lines of the current belief ([`super::path_tree`]); `None` when
+    /// `config.smoothing` is off.
+    pub fn smoothed(&self) -> Option<Vec<SmoothedStep>> {
+        let tree = self.tree.as_ref()?;
+        Some(tree.smoothed(self.topology, &self.config.cluster))
+    }
+
+    /// Largest number of path nodes (16 bytes each) the smoother held at once (0 without
+    /// smoothing).
+    pub fn path_nodes_peak(&self) -> usize {
+        self.tree.as_ref().map_or(0, PathTree::peak_nodes)
     }
 
     /// Processes one step event (Algorithm 1 for every particle, then KLD-resampling and
@@ -299,6 +324,9 @@ impl<'a> Tracker<'a> {
             }
             let n = self.weigh();
             self.resample(n, SALT_RESAMPLE);
+            self.grow_tree();
+        } else {
+            self.root_tree(self.steps as usize);
         }
         let clusters = self.cluster();
         let localised = clusters
@@ -487,12 +515,19 @@ impl<'a> Tracker<'a> {
         let mut bounds: Vec<usize> = starts.iter().map(|&s| first_pointer(s)).collect();
         bounds.push(n);
         resize(&mut self.particles, n);
+        // Ancestors are recorded only for the path tree (an empty slice per chunk otherwise).
+        let record = self.tree.is_some();
+        resize(&mut self.ancestors, if record { n } else { 0 });
         let mut rest: &mut [TrackParticle] = &mut self.particles;
+        let mut rest_ancestors: &mut [u32] = &mut self.ancestors;
         let mut outputs = Vec::with_capacity(sums.len());
         for w in bounds.windows(2) {
             let (head, tail) = rest.split_at_mut(w[1] - w[0]);
-            outputs.push((w[0], head));
+            let split = if record { w[1] - w[0] } else { 0 };
+            let (a_head, a_tail) = rest_ancestors.split_at_mut(split);
+            outputs.push((w[0], head, a_head));
             rest = tail;
+            rest_ancestors = a_tail;
         }
         let proposal = &self.proposal;
         outputs
@@ -500,7 +535,7 @@ impl<'a> Tracker<'a> {
             .zip(weights.par_chunks(CHUNK))
             .zip(starts.par_iter())
             .enumerate()
-            .for_each(|(c, (((j0, out), w), &start))| {
+            .for_each(|(c, (((j0, out, ancestors), w), &start))| {
                 let base = c * CHUNK;
                 let mut i = 0;
                 let mut cumulative = start + f64::from(w[0]);
@@ -511,8 +546,44 @@ impl<'a> Tracker<'a> {
                         cumulative += f64::from(w[i]);
                     }
                     *slot = proposal[base + i];
+                    if let Some(a) = ancestors.get_mut(k) {
+                        *a = (base + i) as u32;
+                    }
                 }
             });
+    }
+
+    /// The belief as path nodes.
+    fn path_nodes(&self) -> Vec<PathNode> {
+        self.particles
+            .iter()
+            .map(|p| PathNode::new(p.x, p.y, p.surface))
+            .collect()
+    }
+
+    /// Starts a new ancestry at `step` with the belief as its roots (a prior, or particles
+    /// not descended from the last belief).
+    fn root_tree(&mut self, step: usize) {
+        if self.tree.is_some() {
+            let nodes = self.path_nodes();
+            if let Some(tree) = self.tree.as_mut() {
+                tree.root(step, nodes, self.topology, &self.config.cluster);
+            }
+        }
+    }
+
+    /// Adds the resampled belief to the ancestry (its ancestors index the last generation).
+    fn grow_tree(&mut self) {
+        if let Some(tree) = self.tree.as_mut() {
+            tree.push(
+                self.particles
+                    .iter()
+                    .map(|p| PathNode::new(p.x, p.y, p.surface)),
+                &self.ancestors,
+                self.topology,
+                &self.config.cluster,
+            );
+        }
     }
 
     /// Clusters the belief when it has at most `cluster.max_particles` particles; once the
@@ -629,6 +700,15 @@ impl<'a> Tracker<'a> {
             return false;
         }
         self.particles = seeded;
+        // The re-seeded belief stands at the last good step; the replay replaces the steps
+        // since in the ancestry (kept aside until the fit succeeds).
+        let keep_paths = self.tree.is_some();
+        let roots = if keep_paths {
+            self.path_nodes()
+        } else {
+            Vec::new()
+        };
+        let mut replayed = Vec::new();
         for (k, s) in history.iter().enumerate() {
             let Ok(h) = StepInput::of(s) else {
                 return false;
@@ -640,8 +720,21 @@ impl<'a> Tracker<'a> {
             self.measure_heading(s);
             let m = self.weigh();
             self.resample(m, salt ^ crate::random::mix(k as u64 + 1));
+            if keep_paths {
+                replayed.push((self.path_nodes(), self.ancestors.clone()));
+            }
         }
-        self.propagate(u, 0.0, salt)
+        if !self.propagate(u, 0.0, salt) {
+            return false;
+        }
+        if let Some(tree) = self.tree.as_mut() {
+            let good_step = (self.steps as usize).saturating_sub(1 + history.len());
+            tree.root(good_step, roots, self.topology, &self.config.cluster);
+            for (nodes, ancestors) in replayed {
+                tree.push(nodes, &ancestors, self.topology, &self.config.cluster);
+            }
+        }
+        true
     }
 
     /// Draws the uniform prior over every surface and heading — inside the region when one

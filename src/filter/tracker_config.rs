@@ -43,6 +43,8 @@ pub struct StartPose {
 /// | `start_heading_sigma` | 5°        | spread of a known start's heading (when it has one)     |
 /// | `heading`             | see [`HeadingConfig`] | step headings (compass): σ 20°, ε 0.2, on   |
 /// | `ambiguous_min_particles` | 3000  | fewest particles while the belief is not one cluster |
+/// | `smoothing`           | on        | keep the belief's ancestry for the whole-walk answer    |
+/// | `smoothing_lag`       | 10 steps  | lag of the fixed-lag answer used where the walk is sure |
 /// | `kld`                 | see [`KldConfig`]     | adaptive particle count                     |
 /// | `cluster`             | see [`ClusterConfig`] | clusters and localisation                   |
 /// | `recovery`            | see [`RecoveryConfig`]| when every particle dies                    |
@@ -81,6 +83,14 @@ pub struct TrackerConfig {
     /// identical floors) each keep enough particles that resampling noise alone does not
     /// extinguish one (KLD's `min_particles` applies once localised).
     pub ambiguous_min_particles: usize,
+    /// Keep the ancestry of the belief (a pruned path tree, 16 bytes per stored ancestor) so
+    /// that [`super::Tracker::smoothed`] can answer for every step with the whole walk's
+    /// evidence; off for causal (online) use.
+    pub smoothing: bool,
+    /// Steps of look-ahead of the fixed-lag answer that refines the whole-walk answer where
+    /// the walk settles the place (see [`super::PathTree::new`]); 0 = the final belief's
+    /// ancestral lines alone.
+    pub smoothing_lag: usize,
     /// KLD-sampling.
     pub kld: KldConfig,
     /// Clustering.
@@ -111,6 +121,8 @@ impl Default for TrackerConfig {
             start_position_sigma: 0.3,
             start_heading_sigma: 5f64.to_radians(),
             ambiguous_min_particles: 3000,
+            smoothing: true,
+            smoothing_lag: 10,
             kld: KldConfig::default(),
             cluster: ClusterConfig::default(),
             recovery: RecoveryConfig::default(),

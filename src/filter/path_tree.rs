@@ -1,0 +1,497 @@
+//! Path storage for the whole-walk (smoothed) answer of a particle filter: the ancestral
+//! lines of the final cloud.
+//!
+//! After step `T` every particle of the belief carries, through its chain of resampling
+//! ancestors, one whole path `s_0 … s_T`. The equally weighted final particles' paths are a
+//! sample of the joint smoothing distribution `p(s_0:T | z_1:T)` (Kitagawa 1996, sec. 4.1;
+//! Doucet & Johansen's "genealogical tree"), so the smoothed belief at step `k` is the cloud
+//! of the final particles' ancestors at `k`, each weighted by its number of descendants.
+//!
+//! Storing every particle of every step is out of reach at 10⁶ particles, but most of it has
+//! no descendant left: ancestries coalesce backwards in time. The tree keeps one node
+//! (position, surface and parent: 16 bytes) for each particle that still has a descendant in
+//! the current belief, and prunes the rest after every step — Jacob, Murray & Rubenthaler
+//! (2015, "Path storage in the particle filter"), whose bound on the expected size is
+//! `T + C·N·log N` nodes. Pruning walks back from the newest generation and stops at the
+//! first generation that loses nothing, so its cost is that of the nodes it removes plus
+//! one pass over the previous generation.
+//!
+//! A belief that is not descended from the last one (a fresh prior after every particle died,
+//! or particles re-seeded about an earlier belief) cuts the tree: the steps before the cut are
+//! smoothed with what was known then and kept as they are ([`PathTree::cut`]).
+//!
+//! Everything here is sequential and deterministic: the answer does not depend on the number
+//! of threads.
+
+use super::cluster::{Cluster, ClusterConfig, ClusterPoint, mean_shift};
+use crate::map::FloorTopology;
+
+/// Marks a node without a parent (a root of the current segment).
+const NO_PARENT: u32 = u32::MAX;
+
+/// One stored particle: where it stood after its step, and its parent in the generation
+/// before. 16 bytes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C)]
+pub struct PathNode {
+    /// East, metres.
+    pub x: f32,
+    /// North, metres.
+    pub y: f32,
+    /// Floor surface index.
+    pub surface: u32,
+    parent: u32,
+}
+
+impl PathNode {
+    /// A node at `(x, y)` on `surface`.
+    pub fn new(x: f32, y: f32, surface: u32) -> Self {
+        Self {
+            x,
+            y,
+            surface,
+            parent: NO_PARENT,
+        }
+    }
+}
+
+/// The smoothed belief at one step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SmoothedStep {
+    /// The heaviest cluster of the final particles' ancestors at this step (`None` when the
+    /// step has no stored ancestors).
+    pub estimate: Option<Cluster>,
+    /// Clusters among the ancestors (holding at least `min_weight` of them).
+    pub hypotheses: usize,
+    /// True when the ancestors form one cluster no wider than `max_spread`: the walker's
+    /// place at this step is known, whatever the filter believed then.
+    pub certain: bool,
+    /// Distinct ancestors at this step.
+    pub ancestors: usize,
+}
+
+impl SmoothedStep {
+    const NONE: Self = Self {
+        estimate: None,
+        hypotheses: 0,
+        certain: false,
+        ancestors: 0,
+    };
+}
+
+/// The ancestry of the current belief, generation by generation, pruned to the nodes that
+/// still have descendants.
+#[derive(Debug, Clone, Default)]
+pub struct PathTree {
+    /// Lag of the fixed-lag answer (0 = none).
+    lag: usize,
+    /// Fixed-lag answers by step (`None` where not computed).
+    lagged: Vec<Option<SmoothedStep>>,
+    /// Step of `generations[0]`.
+    first_step: usize,
+    /// One generation per step from `first_step` on; the last is the current belief.
+    generations: Vec<Vec<PathNode>>,
+    /// Smoothed steps `0..first_step`, fixed by earlier cuts.
+    settled: Vec<SmoothedStep>,
+    /// Largest number of nodes held at once.
+    peak_nodes: usize,
+}
+
+impl PathTree {
+    /// An empty tree whose answer at a step is, where the whole walk is sure of the place,
+    /// the ancestry `lag` steps later (0: the final belief's ancestry only).
+    ///
+    /// Why a lag: the final belief's ancestors at an early step have coalesced into one or a
+    /// few particles, whose paths carry every step's motion noise; `lag` steps on, the same
+    /// step still has many distinct ancestors to average, and they have seen the walls of
+    /// the next `lag` steps. The whole walk decides where that answer is trusted: only where
+    /// the final ancestry holds one hypothesis and agrees with it (within `max_spread`).
+    pub fn new(lag: usize) -> Self {
+        Self {
+            lag,
+            ..Self::default()
+        }
+    }
+
+    /// Steps covered: `0..=last step` (0 before anything was added).
+    pub fn steps(&self) -> usize {
+        self.first_step + self.generations.len()
+    }
+
+    /// Nodes held now.
+    pub fn nodes(&self) -> usize {
+        self.generations.iter().map(Vec::len).sum()
+    }
+
+    /// Largest number of nodes held at once (memory: 16 bytes each).
+    pub fn peak_nodes(&self) -> usize {
+        self.peak_nodes
+    }
+
+    /// Starts a new segment at `step` whose particles have no ancestors: the steps before
+    /// it are smoothed with the current belief's ancestry ([`Self::cut`]) and steps from
+    /// `step` on are replaced.
+    pub fn root(
+        &mut self,
+        step: usize,
+        nodes: Vec<PathNode>,
+        topology: &FloorTopology,
+        cluster: &ClusterConfig,
+    ) {
+        self.cut(step, topology, cluster);
+        self.lagged.truncate(step);
+        self.generations.push(
+            nodes
+                .into_iter()
+                .map(|n| PathNode {
+                    parent: NO_PARENT,
+                    ..n
+                })
+                .collect(),
+        );
+        self.note_size();
+    }
+
+    /// Adds the next generation: `nodes[i]` descends from node `ancestors[i]` of the current
+    /// last generation. Then prunes the nodes without descendants and, when the new belief
+    /// is small enough to cluster (`cluster.max_particles`), answers for the step `lag`
+    /// steps back.
+    ///
+    /// # Panics
+    /// In debug builds, when the lengths differ or an ancestor is out of range.
+    pub fn push(
+        &mut self,
+        nodes: impl IntoIterator<Item = PathNode>,
+        ancestors: &[u32],
+        topology: &FloorTopology,
+        cluster: &ClusterConfig,
+    ) {
+        debug_assert!(!self.generations.is_empty(), "push before root");
+        let previous = self.generations.last().map_or(0, Vec::len);
+        let generation: Vec<PathNode> = nodes
+            .into_iter()
+            .zip(ancestors)
+            .map(|(n, &a)| {
+                debug_assert!((a as usize) < previous);
+                PathNode { parent: a, ..n }
+            })
+            .collect();
+        debug_assert_eq!(generation.len(), ancestors.len());
+        self.generations.push(generation);
+        self.note_size();
+        self.prune();
+        self.answer_lagged(topology, cluster);
+    }
+
+    /// The fixed-lag answer for the step `lag` generations before the newest one.
+    fn answer_lagged(&mut self, topology: &FloorTopology, cluster: &ClusterConfig) {
+        let len = self.generations.len();
+        if self.lag == 0 || len <= self.lag {
+            return;
+        }
+        let newest = &self.generations[len - 1];
+        if newest.len() > cluster.max_particles {
+            return;
+        }
+        let mut weights = vec![1.0f64; newest.len()];
+        for g in (len - self.lag..len).rev() {
+            weights = parent_weights(
+                &self.generations[g],
+                &weights,
+                self.generations[g - 1].len(),
+            );
+        }
+        let g = len - 1 - self.lag;
+        let step = self.first_step + g;
+        let answer = smooth_generation(
+            &self.generations[g],
+            &weights,
+            topology,
+            &heading_free(cluster),
+        );
+        if self.lagged.len() <= step {
+            self.lagged.resize(step + 1, None);
+        }
+        self.lagged[step] = Some(answer);
+    }
+
+    /// Fixes the smoothed answer of every step before `step` from the current belief's
+    /// ancestry, and forgets the generations from `step` on (they are about to be replaced).
+    /// Steps before the first generation kept their earlier answer.
+    pub fn cut(&mut self, step: usize, topology: &FloorTopology, cluster: &ClusterConfig) {
+        if step < self.first_step {
+            self.settled.truncate(step);
+        } else {
+            let smoothed = self.answer_current(topology, cluster);
+            let keep = (step - self.first_step).min(smoothed.len());
+            self.settled.extend_from_slice(&smoothed[..keep]);
+            self.settled
+                .resize(self.first_step + keep, SmoothedStep::NONE);
+            self.settled.resize(step, SmoothedStep::NONE);
+        }
+        self.generations.clear();
+        self.first_step = step;
+    }
+
+    /// The smoothed belief at every step `0..self.steps()`: settled steps as they were fixed,
+    /// the current segment from the current belief's ancestry.
+    pub fn smoothed(&self, topology: &FloorTopology, cluster: &ClusterConfig) -> Vec<SmoothedStep> {
+        let mut out = self.settled.clone();
+        out.resize(self.first_step, SmoothedStep::NONE);
+        out.extend(self.answer_current(topology, cluster));
+        out
+    }
+
+    /// The current segment's answer: the final ancestry, refined by the fixed-lag answer
+    /// where both are certain and agree.
+    fn answer_current(
+        &self,
+        topology: &FloorTopology,
+        cluster: &ClusterConfig,
+    ) -> Vec<SmoothedStep> {
+        let mut out = self.smooth_current(topology, cluster);
+        for (g, full) in out.iter_mut().enumerate() {
+            let lagged = self.lagged.get(self.first_step + g).copied().flatten();
+            if let (Some(l), Some(f)) = (lagged, full.estimate)
+                && full.certain
+                && l.certain
+                && let Some(e) = l.estimate
+                && e.level == f.level
+                && (e.x - f.x).hypot(e.y - f.y) <= cluster.max_spread
+            {
+                *full = l;
+            }
+        }
+        out
+    }
+
+    /// The current segment's generations smoothed: each node weighted by its number of
+    /// descendants in the last generation, clustered as the filter clusters its belief.
+    fn smooth_current(
+        &self,
+        topology: &FloorTopology,
+        cluster: &ClusterConfig,
+    ) -> Vec<SmoothedStep> {
+        let Some(last) = self.generations.last() else {
+            return Vec::new();
+        };
+        let config = heading_free(cluster);
+        let mut out = vec![SmoothedStep::NONE; self.generations.len()];
+        let mut weights = vec![1.0f64; last.len()];
+        for (g, generation) in self.generations.iter().enumerate().rev() {
+            out[g] = smooth_generation(generation, &weights, topology, &config);
+            if g == 0 {
+                break;
+            }
+            weights = parent_weights(generation, &weights, self.generations[g - 1].len());
+        }
+        out
+    }
+
+    /// Drops every node without a descendant in the last generation, newest generations
+    /// first, stopping at the first generation that loses nothing (the ones before it were
+    /// pruned against it already).
+    fn prune(&mut self) {
+        for g in (1..self.generations.len()).rev() {
+            let (before, after) = self.generations.split_at_mut(g);
+            let (parents, children) = (&mut before[g - 1], &mut after[0]);
+            let mut used = vec![false; parents.len()];
+            for c in children.iter() {
+                if c.parent != NO_PARENT {
+                    used[c.parent as usize] = true;
+                }
+            }
+            if used.iter().all(|&u| u) {
+                break;
+            }
+            let mut remap = vec![NO_PARENT; parents.len()];
+            let mut kept = 0u32;
+            for (i, &u) in used.iter().enumerate() {
+                if u {
+                    remap[i] = kept;
+                    parents[kept as usize] = parents[i];
+                    kept += 1;
+                }
+            }
+            parents.truncate(kept as usize);
+            parents.shrink_to(parents.len() * 2);
+            for c in children.iter_mut() {
+                if c.parent != NO_PARENT {
+                    c.parent = remap[c.parent as usize];
+                }
+            }
+        }
+    }
+
+    fn note_size(&mut self) {
+        self.peak_nodes = self.peak_nodes.max(self.nodes());
+    }
+}
+
+/// Headings are not stored: smoothed clusters separate by place and floor only.
+fn heading_free(cluster: &ClusterConfig) -> ClusterConfig {
+    ClusterConfig {
+        max_dheading: std::f64::consts::PI,
+        ..*cluster
+    }
+}
+
+/// Each parent's weight: the sum of its children's (`parents` nodes in the generation before).
+fn parent_weights(children: &[PathNode], weights: &[f64], parents: usize) -> Vec<f64> {
+    let mut out = vec![0.0f64; parents];
+    for (node, &w) in children.iter().zip(weights) {
+        if node.parent != NO_PARENT {
+            out[node.parent as usize] += w;
+        }
+    }
+    out
+}
+
+/// One generation's weighted nodes clustered (through a deterministic systematic subsample by
+/// weight when there are more than `config.max_particles` of them).
+fn smooth_generation(
+    nodes: &[PathNode],
+    weights: &[f64],
+    topology: &FloorTopology,
+    config: &ClusterConfig,
+) -> SmoothedStep {
+    let total: f64 = weights.iter().sum();
+    if nodes.is_empty() || !(total > 0.0) {
+        return SmoothedStep::NONE;
+    }
+    let point = |n: &PathNode, weight: f32| ClusterPoint {
+        x: n.x,
+        y: n.y,
+        z: topology.z(n.surface),
+        level: topology.level(n.surface),
+        heading: 0.0,
+        weight,
+    };
+    let max = config.max_particles.max(1);
+    let points: Vec<ClusterPoint> = if nodes.len() <= max {
+        nodes
+            .iter()
+            .zip(weights)
+            .map(|(n, &w)| point(n, w as f32))
+            .collect()
+    } else {
+        // Systematic selection at fixed offsets: `max` equally weighted points.
+        let mut out = Vec::with_capacity(max);
+        let mut cumulative = 0.0;
+        let mut j = 0usize;
+        for (n, &w) in nodes.iter().zip(weights) {
+            cumulative += w;
+            while j < max && (j as f64 + 0.5) / max as f64 * total < cumulative {
+                out.push(point(n, 1.0));
+                j += 1;
+            }
+        }
+        out
+    };
+    let clusters = mean_shift(&points, config);
+    SmoothedStep {
+        estimate: clusters.first().copied(),
+        hypotheses: clusters.len(),
+        certain: clusters.len() == 1 && clusters[0].spread <= config.max_spread,
+        ancestors: nodes.len(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::TopologyConfig;
+
+    fn topology() -> FloorTopology {
+        let tower = crate::sim::Tower::new(&Default::default()).expect("tower");
+        FloorTopology::build(&tower.plan, &TopologyConfig::default()).expect("topology")
+    }
+
+    fn node(x: f32) -> PathNode {
+        PathNode::new(x, 0.0, 0)
+    }
+
+    #[test]
+    fn pruning_keeps_exactly_the_ancestors_of_the_last_generation() {
+        let topo = topology();
+        let cluster = ClusterConfig::default();
+        let mut tree = PathTree::new(0);
+        tree.root(0, (0..4).map(|i| node(i as f32)).collect(), &topo, &cluster);
+        // Generation 1: everybody descends from 1 and 3.
+        tree.push(
+            (0..4).map(|i| node(10.0 + i as f32)),
+            &[1, 1, 3, 3],
+            &topo,
+            &cluster,
+        );
+        assert_eq!(tree.generations[0].len(), 2);
+        assert_eq!(tree.generations[0][0].x, 1.0);
+        assert_eq!(tree.generations[0][1].x, 3.0);
+        // Generation 2: everybody descends from generation 1's node 2 (child of 3).
+        tree.push(
+            (0..3).map(|i| node(20.0 + i as f32)),
+            &[2, 2, 2],
+            &topo,
+            &cluster,
+        );
+        assert_eq!(tree.nodes(), 1 + 1 + 3);
+        assert_eq!(tree.generations[0][0].x, 3.0);
+        assert_eq!(tree.generations[1][0].x, 12.0);
+        assert_eq!(tree.generations[2][0].parent, 0);
+        assert_eq!(tree.steps(), 3);
+        assert_eq!(tree.peak_nodes(), 9);
+    }
+
+    #[test]
+    fn smoothed_steps_follow_the_surviving_line() {
+        let topo = topology();
+        let cluster = ClusterConfig::default();
+        let mut tree = PathTree::new(0);
+        // Two hypotheses 30 m apart; the left one dies at step 2.
+        tree.root(
+            0,
+            vec![node(0.0), node(0.0), node(30.0), node(30.0)],
+            &topo,
+            &cluster,
+        );
+        tree.push(
+            vec![node(1.0), node(1.0), node(31.0), node(31.0)],
+            &[0, 1, 2, 3],
+            &topo,
+            &cluster,
+        );
+        let filtered = tree.smoothed(&topo, &cluster);
+        assert_eq!(filtered[1].hypotheses, 2);
+        assert!(!filtered[1].certain);
+        tree.push(vec![node(32.0, &topo, &cluster); 4], &[2, 2, 3, 3]);
+        let s = tree.smoothed(&topo, &cluster);
+        assert_eq!(s.len(), 3);
+        for (k, x) in [(0, 30.0), (1, 31.0), (2, 32.0)] {
+            let e = s[k].estimate.expect("estimate");
+            assert!((e.x - x).abs() < 1e-6, "step {k}: {}", e.x);
+            assert!(s[k].certain && s[k].hypotheses == 1);
+        }
+    }
+
+    #[test]
+    fn a_cut_settles_the_steps_before_it() {
+        let topo = topology();
+        let cluster = ClusterConfig::default();
+        let mut tree = PathTree::new(0);
+        tree.root(0, vec![node(5.0)], &topo, &cluster);
+        tree.push(vec![node(6.0)], &[0], &topo, &cluster);
+        tree.push(vec![node(7.0)], &[0], &topo, &cluster);
+        // Re-seeded at step 2: steps 0 and 1 keep their answer, 2 is replaced.
+        tree.root(2, vec![node(40.0)], &topo, &cluster);
+        tree.push(vec![node(41.0)], &[0], &topo, &cluster);
+        let s = tree.smoothed(&topo, &cluster);
+        let xs: Vec<f64> = s.iter().map(|k| k.estimate.expect("e").x).collect();
+        assert_eq!(xs, vec![5.0, 6.0, 40.0, 41.0]);
+        // A fresh start after the end leaves no gap unexplained.
+        tree.root(6, vec![node(50.0)], &topo, &cluster);
+        let s = tree.smoothed(&topo, &cluster);
+        assert_eq!(s.len(), 7);
+        assert!(s[4].estimate.is_none() && s[5].estimate.is_none());
+        assert_eq!(s[3].estimate.expect("kept").x, 41.0);
+    }
+}
