@@ -10,6 +10,6 @@ pub mod waypoint_error;
 
 pub use floor_accuracy::floor_accuracy;
 pub use position_error::{Alignment, ErrorReport, position_errors};
-pub use tracking::{TrackingScore, score_tracking};
+pub use tracking::{SmoothedScore, TrackingScore, score_smoothed, score_tracking};
 pub use walkable::walkable_fraction;
 pub use waypoint_error::{WaypointError, WaypointErrors, waypoint_errors};

@@ -3,7 +3,7 @@
 
 use super::position_error::{Alignment, ErrorReport, position_errors};
 use crate::dataset::TimedPoint;
-use crate::filter::TrackStep;
+use crate::filter::{Cluster, SmoothedStep, TrackStep};
 use crate::sim::TruePose;
 use serde::Serialize;
 
@@ -70,10 +70,87 @@ pub fn score_tracking(truth: &[TruePose], reports: &[TrackStep]) -> TrackingScor
     }
 }
 
+/// The score of a run's whole-walk (smoothed) answer.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SmoothedScore {
+    /// Errors of the certain smoothed steps from the filter's first fix on (the steps
+    /// [`TrackingScore::errors`] covers).
+    pub errors_after_fix: Option<ErrorReport>,
+    /// Errors of every certain smoothed step, those before the first fix included.
+    pub errors_certain: Option<ErrorReport>,
+    /// Steps the whole walk makes certain.
+    pub certain_steps: usize,
+    /// Of those, steps before the filter's first fix.
+    pub certain_before_fix: usize,
+    /// Certain steps farther than [`RIGHT_CLUSTER_RADIUS`] from the truth.
+    pub certain_wrong: usize,
+    /// Share of the certain steps on the true floor level.
+    pub certain_floor_accuracy: Option<f64>,
+}
+
+/// Scores the smoothed answer `smoothed` (one per step, as `reports`) against `truth`.
+pub fn score_smoothed(
+    truth: &[TruePose],
+    reports: &[TrackStep],
+    smoothed: &[SmoothedStep],
+) -> SmoothedScore {
+    let first = reports
+        .iter()
+        .position(|r| r.localised)
+        .unwrap_or(reports.len());
+    let certain: Vec<(usize, Cluster, &TruePose)> = smoothed
+        .iter()
+        .zip(truth)
+        .enumerate()
+        .filter(|(_, (s, _))| s.certain)
+        .filter_map(|(i, (s, p))| Some((i, s.estimate?, p)))
+        .collect();
+    let errors = |from: usize| {
+        let pairs: Vec<(TimedPoint, TimedPoint)> = certain
+            .iter()
+            .filter(|(i, ..)| *i >= from)
+            .map(|(_, c, p)| {
+                (
+                    TimedPoint {
+                        t: p.t,
+                        x: c.x,
+                        y: c.y,
+                    },
+                    TimedPoint {
+                        t: p.t,
+                        x: p.x,
+                        y: p.y,
+                    },
+                )
+            })
+            .collect();
+        let (estimates, truths): (Vec<_>, Vec<_>) = pairs.into_iter().unzip();
+        (!estimates.is_empty())
+            .then(|| position_errors(&truths, &estimates, Alignment::None).ok())
+            .flatten()
+    };
+    SmoothedScore {
+        errors_after_fix: errors(first),
+        errors_certain: errors(0),
+        certain_steps: certain.len(),
+        certain_before_fix: certain.iter().filter(|(i, ..)| *i < first).count(),
+        certain_wrong: certain
+            .iter()
+            .filter(|(_, c, p)| (c.x - p.x).hypot(c.y - p.y) > RIGHT_CLUSTER_RADIUS)
+            .count(),
+        certain_floor_accuracy: (!certain.is_empty()).then(|| {
+            certain
+                .iter()
+                .filter(|(_, c, p)| c.level == p.level)
+                .count() as f64
+                / certain.len() as f64
+        }),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::filter::Cluster;
 
     fn report(t: f64, estimate: Option<(f64, f64, i32)>, localised: bool) -> TrackStep {
         TrackStep {
@@ -132,5 +209,31 @@ mod tests {
         assert!(!score_tracking(&truth[..1], &wrong).right_cluster);
         let never = score_tracking(&truth, &[report(1.0, None, false)]);
         assert_eq!((never.steps_to_localise, never.errors), (None, None));
+    }
+
+    #[test]
+    fn smoothed_scores_count_certain_steps_before_and_after_the_fix() {
+        let truth = [pose(1.0, 0.0, 0), pose(2.0, 1.0, 0), pose(3.0, 2.0, 1)];
+        let reports = [
+            report(1.0, None, false),
+            report(2.0, Some((1.5, 0.0, 0)), true),
+            report(3.0, Some((2.0, 0.0, 1)), true),
+        ];
+        let step = |x: f64, level: i32, certain: bool| SmoothedStep {
+            estimate: report(0.0, Some((x, 0.0, level)), true).estimate,
+            hypotheses: 1,
+            certain,
+            ancestors: 1,
+        };
+        let smoothed = [step(0.25, 0, true), step(1.0, 0, false), step(2.0, 0, true)];
+        let s = score_smoothed(&truth, &reports, &smoothed);
+        assert_eq!(
+            (s.certain_steps, s.certain_before_fix, s.certain_wrong),
+            (2, 1, 1)
+        );
+        assert_eq!(s.errors_after_fix.expect("after").n, 1);
+        let all = s.errors_certain.expect("all");
+        assert_eq!(all.n, 2);
+        assert!((all.max - 4.0).abs() < 1e-12);
     }
 }

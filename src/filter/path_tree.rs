@@ -95,6 +95,10 @@ pub struct PathTree {
     settled: Vec<SmoothedStep>,
     /// Largest number of nodes held at once.
     peak_nodes: usize,
+    /// A pruned generation's buffer, reused by the next one.
+    spare: Vec<PathNode>,
+    /// Scratch of the pruning pass.
+    remap: Vec<u32>,
 }
 
 impl PathTree {
@@ -168,14 +172,12 @@ impl PathTree {
     ) {
         debug_assert!(!self.generations.is_empty(), "push before root");
         let previous = self.generations.last().map_or(0, Vec::len);
-        let generation: Vec<PathNode> = nodes
-            .into_iter()
-            .zip(ancestors)
-            .map(|(n, &a)| {
-                debug_assert!((a as usize) < previous);
-                PathNode { parent: a, ..n }
-            })
-            .collect();
+        let mut generation = std::mem::take(&mut self.spare);
+        generation.clear();
+        generation.extend(nodes.into_iter().zip(ancestors).map(|(n, &a)| {
+            debug_assert!((a as usize) < previous);
+            PathNode { parent: a, ..n }
+        }));
         debug_assert_eq!(generation.len(), ancestors.len());
         self.generations.push(generation);
         self.note_size();
@@ -203,12 +205,7 @@ impl PathTree {
         }
         let g = len - 1 - self.lag;
         let step = self.first_step + g;
-        let answer = smooth_generation(
-            &self.generations[g],
-            &weights,
-            topology,
-            &heading_free(cluster),
-        );
+        let answer = centroid(&self.generations[g], &weights, topology, cluster.max_spread);
         if self.lagged.len() <= step {
             self.lagged.resize(step + 1, None);
         }
@@ -292,29 +289,38 @@ impl PathTree {
     /// first, stopping at the first generation that loses nothing (the ones before it were
     /// pruned against it already).
     fn prune(&mut self) {
+        let remap = &mut self.remap;
         for g in (1..self.generations.len()).rev() {
             let (before, after) = self.generations.split_at_mut(g);
             let (parents, children) = (&mut before[g - 1], &mut after[0]);
-            let mut used = vec![false; parents.len()];
+            // `remap[i]`: 0 for a parent with children, then its new index; NO_PARENT else.
+            remap.clear();
+            remap.resize(parents.len(), NO_PARENT);
             for c in children.iter() {
                 if c.parent != NO_PARENT {
-                    used[c.parent as usize] = true;
+                    remap[c.parent as usize] = 0;
                 }
             }
-            if used.iter().all(|&u| u) {
+            if !remap.contains(&NO_PARENT) {
                 break;
             }
-            let mut remap = vec![NO_PARENT; parents.len()];
             let mut kept = 0u32;
-            for (i, &u) in used.iter().enumerate() {
-                if u {
-                    remap[i] = kept;
+            for (i, r) in remap.iter_mut().enumerate() {
+                if *r == 0 {
+                    *r = kept;
                     parents[kept as usize] = parents[i];
                     kept += 1;
                 }
             }
             parents.truncate(kept as usize);
-            parents.shrink_to(parents.len() * 2);
+            if parents.capacity() > 2 * parents.len() {
+                // Move the few kept nodes out and keep the large buffer for the next
+                // generation (fresh large buffers cost a page fault per 4 KiB).
+                let large = std::mem::replace(parents, parents.clone());
+                if large.capacity() > self.spare.capacity() {
+                    self.spare = large;
+                }
+            }
             for c in children.iter_mut() {
                 if c.parent != NO_PARENT {
                     c.parent = remap[c.parent as usize];
@@ -345,6 +351,58 @@ fn parent_weights(children: &[PathNode], weights: &[f64], parents: usize) -> Vec
         }
     }
     out
+}
+
+/// The weighted centroid of one generation's nodes, certain when they all stand on one level
+/// within an RMS radius of `max_spread` (the fixed-lag answer: it is used only where the
+/// whole walk's clusters agree with it, so a mean suffices where mean shift would cost as
+/// much as the filter's own clustering).
+fn centroid(
+    nodes: &[PathNode],
+    weights: &[f64],
+    topology: &FloorTopology,
+    max_spread: f64,
+) -> SmoothedStep {
+    let total: f64 = weights.iter().sum();
+    let Some(first) = nodes.first() else {
+        return SmoothedStep::NONE;
+    };
+    if !(total > 0.0) {
+        return SmoothedStep::NONE;
+    }
+    let level = topology.level(first.surface);
+    let (mut x, mut y, mut z) = (0.0, 0.0, 0.0);
+    let mut one_level = true;
+    for (n, &w) in nodes.iter().zip(weights) {
+        x += w * f64::from(n.x);
+        y += w * f64::from(n.y);
+        z += w * f64::from(topology.z(n.surface));
+        one_level &= topology.level(n.surface) == level;
+    }
+    let (x, y, z) = (x / total, y / total, z / total);
+    let spread = (nodes
+        .iter()
+        .zip(weights)
+        .map(|(n, &w)| w * (f64::from(n.x) - x).powi(2) + w * (f64::from(n.y) - y).powi(2))
+        .sum::<f64>()
+        / total)
+        .sqrt();
+    let certain = one_level && spread <= max_spread;
+    SmoothedStep {
+        estimate: Some(Cluster {
+            x,
+            y,
+            z,
+            level,
+            heading: 0.0,
+            spread,
+            weight: 1.0,
+            particles: nodes.len(),
+        }),
+        hypotheses: if certain { 1 } else { 0 },
+        certain,
+        ancestors: nodes.len(),
+    }
 }
 
 /// One generation's weighted nodes clustered (through a deterministic systematic subsample by
