@@ -6,6 +6,8 @@
 //!
 //! `cargo run --release --example smoothing [FIRST_SEED] [LAST_SEED]` (default 11 20).
 
+#![allow(clippy::print_stdout)] // an example reports on stdout
+
 use footslam::eval::{score_smoothed, score_tracking};
 use footslam::filter::{Tracker, TrackerConfig};
 use footslam::map::{FloorTopology, TopologyConfig};

@@ -65,6 +65,7 @@ fn run(seed: u64, identical: bool) -> Run {
     }
 }
 
+#[allow(clippy::print_stderr)] // reports the figures with --nocapture
 fn check_tracking(seed: u64, r: &Run) {
     let s = &r.score;
     assert!(s.right_cluster, "seed {seed}: localised to the wrong place");

@@ -367,7 +367,7 @@ fn centroid(
     let Some(first) = nodes.first() else {
         return SmoothedStep::NONE;
     };
-    if !(total > 0.0) {
+    if total.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return SmoothedStep::NONE;
     }
     let level = topology.level(first.surface);
@@ -414,7 +414,7 @@ fn smooth_generation(
     config: &ClusterConfig,
 ) -> SmoothedStep {
     let total: f64 = weights.iter().sum();
-    if nodes.is_empty() || !(total > 0.0) {
+    if nodes.is_empty() || total.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return SmoothedStep::NONE;
     }
     let point = |n: &PathNode, weight: f32| ClusterPoint {
@@ -521,7 +521,7 @@ mod tests {
         let filtered = tree.smoothed(&topo, &cluster);
         assert_eq!(filtered[1].hypotheses, 2);
         assert!(!filtered[1].certain);
-        tree.push(vec![node(32.0, &topo, &cluster); 4], &[2, 2, 3, 3]);
+        tree.push(vec![node(32.0); 4], &[2, 2, 3, 3], &topo, &cluster);
         let s = tree.smoothed(&topo, &cluster);
         assert_eq!(s.len(), 3);
         for (k, x) in [(0, 30.0), (1, 31.0), (2, 32.0)] {
