@@ -323,3 +323,96 @@ fn manifest_starts_place_each_walk_and_override_the_shared_start() {
             predicate::str::contains("bad.csv:3").and(predicate::str::contains("HEADING `north`")),
         );
 }
+
+/// Surveys from an unknown start keep the scans taken before the filter's first fix: the
+/// whole-walk answer places every scan whose place the walk settles. On survey walks from
+/// unknown starts, coverage of 3 m cells within 3 points of the same walk surveyed at its
+/// true positions, and per-cell mean RSSI no worse than the filtered survey's (+0.1 dB).
+#[test]
+#[allow(clippy::print_stderr)] // reports the figures with --nocapture
+fn surveys_from_an_unknown_start_place_the_scans_before_the_fix() {
+    use footslam::eval::rf_localisation::radio_map_rms;
+    use footslam::filter::{
+        Cluster, TrackStep, Tracker, TrackerConfig, placed_steps, survey_assignments, survey_walk,
+    };
+    use footslam::map::{CellMap, FloorTopology, RadioMap, TopologyConfig};
+    use footslam::sim::{TourKind, simulate_tower};
+    for seed in [41, 42] {
+        let mut config = TowerSimConfig {
+            seed,
+            ..Default::default()
+        };
+        config.walk.tour = TourKind::Survey;
+        config.walk.minutes = 8.0;
+        let sim = simulate_tower(&config).expect("survey walk");
+        let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default()).expect("topo");
+        let cells = CellMap::build(&sim.plan, &topology, &Default::default()).expect("cells");
+        let survey = |reports: &[TrackStep]| {
+            let mut map = RadioMap::empty(&cells);
+            let assignments = survey_assignments(&cells, &topology, reports, &sim.wifi);
+            survey_walk(&mut map, &assignments, &sim.wifi);
+            let (coverage, _) = map.coverage();
+            let (rms, _) = radio_map_rms(&map, &cells, &topology, &sim.radio, 0.5, 3);
+            (coverage, rms)
+        };
+        let truth: Vec<TrackStep> = sim
+            .truth
+            .poses
+            .iter()
+            .map(|p| TrackStep {
+                t: p.t,
+                particles: 1,
+                clusters: Some(1),
+                estimate: Some(Cluster {
+                    x: p.x,
+                    y: p.y,
+                    z: p.z,
+                    level: p.level,
+                    heading: p.heading,
+                    spread: 0.0,
+                    weight: 1.0,
+                    particles: 1,
+                }),
+                localised: true,
+                recovery: None,
+            })
+            .collect();
+        let run = |smoothing: bool| {
+            let config = TrackerConfig {
+                seed,
+                smoothing,
+                ..Default::default()
+            };
+            let mut tracker = Tracker::new(&topology, &config).expect("tracker");
+            let reports: Vec<TrackStep> = sim
+                .steps
+                .steps()
+                .iter()
+                .map(|s| tracker.update(s).expect("step"))
+                .collect();
+            let fix = reports.iter().position(|r| r.localised);
+            (survey(&placed_steps(&tracker, reports)), fix)
+        };
+        let (true_coverage, _) = survey(&truth);
+        let ((filtered_coverage, filtered_rms), fix) = run(false);
+        let ((coverage, rms), _) = run(true);
+        eprintln!(
+            "seed {seed}: fix at step {fix:?}; coverage {:.1} % (filtered {:.1} %, true positions {:.1} %); RMS {rms:.2} dB (filtered {filtered_rms:.2} dB)",
+            100.0 * coverage,
+            100.0 * filtered_coverage,
+            100.0 * true_coverage
+        );
+        assert!(
+            fix.is_some_and(|f| f > 5),
+            "seed {seed}: the walk must start ambiguous"
+        );
+        assert!(
+            coverage >= true_coverage - 0.03,
+            "seed {seed}: coverage {coverage} vs {true_coverage} at true positions"
+        );
+        assert!(
+            rms <= filtered_rms + 0.1,
+            "seed {seed}: RMS {rms} vs {filtered_rms}"
+        );
+    }
+}

@@ -16,8 +16,8 @@ use footslam::export::radio_map_geojson::{
     read_radio_map_geojson, write_radio_map_csv, write_radio_map_geojson,
 };
 use footslam::filter::{
-    Assignments, StartPose, TrackStep, Tracker, TrackerConfig, calibrate_map, survey_assignments,
-    survey_walk,
+    Assignments, StartPose, TrackStep, Tracker, TrackerConfig, calibrate_map, placed_steps,
+    survey_assignments, survey_walk,
 };
 use footslam::map::{CellConfig, CellMap, FloorTopology, RadioMap};
 use footslam::model::wifi_distance::Normalisation;
@@ -115,6 +115,9 @@ struct WalkSummary {
     steps: usize,
     scans: usize,
     steps_to_localise: Option<usize>,
+    /// Steps whose place the survey knew (the whole-walk answer's certain steps, or the
+    /// filtered estimates from localisation on with `tracker.smoothing = false`).
+    steps_placed: usize,
     scans_added: usize,
     scans_skipped: usize,
 }
@@ -207,7 +210,8 @@ pub fn run(args: Args) -> Result<()> {
         .build()
         .context("cannot start worker threads")?;
     let total: u64 = walks.iter().map(|(s, _)| s.len() as u64).sum();
-    let runs: Vec<Vec<TrackStep>> = pool.install(|| -> Result<_> {
+    // Per walk: the filter's reports, and the steps its scans are placed by.
+    let runs: Vec<(Vec<TrackStep>, Vec<TrackStep>)> = pool.install(|| -> Result<_> {
         let mut progress = Progress::new(total, "surveying");
         let mut runs = Vec::with_capacity(walks.len());
         for (k, (trace, _)) in walks.iter().enumerate() {
@@ -223,7 +227,8 @@ pub fn run(args: Args) -> Result<()> {
                 reports.push(tracker.update(step)?);
                 progress.inc();
             }
-            runs.push(reports);
+            let placed = placed_steps(&tracker, reports.clone());
+            runs.push((reports, placed));
         }
         progress.finish();
         Ok(runs)
@@ -242,7 +247,7 @@ pub fn run(args: Args) -> Result<()> {
         let assignments: Vec<Assignments> = runs
             .iter()
             .zip(&scans)
-            .map(|(reports, scans)| survey_assignments(&cells, &topology, reports, scans))
+            .map(|((_, placed), scans)| survey_assignments(&cells, &topology, placed, scans))
             .collect();
         let counts = assignments
             .iter()
@@ -372,15 +377,18 @@ pub fn run(args: Args) -> Result<()> {
             .zip(&counts)
             .zip(pairs.iter().zip(&starts))
             .map(
-                |((((trace, wifi), reports), &(added, skipped)), (files, start))| WalkSummary {
-                    steps_file: files.steps.display().to_string(),
-                    wifi_file: files.wifi.display().to_string(),
-                    start: *start,
-                    steps: trace.len(),
-                    scans: wifi.len(),
-                    steps_to_localise: reports.iter().position(|r| r.localised).map(|i| i + 1),
-                    scans_added: added,
-                    scans_skipped: skipped,
+                |((((trace, wifi), (reports, placed)), &(added, skipped)), (files, start))| {
+                    WalkSummary {
+                        steps_file: files.steps.display().to_string(),
+                        wifi_file: files.wifi.display().to_string(),
+                        start: *start,
+                        steps: trace.len(),
+                        scans: wifi.len(),
+                        steps_to_localise: reports.iter().position(|r| r.localised).map(|i| i + 1),
+                        steps_placed: placed.iter().filter(|r| r.estimate.is_some()).count(),
+                        scans_added: added,
+                        scans_skipped: skipped,
+                    }
                 },
             )
             .collect(),

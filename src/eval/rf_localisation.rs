@@ -5,7 +5,7 @@
 use super::tracking::{TrackingScore, score_tracking};
 use crate::error::Result;
 use crate::filter::{RfLocaliser, RfTracker, StartPose, TrackStep, Tracker, TrackerConfig};
-use crate::filter::{calibrate_map, survey_assignments, survey_walk};
+use crate::filter::{calibrate_map, placed_steps, survey_assignments, survey_walk};
 use crate::map::TopologyConfig;
 use crate::map::{CellMap, FloorTopology, RadioMap};
 use crate::sensor::Step;
@@ -134,6 +134,7 @@ pub fn survey_simulations(
         };
         let mut tracker = Tracker::new(topology, &config)?;
         let reports = track_walk(sim, |s| tracker.update(s))?;
+        let reports = placed_steps(&tracker, reports);
         let assignments = survey_assignments(cells, topology, &reports, &sim.wifi);
         survey_walk(&mut map, &assignments, &sim.wifi);
         walks.push((assignments, sim.wifi.as_slice()));

@@ -28,6 +28,9 @@ pub use recovery::{Recovery, RecoveryConfig};
 pub use resample::{ResampleConfig, ResampleMethod};
 pub use rf_assist::{RfConfig, RfLocaliser, RfMode};
 pub use rf_tracker::RfTracker;
-pub use survey::{Assignments, SurveyCounts, calibrate_map, survey_assignments, survey_walk};
+pub use survey::{
+    Assignments, SurveyCounts, calibrate_map, placed_steps, survey_assignments, survey_walk,
+    whole_walk_reports,
+};
 pub use tracker::{StepMeasurement, TrackParticle, TrackStep, Tracker};
 pub use tracker_config::{StartPose, TrackerConfig};

@@ -3,7 +3,8 @@
 //! at the first step after the scan ("the most recent scan to have been completed since the
 //! last position update, if one exists").
 
-use super::tracker::TrackStep;
+use super::path_tree::SmoothedStep;
+use super::tracker::{TrackStep, Tracker};
 use crate::map::{CellMap, FloorTopology, RadioMap};
 use crate::model::wifi_distance::{HeldOut, Normalisation, calibrate_epsilon, leave_one_out_ndist};
 use crate::sensor::WifiScan;
@@ -56,6 +57,33 @@ pub fn survey_assignments(
         }
     }
     out
+}
+
+/// The whole-walk placement of a run for [`survey_assignments`]: each step of `reports` with
+/// its smoothed answer (`smoothed`, one per step) as the estimate where the whole walk makes
+/// the place certain (then `localised`), and no estimate where it leaves several hypotheses —
+/// so every scan whose place the walk settles is placed, those before the filter's first fix
+/// included, and an ambiguous one is left out, not guessed.
+pub fn whole_walk_reports(reports: &[TrackStep], smoothed: &[SmoothedStep]) -> Vec<TrackStep> {
+    reports
+        .iter()
+        .zip(smoothed)
+        .map(|(r, s)| TrackStep {
+            estimate: s.estimate.filter(|_| s.certain),
+            localised: s.certain,
+            clusters: Some(s.hypotheses),
+            ..r.clone()
+        })
+        .collect()
+}
+
+/// Where a survey places a tracked walk's scans: the whole-walk answer where the tracker
+/// keeps its ancestry ([`whole_walk_reports`]), else the filtered `reports`.
+pub fn placed_steps(tracker: &Tracker, reports: Vec<TrackStep>) -> Vec<TrackStep> {
+    match tracker.smoothed() {
+        Some(smoothed) => whole_walk_reports(&reports, &smoothed[1..]),
+        None => reports,
+    }
 }
 
 /// Adds to `map` each scan of `scans` completed after localisation, in the cell of the next
