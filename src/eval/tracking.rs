@@ -225,12 +225,13 @@ mod tests {
             certain,
             ancestors: 1,
         };
-        let smoothed = [step(0.25, 0, true), step(1.0, 0, false), step(2.0, 0, true)];
+        let smoothed = [step(0.25, 0, true), step(1.0, 0, false), step(6.0, 0, true)];
         let s = score_smoothed(&truth, &reports, &smoothed);
         assert_eq!(
             (s.certain_steps, s.certain_before_fix, s.certain_wrong),
             (2, 1, 1)
         );
+        assert_eq!(s.certain_floor_accuracy, Some(0.5));
         assert_eq!(s.errors_after_fix.expect("after").n, 1);
         let all = s.errors_certain.expect("all");
         assert_eq!(all.n, 2);

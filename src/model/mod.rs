@@ -1,5 +1,6 @@
 //! Layer 2: probabilistic models, apart from the filter machinery.
 
+pub mod derived_epsilon;
 pub mod gps_likelihood;
 pub mod heading_likelihood;
 pub mod step_motion;
