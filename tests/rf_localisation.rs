@@ -84,3 +84,64 @@ fn a_radio_map_halves_the_steps_to_localise_without_losing_walkers() {
         );
     }
 }
+
+/// A radio map as another tool or a site survey at known positions writes it: the
+/// documented properties (cells, `aps: {bssid: {n, mean, hist}}`) and no `epsilon`. Its
+/// threshold is derived from its own histograms, and it still halves the steps to localise
+/// from unknown starts with no walker lost and no first fix more than 3 m off.
+#[test]
+#[allow(clippy::print_stderr)] // reports the figures with --nocapture
+fn a_radio_map_without_a_calibration_derives_its_threshold_and_still_halves_the_steps() {
+    use footslam::export::radio_map_geojson::{read_radio_map_geojson, write_radio_map_geojson};
+    use footslam::filter::EpsilonSource;
+    use footslam::geometry::LocalFrame;
+    let SimulatedSurvey {
+        topology, mut map, ..
+    } = simulate_survey(&TowerSimConfig::default(), 2000, 2).expect("survey");
+    let calibrated = map.epsilon_sqrt.expect("the survey calibrates");
+    (map.epsilon, map.epsilon_sqrt) = (None, None);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("other-tool.geojson");
+    let frame = LocalFrame::new(52.21, 0.091).expect("frame");
+    write_radio_map_geojson(&path, &map, &frame).expect("write");
+    let text = std::fs::read_to_string(&path).expect("read");
+    assert!(!text.contains("epsilon"), "no calibration in the file");
+    let (other, _) = read_radio_map_geojson(&path, Some(frame)).expect("read back");
+    let localiser = RfLocaliser::new(&other, &topology, &RfConfig::default()).expect("localiser");
+    assert_eq!(localiser.epsilon_source(), EpsilonSource::Derived);
+    let derived = localiser.epsilon();
+    eprintln!("derived ε {derived:.2} dBm (√k), the survey's calibration {calibrated:.2}");
+    assert!(derived > 0.3 * calibrated && derived < 3.0 * calibrated);
+    let results: Vec<RfComparison> = (301..301 + STARTS / 2)
+        .into_par_iter()
+        .map(|seed| {
+            let mut c = TowerSimConfig {
+                seed,
+                ..Default::default()
+            };
+            c.walk.minutes = MINUTES;
+            let sim = simulate_tower(&c).expect("walk");
+            let tracker = TrackerConfig {
+                seed,
+                ..Default::default()
+            };
+            compare_localisation(&sim, &topology, &[&localiser], &tracker).expect("localisation")
+        })
+        .collect();
+    let n = results.len() as f64;
+    let plain = results
+        .iter()
+        .map(|c| steps_or_all(&c.plain, c.steps) as f64)
+        .sum::<f64>()
+        / n;
+    let with = results
+        .iter()
+        .map(|c| steps_or_all(&c.rf[0].score, c.steps) as f64)
+        .sum::<f64>()
+        / n;
+    let lost = results.iter().filter(|c| c.rf[0].lost()).count();
+    let off = results.iter().filter(|c| c.rf[0].first_fix_wrong()).count();
+    eprintln!("uncalibrated map: {with:.1} vs {plain:.1} steps, lost {lost}, off {off}");
+    assert!(with <= 0.5 * plain, "{with:.1} vs {plain:.1} steps");
+    assert_eq!((lost, off), (0, 0));
+}

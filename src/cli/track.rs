@@ -86,12 +86,12 @@ pub struct Args {
     #[arg(long, value_enum)]
     rf_mode: Option<RfModeArg>,
     /// The scan-to-cell distance's divisor: `paper` (the number k of access points a cell
-    /// hears, eqs. 8 and 11) or `sqrt` (√k). Default: `sqrt` where the radio map holds a
-    /// threshold calibrated for it (`footslam survey` writes one), else `paper`.
+    /// hears, eqs. 8 and 11) or `sqrt` (√k). Default: `sqrt`, unless the radio map holds a
+    /// threshold calibrated for the paper's distance only.
     #[arg(long, value_enum, requires = "radiomap")]
     rf_distance: Option<RfDistanceArg>,
     /// Region threshold ε, dBm (default: the radio map's calibration for the distance, else
-    /// the paper's 9.5 for its distance).
+    /// one derived from the map's histograms; the paper used 9.5 with `--rf-distance paper`).
     #[arg(long, requires = "radiomap")]
     rf_epsilon: Option<f64>,
     /// Apply the latest scan at every step where the particles are then (eq. 12 read
@@ -201,6 +201,9 @@ struct RfSummary {
     distance: Normalisation,
     /// The region threshold used.
     epsilon_dbm: f64,
+    /// Where it came from: `given`, `calibrated` (the map's) or `derived` (from the map's
+    /// histograms, for a map without a calibration).
+    epsilon_source: footslam::filter::EpsilonSource,
     /// The step at which the filter started (the first after the first scan).
     started_at_step: Option<usize>,
     /// Scans no particle was consistent with (ignored).
@@ -519,6 +522,7 @@ pub fn run(args: Args) -> Result<()> {
                 mode: rf.config().mode,
                 distance: rf.distance(),
                 epsilon_dbm: rf.epsilon(),
+                epsilon_source: rf.epsilon_source(),
                 started_at_step: reports.iter().position(|r| r.particles > 0).map(|i| i + 1),
                 measurements_ignored: ignored,
             }),
@@ -603,10 +607,11 @@ pub fn run(args: Args) -> Result<()> {
     }
     if let Some(rf) = &summary.rf {
         outln!(
-            "radio map: {} measurements, {} distance, epsilon {:.2} dBm, started at step {}, {} scan(s) ignored",
+            "radio map: {} measurements, {} distance, epsilon {:.2} dBm ({}), started at step {}, {} scan(s) ignored",
             rf.mode.name(),
             rf.distance.name(),
             rf.epsilon_dbm,
+            rf.epsilon_source.name(),
             rf.started_at_step.map_or("-".into(), |s| s.to_string()),
             rf.measurements_ignored
         );

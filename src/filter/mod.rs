@@ -26,7 +26,7 @@ pub use nearest_fingerprint::{FingerprintConfig, FingerprintFix, NearestFingerpr
 pub use path_tree::{PathTree, SmoothedStep};
 pub use recovery::{Recovery, RecoveryConfig};
 pub use resample::{ResampleConfig, ResampleMethod};
-pub use rf_assist::{RfConfig, RfLocaliser, RfMode};
+pub use rf_assist::{EpsilonSource, RfConfig, RfLocaliser, RfMode};
 pub use rf_tracker::RfTracker;
 pub use survey::{
     Assignments, SurveyCounts, calibrate_map, placed_steps, survey_assignments, survey_walk,

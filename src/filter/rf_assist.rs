@@ -20,14 +20,16 @@
 
 use crate::error::{Error, Result};
 use crate::map::{CellField, CellRaster, FloorTopology, RadioMap};
+use crate::model::derived_epsilon::derive_epsilon;
 use crate::model::wifi_distance::{Fingerprints, Normalisation};
 use crate::model::wifi_likelihood::{HistogramLikelihood, LikelihoodConfig};
 use crate::sensor::WifiScan;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-/// The paper's region threshold, dBm (chosen on its building and hardware; a radio map's
-/// own calibration fits other buildings better).
+/// The paper's region threshold for its distance, dBm (chosen on its building and hardware;
+/// a radio map's own calibration, or a threshold derived from it, fits other buildings
+/// better). Not a default: give it with `rf.epsilon` to reproduce the paper.
 pub const PAPER_EPSILON: f64 = 9.5;
 
 /// How WiFi weights the particles after the prior.
@@ -60,7 +62,8 @@ impl RfMode {
 /// |--------------------|----------|---------------------------------------------------------|
 /// | `mode`             | containment | containment (eqs. 12–13), probabilistic (eq. 14) or prior only |
 /// | `distance`         | none     | `ndist`'s divisor: `paper` (`k`, eqs. 8, 11) or `sqrt` (`√k`); none = `sqrt` where the map is calibrated for it, else `paper` |
-/// | `epsilon`          | none     | region threshold on `ndist` (eqs. 2, 12): none = the map's calibrated `ε` for the distance, else the paper's 9.5 dBm (`paper` only) |
+/// | `epsilon`          | none     | region threshold on `ndist` (eqs. 2, 12): none = the map's calibrated `ε` for the distance, else derived from the map's histograms |
+/// | `epsilon_miss`     | 0.001    | share of a walker's scans a derived `ε` may leave outside their own cell |
 /// | `missing_rssi`     | −96 dBm  | fill for missing readings (the receiver's floor)         |
 /// | `outside_weight`   | 0        | containment weight outside `R_t` (eq. 13: 0)             |
 /// | `likelihood_floor` | 1e-6     | probabilistic: least weight relative to the likeliest cell |
@@ -79,8 +82,12 @@ pub struct RfConfig {
     /// one), else the paper's `k`.
     pub distance: Option<Normalisation>,
     /// Region threshold `ε` on the normalised distance, dBm; `None` = the radio map's own
-    /// calibration for the distance, else (the paper's distance only) [`PAPER_EPSILON`].
+    /// calibration for the distance, else one derived from the map's histograms
+    /// ([`derive_epsilon`]).
     pub epsilon: Option<f64>,
+    /// For an `ε` derived from the map: the share of a walker's scans whose own cell may
+    /// fall outside the region (the survey's calibration uses the same miss rate).
+    pub epsilon_miss: f64,
     /// Fill for missing readings, dBm.
     pub missing_rssi: f64,
     /// Containment: weight of a particle outside the region (0 = eq. 13).
@@ -109,6 +116,7 @@ impl Default for RfConfig {
             mode: RfMode::Containment,
             distance: None,
             epsilon: None,
+            epsilon_miss: 0.001,
             missing_rssi: -96.0,
             outside_weight: 0.0,
             likelihood_floor: 1e-6,
@@ -128,6 +136,13 @@ impl RfConfig {
         if let Some(e) = self.epsilon {
             check("rf.epsilon", e, 0.0, 200.0, "must be in [0, 200] dBm")?;
         }
+        check(
+            "rf.epsilon_miss",
+            self.epsilon_miss,
+            0.0,
+            0.5,
+            "must be in [0, 0.5]",
+        )?;
         check(
             "rf.missing_rssi",
             self.missing_rssi,
@@ -184,6 +199,30 @@ impl RfConfig {
     }
 }
 
+/// Where a localiser's region threshold `ε` came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EpsilonSource {
+    /// The configuration (`rf.epsilon`, `--rf-epsilon`).
+    Given,
+    /// The radio map's own calibration (`footslam survey` writes one).
+    Calibrated,
+    /// Derived from the radio map's histograms ([`derive_epsilon`]): a map without a
+    /// calibration, e.g. another tool's.
+    Derived,
+}
+
+impl EpsilonSource {
+    /// The name used in summaries.
+    pub fn name(self) -> &'static str {
+        match self {
+            EpsilonSource::Given => "given",
+            EpsilonSource::Calibrated => "the map's calibration",
+            EpsilonSource::Derived => "derived from the map's histograms",
+        }
+    }
+}
+
 /// A radio map made ready for localisation on a plan: its cells rasterised, their
 /// fingerprints and histograms.
 #[derive(Debug, Clone)]
@@ -191,6 +230,7 @@ pub struct RfLocaliser {
     config: RfConfig,
     distance: Normalisation,
     epsilon: f64,
+    epsilon_source: EpsilonSource,
     raster: Arc<CellRaster>,
     prints: Fingerprints,
     /// The histograms' likelihood, built for [`RfMode::Probabilistic`] only.
@@ -201,7 +241,7 @@ impl RfLocaliser {
     /// Prepares `map` (cells in the plan's local frame) for tracking on `topology`.
     pub fn new(map: &RadioMap, topology: &FloorTopology, config: &RfConfig) -> Result<Self> {
         config.validate()?;
-        let (distance, epsilon) = threshold(map, config)?;
+        let (distance, epsilon, epsilon_source) = threshold(map, config)?;
         let raster = CellRaster::on_plan(map, topology, config.raster)?;
         let prints = Fingerprints::new(map, config.missing_rssi, config.min_scans, distance);
         if prints.access_points() == 0 {
@@ -213,6 +253,7 @@ impl RfLocaliser {
             config: *config,
             distance,
             epsilon,
+            epsilon_source,
             raster: Arc::new(raster),
             prints,
             likelihood: (config.mode == RfMode::Probabilistic)
@@ -228,6 +269,11 @@ impl RfLocaliser {
     /// The region threshold in use, dBm.
     pub fn epsilon(&self) -> f64 {
         self.epsilon
+    }
+
+    /// Where the threshold in use came from.
+    pub fn epsilon_source(&self) -> EpsilonSource {
+        self.epsilon_source
     }
 
     /// The distance's divisor in use.
@@ -292,24 +338,37 @@ impl RfLocaliser {
     }
 }
 
-/// The distance and threshold `config` asks for on `map`: as given, else the map's
-/// calibration for the distance; with neither given, `√k` where the map is calibrated for
-/// it, else the paper's distance with the map's `ε` or [`PAPER_EPSILON`]. The paper's 9.5
-/// dBm is a threshold for its own distance, so `√k` without a calibration or an `ε` is an
-/// error.
-fn threshold(map: &RadioMap, config: &RfConfig) -> Result<(Normalisation, f64)> {
-    let distance = config.distance.unwrap_or(if map.epsilon_sqrt.is_some() {
-        Normalisation::Sqrt
-    } else {
-        Normalisation::Paper
-    });
-    let calibrated = distance
-        .epsilon_of(map)
-        .or((distance == Normalisation::Paper).then_some(PAPER_EPSILON));
-    let epsilon = config.epsilon.or(calibrated).ok_or(Error::Config {
-        field: "rf.distance",
-        value: "sqrt".into(),
-        reason: "needs a region threshold: the radio map has no `epsilon_sqrt` (survey it with `footslam survey`); give rf.epsilon (--rf-epsilon), or use the paper's distance (--rf-distance paper)",
+/// The distance and threshold `config` asks for on `map`, and where the threshold came from:
+/// as given, else the map's calibration for the distance, else derived from the map's own
+/// histograms ([`derive_epsilon`]). With no distance given: `√k` unless the map is calibrated
+/// for the paper's distance only. A map whose threshold can be neither read nor derived (no
+/// cell with two scans) is an error that names the way out.
+fn threshold(map: &RadioMap, config: &RfConfig) -> Result<(Normalisation, f64, EpsilonSource)> {
+    let distance =
+        config
+            .distance
+            .unwrap_or(if map.epsilon.is_some() && map.epsilon_sqrt.is_none() {
+                Normalisation::Paper
+            } else {
+                Normalisation::Sqrt
+            });
+    if let Some(e) = config.epsilon {
+        return Ok((distance, e, EpsilonSource::Given));
+    }
+    if let Some(e) = distance.epsilon_of(map) {
+        return Ok((distance, e, EpsilonSource::Calibrated));
+    }
+    let derived = derive_epsilon(
+        map,
+        distance,
+        config.missing_rssi,
+        config.epsilon_miss,
+        config.min_scans,
+    )
+    .ok_or(Error::Config {
+        field: "rf.epsilon",
+        value: "none".into(),
+        reason: "the radio map carries no calibrated threshold and none can be derived from it (no cell holds two scans to show how readings spread): give one with --rf-epsilon (rf.epsilon), e.g. the paper's 9.5 dBm with --rf-distance paper, or survey the building with `footslam survey`, which calibrates it",
     })?;
-    Ok((distance, epsilon))
+    Ok((distance, derived, EpsilonSource::Derived))
 }
