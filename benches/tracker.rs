@@ -5,7 +5,9 @@
 //! containment region judged at the scan's time within the step (eqs. 12–13 of Woodman &
 //! Harle 2009; a raster lookup per particle), the same step with an absolute heading on every
 //! step (the compass likelihood: one wrapped difference, `exp` and `ln` per particle), and
-//! the floor topology's `walk` on its own.
+//! the floor topology's `walk` on its own. The groups run without the path tree (causal,
+//! `smoothing = false`), except `tracker_step_smoothing`, which keeps the belief's ancestry
+//! for the whole-walk answer (the `track` default).
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use footslam::filter::{KldConfig, StepMeasurement, Tracker, TrackerConfig};
@@ -40,6 +42,7 @@ fn step_group(
     (sim, topology): &(TowerSimulation, FloorTopology),
     region: Option<&CellField>,
     headings: bool,
+    smoothing: bool,
 ) {
     let steps: Vec<Step> = sim
         .steps
@@ -60,6 +63,7 @@ fn step_group(
                 max_particles: n,
                 ..Default::default()
             },
+            smoothing,
             ..Default::default()
         };
         let mut tracker = Tracker::new(topology, &config).expect("tracker");
@@ -87,6 +91,19 @@ fn tracker_step(c: &mut Criterion) {
         &tower(),
         None,
         false,
+        false,
+    );
+}
+
+fn tracker_step_with_smoothing(c: &mut Criterion) {
+    step_group(
+        c,
+        "tracker_step_smoothing",
+        &[100_000, 1_000_000],
+        &tower(),
+        None,
+        false,
+        true,
     );
 }
 
@@ -98,6 +115,7 @@ fn tracker_step_with_heading(c: &mut Criterion) {
         &tower(),
         None,
         true,
+        false,
     );
 }
 
@@ -118,6 +136,7 @@ fn tracker_step_with_wifi(c: &mut Criterion) {
         &[1_000_000],
         &tower,
         Some(&region),
+        false,
         false,
     );
 }
@@ -148,6 +167,7 @@ fn topology_walk(c: &mut Criterion) {
 criterion_group!(
     benches,
     tracker_step,
+    tracker_step_with_smoothing,
     tracker_step_with_heading,
     tracker_step_with_wifi,
     topology_walk

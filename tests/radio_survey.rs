@@ -145,8 +145,8 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
     let rf = &json(&run.join("summary.json"))["rf"];
     assert_eq!(rf["distance"], "paper");
     assert!((rf["epsilon_dbm"].as_f64().expect("epsilon") - epsilon).abs() < 0.01);
-    // Another tool's map without thresholds: the paper's distance and its 9.5 dBm; √k
-    // without a threshold is refused with the reason.
+    // Another tool's map without thresholds: √k with a threshold derived from the map's
+    // histograms, said in the summary; near the survey's own calibration.
     let mut foreign = json(&radiomap);
     let members = foreign.as_object_mut().expect("collection");
     members.remove("epsilon");
@@ -158,21 +158,40 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
         .arg("--wifi")
         .arg(other.join("wifi.csv"))
         .assert()
-        .success();
+        .success()
+        .stdout(predicate::str::contains(
+            "derived from the map's histograms",
+        ));
     let rf = &json(&run.join("summary.json"))["rf"];
-    assert_eq!(rf["distance"], "paper");
-    assert_eq!(rf["epsilon_dbm"], 9.5);
-    track_with_map(
-        &other,
-        &foreign_path,
-        &dir.path().join("track-foreign-sqrt"),
-    )
-    .arg("--wifi")
-    .arg(other.join("wifi.csv"))
-    .args(["--rf-distance", "sqrt"])
-    .assert()
-    .failure()
-    .stderr(predicate::str::contains("rf.distance").and(predicate::str::contains("epsilon_sqrt")));
+    assert_eq!(rf["distance"], "sqrt");
+    assert_eq!(rf["epsilon_source"], "derived");
+    let derived = rf["epsilon_dbm"].as_f64().expect("epsilon");
+    assert!(
+        derived > 0.5 * epsilon_sqrt && derived < 2.0 * epsilon_sqrt,
+        "derived {derived} vs calibrated {epsilon_sqrt}"
+    );
+    // A map of single scans shows no spread: the error names the ways out.
+    let mut single = foreign.clone();
+    for feature in single["features"].as_array_mut().expect("features") {
+        let properties = feature["properties"].as_object_mut().expect("properties");
+        properties.insert("scans".into(), serde_json::json!(1));
+        for (_, ap) in properties["aps"].as_object_mut().expect("aps").iter_mut() {
+            let mean = ap["mean"].as_f64().expect("mean");
+            let bin = format!("{}", mean.round() as i64);
+            *ap = serde_json::json!({"n": 1, "mean": mean, "hist": {bin: 1}});
+        }
+    }
+    let single_path = dir.path().join("single.geojson");
+    std::fs::write(&single_path, single.to_string()).expect("write");
+    track_with_map(&other, &single_path, &dir.path().join("track-single"))
+        .arg("--wifi")
+        .arg(other.join("wifi.csv"))
+        .assert()
+        .failure()
+        .stderr(
+            predicate::str::contains("--rf-epsilon")
+                .and(predicate::str::contains("footslam survey")),
+        );
     // The same run on one thread and on two.
     let tracks: Vec<String> = ["1", "2"]
         .iter()

@@ -3,7 +3,9 @@
 use super::common::{SAME_ORIGIN, parse_origin, read_config, require_file};
 use anyhow::{Context, Result};
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
-use footslam::dataset::{TimedPoint, read_steps, read_track, read_trajectory, read_waypoints};
+use footslam::dataset::{
+    TimedPoint, read_certain_trajectory, read_steps, read_track, read_trajectory, read_waypoints,
+};
 use footslam::eval::{
     Alignment, ErrorReport, floor_accuracy, position_errors, walkable_fraction, waypoint_errors,
 };
@@ -29,6 +31,8 @@ pub struct Args {
     waypoints: Option<PathBuf>,
     /// Estimated track CSV with `t,x,y` columns (e.g. learn's or track's track.csv); with
     /// `z` and `level` columns in both files, the share on the right floor is reported too.
+    /// Rows a `certain` column marks 0 (track's smoothed steps whose place the walk leaves
+    /// ambiguous) are left out and counted.
     #[arg(long)]
     track: PathBuf,
     /// Alignment before measuring: `none` (absolute) or `rigid` (best rotation and
@@ -79,7 +83,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     require_file(&truth_path, "truth file")?;
     let truth = read_trajectory(&truth_path)?;
-    let mut track = read_trajectory(&args.track)?;
+    let (mut track, uncertain) = read_certain_trajectory(&args.track)?;
     // Runs anchored to the world (learn --gps) put their local frame's origin at the first
     // fix, not where the simulator put the truth's: compare in the truth's frame.
     let reprojected = match (
@@ -145,6 +149,7 @@ pub fn run(args: Args) -> Result<()> {
             "walkable_fraction": walkable,
             "floor_accuracy": floors,
             "track_reprojected_from": reprojected.map(|(from, _)| from),
+            "uncertain_rows_left_out": uncertain,
         });
         outln!("{}", serde_json::to_string_pretty(&value)?);
     } else {
@@ -157,6 +162,7 @@ pub fn run(args: Args) -> Result<()> {
                 to.lon
             );
         }
+        note_uncertain(uncertain);
         print_table(&report, dead_reckoning.as_ref());
         if let Some(f) = floors {
             outln!("right floor {:.1} % of track points", 100.0 * f);
@@ -166,6 +172,13 @@ pub fn run(args: Args) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Says how many smoothed rows were left out as uncertain (none said when none).
+fn note_uncertain(rows: usize) {
+    if rows > 0 {
+        outln!("{rows} uncertain track rows (certain = 0) left out");
+    }
 }
 
 /// Prints the error table, with dead reckoning's beside the track's when given.
@@ -203,7 +216,7 @@ fn run_waypoints(args: Args) -> Result<()> {
     };
     require_file(path, "waypoints file")?;
     let waypoints = read_waypoints(path)?;
-    let track = read_trajectory(&args.track)?;
+    let (track, uncertain) = read_certain_trajectory(&args.track)?;
     let alignment = Alignment::from(args.align);
     let errors = waypoint_errors(&waypoints, &track, alignment)
         .with_context(|| format!("{} against {}", args.track.display(), path.display()))?;
@@ -230,9 +243,11 @@ fn run_waypoints(args: Args) -> Result<()> {
             "dead_reckoning": dead_reckoning.as_ref().map(|(d, _)| &d.report),
             "dead_reckoning_waypoints": dead_reckoning.as_ref().map(|(d, _)| &d.points),
             "dead_reckoning_heading": dead_reckoning.as_ref().map(|(_, a)| if *a { "absolute" } else { "rigidly aligned" }),
+            "uncertain_rows_left_out": uncertain,
         });
         outln!("{}", serde_json::to_string_pretty(&value)?);
     } else {
+        note_uncertain(uncertain);
         print_table(
             &errors.report,
             dead_reckoning.as_ref().map(|(d, _)| &d.report),

@@ -28,6 +28,6 @@ pub use imu_csv::{read_imu, write_imu};
 pub use outline_geojson::{read_outline, write_outline};
 pub use steps_csv::read_steps;
 pub use track_csv::{SmoothedPoint, TrackPoint, read_track, write_smoothed_track, write_track};
-pub use trajectory_csv::{TimedPoint, read_trajectory, write_trajectory};
+pub use trajectory_csv::{TimedPoint, read_certain_trajectory, read_trajectory, write_trajectory};
 pub use waypoints_csv::{Waypoint, read_waypoints, write_waypoints};
 pub use wifi_csv::{read_wifi, write_wifi};

@@ -18,27 +18,59 @@ pub struct TimedPoint {
 
 /// Reads `t,x,y` rows (extra columns ignored); times must be strictly increasing.
 pub fn read_trajectory(path: &Path) -> Result<Vec<TimedPoint>> {
+    read_rows(path, false).map(|(points, _)| points)
+}
+
+/// Reads a track's `t,x,y` rows, keeping only those its optional `certain` column marks 1
+/// (`footslam track`'s smoothed answer marks 0 the steps whose place the whole walk leaves
+/// ambiguous: their position is the likeliest hypothesis, not a fix); returns the rows kept
+/// and how many were left out. A file without the column is read whole.
+pub fn read_certain_trajectory(path: &Path) -> Result<(Vec<TimedPoint>, usize)> {
+    read_rows(path, true)
+}
+
+fn read_rows(path: &Path, certain_only: bool) -> Result<(Vec<TimedPoint>, usize)> {
     let mut table = CsvTable::open(path)?;
     let (t, x, y) = (table.column("t")?, table.column("x")?, table.column("y")?);
+    let certain = table.optional_column("certain").filter(|_| certain_only);
     let mut points: Vec<TimedPoint> = Vec::new();
+    let (mut rows, mut previous) = (0usize, None);
     table.for_each_row(|row| {
+        rows += 1;
         let p = TimedPoint {
             t: row.number(t, "t")?,
             x: row.number(x, "x")?,
             y: row.number(y, "y")?,
         };
-        row.ensure_after(points.last().map(|q| q.t), p.t)?;
-        points.push(p);
+        row.ensure_after(previous, p.t)?;
+        previous = Some(p.t);
+        let keep = match row.optional_number(certain, "certain")? {
+            None => true,
+            Some(c) if c == 1.0 => true,
+            Some(c) if c == 0.0 => false,
+            Some(c) => return Err(row.error(format!("`certain` is {c}, not 0 or 1"))),
+        };
+        if keep {
+            points.push(p);
+        }
         Ok(())
     })?;
-    if points.is_empty() {
+    if rows == 0 {
         return Err(Error::parse(
             path,
             0,
             "no rows: the file has a header but no data",
         ));
     }
-    Ok(points)
+    if points.is_empty() {
+        return Err(Error::parse(
+            path,
+            0,
+            "no certain rows: the walk never settled the walker's place (every row has certain = 0)",
+        ));
+    }
+    let dropped = rows - points.len();
+    Ok((points, dropped))
 }
 
 /// Writes `t,x,y` rows (millimetre precision).
