@@ -59,7 +59,9 @@ fn track_writes_every_output_and_localises() {
         .stdout(predicate::str::contains("localised after"));
     for f in [
         "track.csv",
+        "track_filtered.csv",
         "track.geojson",
+        "track.png",
         "summary.json",
         "particles.png",
         "config.json",
@@ -86,14 +88,32 @@ fn track_writes_every_output_and_localises() {
         steps
     );
     assert!(summary["bytes_per_particle"].as_f64().expect("bytes") <= 64.0);
-    // One row per step from localisation on, on the truth's clock; the floor is right.
-    let text = std::fs::read_to_string(out.join("track.csv")).expect("track");
+    // The filtered track: one row per step from localisation on, on the truth's clock.
+    let text = std::fs::read_to_string(out.join("track_filtered.csv")).expect("filtered");
     assert!(text.starts_with("t,x,y,z,level\n"));
     assert_eq!(
         text.lines().count() as u64 - 1,
         steps - localised + 1,
         "rows from localisation on"
     );
+    // The smoothed answer: one row per step, those before localisation included, each
+    // saying whether the walk settles it; here the whole walk does.
+    let text = std::fs::read_to_string(out.join("track.csv")).expect("track");
+    assert!(text.starts_with("t,x,y,z,level,certain,hypotheses\n"));
+    assert_eq!(text.lines().count() as u64 - 1, steps, "a row per step");
+    let smoothing = &summary["smoothing"];
+    assert_eq!(smoothing["steps_certain"].as_u64(), Some(steps));
+    assert!(smoothing["path_nodes_peak"].as_u64().expect("nodes") > 0);
+    // --online: no ancestry, track.csv is the filtered track.
+    let online = dir.path().join("online");
+    track(&sim, &online, &["--seed", "4", "--online"]).success();
+    assert_eq!(
+        std::fs::read(online.join("track.csv")).expect("online"),
+        std::fs::read(out.join("track_filtered.csv")).expect("filtered"),
+        "the filter does not depend on the ancestry"
+    );
+    assert!(!online.join("track_filtered.csv").exists());
+    assert!(json(&online.join("summary.json"))["smoothing"].is_null());
     footslam()
         .args(["eval", "--json", "--truth"])
         .arg(sim.join("truth.csv"))
