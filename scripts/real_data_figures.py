@@ -136,7 +136,11 @@ def main():
                 rf_alone += e
                 footslam(a.binary, "track", "--plan", plan, "--steps", os.path.join(run, "steps", "steps.csv"), "--radiomap", radiomap, "--wifi", wifi, "--seed", a.seed, *cfg, "--out", os.path.join(run, "rf-track"))
                 with open(os.path.join(run, "rf-track", "summary.json")) as f:
-                    localised = json.load(f)["track_rows"] > 0
+                    s = json.load(f)
+                # The smoothed track.csv answers where the whole walk settles the place (its
+                # certain rows, which eval keeps); an online run from localisation on.
+                smoothing = s.get("smoothing")
+                localised = (smoothing["steps_certain"] if smoothing else s["track_rows"]) > 0
                 if localised:
                     e, _ = waypoint_errors(a.binary, wps, os.path.join(run, "rf-track", "track.csv"))
                 else:
@@ -150,7 +154,7 @@ def main():
             "survey_walks": len(survey_walks),
             "test_walks": len(test_walks),
             "tracked_with_radio_map": summary("WiFi + radio map, unknown start", rf_tracked),
-            "waypoints_before_localisation": unanswered,
+            "waypoints_without_a_certain_estimate": unanswered,
             "walks_never_localised": not_localised,
             "radio_map_alone": summary("radio map alone (nearest fingerprints)", rf_alone),
         }
@@ -164,7 +168,7 @@ def main():
         print(f"{r['name']:40} {r['n']:>9} {r['median_m']:>7.2f}m {r['p90_m']:>7.2f}m")
     if "radio" in figures:
         r = figures["radio"]
-        print(f"WiFi + radio map: {r['walks_never_localised']} of {r['test_walks']} walks never localised; {r['waypoints_before_localisation']} waypoints before localisation (no estimate)")
+        print(f"WiFi + radio map: {r['walks_never_localised']} of {r['test_walks']} walks never localised; {r['waypoints_without_a_certain_estimate']} waypoints without a certain estimate")
     if failed:
         print(f"{len(failed)} runs failed (see figures.json)")
 
