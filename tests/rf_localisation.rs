@@ -24,6 +24,21 @@ const STARTS: u64 = 20;
 /// Length of each walk, minutes.
 const MINUTES: f64 = 3.7;
 
+/// A walk of [`MINUTES`] from a random start, and the tracker configuration, for `seed`.
+fn walk(seed: u64) -> (footslam::sim::TowerSimulation, TrackerConfig) {
+    let mut c = TowerSimConfig {
+        seed,
+        ..Default::default()
+    };
+    c.walk.minutes = MINUTES;
+    let sim = simulate_tower(&c).expect("walk");
+    let tracker = TrackerConfig {
+        seed,
+        ..Default::default()
+    };
+    (sim, tracker)
+}
+
 #[test]
 fn a_radio_map_halves_the_steps_to_localise_without_losing_walkers() {
     let SimulatedSurvey { topology, map, .. } =
@@ -46,16 +61,7 @@ fn a_radio_map_halves_the_steps_to_localise_without_losing_walkers() {
     let results: Vec<RfComparison> = (101..101 + STARTS)
         .into_par_iter()
         .map(|seed| {
-            let mut c = TowerSimConfig {
-                seed,
-                ..Default::default()
-            };
-            c.walk.minutes = MINUTES;
-            let sim = simulate_tower(&c).expect("walk");
-            let tracker = TrackerConfig {
-                seed,
-                ..Default::default()
-            };
+            let (sim, tracker) = walk(seed);
             compare_localisation(&sim, &topology, &[&containment, &probabilistic], &tracker)
                 .expect("localisation")
         })
@@ -115,16 +121,7 @@ fn a_radio_map_without_a_calibration_derives_its_threshold_and_still_halves_the_
     let results: Vec<RfComparison> = (301..301 + STARTS / 2)
         .into_par_iter()
         .map(|seed| {
-            let mut c = TowerSimConfig {
-                seed,
-                ..Default::default()
-            };
-            c.walk.minutes = MINUTES;
-            let sim = simulate_tower(&c).expect("walk");
-            let tracker = TrackerConfig {
-                seed,
-                ..Default::default()
-            };
+            let (sim, tracker) = walk(seed);
             compare_localisation(&sim, &topology, &[&localiser], &tracker).expect("localisation")
         })
         .collect();

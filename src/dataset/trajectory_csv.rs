@@ -46,8 +46,8 @@ fn read_rows(path: &Path, certain_only: bool) -> Result<(Vec<TimedPoint>, usize)
         previous = Some(p.t);
         let keep = match row.optional_number(certain, "certain")? {
             None => true,
-            Some(c) if c == 1.0 => true,
-            Some(c) if c == 0.0 => false,
+            Some(1.0) => true,
+            Some(0.0) => false,
             Some(c) => return Err(row.error(format!("`certain` is {c}, not 0 or 1"))),
         };
         if keep {
