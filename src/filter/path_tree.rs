@@ -144,15 +144,8 @@ impl PathTree {
     ) {
         self.cut(step, topology, cluster);
         self.lagged.truncate(step);
-        self.generations.push(
-            nodes
-                .into_iter()
-                .map(|n| PathNode {
-                    parent: NO_PARENT,
-                    ..n
-                })
-                .collect(),
-        );
+        // Nodes made outside the tree have no parent (`PathNode::new`).
+        self.generations.push(nodes);
         self.note_size();
     }
 
@@ -222,8 +215,6 @@ impl PathTree {
             let smoothed = self.answer_current(topology, cluster);
             let keep = (step - self.first_step).min(smoothed.len());
             self.settled.extend_from_slice(&smoothed[..keep]);
-            self.settled
-                .resize(self.first_step + keep, SmoothedStep::NONE);
             self.settled.resize(step, SmoothedStep::NONE);
         }
         self.generations.clear();

@@ -155,6 +155,11 @@ pub struct Tracker<'a> {
     ancestors: Vec<u32>,
 }
 
+/// A particle's place as a node of the ancestry.
+fn path_node(p: &TrackParticle) -> PathNode {
+    PathNode::new(p.x, p.y, p.surface)
+}
+
 /// Step inputs in the particles' precision.
 #[derive(Debug, Clone, Copy)]
 struct StepInput {
@@ -555,10 +560,7 @@ impl<'a> Tracker<'a> {
 
     /// The belief as path nodes.
     fn path_nodes(&self) -> Vec<PathNode> {
-        self.particles
-            .iter()
-            .map(|p| PathNode::new(p.x, p.y, p.surface))
-            .collect()
+        self.particles.iter().map(path_node).collect()
     }
 
     /// Starts a new ancestry at `step` with the belief as its roots (a prior, or particles
@@ -576,9 +578,7 @@ impl<'a> Tracker<'a> {
     fn grow_tree(&mut self) {
         if let Some(tree) = self.tree.as_mut() {
             tree.push(
-                self.particles
-                    .iter()
-                    .map(|p| PathNode::new(p.x, p.y, p.surface)),
+                self.particles.iter().map(path_node),
                 &self.ancestors,
                 self.topology,
                 &self.config.cluster,
