@@ -117,6 +117,24 @@ struct Summary {
     gps_fixes_used: usize,
     /// How far path and map were moved towards the prior map's frame, metres.
     prior_offset_m: (f64, f64),
+    /// Where the walk's orientation came from and how well it is known.
+    heading: HeadingSummary,
+}
+
+/// Where a walk's start heading came from and how uncertain the map's orientation is.
+#[derive(Debug, Clone, Copy, Serialize)]
+struct HeadingSummary {
+    /// `gps fixes` (the first fixes' track), `compass` (the steps' `heading` column),
+    /// `config` (`start.heading` with `start_heading_sigma`), `assumed` (`start.heading`,
+    /// exact: a map in the walk's own frame) or `unknown` (uniform over the circle).
+    start_source: &'static str,
+    /// The start heading, degrees counter-clockwise from east.
+    start_deg: f64,
+    /// Its spread before the walk, degrees (1σ; 0 when assumed exact).
+    start_sigma_deg: f64,
+    /// The spread of the particles' headings after the last step, degrees (1σ,
+    /// [`FootSlam::heading_spread`]): the map's orientation as the whole walk pins it.
+    final_sigma_deg: f64,
 }
 
 /// `summary.json`: one walk's figures at the top level, or a batch's under `walks`.
@@ -292,6 +310,7 @@ pub fn run(args: Args) -> Result<()> {
 /// The result of learning one walk.
 struct WalkRun {
     config: FootSlamConfig,
+    start_source: &'static str,
     filter: FootSlam,
     estimate: FootSlamEstimate,
     runtime_s: f64,
@@ -318,6 +337,7 @@ fn learn_walk(
         .map(|f| GpsObservation::from_fix(f, frame))
         .collect();
     let heading_given = config.start_heading_sigma != 0.0;
+    let mut start_source = if heading_given { "config" } else { "assumed" };
     if let Some(first) = gps.first() {
         config.start.x = first.x;
         config.start.y = first.y;
@@ -327,8 +347,12 @@ fn learn_walk(
                 Some((heading, sigma)) => {
                     config.start.heading = heading;
                     config.start_heading_sigma = sigma;
+                    start_source = "gps fixes";
                 }
-                None => config.start_heading_sigma = std::f64::consts::PI,
+                None => {
+                    config.start_heading_sigma = std::f64::consts::PI;
+                    start_source = "unknown";
+                }
             }
         }
     }
@@ -340,6 +364,10 @@ fn learn_walk(
     {
         config.start.heading = heading;
         config.start_heading_sigma = sigma;
+        start_source = "compass";
+    }
+    if start_source == "config" && config.start_heading_sigma >= std::f64::consts::PI {
+        start_source = "unknown";
     }
     let started = Instant::now();
     // With GPS and a prior map: first learn the walk alone, in its own GPS frame, and
@@ -379,6 +407,7 @@ fn learn_walk(
     let estimate = filter.estimate();
     Ok(WalkRun {
         config,
+        start_source,
         filter,
         estimate,
         runtime_s,
@@ -454,5 +483,11 @@ fn write_walk(
         gps_fixes: walk.fixes.len(),
         gps_fixes_used: filter.gps_fixes_used(),
         prior_offset_m: estimate.prior_offset,
+        heading: HeadingSummary {
+            start_source: run.start_source,
+            start_deg: config.start.heading.to_degrees(),
+            start_sigma_deg: config.start_heading_sigma.min(std::f64::consts::PI).to_degrees(),
+            final_sigma_deg: filter.heading_spread().to_degrees(),
+        },
     })
 }

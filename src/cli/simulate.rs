@@ -77,6 +77,14 @@ pub struct Args {
     /// than one (overrides the config file).
     #[arg(long)]
     pub(super) walks: Option<usize>,
+    /// Campus: the walks end indoors after the tour, so GPS sees only the way in
+    /// (overrides the config file's `walk_out`).
+    #[arg(long)]
+    pub(super) entrance_only: bool,
+    /// Campus: the steps carry a compass's absolute `heading` (overrides the config file's
+    /// `compass.enabled`).
+    #[arg(long)]
+    pub(super) compass: bool,
     /// Simulation configuration (TOML, or JSON such as a previous run's config.json).
     #[arg(long)]
     pub(super) config: Option<PathBuf>,

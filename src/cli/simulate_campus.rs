@@ -47,6 +47,12 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(w) = args.walks {
         config.walks = w;
     }
+    if args.entrance_only {
+        config.walk_out = false;
+    }
+    if args.compass {
+        config.compass.enabled = true;
+    }
     let origin = args.origin.unwrap_or_default();
     let sim = simulate_campus(&config, &origin)?;
     let folder = RunFolder::create(&output_dir(args.out, "simulate"))?;

@@ -22,7 +22,7 @@ pub use super::footslam_anchors::Anchors;
 use super::footslam_anchors::{GpsQueue, StepFix, log_gps_factor, sample_start};
 pub use super::footslam_config::FootSlamConfig;
 use super::lineage::Lineage;
-use super::outline_fit::fit_outline_shift;
+use super::outline_fit::{fit_outline_shift, unseen_seconds};
 use super::resample::{self, ResampleMethod};
 use crate::error::Result;
 use crate::geometry::{Hex, HexGrid, Pose2};
@@ -101,6 +101,8 @@ pub struct FootSlam {
     next: Vec<Particle>,
     /// Step measurements seen, needed to replay paths.
     steps: Vec<(f64, f64)>,
+    /// Each step's time (where GPS did not see the walker, for the outline fit).
+    times: Vec<f64>,
     ess_history: Vec<f64>,
     resamplings: usize,
     resample_pending: bool,
@@ -199,6 +201,7 @@ impl FootSlam {
             next: Vec::with_capacity(n),
             particles,
             steps: Vec::new(),
+            times: Vec::new(),
             ess_history: Vec::new(),
             resamplings: 0,
             resample_pending: false,
@@ -231,6 +234,23 @@ impl FootSlam {
         resample::effective_sample_size(&self.weights)
     }
 
+    /// The weighted circular spread of the particles' current headings, radians
+    /// (`√(−2 ln R)` for the weighted mean resultant length `R`): how firmly the walk pins
+    /// the map's orientation. Every particle integrates the same measured heading changes,
+    /// so their headings differ only by the start heading each drew and the heading noise
+    /// of eq. (5); GPS fixes, compass readings, an outline or a prior map narrow it.
+    pub fn heading_spread(&self) -> f64 {
+        let (c, s) = self
+            .particles
+            .iter()
+            .zip(&self.weights)
+            .fold((0.0, 0.0), |(c, s), (p, w)| {
+                (c + w * p.pose.heading.cos(), s + w * p.pose.heading.sin())
+            });
+        let r = c.hypot(s).clamp(1e-300, 1.0);
+        (-2.0 * r.ln()).sqrt()
+    }
+
     /// GPS fixes applied so far.
     pub fn gps_fixes_used(&self) -> usize {
         self.gps.as_ref().map_or(0, |g| g.next)
@@ -258,6 +278,7 @@ impl FootSlam {
             self.resample_pending = false;
         }
         self.steps.push((z.length, z.dheading));
+        self.times.push(z.t);
         let k = self.steps.len() as u64;
         self.collect_step_fixes(z.t);
         let (seed, motion, grid) = (self.config.seed, self.motion, self.grid);
@@ -291,8 +312,9 @@ impl FootSlam {
                 }
                 // The step's absolute heading against the particle's (IMU) heading, which
                 // the measured heading changes integrate.
+                // Tempered by the disturbance's correlation length (heading_likelihood eq. 3).
                 if let Some((model, h)) = compass {
-                    log_factor += model.log_likelihood(h, pose.heading);
+                    log_factor += model.temper(z.length) * model.log_likelihood(h, pose.heading);
                 }
                 *log_w += log_factor;
                 p.path_log_likelihood += log_factor;
@@ -406,8 +428,20 @@ impl FootSlam {
             let points: Vec<(f64, f64)> = replayed.iter().map(|p| (p.x + dx, p.y + dy)).collect();
             let cost = (self.config.alpha / self.config.outline_alpha).ln();
             let margin = self.config.outline_margin;
-            let (sx, sy) =
-                fit_outline_shift(&points, outline, margin, cost, self.outline_fit_sigma);
+            let fixes: Vec<f64> = self
+                .gps
+                .as_ref()
+                .map(|g| g.fixes.iter().map(|f| f.t).collect())
+                .unwrap_or_default();
+            let unseen = unseen_seconds(&self.times, &fixes);
+            let (sx, sy) = fit_outline_shift(
+                &points,
+                &unseen,
+                outline,
+                margin,
+                cost,
+                self.outline_fit_sigma,
+            );
             dx += sx;
             dy += sy;
         }

@@ -16,9 +16,18 @@
 //! from more than `margin` inside to more than `margin` outside, or back (hysteresis): the
 //! true path, which enters and leaves through doors, crosses exactly as often as it enters
 //! and leaves, wherever within the margin the true walls are, while a path pushed through a
-//! wall by a bias adds a crossing pair at every room or corridor that pokes out. The maximum
-//! is searched on a square grid of shifts 0.25 m apart within `±3σ` (at most ±10 m); ties
-//! go to the smaller shift.
+//! wall by a bias adds a crossing pair at every room or corridor that pokes out.
+//!
+//! Crossings alone cannot tell a path pushed *wholly* outside: a walk that arrives under
+//! GPS and then stays in (GPS sees only the entrance) crosses once where it truly enters,
+//! and not at all when shifted past the building. What tells is the receiver: it gives a
+//! fix a second under open sky, so a stretch of steps with no fix for `OUTAGE` seconds
+//! (from the fix before to the fix after) was walked indoors. Time spent by such unseen
+//! steps deeper than `margin` outside the outline therefore counts as one crossing pair —
+//! out and back in again without GPS seeing it — per `OUTAGE` seconds, so that a path
+//! pushed wholly past the building pays for every minute it spends there. The maximum is
+//! searched on a square grid of shifts 0.25 m apart within `±3σ` (at most ±10 m); ties go
+//! to the smaller shift.
 
 use geo::{Contains, Coord, Polygon};
 use rayon::prelude::*;
@@ -27,6 +36,36 @@ use rayon::prelude::*;
 const SHIFT_STEP: f64 = 0.25;
 /// The widest shift tried, metres.
 const MAX_SHIFT: f64 = 10.0;
+/// A gap between GPS fixes longer than this, seconds, means the walker was indoors (a
+/// receiver under open sky gives a fix a second; ten missed in a row is a roof).
+pub const OUTAGE: f64 = 10.0;
+
+/// For each time in `times` (in order): the seconds since the time before it (0 for the
+/// first) when it falls in a GPS outage — a gap longer than [`OUTAGE`] between the fix
+/// before it and the fix after it (`fix_times` sorted; before the first fix and after the
+/// last the gap is open-ended, so it counts once the nearest fix is more than `OUTAGE`
+/// away) — and 0 otherwise. Without fixes nothing counts.
+pub fn unseen_seconds(times: &[f64], fix_times: &[f64]) -> Vec<f64> {
+    times
+        .iter()
+        .enumerate()
+        .map(|(k, &t)| {
+            let i = fix_times.partition_point(|&f| f <= t);
+            let before = i.checked_sub(1).map(|j| fix_times[j]);
+            let after = fix_times.get(i).copied();
+            let unseen = match (before, after) {
+                (Some(b), Some(a)) => a - b > OUTAGE,
+                (Some(b), None) => t - b > OUTAGE,
+                (None, Some(a)) => a - t > OUTAGE,
+                (None, None) => false,
+            };
+            match k.checked_sub(1) {
+                Some(j) if unseen => (t - times[j]).max(0.0),
+                _ => 0.0,
+            }
+        })
+        .collect()
+}
 
 /// Distance from `p` to the segment `a`–`b`.
 fn segment_distance(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
@@ -55,17 +94,22 @@ fn side(outline: &Polygon<f64>, ring: &[(f64, f64)], margin: f64, p: (f64, f64))
     }
 }
 
-/// Crossings of the outline by `path` moved by `s`, with hysteresis `margin`.
+/// Crossings of the outline by `path` moved by `s`, with hysteresis `margin`, plus a
+/// pair for every [`OUTAGE`] seconds that points GPS did not see (`unseen`, seconds a
+/// point, [`unseen_seconds`]; missing entries count as seen) spend deeper than `margin`
+/// outside.
 fn crossings(
     path: &[(f64, f64)],
+    unseen: &[f64],
     outline: &Polygon<f64>,
     ring: &[(f64, f64)],
     margin: f64,
     s: (f64, f64),
-) -> u32 {
+) -> f64 {
     let mut last = 0i8;
-    let mut n = 0;
-    for &(x, y) in path {
+    let mut n = 0u32;
+    let mut outside = 0.0;
+    for (i, &(x, y)) in path.iter().enumerate() {
         let now = side(outline, ring, margin, (x + s.0, y + s.1));
         if now != 0 {
             if last != 0 && now != last {
@@ -73,15 +117,20 @@ fn crossings(
             }
             last = now;
         }
+        if now == -1 {
+            outside += unseen.get(i).copied().unwrap_or(0.0);
+        }
     }
-    n
+    f64::from(n) + 2.0 * outside / OUTAGE
 }
 
-/// The most probable shift of `path` (positions in walking order) given `outline` (known to
-/// `margin` metres), the cost `cost` of a crossing and a Gaussian bias prior of spread
-/// `sigma` per axis; `(0, 0)` when `sigma` is 0 or the path is too short.
+/// The most probable shift of `path` (positions in walking order, with `unseen` the
+/// seconds each was walked in a GPS outage, [`unseen_seconds`]) given `outline` (known to `margin`
+/// metres), the cost `cost` of a crossing and a Gaussian bias prior of spread `sigma` per
+/// axis; `(0, 0)` when `sigma` is 0 or the path is too short.
 pub fn fit_outline_shift(
     path: &[(f64, f64)],
+    unseen: &[f64],
     outline: &Polygon<f64>,
     margin: f64,
     cost: f64,
@@ -99,8 +148,8 @@ pub fn fit_outline_shift(
     let scores: Vec<f64> = shifts
         .par_iter()
         .map(|&s| {
-            let n = crossings(path, outline, &ring, margin, s);
-            -cost * f64::from(n) - (s.0 * s.0 + s.1 * s.1) / (2.0 * sigma * sigma)
+            let n = crossings(path, unseen, outline, &ring, margin, s);
+            -cost * n - (s.0 * s.0 + s.1 * s.1) / (2.0 * sigma * sigma)
         })
         .collect();
     // The first maximum in a fixed order (by score, then by the smaller shift).
@@ -120,8 +169,12 @@ mod tests {
     use geo::Rect;
 
     fn walk() -> Vec<(f64, f64)> {
-        // From the yard through a door at (10, -2), laps of a loop 2–3 m inside the walls of
-        // a 24 m × 24 m building, and out again.
+        walk_through(true)
+    }
+
+    /// From the yard through a door at (10, -2), laps of a loop 2–3 m inside the walls of
+    /// a 24 m × 24 m building, and (`out`) out again.
+    fn walk_through(out: bool) -> Vec<(f64, f64)> {
         let mut corners: Vec<(f64, f64)> = vec![(10.0, -8.0), (10.0, 1.0)];
         for _ in 0..3 {
             corners.extend([
@@ -132,7 +185,9 @@ mod tests {
                 (10.0, 1.0),
             ]);
         }
-        corners.push((10.0, -8.0));
+        if out {
+            corners.push((10.0, -8.0));
+        }
         let corners = corners;
         // A point every half metre.
         let mut path = Vec::new();
@@ -155,21 +210,73 @@ mod tests {
         let ring: Vec<(f64, f64)> = outline.exterior().coords().map(|c| (c.x, c.y)).collect();
         let cost = (0.8f64 / 0.05).ln();
         let path = walk();
-        assert_eq!(crossings(&path, &outline, &ring, 0.5, (0.0, 0.0)), 2);
+        assert_eq!(crossings(&path, &[], &outline, &ring, 0.5, (0.0, 0.0)), 2.0);
         // Seen 5 m too far south-east (a GPS bias): pulled back to within the margin.
         let biased: Vec<(f64, f64)> = path.iter().map(|&(x, y)| (x + 5.0, y - 5.0)).collect();
-        assert_eq!(crossings(&biased, &outline, &ring, 0.5, (0.0, 0.0)), 6);
-        let (sx, sy) = fit_outline_shift(&biased, &outline, 0.5, cost, 3.0);
+        assert_eq!(crossings(&biased, &[], &outline, &ring, 0.5, (0.0, 0.0)), 6.0);
+        let (sx, sy) = fit_outline_shift(&biased, &[], &outline, 0.5, cost, 3.0);
         assert!((-6.0..=-1.5).contains(&sx), "{sx}");
         assert!((1.5..=6.0).contains(&sy), "{sy}");
-        assert_eq!(crossings(&biased, &outline, &ring, 0.5, (sx, sy)), 2);
+        assert_eq!(crossings(&biased, &[], &outline, &ring, 0.5, (sx, sy)), 2.0);
         // The true path needs no shift.
         assert_eq!(
-            fit_outline_shift(&path, &outline, 0.5, cost, 3.0),
+            fit_outline_shift(&path, &[], &outline, 0.5, cost, 3.0),
             (0.0, 0.0)
         );
         // An outline off by a metre (within the margin) does not move the true path.
         let off = Rect::new((-2.0, -1.0), (23.0, 22.0)).to_polygon();
-        assert_eq!(fit_outline_shift(&path, &off, 1.5, cost, 3.0), (0.0, 0.0));
+        assert_eq!(fit_outline_shift(&path, &[], &off, 1.5, cost, 3.0), (0.0, 0.0));
+    }
+
+    #[test]
+    fn a_walk_that_stays_in_is_not_pushed_past_the_building() {
+        let outline = Rect::new((-2.0, -2.0), (22.0, 22.0)).to_polygon();
+        let ring: Vec<(f64, f64)> = outline.exterior().coords().map(|c| (c.x, c.y)).collect();
+        let cost = (0.8f64 / 0.05).ln();
+        // GPS sees the walker until the door, then never again: a fix a second to y = −2.
+        let path = walk_through(false);
+        let times: Vec<f64> = (0..path.len()).map(|i| i as f64 * 0.5).collect();
+        let fixes: Vec<f64> = times
+            .iter()
+            .zip(&path)
+            .filter(|(_, p)| p.1 < -2.0)
+            .map(|(&t, _)| t)
+            .step_by(2)
+            .collect();
+        let unseen = unseen_seconds(&times, &fixes);
+        assert!(unseen[1] == 0.0 && unseen[path.len() - 1] == 0.5);
+        // Seen 9 m too far north (a GPS bias at the entrance).
+        let biased: Vec<(f64, f64)> = path.iter().map(|&(x, y)| (x, y + 9.0)).collect();
+        // The true place: one crossing (in through the door), nothing outside unseen.
+        assert_eq!(crossings(&path, &unseen, &outline, &ring, 0.5, (0.0, 0.0)), 1.0);
+        let (sx, sy) = fit_outline_shift(&biased, &unseen, &outline, 0.5, cost, 4.0);
+        assert!(sx.abs() <= 1.5, "{sx}");
+        // Back inside: the loop runs 2–3 m inside the walls, so any shift that puts it
+        // within the outline (and its margin) explains the walk; the prior takes the least.
+        assert!((-10.5..=-5.0).contains(&sy), "{sy}");
+        assert_eq!(crossings(&biased, &unseen, &outline, &ring, 0.5, (sx, sy)), 1.0);
+        // Seen 14 m too far north, beyond the ±10 m searched: without knowing where GPS
+        // was blind, moving further past the building looks best; knowing, it comes back.
+        let far: Vec<(f64, f64)> = path.iter().map(|&(x, y)| (x, y + 14.0)).collect();
+        let blind = fit_outline_shift(&far, &[], &outline, 0.5, cost, 4.0);
+        let (_, sy) = fit_outline_shift(&far, &unseen, &outline, 0.5, cost, 4.0);
+        assert!(blind.1 >= 0.0, "{blind:?}");
+        assert!(sy <= -8.0, "{sy}");
+        // The true path stays where it is.
+        assert_eq!(
+            fit_outline_shift(&path, &unseen, &outline, 0.5, cost, 4.0),
+            (0.0, 0.0)
+        );
+    }
+
+    #[test]
+    fn outages_are_the_long_gaps_between_fixes() {
+        let fixes = [0.0, 1.0, 2.0, 20.0, 21.0];
+        let times = [-15.0, -5.0, 1.5, 5.0, 18.0, 21.5, 30.0, 40.0];
+        assert_eq!(
+            unseen_seconds(&times, &fixes),
+            [0.0, 0.0, 0.0, 3.5, 13.0, 0.0, 0.0, 10.0]
+        );
+        assert_eq!(unseen_seconds(&times, &[]), [0.0; 8]);
     }
 }

@@ -439,7 +439,8 @@ impl<'a> Tracker<'a> {
 
     /// Heading measurement (not in Woodman & Harle; a compass as in harle-2013 §V): adds
     /// `ln p(h_t | θ_t)` of the step's absolute heading to every proposed particle's
-    /// log-weight, where the step has one and the model is enabled. The model's floor keeps
+    /// log-weight (tempered by its eq. 3), where the step has one and the model is enabled.
+    /// The model's floor keeps
     /// every particle alive, so a disturbed reading cannot kill the belief. Returns whether
     /// the step had a heading to apply.
     fn measure_heading(&mut self, step: &Step) -> bool {
@@ -447,10 +448,12 @@ impl<'a> Tracker<'a> {
             return false;
         };
         let (model, c) = (&self.heading, self.heading.offset_measurement(h));
+        // Tempered by the disturbance's correlation length (heading_likelihood eq. 3).
+        let tau = model.temper(step.length) as f32;
         self.proposal
             .par_iter()
             .zip(self.log_weights.par_iter_mut())
-            .for_each(|(p, lw)| *lw += model.log_likelihood_f32(&c, p.heading));
+            .for_each(|(p, lw)| *lw += tau * model.log_likelihood_f32(&c, p.heading));
         true
     }
 

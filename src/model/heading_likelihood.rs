@@ -19,6 +19,17 @@
 //! — 29.7 (3.4 nats) with the defaults — so a reading 60° or 180° off cannot wipe out the
 //! particles that are right, while ten consistent readings (34 nats) settle a heading.
 //!
+//! Disturbances persist over metres (a steel pillar turns every reading taken near it the
+//! same way), so successive readings are not independent: counted in full, a few metres of
+//! readings 20° off would turn the particles as firmly as a long clean stretch. Each
+//! reading therefore enters with the exponent
+//!
+//! `τ = min(1, ℓ / L)`                                                       (3)
+//!
+//! for a step of length `ℓ` and a disturbance correlation length `L`: over `L` metres the
+//! readings weigh about as much as one independent reading, the way GPS fixes are tempered
+//! by their correlation time ([`super::GpsLikelihood::temper`]).
+//!
 //! Defaults and why: `σ = 20°` — indoor magnetometer headings away from disturbances are
 //! good to 5–15°, and the walking direction wobbles about the phone's by several degrees
 //! per step, so 20° keeps an undisturbed reading from over-ruling the walls; `ε = 0.2` —
@@ -26,7 +37,9 @@
 //! furniture, pillars and radiators disturbed by tens of degrees; with `ε` this large the
 //! floor dominates beyond about 2.6σ (52°): a reading that far off costs about as much
 //! as one 180° off. Many consistent readings 40–60° off (a long disturbed stretch) still
-//! pull, as they should where they might be right.
+//! pull, as they should where they might be right; `L = 3 m` — indoor magnetic anomalies
+//! vary over one to a few metres (steel studs, pillars, furniture), so readings a stride
+//! apart share most of their disturbance.
 //!
 //! Not in Woodman & Harle 2008 (whose foot-mounted INS has only relative heading); a
 //! compass used the same way in Harle's 2013 survey of pedestrian dead reckoning (§V).
@@ -43,6 +56,7 @@ use std::f64::consts::{PI, TAU};
 /// | `sigma`               | 20°     | `σ` of an undisturbed reading's error (eq. 1), radians   |
 /// | `outlier_probability` | 0.2     | `ε`, share of disturbed readings (uniform over the circle) |
 /// | `offset`              | 0       | radians added to every measured heading (per walk)       |
+/// | `correlation_length`  | 3 m     | distance over which disturbances persist (tempering, eq. 3) |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct HeadingConfig {
@@ -55,6 +69,10 @@ pub struct HeadingConfig {
     /// Radians added to every measured heading: the phone's forward axis against the
     /// walking direction, or the map's rotation from north. Default 0.
     pub offset: f64,
+    /// `L`, the distance walked over which a disturbance persists, metres: readings closer
+    /// than `L` are not independent, so each counts with the exponent `min(1, ℓ / L)` for
+    /// a step of length `ℓ` (eq. 3). 0: every reading counts in full. Default 3 m.
+    pub correlation_length: f64,
 }
 
 impl Default for HeadingConfig {
@@ -64,6 +82,7 @@ impl Default for HeadingConfig {
             sigma: 20f64.to_radians(),
             outlier_probability: 0.2,
             offset: 0.0,
+            correlation_length: 3.0,
         }
     }
 }
@@ -86,6 +105,14 @@ impl HeadingConfig {
         let o = self.offset;
         if !(o.is_finite() && o.abs() <= TAU) {
             return Err(("heading.offset", o, "must be in [−2π, 2π] radians"));
+        }
+        let l = self.correlation_length;
+        if !(l.is_finite() && (0.0..=1000.0).contains(&l)) {
+            return Err((
+                "heading.correlation_length",
+                l,
+                "must be in [0, 1000] metres",
+            ));
         }
         Ok(())
     }
@@ -130,6 +157,18 @@ impl HeadingLikelihood {
     pub fn log_likelihood(&self, measured: f64, heading: f64) -> f64 {
         let e = wrap_angle(measured + self.config.offset - heading);
         (self.inlier_peak * (-e * e * self.half_precision).exp() + self.floor).ln()
+    }
+
+    /// The exponent `τ = min(1, ℓ / L)` of the reading taken on a step of length `ℓ`
+    /// metres (eq. 3): a disturbance persists over `L` metres, so the readings within it
+    /// count together as about one.
+    pub fn temper(&self, step_length: f64) -> f64 {
+        let l = self.config.correlation_length;
+        if l > 0.0 {
+            (step_length / l).clamp(0.0, 1.0)
+        } else {
+            1.0
+        }
     }
 
     /// The largest likelihood ratio between two particles for one reading (eq. 2).

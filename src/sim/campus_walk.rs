@@ -1,13 +1,16 @@
 //! Outdoor–indoor–outdoor walks on the [`Campus`] (Robertson et al. 2009, sec. 4.1): from a
 //! random point in the yard round to the front door, in through the lobby, the office tour
 //! of [`super::tour`] (laps of the corridor with room visits), out again and away to another
-//! random point in the yard — with the step sensor's and a GPS receiver's measurements.
+//! random point in the yard — with the step sensor's and a GPS receiver's measurements, and
+//! optionally a compass ([`super::compass`]). With `walk_out = false` the walk ends where the
+//! tour does, indoors: GPS sees only the way to the entrance.
 //!
 //! Several walks of one building share the campus and the rough outline and differ in
 //! everything drawn at random: the route outdoors and indoors, the step errors and the GPS
 //! errors (one generator per walk, derived from the seed and the walk's number).
 
 use super::campus::{Campus, CampusConfig};
+use super::compass::{CompassSimConfig, read_compass};
 use super::gps_receiver::{GpsRecord, GpsSimConfig, receive_fixes};
 use super::office::OfficeConfig;
 use super::step_sensor::{StepNoiseConfig, measure_steps_from};
@@ -28,6 +31,8 @@ use serde::{Deserialize, Serialize};
 const GPS_STREAM: u64 = 5;
 /// Stream number of the rough outline.
 const OUTLINE_STREAM: u64 = 6;
+/// Stream number of the compass's generator.
+const COMPASS_STREAM: u64 = 7;
 /// Walk `k`'s streams derive from stream `WALKS_STREAM + k` of the seed.
 const WALKS_STREAM: u64 = 100;
 
@@ -40,8 +45,10 @@ const WALKS_STREAM: u64 = 100;
 /// | `office` | the default office ([`OfficeConfig`])                                |
 /// | `campus` | 15 m yard, 1.8 m lobby, 1.2 m front door, outline known to ±1.5 m ([`CampusConfig`]) |
 /// | `walk`   | the office tour's defaults: 3 laps with room visits ([`WalkConfig`])  |
+/// | `walk_out` | true: the walk leaves the building again at the end                 |
 /// | `noise`  | foot-mounted-grade step errors, 15° drift ([`StepNoiseConfig`])       |
 /// | `gps`    | 1 Hz outdoors, 3 m Gauss–Markov bias (300 s), 1.5 m noise, 1 % outliers ([`GpsSimConfig`]) |
+/// | `compass` | off; when on, 5° noise, 20° disturbance indoors over 5 m ([`CompassSimConfig`]) |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CampusSimConfig {
@@ -55,10 +62,15 @@ pub struct CampusSimConfig {
     pub campus: CampusConfig,
     /// The indoor tour.
     pub walk: WalkConfig,
+    /// Walk back out to the yard after the tour (false: the walk ends indoors, GPS sees
+    /// only the way in). Default true.
+    pub walk_out: bool,
     /// The step sensor's errors.
     pub noise: StepNoiseConfig,
     /// The GPS receiver's errors.
     pub gps: GpsSimConfig,
+    /// The compass (absolute heading per step).
+    pub compass: CompassSimConfig,
 }
 
 impl Default for CampusSimConfig {
@@ -69,8 +81,10 @@ impl Default for CampusSimConfig {
             office: OfficeConfig::default(),
             campus: CampusConfig::default(),
             walk: WalkConfig::default(),
+            walk_out: true,
             noise: StepNoiseConfig::default(),
             gps: GpsSimConfig::default(),
+            compass: CompassSimConfig::default(),
         }
     }
 }
@@ -106,6 +120,7 @@ pub fn simulate_campus(config: &CampusSimConfig, frame: &LocalFrame) -> Result<C
     config.walk.validate()?;
     config.noise.validate()?;
     config.gps.validate()?;
+    config.compass.validate()?;
     let campus = Campus::new(&config.office, &config.campus)?;
     let mut outline_rng = Pcg64Mcg::seed_from_u64(stream_seed(config.seed, OUTLINE_STREAM));
     let outline = campus.rough_outline(config.campus.outline_error, &mut outline_rng);
@@ -137,7 +152,9 @@ fn simulate_one(
     let tour = plan_route(&campus.office, &config.walk, &mut rng);
     let mut waypoints = arrive.clone();
     waypoints.extend(tour);
-    waypoints.extend(leave.iter().rev());
+    if config.walk_out {
+        waypoints.extend(leave.iter().rev());
+    }
     let truth = walk_waypoints(
         &campus.office.config,
         &campus.plan,
@@ -159,6 +176,14 @@ fn simulate_one(
         &start,
         &config.noise,
         stream_seed(seed, NOISE_STREAM),
+    )?;
+    let steps = read_compass(
+        steps,
+        &start,
+        &truth,
+        |x, y| campus.is_outdoors(x, y),
+        &config.compass,
+        stream_seed(seed, COMPASS_STREAM),
     )?;
     let gps = receive_fixes(
         &start,

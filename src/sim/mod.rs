@@ -16,8 +16,9 @@
 //! * [`step_sensor`] — step measurements with foot-mounted-grade errors and heading drift
 //! * [`truth`] — the true path, one pose per step
 //! * [`wifi`] — access points, path loss, shadowing and the scans a walker records
-//! * [`campus`], [`campus_walk`], [`gps_receiver`] — the office in a yard with a front door,
-//!   outdoor–indoor–outdoor walks and the GPS fixes taken outdoors ([`simulate_campus`])
+//! * [`campus`], [`campus_walk`], [`gps_receiver`], [`compass`] — the office in a yard with a
+//!   front door, outdoor–indoor–outdoor walks, the GPS fixes taken outdoors and a compass's
+//!   disturbed headings ([`simulate_campus`])
 //! * [`tower`], [`tower_walk`] — a multi-floor building with two stairwells of treads, and
 //!   long tours through it from a random start ([`simulate_tower`])
 //! * [`survey_tour`] — survey tours of such a building: every room swept, every flight walked
@@ -39,6 +40,7 @@ macro_rules! ensure_in_range {
 
 pub mod campus;
 pub mod campus_walk;
+pub mod compass;
 pub mod gps_receiver;
 pub mod office;
 pub mod rooms;
@@ -55,6 +57,7 @@ pub mod wifi;
 
 pub use campus::{Campus, CampusConfig};
 pub use campus_walk::{CampusSimConfig, CampusSimulation, CampusWalk, simulate_campus};
+pub use compass::CompassSimConfig;
 pub use gps_receiver::{GpsRecord, GpsSimConfig, receive_fixes};
 pub use office::{Office, OfficeConfig, Room, office_floor};
 pub use step_sensor::{StepNoiseConfig, measure_steps, measure_steps_from};
