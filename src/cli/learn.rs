@@ -486,7 +486,10 @@ fn write_walk(
         heading: HeadingSummary {
             start_source: run.start_source,
             start_deg: config.start.heading.to_degrees(),
-            start_sigma_deg: config.start_heading_sigma.min(std::f64::consts::PI).to_degrees(),
+            start_sigma_deg: config
+                .start_heading_sigma
+                .min(std::f64::consts::PI)
+                .to_degrees(),
             final_sigma_deg: filter.heading_spread().to_degrees(),
         },
     })

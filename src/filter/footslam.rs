@@ -22,7 +22,7 @@ pub use super::footslam_anchors::Anchors;
 use super::footslam_anchors::{GpsQueue, StepFix, log_gps_factor, sample_start};
 pub use super::footslam_config::FootSlamConfig;
 use super::lineage::Lineage;
-use super::outline_fit::{fit_outline_shift, unseen_seconds};
+use super::outline_fit::{OUTAGE, OutlineZone, fit_outline_shift, in_outage, unseen_seconds};
 use super::resample::{self, ResampleMethod};
 use crate::error::Result;
 use crate::geometry::{Hex, HexGrid, Pose2};
@@ -103,6 +103,9 @@ pub struct FootSlam {
     steps: Vec<(f64, f64)>,
     /// Each step's time (where GPS did not see the walker, for the outline fit).
     times: Vec<f64>,
+    /// The outline and the GPS fix times, when both are given: a particle far outside the
+    /// outline while GPS sees nothing is improbable (see [`FootSlam::update`]).
+    outage_check: Option<(OutlineZone, Vec<f64>)>,
     ess_history: Vec<f64>,
     resamplings: usize,
     resample_pending: bool,
@@ -174,6 +177,14 @@ impl FootSlam {
                 }
             })
             .collect();
+        let outage_check = prior
+            .as_ref()
+            .and_then(|p| p.outline())
+            .filter(|_| !anchors.gps.is_empty())
+            .map(|o| {
+                let zone = OutlineZone::new(o, config.outline_margin);
+                (zone, anchors.gps.iter().map(|f| f.t).collect())
+            });
         let gps = (!anchors.gps.is_empty()).then(|| GpsQueue {
             likelihood: GpsLikelihood::new(config.gps),
             fixes: anchors.gps,
@@ -202,6 +213,7 @@ impl FootSlam {
             particles,
             steps: Vec::new(),
             times: Vec::new(),
+            outage_check,
             ess_history: Vec::new(),
             resamplings: 0,
             resample_pending: false,
@@ -277,6 +289,15 @@ impl FootSlam {
             self.resample(self.steps.len() as u64);
             self.resample_pending = false;
         }
+        // A step GPS did not see (an outage, `outline_fit::OUTAGE`), taken far outside the
+        // outline, costs a crossing pair per `OUTAGE` seconds: out and back in unseen.
+        let unseen_cost = match (&self.outage_check, self.times.last()) {
+            (Some((_, fixes)), Some(&t0)) if in_outage(fixes, z.t) => {
+                let c = (self.config.alpha / self.config.outline_alpha).ln();
+                2.0 * c * (z.t - t0).max(0.0) / OUTAGE
+            }
+            _ => 0.0,
+        };
         self.steps.push((z.length, z.dheading));
         self.times.push(z.t);
         let k = self.steps.len() as u64;
@@ -288,6 +309,7 @@ impl FootSlam {
         let (gps, fixes) = (self.gps.as_ref().map(|g| g.likelihood), &self.step_fixes);
         let compass = self.heading.zip(z.heading);
         self.headings_used += usize::from(compass.is_some());
+        let zone = self.outage_check.as_ref().map(|(z, _)| z);
         self.particles
             .par_iter_mut()
             .zip(self.log_weights.par_iter_mut())
@@ -309,6 +331,9 @@ impl FootSlam {
                 // GPS fixes that fell during the step, at the point walked by then.
                 if let Some(gps) = gps {
                     log_factor += log_gps_factor(&gps, fixes, p.pose, pose);
+                }
+                if unseen_cost > 0.0 && zone.is_some_and(|o| o.is_far_outside(pose.x, pose.y)) {
+                    log_factor -= unseen_cost;
                 }
                 // The step's absolute heading against the particle's (IMU) heading, which
                 // the measured heading changes integrate.
@@ -428,12 +453,10 @@ impl FootSlam {
             let points: Vec<(f64, f64)> = replayed.iter().map(|p| (p.x + dx, p.y + dy)).collect();
             let cost = (self.config.alpha / self.config.outline_alpha).ln();
             let margin = self.config.outline_margin;
-            let fixes: Vec<f64> = self
-                .gps
-                .as_ref()
-                .map(|g| g.fixes.iter().map(|f| f.t).collect())
-                .unwrap_or_default();
-            let unseen = unseen_seconds(&self.times, &fixes);
+            let unseen = self.gps.as_ref().map_or_else(Vec::new, |g| {
+                let fixes: Vec<f64> = g.fixes.iter().map(|f| f.t).collect();
+                unseen_seconds(&self.times, &fixes)
+            });
             let (sx, sy) = fit_outline_shift(
                 &points,
                 &unseen,

@@ -40,31 +40,57 @@ const MAX_SHIFT: f64 = 10.0;
 /// receiver under open sky gives a fix a second; ten missed in a row is a roof).
 pub const OUTAGE: f64 = 10.0;
 
-/// For each time in `times` (in order): the seconds since the time before it (0 for the
-/// first) when it falls in a GPS outage — a gap longer than [`OUTAGE`] between the fix
+/// Whether time `t` falls in a GPS outage: a gap longer than [`OUTAGE`] between the fix
 /// before it and the fix after it (`fix_times` sorted; before the first fix and after the
 /// last the gap is open-ended, so it counts once the nearest fix is more than `OUTAGE`
-/// away) — and 0 otherwise. Without fixes nothing counts.
+/// away). Without fixes there is no outage.
+pub fn in_outage(fix_times: &[f64], t: f64) -> bool {
+    let i = fix_times.partition_point(|&f| f <= t);
+    let before = i.checked_sub(1).map(|j| fix_times[j]);
+    let after = fix_times.get(i).copied();
+    match (before, after) {
+        (Some(b), Some(a)) => a - b > OUTAGE,
+        (Some(b), None) => t - b > OUTAGE,
+        (None, Some(a)) => a - t > OUTAGE,
+        (None, None) => false,
+    }
+}
+
+/// For each time in `times` (in order): the seconds since the time before it (0 for the
+/// first) when it falls in a GPS outage ([`in_outage`]), and 0 otherwise.
 pub fn unseen_seconds(times: &[f64], fix_times: &[f64]) -> Vec<f64> {
     times
         .iter()
         .enumerate()
-        .map(|(k, &t)| {
-            let i = fix_times.partition_point(|&f| f <= t);
-            let before = i.checked_sub(1).map(|j| fix_times[j]);
-            let after = fix_times.get(i).copied();
-            let unseen = match (before, after) {
-                (Some(b), Some(a)) => a - b > OUTAGE,
-                (Some(b), None) => t - b > OUTAGE,
-                (None, Some(a)) => a - t > OUTAGE,
-                (None, None) => false,
-            };
-            match k.checked_sub(1) {
-                Some(j) if unseen => (t - times[j]).max(0.0),
-                _ => 0.0,
-            }
+        .map(|(k, &t)| match k.checked_sub(1) {
+            Some(j) if in_outage(fix_times, t) => (t - times[j]).max(0.0),
+            _ => 0.0,
         })
         .collect()
+}
+
+/// An outline known to `margin` metres, for asking whether a point lies clearly outside.
+#[derive(Debug, Clone)]
+pub struct OutlineZone {
+    outline: Polygon<f64>,
+    ring: Vec<(f64, f64)>,
+    margin: f64,
+}
+
+impl OutlineZone {
+    /// The zone of `outline` known to `margin` metres.
+    pub fn new(outline: &Polygon<f64>, margin: f64) -> Self {
+        Self {
+            outline: outline.clone(),
+            ring: outline.exterior().coords().map(|c| (c.x, c.y)).collect(),
+            margin,
+        }
+    }
+
+    /// True when `(x, y)` lies more than the margin outside the outline.
+    pub fn is_far_outside(&self, x: f64, y: f64) -> bool {
+        side(&self.outline, &self.ring, self.margin, (x, y)) == -1
+    }
 }
 
 /// Distance from `p` to the segment `a`–`b`.
@@ -125,9 +151,9 @@ fn crossings(
 }
 
 /// The most probable shift of `path` (positions in walking order, with `unseen` the
-/// seconds each was walked in a GPS outage, [`unseen_seconds`]) given `outline` (known to `margin`
-/// metres), the cost `cost` of a crossing and a Gaussian bias prior of spread `sigma` per
-/// axis; `(0, 0)` when `sigma` is 0 or the path is too short.
+/// seconds each was walked in a GPS outage, [`unseen_seconds`]) given `outline` (known to
+/// `margin` metres), the cost `cost` of a crossing and a Gaussian bias prior of spread
+/// `sigma` per axis; `(0, 0)` when `sigma` is 0 or the path is too short.
 pub fn fit_outline_shift(
     path: &[(f64, f64)],
     unseen: &[f64],
@@ -136,31 +162,83 @@ pub fn fit_outline_shift(
     cost: f64,
     sigma: f64,
 ) -> (f64, f64) {
-    if sigma.is_nan() || sigma <= 0.0 || path.len() < 2 {
-        return (0.0, 0.0);
-    }
-    let ring: Vec<(f64, f64)> = outline.exterior().coords().map(|c| (c.x, c.y)).collect();
-    let reach = (3.0 * sigma).min(MAX_SHIFT);
-    let k = (reach / SHIFT_STEP).floor() as i32;
-    let shifts: Vec<(f64, f64)> = (-k..=k)
-        .flat_map(|i| (-k..=k).map(move |j| (f64::from(i) * SHIFT_STEP, f64::from(j) * SHIFT_STEP)))
-        .collect();
-    let scores: Vec<f64> = shifts
-        .par_iter()
-        .map(|&s| {
-            let n = crossings(path, unseen, outline, &ring, margin, s);
-            -cost * n - (s.0 * s.0 + s.1 * s.1) / (2.0 * sigma * sigma)
-        })
-        .collect();
-    // The first maximum in a fixed order (by score, then by the smaller shift).
-    let mut best = (f64::NEG_INFINITY, f64::INFINITY, (0.0, 0.0));
-    for (&s, &v) in shifts.iter().zip(&scores) {
-        let r = s.0 * s.0 + s.1 * s.1;
-        if v > best.0 + 1e-12 || ((v - best.0).abs() <= 1e-12 && r < best.1) {
-            best = (v, r, s);
+    let problem = OutlineProblem::new(path, unseen, outline, margin, cost, sigma);
+    problem.map_or((0.0, 0.0), |p| p.best_shift(path, 0.0, SHIFT_STEP, None).1)
+}
+
+/// One walk against one outline.
+struct OutlineProblem<'a> {
+    unseen: &'a [f64],
+    outline: &'a Polygon<f64>,
+    ring: Vec<(f64, f64)>,
+    margin: f64,
+    cost: f64,
+    sigma: f64,
+}
+
+impl<'a> OutlineProblem<'a> {
+    /// `None` when `sigma` is not positive or the path too short to place.
+    fn new(
+        path: &[(f64, f64)],
+        unseen: &'a [f64],
+        outline: &'a Polygon<f64>,
+        margin: f64,
+        cost: f64,
+        sigma: f64,
+    ) -> Option<Self> {
+        if sigma.is_nan() || sigma <= 0.0 || path.len() < 2 {
+            return None;
         }
+        Some(Self {
+            unseen,
+            outline,
+            ring: outline.exterior().coords().map(|c| (c.x, c.y)).collect(),
+            margin,
+            cost,
+            sigma,
+        })
     }
-    best.2
+
+    /// The best score of `path` (log-probability up to a constant, less `prior`) and its
+    /// shift, on a square grid `step` apart within `±3σ` (at most ±10 m), or within
+    /// `±half` of `around` when given; ties go to the smaller shift.
+    fn best_shift(
+        &self,
+        path: &[(f64, f64)],
+        prior: f64,
+        step: f64,
+        around: Option<((f64, f64), f64)>,
+    ) -> (f64, (f64, f64)) {
+        let (centre, reach) = around.unwrap_or(((0.0, 0.0), (3.0 * self.sigma).min(MAX_SHIFT)));
+        let k = (reach / step + 1e-9).floor() as i32;
+        let shifts: Vec<(f64, f64)> = (-k..=k)
+            .flat_map(|i| {
+                (-k..=k).map(move |j| {
+                    (
+                        centre.0 + f64::from(i) * step,
+                        centre.1 + f64::from(j) * step,
+                    )
+                })
+            })
+            .collect();
+        let sigma2 = self.sigma * self.sigma;
+        let scores: Vec<f64> = shifts
+            .par_iter()
+            .map(|&s| {
+                let n = crossings(path, self.unseen, self.outline, &self.ring, self.margin, s);
+                -self.cost * n - (s.0 * s.0 + s.1 * s.1) / (2.0 * sigma2) - prior
+            })
+            .collect();
+        // The first maximum in a fixed order (by score, then by the smaller shift).
+        let mut best = (f64::NEG_INFINITY, f64::INFINITY, (0.0, 0.0));
+        for (&s, &v) in shifts.iter().zip(&scores) {
+            let r = s.0 * s.0 + s.1 * s.1;
+            if v > best.0 + 1e-12 || ((v - best.0).abs() <= 1e-12 && r < best.1) {
+                best = (v, r, s);
+            }
+        }
+        (best.0, best.2)
+    }
 }
 
 #[cfg(test)]
@@ -213,7 +291,10 @@ mod tests {
         assert_eq!(crossings(&path, &[], &outline, &ring, 0.5, (0.0, 0.0)), 2.0);
         // Seen 5 m too far south-east (a GPS bias): pulled back to within the margin.
         let biased: Vec<(f64, f64)> = path.iter().map(|&(x, y)| (x + 5.0, y - 5.0)).collect();
-        assert_eq!(crossings(&biased, &[], &outline, &ring, 0.5, (0.0, 0.0)), 6.0);
+        assert_eq!(
+            crossings(&biased, &[], &outline, &ring, 0.5, (0.0, 0.0)),
+            6.0
+        );
         let (sx, sy) = fit_outline_shift(&biased, &[], &outline, 0.5, cost, 3.0);
         assert!((-6.0..=-1.5).contains(&sx), "{sx}");
         assert!((1.5..=6.0).contains(&sy), "{sy}");
@@ -225,7 +306,10 @@ mod tests {
         );
         // An outline off by a metre (within the margin) does not move the true path.
         let off = Rect::new((-2.0, -1.0), (23.0, 22.0)).to_polygon();
-        assert_eq!(fit_outline_shift(&path, &[], &off, 1.5, cost, 3.0), (0.0, 0.0));
+        assert_eq!(
+            fit_outline_shift(&path, &[], &off, 1.5, cost, 3.0),
+            (0.0, 0.0)
+        );
     }
 
     #[test]
@@ -248,13 +332,19 @@ mod tests {
         // Seen 9 m too far north (a GPS bias at the entrance).
         let biased: Vec<(f64, f64)> = path.iter().map(|&(x, y)| (x, y + 9.0)).collect();
         // The true place: one crossing (in through the door), nothing outside unseen.
-        assert_eq!(crossings(&path, &unseen, &outline, &ring, 0.5, (0.0, 0.0)), 1.0);
+        assert_eq!(
+            crossings(&path, &unseen, &outline, &ring, 0.5, (0.0, 0.0)),
+            1.0
+        );
         let (sx, sy) = fit_outline_shift(&biased, &unseen, &outline, 0.5, cost, 4.0);
         assert!(sx.abs() <= 1.5, "{sx}");
         // Back inside: the loop runs 2–3 m inside the walls, so any shift that puts it
         // within the outline (and its margin) explains the walk; the prior takes the least.
         assert!((-10.5..=-5.0).contains(&sy), "{sy}");
-        assert_eq!(crossings(&biased, &unseen, &outline, &ring, 0.5, (sx, sy)), 1.0);
+        assert_eq!(
+            crossings(&biased, &unseen, &outline, &ring, 0.5, (sx, sy)),
+            1.0
+        );
         // Seen 14 m too far north, beyond the ±10 m searched: without knowing where GPS
         // was blind, moving further past the building looks best; knowing, it comes back.
         let far: Vec<(f64, f64)> = path.iter().map(|&(x, y)| (x, y + 14.0)).collect();
@@ -278,5 +368,8 @@ mod tests {
             [0.0, 0.0, 0.0, 3.5, 13.0, 0.0, 0.0, 10.0]
         );
         assert_eq!(unseen_seconds(&times, &[]), [0.0; 8]);
+        let zone = OutlineZone::new(&Rect::new((0.0, 0.0), (10.0, 10.0)).to_polygon(), 1.0);
+        assert!(zone.is_far_outside(-1.5, 5.0) && zone.is_far_outside(5.0, 12.0));
+        assert!(!zone.is_far_outside(-0.5, 5.0) && !zone.is_far_outside(5.0, 5.0));
     }
 }

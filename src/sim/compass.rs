@@ -184,8 +184,8 @@ mod tests {
             enabled: true,
             ..Default::default()
         };
-        let read = read_compass(trace.clone(), &start, &truth, |_, _| false, &config, 7)
-            .expect("compass");
+        let read =
+            read_compass(trace.clone(), &start, &truth, |_, _| false, &config, 7).expect("compass");
         let errors: Vec<f64> = read
             .steps()
             .iter()
@@ -204,12 +204,14 @@ mod tests {
             / errors.iter().map(|e| e * e).sum::<f64>();
         assert!(lag1 > 0.5, "lag-1 correlation {lag1}");
         // Outdoors the field is clean; disabled, nothing changes.
-        let outside = read_compass(trace.clone(), &start, &truth, |_, _| true, &config, 7)
-            .expect("compass");
+        let outside =
+            read_compass(trace.clone(), &start, &truth, |_, _| true, &config, 7).expect("compass");
         let quiet = outside
             .steps()
             .iter()
-            .filter(|s| wrap_angle(s.heading.expect("heading") - heading).abs() < 20f64.to_radians())
+            .filter(|s| {
+                wrap_angle(s.heading.expect("heading") - heading).abs() < 20f64.to_radians()
+            })
             .count();
         assert!(quiet > 3850, "{quiet}");
         let off = read_compass(
