@@ -7,6 +7,7 @@ use super::common::{
 };
 use super::learn_inputs::{Walk, check_same_grid, read_walks};
 use anyhow::{Context, Result};
+use footslam::dataset::floor_plan_geojson::write_floor_plan;
 use footslam::dataset::{TimedPoint, TrackPoint, parse_utc_time, read_outline, write_trajectory};
 use footslam::export::RunFolder;
 use footslam::export::map_geojson::{read_stored_map, write_map_geojson, write_walks_map_geojson};
@@ -16,7 +17,9 @@ use footslam::filter::gps_start::heading_from_fixes;
 use footslam::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
 use footslam::geometry::Hex;
 use footslam::geometry::{HexGrid, LocalFrame};
-use footslam::map::{EdgePrior, HexMapSnapshot, merge_maps, register_maps, shift_map};
+use footslam::map::{
+    EdgePrior, HexMapSnapshot, PlanConfig, merge_maps, register_maps, shift_map, walkable_plan,
+};
 use footslam::model::{GpsObservation, HeadingLikelihood};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -119,6 +122,9 @@ struct Summary {
     prior_offset_m: (f64, f64),
     /// Where the walk's orientation came from and how well it is known.
     heading: HeadingSummary,
+    /// Walkable area of `plan.geojson`, m² (`None`: the map had too little to make a plan
+    /// of, and no file was written).
+    walkable_plan_m2: Option<f64>,
 }
 
 /// Where a walk's start heading came from and how uncertain the map's orientation is.
@@ -245,17 +251,16 @@ pub fn run(args: Args) -> Result<()> {
             let merged = merge_maps(&[(&prior, 1.0), (&run.estimate.map, 1.0)])?;
             let path = folder.path(&format!("{prefix}merged.geojson"));
             write_walks_map_geojson(&path, &merged, &frame, stored.walks + 1)?;
+            let plan = folder.path(&format!("{prefix}merged_plan.geojson"));
+            write_learned_plan(&plan, &merged, &frame)?;
         }
     }
     if batch && prior_map.is_none() {
         let maps: Vec<_> = runs.iter().map(|r| (&r.estimate.map, 1.0)).collect();
         let walks = maps.len() as u32;
-        write_walks_map_geojson(
-            &folder.path("merged.geojson"),
-            &merge_maps(&maps)?,
-            &frame,
-            walks,
-        )?;
+        let merged = merge_maps(&maps)?;
+        write_walks_map_geojson(&folder.path("merged.geojson"), &merged, &frame, walks)?;
+        write_learned_plan(&folder.path("merged_plan.geojson"), &merged, &frame)?;
     }
     let (single, summaries) = if batch {
         (None, summaries)
@@ -448,6 +453,7 @@ fn write_walk(
         .collect();
     write_track_geojson(&at("track.geojson"), &points, frame)?;
     write_map_geojson(&at("map.geojson"), &estimate.map, frame)?;
+    let walkable_plan_m2 = write_learned_plan(&at("plan.geojson"), &estimate.map, frame)?;
     let path: Vec<(f64, f64)> = track.iter().map(|p| (p.x, p.y)).collect();
     let picture = MapPicture {
         map: &estimate.map,
@@ -483,6 +489,7 @@ fn write_walk(
         gps_fixes: walk.fixes.len(),
         gps_fixes_used: filter.gps_fixes_used(),
         prior_offset_m: estimate.prior_offset,
+        walkable_plan_m2,
         heading: HeadingSummary {
             start_source: run.start_source,
             start_deg: config.start.heading.to_degrees(),
@@ -493,4 +500,21 @@ fn write_walk(
             final_sigma_deg: filter.heading_spread().to_degrees(),
         },
     })
+}
+
+/// Writes the walkable plan of `map` ([`walkable_plan`], default settings) to `path` and
+/// returns its area; writes nothing and returns `None` when the map is too small to make
+/// one (`footslam plan` gives the reason and the settings to change).
+fn write_learned_plan(
+    path: &std::path::Path,
+    map: &HexMapSnapshot,
+    frame: &LocalFrame,
+) -> Result<Option<f64>> {
+    match walkable_plan(map, &PlanConfig::default()) {
+        Ok(learned) => {
+            write_floor_plan(path, &learned.plan, frame)?;
+            Ok(Some(learned.area_m2))
+        }
+        Err(_) => Ok(None),
+    }
 }

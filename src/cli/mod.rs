@@ -15,6 +15,7 @@ mod import;
 mod learn;
 mod learn_inputs;
 mod merge;
+mod plan;
 mod simulate;
 mod simulate_campus;
 mod steps;
@@ -37,6 +38,8 @@ enum Command {
     Learn(learn::Args),
     /// Combine maps learned on several walks of one building (same frame).
     Merge(merge::Args),
+    /// Turn a learned map into a walkable floor plan and a ROS occupancy grid.
+    Plan(plan::Args),
     /// Turn a raw IMU recording (foot-mounted or phone) into step events.
     Steps(steps::Args),
     /// Locate and track a walker on a known 2.5D floor plan from step events.
@@ -59,6 +62,7 @@ pub fn main() -> std::process::ExitCode {
     let result = match cli.command {
         Command::Learn(a) => learn::run(a),
         Command::Merge(a) => merge::run(a),
+        Command::Plan(a) => plan::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Steps(a) => steps::run(a),
         Command::Track(a) => track::run(a),

@@ -7,9 +7,11 @@ pub mod map_png;
 pub mod plan_marks;
 pub mod plan_png;
 pub mod radio_map_geojson;
+pub mod ros_map;
 pub mod run_folder;
 pub mod track_geojson;
 
+pub use ros_map::write_ros_map;
 pub use run_folder::RunFolder;
 
 use crate::error::{Error, Result};

@@ -23,21 +23,6 @@
 //!   long tours through it from a random start ([`simulate_tower`])
 //! * [`survey_tour`] — survey tours of such a building: every room swept, every flight walked
 
-/// Returns `Err(Error::Config)` naming `$field` from the enclosing function unless `$value`
-/// (an `f64`) is finite and in `[$lo, $hi]`; the reason quotes the range and `$unit`.
-macro_rules! ensure_in_range {
-    ($field:literal, $value:expr, $lo:literal..=$hi:literal, $unit:literal) => {{
-        let v: f64 = $value;
-        if !(v.is_finite() && ($lo..=$hi).contains(&v)) {
-            return Err(crate::error::Error::Config {
-                field: $field,
-                value: v.to_string(),
-                reason: concat!("must be in [", $lo, ", ", $hi, "]", $unit),
-            });
-        }
-    }};
-}
-
 pub mod campus;
 pub mod campus_walk;
 pub mod compass;

@@ -1,0 +1,170 @@
+//! How well a learned walkable plan matches the true one: precision (the share of the
+//! learned walkable area that is truly walkable) and recall of visited space (the share of
+//! the truly walkable area the walks passed near that the learned plan covers), by area.
+//!
+//! Both are measured on a square grid (`resolution` metres): a square counts where its
+//! centre lies. "Visited space" is the true walkable area within `reach` metres of a true
+//! position of the walks — what the walks could reveal; rooms nobody entered are not held
+//! against the plan.
+
+use crate::error::{Error, Result};
+use crate::geometry::RigidTransform;
+use crate::map::FloorPlan;
+use std::collections::HashSet;
+
+/// Precision and recall of a learned plan, by area.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct PlanOverlap {
+    /// Learned walkable area that is truly walkable, over the learned walkable area.
+    pub precision: f64,
+    /// Visited true walkable area that the learned plan covers, over the visited area.
+    pub recall: f64,
+    /// Learned walkable area, m².
+    pub learned_m2: f64,
+    /// Visited true walkable area, m².
+    pub visited_m2: f64,
+}
+
+/// [`PlanOverlap`] of `learned` (moved into the truth's frame by `transform` when given, e.g.
+/// a track's rigid alignment) against `truth`, with `visited` the walks' true positions;
+/// levels are ignored (a one-level plan against a floor). An error when either area is
+/// empty or `resolution`/`reach` is not a positive finite number.
+pub fn plan_overlap(
+    learned: &FloorPlan,
+    truth: &FloorPlan,
+    visited: &[(f64, f64)],
+    transform: Option<&RigidTransform>,
+    reach: f64,
+    resolution: f64,
+) -> Result<PlanOverlap> {
+    if !(resolution.is_finite() && resolution > 0.0 && reach.is_finite() && reach > 0.0) {
+        return Err(Error::Input(format!(
+            "plan overlap needs a positive resolution and reach (got {resolution} m, {reach} m)"
+        )));
+    }
+    // The learned plan in the truth's frame: test squares of the truth's frame against the
+    // learned polygons by the inverse transform.
+    let inverse = transform.map(|t| {
+        let (s, c) = t.angle.sin_cos();
+        move |(x, y): (f64, f64)| {
+            let (dx, dy) = (x - t.tx, y - t.ty);
+            (c * dx + s * dy, -s * dx + c * dy)
+        }
+    });
+    let in_learned = |x: f64, y: f64| {
+        let (lx, ly) = inverse.as_ref().map_or((x, y), |f| f((x, y)));
+        learned.is_walkable(lx, ly, None)
+    };
+    // Squares within `reach` of a visited position.
+    let cell = |v: f64| (v / resolution).floor() as i64;
+    let k = (reach / resolution).ceil() as i64;
+    let mut near: HashSet<(i64, i64)> = HashSet::new();
+    for &(x, y) in visited {
+        let (cx, cy) = (cell(x), cell(y));
+        for i in -k..=k {
+            for j in -k..=k {
+                let (sx, sy) = (
+                    (cx + i) as f64 * resolution + resolution / 2.0,
+                    (cy + j) as f64 * resolution + resolution / 2.0,
+                );
+                if (sx - x).hypot(sy - y) <= reach {
+                    near.insert((cx + i, cy + j));
+                }
+            }
+        }
+    }
+    // Bounds: the truth's plan and the learned one (moved), with the visited squares.
+    let mut corners: Vec<(f64, f64)> = Vec::new();
+    for (plan, moved) in [(truth, false), (learned, true)] {
+        if let Some((x0, y0, x1, y1)) = plan.bounds() {
+            for p in [(x0, y0), (x0, y1), (x1, y0), (x1, y1)] {
+                corners.push(match (moved, transform) {
+                    (true, Some(t)) => t.apply(p),
+                    _ => p,
+                });
+            }
+        }
+    }
+    let (mut lo, mut hi) = (
+        (f64::INFINITY, f64::INFINITY),
+        (f64::NEG_INFINITY, f64::NEG_INFINITY),
+    );
+    for (x, y) in corners {
+        lo = (lo.0.min(x), lo.1.min(y));
+        hi = (hi.0.max(x), hi.1.max(y));
+    }
+    if !(lo.0.is_finite() && hi.0.is_finite()) {
+        return Err(Error::Input("plan overlap of empty plans".into()));
+    }
+    let (mut learned_n, mut hit_n, mut visited_n, mut covered_n) = (0u64, 0u64, 0u64, 0u64);
+    for cx in cell(lo.0)..=cell(hi.0) {
+        for cy in cell(lo.1)..=cell(hi.1) {
+            let (x, y) = (
+                cx as f64 * resolution + resolution / 2.0,
+                cy as f64 * resolution + resolution / 2.0,
+            );
+            let l = in_learned(x, y);
+            let t = truth.is_walkable(x, y, None);
+            learned_n += u64::from(l);
+            hit_n += u64::from(l && t);
+            if t && near.contains(&(cx, cy)) {
+                visited_n += 1;
+                covered_n += u64::from(l);
+            }
+        }
+    }
+    if learned_n == 0 || visited_n == 0 {
+        return Err(Error::Input(format!(
+            "plan overlap: {learned_n} learned and {visited_n} visited squares"
+        )));
+    }
+    let area = resolution * resolution;
+    Ok(PlanOverlap {
+        precision: hit_n as f64 / learned_n as f64,
+        recall: covered_n as f64 / visited_n as f64,
+        learned_m2: learned_n as f64 * area,
+        visited_m2: visited_n as f64 * area,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::FloorPolygon;
+    use geo::Rect;
+
+    fn plan(x0: f64, y0: f64, x1: f64, y1: f64) -> FloorPlan {
+        FloorPlan {
+            polygons: vec![FloorPolygon {
+                polygon: Rect::new((x0, y0), (x1, y1)).to_polygon(),
+                level: 0,
+                z: 0.0,
+                name: None,
+                room: None,
+            }],
+            barriers: vec![],
+        }
+    }
+
+    #[test]
+    fn precision_and_recall_by_area() {
+        // A 10 m × 2 m corridor walked along its middle; the learned plan covers its west
+        // 8 m and pokes 1 m out of its south side.
+        let truth = plan(0.0, 0.0, 10.0, 2.0);
+        let learned = plan(0.0, -1.0, 8.0, 2.0);
+        let walk: Vec<(f64, f64)> = (0..=100).map(|i| (0.1 * f64::from(i), 1.0)).collect();
+        let o = plan_overlap(&learned, &truth, &walk, None, 5.0, 0.05).expect("overlap");
+        assert!((o.precision - 16.0 / 24.0).abs() < 0.01, "{o:?}");
+        assert!((o.recall - 0.8).abs() < 0.01, "{o:?}");
+        // Moved by a transform: the same learned plan 1 m west of its place, put back.
+        let shifted = plan(-1.0, -1.0, 7.0, 2.0);
+        let t = RigidTransform {
+            angle: 0.0,
+            tx: 1.0,
+            ty: 0.0,
+        };
+        let m = plan_overlap(&shifted, &truth, &walk, Some(&t), 5.0, 0.05).expect("overlap");
+        assert!((m.precision - o.precision).abs() < 0.01 && (m.recall - o.recall).abs() < 0.01);
+        assert!(plan_overlap(&learned, &truth, &[], None, 5.0, 0.05).is_err());
+    }
+}

@@ -1,0 +1,287 @@
+//! A learned hexagon map as a walkable floor plan: the walkable area the walks revealed,
+//! in the same polygon contract as a drawn plan ([`FloorPlan`]), so that `track` and
+//! `survey` run on buildings that have no plan.
+//!
+//! A hexagon is walkable when the walks passed through it at least `min_visits` times
+//! ([`super::HexCell::visits`]). The walkable hexagons are dissolved into polygons (geo's
+//! boolean union) and grown by `grow` (geo's buffer: the body's half-width beside the
+//! feet); holes smaller than `hole_area` — a pillar, a desk, a hexagon the walks
+//! happened to skip — are filled; pieces smaller than `min_area` (one or two stray
+//! hexagons, a step that jumped) are dropped; and each polygon is simplified with
+//! Visvalingam–Whyatt preserving topology, so the hexagons' zigzag becomes a wall without
+//! two rings ever crossing. FootSLAM's map is 2D (one level): the plan has one level,
+//! `level` at height `z`.
+
+use super::floor_plan::{FloorPlan, FloorPolygon};
+use super::hex_transitions::HexMapSnapshot;
+use crate::error::{Error, Result};
+use crate::geometry::HexGrid;
+use geo::{Area, Buffer, LineString, MultiPolygon, Polygon, SimplifyVwPreserve, unary_union};
+use serde::{Deserialize, Serialize};
+
+/// Settings of [`walkable_plan`]; every default in one place.
+///
+/// | field        | default | meaning                                                    |
+/// |--------------|---------|------------------------------------------------------------|
+/// | `min_visits` | 1       | passes through a hexagon that make it walkable             |
+/// | `grow`       | 0.25 m  | the walkable hexagons' outline moved out by this much      |
+/// | `hole_area`  | 4 m²    | holes smaller than this are filled                         |
+/// | `min_area`   | 2 m²    | walkable pieces smaller than this are dropped              |
+/// | `simplify`   | 1.5     | Visvalingam–Whyatt tolerance, in hexagon notches (below)   |
+/// | `level`      | 0       | the plan's level                                           |
+/// | `z`          | 0 m     | the level's floor height                                   |
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PlanConfig {
+    /// Passes through a hexagon that make it walkable. Default 1.
+    pub min_visits: u32,
+    /// The dissolved hexagons' outline is moved out by this much, metres: the hexagons hold
+    /// where the feet went, and a walker (and a tracker's particles) needs the body's
+    /// half-width either side. Default 0.25.
+    pub grow: f64,
+    /// Holes smaller than this are filled, m². Default 4.
+    pub hole_area: f64,
+    /// Walkable pieces smaller than this are dropped, m². Default 2.
+    pub min_area: f64,
+    /// Visvalingam–Whyatt tolerance: corners whose triangle with their neighbours is
+    /// smaller than this many hexagon notches go (a notch is the triangle of three
+    /// successive corners of a hexagon, `(√3/4)·r²`: 0.11 m² for 0.5 m hexagons). 0 keeps
+    /// every corner. Default 1.5: the zigzag goes, real corners stay.
+    pub simplify: f64,
+    /// The plan's level. Default 0.
+    pub level: i32,
+    /// The level's floor height, metres. Default 0.
+    pub z: f64,
+}
+
+impl Default for PlanConfig {
+    fn default() -> Self {
+        Self {
+            min_visits: 1,
+            grow: 0.25,
+            hole_area: 4.0,
+            min_area: 2.0,
+            simplify: 1.5,
+            level: 0,
+            z: 0.0,
+        }
+    }
+}
+
+impl PlanConfig {
+    /// Checks every field against its documented range.
+    pub fn validate(&self) -> Result<()> {
+        ensure_in_range!("plan.min_visits", f64::from(self.min_visits), 1.0..=1e6, "");
+        ensure_in_range!("plan.grow", self.grow, 0.0..=10.0, " m");
+        ensure_in_range!("plan.hole_area", self.hole_area, 0.0..=1e6, " m²");
+        ensure_in_range!("plan.min_area", self.min_area, 0.0..=1e6, " m²");
+        ensure_in_range!("plan.simplify", self.simplify, 0.0..=100.0, " notches");
+        ensure_in_range!("plan.z", self.z, -1000.0..=10000.0, " m");
+        if self.level.abs() > 1000 {
+            return Err(Error::Config {
+                field: "plan.level",
+                value: self.level.to_string(),
+                reason: "must be in [-1000, 1000]",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// A walkable plan and how it was made.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LearnedPlan {
+    /// The plan: one polygon per walkable piece, on one level.
+    pub plan: FloorPlan,
+    /// Hexagons with at least `min_visits` passes.
+    pub hexagons: usize,
+    /// Hexagons of the map with fewer.
+    pub hexagons_left_out: usize,
+    /// Holes filled.
+    pub holes_filled: usize,
+    /// Pieces dropped as too small.
+    pub pieces_dropped: usize,
+    /// Walkable area of the plan, m².
+    pub area_m2: f64,
+}
+
+/// The walkable plan of `map` (see the module documentation); an error when no hexagon
+/// passes `min_visits` or nothing of the area survives `min_area`.
+pub fn walkable_plan(map: &HexMapSnapshot, config: &PlanConfig) -> Result<LearnedPlan> {
+    config.validate()?;
+    let grid = HexGrid::new(map.radius);
+    let hexagons: Vec<Polygon<f64>> = map
+        .cells
+        .iter()
+        .filter(|c| c.visits() >= config.min_visits)
+        .map(|c| {
+            let mut ring: Vec<(f64, f64)> = grid.corners(c.hex).to_vec();
+            ring.push(ring[0]);
+            Polygon::new(LineString::from(ring), vec![])
+        })
+        .collect();
+    if hexagons.is_empty() {
+        return Err(Error::Input(format!(
+            "no hexagon of the map has {} or more visits ({} hexagons, at most {} visits): \
+             lower --min-visits",
+            config.min_visits,
+            map.cells.len(),
+            map.cells.iter().map(|c| c.visits()).max().unwrap_or(0)
+        )));
+    }
+    let mut union: MultiPolygon<f64> = unary_union(&hexagons);
+    if config.grow > 0.0 {
+        union = union.buffer(config.grow);
+    }
+    let (mut holes_filled, mut pieces_dropped) = (0, 0);
+    let mut polygons = Vec::new();
+    for piece in union {
+        let (exterior, interiors) = piece.into_inner();
+        let kept: Vec<LineString<f64>> = interiors
+            .into_iter()
+            .filter(|hole| {
+                let small = Polygon::new(hole.clone(), vec![]).unsigned_area() < config.hole_area;
+                holes_filled += usize::from(small);
+                !small
+            })
+            .collect();
+        let filled = Polygon::new(exterior, kept);
+        if filled.unsigned_area() < config.min_area {
+            pieces_dropped += 1;
+            continue;
+        }
+        let notch = 3f64.sqrt() / 4.0 * map.radius * map.radius;
+        let simple = if config.simplify > 0.0 {
+            filled.simplify_vw_preserve(config.simplify * notch)
+        } else {
+            filled
+        };
+        polygons.push(simple);
+    }
+    if polygons.is_empty() {
+        return Err(Error::Input(format!(
+            "every walkable piece of the map is smaller than {} m²: lower plan.min_area",
+            config.min_area
+        )));
+    }
+    // Largest piece first, so the plan's first polygon is the building's main floor.
+    polygons.sort_by(|a, b| b.unsigned_area().total_cmp(&a.unsigned_area()));
+    let area_m2 = polygons.iter().map(Area::unsigned_area).sum();
+    let plan = FloorPlan {
+        polygons: polygons
+            .into_iter()
+            .enumerate()
+            .map(|(i, polygon)| FloorPolygon {
+                polygon,
+                level: config.level,
+                z: config.z,
+                name: Some(format!("walkable {}", i + 1)),
+                room: None,
+            })
+            .collect(),
+        barriers: Vec::new(),
+    };
+    Ok(LearnedPlan {
+        plan,
+        hexagons: hexagons.len(),
+        hexagons_left_out: map.cells.len() - hexagons.len(),
+        holes_filled,
+        pieces_dropped,
+        area_m2,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Hex;
+    use crate::map::HexCell;
+
+    /// Every hexagon of a grid of `radius` whose centre lies in `inside`, each passed `visits`
+    /// times.
+    fn map_of(radius: f64, inside: impl Fn(f64, f64) -> bool, visits: u32) -> HexMapSnapshot {
+        let grid = HexGrid::new(radius);
+        let mut cells = Vec::new();
+        for q in -80..80 {
+            for r in -80..80 {
+                let hex = Hex::new(q, r);
+                let (x, y) = grid.center(hex);
+                if inside(x, y) {
+                    cells.push(HexCell {
+                        hex,
+                        counts: [visits, visits, 0, 0, 0, 0],
+                    });
+                }
+            }
+        }
+        HexMapSnapshot {
+            radius,
+            alpha: 0.8,
+            cells,
+        }
+    }
+
+    #[test]
+    fn a_ring_corridor_becomes_one_polygon_with_its_courtyard_kept() {
+        // A 3 m wide corridor round an 8 m × 4 m courtyard, a pillar-sized gap in it, and a
+        // stray hexagon far away.
+        let corridor = |x: f64, y: f64| {
+            let outer = (0.0..14.0).contains(&x) && (0.0..10.0).contains(&y);
+            let court = (3.0..11.0).contains(&x) && (3.0..7.0).contains(&y);
+            let pillar = (x - 7.0).hypot(y - 1.5) < 0.7;
+            let stray = (x - 30.0).hypot(y - 30.0) < 0.5;
+            (outer && !court && !pillar) || stray
+        };
+        let map = map_of(0.5, corridor, 1);
+        let learned = walkable_plan(&map, &PlanConfig::default()).expect("plan");
+        assert_eq!(learned.plan.polygons.len(), 1, "{learned:?}");
+        assert_eq!(learned.pieces_dropped, 1);
+        assert!(learned.holes_filled >= 1, "the pillar's hole");
+        let p = &learned.plan.polygons[0].polygon;
+        assert_eq!(p.interiors().len(), 1, "the courtyard stays a hole");
+        // Area close to the corridor's 108 m² (hexagon edges cut it within a cell).
+        assert!(
+            (98.0..118.0).contains(&learned.area_m2),
+            "{}",
+            learned.area_m2
+        );
+        assert!(learned.plan.is_walkable(7.0, 1.5, Some(0)), "pillar filled");
+        assert!(learned.plan.is_walkable(1.0, 5.0, Some(0)));
+        assert!(!learned.plan.is_walkable(7.0, 5.0, Some(0)), "courtyard");
+        assert!(
+            !learned.plan.is_walkable(30.0, 30.0, Some(0)),
+            "stray dropped"
+        );
+        // Simplified: far fewer corners than the hexagons' zigzag.
+        let zigzag = walkable_plan(
+            &map,
+            &PlanConfig {
+                simplify: 0.0,
+                ..Default::default()
+            },
+        )
+        .expect("plan");
+        let corners = |l: &LearnedPlan| l.plan.polygons[0].polygon.exterior().0.len();
+        assert!(corners(&learned) * 2 < corners(&zigzag));
+    }
+
+    #[test]
+    fn visits_below_the_threshold_are_left_out_and_nothing_left_is_an_error() {
+        let map = map_of(
+            0.5,
+            |x, y| (0.0..6.0).contains(&x) && (0.0..3.0).contains(&y),
+            1,
+        );
+        let config = PlanConfig {
+            min_visits: 2,
+            ..Default::default()
+        };
+        let e = walkable_plan(&map, &config).expect_err("nothing walkable");
+        assert!(e.to_string().contains("--min-visits"), "{e}");
+        let bad = PlanConfig {
+            hole_area: f64::NAN,
+            ..Default::default()
+        };
+        assert!(walkable_plan(&map, &bad).is_err());
+    }
+}

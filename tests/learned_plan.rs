@@ -1,0 +1,228 @@
+//! No floor plan needed (issue 14): walks → learned map → walkable plan and ROS occupancy
+//! grid, end to end through the CLI on simulated office walks.
+//!
+//! * Three walks of one office learned as a batch: `merged_plan.geojson` (and each walk's
+//!   `plan.geojson`) against the simulator's true plan, after the walks' rigid alignment:
+//!   precision ≥ 0.9 and recall of visited space (true walkable area within 0.75 m of the
+//!   walks) ≥ 0.8, by area.
+//! * `footslam plan` writes `plan.geojson`, `map.pgm` and `map.yaml`; the PGM read back with
+//!   the `image` crate's decoder and the YAML's fields match the grid rebuilt from the plan
+//!   the command wrote.
+
+use assert_cmd::Command;
+use footslam::dataset::floor_plan_geojson::read_floor_plan;
+use footslam::dataset::{TimedPoint, read_trajectory};
+use footslam::eval::{Alignment, plan_overlap, position_errors};
+use footslam::export::ros_map::{FREE, OCCUPIED, UNKNOWN};
+use footslam::map::{Occupancy, OccupancyConfig, OccupancyGrid};
+use std::path::Path;
+
+/// "Visited space": true walkable area within this many metres of the walks — the map's
+/// hexagon radius (0.5 m, where the feet went) plus the plan's `grow` (0.25 m, the body's
+/// half-width beside them).
+const VISITED: f64 = 0.75;
+
+fn footslam() -> Command {
+    Command::cargo_bin("footslam").expect("binary")
+}
+
+#[test]
+#[allow(clippy::print_stderr)] // reports the figures with --nocapture
+fn three_office_walks_make_a_walkable_plan_and_a_ros_grid() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = dir.path();
+    let seeds = [11u64, 12, 13];
+    for s in seeds {
+        footslam()
+            .args(["simulate", "--building", "office", "--seed", &s.to_string()])
+            .arg("--out")
+            .arg(d.join(format!("sim-{s}")))
+            .assert()
+            .success();
+    }
+    let mut learn = footslam();
+    learn
+        .args(["learn", "--particles", "5000", "--out"])
+        .arg(d.join("learn"));
+    for s in seeds {
+        learn
+            .arg("--steps")
+            .arg(d.join(format!("sim-{s}/steps.csv")));
+    }
+    learn.assert().success();
+
+    // The walks start where the simulator's do, so the learned frame is the truth's up to
+    // FootSLAM's drift: align by the first walk's track.
+    let truth_of = |s: u64| read_trajectory(&d.join(format!("sim-{s}/truth.csv"))).expect("truth");
+    let aligned = position_errors(
+        &truth_of(seeds[0]),
+        &read_trajectory(&d.join("learn/walk-1/track.csv")).expect("track"),
+        Alignment::Rigid,
+    )
+    .expect("errors");
+    let transform = aligned.transform.expect("rigid");
+    let visited: Vec<(f64, f64)> = seeds
+        .iter()
+        .flat_map(|&s| truth_of(s))
+        .map(|p: TimedPoint| (p.x, p.y))
+        .collect();
+    let (truth_plan, _) =
+        read_floor_plan(&d.join(format!("sim-{}/floor.geojson", seeds[0])), None).expect("plan");
+    let overlap = |plan: &Path| {
+        let (learned, _) = read_floor_plan(plan, None).expect("learned plan");
+        plan_overlap(
+            &learned,
+            &truth_plan,
+            &visited,
+            Some(&transform),
+            VISITED,
+            0.05,
+        )
+        .expect("overlap")
+    };
+    let merged = overlap(&d.join("learn/merged_plan.geojson"));
+    eprintln!("merged plan of three walks: {merged:?}");
+    assert!(merged.precision >= 0.9, "{merged:?}");
+    assert!(merged.recall >= 0.8, "{merged:?}");
+    let single = overlap(&d.join("learn/walk-1/plan.geojson"));
+    eprintln!("plan of walk 1: {single:?}");
+    assert!(single.precision >= 0.9, "{single:?}");
+
+    // `footslam plan`: the files, and the ROS grid read back.
+    let out = d.join("plan");
+    footslam()
+        .args(["plan", "--map"])
+        .arg(d.join("learn/merged.geojson"))
+        .args(["--resolution", "0.1", "--out"])
+        .arg(&out)
+        .assert()
+        .success();
+    for f in [
+        "plan.geojson",
+        "map.pgm",
+        "map.yaml",
+        "plan.png",
+        "summary.json",
+        "config.json",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let (plan, _) = read_floor_plan(&out.join("plan.geojson"), None).expect("plan");
+    let config = OccupancyConfig {
+        resolution: 0.1,
+        ..Default::default()
+    };
+    let grid = OccupancyGrid::from_plan(&plan, 0, &config).expect("grid");
+    let image = image::ImageReader::open(out.join("map.pgm"))
+        .expect("open")
+        .with_guessed_format()
+        .expect("format")
+        .decode()
+        .expect("a PGM the image crate reads")
+        .into_luma8();
+    assert_eq!(
+        (image.width() as usize, image.height() as usize),
+        (grid.width, grid.height)
+    );
+    // The pixels: their classes count as the run's summary says, and they match the grid
+    // rebuilt from the plan file (which went through WGS84 and back, so a square whose
+    // centre lies on a wall may flip).
+    let (mut same, mut counts) = (0usize, [0usize; 3]);
+    for row in 0..grid.height {
+        for col in 0..grid.width {
+            // The image's first row is the grid's northern edge.
+            let pixel = image
+                .get_pixel(col as u32, (grid.height - 1 - row) as u32)
+                .0[0];
+            let want = match grid.cells[row * grid.width + col] {
+                Occupancy::Free => FREE,
+                Occupancy::Occupied => OCCUPIED,
+                Occupancy::Unknown => UNKNOWN,
+            };
+            same += usize::from(pixel == want);
+            match pixel {
+                FREE => counts[0] += 1,
+                OCCUPIED => counts[1] += 1,
+                UNKNOWN => counts[2] += 1,
+                other => panic!("pixel value {other} at ({col}, {row})"),
+            }
+        }
+    }
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("summary"))
+            .expect("json");
+    let said = ["grid_free", "grid_occupied", "grid_unknown"]
+        .map(|k| summary[k].as_u64().expect("count") as usize);
+    assert_eq!(counts, said);
+    let share = same as f64 / (grid.width * grid.height) as f64;
+    assert!(share > 0.995, "{share}");
+    let yaml = std::fs::read_to_string(out.join("map.yaml")).expect("yaml");
+    let field = |name: &str| {
+        yaml.lines()
+            .find_map(|l| l.strip_prefix(&format!("{name}: ")))
+            .unwrap_or_else(|| panic!("{name} in {yaml}"))
+            .to_string()
+    };
+    assert_eq!(field("image"), "map.pgm");
+    assert_eq!(field("resolution").parse::<f64>().expect("number"), 0.1);
+    let origin: Vec<f64> = field("origin")
+        .trim_matches(|c| c == '[' || c == ']')
+        .split(',')
+        .map(|v| v.trim().parse().expect("number"))
+        .collect();
+    // Coordinates went through WGS84 degrees rounded for GeoJSON: within a centimetre.
+    assert!(
+        (origin[0] - grid.origin.0).abs() < 0.01 && (origin[1] - grid.origin.1).abs() < 0.01,
+        "{origin:?} {:?}",
+        grid.origin
+    );
+    assert_eq!(origin[2], 0.0);
+    // A trinary reader's classes: p = (255 − pixel) / 255 against the thresholds.
+    let class = |pixel: u8| {
+        let p = (255.0 - f64::from(pixel)) / 255.0;
+        if p > 0.65 {
+            "occupied"
+        } else if p < 0.196 {
+            "free"
+        } else {
+            "unknown"
+        }
+    };
+    assert_eq!(
+        (class(FREE), class(OCCUPIED), class(UNKNOWN)),
+        ("free", "occupied", "unknown")
+    );
+    // The walks' true positions (aligned back into the map's frame) lie on free squares.
+    let (free, occupied, _) = grid.counts();
+    assert!(free > 0 && occupied > 0);
+}
+
+#[test]
+fn a_map_too_thin_for_a_plan_is_a_clear_error() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let map = dir.path().join("map.geojson");
+    // One walk of four steps: a handful of hexagons once each.
+    let steps = dir.path().join("steps.csv");
+    std::fs::write(
+        &steps,
+        "t,length,dheading\n1,0.7,0\n2,0.7,0\n3,0.7,0\n4,0.7,0\n",
+    )
+    .expect("steps");
+    footslam()
+        .args(["learn", "--particles", "100", "--steps"])
+        .arg(&steps)
+        .arg("--out")
+        .arg(dir.path().join("l"))
+        .assert()
+        .success();
+    std::fs::copy(dir.path().join("l/map.geojson"), &map).expect("copy");
+    footslam()
+        .args(["plan", "--map"])
+        .arg(&map)
+        .args(["--min-visits", "5", "--out"])
+        .arg(dir.path().join("p"))
+        .assert()
+        .failure()
+        .stderr(predicates::str::contains("--min-visits"));
+    assert!(!dir.path().join("p").exists(), "no partial output");
+}
