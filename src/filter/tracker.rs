@@ -1271,22 +1271,13 @@ mod tests {
         let mut with = Tracker::new(&topology, &unknown(true)).expect("tracker");
         let mut without = Tracker::new(&topology, &unknown(false)).expect("tracker");
         assert!(agreement(&with) < 0.2, "a uniform prior heading");
-        // Readings count together as one per correlation length walked (eq. 3): walk two.
-        let reach = 2.0 * crate::model::HeadingConfig::default().correlation_length;
-        let mut walked = 0.0;
-        let n = 1 + steps
-            .iter()
-            .position(|s| {
-                walked += s.length;
-                walked >= reach
-            })
-            .expect("a long enough walk");
+        let n = 2;
         for s in &steps[..n] {
             with.update(s).expect("update");
             without.update(s).expect("update");
         }
         assert_eq!((with.headings_used(), without.headings_used()), (n, 0));
-        // Two readings' worth leave headings within about 20° (R = e^{−σ²/2} ≈ 0.94 for σ = 20°).
+        // Two readings leave headings within about 20° (R = e^{−σ²/2} ≈ 0.94 for σ = 20°).
         assert!(agreement(&with) > 0.9, "{}", agreement(&with));
         assert!(agreement(&without) < agreement(&with));
         let mut errors: Vec<f64> = steps[n..]

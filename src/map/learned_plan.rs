@@ -239,9 +239,10 @@ mod tests {
         assert!(learned.holes_filled >= 1, "the pillar's hole");
         let p = &learned.plan.polygons[0].polygon;
         assert_eq!(p.interiors().len(), 1, "the courtyard stays a hole");
-        // Area close to the corridor's 108 m² (hexagon edges cut it within a cell).
+        // Area close to the corridor's 108 m² grown by 0.25 m along its 72 m of walls
+        // (18 m²); hexagon edges cut it within a cell.
         assert!(
-            (98.0..118.0).contains(&learned.area_m2),
+            (118.0..140.0).contains(&learned.area_m2),
             "{}",
             learned.area_m2
         );

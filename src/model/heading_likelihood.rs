@@ -37,9 +37,12 @@
 //! furniture, pillars and radiators disturbed by tens of degrees; with `ε` this large the
 //! floor dominates beyond about 2.6σ (52°): a reading that far off costs about as much
 //! as one 180° off. Many consistent readings 40–60° off (a long disturbed stretch) still
-//! pull, as they should where they might be right; `L = 3 m` — indoor magnetic anomalies
-//! vary over one to a few metres (steel studs, pillars, furniture), so readings a stride
-//! apart share most of their disturbance.
+//! pull, as they should where they might be right; `L` — indoor magnetic anomalies vary
+//! over one to a few metres (steel studs, pillars, furniture), so readings a stride apart
+//! share most of their disturbance: FootSLAM, which sums a whole walk's readings into the
+//! map's orientation, tempers with `L = 3 m`; the tracker, which reads them mostly to
+//! settle an unknown heading in the first metres, keeps them independent (`L = 0`; on real
+//! phone walks tempering placed fewer waypoints and none better).
 //!
 //! Not in Woodman & Harle 2008 (whose foot-mounted INS has only relative heading); a
 //! compass used the same way in Harle's 2013 survey of pedestrian dead reckoning (§V).
@@ -56,7 +59,7 @@ use std::f64::consts::{PI, TAU};
 /// | `sigma`               | 20°     | `σ` of an undisturbed reading's error (eq. 1), radians   |
 /// | `outlier_probability` | 0.2     | `ε`, share of disturbed readings (uniform over the circle) |
 /// | `offset`              | 0       | radians added to every measured heading (per walk)       |
-/// | `correlation_length`  | 3 m     | distance over which disturbances persist (tempering, eq. 3) |
+/// | `correlation_length`  | 0 m     | distance over which disturbances persist (tempering, eq. 3; FootSLAM: 3 m) |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct HeadingConfig {
@@ -71,7 +74,8 @@ pub struct HeadingConfig {
     pub offset: f64,
     /// `L`, the distance walked over which a disturbance persists, metres: readings closer
     /// than `L` are not independent, so each counts with the exponent `min(1, ℓ / L)` for
-    /// a step of length `ℓ` (eq. 3). 0: every reading counts in full. Default 3 m.
+    /// a step of length `ℓ` (eq. 3). 0: every reading counts in full. Default 0 (FootSLAM
+    /// sets 3 m: [`crate::filter::FOOTSLAM_HEADING_CORRELATION`]).
     pub correlation_length: f64,
 }
 
@@ -82,7 +86,7 @@ impl Default for HeadingConfig {
             sigma: 20f64.to_radians(),
             outlier_probability: 0.2,
             offset: 0.0,
-            correlation_length: 3.0,
+            correlation_length: 0.0,
         }
     }
 }
