@@ -130,7 +130,7 @@ pub fn write_plan_files(
     write_ros_map(&at("map.pgm"), &at("map.yaml"), grid)?;
     let picture = PlanPicture {
         plan: &learned.plan,
-        title: Some(format!("learned plan, {:.0} m²", learned.area_m2)),
+        title: Some(format!("learned plan, {:.0} m2", learned.area_m2)),
         paths: vec![],
         points: vec![],
         cells: vec![],
