@@ -53,5 +53,49 @@ fn crossings(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, crossings);
+/// A learned map of a 100 m × 60 m floor walked everywhere but a 60 m × 20 m atrium
+/// (about 7,400 hexagons of 0.5 m): `walkable_plan` (union, grow, fill, simplify) and its
+/// 5 cm occupancy grid — the work of `footslam plan` on a large building.
+fn plan(c: &mut Criterion) {
+    let grid = HexGrid::new(0.5);
+    let mut cells = Vec::new();
+    for q in -150..150 {
+        for r in -150..150 {
+            let hex = Hex::new(q, r);
+            let (x, y) = grid.center(hex);
+            let floor = (0.0..100.0).contains(&x) && (0.0..60.0).contains(&y);
+            let atrium = (20.0..80.0).contains(&x) && (20.0..40.0).contains(&y);
+            if floor && !atrium {
+                cells.push(footslam::map::HexCell {
+                    hex,
+                    counts: [1, 1, 0, 0, 0, 0],
+                });
+            }
+        }
+    }
+    let map = footslam::map::HexMapSnapshot {
+        radius: 0.5,
+        alpha: 0.8,
+        cells,
+    };
+    let config = footslam::map::PlanConfig::default();
+    let mut g = c.benchmark_group("plan");
+    g.sample_size(10);
+    g.bench_function("walkable_plan_7k_hexagons", |b| {
+        b.iter(|| black_box(footslam::map::walkable_plan(&map, &config).expect("plan")))
+    });
+    let learned = footslam::map::walkable_plan(&map, &config).expect("plan");
+    let grid_config = footslam::map::OccupancyConfig::default();
+    g.bench_function("occupancy_grid_100x60m_5cm", |b| {
+        b.iter(|| {
+            black_box(
+                footslam::map::OccupancyGrid::from_plan(&learned.plan, 0, &grid_config)
+                    .expect("grid"),
+            )
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, crossings, plan);
 criterion_main!(benches);
