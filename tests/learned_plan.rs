@@ -84,6 +84,26 @@ fn three_office_walks_make_a_walkable_plan_and_a_ros_grid() {
     eprintln!("merged plan of three walks: {merged:?}");
     assert!(merged.precision >= 0.9, "{merged:?}");
     assert!(merged.recall >= 0.8, "{merged:?}");
+    // `footslam eval --learned-plan` reports the same figures for one walk's truth.
+    let assert = footslam()
+        .args(["eval", "--json", "--align", "rigid", "--truth"])
+        .arg(d.join(format!("sim-{}/truth.csv", seeds[0])))
+        .arg("--track")
+        .arg(d.join("learn/walk-1/track.csv"))
+        .arg("--plan")
+        .arg(d.join(format!("sim-{}/floor.geojson", seeds[0])))
+        .arg("--learned-plan")
+        .arg(d.join("learn/merged_plan.geojson"))
+        .assert()
+        .success();
+    let json: serde_json::Value =
+        serde_json::from_slice(&assert.get_output().stdout).expect("json");
+    let precision = json["plan_overlap"]["precision"]
+        .as_f64()
+        .expect("precision");
+    assert!((precision - merged.precision).abs() < 1e-9, "{json}");
+    let recall = json["plan_overlap"]["recall"].as_f64().expect("recall");
+    assert!((0.0..=1.0).contains(&recall), "{json}");
     let single = overlap(&d.join("learn/walk-1/plan.geojson"));
     eprintln!("plan of walk 1: {single:?}");
     assert!(single.precision >= 0.9, "{single:?}");

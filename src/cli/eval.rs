@@ -7,7 +7,8 @@ use footslam::dataset::{
     TimedPoint, read_certain_trajectory, read_steps, read_track, read_trajectory, read_waypoints,
 };
 use footslam::eval::{
-    Alignment, ErrorReport, floor_accuracy, position_errors, walkable_fraction, waypoint_errors,
+    Alignment, ErrorReport, floor_accuracy, plan_overlap, position_errors, walkable_fraction,
+    waypoint_errors,
 };
 use footslam::export::map_geojson::read_map_geojson;
 use footslam::geometry::LocalFrame;
@@ -46,8 +47,15 @@ pub struct Args {
     /// its hexagons in walkable space (after the track's alignment).
     #[arg(long, requires = "plan")]
     map: Option<PathBuf>,
-    /// Floor plan GeoJSON of the building, in the truth's frame (e.g. simulate's floor.geojson).
-    #[arg(long, requires = "map")]
+    /// Learned walkable plan (learn's plan.geojson or merged_plan.geojson, or plan's): with
+    /// `--plan`, also report its precision and its recall of the space the walk visited
+    /// (the true walkable area within 0.75 m of the truth), by area, after the track's
+    /// alignment.
+    #[arg(long, requires = "plan")]
+    learned_plan: Option<PathBuf>,
+    /// Floor plan GeoJSON of the building, in the truth's frame (e.g. simulate's
+    /// floor.geojson), for `--map` or `--learned-plan`.
+    #[arg(long)]
     plan: Option<PathBuf>,
     /// WGS84 origin of the local frame, `LAT,LON`; overrides the `--plan`'s own `origin`.
     #[arg(long, value_parser = parse_origin, allow_hyphen_values = true)]
@@ -74,6 +82,13 @@ impl From<AlignArg> for Alignment {
 
 /// Picks one figure out of an error report.
 type Statistic = fn(&ErrorReport) -> f64;
+
+/// "Visited space" for `--learned-plan`: the true walkable area within this many metres of
+/// the truth — the hexagon radius (0.5 m, where the feet went) plus the plan's grow
+/// (0.25 m, the body's half-width).
+const VISITED_REACH: f64 = 0.75;
+/// Side of the squares `--learned-plan` measures areas on, metres.
+const OVERLAP_RESOLUTION: f64 = 0.05;
 
 /// Runs `footslam eval`.
 pub fn run(args: Args) -> Result<()> {
@@ -132,6 +147,27 @@ pub fn run(args: Args) -> Result<()> {
         }
         _ => None,
     };
+    if args.plan.is_some() && args.map.is_none() && args.learned_plan.is_none() {
+        anyhow::bail!("--plan is for --map or --learned-plan: give one of them");
+    }
+    let overlap = match (&args.learned_plan, &args.plan) {
+        (Some(learned), Some(plan)) => {
+            require_file(learned, "learned plan")?;
+            require_file(plan, "floor plan")?;
+            let (learned, _) = read_floor_plan(learned, args.origin)?;
+            let (plan, _) = read_floor_plan(plan, args.origin)?;
+            let visited: Vec<(f64, f64)> = truth.iter().map(|p| (p.x, p.y)).collect();
+            Some(plan_overlap(
+                &learned,
+                &plan,
+                &visited,
+                report.transform.as_ref(),
+                VISITED_REACH,
+                OVERLAP_RESOLUTION,
+            )?)
+        }
+        _ => None,
+    };
     let walkable = match (&args.map, &args.plan) {
         (Some(map), Some(plan)) => {
             require_file(map, "map")?;
@@ -147,6 +183,7 @@ pub fn run(args: Args) -> Result<()> {
             "track": report,
             "dead_reckoning": dead_reckoning,
             "walkable_fraction": walkable,
+            "plan_overlap": overlap,
             "floor_accuracy": floors,
             "track_reprojected_from": reprojected.map(|(from, _)| from),
             "uncertain_rows_left_out": uncertain,
@@ -169,6 +206,15 @@ pub fn run(args: Args) -> Result<()> {
         }
         if let Some(w) = walkable {
             outln!("walkable {:.1} % of visit-weighted map hexagons", 100.0 * w);
+        }
+        if let Some(o) = overlap {
+            outln!(
+                "learned plan: precision {:.3}, recall of visited space {:.3} ({:.0} m² learned, {:.0} m² visited)",
+                o.precision,
+                o.recall,
+                o.learned_m2,
+                o.visited_m2
+            );
         }
     }
     Ok(())
