@@ -342,7 +342,11 @@ fn learn_walk(
         .map(|f| GpsObservation::from_fix(f, frame))
         .collect();
     let heading_given = config.start_heading_sigma != 0.0;
-    let mut start_source = if heading_given { "config" } else { "assumed" };
+    let mut start_source = match config.start_heading_sigma {
+        s if s >= std::f64::consts::PI => "unknown",
+        s if s != 0.0 => "config",
+        _ => "assumed",
+    };
     if let Some(first) = gps.first() {
         config.start.x = first.x;
         config.start.y = first.y;
@@ -370,9 +374,6 @@ fn learn_walk(
         config.start.heading = heading;
         config.start_heading_sigma = sigma;
         start_source = "compass";
-    }
-    if start_source == "config" && config.start_heading_sigma >= std::f64::consts::PI {
-        start_source = "unknown";
     }
     let started = Instant::now();
     // With GPS and a prior map: first learn the walk alone, in its own GPS frame, and

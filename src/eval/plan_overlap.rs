@@ -44,15 +44,9 @@ pub fn plan_overlap(
     }
     // The learned plan in the truth's frame: test squares of the truth's frame against the
     // learned polygons by the inverse transform.
-    let inverse = transform.map(|t| {
-        let (s, c) = t.angle.sin_cos();
-        move |(x, y): (f64, f64)| {
-            let (dx, dy) = (x - t.tx, y - t.ty);
-            (c * dx + s * dy, -s * dx + c * dy)
-        }
-    });
+    let inverse = transform.map(RigidTransform::inverse);
     let in_learned = |x: f64, y: f64| {
-        let (lx, ly) = inverse.as_ref().map_or((x, y), |f| f((x, y)));
+        let (lx, ly) = inverse.as_ref().map_or((x, y), |t| t.apply((x, y)));
         learned.is_walkable(lx, ly, None)
     };
     // Squares within `reach` of a visited position.

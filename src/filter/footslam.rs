@@ -69,6 +69,19 @@ pub struct FootSlamEstimate {
     pub prior_shift: Hex,
 }
 
+/// What an outline and GPS fixes tell together: a walker GPS does not see is indoors.
+#[derive(Debug)]
+struct OutageCheck {
+    /// The outline, known to `outline_margin`.
+    zone: OutlineZone,
+    /// Every fix's time, in order.
+    fix_times: Vec<f64>,
+    /// `ln(α / α_out)`: eq. (6)'s price of a first crossing of an outline edge.
+    crossing_cost: f64,
+    /// Each step's time, for the outline fit's outages.
+    times: Vec<f64>,
+}
+
 /// The FootSLAM Rao-Blackwellised particle filter.
 #[derive(Debug)]
 pub struct FootSlam {
@@ -101,11 +114,8 @@ pub struct FootSlam {
     next: Vec<Particle>,
     /// Step measurements seen, needed to replay paths.
     steps: Vec<(f64, f64)>,
-    /// Each step's time (where GPS did not see the walker, for the outline fit).
-    times: Vec<f64>,
-    /// The outline and the GPS fix times, when both are given: a particle far outside the
-    /// outline while GPS sees nothing is improbable (see [`FootSlam::update`]).
-    outage_check: Option<(OutlineZone, Vec<f64>)>,
+    /// The outline and GPS together, when both are given.
+    outage_check: Option<OutageCheck>,
     ess_history: Vec<f64>,
     resamplings: usize,
     resample_pending: bool,
@@ -181,9 +191,11 @@ impl FootSlam {
             .as_ref()
             .and_then(|p| p.outline())
             .filter(|_| !anchors.gps.is_empty())
-            .map(|o| {
-                let zone = OutlineZone::new(o, config.outline_margin);
-                (zone, anchors.gps.iter().map(|f| f.t).collect())
+            .map(|o| OutageCheck {
+                zone: OutlineZone::new(o, config.outline_margin),
+                fix_times: anchors.gps.iter().map(|f| f.t).collect(),
+                crossing_cost: (config.alpha / config.outline_alpha).ln(),
+                times: Vec::new(),
             });
         let gps = (!anchors.gps.is_empty()).then(|| GpsQueue {
             likelihood: GpsLikelihood::new(config.gps),
@@ -212,7 +224,6 @@ impl FootSlam {
             next: Vec::with_capacity(n),
             particles,
             steps: Vec::new(),
-            times: Vec::new(),
             outage_check,
             ess_history: Vec::new(),
             resamplings: 0,
@@ -291,15 +302,14 @@ impl FootSlam {
         }
         // A step GPS did not see (an outage, `outline_fit::OUTAGE`), taken far outside the
         // outline, costs a crossing pair per `OUTAGE` seconds: out and back in unseen.
-        let unseen_cost = match (&self.outage_check, self.times.last()) {
-            (Some((_, fixes)), Some(&t0)) if in_outage(fixes, z.t) => {
-                let c = (self.config.alpha / self.config.outline_alpha).ln();
-                2.0 * c * (z.t - t0).max(0.0) / OUTAGE
+        let mut unseen_cost = 0.0;
+        if let Some(check) = &mut self.outage_check {
+            check.times.push(z.t);
+            if let Some(t0) = self.last_t.filter(|_| in_outage(&check.fix_times, z.t)) {
+                unseen_cost = 2.0 * check.crossing_cost * (z.t - t0).max(0.0) / OUTAGE;
             }
-            _ => 0.0,
-        };
+        }
         self.steps.push((z.length, z.dheading));
-        self.times.push(z.t);
         let k = self.steps.len() as u64;
         self.collect_step_fixes(z.t);
         let (seed, motion, grid) = (self.config.seed, self.motion, self.grid);
@@ -309,7 +319,7 @@ impl FootSlam {
         let (gps, fixes) = (self.gps.as_ref().map(|g| g.likelihood), &self.step_fixes);
         let compass = self.heading.zip(z.heading);
         self.headings_used += usize::from(compass.is_some());
-        let zone = self.outage_check.as_ref().map(|(z, _)| z);
+        let zone = self.outage_check.as_ref().map(|c| &c.zone);
         self.particles
             .par_iter_mut()
             .zip(self.log_weights.par_iter_mut())
@@ -447,22 +457,16 @@ impl FootSlam {
         let (dx, dy) = self.grid.center(self.offset);
         let (mut dx, mut dy) = (self.offset_pull * dx, self.offset_pull * dy);
         let replayed = self.replay_path(index);
-        if let Some(outline) = self.prior.as_ref().and_then(|p| p.outline())
+        if let Some(check) = &self.outage_check
             && self.outline_fit_sigma > 0.0
         {
             let points: Vec<(f64, f64)> = replayed.iter().map(|p| (p.x + dx, p.y + dy)).collect();
-            let cost = (self.config.alpha / self.config.outline_alpha).ln();
-            let margin = self.config.outline_margin;
-            let unseen = self.gps.as_ref().map_or_else(Vec::new, |g| {
-                let fixes: Vec<f64> = g.fixes.iter().map(|f| f.t).collect();
-                unseen_seconds(&self.times, &fixes)
-            });
+            let unseen = unseen_seconds(&check.times, &check.fix_times);
             let (sx, sy) = fit_outline_shift(
                 &points,
                 &unseen,
-                outline,
-                margin,
-                cost,
+                &check.zone,
+                check.crossing_cost,
                 self.outline_fit_sigma,
             );
             dx += sx;

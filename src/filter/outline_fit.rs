@@ -69,7 +69,8 @@ pub fn unseen_seconds(times: &[f64], fix_times: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// An outline known to `margin` metres, for asking whether a point lies clearly outside.
+/// An outline known to `margin` metres: which side of it a point lies on, with the
+/// margin as no man's land.
 #[derive(Debug, Clone)]
 pub struct OutlineZone {
     outline: Polygon<f64>,
@@ -89,7 +90,23 @@ impl OutlineZone {
 
     /// True when `(x, y)` lies more than the margin outside the outline.
     pub fn is_far_outside(&self, x: f64, y: f64) -> bool {
-        side(&self.outline, &self.ring, self.margin, (x, y)) == -1
+        self.side((x, y)) == -1
+    }
+
+    /// +1 deeper than the margin inside, −1 deeper than the margin outside, 0 in between.
+    fn side(&self, p: (f64, f64)) -> i8 {
+        let d = self
+            .ring
+            .windows(2)
+            .map(|w| segment_distance(p, w[0], w[1]))
+            .fold(f64::INFINITY, f64::min);
+        if d <= self.margin {
+            0
+        } else if self.outline.contains(&Coord { x: p.0, y: p.1 }) {
+            1
+        } else {
+            -1
+        }
     }
 }
 
@@ -105,38 +122,16 @@ fn segment_distance(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
     (p.0 - a.0 - u * dx).hypot(p.1 - a.1 - u * dy)
 }
 
-/// +1 deeper than `margin` inside `outline`, −1 deeper than `margin` outside, 0 in between.
-fn side(outline: &Polygon<f64>, ring: &[(f64, f64)], margin: f64, p: (f64, f64)) -> i8 {
-    let d = ring
-        .windows(2)
-        .map(|w| segment_distance(p, w[0], w[1]))
-        .fold(f64::INFINITY, f64::min);
-    if d <= margin {
-        0
-    } else if outline.contains(&Coord { x: p.0, y: p.1 }) {
-        1
-    } else {
-        -1
-    }
-}
-
-/// Crossings of the outline by `path` moved by `s`, with hysteresis `margin`, plus a
-/// pair for every [`OUTAGE`] seconds that points GPS did not see (`unseen`, seconds a
-/// point, [`unseen_seconds`]; missing entries count as seen) spend deeper than `margin`
-/// outside.
-fn crossings(
-    path: &[(f64, f64)],
-    unseen: &[f64],
-    outline: &Polygon<f64>,
-    ring: &[(f64, f64)],
-    margin: f64,
-    s: (f64, f64),
-) -> f64 {
+/// Crossings of the outline `zone` by `path` moved by `s`, with the zone's margin as
+/// hysteresis, plus a pair for every [`OUTAGE`] seconds that points GPS did not see
+/// (`unseen`, seconds a point, [`unseen_seconds`]; missing entries count as seen) spend
+/// deeper than the margin outside.
+fn crossings(path: &[(f64, f64)], unseen: &[f64], zone: &OutlineZone, s: (f64, f64)) -> f64 {
     let mut last = 0i8;
     let mut n = 0u32;
     let mut outside = 0.0;
     for (i, &(x, y)) in path.iter().enumerate() {
-        let now = side(outline, ring, margin, (x + s.0, y + s.1));
+        let now = zone.side((x + s.0, y + s.1));
         if now != 0 {
             if last != 0 && now != last {
                 n += 1;
@@ -151,94 +146,40 @@ fn crossings(
 }
 
 /// The most probable shift of `path` (positions in walking order, with `unseen` the
-/// seconds each was walked in a GPS outage, [`unseen_seconds`]) given `outline` (known to
-/// `margin` metres), the cost `cost` of a crossing and a Gaussian bias prior of spread
-/// `sigma` per axis; `(0, 0)` when `sigma` is 0 or the path is too short.
+/// seconds each was walked in a GPS outage, [`unseen_seconds`]) given the outline `zone`,
+/// the cost `cost` of a crossing and a Gaussian bias prior of spread `sigma` per axis;
+/// `(0, 0)` when `sigma` is 0 or the path is too short.
 pub fn fit_outline_shift(
     path: &[(f64, f64)],
     unseen: &[f64],
-    outline: &Polygon<f64>,
-    margin: f64,
+    zone: &OutlineZone,
     cost: f64,
     sigma: f64,
 ) -> (f64, f64) {
-    let problem = OutlineProblem::new(path, unseen, outline, margin, cost, sigma);
-    problem.map_or((0.0, 0.0), |p| p.best_shift(path, 0.0, SHIFT_STEP, None).1)
-}
-
-/// One walk against one outline.
-struct OutlineProblem<'a> {
-    unseen: &'a [f64],
-    outline: &'a Polygon<f64>,
-    ring: Vec<(f64, f64)>,
-    margin: f64,
-    cost: f64,
-    sigma: f64,
-}
-
-impl<'a> OutlineProblem<'a> {
-    /// `None` when `sigma` is not positive or the path too short to place.
-    fn new(
-        path: &[(f64, f64)],
-        unseen: &'a [f64],
-        outline: &'a Polygon<f64>,
-        margin: f64,
-        cost: f64,
-        sigma: f64,
-    ) -> Option<Self> {
-        if sigma.is_nan() || sigma <= 0.0 || path.len() < 2 {
-            return None;
-        }
-        Some(Self {
-            unseen,
-            outline,
-            ring: outline.exterior().coords().map(|c| (c.x, c.y)).collect(),
-            margin,
-            cost,
-            sigma,
+    if sigma.is_nan() || sigma <= 0.0 || path.len() < 2 {
+        return (0.0, 0.0);
+    }
+    let reach = (3.0 * sigma).min(MAX_SHIFT);
+    let k = (reach / SHIFT_STEP).floor() as i32;
+    let shifts: Vec<(f64, f64)> = (-k..=k)
+        .flat_map(|i| (-k..=k).map(move |j| (f64::from(i) * SHIFT_STEP, f64::from(j) * SHIFT_STEP)))
+        .collect();
+    let scores: Vec<f64> = shifts
+        .par_iter()
+        .map(|&s| {
+            let n = crossings(path, unseen, zone, s);
+            -cost * n - (s.0 * s.0 + s.1 * s.1) / (2.0 * sigma * sigma)
         })
-    }
-
-    /// The best score of `path` (log-probability up to a constant, less `prior`) and its
-    /// shift, on a square grid `step` apart within `±3σ` (at most ±10 m), or within
-    /// `±half` of `around` when given; ties go to the smaller shift.
-    fn best_shift(
-        &self,
-        path: &[(f64, f64)],
-        prior: f64,
-        step: f64,
-        around: Option<((f64, f64), f64)>,
-    ) -> (f64, (f64, f64)) {
-        let (centre, reach) = around.unwrap_or(((0.0, 0.0), (3.0 * self.sigma).min(MAX_SHIFT)));
-        let k = (reach / step + 1e-9).floor() as i32;
-        let shifts: Vec<(f64, f64)> = (-k..=k)
-            .flat_map(|i| {
-                (-k..=k).map(move |j| {
-                    (
-                        centre.0 + f64::from(i) * step,
-                        centre.1 + f64::from(j) * step,
-                    )
-                })
-            })
-            .collect();
-        let sigma2 = self.sigma * self.sigma;
-        let scores: Vec<f64> = shifts
-            .par_iter()
-            .map(|&s| {
-                let n = crossings(path, self.unseen, self.outline, &self.ring, self.margin, s);
-                -self.cost * n - (s.0 * s.0 + s.1 * s.1) / (2.0 * sigma2) - prior
-            })
-            .collect();
-        // The first maximum in a fixed order (by score, then by the smaller shift).
-        let mut best = (f64::NEG_INFINITY, f64::INFINITY, (0.0, 0.0));
-        for (&s, &v) in shifts.iter().zip(&scores) {
-            let r = s.0 * s.0 + s.1 * s.1;
-            if v > best.0 + 1e-12 || ((v - best.0).abs() <= 1e-12 && r < best.1) {
-                best = (v, r, s);
-            }
+        .collect();
+    // The first maximum in a fixed order (by score, then by the smaller shift).
+    let mut best = (f64::NEG_INFINITY, f64::INFINITY, (0.0, 0.0));
+    for (&s, &v) in shifts.iter().zip(&scores) {
+        let r = s.0 * s.0 + s.1 * s.1;
+        if v > best.0 + 1e-12 || ((v - best.0).abs() <= 1e-12 && r < best.1) {
+            best = (v, r, s);
         }
-        (best.0, best.2)
     }
+    best.2
 }
 
 #[cfg(test)]
@@ -285,29 +226,23 @@ mod tests {
     #[test]
     fn a_path_pushed_through_a_wall_is_pulled_back_inside() {
         let outline = Rect::new((-2.0, -2.0), (22.0, 22.0)).to_polygon();
-        let ring: Vec<(f64, f64)> = outline.exterior().coords().map(|c| (c.x, c.y)).collect();
+        let zone = OutlineZone::new(&outline, 0.5);
         let cost = (0.8f64 / 0.05).ln();
         let path = walk();
-        assert_eq!(crossings(&path, &[], &outline, &ring, 0.5, (0.0, 0.0)), 2.0);
+        assert_eq!(crossings(&path, &[], &zone, (0.0, 0.0)), 2.0);
         // Seen 5 m too far south-east (a GPS bias): pulled back to within the margin.
         let biased: Vec<(f64, f64)> = path.iter().map(|&(x, y)| (x + 5.0, y - 5.0)).collect();
-        assert_eq!(
-            crossings(&biased, &[], &outline, &ring, 0.5, (0.0, 0.0)),
-            6.0
-        );
-        let (sx, sy) = fit_outline_shift(&biased, &[], &outline, 0.5, cost, 3.0);
+        assert_eq!(crossings(&biased, &[], &zone, (0.0, 0.0)), 6.0);
+        let (sx, sy) = fit_outline_shift(&biased, &[], &zone, cost, 3.0);
         assert!((-6.0..=-1.5).contains(&sx), "{sx}");
         assert!((1.5..=6.0).contains(&sy), "{sy}");
-        assert_eq!(crossings(&biased, &[], &outline, &ring, 0.5, (sx, sy)), 2.0);
+        assert_eq!(crossings(&biased, &[], &zone, (sx, sy)), 2.0);
         // The true path needs no shift.
-        assert_eq!(
-            fit_outline_shift(&path, &[], &outline, 0.5, cost, 3.0),
-            (0.0, 0.0)
-        );
+        assert_eq!(fit_outline_shift(&path, &[], &zone, cost, 3.0), (0.0, 0.0));
         // An outline off by a metre (within the margin) does not move the true path.
         let off = Rect::new((-2.0, -1.0), (23.0, 22.0)).to_polygon();
         assert_eq!(
-            fit_outline_shift(&path, &[], &off, 1.5, cost, 3.0),
+            fit_outline_shift(&path, &[], &OutlineZone::new(&off, 1.5), cost, 3.0),
             (0.0, 0.0)
         );
     }
@@ -315,7 +250,7 @@ mod tests {
     #[test]
     fn a_walk_that_stays_in_is_not_pushed_past_the_building() {
         let outline = Rect::new((-2.0, -2.0), (22.0, 22.0)).to_polygon();
-        let ring: Vec<(f64, f64)> = outline.exterior().coords().map(|c| (c.x, c.y)).collect();
+        let zone = OutlineZone::new(&outline, 0.5);
         let cost = (0.8f64 / 0.05).ln();
         // GPS sees the walker until the door, then never again: a fix a second to y = −2.
         let path = walk_through(false);
@@ -332,29 +267,23 @@ mod tests {
         // Seen 9 m too far north (a GPS bias at the entrance).
         let biased: Vec<(f64, f64)> = path.iter().map(|&(x, y)| (x, y + 9.0)).collect();
         // The true place: one crossing (in through the door), nothing outside unseen.
-        assert_eq!(
-            crossings(&path, &unseen, &outline, &ring, 0.5, (0.0, 0.0)),
-            1.0
-        );
-        let (sx, sy) = fit_outline_shift(&biased, &unseen, &outline, 0.5, cost, 4.0);
+        assert_eq!(crossings(&path, &unseen, &zone, (0.0, 0.0)), 1.0);
+        let (sx, sy) = fit_outline_shift(&biased, &unseen, &zone, cost, 4.0);
         assert!(sx.abs() <= 1.5, "{sx}");
         // Back inside: the loop runs 2–3 m inside the walls, so any shift that puts it
         // within the outline (and its margin) explains the walk; the prior takes the least.
         assert!((-10.5..=-5.0).contains(&sy), "{sy}");
-        assert_eq!(
-            crossings(&biased, &unseen, &outline, &ring, 0.5, (sx, sy)),
-            1.0
-        );
+        assert_eq!(crossings(&biased, &unseen, &zone, (sx, sy)), 1.0);
         // Seen 14 m too far north, beyond the ±10 m searched: without knowing where GPS
         // was blind, moving further past the building looks best; knowing, it comes back.
         let far: Vec<(f64, f64)> = path.iter().map(|&(x, y)| (x, y + 14.0)).collect();
-        let blind = fit_outline_shift(&far, &[], &outline, 0.5, cost, 4.0);
-        let (_, sy) = fit_outline_shift(&far, &unseen, &outline, 0.5, cost, 4.0);
+        let blind = fit_outline_shift(&far, &[], &zone, cost, 4.0);
+        let (_, sy) = fit_outline_shift(&far, &unseen, &zone, cost, 4.0);
         assert!(blind.1 >= 0.0, "{blind:?}");
         assert!(sy <= -8.0, "{sy}");
         // The true path stays where it is.
         assert_eq!(
-            fit_outline_shift(&path, &unseen, &outline, 0.5, cost, 4.0),
+            fit_outline_shift(&path, &unseen, &zone, cost, 4.0),
             (0.0, 0.0)
         );
     }

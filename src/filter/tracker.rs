@@ -440,9 +440,8 @@ impl<'a> Tracker<'a> {
     /// Heading measurement (not in Woodman & Harle; a compass as in harle-2013 §V): adds
     /// `ln p(h_t | θ_t)` of the step's absolute heading to every proposed particle's
     /// log-weight (tempered by its eq. 3), where the step has one and the model is enabled.
-    /// The model's floor keeps
-    /// every particle alive, so a disturbed reading cannot kill the belief. Returns whether
-    /// the step had a heading to apply.
+    /// The model's floor keeps every particle alive, so a disturbed reading cannot kill the
+    /// belief. Returns whether the step had a heading to apply.
     fn measure_heading(&mut self, step: &Step) -> bool {
         let Some(h) = step.heading.filter(|_| self.heading.enabled()) else {
             return false;
@@ -1271,18 +1270,17 @@ mod tests {
         let mut with = Tracker::new(&topology, &unknown(true)).expect("tracker");
         let mut without = Tracker::new(&topology, &unknown(false)).expect("tracker");
         assert!(agreement(&with) < 0.2, "a uniform prior heading");
-        let n = 2;
-        for s in &steps[..n] {
+        for s in &steps[..2] {
             with.update(s).expect("update");
             without.update(s).expect("update");
         }
-        assert_eq!((with.headings_used(), without.headings_used()), (n, 0));
+        assert_eq!((with.headings_used(), without.headings_used()), (2, 0));
         // Two readings leave headings within about 20° (R = e^{−σ²/2} ≈ 0.94 for σ = 20°).
         assert!(agreement(&with) > 0.9, "{}", agreement(&with));
         assert!(agreement(&without) < agreement(&with));
-        let mut errors: Vec<f64> = steps[n..]
+        let mut errors: Vec<f64> = steps[2..]
             .iter()
-            .zip(&sim.truth.poses[n..])
+            .zip(&sim.truth.poses[2..])
             .map(|(s, p)| {
                 let c = with.update(s).expect("update").estimate.expect("cluster");
                 (c.x - p.x).hypot(c.y - p.y)

@@ -21,6 +21,16 @@ impl RigidTransform {
         (c * x - s * y + self.tx, s * x + c * y + self.ty)
     }
 
+    /// The transform that undoes this one: `inverse().apply(apply(p)) = p`.
+    pub fn inverse(&self) -> Self {
+        let (s, c) = self.angle.sin_cos();
+        Self {
+            angle: -self.angle,
+            tx: -(c * self.tx + s * self.ty),
+            ty: -(-s * self.tx + c * self.ty),
+        }
+    }
+
     /// The transform minimising `Σ |T(from_i) − to_i|²`; `None` for empty or unequal input.
     pub fn fit(from: &[(f64, f64)], to: &[(f64, f64)]) -> Option<Self> {
         if from.is_empty() || from.len() != to.len() {
@@ -54,6 +64,18 @@ impl RigidTransform {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_inverse_undoes_the_transform() {
+        let t = RigidTransform {
+            angle: 0.7,
+            tx: 3.0,
+            ty: -2.0,
+        };
+        let p = (1.5, -4.0);
+        let (x, y) = t.inverse().apply(t.apply(p));
+        assert!((x - p.0).abs() < 1e-12 && (y - p.1).abs() < 1e-12);
+    }
 
     #[test]
     fn recovers_a_known_transform() {

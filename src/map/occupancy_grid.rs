@@ -10,6 +10,7 @@
 
 use super::floor_plan::FloorPlan;
 use crate::error::{Error, Result};
+use geo::BoundingRect;
 use serde::{Deserialize, Serialize};
 
 /// Settings of [`OccupancyGrid::from_plan`]; every default in one place.
@@ -90,26 +91,22 @@ impl OccupancyGrid {
             .filter(|p| p.level == level)
             .map(|p| &p.polygon)
             .collect();
-        let coords = || {
-            polygons.iter().flat_map(|p| {
-                p.exterior()
-                    .coords()
-                    .chain(p.interiors().iter().flat_map(|r| r.coords()))
+        // The exteriors bound their holes too.
+        let Some((lo, hi)) = polygons
+            .iter()
+            .filter_map(|p| p.bounding_rect())
+            .map(|r| ((r.min().x, r.min().y), (r.max().x, r.max().y)))
+            .reduce(|a, b| {
+                (
+                    (a.0.0.min(b.0.0), a.0.1.min(b.0.1)),
+                    (a.1.0.max(b.1.0), a.1.1.max(b.1.1)),
+                )
             })
-        };
-        let (mut lo, mut hi) = (
-            (f64::INFINITY, f64::INFINITY),
-            (f64::NEG_INFINITY, f64::NEG_INFINITY),
-        );
-        for c in coords() {
-            lo = (lo.0.min(c.x), lo.1.min(c.y));
-            hi = (hi.0.max(c.x), hi.1.max(c.y));
-        }
-        if !(lo.0.is_finite() && hi.0.is_finite()) {
+        else {
             return Err(Error::Input(format!(
                 "the plan has no polygon on level {level} to make an occupancy grid of"
             )));
-        }
+        };
         let r = config.resolution;
         let origin = (lo.0 - config.border, lo.1 - config.border);
         let width = ((hi.0 + config.border - origin.0) / r).ceil().max(1.0) as usize;
