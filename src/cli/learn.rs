@@ -6,6 +6,7 @@ use super::common::{
     require_file, walk_prefix,
 };
 use super::learn_inputs::{Walk, check_same_grid, read_walks};
+use super::learn_radio::{RadioSummary, learn_radio_map};
 use anyhow::{Context, Result};
 use footslam::dataset::floor_plan_geojson::write_floor_plan;
 use footslam::dataset::{TimedPoint, TrackPoint, parse_utc_time, read_outline, write_trajectory};
@@ -18,7 +19,7 @@ use footslam::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
 use footslam::geometry::Hex;
 use footslam::geometry::{HexGrid, LocalFrame};
 use footslam::map::{
-    EdgePrior, HexMapSnapshot, PlanConfig, merge_maps, register_maps, shift_map, walkable_plan,
+    CellConfig, EdgePrior, HexMapSnapshot, PlanConfig, merge_maps, register_maps, shift_map, walkable_plan,
 };
 use footslam::model::{GpsObservation, HeadingLikelihood};
 use rayon::prelude::*;
@@ -52,6 +53,16 @@ pub struct Args {
     /// or Unix seconds). Default: the steps' `t` are Unix seconds.
     #[arg(long, value_parser = parse_utc_time)]
     gps_t0: Option<f64>,
+    /// WiFi log CSV (`t,bssid,rssi[,ssid,freq]`) of a walk, on the steps' clock: its scans
+    /// are placed on the learned path and make a radio map on the plan learned from the
+    /// run's map (`radiomap.geojson`, `radiomap.csv`, heatmaps and ε, as `footslam survey`
+    /// writes them). Repeat once per walk, in the order of the walks; a walk folder's
+    /// `wifi.csv` is found without it.
+    #[arg(long)]
+    wifi: Vec<PathBuf>,
+    /// Radio-map cell granularity with WiFi, metres (default 3).
+    #[arg(long)]
+    cell: Option<f64>,
     /// Building outline (GeoJSON Polygon, Feature or FeatureCollection of one), known to a
     /// few metres: crossing it becomes improbable (low Dirichlet prior `outline_alpha`).
     #[arg(long)]
@@ -157,6 +168,9 @@ struct RunSummary {
     prior_map_walks: u32,
     peak_memory_bytes: Option<u64>,
     origin: LocalFrame,
+    /// The radio map made from the walks' WiFi logs (`--wifi`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    radio: Option<RadioSummary>,
     version: &'static str,
 }
 
@@ -183,7 +197,18 @@ pub fn run(args: Args) -> Result<()> {
         config.heading.enabled = false;
     }
     config.validate()?;
-    let walks = read_walks(&args.steps, &args.gps, args.gps_t0, &bundled(DEFAULT_STEPS))?;
+    let walks = read_walks(
+        &args.steps,
+        &args.gps,
+        &args.wifi,
+        args.gps_t0,
+        &bundled(DEFAULT_STEPS),
+    )?;
+    let cells = CellConfig {
+        granularity: args.cell.unwrap_or(CellConfig::default().granularity),
+        ..CellConfig::default()
+    };
+    cells.validate()?;
     let prior_map = match &args.prior_map {
         Some(p) => {
             require_file(p, "prior map")?;
@@ -262,6 +287,25 @@ pub fn run(args: Args) -> Result<()> {
         write_walks_map_geojson(&folder.path("merged.geojson"), &merged, &frame, walks)?;
         write_learned_plan(&folder.path("merged_plan.geojson"), &merged, &frame)?;
     }
+    // The radio map: every walk's scans on the plan of everything the run learned.
+    let radio = if walks.iter().any(|w| w.wifi_path.is_some()) {
+        let mut maps: Vec<HexMapSnapshot> = runs.iter().map(|r| r.estimate.map.clone()).collect();
+        if let (Some(stored), Some(first)) = (&prior_map, runs.first()) {
+            maps.push(shift_map(&stored.map, first.estimate.prior_shift));
+        }
+        let all: Vec<_> = maps.iter().map(|m| (m, 1.0)).collect();
+        let estimates: Vec<_> = runs.iter().map(|r| &r.estimate).collect();
+        Some(learn_radio_map(
+            &folder,
+            &walks,
+            &estimates,
+            &merge_maps(&all)?,
+            &cells,
+            &frame,
+        )?)
+    } else {
+        None
+    };
     let (single, summaries) = if batch {
         (None, summaries)
     } else {
@@ -277,6 +321,7 @@ pub fn run(args: Args) -> Result<()> {
         prior_map_walks: prior_walks,
         peak_memory_bytes: peak_memory_bytes(),
         origin: frame,
+        radio,
         version: env!("CARGO_PKG_VERSION"),
     };
     // One walk: the configuration it ran with (start from its fixes included); a batch: the

@@ -1,6 +1,7 @@
 //! `footslam survey`: build a cell-based WiFi radio map from ordinary walks, tracking each
 //! walker on the known plan and adding its scans where it was (Woodman & Harle 2009).
 
+use super::radio_outputs::{held_out_quantiles, write_radio_map_files};
 use super::common::{
     Progress, output_dir, parse_origin, peak_memory_bytes, read_config, require_file,
 };
@@ -9,20 +10,13 @@ use footslam::dataset::csv_table::CsvTable;
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
 use footslam::dataset::{read_steps, read_wifi};
 use footslam::export::RunFolder;
-use footslam::export::plan_png::{
-    ColourBar, PlanCell, PlanMarker, PlanPicture, PlanPictureConfig, viridis_rgb, write_plan_png,
-};
-use footslam::export::radio_map_geojson::{
-    read_radio_map_geojson, write_radio_map_csv, write_radio_map_geojson,
-};
+use footslam::export::radio_map_geojson::read_radio_map_geojson;
 use footslam::filter::{
     Assignments, StartPose, TrackStep, Tracker, TrackerConfig, calibrate_map, placed_steps,
     survey_assignments, survey_walk,
 };
 use footslam::map::{CellConfig, CellMap, FloorTopology, RadioMap};
-use footslam::model::wifi_distance::Normalisation;
 use footslam::sensor::WifiScan;
-use geo::Centroid;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -30,10 +24,6 @@ use std::time::Instant;
 
 /// Granularities of the coverage table (the paper's Table 1), metres.
 const COVERAGE_GRANULARITIES: [f64; 5] = [1.0, 2.0, 3.0, 4.0, 5.0];
-/// Heatmap colours run from this RSSI (dark) to [`HEATMAP_TOP`] (bright), dBm.
-const HEATMAP_FLOOR: f64 = -96.0;
-/// The brightest heatmap colour, dBm.
-const HEATMAP_TOP: f64 = -30.0;
 
 /// Arguments of `footslam survey`.
 #[derive(Debug, clap::Args)]
@@ -101,7 +91,7 @@ impl Default for SurveyConfig {
         Self {
             tracker: TrackerConfig::default(),
             cells: CellConfig::default(),
-            epsilon_miss: 0.001,
+            epsilon_miss: footslam::filter::EPSILON_MISS,
         }
     }
 }
@@ -279,20 +269,10 @@ pub fn run(args: Args) -> Result<()> {
         config.tracker.rf.missing_rssi,
         config.epsilon_miss,
     );
-    let quantiles: BTreeMap<&'static str, [Option<f64>; 4]> = Normalisation::ALL
-        .into_iter()
-        .map(|norm| {
-            let mut d: Vec<f64> = held.iter().map(|h| h.ndist(norm)).collect();
-            d.sort_by(f64::total_cmp);
-            let q =
-                |q: f64| (!d.is_empty()).then(|| d[((d.len() - 1) as f64 * q).round() as usize]);
-            (norm.name(), [q(0.5), q(0.9), q(0.99), q(1.0)])
-        })
-        .collect();
+    let quantiles = held_out_quantiles(&held);
 
     let folder = RunFolder::create(&output_dir(args.out, "survey"))?;
-    write_radio_map_geojson(&folder.path("radiomap.geojson"), &map, &frame)?;
-    write_radio_map_csv(&folder.path("radiomap.csv"), &map)?;
+    write_radio_map_files(&folder, "", &plan, &map, &frame)?;
     let mut coverage = String::from("granularity_m,cells,coverage_percent,mean_scans_per_cell\n");
     for g in COVERAGE_GRANULARITIES {
         let (_, m, ..) = build(g)?;
@@ -305,61 +285,6 @@ pub fn run(args: Args) -> Result<()> {
         ));
     }
     folder.write("coverage.csv", coverage.as_bytes())?;
-    let bssids = map.access_points();
-    for (i, &bssid) in bssids.iter().enumerate() {
-        let heat: Vec<PlanCell> = map
-            .cells
-            .iter()
-            .filter_map(|c| {
-                let mean = c.radio.aps.get(bssid)?.mean()?;
-                let t = ((mean - HEATMAP_FLOOR) / (HEATMAP_TOP - HEATMAP_FLOOR)).clamp(0.0, 1.0);
-                let v = viridis_rgb(t);
-                Some(PlanCell {
-                    area: &c.area,
-                    level: c.level,
-                    colour: v,
-                })
-            })
-            .collect();
-        // The access point's place is unknown to the map: mark the cell that hears it
-        // strongest (with at least two readings where possible).
-        let strongest = map
-            .cells
-            .iter()
-            .filter_map(|c| Some((c, c.radio.aps.get(bssid)?)))
-            .filter_map(|(c, s)| Some((c, s.mean()?, s.n)))
-            .max_by(|a, b| (a.2 >= 2).cmp(&(b.2 >= 2)).then(a.1.total_cmp(&b.1)));
-        let markers = strongest
-            .and_then(|(c, mean, _)| {
-                let p = c.area.centroid()?;
-                Some(PlanMarker {
-                    x: p.x(),
-                    y: p.y(),
-                    level: c.level,
-                    label: format!("strongest: {mean:.0} dBm"),
-                })
-            })
-            .into_iter()
-            .collect();
-        let picture = PlanPicture {
-            plan: &plan,
-            title: Some(format!("{bssid}: mean RSSI per cell")),
-            paths: Vec::new(),
-            points: Vec::new(),
-            cells: heat,
-            markers,
-            colour_bar: Some(ColourBar {
-                low: format!("{HEATMAP_FLOOR} dBm"),
-                high: format!("{HEATMAP_TOP} dBm"),
-                colour: viridis_rgb,
-            }),
-        };
-        write_plan_png(
-            &folder.path(&format!("heatmap-{i:03}.png")),
-            &[picture],
-            &PlanPictureConfig::default(),
-        )?;
-    }
     folder.write_json("config.json", &config)?;
     let (share, mean) = map.coverage();
     let duration: f64 = walks
@@ -400,7 +325,7 @@ pub fn run(args: Args) -> Result<()> {
         epsilon: map.epsilon,
         epsilon_sqrt: map.epsilon_sqrt,
         ndist_leave_one_out_p50_p90_p99_max: quantiles,
-        access_points: bssids.len(),
+        access_points: map.access_points().len(),
         runtime_s: runtime,
         walk_duration_s: duration,
         speed_vs_real_time: duration / runtime.max(1e-9),

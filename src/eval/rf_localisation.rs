@@ -6,6 +6,7 @@ use super::tracking::{TrackingScore, score_tracking};
 use crate::error::Result;
 use crate::filter::{RfLocaliser, RfTracker, StartPose, TrackStep, Tracker, TrackerConfig};
 use crate::filter::{calibrate_map, placed_steps, survey_assignments, survey_walk};
+use crate::geometry::RigidTransform;
 use crate::map::TopologyConfig;
 use crate::map::{CellMap, FloorTopology, RadioMap};
 use crate::sensor::Step;
@@ -197,13 +198,41 @@ pub fn radio_map_rms(
     spacing: f64,
     min_readings: u32,
 ) -> (f64, usize) {
+    radio_map_rms_in(
+        map,
+        cells,
+        topology,
+        world,
+        topology,
+        None,
+        spacing,
+        min_readings,
+    )
+}
+
+/// [`radio_map_rms`] of a map in another frame — one cut from a learned plan
+/// (`map_topology`, the learned plan's), with the truth's `topology` giving the field's
+/// points — that `to_map` (e.g. the inverse of a track's rigid alignment) moves the truth's
+/// points into; the levels are the truth's.
+#[allow(clippy::too_many_arguments)]
+pub fn radio_map_rms_in(
+    map: &RadioMap,
+    cells: &CellMap,
+    map_topology: &FloorTopology,
+    world: &RadioWorld,
+    topology: &FloorTopology,
+    to_map: Option<&RigidTransform>,
+    spacing: f64,
+    min_readings: u32,
+) -> (f64, usize) {
     let field = expected_field(world, topology, spacing);
     let mut points = vec![0usize; map.cells.len()];
     let mut per_cell: Vec<Vec<f64>> = vec![vec![0.0; world.access_points().len()]; map.cells.len()];
     for (level, x, y, rssi) in &field {
-        let Some(c) = topology
-            .locate(*x, *y, Some(*level), None)
-            .and_then(|s| cells.cell_at(s, *x, *y))
+        let (x, y) = to_map.map_or((*x, *y), |t| t.apply((*x, *y)));
+        let Some(c) = map_topology
+            .locate(x, y, Some(*level), None)
+            .and_then(|s| cells.cell_at(s, x, y))
         else {
             continue;
         };

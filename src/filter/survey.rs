@@ -5,7 +5,8 @@
 
 use super::path_tree::SmoothedStep;
 use super::tracker::{TrackStep, Tracker};
-use crate::map::{CellMap, FloorTopology, RadioMap};
+use crate::error::{Error, Result};
+use crate::map::{CellConfig, CellMap, FloorPlan, FloorTopology, RadioMap, TopologyConfig};
 use crate::model::wifi_distance::{HeldOut, Normalisation, calibrate_epsilon, leave_one_out_ndist};
 use crate::sensor::WifiScan;
 
@@ -34,26 +35,65 @@ pub fn survey_assignments(
     let Some(first) = reports.iter().position(|r| r.localised) else {
         return Vec::new();
     };
+    let placed: Vec<PlacedStep> = reports[first..]
+        .iter()
+        .map(|r| PlacedStep {
+            t: r.t,
+            cell: r.estimate.and_then(|c| {
+                let surface = topology.locate(c.x, c.y, Some(c.level), Some(c.z))?;
+                cells.cell_at(surface, c.x, c.y)
+            }),
+        })
+        .collect();
+    assign_scans(&placed, scans)
+}
+
+/// A step whose place is known, and the radio-map cell it is in (`None`: no cell).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlacedStep {
+    /// Time of the step, seconds.
+    pub t: f64,
+    /// The cell of the step's position.
+    pub cell: Option<usize>,
+}
+
+/// The steps of a walk whose whole path is known — FootSLAM's most probable path, in its
+/// learned map's frame (`learn --wifi`) — each with the cell of `cells` it lies in:
+/// `path` holds `(t, x, y, level)` per step.
+pub fn path_steps(
+    cells: &CellMap,
+    topology: &FloorTopology,
+    path: impl IntoIterator<Item = (f64, f64, f64, i32)>,
+) -> Vec<PlacedStep> {
+    path.into_iter()
+        .map(|(t, x, y, level)| PlacedStep {
+            t,
+            cell: topology
+                .locate(x, y, Some(level), None)
+                .and_then(|s| cells.cell_at(s, x, y)),
+        })
+        .collect()
+}
+
+/// For each scan of `scans` (in time order) completed after the first step of `steps` —
+/// the walk's steps from the first one whose place is known — the cell of the first step
+/// at or after it: `(scan index, cell)`. Several scans between two steps: the most recent
+/// one counts; scans completed by the first step belong to the time before it, except the
+/// latest of them (the most recent scan at that update).
+pub fn assign_scans(steps: &[PlacedStep], scans: &[WifiScan]) -> Assignments {
+    let Some(first) = steps.first() else {
+        return Vec::new();
+    };
     let mut out = Vec::new();
-    // Scans completed by the first localised step belong to the time before localisation,
-    // except the latest of them (the most recent scan at that update).
-    let mut next = scans
-        .partition_point(|s| s.t <= reports[first].t)
-        .saturating_sub(1);
-    for r in &reports[first..] {
-        let cell = || {
-            let c = r.estimate?;
-            let surface = topology.locate(c.x, c.y, Some(c.level), Some(c.z))?;
-            cells.cell_at(surface, c.x, c.y)
-        };
+    let mut next = scans.partition_point(|s| s.t <= first.t).saturating_sub(1);
+    for step in steps {
         let mut latest = None;
-        while next < scans.len() && scans[next].t <= r.t {
+        while next < scans.len() && scans[next].t <= step.t {
             latest = Some(next);
             next += 1;
         }
-        // Several scans between two steps: the most recent one counts.
         if let Some(i) = latest {
-            out.push((i, cell()));
+            out.push((i, step.cell));
         }
     }
     out
@@ -86,6 +126,11 @@ pub fn placed_steps(tracker: &Tracker, reports: Vec<TrackStep>) -> Vec<TrackStep
     }
 }
 
+/// The share of surveyed scans allowed outside their own cell's region when calibrating a
+/// radio map's `ε` ([`calibrate_map`]'s `miss`; the paper's ε gave 0.00028 per step on its
+/// building).
+pub const EPSILON_MISS: f64 = 0.001;
+
 /// Adds to `map` each scan of `scans` completed after localisation, in the cell of the next
 /// step's estimate: `assignments` are the walk's [`survey_assignments`] over `map`'s cells.
 pub fn survey_walk(
@@ -104,6 +149,57 @@ pub fn survey_walk(
         }
     }
     counts
+}
+
+/// A radio map surveyed along known paths ([`survey_paths`]).
+#[derive(Debug, Clone)]
+pub struct PathSurvey {
+    /// The plan's rooms and cells.
+    pub cells: CellMap,
+    /// The radio map, `ε` calibrated.
+    pub map: RadioMap,
+    /// Per walk: scans added and left out.
+    pub counts: Vec<SurveyCounts>,
+    /// The held-out distances `ε` was chosen from.
+    pub held: Vec<HeldOut>,
+}
+
+/// The survey of walks whose paths are known — FootSLAM's most probable paths on the plan
+/// learned from their map (`learn --wifi`: no plan drawn by anyone, no tracker): every scan
+/// goes to the cell of `plan` of the first step at or after it, and `ε` is calibrated on the
+/// walks' own scans as [`calibrate_map`] does (`missing_rssi`, `miss`). `walks` holds per
+/// walk its `(t, x, y, level)` per step and its scans in time order. An error when the plan
+/// has no usable cell or no scan falls in a cell.
+pub fn survey_paths(
+    plan: &FloorPlan,
+    walks: &[(Vec<(f64, f64, f64, i32)>, &[WifiScan])],
+    cells: &CellConfig,
+    missing_rssi: f64,
+    miss: f64,
+) -> Result<PathSurvey> {
+    let topology = FloorTopology::build(plan, &TopologyConfig::default())?;
+    let cells = CellMap::build(plan, &topology, cells)?;
+    let mut map = RadioMap::empty(&cells);
+    let mut calibration: Vec<(Assignments, &[WifiScan])> = Vec::with_capacity(walks.len());
+    let mut counts = Vec::with_capacity(walks.len());
+    for (path, scans) in walks {
+        let placed = path_steps(&cells, &topology, path.iter().copied());
+        let assignments = assign_scans(&placed, scans);
+        counts.push(survey_walk(&mut map, &assignments, scans));
+        calibration.push((assignments, scans));
+    }
+    if counts.iter().all(|c| c.added == 0) {
+        return Err(Error::Input(
+            "no WiFi scan fell in a cell of the plan: nothing to make a radio map of".into(),
+        ));
+    }
+    let held = calibrate_map(&mut map, &calibration, missing_rssi, miss);
+    Ok(PathSurvey {
+        cells,
+        map,
+        counts,
+        held,
+    })
 }
 
 /// Sets `map.epsilon` and `map.epsilon_sqrt` to the region thresholds `ε` (the paper's

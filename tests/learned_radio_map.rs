@@ -1,0 +1,210 @@
+//! No floor plan needed (issue 14, part 2): a radio map from the walks alone. Three walks of
+//! a one-floor simulated building, each from its known start, learned by FootSLAM; their
+//! scans placed on the learned paths and cut by the plan learned from the merged map
+//! ([`survey_paths`], what `learn --wifi` runs). Its per-cell mean RSSI against the
+//! simulator's expected field, after the walks' rigid alignment, is within 1 dB (RMS) of a
+//! radio map surveyed on the true plan with the same walks (the tracker from the same known
+//! starts, `survey`'s way).
+
+use footslam::eval::rf_localisation::{radio_map_rms, radio_map_rms_in, survey_simulations};
+use footslam::filter::{EPSILON_MISS, FootSlam, FootSlamConfig, RfConfig, survey_paths};
+use footslam::geometry::{Pose2, RigidTransform};
+use footslam::map::{
+    CellConfig, CellMap, FloorTopology, PlanConfig, TopologyConfig, merge_maps, walkable_plan,
+};
+use footslam::sim::{TowerSimConfig, TowerSimulation, simulate_tower};
+
+/// Grid spacing of the expected field, metres.
+const SPACING: f64 = 0.5;
+/// Readings a (cell, access point) pair needs to be scored.
+const MIN_READINGS: u32 = 3;
+
+fn one_floor_walk(seed: u64) -> TowerSimulation {
+    let mut config = TowerSimConfig {
+        seed,
+        ..Default::default()
+    };
+    config.building.floors = 1;
+    simulate_tower(&config).expect("simulation")
+}
+
+#[test]
+#[allow(clippy::print_stderr)] // reports the figures with --nocapture
+fn a_radio_map_from_the_walks_alone_is_within_1_db_of_one_surveyed_on_the_true_plan() {
+    let sims: Vec<TowerSimulation> = [21u64, 22, 23].into_iter().map(one_floor_walk).collect();
+    // FootSLAM from each walk's known start (the crowdsourced case: each walk starts at a
+    // known point), so the three maps share one frame.
+    let estimates: Vec<_> = sims
+        .iter()
+        .enumerate()
+        .map(|(i, sim)| {
+            let config = FootSlamConfig {
+                particles: 5_000,
+                seed: 7 + i as u64,
+                start: Pose2::new(sim.start.x, sim.start.y, sim.start.heading),
+                ..Default::default()
+            };
+            let mut filter = FootSlam::new(config).expect("filter");
+            for step in sim.steps.steps() {
+                filter.update(step);
+            }
+            filter.estimate()
+        })
+        .collect();
+    let maps: Vec<_> = estimates.iter().map(|e| (&e.map, 1.0)).collect();
+    let merged = merge_maps(&maps).expect("merge");
+    let learned = walkable_plan(&merged, &PlanConfig::default()).expect("plan");
+    let paths: Vec<_> = sims
+        .iter()
+        .zip(&estimates)
+        .map(|(sim, e)| {
+            let path = sim
+                .steps
+                .steps()
+                .iter()
+                .zip(&e.path)
+                .map(|(s, p)| (s.t, p.x, p.y, 0))
+                .collect();
+            (path, sim.wifi.as_slice())
+        })
+        .collect();
+    let survey = survey_paths(
+        &learned.plan,
+        &paths,
+        &CellConfig::default(),
+        RfConfig::default().missing_rssi,
+        EPSILON_MISS,
+    )
+    .expect("survey on the learned plan");
+    let added: usize = survey.counts.iter().map(|c| c.added).sum();
+    let scans: usize = sims.iter().map(|s| s.wifi.len()).sum();
+    assert!(added * 10 >= scans * 9, "{added} of {scans} scans placed");
+    assert!(survey.map.epsilon.is_some(), "ε calibrated");
+
+    // The learned frame against the truth's: the rigid fit of every learned step position to
+    // its true one.
+    let (from, to): (Vec<_>, Vec<_>) = sims
+        .iter()
+        .zip(&estimates)
+        .flat_map(|(sim, e)| {
+            e.path
+                .iter()
+                .zip(&sim.truth.poses)
+                .map(|(p, t)| ((p.x, p.y), (t.x, t.y)))
+        })
+        .unzip();
+    let to_truth = RigidTransform::fit(&from, &to).expect("alignment");
+    let truth_topology =
+        FloorTopology::build(&sims[0].plan, &TopologyConfig::default()).expect("topology");
+    let learned_topology =
+        FloorTopology::build(&learned.plan, &TopologyConfig::default()).expect("topology");
+    let (learned_rms, learned_pairs) = radio_map_rms_in(
+        &survey.map,
+        &survey.cells,
+        &learned_topology,
+        &sims[0].radio,
+        &truth_topology,
+        Some(&to_truth.inverse()),
+        SPACING,
+        MIN_READINGS,
+    );
+
+    // The same walks surveyed on the true plan.
+    let cells = CellMap::build(&sims[0].plan, &truth_topology, &CellConfig::default())
+        .expect("cells");
+    let surveyed = survey_simulations(
+        &sims,
+        &truth_topology,
+        &cells,
+        &Default::default(),
+        RfConfig::default().missing_rssi,
+        EPSILON_MISS,
+    )
+    .expect("survey on the true plan");
+    let (true_rms, true_pairs) = radio_map_rms(
+        &surveyed,
+        &cells,
+        &truth_topology,
+        &sims[0].radio,
+        SPACING,
+        MIN_READINGS,
+    );
+    eprintln!(
+        "learned plan: {} cells, {added}/{scans} scans, RMS {learned_rms:.2} dB over \
+         {learned_pairs} pairs; true plan: {} cells, RMS {true_rms:.2} dB over {true_pairs} pairs",
+        survey.cells.cells().len(),
+        cells.cells().len()
+    );
+    assert!(learned_pairs >= 100 && true_pairs >= 100);
+    assert!(
+        learned_rms <= true_rms + 1.0,
+        "learned {learned_rms:.2} dB against surveyed {true_rms:.2} dB"
+    );
+}
+
+fn footslam() -> assert_cmd::Command {
+    assert_cmd::Command::cargo_bin("footslam").expect("binary")
+}
+
+#[test]
+fn learn_wifi_writes_a_radio_map_on_the_learned_plan_and_refuses_a_log_on_another_clock() {
+    use footslam::export::radio_map_geojson::read_radio_map_geojson;
+    use predicates::prelude::*;
+    let dir = tempfile::tempdir().expect("tempdir");
+    let sim = dir.path().join("sim");
+    footslam()
+        .args(["simulate", "--building", "tower", "--floors", "1"])
+        .args(["--minutes", "4", "--seed", "5", "--origin", "52.21,0.091"])
+        .arg("--out")
+        .arg(&sim)
+        .assert()
+        .success();
+    // The walk's folder: `wifi.csv` beside `steps.csv` is found without `--wifi`.
+    let out = dir.path().join("learn");
+    footslam()
+        .args(["learn", "--particles", "2000", "--cell", "2", "--steps"])
+        .arg(&sim)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success();
+    for file in ["radiomap.geojson", "radiomap.csv", "heatmap-000.png", "plan.geojson"] {
+        assert!(out.join(file).is_file(), "{file}");
+    }
+    let (map, _) = read_radio_map_geojson(&out.join("radiomap.geojson"), None).expect("map");
+    assert!(map.epsilon.is_some(), "ε calibrated");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("summary"))
+            .expect("json");
+    let radio = &summary["radio"];
+    assert_eq!(radio["granularity_m"], 2.0);
+    assert_eq!(radio["cells"].as_u64(), Some(map.cells.len() as u64));
+    let (read, added) = (&radio["scans"][0], &radio["scans_added"][0]);
+    assert!(added.as_u64() > Some(0) && added.as_u64() <= read.as_u64(), "{radio}");
+
+    // The same log on another clock places no scan: an error naming the file.
+    let shifted = dir.path().join("shifted.csv");
+    let text = std::fs::read_to_string(sim.join("wifi.csv")).expect("wifi");
+    let mut lines = text.lines();
+    let mut moved = format!("{}\n", lines.next().expect("header"));
+    for line in lines {
+        let (t, rest) = line.split_once(',').expect("row");
+        let t: f64 = t.parse().expect("time");
+        moved.push_str(&format!("{},{rest}\n", t + 1e5));
+    }
+    std::fs::write(&shifted, moved).expect("write");
+    footslam()
+        .args(["learn", "--particles", "500", "--steps"])
+        .arg(sim.join("steps.csv"))
+        .arg("--wifi")
+        .arg(&shifted)
+        .arg("--out")
+        .arg(dir.path().join("shifted-run"))
+        .assert()
+        .failure()
+        .stderr(
+            predicate::str::contains("shifted.csv")
+                .and(predicate::str::contains("no scan falls within")),
+        );
+    assert!(!dir.path().join("shifted-run").exists());
+}
