@@ -57,13 +57,16 @@ pub struct PlacedStep {
     pub cell: Option<usize>,
 }
 
+/// One step of a known path: `(t, x, y, level)`.
+pub type PathPoint = (f64, f64, f64, i32);
+
 /// The steps of a walk whose whole path is known — FootSLAM's most probable path, in its
 /// learned map's frame (`learn --wifi`) — each with the cell of `cells` it lies in:
 /// `path` holds `(t, x, y, level)` per step.
 pub fn path_steps(
     cells: &CellMap,
     topology: &FloorTopology,
-    path: impl IntoIterator<Item = (f64, f64, f64, i32)>,
+    path: impl IntoIterator<Item = PathPoint>,
 ) -> Vec<PlacedStep> {
     path.into_iter()
         .map(|(t, x, y, level)| PlacedStep {
@@ -172,7 +175,7 @@ pub struct PathSurvey {
 /// has no usable cell or no scan falls in a cell.
 pub fn survey_paths(
     plan: &FloorPlan,
-    walks: &[(Vec<(f64, f64, f64, i32)>, &[WifiScan])],
+    walks: &[(Vec<PathPoint>, &[WifiScan])],
     cells: &CellConfig,
     missing_rssi: f64,
     miss: f64,
