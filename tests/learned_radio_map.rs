@@ -5,19 +5,56 @@
 //! simulator's expected field, after the walks' rigid alignment, is within 1 dB (RMS) of a
 //! radio map surveyed on the true plan with the same walks (the tracker from the same known
 //! starts, `survey`'s way).
+//!
+//! Then new walkers, each from an unknown start, are tracked twice with their WiFi: on the
+//! true plan with the surveyed radio map, and on the learned plan (grown by the tracking
+//! margin, `track --plan-margin 0.25`) with the learned radio map. On the learned map each
+//! localises on the right place in at most twice the steps, and tracks with p95 ≤ 1.5 m in
+//! the learned map's frame (the truth moved into it by the rigid alignment).
 
 use footslam::eval::rf_localisation::{radio_map_rms, radio_map_rms_in, survey_simulations};
-use footslam::filter::{EPSILON_MISS, FootSlam, FootSlamConfig, RfConfig, survey_paths};
+use footslam::eval::tracking::{TrackingScore, score_tracking};
+use footslam::filter::{
+    EPSILON_MISS, FootSlam, FootSlamConfig, RfConfig, RfLocaliser, RfTracker, TrackerConfig,
+    survey_paths,
+};
 use footslam::geometry::{Pose2, RigidTransform};
 use footslam::map::{
-    CellConfig, CellMap, FloorTopology, PlanConfig, TopologyConfig, merge_maps, walkable_plan,
+    CellConfig, CellMap, FloorTopology, PlanConfig, RadioMap, TopologyConfig, grow_plan,
+    merge_maps, walkable_plan,
 };
-use footslam::sim::{TowerSimConfig, TowerSimulation, simulate_tower};
+use footslam::sim::{TowerSimConfig, TowerSimulation, TruePose, simulate_tower};
 
 /// Grid spacing of the expected field, metres.
 const SPACING: f64 = 0.5;
 /// Readings a (cell, access point) pair needs to be scored.
 const MIN_READINGS: u32 = 3;
+/// How far a learned plan is grown for tracking (`track --plan-margin`), metres.
+const TRACKING_MARGIN: f64 = 0.25;
+
+/// `walker` tracked from an unknown start on `topology` with `map` and its scans, scored
+/// against `truth` (its true poses, in the frame of the map).
+fn track_unknown_start(
+    walker: &TowerSimulation,
+    topology: &FloorTopology,
+    map: &RadioMap,
+    truth: &[TruePose],
+    seed: u64,
+) -> TrackingScore {
+    let rf = RfLocaliser::new(map, topology, &RfConfig::default()).expect("localiser");
+    let config = TrackerConfig {
+        seed,
+        ..Default::default()
+    };
+    let mut tracker = RfTracker::new(topology, &config, &rf, &walker.wifi).expect("tracker");
+    let reports: Vec<_> = walker
+        .steps
+        .steps()
+        .iter()
+        .map(|s| tracker.update(s).expect("step"))
+        .collect();
+    score_tracking(truth, &reports)
+}
 
 fn one_floor_walk(seed: u64) -> TowerSimulation {
     let mut config = TowerSimConfig {
@@ -30,7 +67,8 @@ fn one_floor_walk(seed: u64) -> TowerSimulation {
 
 #[test]
 #[allow(clippy::print_stderr)] // reports the figures with --nocapture
-fn a_radio_map_from_the_walks_alone_is_within_1_db_of_one_surveyed_on_the_true_plan() {
+fn a_radio_map_from_the_walks_alone_matches_one_surveyed_on_the_true_plan_and_localises_new_walkers()
+ {
     let sims: Vec<TowerSimulation> = [21u64, 22, 23].into_iter().map(one_floor_walk).collect();
     // FootSLAM from each walk's known start (the crowdsourced case: each walk starts at a
     // known point), so the three maps share one frame.
@@ -110,8 +148,8 @@ fn a_radio_map_from_the_walks_alone_is_within_1_db_of_one_surveyed_on_the_true_p
     );
 
     // The same walks surveyed on the true plan.
-    let cells = CellMap::build(&sims[0].plan, &truth_topology, &CellConfig::default())
-        .expect("cells");
+    let cells =
+        CellMap::build(&sims[0].plan, &truth_topology, &CellConfig::default()).expect("cells");
     let surveyed = survey_simulations(
         &sims,
         &truth_topology,
@@ -140,6 +178,56 @@ fn a_radio_map_from_the_walks_alone_is_within_1_db_of_one_surveyed_on_the_true_p
         learned_rms <= true_rms + 1.0,
         "learned {learned_rms:.2} dB against surveyed {true_rms:.2} dB"
     );
+
+    // New walkers from unknown starts: the true plan and surveyed map, against the learned
+    // plan (grown for tracking) and learned map.
+    let tracking_plan = grow_plan(&learned.plan, TRACKING_MARGIN).expect("grown plan");
+    let tracking_topology =
+        FloorTopology::build(&tracking_plan, &TopologyConfig::default()).expect("topology");
+    let from_truth = to_truth.inverse();
+    for seed in 30..36 {
+        let walker = one_floor_walk(seed);
+        let surveyed_run = track_unknown_start(
+            &walker,
+            &truth_topology,
+            &surveyed,
+            &walker.truth.poses,
+            seed,
+        );
+        let moved: Vec<TruePose> = walker
+            .truth
+            .poses
+            .iter()
+            .map(|p| {
+                let (x, y) = from_truth.apply((p.x, p.y));
+                TruePose { x, y, ..*p }
+            })
+            .collect();
+        let learned_run =
+            track_unknown_start(&walker, &tracking_topology, &survey.map, &moved, seed);
+        let steps = |r: &TrackingScore| r.steps_to_localise.expect("localised");
+        let p95 = |r: &TrackingScore| r.errors.as_ref().expect("errors").p95;
+        eprintln!(
+            "walker {seed}: true plan + surveyed map localised in {} steps, p95 {:.2} m; \
+             learned plan + map in {} steps, p95 {:.2} m",
+            steps(&surveyed_run),
+            p95(&surveyed_run),
+            steps(&learned_run),
+            p95(&learned_run)
+        );
+        assert!(learned_run.right_cluster, "walker {seed}: wrong first fix");
+        assert!(
+            steps(&learned_run) <= 2 * steps(&surveyed_run),
+            "walker {seed}: {} steps against {}",
+            steps(&learned_run),
+            steps(&surveyed_run)
+        );
+        assert!(
+            p95(&learned_run) <= 1.5,
+            "walker {seed}: p95 {}",
+            p95(&learned_run)
+        );
+    }
 }
 
 fn footslam() -> assert_cmd::Command {
@@ -168,7 +256,12 @@ fn learn_wifi_writes_a_radio_map_on_the_learned_plan_and_refuses_a_log_on_anothe
         .arg(&out)
         .assert()
         .success();
-    for file in ["radiomap.geojson", "radiomap.csv", "heatmap-000.png", "plan.geojson"] {
+    for file in [
+        "radiomap.geojson",
+        "radiomap.csv",
+        "heatmap-000.png",
+        "plan.geojson",
+    ] {
         assert!(out.join(file).is_file(), "{file}");
     }
     let (map, _) = read_radio_map_geojson(&out.join("radiomap.geojson"), None).expect("map");
@@ -180,7 +273,35 @@ fn learn_wifi_writes_a_radio_map_on_the_learned_plan_and_refuses_a_log_on_anothe
     assert_eq!(radio["granularity_m"], 2.0);
     assert_eq!(radio["cells"].as_u64(), Some(map.cells.len() as u64));
     let (read, added) = (&radio["scans"][0], &radio["scans_added"][0]);
-    assert!(added.as_u64() > Some(0) && added.as_u64() <= read.as_u64(), "{radio}");
+    assert!(
+        added.as_u64() > Some(0) && added.as_u64() <= read.as_u64(),
+        "{radio}"
+    );
+
+    // A walker tracked on the learned plan, grown for tracking, with the learned radio map
+    // (the same walk: the CLI end to end, not the figures).
+    footslam()
+        .args(["track", "--plan-margin", "0.25", "--plan"])
+        .arg(out.join("plan.geojson"))
+        .arg("--radiomap")
+        .arg(out.join("radiomap.geojson"))
+        .arg("--steps")
+        .arg(sim.join("steps.csv"))
+        .arg("--wifi")
+        .arg(sim.join("wifi.csv"))
+        .arg("--out")
+        .arg(dir.path().join("track"))
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("localised after"));
+    footslam()
+        .args(["track", "--plan-margin=-1", "--plan"])
+        .arg(out.join("plan.geojson"))
+        .arg("--out")
+        .arg(dir.path().join("bad-margin"))
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("--plan-margin"));
 
     // The same log on another clock places no scan: an error naming the file.
     let shifted = dir.path().join("shifted.csv");

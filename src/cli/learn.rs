@@ -19,7 +19,8 @@ use footslam::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
 use footslam::geometry::Hex;
 use footslam::geometry::{HexGrid, LocalFrame};
 use footslam::map::{
-    CellConfig, EdgePrior, HexMapSnapshot, PlanConfig, merge_maps, register_maps, shift_map, walkable_plan,
+    CellConfig, EdgePrior, HexMapSnapshot, PlanConfig, merge_maps, register_maps, shift_map,
+    walkable_plan,
 };
 use footslam::model::{GpsObservation, HeadingLikelihood};
 use rayon::prelude::*;

@@ -1,10 +1,10 @@
 //! `footslam survey`: build a cell-based WiFi radio map from ordinary walks, tracking each
 //! walker on the known plan and adding its scans where it was (Woodman & Harle 2009).
 
-use super::radio_outputs::{held_out_quantiles, write_radio_map_files};
 use super::common::{
     Progress, output_dir, parse_origin, peak_memory_bytes, read_config, require_file,
 };
+use super::radio_outputs::{held_out_quantiles, write_radio_map_files};
 use anyhow::{Context, Result, bail};
 use footslam::dataset::csv_table::CsvTable;
 use footslam::dataset::floor_plan_geojson::read_floor_plan;

@@ -17,7 +17,7 @@ use footslam::filter::{
     TrackerConfig,
 };
 use footslam::geometry::LocalFrame;
-use footslam::map::FloorTopology;
+use footslam::map::{FloorTopology, grow_plan};
 use footslam::model::wifi_distance::Normalisation;
 use serde::Serialize;
 use std::path::PathBuf;
@@ -40,6 +40,12 @@ pub struct Args {
     /// three-floor building.
     #[arg(long)]
     plan: Option<PathBuf>,
+    /// Grow the plan by this many metres before tracking (default 0). For a plan learned
+    /// from walks (`learn`'s `plan.geojson`), whose edges are where the walks stopped rather
+    /// than walls: 0.25 gives a new walker room past them. Only for plans with one height
+    /// per level.
+    #[arg(long)]
+    plan_margin: Option<f64>,
     /// Step trace CSV (`t,length,dheading[,dz][,heading]`). An absolute `heading` column
     /// (radians counter-clockwise from east, e.g. from a compass) weights the particles
     /// (see `--ignore-heading`). Default: the bundled walk.
@@ -298,6 +304,11 @@ pub fn run(args: Args) -> Result<()> {
     require_file(&plan_path, "floor plan")?;
     require_file(&steps_path, "step trace")?;
     let (plan, frame) = read_floor_plan(&plan_path, args.origin)?;
+    let plan = match args.plan_margin {
+        Some(margin) => grow_plan(&plan, margin)
+            .with_context(|| format!("{}: --plan-margin {margin}", plan_path.display()))?,
+        None => plan,
+    };
     let trace = read_steps(&steps_path)?;
     if let Some(late) = args.snapshots.iter().flatten().find(|&&k| k > trace.len()) {
         bail!(

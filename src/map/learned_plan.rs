@@ -191,6 +191,58 @@ pub fn walkable_plan(map: &HexMapSnapshot, config: &PlanConfig) -> Result<Learne
     })
 }
 
+/// `plan` grown by `margin` metres on every side, for tracking on a learned plan: its edges
+/// are where the walks that made it stopped, not walls, and a new walker steps past them
+/// (into the far side of a room the walks only crossed). The surfaces of each level are
+/// dissolved and buffered, named `walkable N` per level, largest first. Only for plans with
+/// one height per level (learned plans): an error names a level with several heights
+/// (stairs, a stepped floor), which growing would merge.
+pub fn grow_plan(plan: &FloorPlan, margin: f64) -> Result<FloorPlan> {
+    if !(margin.is_finite() && (0.0..=5.0).contains(&margin)) {
+        return Err(Error::Input(format!(
+            "a plan margin must be in [0, 5] m (got {margin})"
+        )));
+    }
+    if margin == 0.0 {
+        return Ok(plan.clone());
+    }
+    let mut levels: Vec<i32> = plan.polygons.iter().map(|p| p.level).collect();
+    levels.sort_unstable();
+    levels.dedup();
+    let mut grown = FloorPlan {
+        polygons: Vec::new(),
+        barriers: plan.barriers.clone(),
+    };
+    for level in levels {
+        let surfaces: Vec<&FloorPolygon> =
+            plan.polygons.iter().filter(|p| p.level == level).collect();
+        let z = surfaces[0].z;
+        if let Some(other) = surfaces.iter().find(|p| (p.z - z).abs() > 1e-6) {
+            return Err(Error::Input(format!(
+                "level {level} has surfaces at heights {z} m and {} m: only a plan with one \
+                 height per level (a learned plan) can be grown",
+                other.z
+            )));
+        }
+        let polygons: Vec<Polygon<f64>> = surfaces.iter().map(|p| p.polygon.clone()).collect();
+        let mut pieces: Vec<Polygon<f64>> = unary_union(&polygons).buffer(margin).0;
+        pieces.sort_by(|a, b| b.unsigned_area().total_cmp(&a.unsigned_area()));
+        grown.polygons.extend(
+            pieces
+                .into_iter()
+                .enumerate()
+                .map(|(i, polygon)| FloorPolygon {
+                    polygon,
+                    level,
+                    z,
+                    name: Some(format!("walkable {}", i + 1)),
+                    room: None,
+                }),
+        );
+    }
+    Ok(grown)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -284,5 +336,36 @@ mod tests {
             ..Default::default()
         };
         assert!(walkable_plan(&map, &bad).is_err());
+    }
+
+    #[test]
+    fn growing_a_plan_widens_each_level_and_refuses_a_level_of_several_heights() {
+        let map = map_of(
+            0.5,
+            |x, y| (0.0..10.0).contains(&x) && (0.0..2.0).contains(&y),
+            2,
+        );
+        let learned = walkable_plan(&map, &PlanConfig::default()).expect("plan");
+        let grown = grow_plan(&learned.plan, 0.25).expect("grown");
+        let area = |p: &FloorPlan| {
+            p.polygons
+                .iter()
+                .map(|f| f.polygon.unsigned_area())
+                .sum::<f64>()
+        };
+        let perimeter = 2.0 * (10.0 + 2.0);
+        let gained = area(&grown) - area(&learned.plan);
+        assert!(
+            (gained - 0.25 * perimeter).abs() < 0.3 * 0.25 * perimeter,
+            "{gained} m² gained"
+        );
+        assert_eq!(grow_plan(&learned.plan, 0.0).expect("same"), learned.plan);
+        assert!(grow_plan(&learned.plan, f64::NAN).is_err());
+        let mut stairs = learned.plan.clone();
+        let mut tread = stairs.polygons[0].clone();
+        tread.z = 0.2;
+        stairs.polygons.push(tread);
+        let e = grow_plan(&stairs, 0.25).expect_err("two heights");
+        assert!(e.to_string().contains("one height per level"), "{e}");
     }
 }

@@ -17,7 +17,7 @@ pub use edge_prior::EdgePrior;
 pub use floor_plan::{Barrier, FloorPlan, FloorPolygon};
 pub use floor_topology::{FloorTopology, Segment, SegmentKind, TopologyConfig};
 pub use hex_transitions::{HexCell, HexMapSnapshot, HexTransitionMap};
-pub use learned_plan::{LearnedPlan, PlanConfig, walkable_plan};
+pub use learned_plan::{LearnedPlan, PlanConfig, grow_plan, walkable_plan};
 pub use map_merge::{merge_maps, shift_map};
 pub use map_registration::register_maps;
 pub use occupancy_grid::{Occupancy, OccupancyConfig, OccupancyGrid};
