@@ -52,7 +52,15 @@ pub(super) fn draw_marker(pixmap: &mut Pixmap, (px, py): (f32, f32), label: &str
         stroke(pixmap, &cross, INK, 1.5, None);
     }
     let y = py - (GLYPH_HEIGHT * scale) as f32 / 2.0;
-    glyphs::draw_text(pixmap, label, (px + MARKER_RADIUS + 4.0, y), scale, INK);
+    // Right of the marker, or left of it where the label would leave the picture.
+    let w = glyphs::text_width(label, scale) as f32;
+    let right = px + MARKER_RADIUS + 4.0;
+    let x = if right + w > pixmap.width() as f32 {
+        (px - MARKER_RADIUS - 4.0 - w).max(0.0)
+    } else {
+        right
+    };
+    glyphs::draw_text(pixmap, label, (x, y), scale, INK);
 }
 
 /// Draws `bar` ending at `right` pixels from the left, its top at `top`: `low`, the bar,

@@ -73,6 +73,7 @@ pub struct PlanPoints<'a> {
 /// | `pixels_per_metre` | 8       | scale, lowered to fit `max_width_px`              |
 /// | `margin_px`        | 24      | border around and between panels                  |
 /// | `max_width_px`     | 4000    | widest picture                                    |
+/// | `min_width_px`     | 900     | narrowest picture: a small plan is drawn larger, so its titles and labels fit |
 /// | `text_scale`       | 2       | image pixels per font pixel                       |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -83,6 +84,8 @@ pub struct PlanPictureConfig {
     pub margin_px: u32,
     /// Widest picture, pixels.
     pub max_width_px: u32,
+    /// Narrowest picture, pixels (the scale is raised for a small plan).
+    pub min_width_px: u32,
     /// Font scale.
     pub text_scale: u32,
 }
@@ -93,6 +96,7 @@ impl Default for PlanPictureConfig {
             pixels_per_metre: 8.0,
             margin_px: 24,
             max_width_px: 4000,
+            min_width_px: 900,
             text_scale: 2,
         }
     }
@@ -128,6 +132,13 @@ impl PlanPictureConfig {
                 "picture.max_width_px",
                 self.max_width_px.to_string(),
                 "must be in 400..=16384",
+            );
+        }
+        if self.min_width_px > 16384 {
+            return bad(
+                "picture.min_width_px",
+                self.min_width_px.to_string(),
+                "must be at most 16384",
             );
         }
         if !(1..=4).contains(&self.text_scale) {
@@ -179,7 +190,12 @@ impl Layout {
         let margin = f64::from(config.margin_px);
         let n = levels.len() as f64;
         let fit = (f64::from(config.max_width_px) - margin * (n + 1.0)) / (n * w_m);
-        let scale = config.pixels_per_metre.min(fit).max(0.05);
+        // Raised for a narrow plan, but never taller than the widest picture allowed.
+        let least = ((f64::from(config.min_width_px.min(config.max_width_px))
+            - margin * (n + 1.0))
+            / (n * w_m))
+            .min(f64::from(config.max_width_px) / h_m);
+        let scale = config.pixels_per_metre.max(least).min(fit).max(0.05);
         let (panel_w, panel_h) = (w_m * scale, h_m * scale);
         let title_h = f64::from(2 * GLYPH_HEIGHT * config.text_scale) + 12.0;
         let width = (margin * (n + 1.0) + n * panel_w).ceil();
