@@ -506,7 +506,14 @@ mod tests {
                 colour: viridis_rgb,
             }),
         };
-        let config = PlanPictureConfig::default();
+        // The default widens a small plan to 900 px.
+        let wide = render_plan_png(&[picture.clone()], &PlanPictureConfig::default()).expect("png");
+        let wide = image::load_from_memory(&wide).expect("decodes");
+        assert_eq!(wide.width(), 900);
+        let config = PlanPictureConfig {
+            min_width_px: 0,
+            ..Default::default()
+        };
         let png = render_plan_png(&[picture.clone(), picture], &config).expect("png");
         let image = image::load_from_memory(&png).expect("decodes").to_rgb8();
         // Two 20 m panels at 8 px/m with 24 px margins: 3 × 24 + 2 × 160 = 392 wide.
