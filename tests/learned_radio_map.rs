@@ -16,7 +16,7 @@ use footslam::eval::rf_localisation::{radio_map_rms, radio_map_rms_in, survey_si
 use footslam::eval::tracking::{TrackingScore, score_tracking};
 use footslam::filter::{
     EPSILON_MISS, FootSlam, FootSlamConfig, RfConfig, RfLocaliser, RfTracker, TrackerConfig,
-    survey_paths,
+    path_points, survey_paths,
 };
 use footslam::geometry::{Pose2, RigidTransform};
 use footslam::map::{
@@ -96,14 +96,10 @@ fn a_radio_map_from_the_walks_alone_matches_one_surveyed_on_the_true_plan_and_lo
         .iter()
         .zip(&estimates)
         .map(|(sim, e)| {
-            let path = sim
-                .steps
-                .steps()
-                .iter()
-                .zip(&e.path)
-                .map(|(s, p)| (s.t, p.x, p.y, 0))
-                .collect();
-            (path, sim.wifi.as_slice())
+            (
+                path_points(sim.steps.steps(), &e.path, 0),
+                sim.wifi.as_slice(),
+            )
         })
         .collect();
     let survey = survey_paths(

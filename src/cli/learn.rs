@@ -281,28 +281,34 @@ pub fn run(args: Args) -> Result<()> {
             write_learned_plan(&plan, &merged, &frame)?;
         }
     }
-    if batch && prior_map.is_none() {
+    let batch_merged = if batch && prior_map.is_none() {
         let maps: Vec<_> = runs.iter().map(|r| (&r.estimate.map, 1.0)).collect();
         let walks = maps.len() as u32;
         let merged = merge_maps(&maps)?;
         write_walks_map_geojson(&folder.path("merged.geojson"), &merged, &frame, walks)?;
         write_learned_plan(&folder.path("merged_plan.geojson"), &merged, &frame)?;
-    }
-    // The radio map: every walk's scans on the plan of everything the run learned.
+        Some(merged)
+    } else {
+        None
+    };
+    // The radio map: every walk's scans on the plan of everything the run learned (the
+    // batch's merged map, or the walks' maps with the prior moved into the first's frame).
     let radio = if walks.iter().any(|w| w.wifi_path.is_some()) {
-        let mut maps: Vec<HexMapSnapshot> = runs.iter().map(|r| r.estimate.map.clone()).collect();
-        if let (Some(stored), Some(first)) = (&prior_map, runs.first()) {
-            maps.push(shift_map(&stored.map, first.estimate.prior_shift));
-        }
-        let all: Vec<_> = maps.iter().map(|m| (m, 1.0)).collect();
+        let run_map = match batch_merged {
+            Some(merged) => merged,
+            None => {
+                let prior = prior_map
+                    .as_ref()
+                    .zip(runs.first())
+                    .map(|(stored, first)| shift_map(&stored.map, first.estimate.prior_shift));
+                let mut all: Vec<_> = runs.iter().map(|r| (&r.estimate.map, 1.0)).collect();
+                all.extend(prior.as_ref().map(|p| (p, 1.0)));
+                merge_maps(&all)?
+            }
+        };
         let estimates: Vec<_> = runs.iter().map(|r| &r.estimate).collect();
         Some(learn_radio_map(
-            &folder,
-            &walks,
-            &estimates,
-            &merge_maps(&all)?,
-            &cells,
-            &frame,
+            &folder, &walks, &estimates, &run_map, &cells, &frame,
         )?)
     } else {
         None

@@ -7,7 +7,7 @@ use super::learn_inputs::Walk;
 use super::radio_outputs::{held_out_quantiles, write_radio_map_files};
 use anyhow::{Context, Result};
 use footslam::export::RunFolder;
-use footslam::filter::{EPSILON_MISS, FootSlamEstimate, RfConfig, survey_paths};
+use footslam::filter::{EPSILON_MISS, FootSlamEstimate, RfConfig, path_points, survey_paths};
 use footslam::geometry::LocalFrame;
 use footslam::map::{CellConfig, HexMapSnapshot, PlanConfig, walkable_plan};
 use serde::Serialize;
@@ -47,21 +47,14 @@ pub(super) fn learn_radio_map(
     cell_config: &CellConfig,
     frame: &LocalFrame,
 ) -> Result<RadioSummary> {
-    cell_config.validate()?;
-    let learned = walkable_plan(map, &PlanConfig::default())
+    let plan_config = PlanConfig::default();
+    let learned = walkable_plan(map, &plan_config)
         .context("the learned map is too small to cut radio-map cells from")?;
-    let level = learned.plan.polygons.first().map_or(0, |p| p.level);
     let paths: Vec<_> = walks
         .iter()
         .zip(estimates)
         .map(|(walk, estimate)| {
-            let path = walk
-                .trace
-                .steps()
-                .iter()
-                .zip(&estimate.path)
-                .map(|(s, p)| (s.t, p.x, p.y, level))
-                .collect();
+            let path = path_points(walk.trace.steps(), &estimate.path, plan_config.level);
             (path, walk.scans.as_slice())
         })
         .collect();

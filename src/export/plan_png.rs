@@ -507,7 +507,11 @@ mod tests {
             }),
         };
         // The default widens a small plan to 900 px.
-        let wide = render_plan_png(&[picture.clone()], &PlanPictureConfig::default()).expect("png");
+        let wide = render_plan_png(
+            std::slice::from_ref(&picture),
+            &PlanPictureConfig::default(),
+        )
+        .expect("png");
         let wide = image::load_from_memory(&wide).expect("decodes");
         assert_eq!(wide.width(), 900);
         let config = PlanPictureConfig {

@@ -31,8 +31,8 @@ pub use rf_assist::{EpsilonSource, RfConfig, RfLocaliser, RfMode};
 pub use rf_tracker::RfTracker;
 pub use survey::{
     Assignments, EPSILON_MISS, PathPoint, PathSurvey, PlacedStep, SurveyCounts, assign_scans,
-    calibrate_map, path_steps, placed_steps, survey_assignments, survey_paths, survey_walk,
-    whole_walk_reports,
+    calibrate_map, path_points, path_steps, placed_steps, survey_assignments, survey_paths,
+    survey_walk, whole_walk_reports,
 };
 pub use tracker::{StepMeasurement, TrackParticle, TrackStep, Tracker};
 pub use tracker_config::{StartPose, TrackerConfig};

@@ -6,9 +6,10 @@
 use super::path_tree::SmoothedStep;
 use super::tracker::{TrackStep, Tracker};
 use crate::error::{Error, Result};
+use crate::geometry::Pose2;
 use crate::map::{CellConfig, CellMap, FloorPlan, FloorTopology, RadioMap, TopologyConfig};
 use crate::model::wifi_distance::{HeldOut, Normalisation, calibrate_epsilon, leave_one_out_ndist};
-use crate::sensor::WifiScan;
+use crate::sensor::{Step, WifiScan};
 
 /// What one survey pass added.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -59,6 +60,16 @@ pub struct PlacedStep {
 
 /// One step of a known path: `(t, x, y, level)`.
 pub type PathPoint = (f64, f64, f64, i32);
+
+/// The [`PathPoint`]s of a walk whose poses after each step are known (FootSLAM's most
+/// probable path: one pose per step of `steps`), all on `level`.
+pub fn path_points(steps: &[Step], poses: &[Pose2], level: i32) -> Vec<PathPoint> {
+    steps
+        .iter()
+        .zip(poses)
+        .map(|(s, p)| (s.t, p.x, p.y, level))
+        .collect()
+}
 
 /// The steps of a walk whose whole path is known — FootSLAM's most probable path, in its
 /// learned map's frame (`learn --wifi`) — each with the cell of `cells` it lies in:
