@@ -69,6 +69,7 @@ fn plan(c: &mut Criterion) {
                 cells.push(footslam::map::HexCell {
                     hex,
                     counts: [1, 1, 0, 0, 0, 0],
+                    level: 0,
                 });
             }
         }
@@ -77,6 +78,7 @@ fn plan(c: &mut Criterion) {
         radius: 0.5,
         alpha: 0.8,
         cells,
+        levels: Vec::new(),
     };
     let config = footslam::map::PlanConfig::default();
     let mut g = c.benchmark_group("plan");

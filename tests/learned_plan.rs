@@ -61,10 +61,10 @@ fn three_office_walks_make_a_walkable_plan_and_a_ros_grid() {
     )
     .expect("errors");
     let transform = aligned.transform.expect("rigid");
-    let visited: Vec<(f64, f64)> = seeds
+    let visited: Vec<(f64, f64, i32)> = seeds
         .iter()
         .flat_map(|&s| truth_of(s))
-        .map(|p: TimedPoint| (p.x, p.y))
+        .map(|p: TimedPoint| (p.x, p.y, 0))
         .collect();
     let (truth_plan, _) =
         read_floor_plan(&d.join(format!("sim-{}/floor.geojson", seeds[0])), None).expect("plan");
@@ -74,6 +74,7 @@ fn three_office_walks_make_a_walkable_plan_and_a_ros_grid() {
             &learned,
             &truth_plan,
             &visited,
+            0,
             Some(&transform),
             VISITED,
             0.05,

@@ -179,6 +179,7 @@ pub fn write_truth_png(
         radius: 0.5,
         alpha: 0.8,
         cells: Vec::new(),
+        levels: Vec::new(),
     };
     let picture = MapPicture {
         map: &empty,

@@ -156,11 +156,18 @@ pub fn run(args: Args) -> Result<()> {
             require_file(plan, "floor plan")?;
             let (learned, _) = read_floor_plan(learned, args.origin)?;
             let (plan, _) = read_floor_plan(plan, args.origin)?;
-            let visited: Vec<(f64, f64)> = truth.iter().map(|p| (p.x, p.y)).collect();
+            // Levels from the truth's `level` column when it has one, compared by number:
+            // a learned plan numbers its floors from the walks' start levels (`learn
+            // --start X,Y,HEADING,LEVEL`; 0 when not given).
+            let visited: Vec<(f64, f64, i32)> = match read_track(&truth_path) {
+                Ok(t) => t.iter().map(|p| (p.x, p.y, p.level)).collect(),
+                Err(_) => truth.iter().map(|p| (p.x, p.y, 0)).collect(),
+            };
             Some(plan_overlap(
                 &learned,
                 &plan,
                 &visited,
+                0,
                 report.transform.as_ref(),
                 VISITED_REACH,
                 OVERLAP_RESOLUTION,

@@ -5,7 +5,7 @@ use super::common::{
     Progress, bundled, output_dir, parse_origin, path_length, peak_memory_bytes, read_config,
     require_file, walk_prefix,
 };
-use super::learn_inputs::{Walk, check_same_grid, read_walks};
+use super::learn_inputs::{Walk, WalkArgs, check_same_grid, read_walks};
 use super::learn_radio::{RadioSummary, learn_radio_map};
 use anyhow::{Context, Result};
 use footslam::dataset::floor_plan_geojson::write_floor_plan;
@@ -15,14 +15,14 @@ use footslam::export::map_geojson::{read_stored_map, write_map_geojson, write_wa
 use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::export::track_geojson::write_track_geojson;
 use footslam::filter::gps_start::heading_from_fixes;
-use footslam::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
+use footslam::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate, StartPose};
 use footslam::geometry::Hex;
 use footslam::geometry::{HexGrid, LocalFrame};
 use footslam::map::{
     CellConfig, EdgePrior, HexMapSnapshot, PlanConfig, merge_maps, register_maps, shift_map,
     walkable_plan,
 };
-use footslam::model::{GpsObservation, HeadingLikelihood};
+use footslam::model::{GpsObservation, HeadingLikelihood, find_levels};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::PathBuf;
@@ -100,6 +100,19 @@ pub struct Args {
     /// Worker threads (default: all cores). Results do not depend on it.
     #[arg(long)]
     threads: Option<usize>,
+    /// The walk's known start, `X,Y[,HEADING[,LEVEL]]` (metres in the local frame, radians
+    /// counter-clockwise from east, the floor level; `X,Y,,LEVEL` for a level without a
+    /// heading). Without HEADING the start heading is unknown (the step headings set it
+    /// where the trace has them). Repeat once per walk, in the order of the walks: walks
+    /// with known starts are learned into one frame. A given start wins over the first GPS
+    /// fix.
+    #[arg(long, value_parser = super::track::parse_start, allow_hyphen_values = true)]
+    start: Vec<StartPose>,
+    /// Walk manifest CSV instead of `--steps`/`--gps`/`--wifi`/`--start`: a header naming
+    /// `steps` and optionally `gps`, `wifi` and `start` (as `--start`, quoted), one walk a
+    /// row, paths relative to the manifest.
+    #[arg(long)]
+    walks: Option<PathBuf>,
     /// Ignore the step traces' absolute `heading` column (same as `heading.enabled = false`
     /// in the config): the walk then starts at `start.heading` (default 0, east).
     #[arg(long)]
@@ -126,6 +139,8 @@ struct Summary {
     best_particle_weight: f64,
     best_path_log_likelihood: f64,
     hexagons: usize,
+    /// Floors found from the steps' height changes (1 for a walk on one floor).
+    levels: usize,
     map_area_m2: f64,
     path_length_m: f64,
     gps_fixes: usize,
@@ -198,13 +213,15 @@ pub fn run(args: Args) -> Result<()> {
         config.heading.enabled = false;
     }
     config.validate()?;
-    let walks = read_walks(
-        &args.steps,
-        &args.gps,
-        &args.wifi,
-        args.gps_t0,
-        &bundled(DEFAULT_STEPS),
-    )?;
+    let walk_args = WalkArgs {
+        steps: &args.steps,
+        gps: &args.gps,
+        wifi: &args.wifi,
+        starts: &args.start,
+        manifest: args.walks.as_deref(),
+        gps_t0: args.gps_t0,
+    };
+    let walks = read_walks(&walk_args, &bundled(DEFAULT_STEPS))?;
     let cells = CellConfig {
         granularity: args.cell.unwrap_or(CellConfig::default().granularity),
         ..CellConfig::default()
@@ -393,17 +410,36 @@ fn learn_walk(
         .iter()
         .map(|f| GpsObservation::from_fix(f, frame))
         .collect();
-    let heading_given = config.start_heading_sigma != 0.0;
+    let mut heading_given = config.start_heading_sigma != 0.0;
     let mut start_source = match config.start_heading_sigma {
         s if s >= std::f64::consts::PI => "unknown",
         s if s != 0.0 => "config",
         _ => "assumed",
     };
+    // A given start (`--start`, a manifest's) places the walk; its heading, when given,
+    // is known; without one it is unknown unless GPS fixes or step headings tell.
+    if let Some(start) = walk.start {
+        config.start.x = start.x;
+        config.start.y = start.y;
+        if let Some(level) = start.level {
+            config.start_level = level;
+        }
+        if let Some(heading) = start.heading {
+            config.start.heading = heading;
+            heading_given = true;
+            start_source = "given";
+        } else if !heading_given {
+            config.start_heading_sigma = std::f64::consts::PI;
+            start_source = "unknown";
+        }
+    }
     if let Some(first) = gps.first() {
-        config.start.x = first.x;
-        config.start.y = first.y;
-        config.start_position_sigma = config.start_position_sigma.max(first.sigma);
-        if config.start_heading_sigma == 0.0 {
+        if walk.start.is_none() {
+            config.start.x = first.x;
+            config.start.y = first.y;
+            config.start_position_sigma = config.start_position_sigma.max(first.sigma);
+        }
+        if !heading_given {
             match heading_from_fixes(&gps, walk.trace.steps()) {
                 Some((heading, sigma)) => {
                     config.start.heading = heading;
@@ -428,12 +464,16 @@ fn learn_walk(
         start_source = "compass";
     }
     let started = Instant::now();
+    // The walk's floors from its height changes, known before the first step so that a
+    // stair climbed the first time already splits at half height.
+    let levels = find_levels(walk.trace.steps(), config.levels, config.start_level)?;
     // With GPS and a prior map: first learn the walk alone, in its own GPS frame, and
     // register its map onto the prior to find where the two frames meet.
     let mut prior_offset = Hex::ZERO;
     if let (Some(map), false) = (prior_map, gps.is_empty()) {
         let alone = Anchors {
             gps: gps.clone(),
+            levels: levels.clone(),
             ..Default::default()
         };
         let mut first = FootSlam::with_anchors(config.clone(), alone)?;
@@ -449,6 +489,7 @@ fn learn_walk(
         prior: Some(prior.clone()),
         prior_walks,
         prior_offset,
+        levels,
     };
     let mut filter = FootSlam::with_anchors(config.clone(), anchors)?;
     let mut bar = progress.then(|| Progress::new(walk.trace.len() as u64, "learning"));
@@ -496,25 +537,45 @@ fn write_walk(
     write_trajectory(&at("track.csv"), &track)?;
     let points: Vec<TrackPoint> = track
         .iter()
-        .map(|p| TrackPoint {
+        .zip(&estimate.levels)
+        .map(|(p, &level)| TrackPoint {
             t: p.t,
             x: p.x,
             y: p.y,
-            z: 0.0,
-            level: 0,
+            z: estimate.map.level_height(level),
+            level,
         })
         .collect();
     write_track_geojson(&at("track.geojson"), &points, frame)?;
     write_map_geojson(&at("map.geojson"), &estimate.map, frame)?;
     let walkable_plan_m2 = write_learned_plan(&at("plan.geojson"), &estimate.map, frame)?;
     let path: Vec<(f64, f64)> = track.iter().map(|p| (p.x, p.y)).collect();
-    let picture = MapPicture {
-        map: &estimate.map,
-        path: &path,
-        truth: None,
-        plan: None,
-    };
-    write_map_png(&at("map.png"), &picture, &PictureConfig::default())?;
+    // One picture per floor: `map.png` the first (level 0), `map-level+N.png` the others.
+    let mut levels = estimate.map.cell_levels();
+    if !levels.contains(&0) {
+        levels.insert(0, 0);
+    }
+    for level in levels {
+        let mut on_level = estimate.map.clone();
+        on_level.cells.retain(|c| c.level == level);
+        let walked: Vec<(f64, f64)> = path
+            .iter()
+            .zip(&estimate.levels)
+            .filter(|&(_, &l)| l == level)
+            .map(|(p, _)| *p)
+            .collect();
+        let picture = MapPicture {
+            map: &on_level,
+            path: &walked,
+            truth: None,
+            plan: None,
+        };
+        let name = match level {
+            0 => "map.png".to_string(),
+            l => format!("map-level{l:+}.png"),
+        };
+        write_map_png(&at(&name), &picture, &PictureConfig::default())?;
+    }
     if !prefix.is_empty() {
         folder.write_json(&format!("{prefix}config.json"), config)?;
     }
@@ -537,6 +598,7 @@ fn write_walk(
         best_particle_weight: estimate.weight,
         best_path_log_likelihood: estimate.path_log_likelihood,
         hexagons: estimate.map.cells.len(),
+        levels: estimate.map.levels.len().max(1),
         map_area_m2: estimate.map.cells.len() as f64 * HexGrid::new(config.hex_radius).cell_area(),
         path_length_m: path_length(path.iter().copied()),
         gps_fixes: walk.fixes.len(),

@@ -3,7 +3,9 @@
 
 use super::common::{SAME_ORIGIN, require_file};
 use anyhow::{Context, Result, bail};
+use footslam::dataset::csv_table::CsvTable;
 use footslam::dataset::{read_gps_csv, read_gpx, read_steps, read_wifi};
+use footslam::filter::StartPose;
 use footslam::geometry::LocalFrame;
 use footslam::sensor::{GpsFix, StepTrace, WifiScan};
 use std::path::{Path, PathBuf};
@@ -18,6 +20,8 @@ pub(super) struct Walk {
     pub(super) wifi_path: Option<PathBuf>,
     /// The walk's WiFi scans, in time order (empty without a log).
     pub(super) scans: Vec<WifiScan>,
+    /// The walk's known start (`--start`, a manifest's `start`).
+    pub(super) start: Option<StartPose>,
 }
 
 /// A walk found in the arguments: its step trace, GPS file and WiFi log.
@@ -25,26 +29,49 @@ struct Found {
     steps: PathBuf,
     gps: Option<PathBuf>,
     wifi: Option<PathBuf>,
+    start: Option<StartPose>,
 }
 
-/// The walks named by `--steps` (files or folders) with their GPS fixes (`gps`, one per
-/// walk in order, or none) and WiFi logs (`wifi`, likewise).
-pub(super) fn read_walks(
-    steps: &[PathBuf],
-    gps: &[PathBuf],
-    wifi: &[PathBuf],
-    gps_t0: Option<f64>,
-    default: &Path,
-) -> Result<Vec<Walk>> {
+/// Where `learn` finds its walks: the flags, one entry per walk in order.
+pub(super) struct WalkArgs<'a> {
+    /// `--steps`: files or folders.
+    pub(super) steps: &'a [PathBuf],
+    /// `--gps`, `--wifi`, `--start`: none, or one per walk.
+    pub(super) gps: &'a [PathBuf],
+    pub(super) wifi: &'a [PathBuf],
+    pub(super) starts: &'a [StartPose],
+    /// `--walks`: a manifest instead of the flags above.
+    pub(super) manifest: Option<&'a Path>,
+    /// `--gps-t0`.
+    pub(super) gps_t0: Option<f64>,
+}
+
+/// The walks named by `--steps` (files or folders) with their GPS fixes (`--gps`, one per
+/// walk in order, or none), WiFi logs and starts likewise; or those of a manifest.
+pub(super) fn read_walks(args: &WalkArgs, default: &Path) -> Result<Vec<Walk>> {
     let mut found: Vec<Found> = Vec::new();
-    if steps.is_empty() {
+    if let Some(manifest) = args.manifest {
+        if !(args.steps.is_empty()
+            && args.gps.is_empty()
+            && args.wifi.is_empty()
+            && args.starts.is_empty())
+        {
+            bail!(
+                "--walks {} names the walks and their files: give --steps, --gps, --wifi and \
+                 --start in it, not as flags",
+                manifest.display()
+            );
+        }
+        found = read_manifest(manifest)?;
+    } else if args.steps.is_empty() {
         found.push(Found {
             steps: default.to_path_buf(),
             gps: None,
             wifi: None,
+            start: None,
         });
     }
-    for path in steps {
+    for path in args.steps {
         if path.is_dir() {
             found.extend(walks_in_folder(path)?);
         } else {
@@ -53,29 +80,34 @@ pub(super) fn read_walks(
                 steps: path.clone(),
                 gps: None,
                 wifi: None,
+                start: None,
             });
         }
     }
-    let one_per_walk = |files: &[PathBuf], flag: &str| -> Result<()> {
-        if !files.is_empty() && files.len() != found.len() {
+    let one_per_walk = |given: usize, flag: &str| -> Result<()> {
+        if given != 0 && given != found.len() {
             bail!(
-                "{} {flag} files for {} walks: give one per walk, in the order of the walks",
-                files.len(),
+                "{given} {flag} for {} walks: give one per walk, in the order of the walks",
                 found.len()
             );
         }
         Ok(())
     };
-    one_per_walk(gps, "--gps")?;
-    one_per_walk(wifi, "--wifi")?;
-    for (walk, gps) in found.iter_mut().zip(gps) {
+    one_per_walk(args.gps.len(), "--gps files")?;
+    one_per_walk(args.wifi.len(), "--wifi files")?;
+    one_per_walk(args.starts.len(), "--start poses")?;
+    for (walk, gps) in found.iter_mut().zip(args.gps) {
         require_file(gps, "GPS file")?;
         walk.gps = Some(gps.clone());
     }
-    for (walk, wifi) in found.iter_mut().zip(wifi) {
+    for (walk, wifi) in found.iter_mut().zip(args.wifi) {
         require_file(wifi, "WiFi log")?;
         walk.wifi = Some(wifi.clone());
     }
+    for (walk, start) in found.iter_mut().zip(args.starts) {
+        walk.start = Some(*start);
+    }
+    let gps_t0 = args.gps_t0;
     found
         .into_iter()
         .map(|f| {
@@ -95,9 +127,61 @@ pub(super) fn read_walks(
                 fixes,
                 wifi_path: f.wifi,
                 scans,
+                start: f.start,
             })
         })
         .collect()
+}
+
+/// The walks of a manifest CSV: a header row naming `steps` and optionally `gps`, `wifi`
+/// and `start` (`X,Y[,HEADING[,LEVEL]]` as `--start` takes it, quoted; empty: unknown),
+/// one walk a row, paths relative to the manifest's folder. Errors name the file and line.
+fn read_manifest(path: &Path) -> Result<Vec<Found>> {
+    require_file(path, "walk manifest")?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let mut table = CsvTable::open(path)?;
+    let steps = table.column("steps")?;
+    let (gps, wifi, start) = (
+        table.optional_column("gps"),
+        table.optional_column("wifi"),
+        table.optional_column("start"),
+    );
+    let mut walks = Vec::new();
+    table.for_each_row(|row| {
+        let file = |c: Option<usize>| {
+            c.map(|c| row.text(c))
+                .filter(|t| !t.is_empty())
+                .map(|t| base.join(t))
+        };
+        let Some(steps) = file(Some(steps)) else {
+            return Err(row.error("expected a step trace in column `steps`"));
+        };
+        let start = match start.map(|c| row.text(c)).filter(|t| !t.is_empty()) {
+            Some(text) => Some(
+                super::track::parse_start(text).map_err(|e| row.error(format!("start: {e}")))?,
+            ),
+            None => None,
+        };
+        walks.push(Found {
+            steps,
+            gps: file(gps),
+            wifi: file(wifi),
+            start,
+        });
+        Ok(())
+    })?;
+    if walks.is_empty() {
+        bail!("{}: the walk manifest lists no walk", path.display());
+    }
+    for w in &walks {
+        require_file(&w.steps, "step trace")?;
+        for (f, what) in [(&w.gps, "GPS file"), (&w.wifi, "WiFi log")] {
+            if let Some(f) = f {
+                require_file(f, what)?;
+            }
+        }
+    }
+    Ok(walks)
 }
 
 /// `DIR/steps.csv`, or every `DIR/*/steps.csv` in name order, each with `gps.csv` or
@@ -111,7 +195,12 @@ fn walks_in_folder(dir: &Path) -> Result<Vec<Found>> {
                 .map(|n| d.join(n))
                 .find(|p| p.is_file());
             let wifi = Some(d.join("wifi.csv")).filter(|p| p.is_file());
-            Found { steps, gps, wifi }
+            Found {
+                steps,
+                gps,
+                wifi,
+                start: None,
+            }
         })
     };
     if let Some(w) = walk(dir) {

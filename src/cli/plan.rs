@@ -77,9 +77,25 @@ pub fn run(args: Args) -> Result<()> {
     require_file(&args.map, "map")?;
     let stored = read_stored_map(&args.map)?;
     let learned = walkable_plan(&stored.map, &config.plan)?;
-    let grid = OccupancyGrid::from_plan(&learned.plan, config.plan.level, &config.grid)?;
+    // One occupancy grid per floor: `map.pgm` for the plan's `level` (the walks' first
+    // floor) or, when the walks never stood on it, the lowest; `map-level+N.pgm` the others.
+    let mut levels: Vec<i32> = learned.plan.polygons.iter().map(|p| p.level).collect();
+    levels.sort_unstable();
+    levels.dedup();
+    let main = if levels.contains(&config.plan.level) {
+        config.plan.level
+    } else {
+        levels[0]
+    };
+    levels.retain(|&l| l != main);
+    levels.insert(0, main);
+    let grids = levels
+        .iter()
+        .map(|&l| OccupancyGrid::from_plan(&learned.plan, l, &config.grid).map(|g| (l, g)))
+        .collect::<footslam::Result<Vec<_>>>()?;
+    let grid = &grids[0].1;
     let folder = RunFolder::create(&output_dir(args.out, "plan"))?;
-    write_plan_files(&folder, "", &learned, &grid, &stored.frame)?;
+    write_plan_files(&folder, "", &learned, &grids, &stored.frame)?;
     folder.write_json("config.json", &config)?;
     let (free, occupied, unknown) = grid.counts();
     let summary = Summary {
@@ -117,17 +133,29 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// Writes `plan.geojson`, `map.pgm`, `map.yaml` and `plan.png` under `prefix`.
+/// Writes `plan.geojson`, `plan.png` and the occupancy grids under `prefix`: the first of
+/// `grids` as `map.pgm` and `map.yaml`, the others as `map-level+N.pgm` and `.yaml`.
 pub fn write_plan_files(
     folder: &RunFolder,
     prefix: &str,
     learned: &LearnedPlan,
-    grid: &OccupancyGrid,
+    grids: &[(i32, OccupancyGrid)],
     frame: &LocalFrame,
 ) -> Result<()> {
     let at = |name: &str| folder.path(&format!("{prefix}{name}"));
     write_floor_plan(&at("plan.geojson"), &learned.plan, frame)?;
-    write_ros_map(&at("map.pgm"), &at("map.yaml"), grid)?;
+    for (i, (level, grid)) in grids.iter().enumerate() {
+        let name = if i == 0 {
+            "map".to_string()
+        } else {
+            format!("map-level{level:+}")
+        };
+        write_ros_map(
+            &at(&format!("{name}.pgm")),
+            &at(&format!("{name}.yaml")),
+            grid,
+        )?;
+    }
     let picture = PlanPicture {
         plan: &learned.plan,
         title: Some(format!("learned plan, {:.0} m2", learned.area_m2)),

@@ -133,6 +133,7 @@ fn write_outputs<F: Serialize>(
         radius: 0.5,
         alpha: 0.8,
         cells: Vec::new(),
+        levels: Vec::new(),
     };
     write_map_png(
         &folder.path("steps.png"),

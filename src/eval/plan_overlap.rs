@@ -5,7 +5,8 @@
 //! Both are measured on a square grid (`resolution` metres): a square counts where its
 //! centre lies. "Visited space" is the true walkable area within `reach` metres of a true
 //! position of the walks — what the walks could reveal; rooms nobody entered are not held
-//! against the plan.
+//! against the plan. Plans of several floors are compared level by level (a learned level
+//! against the true level it stands for) and the areas summed.
 
 use crate::error::{Error, Result};
 use crate::geometry::RigidTransform;
@@ -26,13 +27,15 @@ pub struct PlanOverlap {
 }
 
 /// [`PlanOverlap`] of `learned` (moved into the truth's frame by `transform` when given, e.g.
-/// a track's rigid alignment) against `truth`, with `visited` the walks' true positions;
-/// levels are ignored (a one-level plan against a floor). An error when either area is
-/// empty or `resolution`/`reach` is not a positive finite number.
+/// a track's rigid alignment) against `truth`, with `visited` the walks' true positions
+/// `(x, y, level)`. Learned level `l` stands for true level `l + level_offset` (a learned
+/// plan's level 0 is the walks' first floor). An error when either area is empty or
+/// `resolution`/`reach` is not a positive finite number.
 pub fn plan_overlap(
     learned: &FloorPlan,
     truth: &FloorPlan,
-    visited: &[(f64, f64)],
+    visited: &[(f64, f64, i32)],
+    level_offset: i32,
     transform: Option<&RigidTransform>,
     reach: f64,
     resolution: f64,
@@ -45,15 +48,19 @@ pub fn plan_overlap(
     // The learned plan in the truth's frame: test squares of the truth's frame against the
     // learned polygons by the inverse transform.
     let inverse = transform.map(RigidTransform::inverse);
-    let in_learned = |x: f64, y: f64| {
+    let in_learned = |x: f64, y: f64, level: i32| {
         let (lx, ly) = inverse.as_ref().map_or((x, y), |t| t.apply((x, y)));
-        learned.is_walkable(lx, ly, None)
+        learned.is_walkable(lx, ly, Some(level - level_offset))
     };
+    let mut levels: Vec<i32> = truth.polygons.iter().map(|p| p.level).collect();
+    levels.extend(learned.polygons.iter().map(|p| p.level + level_offset));
+    levels.sort_unstable();
+    levels.dedup();
     // Squares within `reach` of a visited position.
     let cell = |v: f64| (v / resolution).floor() as i64;
     let k = (reach / resolution).ceil() as i64;
-    let mut near: HashSet<(i64, i64)> = HashSet::new();
-    for &(x, y) in visited {
+    let mut near: HashSet<(i32, i64, i64)> = HashSet::new();
+    for &(x, y, level) in visited {
         let (cx, cy) = (cell(x), cell(y));
         for i in -k..=k {
             for j in -k..=k {
@@ -62,7 +69,7 @@ pub fn plan_overlap(
                     (cy + j) as f64 * resolution + resolution / 2.0,
                 );
                 if (sx - x).hypot(sy - y) <= reach {
-                    near.insert((cx + i, cy + j));
+                    near.insert((level, cx + i, cy + j));
                 }
             }
         }
@@ -91,19 +98,21 @@ pub fn plan_overlap(
         return Err(Error::Input("plan overlap of empty plans".into()));
     }
     let (mut learned_n, mut hit_n, mut visited_n, mut covered_n) = (0u64, 0u64, 0u64, 0u64);
-    for cx in cell(lo.0)..=cell(hi.0) {
-        for cy in cell(lo.1)..=cell(hi.1) {
-            let (x, y) = (
-                cx as f64 * resolution + resolution / 2.0,
-                cy as f64 * resolution + resolution / 2.0,
-            );
-            let l = in_learned(x, y);
-            let t = truth.is_walkable(x, y, None);
-            learned_n += u64::from(l);
-            hit_n += u64::from(l && t);
-            if t && near.contains(&(cx, cy)) {
-                visited_n += 1;
-                covered_n += u64::from(l);
+    for &level in &levels {
+        for cx in cell(lo.0)..=cell(hi.0) {
+            for cy in cell(lo.1)..=cell(hi.1) {
+                let (x, y) = (
+                    cx as f64 * resolution + resolution / 2.0,
+                    cy as f64 * resolution + resolution / 2.0,
+                );
+                let l = in_learned(x, y, level);
+                let t = truth.is_walkable(x, y, Some(level));
+                learned_n += u64::from(l);
+                hit_n += u64::from(l && t);
+                if t && near.contains(&(level, cx, cy)) {
+                    visited_n += 1;
+                    covered_n += u64::from(l);
+                }
             }
         }
     }
@@ -146,8 +155,8 @@ mod tests {
         // 8 m and pokes 1 m out of its south side.
         let truth = plan(0.0, 0.0, 10.0, 2.0);
         let learned = plan(0.0, -1.0, 8.0, 2.0);
-        let walk: Vec<(f64, f64)> = (0..=100).map(|i| (0.1 * f64::from(i), 1.0)).collect();
-        let o = plan_overlap(&learned, &truth, &walk, None, 5.0, 0.05).expect("overlap");
+        let walk: Vec<(f64, f64, i32)> = (0..=100).map(|i| (0.1 * f64::from(i), 1.0, 0)).collect();
+        let o = plan_overlap(&learned, &truth, &walk, 0, None, 5.0, 0.05).expect("overlap");
         assert!((o.precision - 16.0 / 24.0).abs() < 0.01, "{o:?}");
         assert!((o.recall - 0.8).abs() < 0.01, "{o:?}");
         // Moved by a transform: the same learned plan 1 m west of its place, put back.
@@ -157,8 +166,30 @@ mod tests {
             tx: 1.0,
             ty: 0.0,
         };
-        let m = plan_overlap(&shifted, &truth, &walk, Some(&t), 5.0, 0.05).expect("overlap");
+        let m = plan_overlap(&shifted, &truth, &walk, 0, Some(&t), 5.0, 0.05).expect("overlap");
         assert!((m.precision - o.precision).abs() < 0.01 && (m.recall - o.recall).abs() < 0.01);
-        assert!(plan_overlap(&learned, &truth, &[], None, 5.0, 0.05).is_err());
+        assert!(plan_overlap(&learned, &truth, &[], 0, None, 5.0, 0.05).is_err());
+    }
+
+    #[test]
+    fn floors_are_compared_level_by_level() {
+        // Two floors of the same corridor in plan; the learned plan has the ground floor
+        // right and puts the upper floor 5 m east. Learned level 0 is true level 1 here.
+        let mut truth = plan(0.0, 0.0, 10.0, 2.0);
+        let mut upper = truth.polygons[0].clone();
+        upper.level = 2;
+        truth.polygons.push(upper);
+        truth.polygons[0].level = 1;
+        let mut learned = plan(0.0, 0.0, 10.0, 2.0);
+        let mut up = plan(5.0, 0.0, 15.0, 2.0).polygons[0].clone();
+        up.level = 1;
+        learned.polygons.push(up);
+        let walk: Vec<(f64, f64, i32)> = (0..=100)
+            .flat_map(|i| [(0.1 * f64::from(i), 1.0, 1), (0.1 * f64::from(i), 1.0, 2)])
+            .collect();
+        let o = plan_overlap(&learned, &truth, &walk, 1, None, 5.0, 0.05).expect("overlap");
+        // Ground floor: all right; upper: half of it right. Levels ignored would say 1.0.
+        assert!((o.precision - 0.75).abs() < 0.01, "{o:?}");
+        assert!((o.recall - 0.75).abs() < 0.01, "{o:?}");
     }
 }

@@ -66,12 +66,14 @@ mod tests {
         let cell = |x, y, n: u32| HexCell {
             hex: Hex { x, y },
             counts: [n, 0, 0, 0, 0, 0],
+            level: 0,
         };
         // Radius 0.5: centres (0, 0), (1.732, 0), (0.433, 0.75); visits 2, 4, 1.
         HexMapSnapshot {
             radius: 0.5,
             alpha: 1.0,
             cells: vec![cell(0, 0, 4), cell(2, 0, 8), cell(0, 1, 1)],
+            levels: Vec::new(),
         }
     }
 
@@ -95,6 +97,7 @@ mod tests {
             radius: 0.5,
             alpha: 1.0,
             cells: vec![],
+            levels: Vec::new(),
         };
         assert_eq!(walkable_fraction(&empty, &square_plan(), None), 0.0);
     }

@@ -12,6 +12,7 @@
 //! | `counts` | crossings `N_e` of each edge, both directions, in edge order (below)      |
 //! | `p`      | posterior-mean transition probabilities `(N_e + α) / (N + 6α)`, 4 decimals |
 //! | `visits` | passes through the hexagon, `⌈N / 2⌉` (each pass crosses two edges)       |
+//! | `level`  | the floor (0: the walk's first; one map per floor, read as 0 when absent)  |
 //!
 //! where `N = Σ_e N_e`. The edge order is that of [`HexGrid`]: 0 = E, 1 = NE, 2 = NW, 3 = W,
 //! 4 = SW, 5 = SE (outward normals 60° apart, counter-clockwise from east).
@@ -20,11 +21,12 @@
 //! [`read_map_geojson`] can restore the map exactly: `origin` (`{"lat", "lon"}` of the local
 //! frame), `hex_radius` (metres), `alpha` (the Dirichlet prior per edge), `edge_order`
 //! (`["E","NE","NW","W","SW","SE"]`) and `walks` (how many walks' counts the map holds: 1 for
-//! a learned map, the sum for a merge; read as 1 when absent).
+//! a learned map, the sum for a merge; read as 1 when absent) and, for maps of several
+//! floors, `levels` (`[{"level", "z"}]`, each floor's height in metres above the first).
 
 use crate::error::{Error, Result};
 use crate::geometry::{HexGrid, LocalFrame};
-use crate::map::{HexCell, HexMapSnapshot};
+use crate::map::{FloorLevel, HexCell, HexMapSnapshot};
 use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject, JsonValue};
 use hexx::Hex;
 use serde_json::json;
@@ -35,6 +37,9 @@ pub const EDGE_ORDER: [&str; 6] = ["E", "NE", "NW", "W", "SW", "SE"];
 
 /// Degrees are rounded to this many decimals (1e-8° is about 1.1 mm of latitude).
 const DEGREE_DECIMALS: i32 = 8;
+
+/// Level numbers a map file may hold, ±.
+const MAX_LEVEL: i64 = 1000;
 
 /// A polygon centre may lie this fraction of a radius from its hexagon's centre on reading.
 const CENTRE_TOLERANCE: f64 = 0.05;
@@ -65,6 +70,9 @@ pub fn walks_map_to_geojson(
     members.insert("alpha".into(), json!(map.alpha));
     members.insert("edge_order".into(), json!(EDGE_ORDER));
     members.insert("walks".into(), json!(walks));
+    if !map.levels.is_empty() {
+        members.insert("levels".into(), json!(map.levels));
+    }
     FeatureCollection {
         bbox: None,
         features,
@@ -134,18 +142,23 @@ fn read_map_and_members(path: &Path) -> Result<(HexMapSnapshot, LocalFrame, Json
             read_cell(&grid, &frame, feature).map_err(|m| whole(format!("feature {i}: {m}")))?;
         cells.push(cell);
     }
-    cells.sort_by_key(|c| (c.hex.x, c.hex.y));
-    if let Some(pair) = cells.windows(2).find(|w| w[0].hex == w[1].hex) {
+    cells.sort_by_key(|c| (c.level, c.hex.x, c.hex.y));
+    if let Some(pair) = cells
+        .windows(2)
+        .find(|w| (w[0].level, w[0].hex) == (w[1].level, w[1].hex))
+    {
         return Err(whole(format!(
-            "hexagon (q, r) = ({}, {}) appears twice",
-            pair[0].hex.x, pair[0].hex.y
+            "hexagon (q, r) = ({}, {}) of level {} appears twice",
+            pair[0].hex.x, pair[0].hex.y, pair[0].level
         )));
     }
+    let levels = read_levels(&members).map_err(whole)?;
     Ok((
         HexMapSnapshot {
             radius,
             alpha,
             cells,
+            levels,
         },
         frame,
         members,
@@ -193,6 +206,7 @@ fn cell_feature(grid: &HexGrid, frame: &LocalFrame, alpha: f64, cell: &HexCell) 
     properties.insert("counts".into(), json!(cell.counts));
     properties.insert("p".into(), json!(p));
     properties.insert("visits".into(), json!(visits(&cell.counts)));
+    properties.insert("level".into(), json!(cell.level));
     Feature {
         bbox: None,
         geometry: Some(Geometry::new(GeometryValue::new_polygon([ring]))),
@@ -266,10 +280,35 @@ fn read_cell(grid: &HexGrid, frame: &LocalFrame, feature: &Feature) -> Result<He
             .ok_or_else(|| format!("counts entry {value} is not a non-negative 32-bit integer"))?;
     }
     check_polygon(grid, frame, feature, hex)?;
+    let level = match feature.property("level") {
+        None | Some(JsonValue::Null) => 0,
+        Some(v) => v.as_i64().filter(|l| l.abs() <= MAX_LEVEL).ok_or_else(|| {
+            format!("level = {v}: must be an integer in [-{MAX_LEVEL}, {MAX_LEVEL}]")
+        })? as i32,
+    };
     Ok(HexCell {
         hex,
+        level,
         counts: parsed,
     })
+}
+
+/// The `levels` member: each floor's number and height (empty when absent).
+fn read_levels(members: &JsonObject) -> Result<Vec<FloorLevel>, String> {
+    let Some(value) = members.get("levels").filter(|v| !v.is_null()) else {
+        return Ok(Vec::new());
+    };
+    let levels: Vec<FloorLevel> = serde_json::from_value(value.clone())
+        .map_err(|e| format!("levels: {e} (an array of {{\"level\", \"z\"}})"))?;
+    for l in &levels {
+        if !(l.z.is_finite() && l.z.abs() <= 10_000.0 && i64::from(l.level).abs() <= MAX_LEVEL) {
+            return Err(format!(
+                "levels: level {} at z = {} m is out of range (|level| ≤ {MAX_LEVEL}, |z| ≤ 10 km)",
+                l.level, l.z
+            ));
+        }
+    }
+    Ok(levels)
 }
 
 /// The feature's polygon must be a closed ring whose centre lies on hexagon `hex`.
@@ -318,16 +357,20 @@ mod tests {
                 HexCell {
                     hex: Hex { x: -1, y: 2 },
                     counts: [0, 3, 0, 1, 0, 0],
+                    level: 0,
                 },
                 HexCell {
                     hex: Hex { x: 0, y: 0 },
                     counts: [4, 0, 0, 3, 0, 0],
+                    level: 0,
                 },
                 HexCell {
                     hex: Hex { x: 1, y: 0 },
                     counts: [0, 0, 0, 4, 0, 1],
+                    level: 0,
                 },
             ],
+            levels: Vec::new(),
         }
     }
 

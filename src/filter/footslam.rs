@@ -17,6 +17,10 @@
 //! learned map's orientation (x east, y north) and checks the heading drift; a rough building
 //! outline and maps of earlier walks become per-edge Dirichlet priors `α^e_h` in eq. (6)
 //! ([`EdgePrior`]), one read-only table shared by every particle.
+//!
+//! Floors (sec. 5, 2.5D): each step is on a level found from the steps' height changes
+//! ([`LevelTracker`], the same for every particle), and each level has its own hexagon map
+//! (stacked keys, [`level_key`]); a walk on one floor has level 0 only.
 
 pub use super::footslam_anchors::Anchors;
 use super::footslam_anchors::{GpsQueue, StepFix, log_gps_factor, sample_start};
@@ -26,8 +30,8 @@ use super::outline_fit::{OUTAGE, OutlineZone, fit_outline_shift, in_outage, unse
 use super::resample::{self, ResampleMethod};
 use crate::error::Result;
 use crate::geometry::{Hex, HexGrid, Pose2};
-use crate::map::{EdgePrior, HexMapSnapshot, HexTransitionMap};
-use crate::model::{GpsLikelihood, HeadingLikelihood, StepErrorState, StepMotion};
+use crate::map::{EdgePrior, HexMapSnapshot, HexTransitionMap, level_key};
+use crate::model::{GpsLikelihood, HeadingLikelihood, LevelTracker, StepErrorState, StepMotion};
 use crate::random::{filter_stream, stream};
 use crate::sensor::Step;
 use rand::RngExt;
@@ -58,6 +62,8 @@ pub struct FootSlamEstimate {
     pub path_log_likelihood: f64,
     /// Its pose after each step (one per step processed).
     pub path: Vec<Pose2>,
+    /// The level of each step of `path` (all 0 on one floor).
+    pub levels: Vec<i32>,
     /// Its map.
     pub map: HexMapSnapshot,
     /// How far path and map were moved: `κ·δ` towards a prior map's frame plus the
@@ -98,6 +104,10 @@ pub struct FootSlam {
     headings_used: usize,
     /// Time of the previous step.
     last_t: Option<f64>,
+    /// Floors from the steps' height changes.
+    level_tracker: LevelTracker,
+    /// The level of each step processed.
+    step_levels: Vec<i32>,
     /// The prior-map offset `δ`.
     offset: Hex,
     /// Share `κ` of the offset applied to the answer (see [`FootSlam::with_anchors`]).
@@ -202,7 +212,10 @@ impl FootSlam {
             fixes: anchors.gps,
             next: 0,
         });
+        let level_tracker = LevelTracker::new(config.levels, config.start_level, &anchors.levels)?;
         Ok(Self {
+            level_tracker,
+            step_levels: Vec::new(),
             grid,
             prior,
             gps,
@@ -310,6 +323,8 @@ impl FootSlam {
             }
         }
         self.steps.push((z.length, z.dheading));
+        let level = self.level_tracker.step(z);
+        self.step_levels.push(level);
         let k = self.steps.len() as u64;
         self.collect_step_fixes(z.t);
         let (seed, motion, grid) = (self.config.seed, self.motion, self.grid);
@@ -335,6 +350,7 @@ impl FootSlam {
                     alpha,
                     prior,
                     offset,
+                    level,
                 };
                 let mut log_factor =
                     log_map_factor(&grid, &mut p.map, edges, correct, p.pose, pose);
@@ -477,6 +493,10 @@ impl FootSlam {
         let mut map = self.particles[index]
             .map
             .snapshot(self.config.hex_radius, self.config.alpha);
+        let levels = self.level_tracker.levels();
+        if levels.len() > 1 || self.config.start_level != 0 {
+            map.levels = levels;
+        }
         for c in &mut map.cells {
             c.hex += shift;
         }
@@ -489,6 +509,7 @@ impl FootSlam {
             weight: self.weights.get(index).copied().unwrap_or(0.0),
             path_log_likelihood: self.particles[index].path_log_likelihood,
             path,
+            levels: self.step_levels.clone(),
             map,
             prior_offset: (dx, dy),
             prior_shift,
@@ -527,6 +548,8 @@ struct MapPrior<'a> {
     prior: Option<&'a EdgePrior>,
     /// Where the particles read the prior, relative to their own grid.
     offset: Hex,
+    /// The step's level: its map's keys are [`level_key`]`(level, h)`.
+    level: i32,
 }
 
 impl MapPrior<'_> {
@@ -554,8 +577,9 @@ fn log_map_factor(
 ) -> f64 {
     let mut log_factor = 0.0;
     grid.for_each_crossing((from.x, from.y), (to.x, to.y), |c| {
-        let (n_e, n_h) = map.record_crossing(c.from, c.edge); // step (e), counts before it
-        let (alpha_e, alpha_h) = prior.alpha_and_total(c.from, c.edge);
+        let h = level_key(prior.level, c.from);
+        let (n_e, n_h) = map.record_crossing(h, c.edge); // step (e), counts before it
+        let (alpha_e, alpha_h) = prior.alpha_and_total(h, c.edge);
         log_factor += ((f64::from(n_e) + alpha_e) / (f64::from(n_h) + alpha_h)).ln(); // eq. (6)
     });
     if correct && log_factor != 0.0 {

@@ -4,7 +4,7 @@
 
 use super::footslam_config::FootSlamConfig;
 use crate::geometry::{Hex, Pose2};
-use crate::map::EdgePrior;
+use crate::map::{EdgePrior, FloorLevel};
 use crate::model::{GpsLikelihood, GpsObservation};
 use rand::RngExt;
 use rand_distr::StandardNormal;
@@ -21,6 +21,10 @@ pub struct Anchors {
     /// `δ`: where the walk's grid meets the prior map's — a hexagon of this walk is read in
     /// the prior at itself plus `δ` (see [`super::FootSlam::with_anchors`]). Zero without GPS.
     pub prior_offset: Hex,
+    /// The walk's floors, when known beforehand ([`crate::model::find_levels`] on its
+    /// steps): every step goes to the nearest from the first. Empty: found as the steps
+    /// come.
+    pub levels: Vec<FloorLevel>,
 }
 
 /// GPS fixes waiting to be applied.

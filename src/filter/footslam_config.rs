@@ -3,7 +3,7 @@
 use super::resample::ResampleConfig;
 use crate::error::{Error, Result};
 use crate::geometry::Pose2;
-use crate::model::{GpsConfig, HeadingConfig, StepMotionConfig};
+use crate::model::{GpsConfig, HeadingConfig, LevelConfig, StepMotionConfig};
 use serde::{Deserialize, Serialize};
 
 /// FootSLAM's disturbance correlation length for compass readings, metres
@@ -32,6 +32,9 @@ pub struct FootSlamConfig {
     pub direction_correction: bool,
     /// The walk's start pose (x, y metres, heading radians). Default (0, 0, 0).
     pub start: Pose2,
+    /// The level of the walk's first floor: the walk's floors are numbered from it
+    /// ([`crate::model::floor_levels`]). Default 0.
+    pub start_level: i32,
     /// Spread (1σ per axis) of the start position about `start`, metres. Default 0 (the
     /// walk defines the frame); with GPS the first fix's accuracy.
     pub start_position_sigma: f64,
@@ -57,6 +60,9 @@ pub struct FootSlamConfig {
     /// readings tempered over a 3 m disturbance correlation length
     /// ([`FOOTSLAM_HEADING_CORRELATION`]).
     pub heading: HeadingConfig,
+    /// Floors from the steps' height changes: one hexagon map per floor
+    /// ([`crate::model::floor_levels`]). Default: see [`LevelConfig`].
+    pub levels: LevelConfig,
 }
 
 impl Default for FootSlamConfig {
@@ -68,6 +74,7 @@ impl Default for FootSlamConfig {
             alpha: 0.8,
             direction_correction: true,
             start: Pose2::default(),
+            start_level: 0,
             start_position_sigma: 0.0,
             start_heading_sigma: 0.0,
             outline_alpha: 0.05,
@@ -80,6 +87,7 @@ impl Default for FootSlamConfig {
                 correlation_length: FOOTSLAM_HEADING_CORRELATION,
                 ..HeadingConfig::default()
             },
+            levels: LevelConfig::default(),
         }
     }
 }
@@ -143,6 +151,9 @@ impl FootSlamConfig {
             .validate()
             .or_else(|(field, v, reason)| bad(field, v.to_string(), reason))?;
         self.heading
+            .validate()
+            .or_else(|(field, v, reason)| bad(field, v.to_string(), reason))?;
+        self.levels
             .validate()
             .or_else(|(field, v, reason)| bad(field, v.to_string(), reason))?;
         let t = self.resample.ess_threshold;

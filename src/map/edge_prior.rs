@@ -18,7 +18,7 @@
 //! Edges are shared by two hexagons, so every value is stored for both sides. Hexagons not
 //! in the table have `α` on every edge.
 
-use super::hex_transitions::HexMapSnapshot;
+use super::hex_transitions::{HexMapSnapshot, level_key};
 use crate::geometry::HexGrid;
 use geo::{Contains, Coord, Polygon};
 use hexx::Hex;
@@ -154,7 +154,8 @@ impl EdgePrior {
     }
 
     /// Adds `weight ×` the crossing counts of an earlier map (in the same grid) as
-    /// pseudo-counts. Returns the number of edges changed.
+    /// pseudo-counts, each level's at its stacked keys ([`level_key`]; an outline is on
+    /// level 0). Returns the number of edges changed.
     pub fn add_counts(&mut self, map: &HexMapSnapshot, weight: f64) -> usize {
         let mut changed = 0;
         for cell in &map.cells {
@@ -163,7 +164,8 @@ impl EdgePrior {
             for e in 0..3u8 {
                 let n = cell.counts[usize::from(e)];
                 if n > 0 && weight > 0.0 {
-                    self.update_edge(cell.hex, e, |a| a + weight * f64::from(n));
+                    let key = level_key(cell.level, cell.hex);
+                    self.update_edge(key, e, |a| a + weight * f64::from(n));
                     changed += 1;
                 }
             }
@@ -196,12 +198,15 @@ mod tests {
                 HexCell {
                     hex: Hex::new(0, 0),
                     counts: [4, 0, 0, 0, 0, 0],
+                    level: 0,
                 },
                 HexCell {
                     hex: Hex::new(1, 0),
                     counts: [0, 0, 0, 4, 0, 0],
+                    level: 0,
                 },
             ],
+            levels: Vec::new(),
         };
         assert_eq!(p.add_counts(&map, 0.5), 1);
         // α + 0.5 · 4 = 2.8 on edge E of (0,0) and edge W of (1,0); totals 4.0 + 2.8.

@@ -21,6 +21,16 @@ pub struct FloorPolygon {
     pub room: Option<String>,
 }
 
+/// A level of a building as learned from walks: its number and floor height, metres above
+/// the walk's start floor ([`crate::model::floor_levels`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FloorLevel {
+    /// Level number: 0 is the walk's first floor, 1 the next one up, −1 the one below.
+    pub level: i32,
+    /// Floor height, metres, relative to the first floor.
+    pub z: f64,
+}
+
 /// An extra wall (a handrail, a glass wall, a wall missing from the polygons) that blocks
 /// walkers on every surface of its level.
 #[derive(Debug, Clone, PartialEq)]

@@ -14,11 +14,31 @@
 //! one reference-count increment; a write copies only the nodes on the path to the leaf
 //! that are still shared ([`Arc::make_mut`]), as GMapping shares map patches between
 //! particles. The tree grows upwards as the walk leaves its extent, so no size is fixed.
+//!
+//! **Levels.** A walk over several floors has one map per floor (the paper's 2.5D remark,
+//! sec. 5), stacked in one key space: hexagon `(q, r)` of level `l` is stored at
+//! `(q, r + l · LEVEL_STRIDE)` ([`level_key`]). Level 0 is stored as before; each level spans
+//! ±2¹⁹ hexagon rows (±390 km at 0.5 m), far beyond any building.
 
+use super::floor_plan::FloorLevel;
 use crate::geometry::HexGrid;
 use hexx::Hex;
 use rustc_hash::FxHashMap;
 use std::sync::Arc;
+
+/// Rows of the axial grid between two stacked levels (see the module documentation).
+pub const LEVEL_STRIDE: i32 = 1 << 20;
+
+/// The stacked key of hexagon `h` on `level`: one key space for every level's map.
+pub fn level_key(level: i32, h: Hex) -> Hex {
+    Hex::new(h.x, h.y.wrapping_add(level.wrapping_mul(LEVEL_STRIDE)))
+}
+
+/// The level and in-level hexagon of a stacked key ([`level_key`]'s inverse).
+pub fn split_level_key(key: Hex) -> (i32, Hex) {
+    let level = (key.y + LEVEL_STRIDE / 2).div_euclid(LEVEL_STRIDE);
+    (level, Hex::new(key.x, key.y - level * LEVEL_STRIDE))
+}
 
 /// Per-hexagon counters: crossings of owned edges 0, 1, 2 and the total over all six.
 type Counters = [u16; 4];
@@ -39,8 +59,10 @@ enum Node {
 /// One hexagon of a learned map, as exported.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HexCell {
-    /// Axial coordinates.
+    /// Axial coordinates within its level.
     pub hex: Hex,
+    /// The level (0 for one-floor maps; see [`FloorLevel`]).
+    pub level: i32,
     /// Crossings of each edge (edge order of [`crate::geometry::HexGrid`]: 0 = E, 1 = NE,
     /// 2 = NW, 3 = W, 4 = SW, 5 = SE), counted in both directions.
     pub counts: [u32; 6],
@@ -61,8 +83,29 @@ pub struct HexMapSnapshot {
     pub radius: f64,
     /// Dirichlet prior per edge.
     pub alpha: f64,
-    /// Visited hexagons, sorted by (q, r).
+    /// Visited hexagons, sorted by (level, q, r).
     pub cells: Vec<HexCell>,
+    /// Heights of the levels the cells use, by number; empty for a one-floor map (level 0
+    /// at height 0).
+    pub levels: Vec<FloorLevel>,
+}
+
+impl HexMapSnapshot {
+    /// The floor height of `level`, metres (0 when the map does not say).
+    pub fn level_height(&self, level: i32) -> f64 {
+        self.levels
+            .iter()
+            .find(|l| l.level == level)
+            .map_or(0.0, |l| l.z)
+    }
+
+    /// The distinct levels of the cells, ascending.
+    pub fn cell_levels(&self) -> Vec<i32> {
+        let mut levels: Vec<i32> = self.cells.iter().map(|c| c.level).collect();
+        levels.sort_unstable();
+        levels.dedup();
+        levels
+    }
 }
 
 /// A particle's transition map: shared, copy-on-write edge-crossing counts.
@@ -246,7 +289,8 @@ impl HexTransitionMap {
         }
     }
 
-    /// Every hexagon with at least one crossing, sorted by (q, r), with its six counts.
+    /// Every hexagon with at least one crossing, sorted by (level, q, r), with its six
+    /// counts (levels decoded from the stacked keys; `levels` left empty for the caller).
     pub fn snapshot(&self, radius: f64, alpha: f64) -> HexMapSnapshot {
         let mut stored: FxHashMap<Hex, Counters> = FxHashMap::default();
         if let Some(root) = &self.root {
@@ -287,14 +331,16 @@ impl HexTransitionMap {
                         u32::from(get(HexGrid::neighbour(h, e as u8))[e - 3])
                     }
                 });
-                HexCell { hex: h, counts }
+                let (level, hex) = split_level_key(h);
+                HexCell { hex, level, counts }
             })
             .collect();
-        cells.sort_by_key(|c| (c.hex.x, c.hex.y));
+        cells.sort_by_key(|c| (c.level, c.hex.x, c.hex.y));
         HexMapSnapshot {
             radius,
             alpha,
             cells,
+            levels: Vec::new(),
         }
     }
 

@@ -9,7 +9,8 @@
 //! happened to skip — are filled; pieces smaller than `min_area` (one or two stray
 //! hexagons, a step that jumped) are dropped; and each polygon is simplified with
 //! Visvalingam–Whyatt preserving topology, so the hexagons' zigzag becomes a wall without
-//! two rings ever crossing. FootSLAM's map is 2D (one level): the plan has one level,
+//! two rings ever crossing. A map of several floors (FootSLAM's stacked per-level maps)
+//! gives one plan level per floor, at the floor's height; a one-floor map gives one level,
 //! `level` at height `z`.
 
 use super::floor_plan::{FloorPlan, FloorPolygon};
@@ -28,8 +29,8 @@ use serde::{Deserialize, Serialize};
 /// | `hole_area`  | 4 m²    | holes smaller than this are filled                         |
 /// | `min_area`   | 2 m²    | walkable pieces smaller than this are dropped              |
 /// | `simplify`   | 1.5     | Visvalingam–Whyatt tolerance, in hexagon notches (below)   |
-/// | `level`      | 0       | the plan's level                                           |
-/// | `z`          | 0 m     | the level's floor height                                   |
+/// | `level`      | 0       | the plan level of the map's level 0 (the walk's first floor) |
+/// | `z`          | 0 m     | that level's floor height (other floors: plus their height) |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PlanConfig {
@@ -48,9 +49,11 @@ pub struct PlanConfig {
     /// successive corners of a hexagon, `(√3/4)·r²`: 0.11 m² for 0.5 m hexagons). 0 keeps
     /// every corner. Default 1.5: the zigzag goes, real corners stay.
     pub simplify: f64,
-    /// The plan's level. Default 0.
+    /// The plan level of the map's level 0 (the walk's first floor); the map's level `l`
+    /// becomes plan level `level + l`. Default 0.
     pub level: i32,
-    /// The level's floor height, metres. Default 0.
+    /// The floor height of the map's level 0, metres; the map's other levels are at this
+    /// plus their height. Default 0.
     pub z: f64,
 }
 
@@ -91,7 +94,7 @@ impl PlanConfig {
 /// A walkable plan and how it was made.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LearnedPlan {
-    /// The plan: one polygon per walkable piece, on one level.
+    /// The plan: one polygon per walkable piece, per level.
     pub plan: FloorPlan,
     /// Hexagons with at least `min_visits` passes.
     pub hexagons: usize,
@@ -105,22 +108,17 @@ pub struct LearnedPlan {
     pub area_m2: f64,
 }
 
-/// The walkable plan of `map` (see the module documentation); an error when no hexagon
-/// passes `min_visits` or nothing of the area survives `min_area`.
+/// The walkable plan of `map` (see the module documentation), one plan level per level of
+/// the map (`config.level` plus the map's level, at `config.z` plus its height); an error
+/// when no hexagon passes `min_visits` or nothing of the area survives `min_area`.
 pub fn walkable_plan(map: &HexMapSnapshot, config: &PlanConfig) -> Result<LearnedPlan> {
     config.validate()?;
-    let grid = HexGrid::new(map.radius);
-    let hexagons: Vec<Polygon<f64>> = map
+    let walkable = map
         .cells
         .iter()
         .filter(|c| c.visits() >= config.min_visits)
-        .map(|c| {
-            let mut ring: Vec<(f64, f64)> = grid.corners(c.hex).to_vec();
-            ring.push(ring[0]);
-            Polygon::new(LineString::from(ring), vec![])
-        })
-        .collect();
-    if hexagons.is_empty() {
+        .count();
+    if walkable == 0 {
         return Err(Error::Input(format!(
             "no hexagon of the map has {} or more visits ({} hexagons, at most {} visits): \
              lower --min-visits",
@@ -129,11 +127,72 @@ pub fn walkable_plan(map: &HexMapSnapshot, config: &PlanConfig) -> Result<Learne
             map.cells.iter().map(|c| c.visits()).max().unwrap_or(0)
         )));
     }
+    let (mut holes_filled, mut pieces_dropped) = (0, 0);
+    let mut surfaces = Vec::new();
+    for level in map.cell_levels() {
+        let pieces = level_pieces(map, level, config, &mut holes_filled, &mut pieces_dropped);
+        let (number, z) = (config.level + level, config.z + map.level_height(level));
+        surfaces.extend(
+            pieces
+                .into_iter()
+                .enumerate()
+                .map(|(i, polygon)| FloorPolygon {
+                    polygon,
+                    level: number,
+                    z,
+                    name: Some(format!("walkable {}", i + 1)),
+                    room: None,
+                }),
+        );
+    }
+    if surfaces.is_empty() {
+        return Err(Error::Input(format!(
+            "every walkable piece of the map is smaller than {} m²: lower plan.min_area",
+            config.min_area
+        )));
+    }
+    let area_m2 = surfaces.iter().map(|s| s.polygon.unsigned_area()).sum();
+    Ok(LearnedPlan {
+        plan: FloorPlan {
+            polygons: surfaces,
+            barriers: Vec::new(),
+        },
+        hexagons: walkable,
+        hexagons_left_out: map.cells.len() - walkable,
+        holes_filled,
+        pieces_dropped,
+        area_m2,
+    })
+}
+
+/// The walkable pieces of one level of `map`, largest first (so that a level's first
+/// polygon is its main floor), counting the holes filled and pieces dropped.
+fn level_pieces(
+    map: &HexMapSnapshot,
+    level: i32,
+    config: &PlanConfig,
+    holes_filled: &mut usize,
+    pieces_dropped: &mut usize,
+) -> Vec<Polygon<f64>> {
+    let grid = HexGrid::new(map.radius);
+    let hexagons: Vec<Polygon<f64>> = map
+        .cells
+        .iter()
+        .filter(|c| c.level == level && c.visits() >= config.min_visits)
+        .map(|c| {
+            let mut ring: Vec<(f64, f64)> = grid.corners(c.hex).to_vec();
+            ring.push(ring[0]);
+            Polygon::new(LineString::from(ring), vec![])
+        })
+        .collect();
+    if hexagons.is_empty() {
+        return Vec::new();
+    }
     let mut union: MultiPolygon<f64> = unary_union(&hexagons);
     if config.grow > 0.0 {
         union = union.buffer(config.grow);
     }
-    let (mut holes_filled, mut pieces_dropped) = (0, 0);
+    let notch = 3f64.sqrt() / 4.0 * map.radius * map.radius;
     let mut polygons = Vec::new();
     for piece in union {
         let (exterior, interiors) = piece.into_inner();
@@ -141,54 +200,23 @@ pub fn walkable_plan(map: &HexMapSnapshot, config: &PlanConfig) -> Result<Learne
             .into_iter()
             .filter(|hole| {
                 let small = Polygon::new(hole.clone(), vec![]).unsigned_area() < config.hole_area;
-                holes_filled += usize::from(small);
+                *holes_filled += usize::from(small);
                 !small
             })
             .collect();
         let filled = Polygon::new(exterior, kept);
         if filled.unsigned_area() < config.min_area {
-            pieces_dropped += 1;
+            *pieces_dropped += 1;
             continue;
         }
-        let notch = 3f64.sqrt() / 4.0 * map.radius * map.radius;
-        let simple = if config.simplify > 0.0 {
+        polygons.push(if config.simplify > 0.0 {
             filled.simplify_vw_preserve(config.simplify * notch)
         } else {
             filled
-        };
-        polygons.push(simple);
+        });
     }
-    if polygons.is_empty() {
-        return Err(Error::Input(format!(
-            "every walkable piece of the map is smaller than {} m²: lower plan.min_area",
-            config.min_area
-        )));
-    }
-    // Largest piece first, so the plan's first polygon is the building's main floor.
     polygons.sort_by(|a, b| b.unsigned_area().total_cmp(&a.unsigned_area()));
-    let area_m2 = polygons.iter().map(Area::unsigned_area).sum();
-    let plan = FloorPlan {
-        polygons: polygons
-            .into_iter()
-            .enumerate()
-            .map(|(i, polygon)| FloorPolygon {
-                polygon,
-                level: config.level,
-                z: config.z,
-                name: Some(format!("walkable {}", i + 1)),
-                room: None,
-            })
-            .collect(),
-        barriers: Vec::new(),
-    };
-    Ok(LearnedPlan {
-        plan,
-        hexagons: hexagons.len(),
-        hexagons_left_out: map.cells.len() - hexagons.len(),
-        holes_filled,
-        pieces_dropped,
-        area_m2,
-    })
+    polygons
 }
 
 /// `plan` grown by `margin` metres on every side, for tracking on a learned plan: its edges
@@ -262,6 +290,7 @@ mod tests {
                     cells.push(HexCell {
                         hex,
                         counts: [visits, visits, 0, 0, 0, 0],
+                        level: 0,
                     });
                 }
             }
@@ -270,6 +299,7 @@ mod tests {
             radius,
             alpha: 0.8,
             cells,
+            levels: Vec::new(),
         }
     }
 

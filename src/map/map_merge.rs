@@ -7,6 +7,7 @@
 //! scaled by its weight: the counts are sufficient statistics of the Dirichlet-multinomial
 //! map, so the sum is the map all the walks would have learned together.
 
+use super::floor_plan::FloorLevel;
 use super::hex_transitions::{HexCell, HexMapSnapshot};
 use crate::error::{Error, Result};
 use hexx::Hex;
@@ -17,12 +18,18 @@ const RADIUS_TOLERANCE: f64 = 1e-9;
 
 /// The weighted sum of `maps` (each `(map, weight)`, weights finite and ≥ 0), counts rounded
 /// to the nearest integer. All maps must have the same hexagon radius; the result has the
-/// first map's `α`. Hexagons whose counts round to zero are left out.
+/// first map's `α`. Hexagons whose counts round to zero are left out. Levels meet by number
+/// (walks that start on different floors say so with their start level); a level's height
+/// is the weighted mean of the maps' heights for it, each map's heights first moved onto
+/// those of the maps before it by their mean difference on the levels they share (each
+/// walk measures heights from its own first floor).
 pub fn merge_maps(maps: &[(&HexMapSnapshot, f64)]) -> Result<HexMapSnapshot> {
     let (first, _) = maps
         .first()
         .ok_or_else(|| Error::Input("no maps to merge".into()))?;
-    let mut sums: BTreeMap<(i32, i32), [f64; 6]> = BTreeMap::new();
+    let mut sums: BTreeMap<(i32, i32, i32), [f64; 6]> = BTreeMap::new();
+    // Per level: Σ weight·z and Σ weight over the maps that give its height.
+    let mut heights: BTreeMap<i32, (f64, f64)> = BTreeMap::new();
     for (i, &(map, weight)) in maps.iter().enumerate() {
         if (map.radius - first.radius).abs() > RADIUS_TOLERANCE {
             return Err(Error::Input(format!(
@@ -38,8 +45,32 @@ pub fn merge_maps(maps: &[(&HexMapSnapshot, f64)]) -> Result<HexMapSnapshot> {
                 i + 1
             )));
         }
+        // Heights are relative to each walk's first floor: move this map's onto the
+        // heights so far by the mean difference on the levels they share.
+        let shared: Vec<f64> = map
+            .levels
+            .iter()
+            .filter_map(|l| {
+                heights
+                    .get(&l.level)
+                    .filter(|h| h.1 > 0.0)
+                    .map(|h| h.0 / h.1 - l.z)
+            })
+            .collect();
+        let lift = if shared.is_empty() {
+            0.0
+        } else {
+            shared.iter().sum::<f64>() / shared.len() as f64
+        };
+        for l in &map.levels {
+            let h = heights.entry(l.level).or_insert((0.0, 0.0));
+            let w = weight.max(1e-12);
+            *h = (h.0 + w * (l.z + lift), h.1 + w);
+        }
         for cell in &map.cells {
-            let sum = sums.entry((cell.hex.x, cell.hex.y)).or_insert([0.0; 6]);
+            let sum = sums
+                .entry((cell.level, cell.hex.x, cell.hex.y))
+                .or_insert([0.0; 6]);
             for (s, &n) in sum.iter_mut().zip(&cell.counts) {
                 *s += weight * f64::from(n);
             }
@@ -47,8 +78,9 @@ pub fn merge_maps(maps: &[(&HexMapSnapshot, f64)]) -> Result<HexMapSnapshot> {
     }
     let cells = sums
         .into_iter()
-        .map(|((q, r), sum)| HexCell {
+        .map(|((level, q, r), sum)| HexCell {
             hex: Hex::new(q, r),
+            level,
             counts: sum.map(|s| s.round().min(f64::from(u32::MAX)) as u32),
         })
         .filter(|c| c.counts.iter().any(|&n| n > 0))
@@ -57,24 +89,28 @@ pub fn merge_maps(maps: &[(&HexMapSnapshot, f64)]) -> Result<HexMapSnapshot> {
         radius: first.radius,
         alpha: first.alpha,
         cells,
+        levels: heights
+            .into_iter()
+            .map(|(level, (zw, w))| FloorLevel { level, z: zw / w })
+            .collect(),
     })
 }
 
-/// `map` moved by the grid vector `by` (every hexagon's axial coordinates plus `by`).
+/// `map` moved by the grid vector `by` (every hexagon's axial coordinates plus `by`, on
+/// every level).
 pub fn shift_map(map: &HexMapSnapshot, by: Hex) -> HexMapSnapshot {
     let mut cells: Vec<HexCell> = map
         .cells
         .iter()
         .map(|c| HexCell {
             hex: c.hex + by,
-            counts: c.counts,
+            ..c.clone()
         })
         .collect();
-    cells.sort_by_key(|c| (c.hex.x, c.hex.y));
+    cells.sort_by_key(|c| (c.level, c.hex.x, c.hex.y));
     HexMapSnapshot {
-        radius: map.radius,
-        alpha: map.alpha,
         cells,
+        ..map.clone()
     }
 }
 
@@ -91,8 +127,10 @@ mod tests {
                 .map(|&((q, r), counts)| HexCell {
                     hex: Hex::new(q, r),
                     counts,
+                    level: 0,
                 })
                 .collect(),
+            levels: Vec::new(),
         }
     }
 
@@ -110,6 +148,32 @@ mod tests {
         assert!(half.cells.is_empty());
         let double = merge_maps(&[(&a, 0.5)]).expect("merge");
         assert_eq!(double.cells[0].counts, [1, 0, 0, 1, 0, 0]);
+    }
+
+    #[test]
+    fn levels_merge_by_number_with_heights_made_relative_to_the_first_map() {
+        let mut a = map(&[((0, 0), [2, 0, 0, 0, 0, 0])]);
+        a.levels = vec![
+            FloorLevel { level: 0, z: 0.0 },
+            FloorLevel { level: 1, z: 3.2 },
+        ];
+        // A walk that started on level 1: its heights from there.
+        let mut b = map(&[((0, 0), [1, 0, 0, 0, 0, 0])]);
+        b.cells[0].level = 2;
+        b.levels = vec![
+            FloorLevel { level: 1, z: 0.0 },
+            FloorLevel { level: 2, z: 3.0 },
+        ];
+        let m = merge_maps(&[(&a, 1.0), (&b, 1.0)]).expect("merge");
+        assert_eq!(m.cells.len(), 2);
+        assert_eq!((m.cells[0].level, m.cells[1].level), (0, 2));
+        let z: Vec<f64> = m.levels.iter().map(|l| l.z).collect();
+        assert_eq!(z.len(), 3);
+        assert!(
+            (z[0] - 0.0).abs() < 1e-9 && (z[1] - 3.2).abs() < 1e-9,
+            "{z:?}"
+        );
+        assert!((z[2] - 6.2).abs() < 1e-9, "{z:?}");
     }
 
     #[test]

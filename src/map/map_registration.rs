@@ -9,7 +9,7 @@
 //! every few metres along a corridor), but only the true shift lines up every corridor,
 //! door and room at once. Ties go to the smaller shift.
 
-use super::hex_transitions::HexMapSnapshot;
+use super::hex_transitions::{HexMapSnapshot, level_key};
 use crate::geometry::HexGrid;
 use hexx::Hex;
 use rayon::prelude::*;
@@ -17,14 +17,18 @@ use rustc_hash::FxHashMap;
 
 /// The grid shift `s` that best registers `map` onto `reference` (a hexagon `h` of `map`
 /// lies on `h + s` of `reference`), within `max_shift` metres, and the counts shared there.
+/// Levels meet by number; the shift is the same on every level.
 pub fn register_maps(
     map: &HexMapSnapshot,
     reference: &HexMapSnapshot,
     max_shift: f64,
 ) -> (Hex, u64) {
     let grid = HexGrid::new(map.radius);
-    let cells: FxHashMap<Hex, [u32; 6]> =
-        reference.cells.iter().map(|c| (c.hex, c.counts)).collect();
+    let cells: FxHashMap<Hex, [u32; 6]> = reference
+        .cells
+        .iter()
+        .map(|c| (level_key(c.level, c.hex), c.counts))
+        .collect();
     // Every grid vector whose centre lies within max_shift of the origin.
     let reach = (max_shift / grid.radius()).ceil() as i32 + 1;
     let mut shifts: Vec<(Hex, f64)> = Vec::new();
@@ -48,13 +52,15 @@ pub fn register_maps(
             map.cells
                 .iter()
                 .map(|c| {
-                    cells.get(&(c.hex + s)).map_or(0, |other| {
-                        c.counts
-                            .iter()
-                            .zip(other)
-                            .map(|(&a, &b)| u64::from(a.min(b)))
-                            .sum::<u64>()
-                    })
+                    cells
+                        .get(&(level_key(c.level, c.hex) + s))
+                        .map_or(0, |other| {
+                            c.counts
+                                .iter()
+                                .zip(other)
+                                .map(|(&a, &b)| u64::from(a.min(b)))
+                                .sum::<u64>()
+                        })
                 })
                 .sum()
         })

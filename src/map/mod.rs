@@ -14,9 +14,11 @@ pub mod radio_map;
 
 pub use cell_raster::{CellField, CellRaster};
 pub use edge_prior::EdgePrior;
-pub use floor_plan::{Barrier, FloorPlan, FloorPolygon};
+pub use floor_plan::{Barrier, FloorLevel, FloorPlan, FloorPolygon};
 pub use floor_topology::{FloorTopology, Segment, SegmentKind, TopologyConfig};
-pub use hex_transitions::{HexCell, HexMapSnapshot, HexTransitionMap};
+pub use hex_transitions::{
+    HexCell, HexMapSnapshot, HexTransitionMap, LEVEL_STRIDE, level_key, split_level_key,
+};
 pub use learned_plan::{LearnedPlan, PlanConfig, grow_plan, walkable_plan};
 pub use map_merge::{merge_maps, shift_map};
 pub use map_registration::register_maps;

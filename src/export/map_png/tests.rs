@@ -10,6 +10,7 @@ fn empty_map() -> HexMapSnapshot {
         radius: 0.5,
         alpha: 0.8,
         cells: Vec::new(),
+        levels: Vec::new(),
     }
 }
 
@@ -28,12 +29,14 @@ fn map_of(path: &[(f64, f64)], radius: f64) -> HexMapSnapshot {
         .map(|((x, y), counts)| HexCell {
             hex: Hex { x, y },
             counts,
+            level: 0,
         })
         .collect();
     HexMapSnapshot {
         radius,
         alpha: 0.8,
         cells,
+        levels: Vec::new(),
     }
 }
 

@@ -179,6 +179,7 @@ fn revisiting_particles_gain_weight() {
         alpha: 0.8,
         prior: None,
         offset: Hex::ZERO,
+        level: 0,
     };
     let a = Pose2::new(0.0, 0.0, 0.0);
     let b = Pose2::new(0.866, 0.0, 0.0);
@@ -261,4 +262,70 @@ fn compass_headings_pick_the_start_heading_and_count() {
     let error = (end.heading - heading - rotation).sin().asin().abs();
     assert!(error < 10f64.to_radians(), "{}°", error.to_degrees());
     assert_eq!(run(false).headings_used(), 0);
+}
+
+#[test]
+fn each_floor_has_its_own_map() {
+    // Two laps of the square on the ground floor, a straight flight of 10 treads up 3 m,
+    // then two laps of the same square (in plan) on the floor above: the same hexagons in
+    // plan, counted on two levels.
+    let mut steps = square_walk(2);
+    let mut t = steps.last().expect("steps").t;
+    for _ in 0..10 {
+        t += 0.5;
+        steps.push(Step {
+            t,
+            length: 0.3,
+            dheading: 0.0,
+            dz: 0.3,
+            heading: None,
+        });
+    }
+    for mut s in square_walk(2) {
+        s.t += t + 0.5;
+        steps.push(s);
+    }
+    let mut f = FootSlam::new(FootSlamConfig {
+        particles: 200,
+        seed: 3,
+        ..Default::default()
+    })
+    .expect("valid");
+    for s in &steps {
+        f.update(s);
+    }
+    let e = f.estimate();
+    assert_eq!(e.levels.len(), steps.len());
+    assert_eq!(e.levels[..80], [0; 80]);
+    assert_eq!(*e.levels.last().expect("steps"), 1);
+    assert_eq!(e.map.cell_levels(), vec![0, 1]);
+    assert!(
+        (e.map.level_height(1) - 3.0).abs() < 0.1,
+        "{:?}",
+        e.map.levels
+    );
+    let on = |l: i32| e.map.cells.iter().filter(|c| c.level == l).count();
+    // Each floor holds the square's hexagons (about 40 each), not their sum.
+    assert!(
+        (20..80).contains(&on(0)) && (20..80).contains(&on(1)),
+        "{} {}",
+        on(0),
+        on(1)
+    );
+    // Without levels the two squares pile onto one plane.
+    let mut flat = FootSlam::new(FootSlamConfig {
+        particles: 200,
+        seed: 3,
+        levels: crate::model::LevelConfig {
+            enabled: false,
+            ..Default::default()
+        },
+        ..Default::default()
+    })
+    .expect("valid");
+    for s in &steps {
+        flat.update(s);
+    }
+    assert_eq!(flat.estimate().map.cell_levels(), vec![0]);
+    assert!(flat.estimate().map.levels.is_empty());
 }
