@@ -5,13 +5,16 @@
 //!   `plan.geojson`) against the simulator's true plan, after the walks' rigid alignment:
 //!   precision ≥ 0.9 and recall of visited space (true walkable area within 0.75 m of the
 //!   walks) ≥ 0.8, by area.
+//! * Three walks of the three-floor tower from their known starts (`learn --walks` with a
+//!   `start` column, floor included): the merged plan has one level per floor, 3 m apart,
+//!   and the same precision and recall targets hold over the three floors.
 //! * `footslam plan` writes `plan.geojson`, `map.pgm` and `map.yaml`; the PGM read back with
 //!   the `image` crate's decoder and the YAML's fields match the grid rebuilt from the plan
 //!   the command wrote.
 
 use assert_cmd::Command;
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
-use footslam::dataset::{TimedPoint, read_trajectory};
+use footslam::dataset::{TimedPoint, read_track, read_trajectory};
 use footslam::eval::{Alignment, plan_overlap, position_errors};
 use footslam::export::ros_map::{FREE, OCCUPIED, UNKNOWN};
 use footslam::map::{Occupancy, OccupancyConfig, OccupancyGrid};
@@ -246,4 +249,84 @@ fn a_map_too_thin_for_a_plan_is_a_clear_error() {
         .failure()
         .stderr(predicates::str::contains("--min-visits"));
     assert!(!dir.path().join("p").exists(), "no partial output");
+}
+
+/// The start of a simulated walk, as `learn --start` takes it: `X,Y,HEADING,LEVEL`.
+fn sim_start(sim: &Path) -> String {
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(sim.join("summary.json")).expect("summary"))
+            .expect("json");
+    let s = &summary["start"];
+    let n = |k: &str| s[k].as_f64().unwrap_or_else(|| panic!("start.{k}"));
+    format!(
+        "{},{},{},{}",
+        n("x"),
+        n("y"),
+        n("heading"),
+        s["level"].as_i64().expect("level")
+    )
+}
+
+#[test]
+#[allow(clippy::print_stderr)] // reports the figures with --nocapture
+fn three_tower_walks_make_one_plan_level_per_floor() {
+    // Three walks of the three-floor tower, each from its known start (floor included),
+    // learned into one frame through a manifest: the merged plan has one level per floor,
+    // and each learned level matches its true floor.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = dir.path();
+    let seeds = [1u64, 2, 3];
+    let mut manifest = String::from("steps,start\n");
+    for &s in &seeds {
+        let sim = d.join(format!("sim-{s}"));
+        footslam()
+            .args(["simulate", "--building", "tower", "--seed", &s.to_string()])
+            .arg("--out")
+            .arg(&sim)
+            .assert()
+            .success();
+        manifest.push_str(&format!("sim-{s}/steps.csv,\"{}\"\n", sim_start(&sim)));
+    }
+    std::fs::write(d.join("walks.csv"), manifest).expect("manifest");
+    footslam()
+        .arg("learn") // default particles (20,000)
+        .arg("--walks")
+        .arg(d.join("walks.csv"))
+        .arg("--out")
+        .arg(d.join("learn"))
+        .assert()
+        .success();
+    let (truth_plan, _) = read_floor_plan(&d.join("sim-1/floor.geojson"), None).expect("true plan");
+    let (learned, _) =
+        read_floor_plan(&d.join("learn/merged_plan.geojson"), None).expect("learned plan");
+    let mut levels: Vec<i32> = learned.polygons.iter().map(|p| p.level).collect();
+    levels.sort_unstable();
+    levels.dedup();
+    assert_eq!(levels, vec![0, 1, 2], "one plan level per floor");
+    // Floor heights: 3 m apart, as the simulator's.
+    for l in [0, 1] {
+        let z = |l: i32| {
+            learned
+                .polygons
+                .iter()
+                .find(|p| p.level == l)
+                .expect("level")
+                .z
+        };
+        assert!((z(l + 1) - z(l) - 3.0).abs() < 0.3, "{} {}", z(l), z(l + 1));
+    }
+    let visited: Vec<(f64, f64, i32)> = seeds
+        .iter()
+        .flat_map(|s| read_track(&d.join(format!("sim-{s}/truth.csv"))).expect("truth"))
+        .map(|p| (p.x, p.y, p.level))
+        .collect();
+    // The walks start where the simulator's do: the learned frame is the truth's, with
+    // no alignment.
+    let o = plan_overlap(&learned, &truth_plan, &visited, 0, None, VISITED, 0.05).expect("overlap");
+    eprintln!("tower, merged plan of three walks, three floors: {o:?}");
+    assert!(o.precision >= 0.9, "{o:?}");
+    assert!(o.recall >= 0.8, "{o:?}");
+    // Each walk's pictures: one per floor it walked.
+    assert!(d.join("learn/walk-1/map.png").is_file());
+    assert!(d.join("learn/walk-1/map-level+2.png").is_file());
 }

@@ -4,13 +4,15 @@
 //!
 //! Both are measured on a square grid (`resolution` metres): a square counts where its
 //! centre lies. "Visited space" is the true walkable area within `reach` metres of a true
-//! position of the walks — what the walks could reveal; rooms nobody entered are not held
-//! against the plan. Plans of several floors are compared level by level (a learned level
+//! position of the walks — what the walks could reveal — on the surface the walker stood
+//! on or one touching it (a door, the next tread), so that reach does not pass through a
+//! wall into a room nobody entered; such rooms are not held against the plan. Plans of several floors are compared level by level (a learned level
 //! against the true level it stands for) and the areas summed.
 
 use crate::error::{Error, Result};
 use crate::geometry::RigidTransform;
 use crate::map::FloorPlan;
+use geo::{BoundingRect, Intersects, Point};
 use std::collections::HashSet;
 
 /// Precision and recall of a learned plan, by area.
@@ -56,11 +58,27 @@ pub fn plan_overlap(
     levels.extend(learned.polygons.iter().map(|p| p.level + level_offset));
     levels.sort_unstable();
     levels.dedup();
-    // Squares within `reach` of a visited position.
+    // Squares within `reach` of a visited position, on the surface it stood on or one
+    // touching it (a door, the next tread): reach does not pass through walls.
+    let nearby = touching_surfaces(truth);
     let cell = |v: f64| (v / resolution).floor() as i64;
     let k = (reach / resolution).ceil() as i64;
     let mut near: HashSet<(i32, i64, i64)> = HashSet::new();
     for &(x, y, level) in visited {
+        let here = Point::new(x, y);
+        let standing: Vec<usize> = truth
+            .polygons
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.level == level && p.polygon.intersects(&here))
+            .map(|(i, _)| i)
+            .collect();
+        let mut allowed: Vec<usize> = standing
+            .iter()
+            .flat_map(|&i| std::iter::once(i).chain(nearby[i].iter().copied()))
+            .collect();
+        allowed.sort_unstable();
+        allowed.dedup();
         let (cx, cy) = (cell(x), cell(y));
         for i in -k..=k {
             for j in -k..=k {
@@ -68,7 +86,11 @@ pub fn plan_overlap(
                     (cx + i) as f64 * resolution + resolution / 2.0,
                     (cy + j) as f64 * resolution + resolution / 2.0,
                 );
-                if (sx - x).hypot(sy - y) <= reach {
+                if (sx - x).hypot(sy - y) <= reach
+                    && allowed
+                        .iter()
+                        .any(|&a| truth.polygons[a].polygon.intersects(&Point::new(sx, sy)))
+                {
                     near.insert((level, cx + i, cy + j));
                 }
             }
@@ -128,6 +150,28 @@ pub fn plan_overlap(
         learned_m2: learned_n as f64 * area,
         visited_m2: visited_n as f64 * area,
     })
+}
+
+/// For each surface of `plan`, the other surfaces of its level that touch or overlap it.
+fn touching_surfaces(plan: &FloorPlan) -> Vec<Vec<usize>> {
+    let boxes: Vec<Option<geo::Rect<f64>>> = plan
+        .polygons
+        .iter()
+        .map(|p| p.polygon.bounding_rect())
+        .collect();
+    (0..plan.polygons.len())
+        .map(|i| {
+            (0..plan.polygons.len())
+                .filter(|&j| {
+                    let (a, b) = (&plan.polygons[i], &plan.polygons[j]);
+                    j != i
+                        && a.level == b.level
+                        && matches!((boxes[i], boxes[j]), (Some(p), Some(q)) if p.intersects(&q))
+                        && a.polygon.intersects(&b.polygon)
+                })
+                .collect()
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -191,5 +235,30 @@ mod tests {
         // Ground floor: all right; upper: half of it right. Levels ignored would say 1.0.
         assert!((o.precision - 0.75).abs() < 0.01, "{o:?}");
         assert!((o.recall - 0.75).abs() < 0.01, "{o:?}");
+    }
+
+    #[test]
+    fn reach_does_not_pass_through_walls() {
+        // A corridor 0 ≤ y ≤ 2 and, beyond a 0.2 m wall, a room 2.2 ≤ y ≤ 6 nobody entered;
+        // the walk runs along y = 1.8. The learned plan is the corridor alone.
+        let mut truth = plan(0.0, 0.0, 10.0, 2.0);
+        truth
+            .polygons
+            .push(plan(0.0, 2.2, 10.0, 6.0).polygons[0].clone());
+        let learned = plan(0.0, 0.0, 10.0, 2.0);
+        let walk: Vec<(f64, f64, i32)> = (0..=100).map(|i| (0.1 * f64::from(i), 1.8, 0)).collect();
+        let o = plan_overlap(&learned, &truth, &walk, 0, None, 1.0, 0.05).expect("overlap");
+        assert!(o.recall > 0.99, "{o:?}");
+        // The corridor within 1 m of the walk (0.8 ≤ y ≤ 2), none of the room.
+        assert!((o.visited_m2 - 10.0 * 1.2).abs() < 0.3, "{o:?}");
+        // A door joining them: the walker in the doorway sees into the room.
+        let mut with_door = truth.clone();
+        with_door
+            .polygons
+            .push(plan(4.5, 2.0, 5.5, 2.2).polygons[0].clone());
+        let through: Vec<(f64, f64, i32)> =
+            (0..=40).map(|i| (5.0, 0.1 * f64::from(i), 0)).collect();
+        let o = plan_overlap(&learned, &with_door, &through, 0, None, 1.0, 0.05).expect("overlap");
+        assert!(o.recall < 0.9, "the room beyond the door is visited: {o:?}");
     }
 }
