@@ -184,6 +184,7 @@ pub fn write_truth_png(
     let picture = MapPicture {
         map: &empty,
         path: truth,
+        path_breaks: &[],
         truth: None,
         plan: Some(plan),
     };

@@ -558,15 +558,22 @@ fn write_walk(
     for level in levels {
         let mut on_level = estimate.map.clone();
         on_level.cells.retain(|c| c.level == level);
-        let walked: Vec<(f64, f64)> = path
-            .iter()
-            .zip(&estimate.levels)
-            .filter(|&(_, &l)| l == level)
-            .map(|(p, _)| *p)
-            .collect();
+        // The path on this floor, broken where the walk left it.
+        let (mut walked, mut breaks) = (Vec::new(), Vec::new());
+        let mut previous = None;
+        for (i, (p, &l)) in path.iter().zip(&estimate.levels).enumerate() {
+            if l == level {
+                if previous.is_some_and(|j| j + 1 != i) {
+                    breaks.push(walked.len());
+                }
+                walked.push(*p);
+                previous = Some(i);
+            }
+        }
         let picture = MapPicture {
             map: &on_level,
             path: &walked,
+            path_breaks: &breaks,
             truth: None,
             plan: None,
         };

@@ -133,6 +133,9 @@ pub struct MapPicture<'a> {
     pub map: &'a HexMapSnapshot,
     /// The estimated path.
     pub path: &'a [(f64, f64)],
+    /// Indices `i` where `path` is broken: no line from point `i − 1` to point `i` (the
+    /// walk left the floor drawn and came back elsewhere). Sorted; empty: one line.
+    pub path_breaks: &'a [usize],
     /// The true path, drawn dashed beneath the estimate.
     pub truth: Option<&'a [(f64, f64)]>,
     /// A floor plan in the same frame, drawn beneath the map.
@@ -145,6 +148,7 @@ impl<'a> MapPicture<'a> {
         Self {
             map,
             path,
+            path_breaks: &[],
             truth: None,
             plan: None,
         }
@@ -270,8 +274,20 @@ fn render(picture: &MapPicture, config: &PictureConfig) -> Result<Pixmap> {
         draw_line(&mut pixmap, &layout, truth, (TRUTH_BLUE, 0.75 * w), dash);
     }
     let halo = ColorU8::from_rgba(255, 255, 255, 220);
-    draw_line(&mut pixmap, &layout, picture.path, (halo, w + 2.0), None);
-    draw_line(&mut pixmap, &layout, picture.path, (PATH_RED, w), None);
+    let mut starts = vec![0];
+    starts.extend(
+        picture
+            .path_breaks
+            .iter()
+            .copied()
+            .filter(|&b| b > 0 && b < picture.path.len()),
+    );
+    starts.push(picture.path.len());
+    for run in starts.windows(2).filter(|w| w[0] < w[1]) {
+        let piece = &picture.path[run[0]..run[1]];
+        draw_line(&mut pixmap, &layout, piece, (halo, w + 2.0), None);
+        draw_line(&mut pixmap, &layout, piece, (PATH_RED, w), None);
+    }
     draw_markers(&mut pixmap, &layout, picture.path, w);
     let labels = (!picture.map.cells.is_empty()).then_some(labels);
     draw_legend(&mut pixmap, &layout, config, labels);

@@ -90,6 +90,28 @@ fn path_pixels_have_the_path_colour() {
 }
 
 #[test]
+fn a_broken_path_draws_no_line_across_the_break() {
+    // Two runs on one floor, (0,0)–(12,0) and (12,6)–(3,9): the walk left the floor
+    // between them, so nothing is drawn from (12,0) to (12,6).
+    let path: Vec<(f64, f64)> = vec![(0.0, 0.0), (12.0, 0.0), (12.0, 6.0), (3.0, 9.0)];
+    let map = empty_map();
+    let picture = MapPicture {
+        path_breaks: &[2],
+        ..MapPicture::new(&map, &path)
+    };
+    let config = PictureConfig::default();
+    let img = decode(&render_map_png(&picture, &config).expect("render"));
+    let layout = Layout::new(&picture, &config);
+    let at = |p: (f64, f64)| {
+        let (x, y) = layout.pixel(p);
+        *img.get_pixel(x as u32, y as u32)
+    };
+    assert!(near(&at((6.0, 0.0)), PATH_RED, 8));
+    assert!(near(&at((7.5, 7.5)), PATH_RED, 8));
+    assert!(!near(&at((12.0, 3.0)), PATH_RED, 60), "{:?}", at((12.0, 3.0)));
+}
+
+#[test]
 fn north_is_up() {
     let path = [(0.0, 0.0), (0.0, 10.0)];
     let map = empty_map();
