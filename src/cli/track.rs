@@ -1,7 +1,8 @@
 //! `footslam track`: locate and track a walker on a known 2.5D floor plan from step events.
 
 use super::common::{
-    Progress, bundled, output_dir, parse_origin, peak_memory_bytes, read_config, require_file,
+    Progress, SAME_ORIGIN, bundled, output_dir, parse_origin, peak_memory_bytes, read_config,
+    require_file,
 };
 use anyhow::{Context, Result, bail};
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
@@ -9,6 +10,7 @@ use footslam::dataset::{
     SmoothedPoint, TrackPoint, read_steps, read_wifi, write_smoothed_track, write_track,
 };
 use footslam::export::RunFolder;
+use footslam::export::map_geojson::read_map_geojson;
 use footslam::export::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, PlanPoints};
 use footslam::export::radio_map_geojson::read_radio_map_geojson;
 use footslam::export::track_geojson::write_track_geojson;
@@ -18,6 +20,7 @@ use footslam::filter::{
 };
 use footslam::geometry::LocalFrame;
 use footslam::map::{FloorTopology, grow_plan};
+use footslam::model::TransitionPrior;
 use footslam::model::wifi_distance::Normalisation;
 use serde::Serialize;
 use std::path::PathBuf;
@@ -46,6 +49,15 @@ pub struct Args {
     /// per level.
     #[arg(long)]
     plan_margin: Option<f64>,
+    /// A map learned by `learn` in the plan's frame (its `map.geojson` or `merged.geojson`
+    /// beside the `plan.geojson` it made): its transition probabilities become a motion
+    /// prior — a particle moving along a well-trodden hexagon edge is likelier than one
+    /// crossing an edge nobody crossed (FeetSLAM's reuse of a FootSLAM map).
+    #[arg(long)]
+    hexmap: Option<PathBuf>,
+    /// Exponent of the learned map's transition factors (default 1; 0 switches them off).
+    #[arg(long, requires = "hexmap")]
+    hexmap_weight: Option<f64>,
     /// Step trace CSV (`t,length,dheading[,dz][,heading]`). An absolute `heading` column
     /// (radians counter-clockwise from east, e.g. from a compass) weights the particles
     /// (see `--ignore-heading`). Default: the bundled walk.
@@ -169,6 +181,9 @@ struct Summary {
     /// Steps of the trace that carry an absolute heading.
     steps_with_heading: usize,
     plan_file: String,
+    /// The learned map whose transitions were the motion prior, and its hexagons.
+    hexmap_file: Option<String>,
+    hexmap_hexagons: Option<usize>,
     steps_file: String,
     steps: usize,
     steps_to_localise: Option<usize>,
@@ -298,6 +313,9 @@ pub fn run(args: Args) -> Result<()> {
     if args.online {
         config.smoothing = false;
     }
+    if let Some(w) = args.hexmap_weight {
+        config.transitions.weight = w;
+    }
     config.validate()?;
     let plan_path = args.plan.clone().unwrap_or_else(|| bundled(DEFAULT_PLAN));
     let steps_path = args.steps.clone().unwrap_or_else(|| bundled(DEFAULT_STEPS));
@@ -308,6 +326,23 @@ pub fn run(args: Args) -> Result<()> {
         Some(margin) => grow_plan(&plan, margin)
             .with_context(|| format!("{}: --plan-margin {margin}", plan_path.display()))?,
         None => plan,
+    };
+    let transitions = match &args.hexmap {
+        Some(path) => {
+            require_file(path, "learned map")?;
+            let (map, map_frame) = read_map_geojson(path)?;
+            let off = frame.distance_to(&map_frame);
+            if off > SAME_ORIGIN {
+                bail!(
+                    "{}: its origin lies {off:.3} m from the plan's ({}): the learned map \
+                     must be in the plan's frame (the map and the plan.geojson of one learn run)",
+                    path.display(),
+                    plan_path.display()
+                );
+            }
+            Some(TransitionPrior::new(&map, config.transitions)?)
+        }
+        None => None,
     };
     let trace = read_steps(&steps_path)?;
     if let Some(late) = args.snapshots.iter().flatten().find(|&&k| k > trace.len()) {
@@ -350,9 +385,15 @@ pub fn run(args: Args) -> Result<()> {
         pool.install(|| -> Result<_> {
             let mut walker = match &radio {
                 Some((rf, scans, ..)) => {
-                    Walker::Rf(Box::new(RfTracker::new(&topology, &config, rf, scans)?))
+                    let mut t = RfTracker::new(&topology, &config, rf, scans)?;
+                    t.set_transition_prior(transitions.as_ref());
+                    Walker::Rf(Box::new(t))
                 }
-                None => Walker::Plain(Box::new(Tracker::new(&topology, &config)?)),
+                None => {
+                    let mut t = Tracker::new(&topology, &config)?;
+                    t.set_transition_prior(transitions.as_ref());
+                    Walker::Plain(Box::new(t))
+                }
             };
             let mut snapshots = Vec::new();
             if let Some(tracker) = walker.tracker()
@@ -540,6 +581,8 @@ pub fn run(args: Args) -> Result<()> {
         headings_used: headings_used > 0,
         steps_with_heading: trace.with_heading(),
         plan_file: plan_path.display().to_string(),
+        hexmap_file: args.hexmap.as_ref().map(|p| p.display().to_string()),
+        hexmap_hexagons: transitions.as_ref().map(TransitionPrior::len),
         steps_file: steps_path.display().to_string(),
         steps: trace.len(),
         steps_to_localise: first.map(|i| i + 1),

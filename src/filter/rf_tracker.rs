@@ -21,6 +21,7 @@ use super::tracker::{StepMeasurement, TrackStep, Tracker};
 use super::tracker_config::TrackerConfig;
 use crate::error::{Error, Result};
 use crate::map::{CellField, FloorTopology};
+use crate::model::TransitionPrior;
 use crate::sensor::{Step, WifiScan};
 
 /// A [`Tracker`] fed with WiFi scans through a radio map.
@@ -43,6 +44,8 @@ pub struct RfTracker<'a> {
     steps: usize,
     /// Steps processed before the tracker started (its prior stands after the last of them).
     started_after: Option<usize>,
+    /// A learned map's transitions as a motion prior, handed to the tracker.
+    transitions: Option<&'a TransitionPrior>,
 }
 
 impl<'a> RfTracker<'a> {
@@ -78,6 +81,7 @@ impl<'a> RfTracker<'a> {
             last_step: None,
             steps: 0,
             started_after,
+            transitions: None,
         })
     }
 
@@ -97,6 +101,15 @@ impl<'a> RfTracker<'a> {
             }
         }
         Some(out)
+    }
+
+    /// Uses a learned map's transitions as the tracker's motion prior
+    /// ([`Tracker::set_transition_prior`]).
+    pub fn set_transition_prior(&mut self, prior: Option<&'a TransitionPrior>) {
+        self.transitions = prior;
+        if let Some(t) = self.tracker.as_mut() {
+            t.set_transition_prior(prior);
+        }
     }
 
     /// The tracker, once started.
@@ -129,11 +142,10 @@ impl<'a> RfTracker<'a> {
             match self.tracker.as_mut() {
                 Some(t) => t.set_region(Some(prior)),
                 None => {
-                    self.tracker = Some(Tracker::new_in_region(
-                        self.topology,
-                        &self.config,
-                        Some(prior),
-                    )?);
+                    let mut tracker =
+                        Tracker::new_in_region(self.topology, &self.config, Some(prior))?;
+                    tracker.set_transition_prior(self.transitions);
+                    self.tracker = Some(tracker);
                     started = true;
                 }
             }

@@ -36,7 +36,7 @@ use super::recovery::{Recovery, heading_corrections};
 use super::tracker_config::{StartPose, TrackerConfig};
 use crate::error::{Error, Result};
 use crate::map::{CellField, FloorTopology};
-use crate::model::HeadingLikelihood;
+use crate::model::{HeadingLikelihood, TransitionPrior};
 use crate::sensor::Step;
 use rand::RngExt;
 use rand_distr::StandardNormal;
@@ -151,6 +151,8 @@ pub struct Tracker<'a> {
     headings_used: usize,
     /// The belief's ancestry for the smoothed answer (`config.smoothing`).
     tree: Option<PathTree>,
+    /// A learned map's transitions as a motion prior ([`Self::set_transition_prior`]).
+    transitions: Option<&'a TransitionPrior>,
     /// The resampling ancestor of each particle of the belief (kept with the tree only).
     ancestors: Vec<u32>,
 }
@@ -208,6 +210,7 @@ impl<'a> Tracker<'a> {
             localised_now: false,
             region,
             ignored: 0,
+            transitions: None,
             heading: HeadingLikelihood::new(config.heading),
             headings_used: 0,
             tree: config
@@ -230,6 +233,13 @@ impl<'a> Tracker<'a> {
     /// latest WiFi scan); `None` = the whole plan.
     pub fn set_region(&mut self, region: Option<CellField>) {
         self.region = region;
+    }
+
+    /// Uses a learned map's transitions as a motion prior from the next step on (`None`:
+    /// none, the default). The map must be in the plan's frame (a learned plan and the map
+    /// it came from share it).
+    pub fn set_transition_prior(&mut self, prior: Option<&'a TransitionPrior>) {
+        self.transitions = prior;
     }
 
     /// Steps whose extra measurement ([`Self::update_with`]) no particle was consistent with,
@@ -327,6 +337,7 @@ impl<'a> Tracker<'a> {
             if self.measure_heading(step) {
                 self.headings_used += 1;
             }
+            self.measure_transitions();
             let n = self.weigh();
             self.resample(n, SALT_RESAMPLE);
             self.grow_tree();
@@ -454,6 +465,30 @@ impl<'a> Tracker<'a> {
             .zip(self.log_weights.par_iter_mut())
             .for_each(|(p, lw)| *lw += tau * model.log_likelihood_f32(&c, p.heading));
         true
+    }
+
+    /// The learned map's transitions (FeetSLAM's reuse of a FootSLAM map): adds each
+    /// proposed particle's [`TransitionPrior::log_factor`] for its move from its parent, on
+    /// the floor it reached. A factor is finite, so no particle dies of it.
+    fn measure_transitions(&mut self) {
+        let Some(prior) = self.transitions else {
+            return;
+        };
+        let topology = self.topology;
+        self.proposal
+            .par_iter()
+            .zip(self.particles.par_iter())
+            .zip(self.log_weights.par_iter_mut())
+            .for_each(|((to, from), lw)| {
+                if *lw > f32::NEG_INFINITY {
+                    let level = topology.level(to.surface);
+                    *lw += prior.log_factor(
+                        (f64::from(from.x), f64::from(from.y)),
+                        (f64::from(to.x), f64::from(to.y)),
+                        level,
+                    );
+                }
+            });
     }
 
     /// Turns the proposal's log-weights into weights (relative to the largest), fills the
@@ -720,6 +755,7 @@ impl<'a> Tracker<'a> {
             }
             // A replayed step's heading weighs again but is not counted again.
             self.measure_heading(s);
+            self.measure_transitions();
             let m = self.weigh();
             self.resample(m, salt ^ crate::random::mix(k as u64 + 1));
             if keep_paths {

@@ -6,7 +6,7 @@ use super::recovery::RecoveryConfig;
 use super::rf_assist::RfConfig;
 use crate::error::{Error, Result};
 use crate::map::TopologyConfig;
-use crate::model::HeadingConfig;
+use crate::model::{HeadingConfig, TransitionPriorConfig};
 use serde::{Deserialize, Serialize};
 
 /// A known start: where the walker stands before the first step.
@@ -104,6 +104,9 @@ pub struct TrackerConfig {
     /// The absolute-heading measurement of steps that carry one (`enabled = false`
     /// ignores the column).
     pub heading: HeadingConfig,
+    /// A learned map's transitions as a motion prior (used only with one,
+    /// [`super::Tracker::set_transition_prior`]).
+    pub transitions: TransitionPriorConfig,
 }
 
 impl Default for TrackerConfig {
@@ -129,6 +132,7 @@ impl Default for TrackerConfig {
             topology: TopologyConfig::default(),
             rf: RfConfig::default(),
             heading: HeadingConfig::default(),
+            transitions: TransitionPriorConfig::default(),
         }
     }
 }

@@ -108,7 +108,11 @@ fn a_broken_path_draws_no_line_across_the_break() {
     };
     assert!(near(&at((6.0, 0.0)), PATH_RED, 8));
     assert!(near(&at((7.5, 7.5)), PATH_RED, 8));
-    assert!(!near(&at((12.0, 3.0)), PATH_RED, 60), "{:?}", at((12.0, 3.0)));
+    assert!(
+        !near(&at((12.0, 3.0)), PATH_RED, 60),
+        "{:?}",
+        at((12.0, 3.0))
+    );
 }
 
 #[test]
