@@ -184,6 +184,15 @@ fn same_seed_same_output_whatever_the_thread_count() {
             "{f}"
         );
     }
+    // An absurd thread count is capped with a warning, the result unchanged.
+    let many = dir.path().join("many");
+    let assert = learn(&sim.join("steps.csv"), &many, &["--threads", "100000"]).success();
+    let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
+    assert!(stderr.contains("--threads 100000 capped"), "{stderr}");
+    assert_eq!(
+        std::fs::read(a.join("track.csv")).expect("a"),
+        std::fs::read(many.join("track.csv")).expect("many")
+    );
     let c = dir.path().join("c");
     learn(&sim.join("steps.csv"), &c, &["--seed", "99"]).success();
     assert_ne!(

@@ -7,7 +7,7 @@ use super::common::{
 };
 use super::learn_inputs::{Walk, WalkArgs, check_same_grid, read_walks};
 use super::learn_radio::{RadioSummary, learn_radio_map};
-use anyhow::{Context, Result};
+use anyhow::Result;
 use footslam::dataset::floor_plan_geojson::write_floor_plan;
 use footslam::dataset::{TimedPoint, TrackPoint, parse_utc_time, read_outline, write_trajectory};
 use footslam::export::RunFolder;
@@ -97,7 +97,7 @@ pub struct Args {
     /// Output folder (default: a new folder under `outputs/`).
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Worker threads (default: all cores). Results do not depend on it.
+    /// Worker threads (default: all cores; at most 4 per core). Results do not depend on it.
     #[arg(long)]
     threads: Option<usize>,
     /// The walk's known start, `X,Y[,HEADING[,LEVEL]]` (metres in the local frame, radians
@@ -263,10 +263,7 @@ pub fn run(args: Args) -> Result<()> {
         prior_walks = stored.walks;
     }
 
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .context("cannot start worker threads")?;
+    let pool = super::common::worker_pool(args.threads)?;
     let threads = pool.current_num_threads();
     let batch = walks.len() > 1;
     let runs = pool.install(|| {

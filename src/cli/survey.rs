@@ -68,7 +68,7 @@ pub struct Args {
     /// Output folder (default: a new folder under `outputs/`).
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Worker threads (default: all cores). Results do not depend on it.
+    /// Worker threads (default: all cores; at most 4 per core). Results do not depend on it.
     #[arg(long)]
     threads: Option<usize>,
 }
@@ -195,10 +195,7 @@ pub fn run(args: Args) -> Result<()> {
         .iter()
         .map(|w| w.start.or(config.tracker.start))
         .collect();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .context("cannot start worker threads")?;
+    let pool = super::common::worker_pool(args.threads)?;
     let total: u64 = walks.iter().map(|(s, _)| s.len() as u64).sum();
     // Per walk: the filter's reports, and the steps its scans are placed by.
     let runs: Vec<(Vec<TrackStep>, Vec<TrackStep>)> = pool.install(|| -> Result<_> {

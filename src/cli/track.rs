@@ -89,7 +89,7 @@ pub struct Args {
     /// Output folder (default: a new folder under `outputs/`).
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Worker threads (default: all cores). Results do not depend on it.
+    /// Worker threads (default: all cores; at most 4 per core). Results do not depend on it.
     #[arg(long)]
     threads: Option<usize>,
     /// Radio map (`radiomap.geojson` as `footslam survey` writes it, or another tool's with
@@ -370,10 +370,7 @@ pub fn run(args: Args) -> Result<()> {
         }
         _ => None,
     };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .context("cannot start worker threads")?;
+    let pool = super::common::worker_pool(args.threads)?;
     let threads = pool.current_num_threads();
     let wanted = |step: usize, last: bool| match &args.snapshots {
         Some(list) => list.contains(&step),

@@ -3,6 +3,13 @@
 //! Files are written into a hidden staging folder beside the destination; [`RunFolder::commit`]
 //! moves them into place. Dropping an uncommitted folder removes the staging folder, so a
 //! failed run leaves no half-written outputs.
+//!
+//! The staging folder is named `.NAME.staging.PID` after the writing process. It is also
+//! the run's lock: a run whose destination another live process is writing stops with an
+//! error naming that process, and staging folders of processes that no longer run (a run
+//! killed with `kill -9`, a power cut) are removed when the next run into the same
+//! destination starts. (Which processes run is read from `/proc` on Linux; elsewhere
+//! nothing is removed or refused.)
 
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
@@ -27,7 +34,37 @@ impl RunFolder {
         let name = destination
             .file_name()
             .map_or_else(|| "run".into(), |n| n.to_string_lossy().into_owned());
-        let staging = parent.join(format!(".{name}.staging.{}", std::process::id()));
+        let own = std::process::id();
+        let prefix = format!(".{name}.staging.");
+        // Other runs into the same destination: a live one holds it, a dead one's staging
+        // folder is left over.
+        if let Ok(entries) = std::fs::read_dir(parent) {
+            for entry in entries.flatten() {
+                let file = entry.file_name();
+                let Some(pid) = file
+                    .to_str()
+                    .and_then(|f| f.strip_prefix(&prefix))
+                    .and_then(|p| p.parse::<u32>().ok())
+                    .filter(|&p| p != own)
+                else {
+                    continue;
+                };
+                match process_is_running(pid) {
+                    Some(true) => {
+                        return Err(Error::Input(format!(
+                            "{}: another run (process {pid}) is writing into it; wait for it to \
+                             end or choose another --out",
+                            destination.display()
+                        )));
+                    }
+                    Some(false) => {
+                        let _ = std::fs::remove_dir_all(entry.path());
+                    }
+                    None => {}
+                }
+            }
+        }
+        let staging = parent.join(format!("{prefix}{own}"));
         if staging.exists() {
             std::fs::remove_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
         }
@@ -87,6 +124,15 @@ impl RunFolder {
     }
 }
 
+/// Whether process `pid` runs (`None`: cannot tell on this system).
+fn process_is_running(pid: u32) -> Option<bool> {
+    if cfg!(target_os = "linux") && Path::new("/proc/self").exists() {
+        Some(Path::new("/proc").join(pid.to_string()).exists())
+    } else {
+        None
+    }
+}
+
 impl Drop for RunFolder {
     fn drop(&mut self) {
         if !self.committed {
@@ -121,5 +167,28 @@ mod tests {
         assert_eq!(read("summary.json"), "second");
         assert_eq!(read("walk-1/track.csv"), "second");
         assert!(!out.join("walk-1/old.csv").exists());
+    }
+
+    #[test]
+    fn a_dead_runs_staging_folder_goes_and_a_live_one_holds_the_destination() {
+        if process_is_running(std::process::id()) != Some(true) {
+            return; // cannot tell which processes run here
+        }
+        let dir = tempfile::tempdir().expect("tempdir");
+        let out = dir.path().join("run");
+        // Process IDs are below 2²² on Linux: this one runs nowhere.
+        let dead = dir.path().join(".run.staging.4294967");
+        std::fs::create_dir_all(dead.join("walk-1")).expect("dir");
+        let folder = RunFolder::create(&out).expect("create");
+        assert!(!dead.exists(), "the dead run's staging folder is removed");
+        folder.commit().expect("commit");
+        // A live process (pid 1, init) writing into it: refused, naming the process.
+        let live = dir.path().join(".run.staging.1");
+        std::fs::create_dir_all(&live).expect("dir");
+        let err = RunFolder::create(&out).expect_err("held by a live run");
+        assert!(err.to_string().contains("process 1"), "{err}");
+        assert!(live.exists(), "a live run's folder is left alone");
+        // Another destination in the same parent is not held.
+        RunFolder::create(&dir.path().join("other")).expect("create");
     }
 }
