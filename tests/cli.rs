@@ -193,6 +193,17 @@ fn same_seed_same_output_whatever_the_thread_count() {
         std::fs::read(a.join("track.csv")).expect("a"),
         std::fs::read(many.join("track.csv")).expect("many")
     );
+    // An --out that would replace an input (the simulator's summary.json and config.json
+    // beside its steps) is refused, and nothing there changes.
+    let before = std::fs::read(sim.join("summary.json")).expect("summary");
+    let assert = learn(&sim.join("steps.csv"), &sim, &[]).failure();
+    let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
+    assert!(stderr.contains("would replace the input"), "{stderr}");
+    assert_eq!(
+        std::fs::read(sim.join("summary.json")).expect("summary"),
+        before
+    );
+    assert!(!sim.join("track.csv").exists());
     let c = dir.path().join("c");
     learn(&sim.join("steps.csv"), &c, &["--seed", "99"]).success();
     assert_ne!(

@@ -280,7 +280,23 @@ pub fn run(args: Args) -> Result<()> {
     })?;
 
     let out = output_dir(args.out, "learn");
-    let folder = RunFolder::create(&out)?;
+    let mut folder = RunFolder::create(&out)?;
+    folder.protect(
+        walks
+            .iter()
+            .flat_map(|w| {
+                [
+                    Some(&w.steps_path),
+                    w.gps_path.as_ref(),
+                    w.wifi_path.as_ref(),
+                ]
+            })
+            .flatten()
+            .chain(args.prior_map.iter())
+            .chain(args.outline.iter())
+            .chain(args.config.iter())
+            .chain(args.walks.iter()),
+    );
     let mut summaries = Vec::with_capacity(runs.len());
     for (i, (walk, run)) in walks.iter().zip(&runs).enumerate() {
         let prefix = walk_prefix(&folder, i, batch)?;

@@ -94,7 +94,8 @@ pub fn run(args: Args) -> Result<()> {
         .map(|&l| OccupancyGrid::from_plan(&learned.plan, l, &config.grid).map(|g| (l, g)))
         .collect::<footslam::Result<Vec<_>>>()?;
     let grid = &grids[0].1;
-    let folder = RunFolder::create(&output_dir(args.out, "plan"))?;
+    let mut folder = RunFolder::create(&output_dir(args.out, "plan"))?;
+    folder.protect(std::iter::once(&args.map).chain(args.config.iter()));
     write_plan_files(&folder, "", &learned, &grids, &stored.frame)?;
     folder.write_json("config.json", &config)?;
     let (free, occupied, unknown) = grid.counts();

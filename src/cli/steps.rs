@@ -70,7 +70,8 @@ pub fn run(args: Args) -> Result<()> {
     let started = Instant::now();
     let recording = read_imu(&args.imu)?;
     let out = output_dir(args.out.clone(), "steps");
-    let folder = RunFolder::create(&out)?;
+    let mut folder = RunFolder::create(&out)?;
+    folder.protect(std::iter::once(&args.imu).chain(args.config.iter()));
     let context = || format!("{}: cannot detect steps", args.imu.display());
     let (mount, trace_len) = match args.mount {
         MountArg::Foot => {

@@ -268,7 +268,16 @@ pub fn run(args: Args) -> Result<()> {
     );
     let quantiles = held_out_quantiles(&held);
 
-    let folder = RunFolder::create(&output_dir(args.out, "survey"))?;
+    let mut folder = RunFolder::create(&output_dir(args.out, "survey"))?;
+    folder.protect(
+        [&args.plan]
+            .into_iter()
+            .chain(&args.steps)
+            .chain(&args.wifi)
+            .chain(&args.merge)
+            .chain(args.walks.iter())
+            .chain(args.config.iter()),
+    );
     write_radio_map_files(&folder, "", &plan, &map, &frame)?;
     let mut coverage = String::from("granularity_m,cells,coverage_percent,mean_scans_per_cell\n");
     for g in COVERAGE_GRANULARITIES {

@@ -449,7 +449,15 @@ pub fn run(args: Args) -> Result<()> {
     let filter_runtime = filter_started.elapsed().as_secs_f64();
 
     let out = output_dir(args.out, "track");
-    let folder = RunFolder::create(&out)?;
+    let mut folder = RunFolder::create(&out)?;
+    folder.protect(
+        [&plan_path, &steps_path]
+            .into_iter()
+            .chain(args.radiomap.iter())
+            .chain(args.wifi.iter())
+            .chain(args.hexmap.iter())
+            .chain(args.config.iter()),
+    );
     let smoothed_track: Option<Vec<SmoothedPoint>> = smoothing.as_ref().map(|s| {
         trace
             .steps()

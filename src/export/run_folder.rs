@@ -20,6 +20,8 @@ pub struct RunFolder {
     destination: PathBuf,
     staging: PathBuf,
     committed: bool,
+    /// The run's inputs (canonical paths), which [`RunFolder::commit`] must not replace.
+    inputs: Vec<PathBuf>,
 }
 
 impl RunFolder {
@@ -73,6 +75,7 @@ impl RunFolder {
             destination: destination.to_path_buf(),
             staging,
             committed: false,
+            inputs: Vec::new(),
         })
     }
 
@@ -105,9 +108,49 @@ impl RunFolder {
         self.write(name, text.as_bytes())
     }
 
+    /// Names the run's input files: [`RunFolder::commit`] refuses, before moving anything,
+    /// to replace one of them, a folder holding one, or any file of an input's own folder
+    /// (`--out` pointed at the folder of its inputs would overwrite what came with them,
+    /// e.g. the simulator's `summary.json` beside its `steps.csv`).
+    pub fn protect<P: AsRef<Path>>(&mut self, inputs: impl IntoIterator<Item = P>) {
+        self.inputs.extend(
+            inputs
+                .into_iter()
+                .filter_map(|p| p.as_ref().canonicalize().ok()),
+        );
+    }
+
+    /// The first staged entry that would replace a protected input or a file of an input's
+    /// folder, as (input, entry name).
+    fn replaced_input(&self) -> Result<Option<(PathBuf, String)>> {
+        let entries = std::fs::read_dir(&self.staging).map_err(|e| Error::io(&self.staging, e))?;
+        for entry in entries {
+            let entry = entry.map_err(|e| Error::io(&self.staging, e))?;
+            let Ok(to) = self.destination.join(entry.file_name()).canonicalize() else {
+                continue;
+            };
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if let Some(input) = self.inputs.iter().find(|i| {
+                **i == to || (to.is_dir() && i.starts_with(&to)) || i.parent() == to.parent()
+            }) {
+                return Ok(Some((input.clone(), name)));
+            }
+        }
+        Ok(None)
+    }
+
     /// Moves every staged file and folder into the destination folder; a staged folder
-    /// replaces a folder of the same name there (a re-run's `walk-N/`).
+    /// replaces a folder of the same name there (a re-run's `walk-N/`). Nothing is moved
+    /// when an output would replace a protected input ([`RunFolder::protect`]).
     pub fn commit(mut self) -> Result<PathBuf> {
+        if let Some((input, name)) = self.replaced_input()? {
+            return Err(Error::Input(format!(
+                "{}: this run's output `{name}` would replace the input {} or a file beside \
+                 it; choose an --out apart from the inputs (nothing was written)",
+                self.destination.display(),
+                input.display()
+            )));
+        }
         std::fs::create_dir_all(&self.destination).map_err(|e| Error::io(&self.destination, e))?;
         let entries = std::fs::read_dir(&self.staging).map_err(|e| Error::io(&self.staging, e))?;
         for entry in entries {
@@ -190,5 +233,42 @@ mod tests {
         assert!(live.exists(), "a live run's folder is left alone");
         // Another destination in the same parent is not held.
         RunFolder::create(&dir.path().join("other")).expect("create");
+    }
+
+    #[test]
+    fn a_run_never_replaces_its_inputs() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let sim = dir.path().join("sim");
+        std::fs::create_dir_all(&sim).expect("dir");
+        std::fs::write(sim.join("steps.csv"), "t,length,dheading\n").expect("input");
+        std::fs::write(sim.join("summary.json"), "simulator's").expect("input");
+        let mut folder = RunFolder::create(&sim).expect("create");
+        folder.protect([sim.join("steps.csv"), sim.join("summary.json")]);
+        folder.write("summary.json", b"learn's").expect("write");
+        folder.write("track.csv", b"t,x,y").expect("write");
+        let err = folder.commit().expect_err("would replace an input");
+        assert!(err.to_string().contains("summary.json"), "{err}");
+        let read = |n: &str| std::fs::read_to_string(sim.join(n)).expect("read");
+        assert_eq!(read("summary.json"), "simulator's");
+        assert!(!sim.join("track.csv").exists(), "nothing was written");
+        // A staged folder replacing a folder that holds an input is refused too.
+        let out = dir.path().join("out");
+        std::fs::create_dir_all(out.join("walk-1")).expect("dir");
+        std::fs::write(out.join("walk-1/steps.csv"), "x").expect("input");
+        let mut folder = RunFolder::create(&out).expect("create");
+        folder.protect([out.join("walk-1/steps.csv")]);
+        folder.create_dir("walk-1").expect("dir");
+        assert!(folder.commit().is_err());
+        // A file of an input's folder (the simulator's config beside its steps) is kept too;
+        // new files beside the inputs are fine.
+        std::fs::write(sim.join("config.json"), "simulator's").expect("input");
+        let mut folder = RunFolder::create(&sim).expect("create");
+        folder.protect([sim.join("steps.csv")]);
+        folder.write("config.json", b"learn's").expect("write");
+        assert!(folder.commit().is_err());
+        let mut folder = RunFolder::create(&sim).expect("create");
+        folder.protect([sim.join("steps.csv")]);
+        folder.write("track.csv", b"t,x,y").expect("write");
+        folder.commit().expect("commit");
     }
 }
