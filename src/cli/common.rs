@@ -203,10 +203,7 @@ pub fn worker_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
     let cap = THREADS_PER_CORE * cores;
     let wanted = threads.unwrap_or(0);
     let n = if wanted > cap {
-        eprintln!(
-            "warning: --threads {wanted} capped at {cap} ({THREADS_PER_CORE} per core on {cores} \
-             cores); results do not depend on the thread count"
-        );
+        warn_capped(wanted, cap, cores);
         cap
     } else {
         wanted
@@ -215,6 +212,15 @@ pub fn worker_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
         .num_threads(n)
         .build()
         .context("cannot start worker threads")
+}
+
+/// The warning of [`worker_pool`], for the user (the CLI layer may print).
+#[allow(clippy::print_stderr)]
+fn warn_capped(wanted: usize, cap: usize, cores: usize) {
+    eprintln!(
+        "warning: --threads {wanted} capped at {cap} ({THREADS_PER_CORE} per core on {cores} \
+         cores); results do not depend on the thread count"
+    );
 }
 
 #[cfg(test)]
