@@ -569,8 +569,17 @@ fn write_walk(
         levels.insert(0, 0);
     }
     for level in levels {
-        let mut on_level = estimate.map.clone();
-        on_level.cells.retain(|c| c.level == level);
+        let on_level = HexMapSnapshot {
+            cells: estimate
+                .map
+                .cells
+                .iter()
+                .filter(|c| c.level == level)
+                .cloned()
+                .collect(),
+            levels: Vec::new(),
+            ..estimate.map
+        };
         // The path on this floor, broken where the walk left it.
         let (mut walked, mut breaks) = (Vec::new(), Vec::new());
         let mut previous = None;

@@ -156,12 +156,7 @@ fn read_manifest(path: &Path) -> Result<Vec<Found>> {
         let Some(steps) = file(Some(steps)) else {
             return Err(row.error("expected a step trace in column `steps`"));
         };
-        let start = match start.map(|c| row.text(c)).filter(|t| !t.is_empty()) {
-            Some(text) => Some(
-                super::track::parse_start(text).map_err(|e| row.error(format!("start: {e}")))?,
-            ),
-            None => None,
-        };
+        let start = super::track::start_cell(row, start)?;
         walks.push(Found {
             steps,
             gps: file(gps),

@@ -79,9 +79,7 @@ pub fn run(args: Args) -> Result<()> {
     let learned = walkable_plan(&stored.map, &config.plan)?;
     // One occupancy grid per floor: `map.pgm` for the plan's `level` (the walks' first
     // floor) or, when the walks never stood on it, the lowest; `map-level+N.pgm` the others.
-    let mut levels: Vec<i32> = learned.plan.polygons.iter().map(|p| p.level).collect();
-    levels.sort_unstable();
-    levels.dedup();
+    let mut levels = learned.plan.levels();
     let main = if levels.contains(&config.plan.level) {
         config.plan.level
     } else {

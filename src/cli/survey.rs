@@ -379,12 +379,7 @@ fn read_manifest(path: &std::path::Path) -> Result<Vec<WalkFiles>> {
         if steps.is_empty() || wifi.is_empty() {
             return Err(row.error("expected a step trace and a WiFi log"));
         }
-        let start = match start.map(|c| row.text(c)).filter(|t| !t.is_empty()) {
-            Some(text) => Some(
-                super::track::parse_start(text).map_err(|e| row.error(format!("start: {e}")))?,
-            ),
-            None => None,
-        };
+        let start = super::track::start_cell(row, start)?;
         pairs.push(WalkFiles {
             steps: base.join(steps),
             wifi: base.join(wifi),

@@ -139,6 +139,19 @@ enum RfModeArg {
     PriorOnly,
 }
 
+/// A manifest row's `start` cell (column `column`, when the manifest has one) as
+/// [`parse_start`] reads it; empty: no start. Errors name the file and line.
+pub(super) fn start_cell(
+    row: &footslam::dataset::csv_table::CsvRow<'_>,
+    column: Option<usize>,
+) -> footslam::Result<Option<StartPose>> {
+    column
+        .map(|c| row.text(c))
+        .filter(|t| !t.is_empty())
+        .map(|text| parse_start(text).map_err(|e| row.error(format!("start: {e}"))))
+        .transpose()
+}
+
 /// Parses `X,Y[,HEADING[,LEVEL]]`; an empty HEADING (`X,Y,,LEVEL`) is unknown.
 pub(super) fn parse_start(s: &str) -> Result<StartPose, String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();

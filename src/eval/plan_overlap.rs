@@ -54,8 +54,8 @@ pub fn plan_overlap(
         let (lx, ly) = inverse.as_ref().map_or((x, y), |t| t.apply((x, y)));
         learned.is_walkable(lx, ly, Some(level - level_offset))
     };
-    let mut levels: Vec<i32> = truth.polygons.iter().map(|p| p.level).collect();
-    levels.extend(learned.polygons.iter().map(|p| p.level + level_offset));
+    let mut levels = truth.levels();
+    levels.extend(learned.levels().iter().map(|l| l + level_offset));
     levels.sort_unstable();
     levels.dedup();
     // Squares within `reach` of a visited position, on the surface it stood on or one

@@ -153,9 +153,7 @@ impl FootSlamConfig {
         self.heading
             .validate()
             .or_else(|(field, v, reason)| bad(field, v.to_string(), reason))?;
-        self.levels
-            .validate()
-            .or_else(|(field, v, reason)| bad(field, v.to_string(), reason))?;
+        self.levels.validate()?;
         let t = self.resample.ess_threshold;
         if !(t.is_finite() && (0.0..=1.0).contains(&t)) {
             return bad("resample.ess_threshold", t.to_string(), "must be in [0, 1]");

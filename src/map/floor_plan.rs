@@ -60,6 +60,14 @@ impl FloorPlan {
             .any(|f| f.polygon.contains(&p) || geo::Intersects::intersects(&f.polygon, &p))
     }
 
+    /// The levels of its surfaces, ascending, each once.
+    pub fn levels(&self) -> Vec<i32> {
+        let mut levels: Vec<i32> = self.polygons.iter().map(|p| p.level).collect();
+        levels.sort_unstable();
+        levels.dedup();
+        levels
+    }
+
     /// Bounding box `(min_x, min_y, max_x, max_y)` of all surfaces, `None` when empty.
     pub fn bounds(&self) -> Option<(f64, f64, f64, f64)> {
         use geo::BoundingRect;

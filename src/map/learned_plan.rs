@@ -234,9 +234,7 @@ pub fn grow_plan(plan: &FloorPlan, margin: f64) -> Result<FloorPlan> {
     if margin == 0.0 {
         return Ok(plan.clone());
     }
-    let mut levels: Vec<i32> = plan.polygons.iter().map(|p| p.level).collect();
-    levels.sort_unstable();
-    levels.dedup();
+    let levels = plan.levels();
     let mut grown = FloorPlan {
         polygons: Vec::new(),
         barriers: plan.barriers.clone(),

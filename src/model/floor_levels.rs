@@ -74,16 +74,15 @@ impl Default for LevelConfig {
 
 impl LevelConfig {
     /// Checks every field against its documented range.
-    pub fn validate(&self) -> std::result::Result<(), (&'static str, f64, &'static str)> {
-        for (field, v, lo, hi) in [
-            ("levels.tolerance", self.tolerance, 0.1, 50.0),
-            ("levels.settle_distance", self.settle_distance, 0.0, 1000.0),
-            ("levels.flat_band", self.flat_band, 0.01, 10.0),
-        ] {
-            if !(v.is_finite() && (lo..=hi).contains(&v)) {
-                return Err((field, v, "out of its documented range"));
-            }
-        }
+    pub fn validate(&self) -> Result<()> {
+        ensure_in_range!("levels.tolerance", self.tolerance, 0.1..=50.0, " m");
+        ensure_in_range!(
+            "levels.settle_distance",
+            self.settle_distance,
+            0.0..=1000.0,
+            " m"
+        );
+        ensure_in_range!("levels.flat_band", self.flat_band, 0.01..=10.0, " m");
         Ok(())
     }
 }
@@ -107,20 +106,8 @@ impl LevelTracker {
     /// A tracker on level `start` at height 0, knowing `seeded` levels beforehand (those of
     /// [`find_levels`] on the same walk; level `start` at height 0 is added if missing).
     pub fn new(config: LevelConfig, start: i32, seeded: &[FloorLevel]) -> Result<Self> {
-        config
-            .validate()
-            .map_err(|(field, v, reason)| Error::Config {
-                field,
-                value: v.to_string(),
-                reason,
-            })?;
-        if start.abs() > 1000 {
-            return Err(Error::Config {
-                field: "start_level",
-                value: start.to_string(),
-                reason: "must be in [-1000, 1000]",
-            });
-        }
+        config.validate()?;
+        ensure_in_range!("start_level", f64::from(start), -1000.0..=1000.0, "");
         // The walk starts on its start level: at height 0 whatever height the level had at
         // the end of the walk (seeded from `find_levels`, drift included).
         let mut levels = vec![FloorLevel {

@@ -16,7 +16,7 @@
 //! Levels: a plan level `l` reads the map's level `l` (a learned plan numbers its floors as
 //! the map it came from).
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::geometry::HexGrid;
 use crate::map::{HexMapSnapshot, level_key};
 use hexx::Hex;
@@ -54,13 +54,7 @@ impl TransitionPrior {
     /// The prior of `map` (see the module documentation).
     pub fn new(map: &HexMapSnapshot, config: TransitionPriorConfig) -> Result<Self> {
         let w = config.weight;
-        if !(w.is_finite() && (0.0..=10.0).contains(&w)) {
-            return Err(Error::Config {
-                field: "transitions.weight",
-                value: w.to_string(),
-                reason: "must be in [0, 10]",
-            });
-        }
+        ensure_in_range!("transitions.weight", w, 0.0..=10.0, "");
         let alpha = map.alpha.max(1e-9);
         let cells = map
             .cells
