@@ -1,7 +1,12 @@
 //! Pieces shared by the subcommands: origins, output folders, progress bars, config files.
 
 use anyhow::{Context, Result, bail};
+use footslam::dataset::read_wifi;
+use footslam::dataset::steps_csv::has_dz_column;
 use footslam::geometry::LocalFrame;
+use footslam::map::FloorPlan;
+use footslam::map::RadioMap;
+use footslam::sensor::{StepTrace, WifiScan};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -214,13 +219,99 @@ pub fn worker_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
         .context("cannot start worker threads")
 }
 
-/// The warning of [`worker_pool`], for the user (the CLI layer may print).
-#[allow(clippy::print_stderr)]
+/// The warning of [`worker_pool`].
 fn warn_capped(wanted: usize, cap: usize, cores: usize) {
-    eprintln!(
-        "warning: --threads {wanted} capped at {cap} ({THREADS_PER_CORE} per core on {cores} \
-         cores); results do not depend on the thread count"
-    );
+    warn(&format!(
+        "--threads {wanted} capped at {cap} ({THREADS_PER_CORE} per core on {cores} cores); \
+         results do not depend on the thread count"
+    ));
+}
+
+/// A warning for the user on stderr: the run goes on (the CLI layer may print).
+#[allow(clippy::print_stderr)]
+pub fn warn(message: &str) {
+    eprintln!("warning: {message}");
+}
+
+/// Below this share of a WiFi log's scans hearing an access point of the radio map, `track`
+/// warns: the log is mostly of somewhere the map does not cover.
+pub const MIN_MATCHED_SHARE: f64 = 0.5;
+
+/// Checks that a WiFi log and a radio map are of one building: an error when no scan hears
+/// an access point of the map, a warning when fewer than [`MIN_MATCHED_SHARE`] do. Returns
+/// how many scans matched.
+pub fn check_scans_match(
+    map: &RadioMap,
+    scans: &[WifiScan],
+    map_path: &Path,
+    wifi_path: &Path,
+) -> Result<usize> {
+    let matched = map.scans_matched(scans);
+    let share = matched as f64 / scans.len().max(1) as f64;
+    if matched == 0 {
+        bail!(
+            "{} and {}: none of the log's {} scans hears an access point of the radio map: \
+             they are of different buildings (or the BSSIDs were renamed)",
+            wifi_path.display(),
+            map_path.display(),
+            scans.len()
+        );
+    }
+    if share < MIN_MATCHED_SHARE {
+        warn(&format!(
+            "only {matched} of {} scans of {} ({:.0} %) hear an access point of {}: the rest \
+             cannot be placed by the radio map",
+            scans.len(),
+            wifi_path.display(),
+            100.0 * share,
+            map_path.display()
+        ));
+    }
+    Ok(matched)
+}
+
+/// On a plan of several levels the steps must carry height changes (`dz`): without them
+/// every step reads `dz = 0` and the walk could never change floor. `one_floor` (the user
+/// says the walk stays on its floor) allows it.
+pub fn check_height_changes(
+    steps_path: &Path,
+    plan_path: &Path,
+    plan: &FloorPlan,
+    one_floor: bool,
+) -> Result<()> {
+    let levels = plan.levels().len();
+    if levels > 1 && !one_floor && !has_dz_column(steps_path)? {
+        bail!(
+            "{}: no `dz` column, but {} has {levels} levels: the steps' height changes are \
+             what moves the walk between floors; add `dz` (footslam steps writes it from the \
+             barometer or the foot's height), or pass --one-floor if the walk stays on its \
+             start floor",
+            steps_path.display(),
+            plan_path.display()
+        );
+    }
+    Ok(())
+}
+
+/// WiFi scans, checked to overlap the walk in time: a log on another clock would place no
+/// scan (or every scan at one end of the walk).
+pub fn read_scans(path: &Path, trace: &StepTrace) -> Result<Vec<WifiScan>> {
+    let scans = read_wifi(path)?;
+    let steps = trace.steps();
+    let (Some(first), Some(last)) = (steps.first(), steps.last()) else {
+        return Ok(scans);
+    };
+    let (a, b) = (first.t, last.t);
+    if !scans.iter().any(|s| s.t >= a && s.t <= b) {
+        bail!(
+            "{}: no scan falls within the walk's time span [{a}, {b}] s (scans run from {} to \
+             {} s): the WiFi log and the step trace must share one clock",
+            path.display(),
+            scans.first().map_or(f64::NAN, |s| s.t),
+            scans.last().map_or(f64::NAN, |s| s.t)
+        );
+    }
+    Ok(scans)
 }
 
 #[cfg(test)]

@@ -1,7 +1,7 @@
 //! `footslam fingerprint`: each WiFi scan placed by the radio map alone (weighted k-nearest
 //! fingerprints) — the baseline that tracking with the radio map should beat.
 
-use super::common::{output_dir, read_config, require_file};
+use super::common::{check_scans_match, output_dir, read_config, require_file};
 use anyhow::{Result, bail};
 use footslam::dataset::{TrackPoint, read_wifi, write_track};
 use footslam::export::RunFolder;
@@ -56,6 +56,7 @@ pub fn run(args: Args) -> Result<()> {
     let (map, _) = read_radio_map_geojson(&args.radiomap, None)?;
     let localiser = NearestFingerprint::new(&map, &config)?;
     let scans = read_wifi(&args.wifi)?;
+    check_scans_match(&map, &scans, &args.radiomap, &args.wifi)?;
     let fixes: Vec<_> = scans.iter().filter_map(|s| localiser.locate(s)).collect();
     if fixes.is_empty() {
         bail!(

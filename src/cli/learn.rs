@@ -26,6 +26,7 @@ use footslam::model::{GpsObservation, HeadingLikelihood, find_levels};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::PathBuf;
+use std::sync::Mutex;
 use std::time::Instant;
 
 /// The bundled sample walk, used when `--steps` is not given.
@@ -182,6 +183,9 @@ struct RunSummary {
     outline_edges: usize,
     prior_map_hexagons: usize,
     prior_map_walks: u32,
+    /// FeetSLAM iterations run over the batch (`iterations` in the configuration; 0 for
+    /// one walk, or for walks in frames of their own).
+    iterations: u32,
     peak_memory_bytes: Option<u64>,
     origin: LocalFrame,
     /// The radio map made from the walks' WiFi logs (`--wifi`).
@@ -266,18 +270,15 @@ pub fn run(args: Args) -> Result<()> {
     let pool = super::common::worker_pool(args.threads)?;
     let threads = pool.current_num_threads();
     let batch = walks.len() > 1;
-    let runs = pool.install(|| {
-        walks
-            .par_iter()
-            .enumerate()
-            .map(|(i, walk)| {
-                let mut config = config.clone();
-                config.seed = config.seed.wrapping_add(i as u64);
-                let stored = prior_map.as_ref().map(|m| &m.map);
-                learn_walk(walk, config, &frame, &prior, stored, prior_walks, !batch)
-            })
-            .collect::<Result<Vec<_>>>()
-    })?;
+    let stored = prior_map.as_ref().map(|m| &m.map);
+    let shared = Shared {
+        config: &config,
+        frame: &frame,
+        prior: &prior,
+        prior_map: stored,
+        prior_walks,
+    };
+    let (runs, iterations) = pool.install(|| learn_batch(&walks, &shared))?;
 
     let out = output_dir(args.out, "learn");
     let mut folder = RunFolder::create(&out)?;
@@ -356,6 +357,7 @@ pub fn run(args: Args) -> Result<()> {
         outline_edges,
         prior_map_hexagons,
         prior_map_walks: prior_walks,
+        iterations,
         peak_memory_bytes: peak_memory_bytes(),
         origin: frame,
         radio,
@@ -394,6 +396,81 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
+/// What every walk of a run shares.
+struct Shared<'a> {
+    config: &'a FootSlamConfig,
+    frame: &'a LocalFrame,
+    /// `α` with the outline and the `--prior-map` counts.
+    prior: &'a EdgePrior,
+    prior_map: Option<&'a HexMapSnapshot>,
+    prior_walks: u32,
+}
+
+/// Learns the walks, each with seed `seed + i`: alone, then — for a batch in one frame —
+/// `config.iterations` FeetSLAM passes in which each walk is learned again with the merged
+/// map of the other walks' previous pass as prior pseudo-counts (weight `prior_weight`).
+/// Each pass reads only the pass before, so the result does not depend on the order in
+/// which walks finish or on the thread count. Returns the last pass and the passes run.
+fn learn_batch(walks: &[Walk], shared: &Shared) -> Result<(Vec<WalkRun>, u32)> {
+    let batch = walks.len() > 1;
+    // Walks share a frame when each is placed in it: a known start or GPS fixes.
+    let one_frame = walks
+        .iter()
+        .all(|w| w.start.is_some() || !w.fixes.is_empty());
+    let iterations = if batch && one_frame {
+        shared.config.iterations
+    } else {
+        0
+    };
+    let bar = (batch && iterations > 0).then(|| {
+        let passes = u64::from(iterations) + 1;
+        Mutex::new(Progress::new(passes * walks.len() as u64, "learning walks"))
+    });
+    let pass = |priors: Option<&[EdgePrior]>| {
+        walks
+            .par_iter()
+            .enumerate()
+            .map(|(i, walk)| {
+                let mut config = shared.config.clone();
+                config.seed = config.seed.wrapping_add(i as u64);
+                let prior = priors.map_or(shared.prior, |p| &p[i]);
+                let run = learn_walk(walk, config, shared, prior, !batch);
+                if let Some(bar) = &bar
+                    && let Ok(mut bar) = bar.lock()
+                {
+                    bar.inc();
+                }
+                run
+            })
+            .collect::<Result<Vec<_>>>()
+    };
+    let mut runs = pass(None)?;
+    for _ in 0..iterations {
+        let priors = runs
+            .iter()
+            .enumerate()
+            .map(|(i, _)| {
+                let others: Vec<_> = runs
+                    .iter()
+                    .enumerate()
+                    .filter(|&(j, _)| j != i)
+                    .map(|(_, r)| (&r.estimate.map, 1.0))
+                    .collect();
+                let mut prior = shared.prior.clone();
+                prior.add_counts(&merge_maps(&others)?, shared.config.prior_weight);
+                Ok(prior)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        runs = pass(Some(&priors))?;
+    }
+    if let Some(bar) = bar
+        && let Ok(bar) = bar.into_inner()
+    {
+        bar.finish();
+    }
+    Ok((runs, iterations))
+}
+
 /// The result of learning one walk.
 struct WalkRun {
     config: FootSlamConfig,
@@ -412,12 +489,11 @@ struct WalkRun {
 fn learn_walk(
     walk: &Walk,
     mut config: FootSlamConfig,
-    frame: &LocalFrame,
+    shared: &Shared,
     prior: &EdgePrior,
-    prior_map: Option<&HexMapSnapshot>,
-    prior_walks: u32,
     progress: bool,
 ) -> Result<WalkRun> {
+    let (frame, prior_map, prior_walks) = (shared.frame, shared.prior_map, shared.prior_walks);
     let gps: Vec<GpsObservation> = walk
         .fixes
         .iter()

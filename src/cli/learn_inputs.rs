@@ -1,10 +1,10 @@
 //! The inputs of `footslam learn`: walks from files and folders, their GPS fixes and WiFi
 //! logs, and the check that a prior map lies on the run's grid.
 
-use super::common::{SAME_ORIGIN, require_file};
+use super::common::{SAME_ORIGIN, read_scans, require_file};
 use anyhow::{Context, Result, bail};
 use footslam::dataset::csv_table::CsvTable;
-use footslam::dataset::{read_gps_csv, read_gpx, read_steps, read_wifi};
+use footslam::dataset::{read_gps_csv, read_gpx, read_steps};
 use footslam::filter::StartPose;
 use footslam::geometry::LocalFrame;
 use footslam::sensor::{GpsFix, StepTrace, WifiScan};
@@ -243,24 +243,6 @@ fn read_fixes(path: &Path, t0: Option<f64>, trace: &StepTrace) -> Result<Vec<Gps
         );
     }
     Ok(fixes)
-}
-
-/// WiFi scans, checked to overlap the walk in time: a log on another clock would place no
-/// scan (or every scan at one end of the walk).
-fn read_scans(path: &Path, trace: &StepTrace) -> Result<Vec<WifiScan>> {
-    let scans = read_wifi(path)?;
-    let steps = trace.steps();
-    let (a, b) = (steps[0].t, steps[steps.len() - 1].t);
-    if !scans.iter().any(|s| s.t >= a && s.t <= b) {
-        bail!(
-            "{}: no scan falls within the walk's time span [{a}, {b}] s (scans run from {} to \
-             {} s): the WiFi log and the step trace must share one clock",
-            path.display(),
-            scans[0].t,
-            scans[scans.len() - 1].t
-        );
-    }
-    Ok(scans)
 }
 
 /// The prior map must lie on the run's hexagon grid.

@@ -2,13 +2,14 @@
 //! walker on the known plan and adding its scans where it was (Woodman & Harle 2009).
 
 use super::common::{
-    Progress, output_dir, parse_origin, peak_memory_bytes, read_config, require_file,
+    Progress, check_height_changes, output_dir, parse_origin, peak_memory_bytes, read_config,
+    read_scans, require_file,
 };
 use super::radio_outputs::{held_out_quantiles, write_radio_map_files};
 use anyhow::{Context, Result, bail};
 use footslam::dataset::csv_table::CsvTable;
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
-use footslam::dataset::{read_steps, read_wifi};
+use footslam::dataset::read_steps;
 use footslam::export::RunFolder;
 use footslam::export::radio_map_geojson::read_radio_map_geojson;
 use footslam::filter::{
@@ -45,6 +46,10 @@ pub struct Args {
     /// `--steps`/`--wifi` pairs.
     #[arg(long)]
     walks: Option<PathBuf>,
+    /// Every walk stays on its start floor: allows step traces without a `dz` column on a
+    /// plan of several levels (otherwise an error).
+    #[arg(long)]
+    one_floor: bool,
     /// A radio map surveyed before on this plan at this granularity (`radiomap.geojson`),
     /// merged into the new one; repeat to merge several (with no walk: just merge them).
     #[arg(long)]
@@ -188,7 +193,10 @@ pub fn run(args: Args) -> Result<()> {
     for w in &pairs {
         require_file(&w.steps, "step trace")?;
         require_file(&w.wifi, "WiFi log")?;
-        walks.push((read_steps(&w.steps)?, read_wifi(&w.wifi)?));
+        let trace = read_steps(&w.steps)?;
+        check_height_changes(&w.steps, &args.plan, &plan, args.one_floor)?;
+        let scans = read_scans(&w.wifi, &trace)?;
+        walks.push((trace, scans));
     }
     // A walk's own start overrides the shared one.
     let starts: Vec<Option<StartPose>> = pairs

@@ -1,14 +1,12 @@
 //! `footslam track`: locate and track a walker on a known 2.5D floor plan from step events.
 
 use super::common::{
-    Progress, SAME_ORIGIN, bundled, output_dir, parse_origin, peak_memory_bytes, read_config,
-    require_file,
+    Progress, SAME_ORIGIN, bundled, check_height_changes, check_scans_match, output_dir,
+    parse_origin, peak_memory_bytes, read_config, read_scans, require_file,
 };
 use anyhow::{Context, Result, bail};
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
-use footslam::dataset::{
-    SmoothedPoint, TrackPoint, read_steps, read_wifi, write_smoothed_track, write_track,
-};
+use footslam::dataset::{SmoothedPoint, TrackPoint, read_steps, write_smoothed_track, write_track};
 use footslam::export::RunFolder;
 use footslam::export::map_geojson::read_map_geojson;
 use footslam::export::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, PlanPoints};
@@ -49,6 +47,11 @@ pub struct Args {
     /// per level.
     #[arg(long)]
     plan_margin: Option<f64>,
+    /// The walk stays on its start floor: allows a step trace without a `dz` column on a
+    /// plan of several levels (without this flag that is an error, since `dz = 0` would
+    /// pin the walk to one floor silently).
+    #[arg(long)]
+    one_floor: bool,
     /// A map learned by `learn` in the plan's frame (its `map.geojson` or `merged.geojson`
     /// beside the `plan.geojson` it made): its transition probabilities become a motion
     /// prior — a particle moving along a well-trodden hexagon edge is likelier than one
@@ -230,6 +233,8 @@ struct RfSummary {
     radiomap_file: String,
     wifi_file: String,
     scans: usize,
+    /// Scans that hear at least one access point of the radio map (a warning below half).
+    scans_matched: usize,
     mode: RfMode,
     /// The distance's divisor used: `paper` (k) or `sqrt` (√k).
     distance: Normalisation,
@@ -358,6 +363,7 @@ pub fn run(args: Args) -> Result<()> {
         None => None,
     };
     let trace = read_steps(&steps_path)?;
+    check_height_changes(&steps_path, &plan_path, &plan, args.one_floor)?;
     if let Some(late) = args.snapshots.iter().flatten().find(|&&k| k > trace.len()) {
         bail!(
             "--snapshots asks for step {late}, but {} has only {} steps",
@@ -372,14 +378,15 @@ pub fn run(args: Args) -> Result<()> {
             require_file(map_path, "radio map")?;
             require_file(wifi_path, "WiFi log")?;
             let (map, _) = read_radio_map_geojson(map_path, Some(frame))?;
-            let scans = read_wifi(wifi_path)?;
+            let scans = read_scans(wifi_path, &trace)?;
+            let matched = check_scans_match(&map, &scans, map_path, wifi_path)?;
             let rf = RfLocaliser::new(&map, &topology, &config.rf).with_context(|| {
                 format!(
                     "{}: cannot localise with this radio map",
                     map_path.display()
                 )
             })?;
-            Some((rf, scans, map_path, wifi_path))
+            Some((rf, scans, map_path, wifi_path, matched))
         }
         _ => None,
     };
@@ -585,10 +592,11 @@ pub fn run(args: Args) -> Result<()> {
     let summary = Summary {
         rf: radio
             .as_ref()
-            .map(|(rf, scans, map_path, wifi_path)| RfSummary {
+            .map(|(rf, scans, map_path, wifi_path, matched)| RfSummary {
                 radiomap_file: map_path.display().to_string(),
                 wifi_file: wifi_path.display().to_string(),
                 scans: scans.len(),
+                scans_matched: *matched,
                 mode: rf.config().mode,
                 distance: rf.distance(),
                 epsilon_dbm: rf.epsilon(),

@@ -39,6 +39,12 @@ pub fn read_steps(path: &Path) -> Result<StepTrace> {
     StepTrace::new(steps).map_err(|(i, m)| Error::parse(path, i + 2, m))
 }
 
+/// Whether a step trace's header has a `dz` column (without one every step reads `dz = 0`,
+/// which a multi-floor plan must not take for "stayed on the floor").
+pub fn has_dz_column(path: &Path) -> Result<bool> {
+    Ok(CsvTable::open(path)?.optional_column("dz").is_some())
+}
+
 /// Writes a step trace as CSV (`t,length,dheading,dz` and `heading` when any step has one).
 pub fn write_steps(path: &Path, trace: &StepTrace) -> Result<()> {
     let with_heading = trace.steps().iter().any(|s| s.heading.is_some());

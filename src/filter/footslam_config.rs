@@ -49,6 +49,13 @@ pub struct FootSlamConfig {
     pub outline_margin: f64,
     /// Weight `w` of a prior map's counts as pseudo-counts on top of `α`. Default 1.
     pub prior_weight: f64,
+    /// FeetSLAM iterations for a batch of walks learned into one frame (every walk with a
+    /// known start or GPS fixes): after the walks are learned alone, each is learned again
+    /// `iterations` times with the merged map of the others (from the pass before) as its
+    /// prior, weighted by `prior_weight`. Default 2: the first pass shares what the others
+    /// saw; the second lets walks that were wrong alone correct the others in turn, and more
+    /// passes change little (docs/footslam.md) while each costs a full run.
+    pub iterations: u32,
     /// Step error model.
     pub motion: StepMotionConfig,
     /// Resampling.
@@ -65,6 +72,9 @@ pub struct FootSlamConfig {
     pub levels: LevelConfig,
 }
 
+/// The most FeetSLAM iterations a configuration may ask for.
+const MAX_ITERATIONS: u32 = 20;
+
 impl Default for FootSlamConfig {
     fn default() -> Self {
         Self {
@@ -80,6 +90,7 @@ impl Default for FootSlamConfig {
             outline_alpha: 0.05,
             outline_margin: 1.5,
             prior_weight: 1.0,
+            iterations: 2,
             motion: StepMotionConfig::default(),
             resample: ResampleConfig::default(),
             gps: GpsConfig::default(),
@@ -136,6 +147,13 @@ impl FootSlamConfig {
                     "must be a finite number ≥ 0 (and not absurd)",
                 );
             }
+        }
+        if self.iterations > MAX_ITERATIONS {
+            return bad(
+                "iterations",
+                self.iterations.to_string(),
+                "must be at most 20 (each is a full pass over the walks)",
+            );
         }
         if !(self.outline_alpha.is_finite()
             && self.outline_alpha > 0.0

@@ -155,6 +155,21 @@ impl RadioMap {
             .collect()
     }
 
+    /// How many of `scans` hear at least one access point the map knows: a scan that hears
+    /// none cannot be placed by the map, and a log where none does belongs to another
+    /// building (or had its BSSIDs renamed).
+    pub fn scans_matched(&self, scans: &[WifiScan]) -> usize {
+        let known = self.access_points();
+        scans
+            .iter()
+            .filter(|s| {
+                s.readings
+                    .iter()
+                    .any(|r| known.binary_search(&r.bssid.as_str()).is_ok())
+            })
+            .count()
+    }
+
     /// Adds `other`'s readings cell by cell; both maps must have the same cell ids in the
     /// same order (maps of one plan at one granularity).
     pub fn merge(&mut self, other: &RadioMap) -> Result<()> {
@@ -234,6 +249,29 @@ mod tests {
         cell.merge(&other);
         assert_eq!((cell.scans, cell.aps["b"].n), (4, 2));
         assert_eq!(cell.misses("b"), 2);
+    }
+
+    #[test]
+    fn scans_match_when_they_hear_a_known_access_point() {
+        let mut radio = CellRadio::default();
+        radio.add_scan(&scan(&[("a", -60.0), ("b", -80.0)]));
+        let map = RadioMap {
+            cells: vec![RadioMapCell {
+                id: "0-0-0".into(),
+                level: 0,
+                area: MultiPolygon(Vec::new()),
+                radio,
+            }],
+            epsilon: None,
+            epsilon_sqrt: None,
+        };
+        let scans = [
+            scan(&[("b", -70.0), ("x", -50.0)]),
+            scan(&[("x", -50.0)]),
+            scan(&[]),
+        ];
+        assert_eq!(map.scans_matched(&scans), 1);
+        assert_eq!(map.scans_matched(&[]), 0);
     }
 
     #[test]
