@@ -76,3 +76,50 @@ fn walks_with_known_starts_are_iterated_independently_of_threads() {
         read("alone", "walk-2/track.csv")
     );
 }
+
+#[test]
+fn phone_grade_walks_learn_better_than_dead_reckoning() {
+    // Walks drawn from the phone error model measured on real traces (`--sensor phone`):
+    // the learned track's aligned p95 is at most 0.6× dead reckoning's.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = dir.path();
+    for s in ["1", "2"] {
+        let sim = d.join(format!("sim-{s}"));
+        footslam()
+            .args([
+                "simulate", "--sensor", "phone", "--laps", "2", "--seed", s, "--out",
+            ])
+            .arg(&sim)
+            .assert()
+            .success();
+        let config = std::fs::read_to_string(sim.join("config.json")).expect("config");
+        assert!(config.contains("\"length_sigma\": 0.1"), "{config}");
+        let run = d.join(format!("learn-{s}"));
+        footslam()
+            .args(["learn", "--particles", "5000", "--seed", s, "--steps"])
+            .arg(sim.join("steps.csv"))
+            .arg("--out")
+            .arg(&run)
+            .assert()
+            .success();
+        let out = footslam()
+            .args(["eval", "--json", "--align", "rigid", "--truth"])
+            .arg(sim.join("truth.csv"))
+            .arg("--track")
+            .arg(run.join("track.csv"))
+            .arg("--steps")
+            .arg(sim.join("steps.csv"))
+            .output()
+            .expect("eval");
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+        let (learned, dr) = (
+            v["track"]["p95"].as_f64().expect("p95"),
+            v["dead_reckoning"]["p95"].as_f64().expect("p95"),
+        );
+        eprintln!("phone-grade walk {s}: learned p95 {learned:.2} m, dead reckoning {dr:.2} m");
+        assert!(
+            learned <= 0.6 * dr,
+            "walk {s}: {learned:.2} m against {dr:.2} m"
+        );
+    }
+}

@@ -267,6 +267,12 @@ fn run_waypoints(args: Args) -> Result<()> {
     let Some(path) = &args.waypoints else {
         anyhow::bail!("give --truth or --waypoints");
     };
+    if args.map.is_some() || args.learned_plan.is_some() || args.plan.is_some() {
+        anyhow::bail!(
+            "--map, --learned-plan and --plan need a dense --truth (the visited space); \
+             with --waypoints give the waypoints file as --truth instead"
+        );
+    }
     require_file(path, "waypoints file")?;
     let waypoints = read_waypoints(path)?;
     let (track, uncertain) = read_certain_trajectory(&args.track)?;

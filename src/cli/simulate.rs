@@ -13,7 +13,7 @@ use footslam::export::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, write
 use footslam::geometry::LocalFrame;
 use footslam::map::{FloorTopology, TopologyConfig};
 use footslam::sim::{
-    SimConfig, TourKind, TowerSimConfig, TruePose, expected_field, floor_changes,
+    SimConfig, StepNoiseConfig, TourKind, TowerSimConfig, TruePose, expected_field, floor_changes,
     floor_resolved_at, simulate, simulate_tower,
 };
 
@@ -85,6 +85,11 @@ pub struct Args {
     /// `compass.enabled`).
     #[arg(long)]
     pub(super) compass: bool,
+    /// Step-sensor errors: `foot` (a foot-mounted IMU, the default) or `phone` (a hand-held
+    /// phone's PDR; on the campus also its compass), both measured on real recordings
+    /// (docs/error-models.md). Overrides the config file's `noise` (and `compass`).
+    #[arg(long, value_enum)]
+    pub(super) sensor: Option<Sensor>,
     /// Simulation configuration (TOML, or JSON such as a previous run's config.json).
     #[arg(long)]
     pub(super) config: Option<PathBuf>,
@@ -94,6 +99,25 @@ pub struct Args {
     /// Output folder (default: a new folder under `outputs/`).
     #[arg(long)]
     pub(super) out: Option<PathBuf>,
+}
+
+/// Step-sensor error presets of `--sensor`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(super) enum Sensor {
+    /// A foot-mounted IMU's strides.
+    Foot,
+    /// A hand-held phone's steps.
+    Phone,
+}
+
+impl Sensor {
+    /// The preset's step errors.
+    pub(super) fn noise(self) -> StepNoiseConfig {
+        match self {
+            Self::Foot => StepNoiseConfig::foot(),
+            Self::Phone => StepNoiseConfig::phone(),
+        }
+    }
 }
 
 #[derive(Debug, Serialize)]
@@ -137,6 +161,9 @@ fn run_tower(args: Args) -> Result<()> {
         Some(p) => read_config(p)?,
         None => TowerSimConfig::default(),
     };
+    if let Some(sensor) = args.sensor {
+        config.noise = sensor.noise();
+    }
     if let Some(s) = args.seed {
         config.seed = s;
     }
@@ -232,6 +259,9 @@ fn run_office(args: Args) -> Result<()> {
         Some(p) => read_config(p)?,
         None => SimConfig::default(),
     };
+    if let Some(sensor) = args.sensor {
+        config.noise = sensor.noise();
+    }
     if let Some(s) = args.seed {
         config.seed = s;
     }

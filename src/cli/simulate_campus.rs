@@ -2,14 +2,14 @@
 //! yard, with GPS fixes outdoors and the building's rough outline.
 
 use super::common::{output_dir, path_length, read_config, walk_prefix, write_truth_png};
-use super::simulate::Args;
+use super::simulate::{Args, Sensor};
 use anyhow::Result;
 use footslam::dataset::floor_plan_geojson::write_floor_plan;
 use footslam::dataset::steps_csv::write_steps;
 use footslam::dataset::truth_csv::write_truth;
 use footslam::dataset::{write_gps_csv, write_outline};
 use footslam::export::RunFolder;
-use footslam::sim::{CampusSimConfig, CampusWalk, simulate_campus};
+use footslam::sim::{CampusSimConfig, CampusWalk, CompassSimConfig, simulate_campus};
 use serde::Serialize;
 
 #[derive(Debug, Serialize)]
@@ -49,6 +49,12 @@ pub fn run(args: Args) -> Result<()> {
     }
     if args.entrance_only {
         config.walk_out = false;
+    }
+    if let Some(sensor) = args.sensor {
+        config.noise = sensor.noise();
+        if sensor == Sensor::Phone {
+            config.compass = CompassSimConfig::phone();
+        }
     }
     if args.compass {
         config.compass.enabled = true;

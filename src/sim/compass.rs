@@ -67,6 +67,19 @@ impl Default for CompassSimConfig {
 }
 
 impl CompassSimConfig {
+    /// A phone's rotation-vector heading, as measured on the ILC site-1 traces
+    /// (docs/error-models.md): 3.3° white noise, a 13° disturbance over 6.5 m, 2.3 % outliers.
+    pub fn phone() -> Self {
+        Self {
+            enabled: true,
+            noise_sigma: 0.057,
+            disturbance_sigma: 0.231,
+            disturbance_length: 6.5,
+            outlier_probability: 0.023,
+            ..Self::default()
+        }
+    }
+
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
         ensure_in_range!("compass.noise_sigma", self.noise_sigma, 0.0..=3.2, " rad");

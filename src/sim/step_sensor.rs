@@ -52,6 +52,29 @@ impl Default for StepNoiseConfig {
 }
 
 impl StepNoiseConfig {
+    /// A foot-mounted IMU's strides (the default): stride noise 0.02 m, as measured on the
+    /// PyShoe hallway walks (robust σ 0.019 m, docs/error-models.md); 15° of drift over the
+    /// walk, within the hallways' measured 0.02–0.18°/s.
+    pub fn foot() -> Self {
+        Self::default()
+    }
+
+    /// A hand-held phone's steps (step-and-heading PDR with the gyroscope): measured on the
+    /// ILC site-1 traces (docs/error-models.md) — heading-change noise 0.63° per step (the
+    /// measurement's upper bound), stride noise 0.10 m (the data bound it at ≤ 0.23 m),
+    /// height noise 0.05 m (a barometer's); 30° of gyro drift over the walk (the traces are
+    /// too short to measure it; their bound, 0.11°/step, allows more).
+    pub fn phone() -> Self {
+        Self {
+            length_sigma: 0.10,
+            length_scale: 1.0,
+            dheading_sigma: 0.011,
+            drift_total: 30.0_f64.to_radians(),
+            drift_rate_walk_sigma: 0.001_f64.to_radians(),
+            dz_sigma: 0.05,
+        }
+    }
+
     /// A perfect sensor: no noise, no drift, unit scale.
     pub fn noise_free() -> Self {
         Self {
