@@ -16,7 +16,7 @@ pub enum Error {
         source: std::io::Error,
     },
     /// An input file is malformed at a given line. Fix: correct the named line.
-    #[error("{path}:{line}: {message}")]
+    #[error("{}{}: {}", .path.display(), line_suffix(*.line), .message)]
     Parse {
         /// The file concerned.
         path: PathBuf,
@@ -79,5 +79,14 @@ impl Error {
             line,
             message: message.into(),
         }
+    }
+}
+
+/// `:LINE` after a file name, or nothing when the problem concerns the whole file (line 0).
+fn line_suffix(line: usize) -> String {
+    if line == 0 {
+        String::new()
+    } else {
+        format!(":{line}")
     }
 }

@@ -213,3 +213,191 @@ fn inputs_wrong_together_fail_or_warn_clearly() {
         assert_eq!(out.exists(), !case.fails, "{}: outputs", case.name);
     }
 }
+
+/// The bundled tower plan with `edit` applied to its GeoJSON.
+fn edited_plan(to: &Path, edit: impl Fn(&mut serde_json::Value)) {
+    let text = std::fs::read_to_string(bundled("floor.geojson")).expect("plan");
+    let mut plan: serde_json::Value = serde_json::from_str(&text).expect("json");
+    edit(&mut plan);
+    std::fs::write(to, serde_json::to_string(&plan).expect("json")).expect("write");
+}
+
+/// Scales every position of a plan about its origin.
+fn scale_plan(plan: &mut serde_json::Value, factor: f64) {
+    let (lat0, lon0) = (
+        plan["origin"]["lat"].as_f64().expect("lat"),
+        plan["origin"]["lon"].as_f64().expect("lon"),
+    );
+    fn walk(v: &mut serde_json::Value, f: &dyn Fn(&mut serde_json::Value)) {
+        match v {
+            serde_json::Value::Array(a) if a.len() == 2 && a.iter().all(|x| x.is_f64()) => f(v),
+            serde_json::Value::Array(a) => a.iter_mut().for_each(|x| walk(x, f)),
+            _ => {}
+        }
+    }
+    for feature in plan["features"].as_array_mut().expect("features") {
+        walk(&mut feature["geometry"]["coordinates"], &|p| {
+            let (lon, lat) = (p[0].as_f64().expect("lon"), p[1].as_f64().expect("lat"));
+            *p = serde_json::json!([lon0 + (lon - lon0) * factor, lat0 + (lat - lat0) * factor]);
+        });
+    }
+}
+
+#[test]
+fn files_out_of_range_or_ambiguous_fail_clearly() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = dir.path();
+    let steps = bundled("steps.csv");
+    edited_plan(&d.join("high.geojson"), |p| {
+        p["features"][0]["properties"]["z"] = 1e308.into()
+    });
+    edited_plan(&d.join("tiny.geojson"), |p| scale_plan(p, 1e-4));
+    edited_plan(&d.join("huge.geojson"), |p| scale_plan(p, 400.0));
+    edited_plan(&d.join("twice.geojson"), |p| {
+        let first = p["features"][0].clone();
+        p["features"].as_array_mut().expect("features").push(first);
+    });
+    // A plan saved by an editor with a byte-order mark reads as any other.
+    let text = std::fs::read_to_string(bundled("floor.geojson")).expect("plan");
+    std::fs::write(d.join("bom.geojson"), format!("\u{feff}{text}")).expect("bom");
+    let steps_text = std::fs::read_to_string(&steps).expect("steps");
+    std::fs::write(
+        d.join("two_t.csv"),
+        steps_text.replacen("t,length,dheading,dz", "t,length,dheading,t", 1),
+    )
+    .expect("dup");
+    std::fs::write(d.join("cap.toml"), "[kld]\nmax_particles = 20000\n").expect("cap");
+    // A learned map to merge.
+    footslam()
+        .args(["learn", "--particles", "200", "--steps"])
+        .arg(bundled("../office/steps.csv"))
+        .arg("--out")
+        .arg(d.join("learn"))
+        .assert()
+        .success();
+    std::fs::write(d.join("one.csv"), "t,x,y\n1.0,0,0\n").expect("one");
+    std::fs::create_dir(d.join("folder")).expect("folder");
+
+    let p = |name: &str| d.join(name).display().to_string();
+    let s = |x: &str| x.to_owned();
+    let track = |plan: &str, extra: &[&str]| {
+        let mut a = vec![s("track"), s("--plan"), p(plan), s("--steps")];
+        a.push(steps.display().to_string());
+        a.extend(extra.iter().map(|x| s(x)));
+        a
+    };
+    let map = p("learn/map.geojson");
+    let cases = [
+        Case {
+            name: "a surface 1e308 m high",
+            args: track("high.geojson", &[]),
+            fails: true,
+            says: &["high.geojson", "z = 1e308", "±1000 m"],
+        },
+        Case {
+            name: "a plan of a few millimetres",
+            args: track("tiny.geojson", &[]),
+            fails: true,
+            says: &["tiny.geojson", "is it in metres"],
+        },
+        Case {
+            name: "a plan 16 km wide",
+            args: track("huge.geojson", &[]),
+            fails: true,
+            says: &["huge.geojson", "at most 10000 m"],
+        },
+        Case {
+            name: "a surface given twice",
+            args: track("twice.geojson", &[]),
+            fails: true,
+            says: &["twice.geojson", "same polygon"],
+        },
+        Case {
+            name: "a plan with a byte-order mark",
+            args: track("bom.geojson", &["--config", &p("cap.toml")]),
+            fails: false,
+            says: &[],
+        },
+        Case {
+            name: "the prior capped before KLD is met",
+            args: track("bom.geojson", &["--config", &p("cap.toml")]),
+            fails: false,
+            says: &["warning", "kld.max_particles = 20000"],
+        },
+        Case {
+            name: "a CSV column given twice",
+            args: vec![s("learn"), s("--steps"), p("two_t.csv")],
+            fails: true,
+            says: &["two_t.csv:1", "`t` appears twice"],
+        },
+        Case {
+            name: "merge with every weight 0",
+            args: vec![
+                s("merge"),
+                map.clone(),
+                map.clone(),
+                s("--weights"),
+                s("0,0"),
+            ],
+            fails: true,
+            says: &["all 0"],
+        },
+        Case {
+            name: "merge of one map twice",
+            args: vec![s("merge"), map.clone(), map.clone()],
+            fails: false,
+            says: &["warning", "given twice"],
+        },
+        Case {
+            name: "merge into a folder",
+            args: vec![s("merge"), map.clone(), s("--out"), p("folder")],
+            fails: true,
+            says: &["is a folder", "merged.geojson"],
+        },
+        Case {
+            name: "rigid alignment on one point",
+            args: vec![
+                s("eval"),
+                s("--truth"),
+                p("one.csv"),
+                s("--track"),
+                p("one.csv"),
+                s("--align"),
+                s("rigid"),
+            ],
+            fails: true,
+            says: &["at least 3"],
+        },
+    ];
+    for (i, case) in cases.iter().enumerate() {
+        let mut cmd = footslam();
+        cmd.args(&case.args);
+        let writes = !matches!(case.args[0].as_str(), "eval" | "merge");
+        let out = d.join(format!("out-{i}"));
+        if writes {
+            cmd.arg("--out").arg(&out);
+        } else if case.args[0] == "merge" && !case.args.contains(&s("--out")) {
+            cmd.arg("--out").arg(&out);
+        }
+        let output = cmd.output().expect("run");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(
+            output.status.success(),
+            !case.fails,
+            "{}: exit {:?}, stderr: {stderr}",
+            case.name,
+            output.status.code()
+        );
+        assert!(!stderr.contains("panicked"), "{}: {stderr}", case.name);
+        for word in case.says {
+            assert!(
+                stderr.contains(word),
+                "{}: expected `{word}` in: {stderr}",
+                case.name
+            );
+        }
+        if case.fails {
+            assert!(!out.exists(), "{}: no outputs on failure", case.name);
+        }
+    }
+}

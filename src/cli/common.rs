@@ -63,14 +63,15 @@ fn civil_from_days(z: i64) -> (i64, u32, u32) {
 /// Reads a component config from TOML (or JSON, by extension) into `T`.
 pub fn read_config<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
     let text = std::fs::read_to_string(path).with_context(|| format!("{}", path.display()))?;
+    let text = text.trim_start_matches('\u{feff}');
     let is_json = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
     if is_json {
-        serde_json::from_str(&text)
+        serde_json::from_str(text)
             .with_context(|| format!("{}: invalid configuration", path.display()))
     } else {
-        toml::from_str(&text).with_context(|| format!("{}: invalid configuration", path.display()))
+        toml::from_str(text).with_context(|| format!("{}: invalid configuration", path.display()))
     }
 }
 

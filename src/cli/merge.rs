@@ -1,6 +1,6 @@
 //! `footslam merge`: combine maps learned on several walks of one building.
 
-use super::common::{SAME_ORIGIN, require_file};
+use super::common::{SAME_ORIGIN, require_file, warn};
 use anyhow::{Result, bail};
 use footslam::export::map_geojson::{read_stored_map, write_walks_map_geojson};
 use footslam::map::merge_maps;
@@ -29,6 +29,33 @@ pub fn run(args: Args) -> Result<()> {
             args.weights.len(),
             args.maps.len()
         );
+    }
+    if let Some(w) = args.weights.iter().find(|w| !(w.is_finite() && **w >= 0.0)) {
+        bail!("--weights: {w} is not a finite weight ≥ 0");
+    }
+    if !args.weights.is_empty() && args.weights.iter().all(|&w| w == 0.0) {
+        bail!(
+            "--weights are all 0: the merged map would be empty; give at least one map weight > 0"
+        );
+    }
+    if args.out.is_dir() {
+        bail!(
+            "--out {} is a folder: merge writes one map file, e.g. --out {}",
+            args.out.display(),
+            args.out.join("merged.geojson").display()
+        );
+    }
+    // One map given twice counts its walks twice: say so (a user may mean it as a weight).
+    let mut seen: Vec<PathBuf> = Vec::new();
+    for path in &args.maps {
+        let key = path.canonicalize().unwrap_or_else(|_| path.clone());
+        if seen.contains(&key) {
+            warn(&format!(
+                "{} is given twice: its counts are added twice (use --weights to weigh a map)",
+                path.display()
+            ));
+        }
+        seen.push(key);
     }
     let mut maps = Vec::with_capacity(args.maps.len());
     for path in &args.maps {

@@ -2,7 +2,7 @@
 
 use super::common::{
     Progress, SAME_ORIGIN, bundled, check_height_changes, check_scans_match, output_dir,
-    parse_origin, peak_memory_bytes, read_config, read_scans, require_file,
+    parse_origin, peak_memory_bytes, read_config, read_scans, require_file, warn,
 };
 use anyhow::{Context, Result, bail};
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
@@ -412,6 +412,17 @@ pub fn run(args: Args) -> Result<()> {
                     Walker::Plain(Box::new(t))
                 }
             };
+            if let Some(tracker) = walker.tracker()
+                && tracker.capped_draws() > 0
+            {
+                warn(&format!(
+                    "the prior over {} stopped at kld.max_particles = {} before the KLD bound \
+                     was met: the plan is large for an unknown start (each step will be slow \
+                     and the prior thin); give --start, a radio map, or raise the cap",
+                    plan_path.display(),
+                    config.kld.max_particles
+                ));
+            }
             let mut snapshots = Vec::new();
             if let Some(tracker) = walker.tracker()
                 && wanted(0, trace.is_empty())

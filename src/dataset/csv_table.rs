@@ -41,6 +41,15 @@ impl CsvTable {
                 "the file is empty: expected a header row",
             ));
         }
+        for (i, h) in headers.iter().enumerate() {
+            if !h.is_empty() && headers[..i].contains(h) {
+                return Err(Error::parse(
+                    path,
+                    1,
+                    format!("column `{h}` appears twice in the header: which one is meant?"),
+                ));
+            }
+        }
         Ok(Self {
             path: path.to_path_buf(),
             reader,

@@ -70,6 +70,7 @@ pub fn read_floor_plan(path: &Path, origin: Option<LocalFrame>) -> Result<(Floor
             whole(format!("feature {i}{name}: {m}"))
         })?;
     }
+    plan.check_limits().map_err(whole)?;
     Ok((plan, frame))
 }
 

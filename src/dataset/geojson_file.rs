@@ -53,9 +53,19 @@ pub fn read_origin(origin: &JsonValue) -> Result<LocalFrame, String> {
         .ok_or_else(|| format!("origin ({lat}, {lon}) is not a valid latitude/longitude"))
 }
 
+/// The text of a JSON file without a leading byte-order mark (editors on Windows write one;
+/// RFC 8259 lets a parser ignore it, and the CSV readers do).
+pub fn read_json_text(path: &Path) -> Result<String> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    Ok(match text.strip_prefix('\u{feff}') {
+        Some(rest) => rest.to_owned(),
+        None => text,
+    })
+}
+
 /// Reads `path` as an RFC 7946 FeatureCollection.
 pub fn read_feature_collection(path: &Path) -> Result<FeatureCollection> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = read_json_text(path)?;
     serde_json::from_str(&text).map_err(|e| {
         Error::parse(
             path,

@@ -293,7 +293,7 @@ impl IlcFloor {
 }
 
 fn read_json(path: &Path) -> Result<Value> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = super::geojson_file::read_json_text(path)?;
     serde_json::from_str(&text).map_err(|e| Error::parse(path, e.line(), format!("not JSON: {e}")))
 }
 

@@ -609,7 +609,7 @@ mod tests {
             .collect();
         let m = e(&no_gyro);
         assert!(
-            m.contains("trace.txt:0") && m.contains("no gyroscope rows"),
+            m.contains("trace.txt: ") && m.contains("no gyroscope rows"),
             "{m}"
         );
         let m = e("");

@@ -12,7 +12,7 @@ use std::path::Path;
 
 /// Reads the outline polygon in the local frame `frame`; errors name the file and problem.
 pub fn read_outline(path: &Path, frame: &LocalFrame) -> Result<Polygon<f64>> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = super::geojson_file::read_json_text(path)?;
     let whole = |m: String| Error::parse(path, 0, m);
     let json: GeoJson = serde_json::from_str(&text)
         .map_err(|e| Error::parse(path, e.line(), format!("not GeoJSON: {e}")))?;

@@ -52,10 +52,15 @@ pub struct ErrorReport {
     pub transform: Option<RigidTransform>,
 }
 
+/// The fewest matched points a rigid alignment is measured on: two points leave one degree
+/// of freedom of four, fewer none.
+pub const MIN_RIGID_POINTS: usize = 3;
+
 /// Errors of `track` against `truth` (both in time order, local metres).
 ///
-/// Fails when either is empty, not strictly increasing in time or not finite, or when no
-/// track point lies within the truth's time span.
+/// Fails when either is empty, not strictly increasing in time or not finite, when no
+/// track point lies within the truth's time span, or when a rigid alignment would rest on
+/// fewer than [`MIN_RIGID_POINTS`] points.
 pub fn position_errors(
     truth: &[TimedPoint],
     track: &[TimedPoint],
@@ -73,6 +78,12 @@ pub fn position_errors(
         return Err(Error::Input(format!(
             "none of the {} track points lies within the truth's time span [{t0}, {t1}] s",
             track.len()
+        )));
+    }
+    if alignment == Alignment::Rigid && n < MIN_RIGID_POINTS {
+        return Err(Error::Input(format!(
+            "a rigid alignment needs at least {MIN_RIGID_POINTS} track points within the truth's \
+             time span, got {n}: it would fit them exactly and report no error; use no alignment"
         )));
     }
     let transform = match alignment {

@@ -170,7 +170,13 @@ fn read_cell(feature: &Feature, frame: &LocalFrame) -> Result<RadioMapCell, Stri
         _ => return Err("property `cell` (the cell id) is missing".into()),
     };
     let level = match feature.property("level") {
-        None | Some(JsonValue::Null) => 0,
+        None | Some(JsonValue::Null) => {
+            return Err(
+                "property `level` (the cell's floor) is missing: add `\"level\": 0` on a \
+                 one-floor plan, else the cell's floor as the plan numbers it"
+                    .into(),
+            );
+        }
         Some(v) => v
             .as_i64()
             .and_then(|l| i32::try_from(l).ok())
@@ -225,6 +231,11 @@ fn read_ap(stats: &JsonValue) -> Result<ApStats, String> {
                 .trim()
                 .parse()
                 .map_err(|_| format!("`hist` bin `{bin}` is not a whole dBm"))?;
+            if !(-120..=0).contains(&bin) {
+                return Err(format!(
+                    "`hist` bin {bin} dBm is not an RSSI in [-120, 0] dBm"
+                ));
+            }
             let count = count
                 .as_u64()
                 .and_then(|c| u32::try_from(c).ok())
@@ -341,23 +352,31 @@ mod tests {
         };
         std::fs::write(
             &p,
-            feature(r#"{"cell":"A","scans":4,"aps":{"x":{"n":2,"mean":-70}}}"#),
+            feature(r#"{"cell":"A","level":0,"scans":4,"aps":{"x":{"n":2,"mean":-70}}}"#),
         )
         .expect("write");
         let (map, _) = read_radio_map_geojson(&p, None).expect("no hist is fine");
         assert_eq!(map.cells[0].radio.misses("x"), 2);
         for (props, expected) in [
-            (r#"{"scans":4}"#, "`cell`"),
+            (r#"{"scans":4,"level":0}"#, "`cell`"),
             (
-                r#"{"cell":"A","scans":1,"aps":{"x":{"n":2,"mean":-70}}}"#,
+                r#"{"cell":"A","scans":4,"aps":{"x":{"n":2,"mean":-70}}}"#,
+                "`level`",
+            ),
+            (
+                r#"{"cell":"A","level":0,"scans":4,"aps":{"x":{"n":1,"mean":-70,"hist":{"30":1}}}}"#,
+                "bin 30 dBm",
+            ),
+            (
+                r#"{"cell":"A","level":0,"scans":1,"aps":{"x":{"n":2,"mean":-70}}}"#,
                 "exceeds",
             ),
             (
-                r#"{"cell":"A","scans":4,"aps":{"x":{"n":2,"mean":10}}}"#,
+                r#"{"cell":"A","level":0,"scans":4,"aps":{"x":{"n":2,"mean":10}}}"#,
                 "`mean`",
             ),
             (
-                r#"{"cell":"A","scans":4,"aps":{"x":{"n":2,"mean":-70,"hist":{"-70":1}}}}"#,
+                r#"{"cell":"A","level":0,"scans":4,"aps":{"x":{"n":2,"mean":-70,"hist":{"-70":1}}}}"#,
                 "add up to 1",
             ),
         ] {

@@ -325,9 +325,14 @@ impl KldBins {
 
     /// Fox's stopping rule for `n` samples in `k` occupied bins: true when `n` suffices.
     pub fn enough(&self, n: usize, k: usize) -> bool {
-        n >= self.config.max_particles
-            || (n >= self.config.min_particles
-                && n as f64 >= required_particles(k as f64, self.config.epsilon, self.z))
+        n >= self.config.max_particles || self.satisfied(n, k)
+    }
+
+    /// Whether `n` samples over `k` occupied bins meet the KLD bound (and the minimum),
+    /// regardless of the cap.
+    pub fn satisfied(&self, n: usize, k: usize) -> bool {
+        n >= self.config.min_particles
+            && n as f64 >= required_particles(k as f64, self.config.epsilon, self.z)
     }
 
     /// The sample size for the belief whose masses were [`add`](Self::add)ed since the last

@@ -155,6 +155,8 @@ pub struct Tracker<'a> {
     transitions: Option<&'a TransitionPrior>,
     /// The resampling ancestor of each particle of the belief (kept with the tree only).
     ancestors: Vec<u32>,
+    /// Prior draws cut at `kld.max_particles` before KLD was satisfied.
+    capped_draws: usize,
 }
 
 /// A particle's place as a node of the ancestry.
@@ -217,6 +219,7 @@ impl<'a> Tracker<'a> {
                 .smoothing
                 .then(|| PathTree::new(config.smoothing_lag)),
             ancestors: Vec::new(),
+            capped_draws: 0,
         };
         if let Some(start) = config.start {
             let s = tracker.locate_start(&start)?;
@@ -240,6 +243,13 @@ impl<'a> Tracker<'a> {
     /// it came from share it).
     pub fn set_transition_prior(&mut self, prior: Option<&'a TransitionPrior>) {
         self.transitions = prior;
+    }
+
+    /// Prior draws (the start's and re-initialisations') that stopped at
+    /// `kld.max_particles` before the KLD bound was met: the plan is too large for the cap
+    /// to cover it at the bins' resolution, and the prior is thinner than KLD asks.
+    pub fn capped_draws(&self) -> usize {
+        self.capped_draws
     }
 
     /// Steps whose extra measurement ([`Self::update_with`]) no particle was consistent with,
@@ -875,6 +885,8 @@ impl<'a> Tracker<'a> {
                     drawn.push(p);
                 }
                 if (settled && drawn.len() >= at_least) || candidates >= max {
+                    let met = self.bins.satisfied(candidates, self.bins.occupied());
+                    self.capped_draws += usize::from(candidates >= max && !met);
                     break 'outer;
                 }
             }

@@ -5,6 +5,16 @@
 
 use geo::{Contains, Polygon};
 
+/// The widest plan supported, metres: a building or campus in one local (tangent-plane) frame.
+pub const PLAN_MAX_EXTENT: f64 = 10_000.0;
+/// The narrowest plan supported, metres (its larger side): anything smaller is not in metres.
+pub const PLAN_MIN_EXTENT: f64 = 1.0;
+/// The largest surface height supported, metres from the frame's zero (the tallest building
+/// is 828 m; deep basements are tens of metres).
+pub const PLAN_MAX_HEIGHT: f64 = 1_000.0;
+/// The most levels a plan may have.
+pub const PLAN_MAX_LEVELS: usize = 300;
+
 /// One walkable floor surface.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FloorPolygon {
@@ -76,5 +86,60 @@ impl FloorPlan {
             .filter_map(|f| f.polygon.bounding_rect())
             .map(|r| (r.min().x, r.min().y, r.max().x, r.max().y))
             .reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))
+    }
+
+    /// Checks the plan against the limits of a building a walker can be tracked in
+    /// ([`PLAN_MAX_EXTENT`], [`PLAN_MIN_EXTENT`], [`PLAN_MAX_HEIGHT`], [`PLAN_MAX_LEVELS`]), and
+    /// that no surface is given twice (a duplicate doubles its share of the particles). The
+    /// message says what is wrong and the limit.
+    pub fn check_limits(&self) -> Result<(), String> {
+        let Some((x0, y0, x1, y1)) = self.bounds() else {
+            return Err("the plan has no walkable surface".into());
+        };
+        let (w, h) = (x1 - x0, y1 - y0);
+        if w.max(h) > PLAN_MAX_EXTENT {
+            return Err(format!(
+                "the plan spans {w:.0} m × {h:.0} m; at most {PLAN_MAX_EXTENT} m is supported \
+                 (one building or campus in one local frame): is it in metres and in one place?"
+            ));
+        }
+        if w.max(h) < PLAN_MIN_EXTENT {
+            return Err(format!(
+                "the plan spans only {w:.3} m × {h:.3} m; a walkable plan spans at least \
+                 {PLAN_MIN_EXTENT} m: is it in metres?"
+            ));
+        }
+        if let Some(p) = self.polygons.iter().find(|p| p.z.abs() > PLAN_MAX_HEIGHT) {
+            return Err(format!(
+                "a surface of level {} has z = {:e} m; heights must be within ±{PLAN_MAX_HEIGHT} m",
+                p.level, p.z
+            ));
+        }
+        let levels = self.levels().len();
+        if levels > PLAN_MAX_LEVELS {
+            return Err(format!(
+                "the plan has {levels} levels; at most {PLAN_MAX_LEVELS} are supported"
+            ));
+        }
+        let key = |p: &FloorPolygon| {
+            let ring: Vec<(u64, u64)> = p
+                .polygon
+                .exterior()
+                .coords()
+                .map(|c| (c.x.to_bits(), c.y.to_bits()))
+                .collect();
+            (p.level, p.z.to_bits(), ring)
+        };
+        let mut seen = std::collections::HashMap::with_capacity(self.polygons.len());
+        for (i, p) in self.polygons.iter().enumerate() {
+            if let Some(j) = seen.insert(key(p), i) {
+                return Err(format!(
+                    "surfaces {j} and {i} are the same polygon on level {}: remove one (a \
+                     duplicate counts its area twice)",
+                    p.level
+                ));
+            }
+        }
+        Ok(())
     }
 }
