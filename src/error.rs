@@ -8,12 +8,12 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// A file could not be opened, read or written. Fix: check the path and permissions.
-    #[error("{path}: {source}")]
+    #[error("{}: {error}", .path.display())]
     Io {
         /// The file concerned.
         path: PathBuf,
-        /// The operating system's error.
-        source: std::io::Error,
+        /// The operating system's error (in the message, not repeated as a source).
+        error: std::io::Error,
     },
     /// An input file is malformed at a given line. Fix: correct the named line.
     #[error("{}{}: {}", .path.display(), line_suffix(*.line), .message)]
@@ -26,7 +26,7 @@ pub enum Error {
         message: String,
     },
     /// A configuration value is out of its documented range. Fix: change the named field.
-    #[error("invalid configuration: {field} = {value}: {reason}")]
+    #[error("invalid configuration: {field} = {}: {reason}", short_value(.value))]
     Config {
         /// The offending field, e.g. `footslam.hex_radius`.
         field: &'static str,
@@ -68,7 +68,7 @@ impl Error {
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         Error::Io {
             path: path.into(),
-            source,
+            error: source,
         }
     }
 
@@ -88,5 +88,14 @@ fn line_suffix(line: usize) -> String {
         String::new()
     } else {
         format!(":{line}")
+    }
+}
+
+/// A value as the user can read it: a number too long to print plainly (1e308 has 309
+/// digits) in scientific notation.
+fn short_value(value: &str) -> String {
+    match value.parse::<f64>() {
+        Ok(v) if value.len() > 24 => format!("{v:e}"),
+        _ => value.to_owned(),
     }
 }

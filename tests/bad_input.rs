@@ -277,6 +277,7 @@ fn files_out_of_range_or_ambiguous_fail_clearly() {
         .success();
     std::fs::write(d.join("one.csv"), "t,x,y\n1.0,0,0\n").expect("one");
     std::fs::create_dir(d.join("folder")).expect("folder");
+    std::fs::write(d.join("wild.toml"), "[motion]\nlength_sigma = 1e308\n").expect("wild");
 
     let p = |name: &str| d.join(name).display().to_string();
     let s = |x: &str| x.to_owned();
@@ -353,6 +354,30 @@ fn files_out_of_range_or_ambiguous_fail_clearly() {
             args: vec![s("merge"), map.clone(), s("--out"), p("folder")],
             fails: true,
             says: &["is a folder", "merged.geojson"],
+        },
+        Case {
+            name: "an --out that is a file",
+            args: vec![
+                s("learn"),
+                s("--particles"),
+                s("100"),
+                s("--out"),
+                p("one.csv"),
+            ],
+            fails: true,
+            says: &["one.csv is a file"],
+        },
+        Case {
+            name: "a negative value after a space, and out of range",
+            args: vec![s("learn"), s("--cell"), s("-3")],
+            fails: true,
+            says: &["granularity = -3"],
+        },
+        Case {
+            name: "a model value of 1e308, echoed short",
+            args: vec![s("learn"), s("--config"), p("wild.toml")],
+            fails: true,
+            says: &["motion.length_sigma = 1e308"],
         },
         Case {
             name: "rigid alignment on one point",

@@ -34,27 +34,38 @@ struct Cli {
     command: Command,
 }
 
+/// Every subcommand takes negative numbers as values (`--flag -3`, not only `--flag=-3`).
 #[derive(Debug, Subcommand)]
 enum Command {
     /// Learn a hexagon transition map and the walker's path from a step trace (FootSLAM).
+    #[command(allow_negative_numbers = true)]
     Learn(learn::Args),
     /// Combine maps learned on several walks of one building (same frame).
+    #[command(allow_negative_numbers = true)]
     Merge(merge::Args),
     /// Turn a learned map into a walkable floor plan and a ROS occupancy grid.
+    #[command(allow_negative_numbers = true)]
     Plan(plan::Args),
     /// Turn a raw IMU recording (foot-mounted or phone) into step events.
+    #[command(allow_negative_numbers = true)]
     Steps(steps::Args),
     /// Locate and track a walker on a known 2.5D floor plan from step events.
+    #[command(allow_negative_numbers = true)]
     Track(track::Args),
     /// Build a WiFi radio map from walks tracked on a known floor plan.
+    #[command(allow_negative_numbers = true)]
     Survey(survey::Args),
     /// Simulate a building (office floor or multi-floor tower), a walk and its sensors.
+    #[command(allow_negative_numbers = true)]
     Simulate(simulate::Args),
     /// Place each WiFi scan by a radio map alone (weighted k-nearest fingerprints).
+    #[command(allow_negative_numbers = true)]
     Fingerprint(fingerprint::Args),
     /// Position error of a track against the truth.
+    #[command(allow_negative_numbers = true)]
     Eval(eval::Args),
     /// Convert public dataset recordings (Indoor Location Competition, IPIN) into footslam's CSV and GeoJSON.
+    #[command(allow_negative_numbers = true)]
     Import(import::Args),
 }
 

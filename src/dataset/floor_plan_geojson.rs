@@ -371,9 +371,11 @@ mod tests {
     #[test]
     fn reads_multipolygons_defaults_and_the_fallback_origin() {
         let square = "[[11.0,48.0],[11.0001,48.0],[11.0001,48.0001],[11.0,48.0001],[11.0,48.0]]";
+        let beside =
+            "[[11.0002,48.0],[11.0003,48.0],[11.0003,48.0001],[11.0002,48.0001],[11.0002,48.0]]";
         let text = format!(
             r#"{{"type":"FeatureCollection","features":[
-            {{"type":"Feature","properties":{{"level":1,"z":3.5}},"geometry":{{"type":"MultiPolygon","coordinates":[[{square}],[{square}]]}}}},
+            {{"type":"Feature","properties":{{"level":1,"z":3.5}},"geometry":{{"type":"MultiPolygon","coordinates":[[{square}],[{beside}]]}}}},
             {{"type":"Feature","properties":null,"geometry":{{"type":"LineString","coordinates":[[11.0,48.0],[11.1,48.0]]}}}},
             {{"type":"Feature","properties":{{"name":"hall"}},"geometry":{{"type":"Polygon","coordinates":[{square}]}}}}]}}"#
         );

@@ -66,11 +66,25 @@ impl RunFolder {
                 }
             }
         }
-        let staging = parent.join(format!("{prefix}{own}"));
-        if staging.exists() {
-            std::fs::remove_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
+        if destination.exists() && !destination.is_dir() {
+            return Err(Error::Input(format!(
+                "--out {} is a file: the outputs go into a folder; choose a folder's path",
+                destination.display()
+            )));
         }
-        std::fs::create_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
+        let staging = parent.join(format!("{prefix}{own}"));
+        // Errors name the folder asked for, not the hidden staging folder beside it.
+        let unwritable = |e: std::io::Error| {
+            Error::Input(format!(
+                "{}: cannot write the outputs into its folder {}: {e}",
+                destination.display(),
+                parent.display()
+            ))
+        };
+        if staging.exists() {
+            std::fs::remove_dir_all(&staging).map_err(unwritable)?;
+        }
+        std::fs::create_dir_all(&staging).map_err(unwritable)?;
         Ok(Self {
             destination: destination.to_path_buf(),
             staging,

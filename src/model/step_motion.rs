@@ -57,17 +57,49 @@ impl Default for StepMotionConfig {
 impl StepMotionConfig {
     /// Checks every field; returns the offending field's name and rule.
     pub fn validate(&self) -> Result<(), (&'static str, f64, &'static str)> {
+        // Upper bounds far beyond any sensor: a stride known to a metre, a heading change
+        // to 180°, a drift of 6° per step; beyond them the samples are meaningless.
         let fields = [
-            ("motion.length_sigma", self.length_sigma),
-            ("motion.dheading_sigma", self.dheading_sigma),
-            ("motion.drift_rate_sigma0", self.drift_rate_sigma0),
-            ("motion.drift_rate_walk_sigma", self.drift_rate_walk_sigma),
-            ("motion.duck_walk_sigma", self.duck_walk_sigma),
-            ("motion.length_scale_sigma0", self.length_scale_sigma0),
+            (
+                "motion.length_sigma",
+                self.length_sigma,
+                1.0,
+                "must be in [0, 1] metres",
+            ),
+            (
+                "motion.dheading_sigma",
+                self.dheading_sigma,
+                std::f64::consts::PI,
+                "must be in [0, π] radians",
+            ),
+            (
+                "motion.drift_rate_sigma0",
+                self.drift_rate_sigma0,
+                0.1,
+                "must be in [0, 0.1] radians per step",
+            ),
+            (
+                "motion.drift_rate_walk_sigma",
+                self.drift_rate_walk_sigma,
+                0.1,
+                "must be in [0, 0.1] radians per step²",
+            ),
+            (
+                "motion.duck_walk_sigma",
+                self.duck_walk_sigma,
+                0.5,
+                "must be in [0, 0.5] radians per step",
+            ),
+            (
+                "motion.length_scale_sigma0",
+                self.length_scale_sigma0,
+                0.3,
+                "must be in [0, 0.3]",
+            ),
         ];
-        for (name, v) in fields {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err((name, v, "must be a finite number ≥ 0"));
+        for (name, v, hi, rule) in fields {
+            if !(v.is_finite() && (0.0..=hi).contains(&v)) {
+                return Err((name, v, rule));
             }
         }
         if !(self.duck_max.is_finite()
@@ -77,13 +109,6 @@ impl StepMotionConfig {
                 "motion.duck_max",
                 self.duck_max,
                 "must be in [0, π/2] radians",
-            ));
-        }
-        if self.length_scale_sigma0 > 0.3 {
-            return Err((
-                "motion.length_scale_sigma0",
-                self.length_scale_sigma0,
-                "must be ≤ 0.3",
             ));
         }
         Ok(())
