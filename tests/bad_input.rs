@@ -278,6 +278,21 @@ fn files_out_of_range_or_ambiguous_fail_clearly() {
     std::fs::write(d.join("one.csv"), "t,x,y\n1.0,0,0\n").expect("one");
     std::fs::create_dir(d.join("folder")).expect("folder");
     std::fs::write(d.join("wild.toml"), "[motion]\nlength_sigma = 1e308\n").expect("wild");
+    // An IMU at rest logged in g, and one turning at 100 deg/s logged in deg/s.
+    let imu = |row: &dyn Fn(f64) -> String| {
+        let rows: String = (0..300).map(|i| row(f64::from(i) * 0.01)).collect();
+        format!("t,ax,ay,az,gx,gy,gz\n{rows}")
+    };
+    std::fs::write(
+        d.join("in_g.csv"),
+        imu(&|t| format!("{t},0.01,0.02,1.0,0,0,0\n")),
+    )
+    .expect("g");
+    std::fs::write(
+        d.join("in_deg.csv"),
+        imu(&|t| format!("{t},0,0,9.8,0,0,100\n")),
+    )
+    .expect("deg");
 
     let p = |name: &str| d.join(name).display().to_string();
     let s = |x: &str| x.to_owned();
@@ -378,6 +393,44 @@ fn files_out_of_range_or_ambiguous_fail_clearly() {
             args: vec![s("learn"), s("--config"), p("wild.toml")],
             fails: true,
             says: &["motion.length_sigma = 1e308"],
+        },
+        Case {
+            name: "an IMU file in g",
+            args: vec![
+                s("steps"),
+                s("--imu"),
+                p("in_g.csv"),
+                s("--mount"),
+                s("phone"),
+            ],
+            fails: true,
+            says: &["in_g.csv", "in g?", "--accel-unit g"],
+        },
+        Case {
+            name: "an IMU file in g, said so: read (then no steps while at rest)",
+            args: vec![
+                s("steps"),
+                s("--imu"),
+                p("in_g.csv"),
+                s("--mount"),
+                s("phone"),
+                s("--accel-unit"),
+                s("g"),
+            ],
+            fails: true,
+            says: &["no steps detected"],
+        },
+        Case {
+            name: "an IMU file in deg/s",
+            args: vec![
+                s("steps"),
+                s("--imu"),
+                p("in_deg.csv"),
+                s("--mount"),
+                s("phone"),
+            ],
+            fails: true,
+            says: &["in_deg.csv:2", "--gyro-unit deg/s"],
         },
         Case {
             name: "rigid alignment on one point",

@@ -70,6 +70,6 @@ fn places_scans_near_the_truth_and_refuses_another_building() {
         .assert()
         .failure()
         .stderr(predicates::str::contains("other.csv"))
-        .stderr(predicates::str::contains("same building"));
+        .stderr(predicates::str::contains("different buildings"));
     assert!(!dir.path().join("fp2").exists());
 }

@@ -64,7 +64,12 @@ fn bad_recordings_are_refused_with_file_line_and_reason() {
     let in_g: String = (0..20)
         .map(|i| format!("{i},0.01,0.02,1.0,0.01,0,0\n"))
         .collect();
-    refuses(d, "in_g", &format!("{HEAD}\n{in_g}"), &["in g?"]);
+    refuses(
+        d,
+        "in_g",
+        &format!("{HEAD}\n{in_g}"),
+        &["in g?", "--accel-unit g"],
+    );
     refuses(
         d,
         "absurd",

@@ -3,7 +3,7 @@
 
 use super::common::{output_dir, read_config, require_file};
 use anyhow::{Context, Result};
-use footslam::dataset::{read_imu, steps_csv::write_steps};
+use footslam::dataset::{ImuUnits, read_imu_in, steps_csv::write_steps};
 use footslam::export::RunFolder;
 use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::inertial::{
@@ -27,12 +27,34 @@ pub struct Args {
     /// `phone` (held in the hand: step-and-heading system, one event per step).
     #[arg(long, value_enum)]
     mount: MountArg,
+    /// Unit of the acceleration columns: `m/s2` (the format's) or `g`.
+    #[arg(long, value_enum, default_value = "m/s2")]
+    accel_unit: AccelUnit,
+    /// Unit of the angular-rate columns: `rad/s` (the format's) or `deg/s`.
+    #[arg(long, value_enum, default_value = "rad/s")]
+    gyro_unit: GyroUnit,
     /// Detector configuration (TOML, or JSON such as a previous run's config.json).
     #[arg(long)]
     config: Option<PathBuf>,
     /// Output folder (default: a new folder under `outputs/`).
     #[arg(long)]
     out: Option<PathBuf>,
+}
+
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+enum AccelUnit {
+    #[value(name = "m/s2")]
+    MetresPerSecondSquared,
+    #[value(name = "g")]
+    G,
+}
+
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+enum GyroUnit {
+    #[value(name = "rad/s")]
+    RadiansPerSecond,
+    #[value(name = "deg/s")]
+    DegreesPerSecond,
 }
 
 #[derive(Debug, Clone, Copy, clap::ValueEnum)]
@@ -68,7 +90,17 @@ pub fn run(args: Args) -> Result<()> {
     };
     config.validate()?;
     let started = Instant::now();
-    let recording = read_imu(&args.imu)?;
+    let units = ImuUnits {
+        accel: match args.accel_unit {
+            AccelUnit::MetresPerSecondSquared => 1.0,
+            AccelUnit::G => ImuUnits::G,
+        },
+        gyro: match args.gyro_unit {
+            GyroUnit::RadiansPerSecond => 1.0,
+            GyroUnit::DegreesPerSecond => std::f64::consts::PI / 180.0,
+        },
+    };
+    let recording = read_imu_in(&args.imu, units)?;
     let out = output_dir(args.out.clone(), "steps");
     let mut folder = RunFolder::create(&out)?;
     folder.protect(std::iter::once(&args.imu).chain(args.config.iter()));

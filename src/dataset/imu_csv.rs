@@ -14,8 +14,35 @@ use crate::error::{Error, Result};
 use crate::sensor::imu::{ImuRecording, ImuSample, check_sample};
 use std::path::Path;
 
-/// Reads and validates an IMU recording.
+/// Units of an IMU file's accelerometer and gyroscope columns, as factors to SI.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImuUnits {
+    /// Factor from the file's acceleration unit to m/s² (1, or 9.80665 for g).
+    pub accel: f64,
+    /// Factor from the file's angular-rate unit to rad/s (1, or π/180 for deg/s).
+    pub gyro: f64,
+}
+
+impl ImuUnits {
+    /// m/s² and rad/s, the format's units.
+    pub const SI: Self = Self {
+        accel: 1.0,
+        gyro: 1.0,
+    };
+    /// Standard gravity, m/s² per g.
+    pub const G: f64 = 9.806_65;
+}
+
+/// Reads and validates an IMU recording in the format's units (m/s², rad/s).
 pub fn read_imu(path: &Path) -> Result<ImuRecording> {
+    read_imu_in(path, ImuUnits::SI)
+}
+
+/// Reads and validates an IMU recording whose acceleration and angular-rate columns are in
+/// `units`, converting them to m/s² and rad/s. The converted recording's median specific
+/// force must look like gravity ([`ImuRecording::new`]): a file in g (median ≈ 1) is an
+/// error that says so, rather than a walk integrated with a tenth of gravity.
+pub fn read_imu_in(path: &Path, units: ImuUnits) -> Result<ImuRecording> {
     let mut table = CsvTable::open(path)?;
     const REQUIRED: [&str; 7] = ["t", "ax", "ay", "az", "gx", "gy", "gz"];
     let mut required = [0usize; 7];
@@ -71,8 +98,8 @@ pub fn read_imu(path: &Path) -> Result<ImuRecording> {
         pressure.read(row, pressure_cols.as_deref(), &["pressure"], index)?;
         samples.push(ImuSample {
             t,
-            accel: [v[1], v[2], v[3]],
-            gyro: [v[4], v[5], v[6]],
+            accel: [v[1], v[2], v[3]].map(|a| a * units.accel),
+            gyro: [v[4], v[5], v[6]].map(|w| w * units.gyro),
             mag: mag.current(),
             orientation: quat.current(),
             pressure: pressure.current().map(|[p]| p),

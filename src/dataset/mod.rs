@@ -24,7 +24,7 @@ pub mod wifi_sightings;
 
 pub use gps_csv::{read_gps_csv, write_gps_csv};
 pub use gpx_file::{parse_utc_time, read_gpx};
-pub use imu_csv::{read_imu, write_imu};
+pub use imu_csv::{ImuUnits, read_imu, read_imu_in, write_imu};
 pub use outline_geojson::{read_outline, write_outline};
 pub use steps_csv::read_steps;
 pub use track_csv::{SmoothedPoint, TrackPoint, read_track, write_smoothed_track, write_track};

@@ -164,13 +164,18 @@ impl CellMap {
                     let x0 = bbox[0] + i as f64 * w;
                     let y0 = bbox[1] + j as f64 * h;
                     let cell_box = Rect::new((x0, y0), (x0 + w, y0 + h)).to_polygon();
+                    // The room's surfaces in the box, dissolved into one valid multipolygon:
+                    // adjacent surfaces (a stair's treads, a room drawn in parts) share edges,
+                    // which GEOS-based tools reject as self-intersections.
                     let mut area = MultiPolygon::new(Vec::new());
                     for p in &parts {
                         let piece = p.intersection(&cell_box);
                         if geo::Area::unsigned_area(&piece) > MIN_FRAGMENT_AREA {
-                            area.0.extend(piece.0);
+                            area = area.union(&piece);
                         }
                     }
+                    area.0
+                        .retain(|p| geo::Area::unsigned_area(p) > MIN_FRAGMENT_AREA);
                     if geo::Area::unsigned_area(&area) > MIN_FRAGMENT_AREA {
                         ids[j * nx + i] = cells.len();
                         cells.push(RadioCell {

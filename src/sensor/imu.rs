@@ -54,8 +54,9 @@ pub fn check_sample(s: &ImuSample) -> Result<(), String> {
         Ok(())
     };
     axes(&s.accel, MAX_ACCEL, "acceleration", "m/s²")?;
-    axes(&s.gyro, MAX_GYRO, "angular rate", "rad/s")
-        .map_err(|m| format!("{m} (degrees per second? the columns take rad/s)"))?;
+    axes(&s.gyro, MAX_GYRO, "angular rate", "rad/s").map_err(|m| {
+        format!("{m} (degrees per second? the columns take rad/s: pass --gyro-unit deg/s)")
+    })?;
     if let Some(m) = &s.mag {
         axes(m, MAX_MAG, "magnetic field", "µT")?;
     }
@@ -174,8 +175,8 @@ impl ImuRecording {
                 0,
                 format!(
                     "the acceleration's median magnitude over the whole recording is {median:.2}, \
-                     outside [{}, {}] m/s² around gravity's 9.81 (in g? multiply by 9.81; the \
-                     columns take m/s² with gravity included)",
+                     outside [{}, {}] m/s² around gravity's 9.81 (in g? pass --accel-unit g, or \
+                     multiply by 9.80665; the columns take m/s² with gravity included)",
                     GRAVITY_RANGE.start(),
                     GRAVITY_RANGE.end()
                 ),
