@@ -181,9 +181,14 @@ fn five_walks(dir: &Path, seed: u64) -> (Vec<f64>, Vec<f64>) {
 fn five_walks_of(sim: &Path, dir: &Path, seed: u64) -> (Vec<f64>, Vec<f64>) {
     let tag = sim.file_name().and_then(|n| n.to_str()).unwrap_or("sim");
     let alone = dir.join(format!("alone-{tag}"));
+    // Each walk alone: no FeetSLAM iterations over the batch (they would share the maps).
+    let config = dir.join("alone.toml");
+    std::fs::write(&config, "iterations = 0\n").expect("config");
     learn_command(seed, &alone)
         .arg("--steps")
         .arg(sim)
+        .arg("--config")
+        .arg(&config)
         .assert()
         .success();
     let walk = |k: usize| sim.join(format!("walk-{k}"));

@@ -413,10 +413,9 @@ struct Shared<'a> {
 /// which walks finish or on the thread count. Returns the last pass and the passes run.
 fn learn_batch(walks: &[Walk], shared: &Shared) -> Result<(Vec<WalkRun>, u32)> {
     let batch = walks.len() > 1;
-    // Walks share a frame when each is placed in it: a known start or GPS fixes.
-    let one_frame = walks
-        .iter()
-        .all(|w| w.start.is_some() || !w.fixes.is_empty());
+    // Walks share a frame when each starts at a known place. (Walks placed by GPS alone
+    // carry each its own GPS bias: they meet through `--prior-map`'s registration instead.)
+    let one_frame = walks.iter().all(|w| w.start.is_some());
     let iterations = if batch && one_frame {
         shared.config.iterations
     } else {

@@ -50,7 +50,7 @@ pub struct FootSlamConfig {
     /// Weight `w` of a prior map's counts as pseudo-counts on top of `α`. Default 1.
     pub prior_weight: f64,
     /// FeetSLAM iterations for a batch of walks learned into one frame (every walk with a
-    /// known start or GPS fixes): after the walks are learned alone, each is learned again
+    /// known start): after the walks are learned alone, each is learned again
     /// `iterations` times with the merged map of the others (from the pass before) as its
     /// prior, weighted by `prior_weight`. Default 2: the first pass shares what the others
     /// saw; the second lets walks that were wrong alone correct the others in turn, and more
