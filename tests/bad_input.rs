@@ -253,6 +253,10 @@ fn files_out_of_range_or_ambiguous_fail_clearly() {
     });
     edited_plan(&d.join("tiny.geojson"), |p| scale_plan(p, 1e-4));
     edited_plan(&d.join("huge.geojson"), |p| scale_plan(p, 400.0));
+    edited_plan(&d.join("far.geojson"), |p| {
+        let lat = p["origin"]["lat"].as_f64().expect("lat");
+        p["origin"]["lat"] = (lat + 1.0).into();
+    });
     edited_plan(&d.join("twice.geojson"), |p| {
         let first = p["features"][0].clone();
         p["features"].as_array_mut().expect("features").push(first);
@@ -321,6 +325,12 @@ fn files_out_of_range_or_ambiguous_fail_clearly() {
             args: track("huge.geojson", &[]),
             fails: true,
             says: &["huge.geojson", "at most 10000 m"],
+        },
+        Case {
+            name: "a plan 111 km from its origin",
+            args: track("far.geojson", &[]),
+            fails: true,
+            says: &["far.geojson", "km from its frame's origin"],
         },
         Case {
             name: "a surface given twice",

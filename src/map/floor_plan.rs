@@ -103,6 +103,14 @@ impl FloorPlan {
                  (one building or campus in one local frame): is it in metres and in one place?"
             ));
         }
+        let far = x0.abs().max(x1.abs()).max(y0.abs()).max(y1.abs());
+        if far > PLAN_MAX_EXTENT {
+            return Err(format!(
+                "the plan reaches {:.0} km from its frame's origin; at most {PLAN_MAX_EXTENT} m is \
+                 supported (a local frame that far is distorted): put the `origin` in the building",
+                far / 1000.0
+            ));
+        }
         if w.max(h) < PLAN_MIN_EXTENT {
             return Err(format!(
                 "the plan spans only {w:.3} m × {h:.3} m; a walkable plan spans at least \
