@@ -20,24 +20,9 @@ Prints a table and writes figures.json into OUT.
 import argparse
 import json
 import os
-import subprocess
 import sys
 
-
-def footslam(binary, *args):
-    r = subprocess.run([binary, *map(str, args)], capture_output=True, text=True)
-    if r.returncode != 0:
-        raise RuntimeError(f"footslam {' '.join(map(str, args))}: {r.stderr.strip()}")
-    return r.stdout
-
-
-def percentile(values, p):
-    """Nearest-rank percentile, as footslam eval computes it."""
-    if not values:
-        return float("nan")
-    s = sorted(values)
-    rank = max(1, -(-p * len(s) // 100))
-    return s[min(rank, len(s)) - 1]
+from real_data_figures import footslam, percentile
 
 
 def first_waypoint(path):

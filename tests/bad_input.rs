@@ -43,6 +43,36 @@ struct Case {
     says: &'static [&'static str],
 }
 
+/// Runs `case` (with `--out out` unless it is `eval` or gives its own) and checks its exit
+/// status, that it did not panic, its message's key words, and no outputs on failure.
+fn run_case(case: &Case, out: &Path) {
+    let mut cmd = footslam();
+    cmd.args(&case.args);
+    if case.args[0] != "eval" && !case.args.iter().any(|a| a == "--out") {
+        cmd.arg("--out").arg(out);
+    }
+    let output = cmd.output().expect("run");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(
+        output.status.success(),
+        !case.fails,
+        "{}: exit {:?}, stderr: {stderr}",
+        case.name,
+        output.status.code()
+    );
+    assert!(!stderr.contains("panicked"), "{}: {stderr}", case.name);
+    for word in case.says {
+        assert!(
+            stderr.contains(word),
+            "{}: expected `{word}` in: {stderr}",
+            case.name
+        );
+    }
+    if case.fails {
+        assert!(!out.exists(), "{}: no outputs on failure", case.name);
+    }
+}
+
 #[test]
 fn inputs_wrong_together_fail_or_warn_clearly() {
     let dir = tempfile::tempdir().expect("tempdir");
@@ -192,24 +222,7 @@ fn inputs_wrong_together_fail_or_warn_clearly() {
     ];
     for (i, case) in cases.iter().enumerate() {
         let out = d.join(format!("out-{i}"));
-        let assert = footslam().args(&case.args).arg("--out").arg(&out).assert();
-        let output = assert.get_output();
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        assert_eq!(
-            output.status.success(),
-            !case.fails,
-            "{}: exit {:?}, stderr: {stderr}",
-            case.name,
-            output.status.code()
-        );
-        assert!(!stderr.contains("panicked"), "{}: {stderr}", case.name);
-        for word in case.says {
-            assert!(
-                stderr.contains(word),
-                "{}: expected `{word}` in: {stderr}",
-                case.name
-            );
-        }
+        run_case(case, &out);
         assert_eq!(out.exists(), !case.fails, "{}: outputs", case.name);
     }
 }
@@ -458,32 +471,6 @@ fn files_out_of_range_or_ambiguous_fail_clearly() {
         },
     ];
     for (i, case) in cases.iter().enumerate() {
-        let mut cmd = footslam();
-        cmd.args(&case.args);
-        // Every command but eval writes to --out (unless the case gives its own).
-        let out = d.join(format!("out-{i}"));
-        if case.args[0] != "eval" && !case.args.contains(&s("--out")) {
-            cmd.arg("--out").arg(&out);
-        }
-        let output = cmd.output().expect("run");
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        assert_eq!(
-            output.status.success(),
-            !case.fails,
-            "{}: exit {:?}, stderr: {stderr}",
-            case.name,
-            output.status.code()
-        );
-        assert!(!stderr.contains("panicked"), "{}: {stderr}", case.name);
-        for word in case.says {
-            assert!(
-                stderr.contains(word),
-                "{}: expected `{word}` in: {stderr}",
-                case.name
-            );
-        }
-        if case.fails {
-            assert!(!out.exists(), "{}: no outputs on failure", case.name);
-        }
+        run_case(case, &d.join(format!("out-{i}")));
     }
 }

@@ -445,10 +445,8 @@ fn learn_batch(walks: &[Walk], shared: &Shared) -> Result<(Vec<WalkRun>, u32)> {
     };
     let mut runs = pass(None)?;
     for _ in 0..iterations {
-        let priors = runs
-            .iter()
-            .enumerate()
-            .map(|(i, _)| {
+        let priors = (0..runs.len())
+            .map(|i| {
                 let others: Vec<_> = runs
                     .iter()
                     .enumerate()
