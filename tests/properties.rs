@@ -79,7 +79,7 @@ proptest! {
             .collect();
         let dir = tempfile::tempdir().expect("tmp");
         let path = dir.path().join("track.csv");
-        write_trajectory(&path, &points).expect("write");
+        write_trajectory(&path, points.iter().copied()).expect("write");
         let back = read_trajectory(&path).expect("read back");
         prop_assert_eq!(back.len(), points.len());
         for (a, b) in points.iter().zip(&back) {

@@ -16,13 +16,14 @@ use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::export::track_geojson::write_track_geojson;
 use footslam::filter::gps_start::heading_from_fixes;
 use footslam::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate, StartPose};
-use footslam::geometry::Hex;
+use footslam::geometry::{Hex, Pose2};
 use footslam::geometry::{HexGrid, LocalFrame};
 use footslam::map::{
     CellConfig, EdgePrior, HexMapSnapshot, PlanConfig, merge_maps, register_maps, shift_map,
     walkable_plan,
 };
 use footslam::model::{GpsObservation, HeadingLikelihood, find_levels};
+use footslam::sensor::Step;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::PathBuf;
@@ -608,34 +609,34 @@ fn write_walk(
     frame: &LocalFrame,
 ) -> Result<Summary> {
     let (config, estimate, filter) = (&run.config, &run.estimate, &run.filter);
-    let track: Vec<TimedPoint> = walk
-        .trace
-        .steps()
-        .iter()
-        .zip(&estimate.path)
-        .map(|(s, p)| TimedPoint {
-            t: s.t,
-            x: p.x,
-            y: p.y,
-        })
-        .collect();
     let at = |name: &str| folder.path(&format!("{prefix}{name}"));
-    write_trajectory(&at("track.csv"), &track)?;
-    let points: Vec<TrackPoint> = track
-        .iter()
+    // Built one at a time from the trace and the path (a long walk's per-step outputs are
+    // the largest things a run holds).
+    let timed = |(s, p): (&Step, &Pose2)| TimedPoint {
+        t: s.t,
+        x: p.x,
+        y: p.y,
+    };
+    let steps_and_path = || walk.trace.steps().iter().zip(&estimate.path);
+    write_trajectory(&at("track.csv"), steps_and_path().map(timed))?;
+    let points: Vec<TrackPoint> = steps_and_path()
         .zip(&estimate.levels)
-        .map(|(p, &level)| TrackPoint {
-            t: p.t,
-            x: p.x,
-            y: p.y,
-            z: estimate.map.level_height(level),
-            level,
+        .map(|(sp, &level)| {
+            let p = timed(sp);
+            TrackPoint {
+                t: p.t,
+                x: p.x,
+                y: p.y,
+                z: estimate.map.level_height(level),
+                level,
+            }
         })
         .collect();
     write_track_geojson(&at("track.geojson"), &points, frame)?;
+    drop(points);
     write_map_geojson(&at("map.geojson"), &estimate.map, frame)?;
     let walkable_plan_m2 = write_learned_plan(&at("plan.geojson"), &estimate.map, frame)?;
-    let path: Vec<(f64, f64)> = track.iter().map(|p| (p.x, p.y)).collect();
+    let path: Vec<(f64, f64)> = estimate.path.iter().map(|p| (p.x, p.y)).collect();
     // One picture per floor: `map.png` the first (level 0), `map-level+N.png` the others.
     let mut levels = estimate.map.cell_levels();
     if !levels.contains(&0) {

@@ -3,8 +3,7 @@
 
 use super::common::{SAME_ORIGIN, read_scans, require_file};
 use anyhow::{Context, Result, bail};
-use footslam::dataset::csv_table::CsvTable;
-use footslam::dataset::{read_gps_csv, read_gpx, read_steps};
+use footslam::dataset::{read_gps_csv, read_gpx, read_steps, read_walk_manifest};
 use footslam::filter::StartPose;
 use footslam::geometry::LocalFrame;
 use footslam::sensor::{GpsFix, StepTrace, WifiScan};
@@ -133,41 +132,18 @@ pub(super) fn read_walks(args: &WalkArgs, default: &Path) -> Result<Vec<Walk>> {
         .collect()
 }
 
-/// The walks of a manifest CSV: a header row naming `steps` and optionally `gps`, `wifi`
-/// and `start` (`X,Y[,HEADING[,LEVEL]]` as `--start` takes it, quoted; empty: unknown),
-/// one walk a row, paths relative to the manifest's folder. Errors name the file and line.
+/// The walks of a manifest CSV ([`read_walk_manifest`]), each of whose files must exist.
 fn read_manifest(path: &Path) -> Result<Vec<Found>> {
     require_file(path, "walk manifest")?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    let mut table = CsvTable::open(path)?;
-    let steps = table.column("steps")?;
-    let (gps, wifi, start) = (
-        table.optional_column("gps"),
-        table.optional_column("wifi"),
-        table.optional_column("start"),
-    );
-    let mut walks = Vec::new();
-    table.for_each_row(|row| {
-        let file = |c: Option<usize>| {
-            c.map(|c| row.text(c))
-                .filter(|t| !t.is_empty())
-                .map(|t| base.join(t))
-        };
-        let Some(steps) = file(Some(steps)) else {
-            return Err(row.error("expected a step trace in column `steps`"));
-        };
-        let start = super::track::start_cell(row, start)?;
-        walks.push(Found {
-            steps,
-            gps: file(gps),
-            wifi: file(wifi),
-            start,
-        });
-        Ok(())
-    })?;
-    if walks.is_empty() {
-        bail!("{}: the walk manifest lists no walk", path.display());
-    }
+    let walks: Vec<Found> = read_walk_manifest(path, false)?
+        .into_iter()
+        .map(|w| Found {
+            steps: w.steps,
+            gps: w.gps,
+            wifi: w.wifi,
+            start: w.start,
+        })
+        .collect();
     for w in &walks {
         require_file(&w.steps, "step trace")?;
         for (f, what) in [(&w.gps, "GPS file"), (&w.wifi, "WiFi log")] {

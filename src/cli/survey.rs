@@ -7,9 +7,8 @@ use super::common::{
 };
 use super::radio_outputs::{held_out_quantiles, write_radio_map_files};
 use anyhow::{Context, Result, bail};
-use footslam::dataset::csv_table::CsvTable;
 use footslam::dataset::floor_plan_geojson::read_floor_plan;
-use footslam::dataset::read_steps;
+use footslam::dataset::{read_steps, read_walk_manifest};
 use footslam::export::RunFolder;
 use footslam::export::radio_map_geojson::read_radio_map_geojson;
 use footslam::filter::{
@@ -372,31 +371,15 @@ struct WalkFiles {
     start: Option<StartPose>,
 }
 
-/// The walks of a manifest CSV (`steps,wifi[,start]` header, paths relative to the
-/// manifest's folder, `start` as `--start` takes it or empty); errors name the file and
-/// line.
+/// The walks of a manifest CSV ([`read_walk_manifest`] with a WiFi log each).
 fn read_manifest(path: &std::path::Path) -> Result<Vec<WalkFiles>> {
     require_file(path, "walk manifest")?;
-    let base = path.parent().unwrap_or(std::path::Path::new("."));
-    let mut table = CsvTable::open(path)?;
-    let (s, w) = (table.column("steps")?, table.column("wifi")?);
-    let start = table.optional_column("start");
-    let mut pairs = Vec::new();
-    table.for_each_row(|row| {
-        let (steps, wifi) = (row.text(s), row.text(w));
-        if steps.is_empty() || wifi.is_empty() {
-            return Err(row.error("expected a step trace and a WiFi log"));
-        }
-        let start = super::track::start_cell(row, start)?;
-        pairs.push(WalkFiles {
-            steps: base.join(steps),
-            wifi: base.join(wifi),
-            start,
-        });
-        Ok(())
-    })?;
-    if pairs.is_empty() {
-        bail!("{}: the walk manifest lists no walk", path.display());
-    }
-    Ok(pairs)
+    Ok(read_walk_manifest(path, true)?
+        .into_iter()
+        .map(|w| WalkFiles {
+            steps: w.steps,
+            wifi: w.wifi.unwrap_or_default(),
+            start: w.start,
+        })
+        .collect())
 }

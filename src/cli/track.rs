@@ -142,51 +142,9 @@ enum RfModeArg {
     PriorOnly,
 }
 
-/// A manifest row's `start` cell (column `column`, when the manifest has one) as
-/// [`parse_start`] reads it; empty: no start. Errors name the file and line.
-pub(super) fn start_cell(
-    row: &footslam::dataset::csv_table::CsvRow<'_>,
-    column: Option<usize>,
-) -> footslam::Result<Option<StartPose>> {
-    column
-        .map(|c| row.text(c))
-        .filter(|t| !t.is_empty())
-        .map(|text| parse_start(text).map_err(|e| row.error(format!("start: {e}"))))
-        .transpose()
-}
-
-/// Parses `X,Y[,HEADING[,LEVEL]]`; an empty HEADING (`X,Y,,LEVEL`) is unknown.
+/// Parses `X,Y[,HEADING[,LEVEL]]` ([`StartPose`]'s `FromStr`), for clap.
 pub(super) fn parse_start(s: &str) -> Result<StartPose, String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    if !(2..=4).contains(&parts.len()) {
-        return Err(format!(
-            "expected X,Y[,HEADING[,LEVEL]] (X,Y,,LEVEL for a level without a heading), got `{s}`"
-        ));
-    }
-    let number = |i: usize, what: &str| {
-        parts[i]
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| format!("{what} `{}` is not a finite number", parts[i]))
-    };
-    let heading = match parts.get(2) {
-        Some(h) if !h.is_empty() => Some(number(2, "HEADING")?),
-        _ => None,
-    };
-    let level = match parts.get(3) {
-        Some(l) => Some(
-            l.parse::<i32>()
-                .map_err(|_| format!("level `{l}` is not an integer"))?,
-        ),
-        None => None,
-    };
-    Ok(StartPose {
-        x: number(0, "X")?,
-        y: number(1, "Y")?,
-        heading,
-        level,
-    })
+    s.parse()
 }
 
 #[derive(Debug, Serialize)]
@@ -284,6 +242,41 @@ struct PlanStats {
     surfaces: usize,
     walkable_area_m2: f64,
     levels: (i32, i32),
+}
+
+/// What the summary needs of each step's report (the estimate goes into the track):
+/// 16 bytes a step, where a whole report is over a hundred.
+#[derive(Debug, Clone, Copy)]
+struct StepRecord {
+    particles: u32,
+    clusters: Option<u32>,
+    localised: bool,
+}
+
+/// Every step's [`StepRecord`], and the steps at which every particle died.
+#[derive(Debug, Default)]
+struct StepRecords {
+    steps: Vec<StepRecord>,
+    recoveries: Vec<RecoveryEvent>,
+}
+
+impl StepRecords {
+    /// Records the report of step `i` (0-based) at time `t`.
+    fn push(&mut self, i: usize, t: f64, report: &TrackStep) {
+        let count = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
+        self.steps.push(StepRecord {
+            particles: count(report.particles),
+            clusters: report.clusters.map(count),
+            localised: report.localised,
+        });
+        if let Some(recovery) = report.recovery {
+            self.recoveries.push(RecoveryEvent {
+                step: i + 1,
+                t,
+                recovery,
+            });
+        }
+    }
 }
 
 /// A particle cloud kept for particles.png.
@@ -430,7 +423,7 @@ pub fn run(args: Args) -> Result<()> {
                 snapshots.push(snapshot(tracker, 0, "prior", 0));
             }
             let mut progress = Progress::new(trace.len() as u64, "tracking");
-            let mut reports: Vec<TrackStep> = Vec::with_capacity(trace.len());
+            let mut reports = StepRecords::default();
             let mut track: Vec<TrackPoint> = Vec::new();
             let mut localised_before = false;
             for (i, step) in trace.steps().iter().enumerate() {
@@ -454,12 +447,12 @@ pub fn run(args: Args) -> Result<()> {
                     let what = if first_fix { "localised" } else { "step" };
                     snapshots.push(snapshot(tracker, k, what, track.len()));
                 }
-                reports.push(report);
+                reports.push(i, step.t, &report);
                 progress.inc();
             }
             progress.finish();
             let smoothing_started = Instant::now();
-            let smoothed = walker.smoothed();
+            let smoothed = walker.take_smoothed();
             let smoothing = smoothed.map(|steps| Smoothing {
                 steps,
                 path_nodes_peak: walker.tracker().map_or(0, Tracker::path_nodes_peak),
@@ -598,8 +591,8 @@ pub fn run(args: Args) -> Result<()> {
     }
     folder.write_json("config.json", &config)?;
 
-    let first = reports.iter().position(|r| r.localised);
-    let particle_steps: usize = reports.iter().map(|r| r.particles).sum();
+    let first = reports.steps.iter().position(|r| r.localised);
+    let particle_steps: usize = reports.steps.iter().map(|r| r.particles as usize).sum();
     let summary = Summary {
         rf: radio
             .as_ref()
@@ -612,7 +605,11 @@ pub fn run(args: Args) -> Result<()> {
                 distance: rf.distance(),
                 epsilon_dbm: rf.epsilon(),
                 epsilon_source: rf.epsilon_source(),
-                started_at_step: reports.iter().position(|r| r.particles > 0).map(|i| i + 1),
+                started_at_step: reports
+                    .steps
+                    .iter()
+                    .position(|r| r.particles > 0)
+                    .map(|i| i + 1),
                 measurements_ignored: ignored,
             }),
         headings_used: headings_used > 0,
@@ -623,7 +620,7 @@ pub fn run(args: Args) -> Result<()> {
         steps_file: steps_path.display().to_string(),
         steps: trace.len(),
         steps_to_localise: first.map(|i| i + 1),
-        localised_at_t: first.map(|i| reports[i].t),
+        localised_at_t: first.map(|i| trace.steps()[i].t),
         track_rows: track.len(),
         smoothing: smoothing.as_ref().map(|s| SmoothingSummary {
             steps_estimated: s
@@ -643,26 +640,24 @@ pub fn run(args: Args) -> Result<()> {
         }),
         particles_initial: initial,
         particles_max: reports
+            .steps
             .iter()
-            .map(|r| r.particles)
+            .map(|r| r.particles as usize)
             .max()
             .unwrap_or(initial)
             .max(initial),
-        particles_final: reports.last().map_or(initial, |r| r.particles),
-        particles_per_step: reports.iter().map(|r| r.particles).collect(),
-        clusters_per_step: reports.iter().map(|r| r.clusters).collect(),
-        deaths: reports.iter().filter(|r| r.recovery.is_some()).count(),
-        recoveries: reports
+        particles_final: reports
+            .steps
+            .last()
+            .map_or(initial, |r| r.particles as usize),
+        particles_per_step: reports.steps.iter().map(|r| r.particles as usize).collect(),
+        clusters_per_step: reports
+            .steps
             .iter()
-            .enumerate()
-            .filter_map(|(i, r)| {
-                r.recovery.map(|recovery| RecoveryEvent {
-                    step: i + 1,
-                    t: r.t,
-                    recovery,
-                })
-            })
+            .map(|r| r.clusters.map(|c| c as usize))
             .collect(),
+        deaths: reports.recoveries.len(),
+        recoveries: reports.recoveries,
         seed: config.seed,
         threads,
         runtime_s: started.elapsed().as_secs_f64(),
@@ -731,11 +726,11 @@ impl<'a> Walker<'a> {
     }
 
     /// The smoothed belief after each step processed (`None` without smoothing).
-    fn smoothed(&self) -> Option<Vec<Option<SmoothedStep>>> {
+    fn take_smoothed(&mut self) -> Option<Vec<Option<SmoothedStep>>> {
         match self {
             // Tracker step k + 1 stands after the walk's step k; step 0 is the prior.
-            Walker::Plain(t) => Some(t.smoothed()?.into_iter().skip(1).map(Some).collect()),
-            Walker::Rf(t) => t.smoothed(),
+            Walker::Plain(t) => Some(t.take_smoothed()?.into_iter().skip(1).map(Some).collect()),
+            Walker::Rf(t) => t.take_smoothed(),
         }
     }
 

@@ -178,35 +178,36 @@ impl<const N: usize> Channel<N> {
 
 /// Writes an IMU recording as CSV with the optional columns it carries.
 pub fn write_imu(path: &Path, recording: &ImuRecording) -> Result<()> {
-    use std::fmt::Write as _;
-    let mut text = String::from("t,ax,ay,az,gx,gy,gz");
+    let mut header = String::from("t,ax,ay,az,gx,gy,gz");
     if recording.has_magnetometer() {
-        text.push_str(",mx,my,mz");
+        header.push_str(",mx,my,mz");
     }
     if recording.has_orientation() {
-        text.push_str(",qx,qy,qz,qw");
+        header.push_str(",qx,qy,qz,qw");
     }
     if recording.has_pressure() {
-        text.push_str(",pressure");
+        header.push_str(",pressure");
     }
-    text.push('\n');
-    for s in recording.samples() {
-        let _ = write!(text, "{:.4}", s.t);
-        for v in s.accel.iter().chain(&s.gyro) {
-            let _ = write!(text, ",{v:.6}");
+    crate::export::write_atomically_with(path, |w| {
+        writeln!(w, "{header}")?;
+        for s in recording.samples() {
+            write!(w, "{:.4}", s.t)?;
+            for v in s.accel.iter().chain(&s.gyro) {
+                write!(w, ",{v:.6}")?;
+            }
+            for v in s.mag.iter().flatten() {
+                write!(w, ",{v:.4}")?;
+            }
+            for v in s.orientation.iter().flatten() {
+                write!(w, ",{v:.7}")?;
+            }
+            if let Some(p) = s.pressure {
+                write!(w, ",{p:.4}")?;
+            }
+            w.write_all(b"\n")?;
         }
-        for v in s.mag.iter().flatten() {
-            let _ = write!(text, ",{v:.4}");
-        }
-        for v in s.orientation.iter().flatten() {
-            let _ = write!(text, ",{v:.7}");
-        }
-        if let Some(p) = s.pressure {
-            let _ = write!(text, ",{p:.4}");
-        }
-        text.push('\n');
-    }
-    crate::export::write_atomically(path, text.as_bytes())
+        Ok(())
+    })
 }
 
 #[cfg(test)]

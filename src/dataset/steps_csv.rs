@@ -48,26 +48,27 @@ pub fn has_dz_column(path: &Path) -> Result<bool> {
 /// Writes a step trace as CSV (`t,length,dheading,dz` and `heading` when any step has one).
 pub fn write_steps(path: &Path, trace: &StepTrace) -> Result<()> {
     let with_heading = trace.steps().iter().any(|s| s.heading.is_some());
-    let mut text = String::from(if with_heading {
-        "t,length,dheading,dz,heading\n"
-    } else {
-        "t,length,dheading,dz\n"
-    });
-    for s in trace.steps() {
-        text.push_str(&format!(
-            "{:.3},{:.4},{:.6},{:.4}",
-            s.t, s.length, s.dheading, s.dz
-        ));
-        if with_heading {
-            if let Some(h) = s.heading {
-                text.push_str(&format!(",{h:.6}"));
-            } else {
-                text.push(',');
+    crate::export::write_atomically_with(path, |w| {
+        w.write_all(if with_heading {
+            b"t,length,dheading,dz,heading\n"
+        } else {
+            b"t,length,dheading,dz\n"
+        })?;
+        for s in trace.steps() {
+            write!(
+                w,
+                "{:.3},{:.4},{:.6},{:.4}",
+                s.t, s.length, s.dheading, s.dz
+            )?;
+            match (with_heading, s.heading) {
+                (true, Some(h)) => write!(w, ",{h:.6}")?,
+                (true, None) => w.write_all(b",")?,
+                (false, _) => {}
             }
+            w.write_all(b"\n")?;
         }
-        text.push('\n');
-    }
-    crate::export::write_atomically(path, text.as_bytes())
+        Ok(())
+    })
 }
 
 #[cfg(test)]

@@ -3,6 +3,7 @@
 
 use super::csv_table::CsvTable;
 use crate::error::{Error, Result};
+use std::io::Write;
 use std::path::Path;
 
 /// A 2.5D position at a time.
@@ -61,39 +62,47 @@ pub struct SmoothedPoint {
 
 /// Writes `t,x,y,z,level` rows (millimetre precision).
 pub fn write_track(path: &Path, points: &[TrackPoint]) -> Result<()> {
-    let mut text = String::from("t,x,y,z,level\n");
-    for p in points {
-        push_point(&mut text, p, path)?;
-        text.push('\n');
-    }
-    crate::export::write_atomically(path, text.as_bytes())
+    check_finite(points.iter(), path)?;
+    crate::export::write_atomically_with(path, |w| {
+        w.write_all(b"t,x,y,z,level\n")?;
+        for p in points {
+            write_point(w, p)?;
+            w.write_all(b"\n")?;
+        }
+        Ok(())
+    })
 }
 
 /// Writes `t,x,y,z,level,certain,hypotheses` rows (`certain` 1 or 0): a reader of
 /// `t,x,y,z,level` reads it as a track.
 pub fn write_smoothed_track(path: &Path, points: &[SmoothedPoint]) -> Result<()> {
-    let mut text = String::from("t,x,y,z,level,certain,hypotheses\n");
-    for p in points {
-        push_point(&mut text, &p.point, path)?;
-        text.push_str(&format!(",{},{}\n", u8::from(p.certain), p.hypotheses));
-    }
-    crate::export::write_atomically(path, text.as_bytes())
+    check_finite(points.iter().map(|p| &p.point), path)?;
+    crate::export::write_atomically_with(path, |w| {
+        w.write_all(b"t,x,y,z,level,certain,hypotheses\n")?;
+        for p in points {
+            write_point(w, &p.point)?;
+            writeln!(w, ",{},{}", u8::from(p.certain), p.hypotheses)?;
+        }
+        Ok(())
+    })
 }
 
-/// Appends `t,x,y,z,level` of one finite point.
-fn push_point(text: &mut String, p: &TrackPoint, path: &Path) -> Result<()> {
-    if !(p.t.is_finite() && p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
-        return Err(Error::Input(format!(
+/// Refuses a track with a non-finite value (nothing is written).
+fn check_finite<'a>(mut points: impl Iterator<Item = &'a TrackPoint>, path: &Path) -> Result<()> {
+    match points
+        .find(|p| !(p.t.is_finite() && p.x.is_finite() && p.y.is_finite() && p.z.is_finite()))
+    {
+        Some(p) => Err(Error::Input(format!(
             "track point at t = {} is not finite; nothing written to {}",
             p.t,
             path.display()
-        )));
+        ))),
+        None => Ok(()),
     }
-    text.push_str(&format!(
-        "{:.3},{:.3},{:.3},{:.3},{}",
-        p.t, p.x, p.y, p.z, p.level
-    ));
-    Ok(())
+}
+
+fn write_point(w: &mut dyn Write, p: &TrackPoint) -> std::io::Result<()> {
+    write!(w, "{:.3},{:.3},{:.3},{:.3},{}", p.t, p.x, p.y, p.z, p.level)
 }
 
 #[cfg(test)]

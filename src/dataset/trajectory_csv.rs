@@ -74,10 +74,12 @@ fn read_rows(path: &Path, certain_only: bool) -> Result<(Vec<TimedPoint>, usize)
 }
 
 /// Writes `t,x,y` rows (millimetre precision).
-pub fn write_trajectory(path: &Path, points: &[TimedPoint]) -> Result<()> {
-    let mut text = String::from("t,x,y\n");
-    for p in points {
-        text.push_str(&format!("{:.3},{:.3},{:.3}\n", p.t, p.x, p.y));
-    }
-    crate::export::write_atomically(path, text.as_bytes())
+pub fn write_trajectory(path: &Path, points: impl IntoIterator<Item = TimedPoint>) -> Result<()> {
+    crate::export::write_atomically_with(path, |w| {
+        w.write_all(b"t,x,y\n")?;
+        for p in points {
+            writeln!(w, "{:.3},{:.3},{:.3}", p.t, p.x, p.y)?;
+        }
+        Ok(())
+    })
 }

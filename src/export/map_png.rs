@@ -15,8 +15,8 @@ use crate::export::map_geojson::{transition_probabilities, visits};
 use crate::geometry::HexGrid;
 use crate::map::{FloorPlan, HexMapSnapshot};
 use canvas::{
-    INK, PATH_RED, PLAN_FILL, PLAN_WALL, START_GREEN, TRUTH_BLUE, WHITE, fill, polyline, push_ring,
-    rect, stroke, viridis,
+    INK, PATH_RED, PLAN_FILL, PLAN_WALL, START_GREEN, TRUTH_BLUE, WHITE, fill, polyline_pieces,
+    push_ring, rect, stroke, viridis,
 };
 use legend::{draw_legend, legend_height};
 use serde::{Deserialize, Serialize};
@@ -410,8 +410,9 @@ fn draw_line(
     (color, width): (ColorU8, f32),
     dash: Option<StrokeDash>,
 ) {
-    if let Some(line) = polyline(points.iter().map(|&p| layout.pixel(p))) {
-        stroke(pixmap, &line, color, width, dash);
+    let pixels: Vec<(f32, f32)> = points.iter().map(|&p| layout.pixel(p)).collect();
+    for line in polyline_pieces(&pixels) {
+        stroke(pixmap, &line, color, width, dash.clone());
     }
 }
 

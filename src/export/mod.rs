@@ -21,24 +21,75 @@ use std::path::Path;
 /// Writes `bytes` to `path` atomically: a temporary file in the same folder, synced, then
 /// renamed over `path`.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_atomically_with(path, |w| w.write_all(bytes))
+}
+
+/// Writes `path` atomically from `write`, which streams the content into a buffered
+/// temporary file in the same folder; the file is synced and renamed over `path` only when
+/// `write` has finished. Long outputs are never held in memory whole.
+pub fn write_atomically_with(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<()> {
     let dir = path
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
-    let mut tmp = tempfile_in(dir, path)?;
-    tmp.1.write_all(bytes).map_err(|e| Error::io(&tmp.0, e))?;
-    tmp.1.sync_all().map_err(|e| Error::io(&tmp.0, e))?;
-    drop(tmp.1);
-    std::fs::rename(&tmp.0, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp.0);
-        Error::io(path, e)
-    })
+    let (tmp, file) = tempfile_in(dir, path)?;
+    let mut out = std::io::BufWriter::with_capacity(1 << 16, file);
+    let written = write(&mut out)
+        .and_then(|()| out.flush())
+        .and_then(|()| out.get_ref().sync_all());
+    drop(out);
+    let result = written
+        .map_err(|e| Error::io(path, e))
+        .and_then(|()| std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e)));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
 }
 
 /// Writes a GeoJSON feature collection to `path` atomically.
 pub fn write_geojson(path: &Path, collection: &geojson::FeatureCollection) -> Result<()> {
     let text = serde_json::to_string(collection).map_err(|e| Error::io(path, e.into()))?;
     write_atomically(path, text.as_bytes())
+}
+
+/// Writes the feature collection `shell` (its own `features` ignored) with `features`
+/// streamed one at a time: the same bytes as [`write_geojson`] on the whole collection,
+/// without holding every feature in memory.
+pub fn write_geojson_streamed(
+    path: &Path,
+    shell: &geojson::FeatureCollection,
+    features: impl Iterator<Item = geojson::Feature>,
+) -> Result<()> {
+    let empty = geojson::FeatureCollection {
+        features: Vec::new(),
+        ..shell.clone()
+    };
+    let text = serde_json::to_string(&empty).map_err(|e| Error::io(path, e.into()))?;
+    let (head, tail) = split_once_at(&text, "\"features\":[]");
+    write_atomically_with(path, |w| {
+        w.write_all(head.as_bytes())?;
+        for (i, feature) in features.enumerate() {
+            if i > 0 {
+                w.write_all(b",")?;
+            }
+            serde_json::to_writer(&mut *w, &feature)?;
+        }
+        w.write_all(tail.as_bytes())
+    })
+}
+
+/// `text` split around the first `marker`, the marker's last character (`]`) kept in the
+/// tail; panics when there is none (a serialisation of our own types).
+pub(crate) fn split_once_at<'a>(text: &'a str, marker: &str) -> (&'a str, &'a str) {
+    let at = text
+        .find(marker)
+        .expect("the serialised shell holds its empty array");
+    let cut = at + marker.len() - 1;
+    (&text[..cut], &text[cut..])
 }
 
 fn tempfile_in(dir: &Path, path: &Path) -> Result<(std::path::PathBuf, std::fs::File)> {

@@ -5,7 +5,9 @@
 //! steps) stack top to bottom in one image, each under its title. North is up.
 
 use super::glyphs::{self, GLYPH_HEIGHT};
-use super::map_png::canvas::{INK, PLAN_WALL, fill, polyline, push_ring, rgb, stroke};
+use super::map_png::canvas::{
+    INK, PLAN_WALL, fill, polyline, polyline_pieces, push_ring, rgb, stroke,
+};
 pub use super::plan_marks::{ColourBar, PlanMarker};
 use crate::error::{Error, Result};
 use crate::map::FloorPlan;
@@ -435,11 +437,12 @@ fn draw_path(pixmap: &mut Pixmap, layout: &Layout, row: usize, path: &PlanPath) 
             .position(|p| p.2 != level)
             .map_or(path.points.len(), |k| start + k);
         if let Some(li) = layout.level_index(level) {
-            let pixels = path.points[start..end]
+            let pixels: Vec<(f32, f32)> = path.points[start..end]
                 .iter()
                 .filter(|p| p.0.is_finite() && p.1.is_finite())
-                .map(|p| layout.pixel(row, li, p.0, p.1));
-            if let Some(line) = polyline(pixels) {
+                .map(|p| layout.pixel(row, li, p.0, p.1))
+                .collect();
+            for line in polyline_pieces(&pixels) {
                 stroke(pixmap, &line, halo, 3.5, None);
                 stroke(pixmap, &line, colour, 2.0, None);
             }

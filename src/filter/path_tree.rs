@@ -230,6 +230,23 @@ impl PathTree {
         out
     }
 
+    /// [`Self::smoothed`], consuming the tree: the settled steps are moved rather than copied
+    /// and the fixed-lag answers freed before the answer grows (a long walk's smoother holds
+    /// about 100 bytes a step in each).
+    pub fn into_smoothed(
+        mut self,
+        topology: &FloorTopology,
+        cluster: &ClusterConfig,
+    ) -> Vec<SmoothedStep> {
+        let current = self.answer_current(topology, cluster);
+        self.lagged = Vec::new();
+        self.generations = Vec::new();
+        let mut out = std::mem::take(&mut self.settled);
+        out.resize(self.first_step, SmoothedStep::NONE);
+        out.extend(current);
+        out
+    }
+
     /// The current segment's answer: the final ancestry, refined by the fixed-lag answer
     /// where both are certain and agree.
     fn answer_current(

@@ -90,12 +90,27 @@ impl<'a> RfTracker<'a> {
     /// started (no scan yet) except the last of them, where its prior stands. `None` when
     /// smoothing is off.
     pub fn smoothed(&self) -> Option<Vec<Option<SmoothedStep>>> {
+        let smoothed = self.tracker.as_ref().map(Tracker::smoothed);
+        self.place_smoothed(smoothed)
+    }
+
+    /// [`Self::smoothed`], ending the smoothing ([`Tracker::take_smoothed`]).
+    pub fn take_smoothed(&mut self) -> Option<Vec<Option<SmoothedStep>>> {
+        let smoothed = self.tracker.as_mut().map(Tracker::take_smoothed);
+        self.place_smoothed(smoothed)
+    }
+
+    /// The tracker's smoothed steps (`None`: no tracker yet) placed on this walk's steps.
+    fn place_smoothed(
+        &self,
+        smoothed: Option<Option<Vec<SmoothedStep>>>,
+    ) -> Option<Vec<Option<SmoothedStep>>> {
         let mut out = vec![None; self.steps];
-        let (Some(tracker), Some(before)) = (self.tracker.as_ref(), self.started_after) else {
+        let (Some(smoothed), Some(before)) = (smoothed, self.started_after) else {
             return self.config.smoothing.then_some(out);
         };
         // Tracker step g stands after this walk's step `before + g` (1-based).
-        for (g, s) in tracker.smoothed()?.into_iter().enumerate() {
+        for (g, s) in smoothed?.into_iter().enumerate() {
             if let Some(slot) = (before + g).checked_sub(1).and_then(|i| out.get_mut(i)) {
                 *slot = Some(s);
             }

@@ -151,6 +151,8 @@ pub struct Tracker<'a> {
     headings_used: usize,
     /// The belief's ancestry for the smoothed answer (`config.smoothing`).
     tree: Option<PathTree>,
+    /// The tree's peak after [`Self::take_smoothed`] consumed it.
+    path_nodes_peak_taken: usize,
     /// A learned map's transitions as a motion prior ([`Self::set_transition_prior`]).
     transitions: Option<&'a TransitionPrior>,
     /// The resampling ancestor of each particle of the belief (kept with the tree only).
@@ -218,6 +220,7 @@ impl<'a> Tracker<'a> {
             tree: config
                 .smoothing
                 .then(|| PathTree::new(config.smoothing_lag)),
+            path_nodes_peak_taken: 0,
             ancestors: Vec::new(),
             capped_draws: 0,
         };
@@ -307,10 +310,20 @@ impl<'a> Tracker<'a> {
         Some(tree.smoothed(self.topology, &self.config.cluster))
     }
 
+    /// [`Self::smoothed`], ending the smoothing: the path tree is consumed (a long walk's
+    /// answer is then built without a copy), and later calls return `None`.
+    pub fn take_smoothed(&mut self) -> Option<Vec<SmoothedStep>> {
+        let tree = self.tree.take()?;
+        self.path_nodes_peak_taken = tree.peak_nodes();
+        Some(tree.into_smoothed(self.topology, &self.config.cluster))
+    }
+
     /// Largest number of path nodes (16 bytes each) the smoother held at once (0 without
     /// smoothing).
     pub fn path_nodes_peak(&self) -> usize {
-        self.tree.as_ref().map_or(0, PathTree::peak_nodes)
+        self.tree
+            .as_ref()
+            .map_or(self.path_nodes_peak_taken, PathTree::peak_nodes)
     }
 
     /// Processes one step event (Algorithm 1 for every particle, then KLD-resampling and

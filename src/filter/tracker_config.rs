@@ -26,6 +26,45 @@ pub struct StartPose {
     pub level: Option<i32>,
 }
 
+impl std::str::FromStr for StartPose {
+    type Err = String;
+
+    /// Parses `X,Y[,HEADING[,LEVEL]]` (as `--start` and the walk manifests take it); an
+    /// empty HEADING (`X,Y,,LEVEL`) is unknown.
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+        if !(2..=4).contains(&parts.len()) {
+            return Err(format!(
+                "expected X,Y[,HEADING[,LEVEL]] (X,Y,,LEVEL for a level without a heading), got `{s}`"
+            ));
+        }
+        let number = |i: usize, what: &str| {
+            parts[i]
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| format!("{what} `{}` is not a finite number", parts[i]))
+        };
+        let heading = match parts.get(2) {
+            Some(h) if !h.is_empty() => Some(number(2, "HEADING")?),
+            _ => None,
+        };
+        let level = match parts.get(3) {
+            Some(l) => Some(
+                l.parse::<i32>()
+                    .map_err(|_| format!("level `{l}` is not an integer"))?,
+            ),
+            None => None,
+        };
+        Ok(StartPose {
+            x: number(0, "X")?,
+            y: number(1, "Y")?,
+            heading,
+            level,
+        })
+    }
+}
+
 /// The known-map tracker's parameters; every default in one place.
 ///
 /// | field                 | default   | meaning                                                 |

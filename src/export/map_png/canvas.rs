@@ -98,6 +98,22 @@ pub fn polyline(points: impl IntoIterator<Item = (f32, f32)>) -> Option<Path> {
     pb.finish()
 }
 
+/// Longest polyline stroked at once: tiny-skia's stroker holds a few hundred bytes a
+/// point, so a day-long walk is stroked in pieces that share their end points.
+pub const MAX_STROKE_POINTS: usize = 8192;
+
+/// The open polylines through `points` (pixels), in pieces of at most
+/// [`MAX_STROKE_POINTS`] that share their ends (one piece when shorter).
+pub fn polyline_pieces(points: &[(f32, f32)]) -> impl Iterator<Item = Path> + '_ {
+    let step = MAX_STROKE_POINTS - 1;
+    (0..points.len().saturating_sub(1))
+        .step_by(step)
+        .filter_map(move |start| {
+            let end = (start + MAX_STROKE_POINTS).min(points.len());
+            polyline(points[start..end].iter().copied())
+        })
+}
+
 /// The rectangle `x, y, w, h` (pixels) as a path; `None` when empty or not finite.
 pub fn rect(x: f32, y: f32, w: f32, h: f32) -> Option<Path> {
     Rect::from_xywh(x, y, w, h).map(PathBuilder::from_rect)
@@ -106,6 +122,20 @@ pub fn rect(x: f32, y: f32, w: f32, h: f32) -> Option<Path> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn long_polylines_come_in_pieces_sharing_their_ends() {
+        assert_eq!(polyline_pieces(&[]).count(), 0);
+        assert_eq!(polyline_pieces(&[(1.0, 1.0)]).count(), 0);
+        let short: Vec<(f32, f32)> = (0..100).map(|i| (i as f32, 0.0)).collect();
+        assert_eq!(polyline_pieces(&short).count(), 1);
+        let n = 2 * MAX_STROKE_POINTS + 5;
+        let long: Vec<(f32, f32)> = (0..n).map(|i| (i as f32 * 0.01, 1.0)).collect();
+        let pieces: Vec<Path> = polyline_pieces(&long).collect();
+        assert_eq!(pieces.len(), 3);
+        let points: usize = pieces.iter().map(Path::len).sum();
+        assert_eq!(points, n + pieces.len() - 1, "neighbours share one point");
+    }
 
     #[test]
     fn viridis_ends_and_clamps() {
