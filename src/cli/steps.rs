@@ -6,8 +6,10 @@ use anyhow::{Context, Result};
 use footslam::dataset::{ImuUnits, read_imu_in, steps_csv::write_steps};
 use footslam::export::RunFolder;
 use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
+use footslam::inertial::frame_check::axes_flag;
 use footslam::inertial::{
-    HeadingSource, Mount, StepEvents, StepsConfig, check_mount, detect_steps, detect_strides,
+    FrameFinding, HeadingSource, Mount, StepEvents, StepsConfig, check_foot_frame, check_mount,
+    check_phone_frame, detect_steps, detect_strides,
 };
 use footslam::map::hex_transitions::HexMapSnapshot;
 use footslam::sensor::{ImuRecording, SamplingReport};
@@ -33,6 +35,11 @@ pub struct Args {
     /// Unit of the angular-rate columns: `rad/s` (the format's) or `deg/s`.
     #[arg(long, value_enum, default_value = "rad/s")]
     gyro_unit: GyroUnit,
+    /// Gyroscope axes to negate (any of `x`, `y`, `z`, e.g. `y` or `xyz`): for recordings
+    /// whose gyroscope is mirrored against the accelerometer (a left-handed frame, or an
+    /// inverted axis). Such recordings are detected and refused with the axes to give here.
+    #[arg(long, value_parser = footslam::inertial::frame_check::parse_axes)]
+    gyro_flip: Option<[bool; 3]>,
     /// Detector configuration (TOML, or JSON such as a previous run's config.json).
     #[arg(long)]
     config: Option<PathBuf>,
@@ -100,7 +107,10 @@ pub fn run(args: Args) -> Result<()> {
             GyroUnit::DegreesPerSecond => std::f64::consts::PI / 180.0,
         },
     };
-    let recording = read_imu_in(&args.imu, units)?;
+    let mut recording = read_imu_in(&args.imu, units)?;
+    if let Some(flip) = args.gyro_flip {
+        recording = recording.with_gyro_flipped(flip);
+    }
     let out = output_dir(args.out.clone(), "steps");
     let mut folder = RunFolder::create(&out)?;
     folder.protect(std::iter::once(&args.imu).chain(args.config.iter()));
@@ -108,14 +118,34 @@ pub fn run(args: Args) -> Result<()> {
     let (mount, trace_len) = match args.mount {
         MountArg::Foot => {
             let events = detect_strides(&recording, &config.foot).with_context(context)?;
+            let residual = events.figures.mean_zupt_residual;
+            let finding = check_foot_frame(&recording, &config.foot, residual);
+            let warnings = frame_warnings(&args, finding, true)?;
             let n = events.trace.len();
-            write_outputs(&folder, &args, &recording, Mount::Foot, events, started)?;
+            write_outputs(
+                &folder,
+                &args,
+                &recording,
+                (Mount::Foot, warnings),
+                events,
+                started,
+            )?;
             (Mount::Foot, n)
         }
         MountArg::Phone => {
             let events = detect_steps(&recording, &config.phone).with_context(context)?;
+            // With the quaternion giving the heading, a mirrored gyroscope does no harm.
+            let gyro_heading = events.heading_source != HeadingSource::RotationVector;
+            let warnings = frame_warnings(&args, check_phone_frame(&recording), gyro_heading)?;
             let n = events.trace.len();
-            write_outputs(&folder, &args, &recording, Mount::Phone, events, started)?;
+            write_outputs(
+                &folder,
+                &args,
+                &recording,
+                (Mount::Phone, warnings),
+                events,
+                started,
+            )?;
             (Mount::Phone, n)
         }
     };
@@ -130,11 +160,34 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
+/// A frame finding ([`footslam::inertial::frame_check`]) as an error, or as warnings where
+/// the output does not depend on it (a mirrored gyroscope when `gyro_used` is false; an
+/// inconsistency no flip explains).
+fn frame_warnings(
+    args: &Args,
+    finding: Option<FrameFinding>,
+    gyro_used: bool,
+) -> Result<Vec<String>> {
+    let flipped = match args.gyro_flip {
+        Some(flip) => format!(" (after --gyro-flip {})", axes_flag(flip)),
+        None => String::new(),
+    };
+    match finding {
+        None => Ok(Vec::new()),
+        Some(f @ FrameFinding::MirroredGyro { .. }) if !gyro_used => Ok(vec![format!(
+            "{}{flipped} (the heading comes from the orientation quaternion, unaffected)",
+            f.message()
+        )]),
+        Some(f @ FrameFinding::Inconsistent { .. }) => Ok(vec![f.message()]),
+        Some(f) => anyhow::bail!("{}: {}{flipped}", args.imu.display(), f.message()),
+    }
+}
+
 fn write_outputs<F: Serialize>(
     folder: &RunFolder,
     args: &Args,
     recording: &ImuRecording,
-    mount: Mount,
+    (mount, frame_warnings): (Mount, Vec<String>),
     events: StepEvents<F>,
     started: Instant,
 ) -> Result<()> {
@@ -154,6 +207,7 @@ fn write_outputs<F: Serialize>(
     write_steps(&folder.path("steps.csv"), &events.trace)?;
     let warnings: Vec<String> = check_mount(recording, mount, steps.len())
         .into_iter()
+        .chain(frame_warnings)
         .collect();
     for w in &warnings {
         #[allow(clippy::print_stderr)]

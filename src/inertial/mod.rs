@@ -10,6 +10,7 @@
 pub mod barometer;
 pub mod foot;
 pub mod foot_config;
+pub mod frame_check;
 pub mod heading_fusion;
 pub mod mount_check;
 pub mod phone;
@@ -21,6 +22,7 @@ pub mod zupt;
 
 pub use barometer::{BarometerConfig, pressure_height};
 pub use foot::{FootConfig, FootFigures, detect_strides};
+pub use frame_check::{FrameFinding, check_foot_frame, check_phone_frame};
 pub use heading_fusion::HeadingFusionConfig;
 pub use mount_check::check_mount;
 pub use phone::{HeadingFigures, PhoneConfig, PhoneFigures, detect_steps};

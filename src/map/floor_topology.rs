@@ -463,7 +463,45 @@ impl FloorTopology {
         (cell(lo), cell(hi))
     }
 
-    /// Fills the grid with every segment's record in every cell its bounding box meets, and
+    /// The row spans `(item, row, x0, x1)` of the cells segment `a`–`b` crosses, each row's
+    /// band and the segment padded by a millimetre (f32 rounding at kilometres from the
+    /// origin).
+    fn segment_row_spans(
+        &self,
+        item: usize,
+        a: [f64; 2],
+        b: [f64; 2],
+    ) -> impl Iterator<Item = (usize, usize, usize, usize)> + '_ {
+        const PAD: f64 = 1e-3;
+        let (y0, y1) = self.span(
+            (a[1].min(b[1]) - PAD) as f32,
+            (a[1].max(b[1]) + PAD) as f32,
+            1,
+        );
+        let cell = 1.0 / f64::from(self.inv_cell);
+        let origin_y = f64::from(self.origin[1]);
+        (y0..=y1).map(move |y| {
+            let band = (
+                origin_y + y as f64 * cell - PAD,
+                origin_y + (y + 1) as f64 * cell + PAD,
+            );
+            let dy = b[1] - a[1];
+            // The stretch of the segment inside the band (all of it when nearly flat).
+            let (t0, t1) = if dy.abs() < 1e-9 {
+                (0.0, 1.0)
+            } else {
+                let (u, v) = ((band.0 - a[1]) / dy, (band.1 - a[1]) / dy);
+                (u.min(v).max(0.0), u.max(v).min(1.0))
+            };
+            let (t0, t1) = if t0 <= t1 { (t0, t1) } else { (0.0, 1.0) };
+            let xa = a[0] + t0 * (b[0] - a[0]);
+            let xb = a[0] + t1 * (b[0] - a[0]);
+            let (x0, x1) = self.span((xa.min(xb) - PAD) as f32, (xa.max(xb) + PAD) as f32, 0);
+            (item, y, x0, x1)
+        })
+    }
+
+    /// Fills the grid with every segment's record in every cell it crosses, and
     /// every surface's id in every cell its bounding box meets.
     fn index(&mut self, cell_size: f64) {
         let b = self.bounds;
@@ -476,22 +514,13 @@ impl FloorTopology {
         self.nx = (((b[2] - b[0] + 2.0 * pad) / cell_size).ceil() as usize).max(1);
         self.ny = (((b[3] - b[1] + 2.0 * pad) / cell_size).ceil() as usize).max(1);
         let cells = self.nx * self.ny;
-        let boxes: Vec<(usize, usize, usize, usize)> = self
+        // Each segment in the cells it crosses (a long diagonal wall's bounding box would be
+        // most of the grid): per row, the columns of its stretch within the row's band.
+        let spans: Vec<(usize, usize, usize, usize)> = self
             .segments
             .iter()
-            .map(|s| {
-                let (x0, x1) = self.span(
-                    s.a[0].min(s.b[0]) as f32 - 1e-3,
-                    s.a[0].max(s.b[0]) as f32 + 1e-3,
-                    0,
-                );
-                let (y0, y1) = self.span(
-                    s.a[1].min(s.b[1]) as f32 - 1e-3,
-                    s.a[1].max(s.b[1]) as f32 + 1e-3,
-                    1,
-                );
-                (x0, x1, y0, y1)
-            })
+            .enumerate()
+            .flat_map(|(i, s)| self.segment_row_spans(i, s.a, s.b))
             .collect();
         let records: Vec<Record> = self
             .segments
@@ -515,24 +544,20 @@ impl FloorTopology {
                 }
             })
             .collect();
-        let (offsets, items) = compress(
-            cells,
-            boxes.iter().enumerate().map(|(i, &bx)| (i, bx)),
-            self.nx,
-        );
+        let (offsets, items) = compress(cells, spans.iter().copied(), self.nx);
         self.offsets = offsets;
         self.records = items.into_iter().map(|i| records[i]).collect();
-        let surface_boxes: Vec<(usize, (usize, usize, usize, usize))> = self
+        let surface_spans: Vec<(usize, usize, usize, usize)> = self
             .bboxes
             .iter()
             .enumerate()
-            .map(|(i, b)| {
+            .flat_map(|(i, b)| {
                 let (x0, x1) = self.span(b[0] as f32 - 1e-3, b[2] as f32 + 1e-3, 0);
                 let (y0, y1) = self.span(b[1] as f32 - 1e-3, b[3] as f32 + 1e-3, 1);
-                (i, (x0, x1, y0, y1))
+                (y0..=y1).map(move |y| (i, y, x0, x1))
             })
             .collect();
-        let (offsets, items) = compress(cells, surface_boxes.into_iter(), self.nx);
+        let (offsets, items) = compress(cells, surface_spans.iter().copied(), self.nx);
         self.surface_offsets = offsets;
         self.surface_ids = items.into_iter().map(|i| i as u32).collect();
     }
@@ -555,19 +580,18 @@ impl FloorTopology {
     }
 }
 
-/// Compressed rows: for items with cell boxes `(x0, x1, y0, y1)`, the offsets of each cell's
-/// run (row-major, `cells + 1` entries) and the item indices in cell order.
+/// Compressed rows: for items given as row spans `(item, row, x0, x1)` (the cells
+/// `x0..=x1` of `row`), the offsets of each cell's run (row-major, `cells + 1` entries) and
+/// the item indices in cell order.
 fn compress(
     cells: usize,
-    boxes: impl Iterator<Item = (usize, (usize, usize, usize, usize))> + Clone,
+    spans: impl Iterator<Item = (usize, usize, usize, usize)> + Clone,
     nx: usize,
 ) -> (Vec<u32>, Vec<usize>) {
     let mut counts = vec![0u32; cells + 1];
-    for (_, (x0, x1, y0, y1)) in boxes.clone() {
-        for y in y0..=y1 {
-            for x in x0..=x1 {
-                counts[y * nx + x + 1] += 1;
-            }
+    for (_, y, x0, x1) in spans.clone() {
+        for x in x0..=x1 {
+            counts[y * nx + x + 1] += 1;
         }
     }
     for i in 1..=cells {
@@ -575,13 +599,11 @@ fn compress(
     }
     let mut fill = counts.clone();
     let mut items = vec![0usize; counts[cells] as usize];
-    for (i, (x0, x1, y0, y1)) in boxes {
-        for y in y0..=y1 {
-            for x in x0..=x1 {
-                let c = y * nx + x;
-                items[fill[c] as usize] = i;
-                fill[c] += 1;
-            }
+    for (i, y, x0, x1) in spans {
+        for x in x0..=x1 {
+            let c = y * nx + x;
+            items[fill[c] as usize] = i;
+            fill[c] += 1;
         }
     }
     (counts, items)

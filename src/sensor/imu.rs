@@ -196,6 +196,23 @@ impl ImuRecording {
         &self.report
     }
 
+    /// The recording with the angular-rate axes named in `flip` negated (`flip[i]`: axis
+    /// `x`, `y`, `z`), for gyroscopes whose axes are mirrored against the accelerometer's.
+    pub fn with_gyro_flipped(&self, flip: [bool; 3]) -> Self {
+        let mut samples = self.samples.clone();
+        for s in &mut samples {
+            for (w, &f) in s.gyro.iter_mut().zip(&flip) {
+                if f {
+                    *w = -*w;
+                }
+            }
+        }
+        Self {
+            samples,
+            report: self.report.clone(),
+        }
+    }
+
     /// True when every sample carries a magnetometer reading.
     pub fn has_magnetometer(&self) -> bool {
         self.samples[0].mag.is_some()
