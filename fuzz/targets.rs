@@ -15,8 +15,11 @@ use footslam::export::radio_map_geojson::read_radio_map_geojson;
 use footslam::geometry::LocalFrame;
 use std::path::{Path, PathBuf};
 
+/// What a target does with one input.
+pub type Target = fn(&[u8]);
+
 /// Every target by name, as `fuzz/fuzz_targets/NAME.rs` and `fuzz/corpus/NAME/` call it.
-pub const TARGETS: &[(&str, fn(&[u8]))] = &[
+pub const TARGETS: &[(&str, Target)] = &[
     ("steps_csv", steps_csv),
     ("imu_csv", imu_csv),
     ("wifi_csv", wifi_csv),
@@ -212,7 +215,7 @@ pub fn ipin_log(data: &[u8]) {
 }
 
 /// Runs every input of `fuzz/corpus/NAME/` through target `NAME`; returns the number run.
-pub fn replay(corpus: &Path, name: &str, target: fn(&[u8])) -> usize {
+pub fn replay(corpus: &Path, name: &str, target: Target) -> usize {
     let dir = corpus.join(name);
     let Ok(entries) = std::fs::read_dir(&dir) else {
         return 0;

@@ -2,6 +2,7 @@
 //!
 //! Every variant says what went wrong and where; the CLI adds context with `anyhow` and prints it.
 
+use std::ops::{Bound, RangeBounds};
 use std::path::PathBuf;
 
 /// Errors raised by footslam's library.
@@ -32,8 +33,8 @@ pub enum Error {
         field: &'static str,
         /// Its value as text.
         value: String,
-        /// The allowed range or rule.
-        reason: &'static str,
+        /// The allowed range or rule: the way out.
+        reason: String,
     },
     /// Input data cannot be processed as given (e.g. an empty trace). Fix: see the message.
     #[error("invalid input: {0}")]
@@ -43,27 +44,79 @@ pub enum Error {
 /// Shorthand for results carrying [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
-/// `Ok` when `value` is finite and within `[lo, hi]`, else an [`Error::Config`] naming
-/// `field` with `reason` (the configs' `validate` methods).
+/// The one range check of every configuration's `validate`: `Ok` when `value` is finite
+/// and within `range` (`lo..=hi`, `lo..hi`, `lo..`, or a pair of [`Bound`]s for an open
+/// start), else an [`Error::Config`] naming `field`, the value and the range, in `unit`
+/// (e.g. `"m"`, or `""`).
+///
+/// ```
+/// use footslam::error::check_range;
+/// use std::ops::Bound::Excluded;
+/// assert!(check_range("kld.bin_size", 0.5, 0.05..=100.0, "m").is_ok());
+/// let err = check_range("kld.epsilon", 1.0, (Excluded(0.0), Excluded(1.0)), "").unwrap_err();
+/// assert_eq!(err.to_string(), "invalid configuration: kld.epsilon = 1: must be in (0, 1)");
+/// ```
 pub fn check_range(
     field: &'static str,
     value: f64,
-    lo: f64,
-    hi: f64,
-    reason: &'static str,
+    range: impl RangeBounds<f64>,
+    unit: &str,
 ) -> Result<()> {
-    if value.is_finite() && (lo..=hi).contains(&value) {
-        Ok(())
+    if value.is_finite() && range.contains(&value) {
+        return Ok(());
+    }
+    let unit = if unit.is_empty() {
+        String::new()
     } else {
-        Err(Error::Config {
-            field,
-            value: value.to_string(),
-            reason,
-        })
+        format!(" {unit}")
+    };
+    let reason = match (range.start_bound(), range.end_bound()) {
+        (Bound::Unbounded, Bound::Unbounded) => "must be finite".to_string(),
+        (lo, Bound::Unbounded) => match lo {
+            Bound::Included(v) => format!("must be at least {v}{unit}"),
+            _ => format!("must be above {}{unit}", bound_value(lo)),
+        },
+        (Bound::Unbounded, hi) => match hi {
+            Bound::Included(v) => format!("must be at most {v}{unit}"),
+            _ => format!("must be below {}{unit}", bound_value(hi)),
+        },
+        (lo, hi) => format!(
+            "must be in {}{}, {}{}{unit}",
+            if matches!(lo, Bound::Included(_)) {
+                "["
+            } else {
+                "("
+            },
+            bound_value(lo),
+            bound_value(hi),
+            if matches!(hi, Bound::Included(_)) {
+                "]"
+            } else {
+                ")"
+            },
+        ),
+    };
+    Err(Error::config(field, value, reason))
+}
+
+fn bound_value(b: Bound<&f64>) -> String {
+    match b {
+        Bound::Included(v) | Bound::Excluded(v) => v.to_string(),
+        Bound::Unbounded => String::new(),
     }
 }
 
 impl Error {
+    /// A configuration field whose value breaks `reason` (a rule other than a range; ranges
+    /// go through [`check_range`]).
+    pub fn config(field: &'static str, value: impl ToString, reason: impl Into<String>) -> Self {
+        Error::Config {
+            field,
+            value: value.to_string(),
+            reason: reason.into(),
+        }
+    }
+
     /// An I/O error on `path`.
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         Error::Io {

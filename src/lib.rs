@@ -65,21 +65,6 @@
 //! Layers point down only: [`geometry`] → [`sensor`] → [`inertial`], [`map`] → [`model`] → [`filter`] →
 //! [`dataset`], [`export`] (and [`sim`], [`eval`]). The library never prints.
 
-/// Returns `Err(Error::Config)` naming `$field` from the enclosing function unless `$value`
-/// (an `f64`) is finite and in `[$lo, $hi]`; the reason quotes the range and `$unit`.
-macro_rules! ensure_in_range {
-    ($field:literal, $value:expr, $lo:literal..=$hi:literal, $unit:literal) => {{
-        let v: f64 = $value;
-        if !(v.is_finite() && ($lo..=$hi).contains(&v)) {
-            return Err(crate::error::Error::Config {
-                field: $field,
-                value: v.to_string(),
-                reason: concat!("must be in [", $lo, ", ", $hi, "]", $unit),
-            });
-        }
-    }};
-}
-
 pub mod dataset;
 pub mod error;
 pub mod eval;

@@ -69,11 +69,11 @@ impl IlcImportConfig {
         if self.max_wifi_age_s.is_finite() && self.max_wifi_age_s > 0.0 {
             Ok(())
         } else {
-            Err(Error::Config {
-                field: "ilc.max_wifi_age_s",
-                value: self.max_wifi_age_s.to_string(),
-                reason: "must be a positive number of seconds",
-            })
+            Err(crate::error::Error::config(
+                "ilc.max_wifi_age_s",
+                self.max_wifi_age_s.to_string(),
+                "must be a positive number of seconds",
+            ))
         }
     }
 }

@@ -169,11 +169,11 @@ struct Reader {
 /// Reads an IPIN logfile. Errors name the file and line.
 pub fn read_ipin_log(path: &Path, config: &IpinImportConfig) -> Result<IpinLog> {
     if !(config.max_wifi_age_s.is_finite() && config.max_wifi_age_s > 0.0) {
-        return Err(Error::Config {
-            field: "ipin.max_wifi_age_s",
-            value: config.max_wifi_age_s.to_string(),
-            reason: "must be a positive number of seconds",
-        });
+        return Err(crate::error::Error::config(
+            "ipin.max_wifi_age_s",
+            config.max_wifi_age_s.to_string(),
+            "must be a positive number of seconds",
+        ));
     }
     let mut reader = Reader::default();
     let seen = read_log_lines(path, '%', |_| {}, |raw, line| reader.read_line(raw, line))?;

@@ -117,11 +117,11 @@ fn require(
     if ok {
         Ok(())
     } else {
-        Err(Error::Config {
+        Err(crate::error::Error::config(
             field,
-            value: value.to_string(),
+            value.to_string(),
             reason,
-        })
+        ))
     }
 }
 

@@ -107,48 +107,41 @@ impl Default for PlanPictureConfig {
 impl PlanPictureConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let bad = |field, value: String, reason| {
-            Err(Error::Config {
-                field,
-                value,
-                reason,
-            })
-        };
         let ppm = self.pixels_per_metre;
         if !(ppm.is_finite() && ppm > 0.0 && ppm <= 500.0) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "picture.pixels_per_metre",
                 ppm.to_string(),
                 "must be in (0, 500]",
-            );
+            ));
         }
         if self.margin_px > 200 {
-            return bad(
+            return Err(crate::error::Error::config(
                 "picture.margin_px",
                 self.margin_px.to_string(),
                 "must be at most 200",
-            );
+            ));
         }
         if !(400..=16384).contains(&self.max_width_px) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "picture.max_width_px",
                 self.max_width_px.to_string(),
                 "must be in 400..=16384",
-            );
+            ));
         }
         if self.min_width_px > 16384 {
-            return bad(
+            return Err(crate::error::Error::config(
                 "picture.min_width_px",
                 self.min_width_px.to_string(),
                 "must be at most 16384",
-            );
+            ));
         }
         if !(1..=4).contains(&self.text_scale) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "picture.text_scale",
                 self.text_scale.to_string(),
                 "must be in 1..=4",
-            );
+            ));
         }
         Ok(())
     }

@@ -13,7 +13,7 @@
 //! reach. Knows nothing of maps: particles are points with a height, a level, a heading and a
 //! weight.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::geometry::angle::wrap_angle;
 use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
@@ -68,56 +68,49 @@ impl Default for ClusterConfig {
 impl ClusterConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let bad = |field, value: String, reason| {
-            Err(Error::Config {
-                field,
-                value,
-                reason,
-            })
-        };
         if !(self.radius.is_finite() && (0.1..=1000.0).contains(&self.radius)) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "cluster.radius",
                 self.radius.to_string(),
                 "must be in [0.1, 1000] metres",
-            );
+            ));
         }
         if !(self.max_dz.is_finite() && (0.01..=100.0).contains(&self.max_dz)) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "cluster.max_dz",
                 self.max_dz.to_string(),
                 "must be in [0.01, 100] metres",
-            );
+            ));
         }
         if !(self.max_dheading.is_finite()
             && (0.05..=std::f64::consts::PI).contains(&self.max_dheading))
         {
-            return bad(
+            return Err(crate::error::Error::config(
                 "cluster.max_dheading",
                 self.max_dheading.to_string(),
                 "must be in [0.05, π] radians",
-            );
+            ));
         }
         if !(self.min_weight.is_finite() && (0.0..0.5).contains(&self.min_weight)) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "cluster.min_weight",
                 self.min_weight.to_string(),
                 "must be in [0, 0.5)",
-            );
+            ));
         }
         if !(self.max_spread.is_finite() && (0.1..=1000.0).contains(&self.max_spread)) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "cluster.max_spread",
                 self.max_spread.to_string(),
                 "must be in [0.1, 1000] metres",
-            );
+            ));
         }
         if self.max_particles > 10_000_000 {
-            return bad(
+            return Err(crate::error::Error::config(
                 "cluster.max_particles",
                 self.max_particles.to_string(),
                 "must be at most 10000000",
-            );
+            ));
         }
         Ok(())
     }

@@ -1,7 +1,7 @@
 //! The configuration of [`super::FootSlam`]: every parameter, its unit and default.
 
 use super::resample::ResampleConfig;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::geometry::Pose2;
 use crate::model::{GpsConfig, HeadingConfig, LevelConfig, StepMotionConfig};
 use serde::{Deserialize, Serialize};
@@ -106,33 +106,34 @@ impl Default for FootSlamConfig {
 impl FootSlamConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let bad = |field, value: String, reason| {
-            Err(Error::Config {
-                field,
-                value,
-                reason,
-            })
-        };
         if !(1..=100_000_000).contains(&self.particles) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "particles",
                 self.particles.to_string(),
                 "must be in 1..=100000000",
-            );
+            ));
         }
         if !(self.hex_radius.is_finite() && (0.05..=10.0).contains(&self.hex_radius)) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "hex_radius",
                 self.hex_radius.to_string(),
                 "must be in [0.05, 10] metres",
-            );
+            ));
         }
         if !(self.alpha.is_finite() && self.alpha > 0.0 && self.alpha <= 1000.0) {
-            return bad("alpha", self.alpha.to_string(), "must be in (0, 1000]");
+            return Err(crate::error::Error::config(
+                "alpha",
+                self.alpha.to_string(),
+                "must be in (0, 1000]",
+            ));
         }
         let s = self.start;
         if !(s.x.is_finite() && s.y.is_finite() && s.heading.is_finite()) {
-            return bad("start", format!("{s:?}"), "must be finite");
+            return Err(crate::error::Error::config(
+                "start",
+                format!("{s:?}"),
+                "must be finite",
+            ));
         }
         for (field, v, hi) in [
             ("start_position_sigma", self.start_position_sigma, 10_000.0),
@@ -141,43 +142,41 @@ impl FootSlamConfig {
             ("outline_margin", self.outline_margin, 100.0),
         ] {
             if !(v.is_finite() && (0.0..=hi).contains(&v)) {
-                return bad(
+                return Err(crate::error::Error::config(
                     field,
                     v.to_string(),
                     "must be a finite number ≥ 0 (and not absurd)",
-                );
+                ));
             }
         }
         if self.iterations > MAX_ITERATIONS {
-            return bad(
+            return Err(crate::error::Error::config(
                 "iterations",
                 self.iterations.to_string(),
                 "must be at most 20 (each is a full pass over the walks)",
-            );
+            ));
         }
         if !(self.outline_alpha.is_finite()
             && self.outline_alpha > 0.0
             && self.outline_alpha <= self.alpha)
         {
-            return bad(
+            return Err(crate::error::Error::config(
                 "outline_alpha",
                 self.outline_alpha.to_string(),
                 "must be in (0, alpha]",
-            );
+            ));
         }
-        self.gps
-            .validate()
-            .or_else(|(field, v, reason)| bad(field, v.to_string(), reason))?;
-        self.heading
-            .validate()
-            .or_else(|(field, v, reason)| bad(field, v.to_string(), reason))?;
+        self.gps.validate()?;
+        self.heading.validate()?;
         self.levels.validate()?;
         let t = self.resample.ess_threshold;
         if !(t.is_finite() && (0.0..=1.0).contains(&t)) {
-            return bad("resample.ess_threshold", t.to_string(), "must be in [0, 1]");
+            return Err(crate::error::Error::config(
+                "resample.ess_threshold",
+                t.to_string(),
+                "must be in [0, 1]",
+            ));
         }
-        self.motion
-            .validate()
-            .or_else(|(field, v, reason)| bad(field, v.to_string(), reason))
+        self.motion.validate()
     }
 }

@@ -17,7 +17,7 @@
 //! `n ≥ n_χ(E[k(n)])`. The prior, drawn afresh, uses Fox's sequential rule as written
 //! ([`KldBins::mark`]).
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
@@ -73,46 +73,47 @@ impl Default for KldConfig {
 impl KldConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let bad = |field, value: String, reason| {
-            Err(Error::Config {
-                field,
-                value,
-                reason,
-            })
-        };
         if !(self.epsilon.is_finite() && self.epsilon > 0.0 && self.epsilon < 1.0) {
-            return bad("kld.epsilon", self.epsilon.to_string(), "must be in (0, 1)");
+            return Err(crate::error::Error::config(
+                "kld.epsilon",
+                self.epsilon.to_string(),
+                "must be in (0, 1)",
+            ));
         }
         if !(self.delta.is_finite() && self.delta > 0.0 && self.delta < 0.5) {
-            return bad("kld.delta", self.delta.to_string(), "must be in (0, 0.5)");
+            return Err(crate::error::Error::config(
+                "kld.delta",
+                self.delta.to_string(),
+                "must be in (0, 0.5)",
+            ));
         }
         if !(self.bin_size.is_finite() && (0.05..=100.0).contains(&self.bin_size)) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "kld.bin_size",
                 self.bin_size.to_string(),
                 "must be in [0.05, 100] metres",
-            );
+            ));
         }
         if !(self.bin_heading.is_finite() && self.bin_heading > 0.0 && self.bin_heading <= TAU) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "kld.bin_heading",
                 self.bin_heading.to_string(),
                 "must be in (0, 2π] radians",
-            );
+            ));
         }
         if self.min_particles == 0 || self.min_particles > self.max_particles {
-            return bad(
+            return Err(crate::error::Error::config(
                 "kld.min_particles",
                 self.min_particles.to_string(),
                 "must be at least 1 and at most max_particles",
-            );
+            ));
         }
         if self.max_particles > 200_000_000 {
-            return bad(
+            return Err(crate::error::Error::config(
                 "kld.max_particles",
                 self.max_particles.to_string(),
                 "must be at most 200000000",
-            );
+            ));
         }
         Ok(())
     }

@@ -54,27 +54,19 @@ impl Default for FingerprintConfig {
 impl FingerprintConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let check = crate::error::check_range;
-        check(
-            "fingerprint.k",
-            self.k as f64,
-            1.0,
-            100.0,
-            "must be in 1..=100",
-        )?;
-        check(
+        use crate::error::check_range;
+        check_range("fingerprint.k", self.k as f64, 1.0..=100.0, "")?;
+        check_range(
             "fingerprint.delta",
             self.delta,
-            f64::MIN_POSITIVE,
-            f64::MAX,
-            "must be > 0 dBm",
+            (std::ops::Bound::Excluded(0.0), std::ops::Bound::Unbounded),
+            "dBm",
         )?;
-        check(
+        check_range(
             "fingerprint.missing_rssi",
             self.missing_rssi,
-            -130.0,
-            -30.0,
-            "must be in [-130, -30] dBm",
+            -130.0..=-30.0,
+            "dBm",
         )
     }
 }

@@ -132,68 +132,34 @@ impl Default for RfConfig {
 impl RfConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let check = crate::error::check_range;
         if let Some(e) = self.epsilon {
-            check("rf.epsilon", e, 0.0, 200.0, "must be in [0, 200] dBm")?;
+            crate::error::check_range("rf.epsilon", e, 0.0..=200.0, "dBm")?;
         }
-        check(
-            "rf.epsilon_miss",
-            self.epsilon_miss,
-            0.0,
-            0.5,
-            "must be in [0, 0.5]",
-        )?;
-        check(
-            "rf.missing_rssi",
-            self.missing_rssi,
-            -150.0,
-            -20.0,
-            "must be in [-150, -20] dBm",
-        )?;
-        check(
-            "rf.outside_weight",
-            self.outside_weight,
-            0.0,
-            1.0,
-            "must be in [0, 1]",
-        )?;
-        check(
-            "rf.likelihood_floor",
-            self.likelihood_floor,
-            0.0,
-            1.0,
-            "must be in [0, 1]",
-        )?;
-        check(
+        crate::error::check_range("rf.epsilon_miss", self.epsilon_miss, 0.0..=0.5, "")?;
+        crate::error::check_range("rf.missing_rssi", self.missing_rssi, -150.0..=-20.0, "dBm")?;
+        crate::error::check_range("rf.outside_weight", self.outside_weight, 0.0..=1.0, "")?;
+        crate::error::check_range("rf.likelihood_floor", self.likelihood_floor, 0.0..=1.0, "")?;
+        crate::error::check_range(
             "rf.max_scan_age",
             self.max_scan_age,
-            0.0,
-            3600.0,
-            "must be in [0, 3600] seconds",
+            0.0..=3600.0,
+            "seconds",
         )?;
-        check(
-            "rf.raster",
-            self.raster,
-            0.05,
-            5.0,
-            "must be in [0.05, 5] metres",
-        )?;
-        check(
+        crate::error::check_range("rf.raster", self.raster, 0.05..=5.0, "metres")?;
+        crate::error::check_range(
             "rf.likelihood.kernel_sigma",
             self.likelihood.kernel_sigma,
-            0.1,
-            50.0,
-            "must be in [0.1, 50] dB",
+            0.1..=50.0,
+            "dB",
         )?;
-        check(
+        crate::error::check_range(
             "rf.likelihood.outlier",
             self.likelihood.outlier,
-            0.0,
-            1.0,
-            "must be in [0, 1]",
+            0.0..=1.0,
+            "",
         )?;
         match self.likelihood.exponent {
-            Some(e) => check("rf.likelihood.exponent", e, 0.0, 1.0, "must be in [0, 1]"),
+            Some(e) => crate::error::check_range("rf.likelihood.exponent", e, 0.0..=1.0, ""),
             None => Ok(()),
         }
     }
@@ -365,10 +331,6 @@ fn threshold(map: &RadioMap, config: &RfConfig) -> Result<(Normalisation, f64, E
         config.epsilon_miss,
         config.min_scans,
     )
-    .ok_or(Error::Config {
-        field: "rf.epsilon",
-        value: "none".into(),
-        reason: "the radio map carries no calibrated threshold and none can be derived from it (no cell holds two scans to show how readings spread): give one with --rf-epsilon (rf.epsilon), e.g. the paper's 9.5 dBm with --rf-distance paper, or survey the building with `footslam survey`, which calibrates it",
-    })?;
+    .ok_or(crate::error::Error::config("rf.epsilon", "none", "the radio map carries no calibrated threshold and none can be derived from it (no cell holds two scans to show how readings spread): give one with --rf-epsilon (rf.epsilon), e.g. the paper's 9.5 dBm with --rf-distance paper, or survey the building with `footslam survey`, which calibrates it"))?;
     Ok((distance, derived, EpsilonSource::Derived))
 }

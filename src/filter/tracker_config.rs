@@ -4,7 +4,7 @@ use super::cluster::ClusterConfig;
 use super::kld::KldConfig;
 use super::recovery::RecoveryConfig;
 use super::rf_assist::RfConfig;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::map::TopologyConfig;
 use crate::model::{HeadingConfig, TransitionPriorConfig};
 use serde::{Deserialize, Serialize};
@@ -179,132 +179,79 @@ impl Default for TrackerConfig {
 impl TrackerConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let check = crate::error::check_range;
-        check(
-            "length_sigma",
-            self.length_sigma,
-            0.0,
-            2.0,
-            "must be in [0, 2] metres",
-        )?;
-        check(
-            "dheading_sigma",
-            self.dheading_sigma,
-            0.0,
-            1.0,
-            "must be in [0, 1] radians",
-        )?;
-        check(
-            "dz_sigma",
-            self.dz_sigma,
-            0.001,
-            10.0,
-            "must be in [0.001, 10] metres",
-        )?;
-        check(
-            "scale_sigma",
-            self.scale_sigma,
-            0.0,
-            0.3,
-            "must be in [0, 0.3]",
-        )?;
-        check(
-            "scale_walk_sigma",
-            self.scale_walk_sigma,
-            0.0,
-            0.05,
-            "must be in [0, 0.05]",
-        )?;
-        check(
-            "drift_sigma",
-            self.drift_sigma,
-            0.0,
-            0.1,
-            "must be in [0, 0.1] radians",
-        )?;
-        check(
+        crate::error::check_range("length_sigma", self.length_sigma, 0.0..=2.0, "metres")?;
+        crate::error::check_range("dheading_sigma", self.dheading_sigma, 0.0..=1.0, "radians")?;
+        crate::error::check_range("dz_sigma", self.dz_sigma, 0.001..=10.0, "metres")?;
+        crate::error::check_range("scale_sigma", self.scale_sigma, 0.0..=0.3, "")?;
+        crate::error::check_range("scale_walk_sigma", self.scale_walk_sigma, 0.0..=0.05, "")?;
+        crate::error::check_range("drift_sigma", self.drift_sigma, 0.0..=0.1, "radians")?;
+        crate::error::check_range(
             "drift_walk_sigma",
             self.drift_walk_sigma,
-            0.0,
-            0.01,
-            "must be in [0, 0.01] radians",
+            0.0..=0.01,
+            "radians",
         )?;
-        check(
+        crate::error::check_range(
             "start_position_sigma",
             self.start_position_sigma,
-            0.0,
-            100.0,
-            "must be in [0, 100] metres",
+            0.0..=100.0,
+            "metres",
         )?;
-        check(
+        crate::error::check_range(
             "start_heading_sigma",
             self.start_heading_sigma,
-            0.0,
-            4.0,
-            "must be in [0, 4] radians",
+            0.0..=4.0,
+            "radians",
         )?;
         if let Some(s) = self.start {
             for v in [s.x, s.y, s.heading.unwrap_or(0.0)] {
-                check("start", v, -1e7, 1e7, "must be finite")?;
+                crate::error::check_range("start", v, -1e7..=1e7, "")?;
             }
         }
         let r = &self.recovery;
-        check(
+        crate::error::check_range(
             "recovery.heading_increment",
             r.heading_increment,
-            1e-4,
-            1.0,
-            "must be in [0.0001, 1] radians",
+            1e-4..=1.0,
+            "radians",
         )?;
-        check(
+        crate::error::check_range(
             "recovery.heading_max",
             r.heading_max,
-            0.0,
-            std::f64::consts::PI,
-            "must be in [0, π] radians",
+            0.0..=std::f64::consts::PI,
+            "radians",
         )?;
-        check(
+        crate::error::check_range(
             "recovery.history_radius",
             r.history_radius,
-            0.01,
-            100.0,
-            "must be in [0.01, 100] metres",
+            0.01..=100.0,
+            "metres",
         )?;
-        check(
+        crate::error::check_range(
             "recovery.history_steps",
             r.history_steps as f64,
-            0.0,
-            10_000.0,
-            "must be at most 10000",
+            0.0..=10_000.0,
+            "",
         )?;
-        check(
+        crate::error::check_range(
             "recovery.history_attempts",
             r.history_attempts as f64,
-            0.0,
-            20.0,
-            "must be at most 20",
+            0.0..=20.0,
+            "",
         )?;
-        check(
+        crate::error::check_range(
             "recovery.history_particles",
             r.history_particles as f64,
-            1.0,
-            1e8,
-            "must be in [1, 100000000]",
+            1.0..=1e8,
+            "",
         )?;
-        check(
+        crate::error::check_range(
             "ambiguous_min_particles",
             self.ambiguous_min_particles as f64,
-            0.0,
-            1e8,
-            "must be at most 100000000",
+            0.0..=1e8,
+            "",
         )?;
-        self.heading
-            .validate()
-            .map_err(|(field, v, reason)| Error::Config {
-                field,
-                value: v.to_string(),
-                reason,
-            })?;
+        self.heading.validate()?;
         self.rf.validate()?;
         self.kld.validate()?;
         self.cluster.validate()?;

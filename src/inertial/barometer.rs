@@ -9,7 +9,7 @@
 //! weather's slow drift of `p₀` cancels over a walk's minutes. The height is low-passed
 //! (a phone barometer's noise is about ±0.1 m per sample) and differenced between steps.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use serde::{Deserialize, Serialize};
 
 /// ISA sea-level pressure `p₀`, hPa.
@@ -44,11 +44,11 @@ impl BarometerConfig {
         if t.is_finite() && (0.0..=60.0).contains(&t) {
             Ok(())
         } else {
-            Err(Error::Config {
-                field: "phone.barometer.time_constant_s",
-                value: t.to_string(),
-                reason: "must be in [0, 60] s",
-            })
+            Err(crate::error::Error::config(
+                "phone.barometer.time_constant_s",
+                t.to_string(),
+                "must be in [0, 60] s",
+            ))
         }
     }
 }

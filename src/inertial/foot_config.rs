@@ -115,156 +115,74 @@ impl Default for FootConfig {
 impl FootConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let check = crate::error::check_range;
-        check(
-            "foot.window_s",
-            self.window_s,
-            0.005,
-            1.0,
-            "must be in [0.005, 1] s",
-        )?;
-        check(
-            "foot.accel_sigma",
-            self.accel_sigma,
-            1e-4,
-            10.0,
-            "must be in [1e-4, 10] m/s²",
-        )?;
-        check(
-            "foot.gyro_sigma",
-            self.gyro_sigma,
-            1e-5,
-            10.0,
-            "must be in [1e-5, 10] rad/s",
-        )?;
-        check(
-            "foot.threshold_floor",
-            self.threshold_floor,
-            1e-6,
-            1e9,
-            "must be in [1e-6, 1e9]",
-        )?;
-        check(
+        crate::error::check_range("foot.window_s", self.window_s, 0.005..=1.0, "s")?;
+        crate::error::check_range("foot.accel_sigma", self.accel_sigma, 1e-4..=10.0, "m/s²")?;
+        crate::error::check_range("foot.gyro_sigma", self.gyro_sigma, 1e-5..=10.0, "rad/s")?;
+        crate::error::check_range("foot.threshold_floor", self.threshold_floor, 1e-6..=1e9, "")?;
+        crate::error::check_range(
             "foot.threshold_ceiling",
             self.threshold_ceiling,
-            self.threshold_floor,
-            1e12,
-            "must be in [threshold_floor, 1e12]",
+            self.threshold_floor..=1e12,
+            "",
         )?;
-        check(
+        crate::error::check_range(
             "foot.adaptive_fraction",
             self.adaptive_fraction,
-            0.0,
-            1.0,
-            "must be in [0, 1]",
+            0.0..=1.0,
+            "",
         )?;
-        check(
+        crate::error::check_range(
             "foot.adaptive_half_window_s",
             self.adaptive_half_window_s,
-            0.1,
-            10.0,
-            "must be in [0.1, 10] s",
+            0.1..=10.0,
+            "s",
         )?;
-        check(
-            "foot.min_stance_s",
-            self.min_stance_s,
-            0.0,
-            1.0,
-            "must be in [0, 1] s",
-        )?;
-        check(
-            "foot.max_hole_s",
-            self.max_hole_s,
-            0.0,
-            1.0,
-            "must be in [0, 1] s",
-        )?;
-        check(
-            "foot.zupt_margin",
-            self.zupt_margin,
-            0.0,
-            10.0,
-            "must be in [0, 10] decades",
-        )?;
-        check(
+        crate::error::check_range("foot.min_stance_s", self.min_stance_s, 0.0..=1.0, "s")?;
+        crate::error::check_range("foot.max_hole_s", self.max_hole_s, 0.0..=1.0, "s")?;
+        crate::error::check_range("foot.zupt_margin", self.zupt_margin, 0.0..=10.0, "decades")?;
+        crate::error::check_range(
             "foot.zupt_gate_speed",
             self.zupt_gate_speed,
-            0.05,
-            100.0,
-            "must be in [0.05, 100] m/s",
+            0.05..=100.0,
+            "m/s",
         )?;
-        check(
+        crate::error::check_range(
             "foot.accel_noise_density",
             self.accel_noise_density,
-            1e-5,
-            10.0,
-            "must be in [1e-5, 10] m/s²/√Hz",
+            1e-5..=10.0,
+            "m/s²/√Hz",
         )?;
-        check(
+        crate::error::check_range(
             "foot.gyro_noise_density",
             self.gyro_noise_density,
-            1e-7,
-            1.0,
-            "must be in [1e-7, 1] rad/s/√Hz",
+            1e-7..=1.0,
+            "rad/s/√Hz",
         )?;
-        check(
+        crate::error::check_range(
             "foot.zero_velocity_sigma",
             self.zero_velocity_sigma,
-            1e-4,
-            1.0,
-            "must be in [1e-4, 1] m/s",
+            1e-4..=1.0,
+            "m/s",
         )?;
-        check(
+        crate::error::check_range(
             "foot.initial_tilt_sigma",
             self.initial_tilt_sigma,
-            0.0,
-            0.5,
-            "must be in [0, 0.5] rad",
+            0.0..=0.5,
+            "rad",
         )?;
         if let Some(g) = self.gravity {
-            check(
-                "foot.gravity",
-                g,
-                9.7,
-                9.9,
-                "must be in [9.7, 9.9] m/s² (Earth's surface)",
-            )?;
+            crate::error::check_range("foot.gravity", g, 9.7..=9.9, "m/s² (Earth's surface)")?;
         }
-        check(
-            "foot.max_level_s",
-            self.max_level_s,
-            0.01,
-            60.0,
-            "must be in [0.01, 60] s",
-        )?;
-        check(
-            "foot.min_bias_s",
-            self.min_bias_s,
-            0.0,
-            60.0,
-            "must be in [0, 60] s",
-        )?;
-        check(
-            "foot.max_gap_s",
-            self.max_gap_s,
-            0.001,
-            10.0,
-            "must be in [0.001, 10] s",
-        )?;
-        check(
+        crate::error::check_range("foot.max_level_s", self.max_level_s, 0.01..=60.0, "s")?;
+        crate::error::check_range("foot.min_bias_s", self.min_bias_s, 0.0..=60.0, "s")?;
+        crate::error::check_range("foot.max_gap_s", self.max_gap_s, 0.001..=10.0, "s")?;
+        crate::error::check_range(
             "foot.min_stride_length",
             self.min_stride_length,
-            0.0,
-            MAX_STEP_LENGTH,
-            "must be in [0, 3] m",
+            0.0..=MAX_STEP_LENGTH,
+            "m",
         )?;
-        check(
-            "foot.min_stride_s",
-            self.min_stride_s,
-            0.0,
-            10.0,
-            "must be in [0, 10] s",
-        )
+        crate::error::check_range("foot.min_stride_s", self.min_stride_s, 0.0..=10.0, "s")
     }
 
     /// The stance detector on this configuration, with gravity `gravity` (m/s²).

@@ -151,7 +151,7 @@ pub fn check_foot_frame(
     config: &FootConfig,
     residual: f64,
 ) -> Option<FrameFinding> {
-    if !(residual > FOOT_ZUPT_RESIDUAL_MAX) {
+    if residual.is_nan() || residual <= FOOT_ZUPT_RESIDUAL_MAX {
         return None;
     }
     let flips = [
@@ -194,8 +194,8 @@ pub fn gyro_against_orientation(recording: &ImuRecording) -> Option<[(f64, f64);
     integral.push(acc);
     for w in samples.windows(2) {
         let dt = w[1].t - w[0].t;
-        for i in 0..3 {
-            acc[i] += 0.5 * (w[0].gyro[i] + w[1].gyro[i]) * dt;
+        for (a, (g0, g1)) in acc.iter_mut().zip(w[0].gyro.iter().zip(&w[1].gyro)) {
+            *a += 0.5 * (g0 + g1) * dt;
         }
         integral.push(acc);
     }

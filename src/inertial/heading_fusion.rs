@@ -22,7 +22,7 @@
 //! trusts the gyroscope over seconds and the magnetometer over `τ_m`; readings whose field
 //! strength is outside the geomagnetic range (steel, motors) are skipped.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::geometry::wrap_turn;
 use serde::{Deserialize, Serialize};
 
@@ -60,43 +60,36 @@ impl Default for HeadingFusionConfig {
 impl HeadingFusionConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let bad = |field: &'static str, value: String, reason: &'static str| {
-            Err(Error::Config {
-                field,
-                value,
-                reason,
-            })
-        };
         if !(self.declination.is_finite() && self.declination.abs() <= std::f64::consts::PI) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "phone.heading.declination",
                 self.declination.to_string(),
                 "must be in [-π, π] radians",
-            );
+            ));
         }
         let tm = self.magnetometer_time_constant_s;
         if !(tm.is_finite() && (0.01..=3600.0).contains(&tm)) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "phone.heading.magnetometer_time_constant_s",
                 tm.to_string(),
                 "must be in [0.01, 3600] s",
-            );
+            ));
         }
         let tt = self.tilt_time_constant_s;
         if !(tt.is_finite() && (0.01..=10.0).contains(&tt)) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "phone.heading.tilt_time_constant_s",
                 tt.to_string(),
                 "must be in [0.01, 10] s",
-            );
+            ));
         }
         let [lo, hi] = self.magnetic_field_range;
         if !(lo.is_finite() && hi.is_finite() && 0.0 <= lo && lo < hi) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "phone.heading.magnetic_field_range",
                 format!("[{lo}, {hi}]"),
                 "must be two finite µT values, 0 ≤ low < high",
-            );
+            ));
         }
         Ok(())
     }

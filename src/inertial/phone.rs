@@ -79,11 +79,11 @@ impl PhoneConfig {
         self.heading.validate()?;
         self.barometer.validate()?;
         if !(self.max_gap_s.is_finite() && (0.001..=60.0).contains(&self.max_gap_s)) {
-            return Err(Error::Config {
-                field: "phone.max_gap_s",
-                value: self.max_gap_s.to_string(),
-                reason: "must be in [0.001, 60] s",
-            });
+            return Err(crate::error::Error::config(
+                "phone.max_gap_s",
+                self.max_gap_s.to_string(),
+                "must be in [0.001, 60] s",
+            ));
         }
         Ok(())
     }

@@ -57,41 +57,30 @@ impl Default for StepDetectorConfig {
 impl StepDetectorConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let check = crate::error::check_range;
-        check(
+        crate::error::check_range(
             "phone.steps.low_pass_hz",
             self.low_pass_hz,
-            0.5,
-            20.0,
-            "must be in [0.5, 20] Hz",
+            0.5..=20.0,
+            "Hz",
         )?;
-        check(
-            "phone.steps.min_swing",
-            self.min_swing,
-            0.05,
-            50.0,
-            "must be in [0.05, 50] m/s²",
-        )?;
-        check(
+        crate::error::check_range("phone.steps.min_swing", self.min_swing, 0.05..=50.0, "m/s²")?;
+        crate::error::check_range(
             "phone.steps.adaptive_fraction",
             self.adaptive_fraction,
-            0.0,
-            1.0,
-            "must be in [0, 1]",
+            0.0..=1.0,
+            "",
         )?;
-        check(
+        crate::error::check_range(
             "phone.steps.min_step_period_s",
             self.min_step_period_s,
-            0.05,
-            2.0,
-            "must be in [0.05, 2] s",
+            0.05..=2.0,
+            "s",
         )?;
-        check(
+        crate::error::check_range(
             "phone.steps.max_step_period_s",
             self.max_step_period_s,
-            self.min_step_period_s,
-            30.0,
-            "must be in [min_step_period_s, 30] s",
+            self.min_step_period_s..=30.0,
+            "s",
         )
     }
 }

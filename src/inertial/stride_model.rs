@@ -40,11 +40,11 @@ impl StrideModelConfig {
         if self.weinberg_k.is_finite() && (0.05..=2.0).contains(&self.weinberg_k) {
             Ok(())
         } else {
-            Err(Error::Config {
-                field: "phone.stride.weinberg_k",
-                value: self.weinberg_k.to_string(),
-                reason: "must be in [0.05, 2] m/(m/s²)^¼",
-            })
+            Err(crate::error::Error::config(
+                "phone.stride.weinberg_k",
+                self.weinberg_k.to_string(),
+                "must be in [0.05, 2] m/(m/s²)^¼",
+            ))
         }
     }
 

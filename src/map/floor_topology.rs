@@ -70,38 +70,19 @@ impl Default for TopologyConfig {
 impl TopologyConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let check = |field, v: f64, lo: f64, hi: f64, reason| {
-            if v.is_finite() && (lo..=hi).contains(&v) {
-                Ok(())
-            } else {
-                Err(Error::Config {
-                    field,
-                    value: v.to_string(),
-                    reason,
-                })
-            }
-        };
-        check(
+        crate::error::check_range(
             "topology.connection_tolerance",
             self.connection_tolerance,
-            0.0,
-            1.0,
-            "must be in [0, 1] metres",
+            0.0..=1.0,
+            "metres",
         )?;
-        check(
+        crate::error::check_range(
             "topology.max_connection_dz",
             self.max_connection_dz,
-            0.0,
-            100.0,
-            "must be in [0, 100] metres",
+            0.0..=100.0,
+            "metres",
         )?;
-        check(
-            "topology.cell_size",
-            self.cell_size,
-            0.1,
-            1000.0,
-            "must be in [0.1, 1000] metres",
-        )
+        crate::error::check_range("topology.cell_size", self.cell_size, 0.1..=1000.0, "metres")
     }
 }
 

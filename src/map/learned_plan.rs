@@ -74,18 +74,18 @@ impl Default for PlanConfig {
 impl PlanConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        ensure_in_range!("plan.min_visits", f64::from(self.min_visits), 1.0..=1e6, "");
-        ensure_in_range!("plan.grow", self.grow, 0.0..=10.0, " m");
-        ensure_in_range!("plan.hole_area", self.hole_area, 0.0..=1e6, " m²");
-        ensure_in_range!("plan.min_area", self.min_area, 0.0..=1e6, " m²");
-        ensure_in_range!("plan.simplify", self.simplify, 0.0..=100.0, " notches");
-        ensure_in_range!("plan.z", self.z, -1000.0..=10000.0, " m");
+        crate::error::check_range("plan.min_visits", f64::from(self.min_visits), 1.0..=1e6, "")?;
+        crate::error::check_range("plan.grow", self.grow, 0.0..=10.0, "m")?;
+        crate::error::check_range("plan.hole_area", self.hole_area, 0.0..=1e6, "m²")?;
+        crate::error::check_range("plan.min_area", self.min_area, 0.0..=1e6, "m²")?;
+        crate::error::check_range("plan.simplify", self.simplify, 0.0..=100.0, "notches")?;
+        crate::error::check_range("plan.z", self.z, -1000.0..=10000.0, "m")?;
         if self.level.abs() > 1000 {
-            return Err(Error::Config {
-                field: "plan.level",
-                value: self.level.to_string(),
-                reason: "must be in [-1000, 1000]",
-            });
+            return Err(crate::error::Error::config(
+                "plan.level",
+                self.level.to_string(),
+                "must be in [-1000, 1000]",
+            ));
         }
         Ok(())
     }

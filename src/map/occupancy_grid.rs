@@ -44,9 +44,9 @@ impl Default for OccupancyConfig {
 impl OccupancyConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        ensure_in_range!("grid.resolution", self.resolution, 0.005..=10.0, " m");
-        ensure_in_range!("grid.wall", self.wall, 0.0..=10.0, " m");
-        ensure_in_range!("grid.border", self.border, 0.0..=1000.0, " m");
+        crate::error::check_range("grid.resolution", self.resolution, 0.005..=10.0, "m")?;
+        crate::error::check_range("grid.wall", self.wall, 0.0..=10.0, "m")?;
+        crate::error::check_range("grid.border", self.border, 0.0..=1000.0, "m")?;
         Ok(())
     }
 }

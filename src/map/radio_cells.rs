@@ -53,26 +53,19 @@ impl Default for CellConfig {
 impl CellConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        let bad = |field, value: f64, reason| {
-            Err(Error::Config {
-                field,
-                value: value.to_string(),
-                reason,
-            })
-        };
         if !(self.granularity.is_finite() && (0.25..=100.0).contains(&self.granularity)) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "cells.granularity",
                 self.granularity,
                 "must be in [0.25, 100] metres",
-            );
+            ));
         }
         if !(self.door_width.is_finite() && (0.0..=10.0).contains(&self.door_width)) {
-            return bad(
+            return Err(crate::error::Error::config(
                 "cells.door_width",
                 self.door_width,
                 "must be in [0, 10] metres",
-            );
+            ));
         }
         Ok(())
     }

@@ -75,14 +75,14 @@ impl Default for LevelConfig {
 impl LevelConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        ensure_in_range!("levels.tolerance", self.tolerance, 0.1..=50.0, " m");
-        ensure_in_range!(
+        crate::error::check_range("levels.tolerance", self.tolerance, 0.1..=50.0, "m")?;
+        crate::error::check_range(
             "levels.settle_distance",
             self.settle_distance,
             0.0..=1000.0,
-            " m"
-        );
-        ensure_in_range!("levels.flat_band", self.flat_band, 0.01..=10.0, " m");
+            "m",
+        )?;
+        crate::error::check_range("levels.flat_band", self.flat_band, 0.01..=10.0, "m")?;
         Ok(())
     }
 }
@@ -107,7 +107,7 @@ impl LevelTracker {
     /// [`find_levels`] on the same walk; level `start` at height 0 is added if missing).
     pub fn new(config: LevelConfig, start: i32, seeded: &[FloorLevel]) -> Result<Self> {
         config.validate()?;
-        ensure_in_range!("start_level", f64::from(start), -1000.0..=1000.0, "");
+        crate::error::check_range("start_level", f64::from(start), -1000.0..=1000.0, "")?;
         // The walk starts on its start level: at height 0 whatever height the level had at
         // the end of the walk (seeded from `find_levels`, drift included).
         let mut levels = vec![FloorLevel {

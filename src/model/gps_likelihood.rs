@@ -59,26 +59,46 @@ impl Default for GpsConfig {
 
 impl GpsConfig {
     /// Checks every field; returns the offending field's name, value and rule.
-    pub fn validate(&self) -> Result<(), (&'static str, f64, &'static str)> {
+    pub fn validate(&self) -> crate::error::Result<()> {
         let e = self.outlier_probability;
         if !(e.is_finite() && (0.0..1.0).contains(&e)) {
-            return Err(("gps.outlier_probability", e, "must be in [0, 1)"));
+            return Err(crate::error::Error::config(
+                "gps.outlier_probability",
+                e,
+                "must be in [0, 1)",
+            ));
         }
         let r = self.outlier_radius;
         if !(r.is_finite() && (1.0..=100_000.0).contains(&r)) {
-            return Err(("gps.outlier_radius", r, "must be in [1, 100000] metres"));
+            return Err(crate::error::Error::config(
+                "gps.outlier_radius",
+                r,
+                "must be in [1, 100000] metres",
+            ));
         }
         let t = self.correlation_time;
         if !(t.is_finite() && (0.0..=3600.0).contains(&t)) {
-            return Err(("gps.correlation_time", t, "must be in [0, 3600] seconds"));
+            return Err(crate::error::Error::config(
+                "gps.correlation_time",
+                t,
+                "must be in [0, 3600] seconds",
+            ));
         }
         let b = self.bias_sigma;
         if !(b.is_finite() && (0.0..=1000.0).contains(&b)) {
-            return Err(("gps.bias_sigma", b, "must be in [0, 1000] metres"));
+            return Err(crate::error::Error::config(
+                "gps.bias_sigma",
+                b,
+                "must be in [0, 1000] metres",
+            ));
         }
         let s = self.length_scale_sigma0;
         if !(s.is_finite() && (0.0..=0.3).contains(&s)) {
-            return Err(("gps.length_scale_sigma0", s, "must be in [0, 0.3]"));
+            return Err(crate::error::Error::config(
+                "gps.length_scale_sigma0",
+                s,
+                "must be in [0, 0.3]",
+            ));
         }
         Ok(())
     }

@@ -93,14 +93,18 @@ impl Default for HeadingConfig {
 
 impl HeadingConfig {
     /// Checks every field; returns the offending field's name, value and rule.
-    pub fn validate(&self) -> Result<(), (&'static str, f64, &'static str)> {
+    pub fn validate(&self) -> crate::error::Result<()> {
         let s = self.sigma;
         if !(s.is_finite() && (0.1f64.to_radians()..=PI).contains(&s)) {
-            return Err(("heading.sigma", s, "must be in [0.1°, π] radians"));
+            return Err(crate::error::Error::config(
+                "heading.sigma",
+                s,
+                "must be in [0.1°, π] radians",
+            ));
         }
         let e = self.outlier_probability;
         if !(e.is_finite() && e > 0.0 && e < 1.0) {
-            return Err((
+            return Err(crate::error::Error::config(
                 "heading.outlier_probability",
                 e,
                 "must be in (0, 1): the floor keeps an outlier's cost bounded",
@@ -108,11 +112,15 @@ impl HeadingConfig {
         }
         let o = self.offset;
         if !(o.is_finite() && o.abs() <= TAU) {
-            return Err(("heading.offset", o, "must be in [−2π, 2π] radians"));
+            return Err(crate::error::Error::config(
+                "heading.offset",
+                o,
+                "must be in [−2π, 2π] radians",
+            ));
         }
         let l = self.correlation_length;
         if !(l.is_finite() && (0.0..=1000.0).contains(&l)) {
-            return Err((
+            return Err(crate::error::Error::config(
                 "heading.correlation_length",
                 l,
                 "must be in [0, 1000] metres",

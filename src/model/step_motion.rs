@@ -56,7 +56,7 @@ impl Default for StepMotionConfig {
 
 impl StepMotionConfig {
     /// Checks every field; returns the offending field's name and rule.
-    pub fn validate(&self) -> Result<(), (&'static str, f64, &'static str)> {
+    pub fn validate(&self) -> crate::error::Result<()> {
         // Upper bounds far beyond any sensor: a stride known to a metre, a heading change
         // to 180°, a drift of 6° per step; beyond them the samples are meaningless.
         let fields = [
@@ -99,13 +99,13 @@ impl StepMotionConfig {
         ];
         for (name, v, hi, rule) in fields {
             if !(v.is_finite() && (0.0..=hi).contains(&v)) {
-                return Err((name, v, rule));
+                return Err(crate::error::Error::config(name, v, rule));
             }
         }
         if !(self.duck_max.is_finite()
             && (0.0..=std::f64::consts::FRAC_PI_2).contains(&self.duck_max))
         {
-            return Err((
+            return Err(crate::error::Error::config(
                 "motion.duck_max",
                 self.duck_max,
                 "must be in [0, π/2] radians",

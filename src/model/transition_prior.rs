@@ -54,7 +54,7 @@ impl TransitionPrior {
     /// The prior of `map` (see the module documentation).
     pub fn new(map: &HexMapSnapshot, config: TransitionPriorConfig) -> Result<Self> {
         let w = config.weight;
-        ensure_in_range!("transitions.weight", w, 0.0..=10.0, "");
+        crate::error::check_range("transitions.weight", w, 0.0..=10.0, "")?;
         let alpha = map.alpha.max(1e-9);
         let cells = map
             .cells

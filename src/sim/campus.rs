@@ -46,16 +46,16 @@ impl Default for CampusConfig {
 impl CampusConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        ensure_in_range!("campus.yard_width", self.yard_width, 5.0..=500.0, " m");
-        ensure_in_range!("campus.lobby_width", self.lobby_width, 0.8..=10.0, " m");
-        ensure_in_range!("campus.door_width", self.door_width, 0.6..=10.0, " m");
-        ensure_in_range!("campus.outline_error", self.outline_error, 0.0..=10.0, " m");
+        crate::error::check_range("campus.yard_width", self.yard_width, 5.0..=500.0, "m")?;
+        crate::error::check_range("campus.lobby_width", self.lobby_width, 0.8..=10.0, "m")?;
+        crate::error::check_range("campus.door_width", self.door_width, 0.6..=10.0, "m")?;
+        crate::error::check_range("campus.outline_error", self.outline_error, 0.0..=10.0, "m")?;
         if self.door_width > self.lobby_width {
-            return Err(Error::Config {
-                field: "campus.door_width",
-                value: self.door_width.to_string(),
-                reason: "must not exceed lobby_width",
-            });
+            return Err(crate::error::Error::config(
+                "campus.door_width",
+                self.door_width.to_string(),
+                "must not exceed lobby_width",
+            ));
         }
         Ok(())
     }
@@ -96,11 +96,11 @@ impl Campus {
             x1.min(a + c / 2.0),
             config.lobby_width + 2.0 * t,
         )
-        .ok_or(Error::Config {
-            field: "campus.lobby_width",
-            value: config.lobby_width.to_string(),
-            reason: "no gap between the south side's outer rooms is wide enough for the lobby",
-        })?;
+        .ok_or(crate::error::Error::config(
+            "campus.lobby_width",
+            config.lobby_width.to_string(),
+            "no gap between the south side's outer rooms is wide enough for the lobby",
+        ))?;
         let (hl, hd) = (config.lobby_width / 2.0, config.door_width / 2.0);
         let outline = Rect::new((x0 - t, y0 - t), (x1 + t, y1 + t));
         let w = config.yard_width;

@@ -116,7 +116,7 @@ pub struct CampusSimulation {
 /// Runs the campus simulation described by `config`, placing GPS fixes on the globe with
 /// `frame` (the plan's frame); equal configurations give equal results.
 pub fn simulate_campus(config: &CampusSimConfig, frame: &LocalFrame) -> Result<CampusSimulation> {
-    ensure_in_range!("walks", config.walks as f64, 1.0..=1000.0, "");
+    crate::error::check_range("walks", config.walks as f64, 1.0..=1000.0, "")?;
     config.walk.validate()?;
     config.noise.validate()?;
     config.gps.validate()?;

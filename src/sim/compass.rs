@@ -82,31 +82,31 @@ impl CompassSimConfig {
 
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        ensure_in_range!("compass.noise_sigma", self.noise_sigma, 0.0..=3.2, " rad");
-        ensure_in_range!(
+        crate::error::check_range("compass.noise_sigma", self.noise_sigma, 0.0..=3.2, "rad")?;
+        crate::error::check_range(
             "compass.disturbance_sigma",
             self.disturbance_sigma,
             0.0..=3.2,
-            " rad"
-        );
-        ensure_in_range!(
+            "rad",
+        )?;
+        crate::error::check_range(
             "compass.outdoor_disturbance_sigma",
             self.outdoor_disturbance_sigma,
             0.0..=3.2,
-            " rad"
-        );
-        ensure_in_range!(
+            "rad",
+        )?;
+        crate::error::check_range(
             "compass.disturbance_length",
             self.disturbance_length,
             0.1..=1000.0,
-            " m"
-        );
-        ensure_in_range!(
+            "m",
+        )?;
+        crate::error::check_range(
             "compass.outlier_probability",
             self.outlier_probability,
             0.0..=0.5,
-            ""
-        );
+            "",
+        )?;
         Ok(())
     }
 }

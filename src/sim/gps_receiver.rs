@@ -48,16 +48,16 @@ impl Default for GpsSimConfig {
 impl GpsSimConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        ensure_in_range!("gps.rate", self.rate, 0.01..=20.0, " Hz");
-        ensure_in_range!("gps.bias_sigma", self.bias_sigma, 0.0..=100.0, " m");
-        ensure_in_range!("gps.bias_time", self.bias_time, 1.0..=100000.0, " s");
-        ensure_in_range!("gps.noise_sigma", self.noise_sigma, 0.0..=100.0, " m");
-        ensure_in_range!(
+        crate::error::check_range("gps.rate", self.rate, 0.01..=20.0, "Hz")?;
+        crate::error::check_range("gps.bias_sigma", self.bias_sigma, 0.0..=100.0, "m")?;
+        crate::error::check_range("gps.bias_time", self.bias_time, 1.0..=100000.0, "s")?;
+        crate::error::check_range("gps.noise_sigma", self.noise_sigma, 0.0..=100.0, "m")?;
+        crate::error::check_range(
             "gps.outlier_probability",
             self.outlier_probability,
             0.0..=0.5,
-            ""
-        );
+            "",
+        )?;
         Ok(())
     }
 

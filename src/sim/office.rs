@@ -67,24 +67,24 @@ impl OfficeConfig {
     /// Checks the dimensions: all positive and finite, doors narrower than rooms and
     /// corridors, and the inner rooms fitting inside the loop.
     pub fn validate(&self) -> Result<()> {
-        ensure_in_range!("office.loop_width", self.loop_width, 1.0..=1000.0, " m");
-        ensure_in_range!("office.loop_height", self.loop_height, 1.0..=1000.0, " m");
-        ensure_in_range!(
+        crate::error::check_range("office.loop_width", self.loop_width, 1.0..=1000.0, "m")?;
+        crate::error::check_range("office.loop_height", self.loop_height, 1.0..=1000.0, "m")?;
+        crate::error::check_range(
             "office.corridor_width",
             self.corridor_width,
             0.5..=20.0,
-            " m"
-        );
-        ensure_in_range!(
+            "m",
+        )?;
+        crate::error::check_range(
             "office.wall_thickness",
             self.wall_thickness,
             0.01..=2.0,
-            " m"
-        );
-        ensure_in_range!("office.door_width", self.door_width, 0.5..=10.0, " m");
-        ensure_in_range!("office.room_width", self.room_width, 1.0..=100.0, " m");
-        ensure_in_range!("office.room_depth", self.room_depth, 1.0..=100.0, " m");
-        ensure_in_range!("office.entry_depth", self.entry_depth, 0.1..=50.0, " m");
+            "m",
+        )?;
+        crate::error::check_range("office.door_width", self.door_width, 0.5..=10.0, "m")?;
+        crate::error::check_range("office.room_width", self.room_width, 1.0..=100.0, "m")?;
+        crate::error::check_range("office.room_depth", self.room_depth, 1.0..=100.0, "m")?;
+        crate::error::check_range("office.entry_depth", self.entry_depth, 0.1..=50.0, "m")?;
         if self.door_width >= self.room_width {
             let reason = "must be less than room_width";
             return Err(config_error("office.door_width", self.door_width, reason));
@@ -113,11 +113,7 @@ impl OfficeConfig {
 }
 
 pub(super) fn config_error(field: &'static str, value: f64, reason: &'static str) -> Error {
-    Error::Config {
-        field,
-        value: value.to_string(),
-        reason,
-    }
+    crate::error::Error::config(field, value.to_string(), reason)
 }
 
 /// The office floor plan with its rooms' anchors.

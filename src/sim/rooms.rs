@@ -2,7 +2,7 @@
 //! a walker steers by (see [`super::office`] for the frame).
 
 use super::office::{OfficeConfig, config_error};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use geo::{Coord, Rect};
 
 /// One room with the anchors a walker steers by.
@@ -106,11 +106,11 @@ pub(super) fn side_rooms(
         } else {
             "office.rooms_per_short_side"
         };
-        return Err(Error::Config {
+        return Err(crate::error::Error::config(
             field,
-            value: count.to_string(),
-            reason: "too many rooms of room_width (plus a wall) for the side",
-        });
+            count.to_string(),
+            "too many rooms of room_width (plus a wall) for the side",
+        ));
     }
     // The door opens onto the straight part of the corridor, within the room's width.
     let half_door = config.door_width / 2.0;

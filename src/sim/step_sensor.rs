@@ -89,22 +89,22 @@ impl StepNoiseConfig {
 
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        ensure_in_range!("noise.length_sigma", self.length_sigma, 0.0..=0.5, " m");
-        ensure_in_range!("noise.length_scale", self.length_scale, 0.5..=1.5, "");
-        ensure_in_range!(
+        crate::error::check_range("noise.length_sigma", self.length_sigma, 0.0..=0.5, "m")?;
+        crate::error::check_range("noise.length_scale", self.length_scale, 0.5..=1.5, "")?;
+        crate::error::check_range(
             "noise.dheading_sigma",
             self.dheading_sigma,
             0.0..=0.5,
-            " rad"
-        );
-        ensure_in_range!("noise.drift_total", self.drift_total, 0.0..=100.0, " rad");
-        ensure_in_range!(
+            "rad",
+        )?;
+        crate::error::check_range("noise.drift_total", self.drift_total, 0.0..=100.0, "rad")?;
+        crate::error::check_range(
             "noise.drift_rate_walk_sigma",
             self.drift_rate_walk_sigma,
             0.0..=0.01,
-            " rad"
-        );
-        ensure_in_range!("noise.dz_sigma", self.dz_sigma, 0.0..=0.2, " m");
+            "rad",
+        )?;
+        crate::error::check_range("noise.dz_sigma", self.dz_sigma, 0.0..=0.2, "m")?;
         Ok(())
     }
 }

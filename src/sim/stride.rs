@@ -30,11 +30,11 @@ impl Gait {
     /// Checks every field against its documented range (named as in the walk
     /// configurations).
     pub fn validate(&self) -> Result<()> {
-        ensure_in_range!("walk.step_frequency", self.frequency, 0.2..=5.0, " Hz");
-        ensure_in_range!("walk.step_period_jitter", self.period_jitter, 0.0..=0.3, "");
-        ensure_in_range!("walk.step_length_mean", self.length_mean, 0.2..=2.0, " m");
-        ensure_in_range!("walk.step_length_sigma", self.length_sigma, 0.0..=0.3, " m");
-        ensure_in_range!("walk.wander_sigma", self.wander_sigma, 0.0..=0.2, " m");
+        crate::error::check_range("walk.step_frequency", self.frequency, 0.2..=5.0, "Hz")?;
+        crate::error::check_range("walk.step_period_jitter", self.period_jitter, 0.0..=0.3, "")?;
+        crate::error::check_range("walk.step_length_mean", self.length_mean, 0.2..=2.0, "m")?;
+        crate::error::check_range("walk.step_length_sigma", self.length_sigma, 0.0..=0.3, "m")?;
+        crate::error::check_range("walk.wander_sigma", self.wander_sigma, 0.0..=0.2, "m")?;
         Ok(())
     }
 }

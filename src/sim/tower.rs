@@ -24,7 +24,7 @@
 //!   floor, `round(z / floor_height)` (the half landing belongs to the lower floor).
 //! * The east stairwell is the west one turned 180° about the corridor's midpoint.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::map::{FloorPlan, FloorPolygon};
 use geo::{Coord, Rect};
 use rand::RngExt;
@@ -115,92 +115,85 @@ impl Default for TowerConfig {
 impl TowerConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        ensure_in_range!("building.floors", self.floors as f64, 1.0..=50.0, "");
-        ensure_in_range!("building.floor_height", self.floor_height, 2.0..=10.0, " m");
-        ensure_in_range!(
+        crate::error::check_range("building.floors", self.floors as f64, 1.0..=50.0, "")?;
+        crate::error::check_range("building.floor_height", self.floor_height, 2.0..=10.0, "m")?;
+        crate::error::check_range(
             "building.corridor_length",
             self.corridor_length,
             10.0..=1000.0,
-            " m"
-        );
-        ensure_in_range!(
+            "m",
+        )?;
+        crate::error::check_range(
             "building.corridor_width",
             self.corridor_width,
             1.0..=10.0,
-            " m"
-        );
-        ensure_in_range!("building.room_depth", self.room_depth, 2.0..=50.0, " m");
-        ensure_in_range!(
+            "m",
+        )?;
+        crate::error::check_range("building.room_depth", self.room_depth, 2.0..=50.0, "m")?;
+        crate::error::check_range(
             "building.min_room_width",
             self.min_room_width,
             2.0..=50.0,
-            " m"
-        );
-        ensure_in_range!(
+            "m",
+        )?;
+        crate::error::check_range(
             "building.max_room_width",
             self.max_room_width,
             2.0..=50.0,
-            " m"
-        );
-        ensure_in_range!(
+            "m",
+        )?;
+        crate::error::check_range(
             "building.wall_thickness",
             self.wall_thickness,
             0.1..=1.0,
-            " m"
-        );
-        ensure_in_range!("building.door_width", self.door_width, 0.6..=3.0, " m");
-        ensure_in_range!("building.hall_width", self.hall_width, 0.0..=1000.0, " m");
-        ensure_in_range!("building.treads", self.treads as f64, 2.0..=30.0, "");
-        ensure_in_range!("building.tread_depth", self.tread_depth, 0.2..=0.5, " m");
-        ensure_in_range!("building.lane_width", self.lane_width, 0.8..=3.0, " m");
-        ensure_in_range!(
+            "m",
+        )?;
+        crate::error::check_range("building.door_width", self.door_width, 0.6..=3.0, "m")?;
+        crate::error::check_range("building.hall_width", self.hall_width, 0.0..=1000.0, "m")?;
+        crate::error::check_range("building.treads", self.treads as f64, 2.0..=30.0, "")?;
+        crate::error::check_range("building.tread_depth", self.tread_depth, 0.2..=0.5, "m")?;
+        crate::error::check_range("building.lane_width", self.lane_width, 0.8..=3.0, "m")?;
+        crate::error::check_range(
             "building.landing_depth",
             self.landing_depth,
             1.5..=10.0,
-            " m"
-        );
-        let bad = |field, value: f64, reason| {
-            Err(Error::Config {
-                field,
-                value: value.to_string(),
-                reason,
-            })
-        };
+            "m",
+        )?;
         if self.max_room_width < self.min_room_width {
-            return bad(
+            return Err(crate::error::Error::config(
                 "building.max_room_width",
                 self.max_room_width,
                 "must be at least min_room_width",
-            );
+            ));
         }
         if self.door_width + 0.4 > self.min_room_width {
-            return bad(
+            return Err(crate::error::Error::config(
                 "building.door_width",
                 self.door_width,
                 "must leave 0.2 m of wall on each side in the narrowest room",
-            );
+            ));
         }
         if self.corridor_length < 2.0 * self.min_room_width + 3.0 * self.wall_thickness {
-            return bad(
+            return Err(crate::error::Error::config(
                 "building.corridor_length",
                 self.corridor_length,
                 "must hold at least two rooms a side",
-            );
+            ));
         }
         if self.rise() > 0.45 {
-            return bad(
+            return Err(crate::error::Error::config(
                 "building.treads",
                 self.treads as f64,
                 "too few for the floor height: a tread may rise at most 0.45 m",
-            );
+            ));
         }
         if 2.0 * self.lane_width + self.wall_thickness > self.corridor_width + 2.0 * self.room_depth
         {
-            return bad(
+            return Err(crate::error::Error::config(
                 "building.lane_width",
                 self.lane_width,
                 "two lanes must fit across the building",
-            );
+            ));
         }
         Ok(())
     }

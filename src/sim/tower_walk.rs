@@ -117,28 +117,28 @@ impl TowerWalkConfig {
 
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        ensure_in_range!("walk.minutes", self.minutes, 0.1..=600.0, " min");
-        ensure_in_range!(
+        crate::error::check_range("walk.minutes", self.minutes, 0.1..=600.0, "min")?;
+        crate::error::check_range(
             "walk.floor_change_probability",
             self.floor_change_probability,
             0.0..=1.0,
-            ""
-        );
-        ensure_in_range!(
+            "",
+        )?;
+        crate::error::check_range(
             "walk.corridor_start_probability",
             self.corridor_start_probability,
             0.0..=1.0,
-            ""
-        );
-        ensure_in_range!(
+            "",
+        )?;
+        crate::error::check_range(
             "walk.max_points_per_room",
             self.max_points_per_room as f64,
             1.0..=100.0,
-            ""
-        );
-        ensure_in_range!("walk.room_margin", self.room_margin, 0.3..=5.0, " m");
-        ensure_in_range!("walk.corner_radius", self.corner_radius, 0.0..=2.0, " m");
-        ensure_in_range!("walk.lane_spacing", self.lane_spacing, 0.5..=20.0, " m");
+            "",
+        )?;
+        crate::error::check_range("walk.room_margin", self.room_margin, 0.3..=5.0, "m")?;
+        crate::error::check_range("walk.corner_radius", self.corner_radius, 0.0..=2.0, "m")?;
+        crate::error::check_range("walk.lane_spacing", self.lane_spacing, 0.5..=20.0, "m")?;
         self.gait().validate()
     }
 }

@@ -86,40 +86,40 @@ impl WalkConfig {
 
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        ensure_in_range!("walk.laps", self.laps as f64, 1.0..=1000.0, "");
-        ensure_in_range!(
+        crate::error::check_range("walk.laps", self.laps as f64, 1.0..=1000.0, "")?;
+        crate::error::check_range(
             "walk.min_rooms_per_lap",
             self.min_rooms_per_lap as f64,
             0.0..=1000.0,
-            ""
-        );
-        ensure_in_range!(
+            "",
+        )?;
+        crate::error::check_range(
             "walk.max_rooms_per_lap",
             self.max_rooms_per_lap as f64,
             0.0..=1000.0,
-            ""
-        );
+            "",
+        )?;
         if self.max_rooms_per_lap < self.min_rooms_per_lap {
-            return Err(Error::Config {
-                field: "walk.max_rooms_per_lap",
-                value: self.max_rooms_per_lap.to_string(),
-                reason: "must be at least min_rooms_per_lap",
-            });
+            return Err(crate::error::Error::config(
+                "walk.max_rooms_per_lap",
+                self.max_rooms_per_lap.to_string(),
+                "must be at least min_rooms_per_lap",
+            ));
         }
-        ensure_in_range!(
+        crate::error::check_range(
             "walk.max_points_per_room",
             self.max_points_per_room as f64,
             1.0..=100.0,
-            ""
-        );
-        ensure_in_range!(
+            "",
+        )?;
+        crate::error::check_range(
             "walk.revisit_probability",
             self.revisit_probability,
             0.0..=1.0,
-            ""
-        );
-        ensure_in_range!("walk.room_margin", self.room_margin, 0.0..=100.0, " m");
-        ensure_in_range!("walk.corner_radius", self.corner_radius, 0.0..=100.0, " m");
+            "",
+        )?;
+        crate::error::check_range("walk.room_margin", self.room_margin, 0.0..=100.0, "m")?;
+        crate::error::check_range("walk.corner_radius", self.corner_radius, 0.0..=100.0, "m")?;
         self.gait().validate()
     }
 }
@@ -345,7 +345,7 @@ mod tests {
         let e = simulate_walk(&o, &config, 0).expect_err("out of range");
         assert_eq!(
             e.to_string(),
-            "invalid configuration: walk.step_frequency = 9: must be in [0.2, 5.0] Hz"
+            "invalid configuration: walk.step_frequency = 9: must be in [0.2, 5] Hz"
         );
     }
 }

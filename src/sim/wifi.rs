@@ -105,49 +105,44 @@ impl Default for WifiSimConfig {
 impl WifiSimConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
-        ensure_in_range!(
+        crate::error::check_range(
             "wifi.aps_per_floor",
             self.aps_per_floor as f64,
             1.0..=1000.0,
-            ""
-        );
-        ensure_in_range!("wifi.rssi_at_1m", self.rssi_at_1m, -80.0..=0.0, " dBm");
-        ensure_in_range!(
+            "",
+        )?;
+        crate::error::check_range("wifi.rssi_at_1m", self.rssi_at_1m, -80.0..=0.0, "dBm")?;
+        crate::error::check_range(
             "wifi.path_loss_exponent",
             self.path_loss_exponent,
             1.0..=6.0,
-            ""
-        );
-        ensure_in_range!("wifi.wall_loss", self.wall_loss, 0.0..=30.0, " dB");
-        ensure_in_range!("wifi.max_wall_loss", self.max_wall_loss, 0.0..=100.0, " dB");
-        ensure_in_range!("wifi.floor_loss", self.floor_loss, 0.0..=60.0, " dB");
-        ensure_in_range!(
+            "",
+        )?;
+        crate::error::check_range("wifi.wall_loss", self.wall_loss, 0.0..=30.0, "dB")?;
+        crate::error::check_range("wifi.max_wall_loss", self.max_wall_loss, 0.0..=100.0, "dB")?;
+        crate::error::check_range("wifi.floor_loss", self.floor_loss, 0.0..=60.0, "dB")?;
+        crate::error::check_range(
             "wifi.shadowing_sigma",
             self.shadowing_sigma,
             0.0..=20.0,
-            " dB"
-        );
-        ensure_in_range!(
+            "dB",
+        )?;
+        crate::error::check_range(
             "wifi.shadowing_length",
             self.shadowing_length,
             0.1..=100.0,
-            " m"
-        );
-        ensure_in_range!(
-            "wifi.temporal_sigma",
-            self.temporal_sigma,
-            0.0..=20.0,
-            " dB"
-        );
-        ensure_in_range!("wifi.body_loss_max", self.body_loss_max, 0.0..=30.0, " dB");
-        ensure_in_range!(
+            "m",
+        )?;
+        crate::error::check_range("wifi.temporal_sigma", self.temporal_sigma, 0.0..=20.0, "dB")?;
+        crate::error::check_range("wifi.body_loss_max", self.body_loss_max, 0.0..=30.0, "dB")?;
+        crate::error::check_range(
             "wifi.detection_floor",
             self.detection_floor,
             -120.0..=-30.0,
-            " dBm"
-        );
-        ensure_in_range!("wifi.scan_interval", self.scan_interval, 0.1..=600.0, " s");
-        ensure_in_range!("wifi.scan_jitter", self.scan_jitter, 0.0..=0.5, "");
+            "dBm",
+        )?;
+        crate::error::check_range("wifi.scan_interval", self.scan_interval, 0.1..=600.0, "s")?;
+        crate::error::check_range("wifi.scan_jitter", self.scan_jitter, 0.0..=0.5, "")?;
         Ok(())
     }
 }
