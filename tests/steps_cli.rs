@@ -184,3 +184,93 @@ fn the_wrong_mount_is_said_not_swallowed() {
         assert_eq!(summary["warnings"].as_array().expect("warnings").len(), 1);
     }
 }
+
+/// `text` of a CSV with the columns `negate` multiplied by -1 and `t` by `time_scale`.
+fn altered(path: &Path, negate: &[&str], time_scale: f64) -> String {
+    let text = std::fs::read_to_string(path).expect("excerpt");
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let mut out = head.join(",") + "\n";
+    for line in lines {
+        let row: Vec<String> = line
+            .split(',')
+            .zip(&head)
+            .map(|(v, h)| {
+                let x: f64 = v.parse().expect("number");
+                match *h {
+                    "t" => format!("{:.5}", x * time_scale),
+                    h if negate.contains(&h) => format!("{}", -x),
+                    _ => v.to_string(),
+                }
+            })
+            .collect();
+        out += &(row.join(",") + "\n");
+    }
+    out
+}
+
+#[test]
+fn a_mirrored_gyroscope_or_a_wrong_time_base_is_detected_with_the_way_out() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    // A foot IMU whose gyroscope y axis is inverted: refused, naming the flag.
+    let foot = dir.path().join("foot_flipped.csv");
+    std::fs::write(&foot, altered(&data.join("foot_excerpt.csv"), &["gy"], 1.0)).expect("w");
+    let out = dir.path().join("foot-out");
+    footslam()
+        .args(["steps", "--mount", "foot", "--imu"])
+        .arg(&foot)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("foot_flipped.csv"))
+        .stderr(predicate::str::contains("--gyro-flip y"));
+    assert!(!out.exists());
+    // With the flag it gives the same strides as the recording as logged.
+    let (fixed, plain) = (dir.path().join("fixed"), dir.path().join("plain"));
+    footslam()
+        .args(["steps", "--mount", "foot", "--gyro-flip", "y", "--imu"])
+        .arg(&foot)
+        .arg("--out")
+        .arg(&fixed)
+        .assert()
+        .success();
+    footslam()
+        .args(["steps", "--mount", "foot", "--imu"])
+        .arg(data.join("foot_excerpt.csv"))
+        .arg("--out")
+        .arg(&plain)
+        .assert()
+        .success();
+    let read = |d: &Path| std::fs::read_to_string(d.join("steps.csv")).expect("steps");
+    assert_eq!(read(&fixed), read(&plain));
+    // A phone whose timestamps run three times too slow: the gyroscope turns 3× as far as
+    // its orientation quaternion.
+    let phone = dir.path().join("phone_slow.csv");
+    std::fs::write(&phone, altered(&data.join("phone_excerpt.csv"), &[], 3.0)).expect("w");
+    footslam()
+        .args(["steps", "--mount", "phone", "--imu"])
+        .arg(&phone)
+        .arg("--out")
+        .arg(dir.path().join("phone-out"))
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("timestamps are not in seconds"));
+    // A phone whose gyroscope x axis is inverted: its heading comes from the quaternion, so
+    // a warning, not an error.
+    let mirrored = dir.path().join("phone_mirrored.csv");
+    std::fs::write(
+        &mirrored,
+        altered(&data.join("phone_excerpt.csv"), &["gx"], 1.0),
+    )
+    .expect("w");
+    footslam()
+        .args(["steps", "--mount", "phone", "--imu"])
+        .arg(&mirrored)
+        .arg("--out")
+        .arg(dir.path().join("mirrored-out"))
+        .assert()
+        .success()
+        .stderr(predicate::str::contains("x axis looks mirrored"));
+}

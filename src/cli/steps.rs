@@ -119,7 +119,12 @@ pub fn run(args: Args) -> Result<()> {
         MountArg::Foot => {
             let events = detect_strides(&recording, &config.foot).with_context(context)?;
             let residual = events.figures.mean_zupt_residual;
-            let finding = check_foot_frame(&recording, &config.foot, residual);
+            // A recording that is not a foot's (said by the mount check) is not judged by
+            // the foot INS's residual too.
+            let foot_like = check_mount(&recording, Mount::Foot, events.trace.len()).is_none();
+            let finding = foot_like
+                .then(|| check_foot_frame(&recording, &config.foot, residual))
+                .flatten();
             let warnings = frame_warnings(&args, finding, true)?;
             let n = events.trace.len();
             write_outputs(
