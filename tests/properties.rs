@@ -153,3 +153,164 @@ proptest! {
         prop_assert_eq!(ess1, ess2);
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    #[test]
+    fn gps_fixes_round_trip(
+        fixes in prop::collection::vec((0.1f64..30.0, -80.0f64..80.0, -179.0f64..179.0, 0.5f64..200.0), 1..30),
+    ) {
+        use footslam::dataset::{read_gps_csv, write_gps_csv};
+        let mut t = 1.7e9;
+        let fixes: Vec<footslam::sensor::GpsFix> = fixes
+            .into_iter()
+            .map(|(dt, lat, lon, accuracy)| {
+                t += dt;
+                footslam::sensor::GpsFix { t, lat, lon, accuracy }
+            })
+            .collect();
+        let dir = tempfile::tempdir().expect("tmp");
+        let path = dir.path().join("gps.csv");
+        write_gps_csv(&path, &fixes).expect("write");
+        let back = read_gps_csv(&path).expect("read back");
+        prop_assert_eq!(back.len(), fixes.len());
+        for (a, b) in fixes.iter().zip(&back) {
+            prop_assert!((a.lat - b.lat).abs() <= 5e-9 && (a.lon - b.lon).abs() <= 5e-9);
+            prop_assert!((a.accuracy - b.accuracy).abs() <= 5e-3 && (a.t - b.t).abs() <= 5e-4);
+        }
+    }
+
+    #[test]
+    fn tracks_round_trip(
+        points in prop::collection::vec((0.01f64..5.0, -1e4f64..1e4, -1e4f64..1e4, -50.0f64..50.0, -3i32..10), 1..40),
+    ) {
+        use footslam::dataset::{TrackPoint, read_track, write_track};
+        let mut t = 1.7e9;
+        let points: Vec<TrackPoint> = points
+            .into_iter()
+            .map(|(dt, x, y, z, level)| {
+                t += dt;
+                TrackPoint { t, x, y, z, level }
+            })
+            .collect();
+        let dir = tempfile::tempdir().expect("tmp");
+        let path = dir.path().join("track.csv");
+        write_track(&path, &points).expect("write");
+        let back = read_track(&path).expect("read back");
+        prop_assert_eq!(back.len(), points.len());
+        for (a, b) in points.iter().zip(&back) {
+            prop_assert!((a.x - b.x).abs() <= 5e-4 && (a.y - b.y).abs() <= 5e-4);
+            prop_assert!((a.z - b.z).abs() <= 5e-4 && a.level == b.level);
+        }
+    }
+
+    /// A plan of axis-aligned rooms on several levels, written as GeoJSON in WGS84 and read
+    /// back: the same surfaces, levels and heights, corners within a millimetre.
+    #[test]
+    fn floor_plans_round_trip(
+        rooms in prop::collection::vec((-500.0f64..500.0, -500.0f64..500.0, 1.0f64..40.0, 1.0f64..40.0, 0i32..4), 1..12),
+        lat in -60.0f64..60.0,
+        lon in -170.0f64..170.0,
+    ) {
+        use footslam::dataset::floor_plan_geojson::{read_floor_plan, write_floor_plan};
+        use footslam::geometry::LocalFrame;
+        use footslam::map::{FloorPlan, FloorPolygon};
+        let polygons: Vec<FloorPolygon> = rooms
+            .iter()
+            .enumerate()
+            .map(|(i, &(x, y, w, h, level))| FloorPolygon {
+                polygon: geo::Rect::new((x, y), (x + w, y + h)).to_polygon(),
+                level,
+                z: 3.0 * f64::from(level),
+                name: Some(format!("room {i}")),
+                room: None,
+            })
+            .collect();
+        let plan = FloorPlan { polygons, barriers: Vec::new() };
+        let frame = LocalFrame::new(lat, lon).expect("frame");
+        let dir = tempfile::tempdir().expect("tmp");
+        let path = dir.path().join("plan.geojson");
+        write_floor_plan(&path, &plan, &frame).expect("write");
+        let (back, back_frame) = read_floor_plan(&path, None).expect("read back");
+        prop_assert!(frame.distance_to(&back_frame) < 1e-3);
+        prop_assert_eq!(back.polygons.len(), plan.polygons.len());
+        for (a, b) in plan.polygons.iter().zip(&back.polygons) {
+            prop_assert_eq!(a.level, b.level);
+            prop_assert!((a.z - b.z).abs() < 1e-6);
+            prop_assert_eq!(&a.name, &b.name);
+            for (p, q) in a.polygon.exterior().points().zip(b.polygon.exterior().points()) {
+                prop_assert!((p.x() - q.x()).abs() < 1e-3 && (p.y() - q.y()).abs() < 1e-3, "{:?} {:?}", p, q);
+            }
+        }
+    }
+
+    /// A learned hexagon map written as GeoJSON and read back: the same hexagons, levels and
+    /// edge counts.
+    #[test]
+    fn hexagon_maps_round_trip(
+        cells in prop::collection::btree_map((-200i32..200, -200i32..200, 0i32..3), prop::array::uniform6(0u32..50), 1..60),
+        radius in 0.2f64..3.0,
+    ) {
+        use footslam::export::map_geojson::{read_map_geojson, write_map_geojson};
+        use footslam::geometry::{Hex, LocalFrame};
+        use footslam::map::hex_transitions::{HexCell, HexMapSnapshot};
+        let mut cells: Vec<HexCell> = cells
+            .into_iter()
+            .filter(|(_, counts)| counts.iter().any(|&c| c > 0))
+            .map(|((q, r, level), counts)| HexCell { hex: Hex::new(q, r), level, counts })
+            .collect();
+        prop_assume!(!cells.is_empty());
+        cells.sort_by_key(|c| (c.level, c.hex.x, c.hex.y));
+        let map = HexMapSnapshot { radius, alpha: 0.8, cells, levels: Vec::new() };
+        let frame = LocalFrame::new(52.2, 0.1).expect("frame");
+        let dir = tempfile::tempdir().expect("tmp");
+        let path = dir.path().join("map.geojson");
+        write_map_geojson(&path, &map, &frame).expect("write");
+        let (back, _) = read_map_geojson(&path).expect("read back");
+        prop_assert!((back.radius - map.radius).abs() < 1e-9);
+        let key = |c: &HexCell| (c.level, c.hex.x, c.hex.y, c.counts);
+        let mut a: Vec<_> = map.cells.iter().map(key).collect();
+        let mut b: Vec<_> = back.cells.iter().map(key).collect();
+        a.sort();
+        b.sort();
+        prop_assert_eq!(a, b);
+    }
+
+    /// An IMU recording with every optional channel, written and read back.
+    #[test]
+    fn imu_recordings_round_trip(
+        samples in prop::collection::vec((0.001f64..0.05, prop::array::uniform3(-5.0f64..5.0), prop::array::uniform3(-8.0f64..8.0), prop::array::uniform3(-60.0f64..60.0), 950.0f64..1050.0), 2..60),
+    ) {
+        use footslam::dataset::{read_imu, write_imu};
+        use footslam::sensor::{ImuRecording, ImuSample};
+        let mut t = 1.7e9;
+        let samples: Vec<ImuSample> = samples
+            .into_iter()
+            .map(|(dt, a, gyro, mag, pressure)| {
+                t += dt;
+                ImuSample {
+                    t,
+                    accel: [a[0], a[1], 9.8 + a[2]],
+                    gyro,
+                    mag: Some(mag),
+                    orientation: Some([0.0, 0.0, 0.6, 0.8]),
+                    pressure: Some(pressure),
+                }
+            })
+            .collect();
+        let recording = ImuRecording::new(samples, 0).expect("valid");
+        let dir = tempfile::tempdir().expect("tmp");
+        let path = dir.path().join("imu.csv");
+        write_imu(&path, &recording).expect("write");
+        let back = read_imu(&path).expect("read back");
+        prop_assert_eq!(back.samples().len(), recording.samples().len());
+        prop_assert!(back.has_magnetometer() && back.has_orientation() && back.has_pressure());
+        for (a, b) in recording.samples().iter().zip(back.samples()) {
+            prop_assert!((a.t - b.t).abs() <= 5e-5 + 1e-6, "{} {}", a.t, b.t);
+            for (x, y) in a.accel.iter().chain(&a.gyro).zip(b.accel.iter().chain(&b.gyro)) {
+                prop_assert!((x - y).abs() <= 5e-7);
+            }
+        }
+    }
+}
