@@ -179,7 +179,7 @@ pub fn check_foot_frame(
 }
 
 /// Per-axis gain and correlation of the quaternion's rotation against the gyroscope's over
-/// [`WINDOW_S`] windows; `None` without a quaternion or with too little rotation.
+/// 0.1 s windows; `None` without a quaternion or with too little rotation.
 pub fn gyro_against_orientation(recording: &ImuRecording) -> Option<[(f64, f64); 3]> {
     let samples = recording.samples();
     let span = samples.last()?.t - samples.first()?.t;
