@@ -56,4 +56,4 @@ measure() {
 }
 measure learn "$work/loop.csv" "$bin" learn --steps "$work/loop.csv" --particles 100 --out "$work/learn"
 measure track "$work/office_long.csv" "$bin" track --steps "$work/office_long.csv" \
-    --plan datasets/office/floor.geojson --out "$work/track"
+    --plan "$work/office/floor.geojson" --out "$work/track"
