@@ -79,6 +79,85 @@ impl SmoothedStep {
     };
 }
 
+/// A fixed-lag answer as the tree keeps it until the end: only a certain one is ever used,
+/// so only a certain one is kept, in 64 bytes (an `Option<SmoothedStep>` takes 96, every
+/// step of the walk). Lossless: counts below 2³² are kept exactly.
+#[derive(Debug, Clone, Copy)]
+struct LaggedAnswer {
+    x: f64,
+    y: f64,
+    z: f64,
+    heading: f64,
+    spread: f64,
+    weight: f64,
+    level: i32,
+    /// `u32::MAX`: no answer kept.
+    particles: u32,
+    hypotheses: u32,
+    ancestors: u32,
+}
+
+impl LaggedAnswer {
+    const NONE: Self = Self {
+        x: 0.0,
+        y: 0.0,
+        z: 0.0,
+        heading: 0.0,
+        spread: 0.0,
+        weight: 0.0,
+        level: 0,
+        particles: u32::MAX,
+        hypotheses: 0,
+        ancestors: 0,
+    };
+
+    /// `answer` when certain and its counts fit, else [`Self::NONE`].
+    fn keep(answer: &SmoothedStep) -> Self {
+        let fits = |n: usize| u32::try_from(n).ok().filter(|&n| n < u32::MAX);
+        match (answer.estimate, answer.certain) {
+            (Some(c), true) => match (
+                fits(c.particles),
+                fits(answer.hypotheses),
+                fits(answer.ancestors),
+            ) {
+                (Some(particles), Some(hypotheses), Some(ancestors)) => Self {
+                    x: c.x,
+                    y: c.y,
+                    z: c.z,
+                    heading: c.heading,
+                    spread: c.spread,
+                    weight: c.weight,
+                    level: c.level,
+                    particles,
+                    hypotheses,
+                    ancestors,
+                },
+                _ => Self::NONE,
+            },
+            _ => Self::NONE,
+        }
+    }
+
+    /// The answer kept, `None` when none.
+    fn get(&self) -> Option<SmoothedStep> {
+        (self.particles != u32::MAX).then(|| SmoothedStep {
+            estimate: Some(Cluster {
+                x: self.x,
+                y: self.y,
+                z: self.z,
+                level: self.level,
+                heading: self.heading,
+                spread: self.spread,
+                weight: self.weight,
+                particles: self.particles as usize,
+            }),
+            hypotheses: self.hypotheses as usize,
+            certain: true,
+            ancestors: self.ancestors as usize,
+        })
+    }
+}
+
 /// The ancestry of the current belief, generation by generation, pruned to the nodes that
 /// still have descendants.
 #[derive(Debug, Clone, Default)]
@@ -86,7 +165,7 @@ pub struct PathTree {
     /// Lag of the fixed-lag answer (0 = none).
     lag: usize,
     /// Fixed-lag answers by step (`None` where not computed).
-    lagged: Vec<Option<SmoothedStep>>,
+    lagged: Vec<LaggedAnswer>,
     /// Step of `generations[0]`.
     first_step: usize,
     /// One generation per step from `first_step` on; the last is the current belief.
@@ -200,9 +279,9 @@ impl PathTree {
         let step = self.first_step + g;
         let answer = centroid(&self.generations[g], &weights, topology, cluster.max_spread);
         if self.lagged.len() <= step {
-            self.lagged.resize(step + 1, None);
+            self.lagged.resize(step + 1, LaggedAnswer::NONE);
         }
-        self.lagged[step] = Some(answer);
+        self.lagged[step] = LaggedAnswer::keep(&answer);
     }
 
     /// Fixes the smoothed answer of every step before `step` from the current belief's
@@ -256,7 +335,10 @@ impl PathTree {
     ) -> Vec<SmoothedStep> {
         let mut out = self.smooth_current(topology, cluster);
         for (g, full) in out.iter_mut().enumerate() {
-            let lagged = self.lagged.get(self.first_step + g).copied().flatten();
+            let lagged = self
+                .lagged
+                .get(self.first_step + g)
+                .and_then(LaggedAnswer::get);
             if let (Some(l), Some(f)) = (lagged, full.estimate)
                 && full.certain
                 && l.certain
@@ -466,6 +548,33 @@ fn smooth_generation(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn lagged_answers_keep_certain_ones_exactly() {
+        let certain = SmoothedStep {
+            estimate: Some(Cluster {
+                x: 1.25,
+                y: -3.5,
+                z: 6.0,
+                level: 2,
+                heading: 0.3,
+                spread: 0.7,
+                weight: 0.99,
+                particles: 512,
+            }),
+            hypotheses: 1,
+            certain: true,
+            ancestors: 40,
+        };
+        assert_eq!(LaggedAnswer::keep(&certain).get(), Some(certain));
+        let unsure = SmoothedStep {
+            certain: false,
+            ..certain
+        };
+        assert_eq!(LaggedAnswer::keep(&unsure).get(), None);
+        assert_eq!(LaggedAnswer::keep(&SmoothedStep::NONE).get(), None);
+        assert_eq!(std::mem::size_of::<LaggedAnswer>(), 64);
+    }
     use crate::map::TopologyConfig;
 
     fn topology() -> FloorTopology {
