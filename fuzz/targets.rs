@@ -37,16 +37,21 @@ pub const TARGETS: &[(&str, Target)] = &[
     ("ipin_log", ipin_log),
 ];
 
-/// A scratch folder of this process (and thread: the replay test runs targets in
-/// parallel).
+/// A scratch folder of this process and thread (the replay test runs targets in
+/// parallel), made once.
 fn scratch() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "footslam-fuzz-{}-{:?}",
-        std::process::id(),
-        std::thread::current().id()
-    ));
-    std::fs::create_dir_all(&dir).expect("scratch folder");
-    dir
+    thread_local! {
+        static DIR: PathBuf = {
+            let dir = std::env::temp_dir().join(format!(
+                "footslam-fuzz-{}-{:?}",
+                std::process::id(),
+                std::thread::current().id()
+            ));
+            std::fs::create_dir_all(&dir).expect("scratch folder");
+            dir
+        };
+    }
+    DIR.with(PathBuf::clone)
 }
 
 /// Writes `data` to `name` in the scratch folder and returns its path.

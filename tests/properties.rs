@@ -44,16 +44,25 @@ fn steps(max: usize) -> impl Strategy<Value = Vec<Step>> {
     })
 }
 
+/// What `write` wrote to a fresh file `name`, as `read` reads it back.
+fn round_trip<R>(
+    name: &str,
+    write: impl FnOnce(&std::path::Path) -> footslam::Result<()>,
+    read: impl FnOnce(&std::path::Path) -> footslam::Result<R>,
+) -> R {
+    let dir = tempfile::tempdir().expect("tmp");
+    let path = dir.path().join(name);
+    write(&path).expect("write");
+    read(&path).expect("read back")
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
     #[test]
     fn step_traces_round_trip(steps in steps(40)) {
-        let dir = tempfile::tempdir().expect("tmp");
-        let path = dir.path().join("steps.csv");
         let trace = StepTrace::new(steps).expect("valid");
-        write_steps(&path, &trace).expect("write");
-        let back = read_steps(&path).expect("read back");
+        let back = round_trip("steps.csv", |p| write_steps(p, &trace), read_steps);
         prop_assert_eq!(back.len(), trace.len());
         for (a, b) in trace.steps().iter().zip(back.steps()) {
             prop_assert!((a.t - b.t).abs() <= 5e-4 * (1.0 + a.t.abs() * 1e-12), "{} {}", a.t, b.t);
@@ -77,10 +86,11 @@ proptest! {
                 TimedPoint { t, x, y }
             })
             .collect();
-        let dir = tempfile::tempdir().expect("tmp");
-        let path = dir.path().join("track.csv");
-        write_trajectory(&path, points.iter().copied()).expect("write");
-        let back = read_trajectory(&path).expect("read back");
+        let back = round_trip(
+            "track.csv",
+            |p| write_trajectory(p, points.iter().copied()),
+            read_trajectory,
+        );
         prop_assert_eq!(back.len(), points.len());
         for (a, b) in points.iter().zip(&back) {
             prop_assert!((a.x - b.x).abs() <= 5e-4 && (a.y - b.y).abs() <= 5e-4);
@@ -113,10 +123,7 @@ proptest! {
                 }
             })
             .collect();
-        let dir = tempfile::tempdir().expect("tmp");
-        let path = dir.path().join("wifi.csv");
-        write_wifi(&path, &scans).expect("write");
-        let back = read_wifi(&path).expect("read back");
+        let back = round_trip("wifi.csv", |p| write_wifi(p, &scans), read_wifi);
         prop_assert_eq!(back.len(), scans.len());
         for (a, b) in scans.iter().zip(&back) {
             prop_assert_eq!(a.readings.len(), b.readings.len());
@@ -170,10 +177,7 @@ proptest! {
                 footslam::sensor::GpsFix { t, lat, lon, accuracy }
             })
             .collect();
-        let dir = tempfile::tempdir().expect("tmp");
-        let path = dir.path().join("gps.csv");
-        write_gps_csv(&path, &fixes).expect("write");
-        let back = read_gps_csv(&path).expect("read back");
+        let back = round_trip("gps.csv", |p| write_gps_csv(p, &fixes), read_gps_csv);
         prop_assert_eq!(back.len(), fixes.len());
         for (a, b) in fixes.iter().zip(&back) {
             prop_assert!((a.lat - b.lat).abs() <= 5e-9 && (a.lon - b.lon).abs() <= 5e-9);
@@ -194,10 +198,7 @@ proptest! {
                 TrackPoint { t, x, y, z, level }
             })
             .collect();
-        let dir = tempfile::tempdir().expect("tmp");
-        let path = dir.path().join("track.csv");
-        write_track(&path, &points).expect("write");
-        let back = read_track(&path).expect("read back");
+        let back = round_trip("track.csv", |p| write_track(p, &points), read_track);
         prop_assert_eq!(back.len(), points.len());
         for (a, b) in points.iter().zip(&back) {
             prop_assert!((a.x - b.x).abs() <= 5e-4 && (a.y - b.y).abs() <= 5e-4);
@@ -229,10 +230,11 @@ proptest! {
             .collect();
         let plan = FloorPlan { polygons, barriers: Vec::new() };
         let frame = LocalFrame::new(lat, lon).expect("frame");
-        let dir = tempfile::tempdir().expect("tmp");
-        let path = dir.path().join("plan.geojson");
-        write_floor_plan(&path, &plan, &frame).expect("write");
-        let (back, back_frame) = read_floor_plan(&path, None).expect("read back");
+        let (back, back_frame) = round_trip(
+            "plan.geojson",
+            |p| write_floor_plan(p, &plan, &frame),
+            |p| read_floor_plan(p, None),
+        );
         prop_assert!(frame.distance_to(&back_frame) < 1e-3);
         prop_assert_eq!(back.polygons.len(), plan.polygons.len());
         for (a, b) in plan.polygons.iter().zip(&back.polygons) {
@@ -264,10 +266,11 @@ proptest! {
         cells.sort_by_key(|c| (c.level, c.hex.x, c.hex.y));
         let map = HexMapSnapshot { radius, alpha: 0.8, cells, levels: Vec::new() };
         let frame = LocalFrame::new(52.2, 0.1).expect("frame");
-        let dir = tempfile::tempdir().expect("tmp");
-        let path = dir.path().join("map.geojson");
-        write_map_geojson(&path, &map, &frame).expect("write");
-        let (back, _) = read_map_geojson(&path).expect("read back");
+        let (back, _) = round_trip(
+            "map.geojson",
+            |p| write_map_geojson(p, &map, &frame),
+            read_map_geojson,
+        );
         prop_assert!((back.radius - map.radius).abs() < 1e-9);
         let key = |c: &HexCell| (c.level, c.hex.x, c.hex.y, c.counts);
         let mut a: Vec<_> = map.cells.iter().map(key).collect();
@@ -300,10 +303,7 @@ proptest! {
             })
             .collect();
         let recording = ImuRecording::new(samples, 0).expect("valid");
-        let dir = tempfile::tempdir().expect("tmp");
-        let path = dir.path().join("imu.csv");
-        write_imu(&path, &recording).expect("write");
-        let back = read_imu(&path).expect("read back");
+        let back = round_trip("imu.csv", |p| write_imu(p, &recording), read_imu);
         prop_assert_eq!(back.samples().len(), recording.samples().len());
         prop_assert!(back.has_magnetometer() && back.has_orientation() && back.has_pressure());
         for (a, b) in recording.samples().iter().zip(back.samples()) {

@@ -209,68 +209,54 @@ fn altered(path: &Path, negate: &[&str], time_scale: f64) -> String {
     out
 }
 
+/// `footslam steps --mount MOUNT [extra…] --imu IMU --out OUT`, asserted on.
+fn steps(mount: &str, extra: &[&str], imu: &Path, out: &Path) -> assert_cmd::assert::Assert {
+    footslam()
+        .args(["steps", "--mount", mount])
+        .args(extra)
+        .arg("--imu")
+        .arg(imu)
+        .arg("--out")
+        .arg(out)
+        .assert()
+}
+
 #[test]
 fn a_mirrored_gyroscope_or_a_wrong_time_base_is_detected_with_the_way_out() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let (d, data) = (
+        dir.path(),
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data"),
+    );
+    let write = |name: &str, excerpt: &str, negate: &[&str], time_scale: f64| {
+        let path = d.join(name);
+        std::fs::write(&path, altered(&data.join(excerpt), negate, time_scale)).expect("w");
+        path
+    };
     // A foot IMU whose gyroscope y axis is inverted: refused, naming the flag.
-    let foot = dir.path().join("foot_flipped.csv");
-    std::fs::write(&foot, altered(&data.join("foot_excerpt.csv"), &["gy"], 1.0)).expect("w");
-    let out = dir.path().join("foot-out");
-    footslam()
-        .args(["steps", "--mount", "foot", "--imu"])
-        .arg(&foot)
-        .arg("--out")
-        .arg(&out)
-        .assert()
+    let foot = write("foot_flipped.csv", "foot_excerpt.csv", &["gy"], 1.0);
+    let out = d.join("foot-out");
+    steps("foot", &[], &foot, &out)
         .failure()
         .stderr(predicate::str::contains("foot_flipped.csv"))
         .stderr(predicate::str::contains("--gyro-flip y"));
     assert!(!out.exists());
     // With the flag it gives the same strides as the recording as logged.
-    let (fixed, plain) = (dir.path().join("fixed"), dir.path().join("plain"));
-    footslam()
-        .args(["steps", "--mount", "foot", "--gyro-flip", "y", "--imu"])
-        .arg(&foot)
-        .arg("--out")
-        .arg(&fixed)
-        .assert()
-        .success();
-    footslam()
-        .args(["steps", "--mount", "foot", "--imu"])
-        .arg(data.join("foot_excerpt.csv"))
-        .arg("--out")
-        .arg(&plain)
-        .assert()
-        .success();
+    let (fixed, plain) = (d.join("fixed"), d.join("plain"));
+    steps("foot", &["--gyro-flip", "y"], &foot, &fixed).success();
+    steps("foot", &[], &data.join("foot_excerpt.csv"), &plain).success();
     let read = |d: &Path| std::fs::read_to_string(d.join("steps.csv")).expect("steps");
     assert_eq!(read(&fixed), read(&plain));
     // A phone whose timestamps run three times too slow: the gyroscope turns 3× as far as
     // its orientation quaternion.
-    let phone = dir.path().join("phone_slow.csv");
-    std::fs::write(&phone, altered(&data.join("phone_excerpt.csv"), &[], 3.0)).expect("w");
-    footslam()
-        .args(["steps", "--mount", "phone", "--imu"])
-        .arg(&phone)
-        .arg("--out")
-        .arg(dir.path().join("phone-out"))
-        .assert()
+    let phone = write("phone_slow.csv", "phone_excerpt.csv", &[], 3.0);
+    steps("phone", &[], &phone, &d.join("phone-out"))
         .failure()
         .stderr(predicate::str::contains("timestamps are not in seconds"));
     // A phone whose gyroscope x axis is inverted: its heading comes from the quaternion, so
     // a warning, not an error.
-    let mirrored = dir.path().join("phone_mirrored.csv");
-    std::fs::write(
-        &mirrored,
-        altered(&data.join("phone_excerpt.csv"), &["gx"], 1.0),
-    )
-    .expect("w");
-    footslam()
-        .args(["steps", "--mount", "phone", "--imu"])
-        .arg(&mirrored)
-        .arg("--out")
-        .arg(dir.path().join("mirrored-out"))
-        .assert()
+    let mirrored = write("phone_mirrored.csv", "phone_excerpt.csv", &["gx"], 1.0);
+    steps("phone", &[], &mirrored, &d.join("mirrored-out"))
         .success()
         .stderr(predicate::str::contains("x axis looks mirrored"));
 }

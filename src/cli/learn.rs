@@ -16,14 +16,13 @@ use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::export::track_geojson::write_track_geojson;
 use footslam::filter::gps_start::heading_from_fixes;
 use footslam::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate, StartPose};
-use footslam::geometry::{Hex, Pose2};
+use footslam::geometry::Hex;
 use footslam::geometry::{HexGrid, LocalFrame};
 use footslam::map::{
     CellConfig, EdgePrior, HexMapSnapshot, PlanConfig, merge_maps, register_maps, shift_map,
     walkable_plan,
 };
 use footslam::model::{GpsObservation, HeadingLikelihood, find_levels};
-use footslam::sensor::Step;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::PathBuf;
@@ -612,24 +611,23 @@ fn write_walk(
     let at = |name: &str| folder.path(&format!("{prefix}{name}"));
     // Built one at a time from the trace and the path (a long walk's per-step outputs are
     // the largest things a run holds).
-    let timed = |(s, p): (&Step, &Pose2)| TimedPoint {
-        t: s.t,
-        x: p.x,
-        y: p.y,
-    };
     let steps_and_path = || walk.trace.steps().iter().zip(&estimate.path);
-    write_trajectory(&at("track.csv"), steps_and_path().map(timed))?;
+    write_trajectory(
+        &at("track.csv"),
+        steps_and_path().map(|(s, p)| TimedPoint {
+            t: s.t,
+            x: p.x,
+            y: p.y,
+        }),
+    )?;
     let points: Vec<TrackPoint> = steps_and_path()
         .zip(&estimate.levels)
-        .map(|(sp, &level)| {
-            let p = timed(sp);
-            TrackPoint {
-                t: p.t,
-                x: p.x,
-                y: p.y,
-                z: estimate.map.level_height(level),
-                level,
-            }
+        .map(|((s, p), &level)| TrackPoint {
+            t: s.t,
+            x: p.x,
+            y: p.y,
+            z: estimate.map.level_height(level),
+            level,
         })
         .collect();
     write_track_geojson(&at("track.geojson"), &points, frame)?;

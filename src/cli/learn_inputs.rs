@@ -3,7 +3,7 @@
 
 use super::common::{SAME_ORIGIN, read_scans, require_file};
 use anyhow::{Context, Result, bail};
-use footslam::dataset::{read_gps_csv, read_gpx, read_steps, read_walk_manifest};
+use footslam::dataset::{ManifestWalk, read_gps_csv, read_gpx, read_steps, read_walk_manifest};
 use footslam::filter::StartPose;
 use footslam::geometry::LocalFrame;
 use footslam::sensor::{GpsFix, StepTrace, WifiScan};
@@ -23,13 +23,8 @@ pub(super) struct Walk {
     pub(super) start: Option<StartPose>,
 }
 
-/// A walk found in the arguments: its step trace, GPS file and WiFi log.
-struct Found {
-    steps: PathBuf,
-    gps: Option<PathBuf>,
-    wifi: Option<PathBuf>,
-    start: Option<StartPose>,
-}
+/// One walk found from the flags, a manifest or a folder (the manifest's own record).
+type Found = ManifestWalk;
 
 /// Where `learn` finds its walks: the flags, one entry per walk in order.
 pub(super) struct WalkArgs<'a> {
@@ -135,15 +130,7 @@ pub(super) fn read_walks(args: &WalkArgs, default: &Path) -> Result<Vec<Walk>> {
 /// The walks of a manifest CSV ([`read_walk_manifest`]), each of whose files must exist.
 fn read_manifest(path: &Path) -> Result<Vec<Found>> {
     require_file(path, "walk manifest")?;
-    let walks: Vec<Found> = read_walk_manifest(path, false)?
-        .into_iter()
-        .map(|w| Found {
-            steps: w.steps,
-            gps: w.gps,
-            wifi: w.wifi,
-            start: w.start,
-        })
-        .collect();
+    let walks = read_walk_manifest(path, false)?;
     for w in &walks {
         require_file(&w.steps, "step trace")?;
         for (f, what) in [(&w.gps, "GPS file"), (&w.wifi, "WiFi log")] {

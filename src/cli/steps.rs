@@ -121,11 +121,15 @@ pub fn run(args: Args) -> Result<()> {
             let residual = events.figures.mean_zupt_residual;
             // A recording that is not a foot's (said by the mount check) is not judged by
             // the foot INS's residual too.
-            let foot_like = check_mount(&recording, Mount::Foot, events.trace.len()).is_none();
-            let finding = foot_like
+            let mount_warning = check_mount(&recording, Mount::Foot, events.trace.len());
+            let finding = mount_warning
+                .is_none()
                 .then(|| check_foot_frame(&recording, &config.foot, residual))
                 .flatten();
-            let warnings = frame_warnings(&args, finding, true)?;
+            let warnings = mount_warning
+                .into_iter()
+                .chain(frame_warnings(&args, finding, true)?)
+                .collect();
             let n = events.trace.len();
             write_outputs(
                 &folder,
@@ -141,7 +145,14 @@ pub fn run(args: Args) -> Result<()> {
             let events = detect_steps(&recording, &config.phone).with_context(context)?;
             // With the quaternion giving the heading, a mirrored gyroscope does no harm.
             let gyro_heading = events.heading_source != HeadingSource::RotationVector;
-            let warnings = frame_warnings(&args, check_phone_frame(&recording), gyro_heading)?;
+            let warnings = check_mount(&recording, Mount::Phone, events.trace.len())
+                .into_iter()
+                .chain(frame_warnings(
+                    &args,
+                    check_phone_frame(&recording),
+                    gyro_heading,
+                )?)
+                .collect();
             let n = events.trace.len();
             write_outputs(
                 &folder,
@@ -192,7 +203,7 @@ fn write_outputs<F: Serialize>(
     folder: &RunFolder,
     args: &Args,
     recording: &ImuRecording,
-    (mount, frame_warnings): (Mount, Vec<String>),
+    (mount, warnings): (Mount, Vec<String>),
     events: StepEvents<F>,
     started: Instant,
 ) -> Result<()> {
@@ -210,10 +221,6 @@ fn write_outputs<F: Serialize>(
         );
     }
     write_steps(&folder.path("steps.csv"), &events.trace)?;
-    let warnings: Vec<String> = check_mount(recording, mount, steps.len())
-        .into_iter()
-        .chain(frame_warnings)
-        .collect();
     for w in &warnings {
         #[allow(clippy::print_stderr)]
         {

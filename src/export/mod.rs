@@ -56,32 +56,6 @@ pub fn write_geojson(path: &Path, collection: &geojson::FeatureCollection) -> Re
     write_atomically(path, text.as_bytes())
 }
 
-/// Writes the feature collection `shell` (its own `features` ignored) with `features`
-/// streamed one at a time: the same bytes as [`write_geojson`] on the whole collection,
-/// without holding every feature in memory.
-pub fn write_geojson_streamed(
-    path: &Path,
-    shell: &geojson::FeatureCollection,
-    features: impl Iterator<Item = geojson::Feature>,
-) -> Result<()> {
-    let empty = geojson::FeatureCollection {
-        features: Vec::new(),
-        ..shell.clone()
-    };
-    let text = serde_json::to_string(&empty).map_err(|e| Error::io(path, e.into()))?;
-    let (head, tail) = split_once_at(&text, "\"features\":[]");
-    write_atomically_with(path, |w| {
-        w.write_all(head.as_bytes())?;
-        for (i, feature) in features.enumerate() {
-            if i > 0 {
-                w.write_all(b",")?;
-            }
-            serde_json::to_writer(&mut *w, &feature)?;
-        }
-        w.write_all(tail.as_bytes())
-    })
-}
-
 /// `text` split around the first `marker`, the marker's last character (`]`) kept in the
 /// tail; panics when there is none (a serialisation of our own types).
 pub(crate) fn split_once_at<'a>(text: &'a str, marker: &str) -> (&'a str, &'a str) {

@@ -140,7 +140,7 @@ impl LaggedAnswer {
 
     /// The answer kept, `None` when none.
     fn get(&self) -> Option<SmoothedStep> {
-        (self.particles != u32::MAX).then(|| SmoothedStep {
+        (self.particles != u32::MAX).then_some(SmoothedStep {
             estimate: Some(Cluster {
                 x: self.x,
                 y: self.y,

@@ -461,12 +461,12 @@ impl FloorTopology {
         );
         let cell = 1.0 / f64::from(self.inv_cell);
         let origin_y = f64::from(self.origin[1]);
+        let dy = b[1] - a[1];
         (y0..=y1).map(move |y| {
             let band = (
                 origin_y + y as f64 * cell - PAD,
                 origin_y + (y + 1) as f64 * cell + PAD,
             );
-            let dy = b[1] - a[1];
             // The stretch of the segment inside the band (all of it when nearly flat).
             let (t0, t1) = if dy.abs() < 1e-9 {
                 (0.0, 1.0)
