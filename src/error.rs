@@ -36,9 +36,64 @@ pub enum Error {
         /// The allowed range or rule: the way out.
         reason: String,
     },
-    /// Input data cannot be processed as given (e.g. an empty trace). Fix: see the message.
-    #[error("invalid input: {0}")]
-    Input(String),
+    /// Values in the data that break a rule: not finite, out of time order, physically
+    /// implausible. Fix: correct the named item.
+    #[error("{item}: {problem}")]
+    InvalidData {
+        /// What holds the value, e.g. `track point 3` or `floor polygon 2 (hall)`.
+        item: String,
+        /// The value and the rule it breaks.
+        problem: String,
+    },
+    /// Inputs that are each valid but do not belong together: another building, another
+    /// clock, another grid.
+    #[error("{problem}{}", fix_suffix(.fix))]
+    Mismatch {
+        /// Which inputs disagree, and how.
+        problem: String,
+        /// The way out.
+        fix: String,
+    },
+    /// Too little data for the result asked for: an empty track, no waypoints, no map.
+    #[error("{problem}{}", fix_suffix(.fix))]
+    NotEnough {
+        /// What is missing.
+        problem: String,
+        /// The way out (empty when there is none beyond supplying the data).
+        fix: String,
+    },
+    /// An input or a result beyond a documented size limit.
+    #[error("{what} is too large: {size}, at most {limit}{}", fix_suffix(.fix))]
+    TooLarge {
+        /// What would be too large, e.g. `an occupancy grid`.
+        what: String,
+        /// Its size.
+        size: String,
+        /// The limit.
+        limit: String,
+        /// The way out.
+        fix: String,
+    },
+    /// The output folder cannot be used as asked: a file, an input's folder, another run's.
+    #[error("{}: {problem}", .path.display())]
+    Output {
+        /// The `--out` folder (or output file) concerned.
+        path: PathBuf,
+        /// What is wrong and the way out.
+        problem: String,
+    },
+    /// An output could not be encoded (PNG, PGM, JSON) or its picture allocated.
+    #[error("cannot {what}: {message}")]
+    Encode {
+        /// What was being done, e.g. `encode the map picture as PNG`.
+        what: String,
+        /// The encoder's message.
+        message: String,
+    },
+    /// A simulator preset produced an inconsistent layout: a bug in the preset, not in the
+    /// user's data.
+    #[error("simulator: {0}")]
+    Simulation(String),
 }
 
 /// Shorthand for results carrying [`Error`].
@@ -125,6 +180,61 @@ impl Error {
         }
     }
 
+    /// Data whose `item` breaks a rule (`problem` gives the value and the rule).
+    pub fn invalid(item: impl Into<String>, problem: impl Into<String>) -> Self {
+        Error::InvalidData {
+            item: item.into(),
+            problem: problem.into(),
+        }
+    }
+
+    /// Inputs that do not belong together, with the way out.
+    pub fn mismatch(problem: impl Into<String>, fix: impl Into<String>) -> Self {
+        Error::Mismatch {
+            problem: problem.into(),
+            fix: fix.into(),
+        }
+    }
+
+    /// Too little data, with the way out (`""` when there is none).
+    pub fn not_enough(problem: impl Into<String>, fix: impl Into<String>) -> Self {
+        Error::NotEnough {
+            problem: problem.into(),
+            fix: fix.into(),
+        }
+    }
+
+    /// `what` of `size` beyond `limit`, with the way out (`""` when there is none).
+    pub fn too_large(
+        what: impl Into<String>,
+        size: impl ToString,
+        limit: impl ToString,
+        fix: impl Into<String>,
+    ) -> Self {
+        Error::TooLarge {
+            what: what.into(),
+            size: size.to_string(),
+            limit: limit.to_string(),
+            fix: fix.into(),
+        }
+    }
+
+    /// An output folder or file that cannot be used as asked.
+    pub fn output(path: impl Into<PathBuf>, problem: impl Into<String>) -> Self {
+        Error::Output {
+            path: path.into(),
+            problem: problem.into(),
+        }
+    }
+
+    /// An output that could not be encoded.
+    pub fn encode(what: impl Into<String>, message: impl ToString) -> Self {
+        Error::Encode {
+            what: what.into(),
+            message: message.to_string(),
+        }
+    }
+
     /// A parse error at `line` of `path`.
     pub fn parse(path: impl Into<PathBuf>, line: usize, message: impl Into<String>) -> Self {
         Error::Parse {
@@ -132,6 +242,15 @@ impl Error {
             line,
             message: message.into(),
         }
+    }
+}
+
+/// `: FIX` after a message, or nothing when there is no way out to add.
+fn fix_suffix(fix: &str) -> String {
+    if fix.is_empty() {
+        String::new()
+    } else {
+        format!(": {fix}")
     }
 }
 

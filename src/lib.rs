@@ -79,3 +79,7 @@ pub mod sensor;
 pub mod sim;
 
 pub use error::{Error, Result};
+
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

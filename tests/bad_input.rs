@@ -403,7 +403,7 @@ fn files_out_of_range_or_ambiguous_fail_clearly() {
                 p("one.csv"),
             ],
             fails: true,
-            says: &["one.csv is a file"],
+            says: &["one.csv: --out is a file"],
         },
         Case {
             name: "a negative value after a space, and out of range",

@@ -220,15 +220,15 @@ impl IlcFloor {
                 .collect();
             let polygon = Polygon::new(exterior, holes);
             if let Err(e) = polygon.check_validation() {
-                return Err(Error::Input(format!(
-                    "the walkable area's part {} is not a valid polygon after cleaning: {e}",
-                    polygons.len()
-                )));
+                return Err(Error::invalid(
+                    format!("the walkable area's part {}", polygons.len()),
+                    format!("is not a valid polygon after cleaning: {e}"),
+                ));
             }
             polygons.push(polygon);
         }
         if polygons.is_empty() {
-            return Err(Error::Input("the walkable area is empty".into()));
+            return Err(Error::not_enough("the walkable area is empty", ""));
         }
         let name = self
             .summary
@@ -286,8 +286,9 @@ impl IlcFloor {
             }
             area = geo::unary_union(std::iter::once(&snapped));
         }
-        Err(Error::Input(
-            "the walkable area does not stay valid at the GeoJSON writer's precision".into(),
+        Err(Error::invalid(
+            "the walkable area",
+            "does not stay valid at the GeoJSON writer's precision",
         ))
     }
 }

@@ -31,10 +31,13 @@ pub fn write_radio_field(
     text.push('\n');
     for (level, x, y, rssi) in rows {
         if rssi.len() != aps.len() || rssi.iter().any(|v| !v.is_finite()) {
-            return Err(Error::Input(format!(
-                "field row at ({x}, {y}) on level {level} does not hold one finite value per access point; nothing written to {}",
-                path.display()
-            )));
+            return Err(Error::invalid(
+                format!("field row at ({x}, {y}) on level {level}"),
+                format!(
+                    "does not hold one finite value per access point; nothing written to {}",
+                    path.display()
+                ),
+            ));
         }
         text.push_str(&format!("{level},{x:.2},{y:.2}"));
         for v in rssi {

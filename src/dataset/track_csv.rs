@@ -92,11 +92,10 @@ fn check_finite<'a>(mut points: impl Iterator<Item = &'a TrackPoint>, path: &Pat
     match points
         .find(|p| !(p.t.is_finite() && p.x.is_finite() && p.y.is_finite() && p.z.is_finite()))
     {
-        Some(p) => Err(Error::Input(format!(
-            "track point at t = {} is not finite; nothing written to {}",
-            p.t,
-            path.display()
-        ))),
+        Some(p) => Err(Error::invalid(
+            format!("track point at t = {}", p.t),
+            format!("is not finite; nothing written to {}", path.display()),
+        )),
         None => Ok(()),
     }
 }

@@ -70,10 +70,7 @@ pub fn read_walk_manifest(path: &Path, wifi_required: bool) -> Result<Vec<Manife
         Ok(())
     })?;
     if walks.is_empty() {
-        return Err(Error::Input(format!(
-            "{}: the walk manifest lists no walk",
-            path.display()
-        )));
+        return Err(Error::parse(path, 0, "the walk manifest lists no walk"));
     }
     Ok(walks)
 }

@@ -82,11 +82,13 @@ pub fn write_wifi(path: &Path, scans: &[WifiScan]) -> Result<()> {
                 .as_deref()
                 .is_some_and(|s| s.contains([',', '"', '\n']))
             {
-                return Err(Error::Input(format!(
-                    "ssid {:?} holds a comma, quote or newline; nothing written to {}",
-                    r.ssid,
-                    path.display()
-                )));
+                return Err(Error::invalid(
+                    format!("ssid {:?}", r.ssid),
+                    format!(
+                        "holds a comma, quote or newline; nothing written to {}",
+                        path.display()
+                    ),
+                ));
             }
             text.push_str(&format!(
                 "{:.3},{},{:.1},{},{}\n",

@@ -9,11 +9,12 @@
 //! wall into a room nobody entered; such rooms are not held against the plan. Plans of several floors are compared level by level (a learned level
 //! against the true level it stands for) and the areas summed.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, check_range};
 use crate::geometry::RigidTransform;
 use crate::map::FloorPlan;
 use geo::{BoundingRect, Intersects, Point};
 use std::collections::HashSet;
+use std::ops::Bound::{Excluded, Unbounded};
 
 /// Precision and recall of a learned plan, by area.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -42,11 +43,13 @@ pub fn plan_overlap(
     reach: f64,
     resolution: f64,
 ) -> Result<PlanOverlap> {
-    if !(resolution.is_finite() && resolution > 0.0 && reach.is_finite() && reach > 0.0) {
-        return Err(Error::Input(format!(
-            "plan overlap needs a positive resolution and reach (got {resolution} m, {reach} m)"
-        )));
-    }
+    check_range(
+        "plan overlap resolution",
+        resolution,
+        (Excluded(0.0), Unbounded),
+        "m",
+    )?;
+    check_range("plan overlap reach", reach, (Excluded(0.0), Unbounded), "m")?;
     // The learned plan in the truth's frame: test squares of the truth's frame against the
     // learned polygons by the inverse transform.
     let inverse = transform.map(RigidTransform::inverse);
@@ -117,7 +120,7 @@ pub fn plan_overlap(
         hi = (hi.0.max(x), hi.1.max(y));
     }
     if !(lo.0.is_finite() && hi.0.is_finite()) {
-        return Err(Error::Input("plan overlap of empty plans".into()));
+        return Err(Error::not_enough("plan overlap of empty plans", ""));
     }
     let (mut learned_n, mut hit_n, mut visited_n, mut covered_n) = (0u64, 0u64, 0u64, 0u64);
     for &level in &levels {
@@ -139,9 +142,10 @@ pub fn plan_overlap(
         }
     }
     if learned_n == 0 || visited_n == 0 {
-        return Err(Error::Input(format!(
-            "plan overlap: {learned_n} learned and {visited_n} visited squares"
-        )));
+        return Err(Error::not_enough(
+            format!("plan overlap: {learned_n} learned and {visited_n} visited squares"),
+            "",
+        ));
     }
     let area = resolution * resolution;
     Ok(PlanOverlap {

@@ -75,16 +75,22 @@ pub fn position_errors(
     let n = estimated.len();
     if n == 0 {
         let (t0, t1) = (truth[0].t, truth[truth.len() - 1].t);
-        return Err(Error::Input(format!(
-            "none of the {} track points lies within the truth's time span [{t0}, {t1}] s",
-            track.len()
-        )));
+        return Err(Error::mismatch(
+            format!(
+                "none of the {} track points lies within the truth's time span [{t0}, {t1}] s",
+                track.len()
+            ),
+            "are they on the same clock?",
+        ));
     }
     if alignment == Alignment::Rigid && n < MIN_RIGID_POINTS {
-        return Err(Error::Input(format!(
-            "a rigid alignment needs at least {MIN_RIGID_POINTS} track points within the truth's \
-             time span, got {n}: it would fit them exactly and report no error; use no alignment"
-        )));
+        return Err(Error::not_enough(
+            format!(
+                "a rigid alignment needs at least {MIN_RIGID_POINTS} track points within the \
+                 truth's time span, got {n}: it would fit them exactly and report no error"
+            ),
+            "use no alignment",
+        ));
     }
     let transform = match alignment {
         Alignment::None => None,
@@ -135,21 +141,23 @@ pub fn interpolate_at(truth: &[TimedPoint], t: f64) -> Option<(f64, f64)> {
 
 fn check_series(points: &[TimedPoint], name: &str) -> Result<()> {
     if points.is_empty() {
-        return Err(Error::Input(format!("the {name} has no points")));
+        return Err(Error::not_enough(format!("the {name} has no points"), ""));
     }
     if let Some(i) = points
         .iter()
         .position(|p| !(p.t.is_finite() && p.x.is_finite() && p.y.is_finite()))
     {
-        return Err(Error::Input(format!("{name} point {i} is not finite")));
+        return Err(Error::invalid(format!("{name} point {i}"), "is not finite"));
     }
     if let Some(i) = points.windows(2).position(|w| w[1].t <= w[0].t) {
-        return Err(Error::Input(format!(
-            "{name} times must be strictly increasing: point {} at {} s follows {} s",
-            i + 1,
-            points[i + 1].t,
-            points[i].t
-        )));
+        return Err(Error::invalid(
+            format!("{name} point {}", i + 1),
+            format!(
+                "at {} s follows {} s: times must be strictly increasing",
+                points[i + 1].t,
+                points[i].t
+            ),
+        ));
     }
     Ok(())
 }
@@ -246,6 +254,11 @@ mod tests {
         assert!(position_errors(&[], &late, Alignment::None).is_err());
         let unordered = [tp(1.0, 0.0, 0.0), tp(0.5, 0.0, 0.0)];
         let err = position_errors(&truth, &unordered, Alignment::None).expect_err("unordered");
-        assert!(err.to_string().contains("track times"), "{err}");
+        assert!(
+            err.to_string()
+                .contains("track point 1: at 0.5 s follows 1 s: times must be strictly increasing"),
+            "{err}"
+        );
+        assert!(matches!(err, Error::InvalidData { .. }));
     }
 }

@@ -49,7 +49,7 @@ pub fn waypoint_errors(
     alignment: Alignment,
 ) -> Result<WaypointErrors> {
     if waypoints.is_empty() {
-        return Err(Error::Input("there are no waypoints".into()));
+        return Err(Error::not_enough("there are no waypoints", ""));
     }
     let mut truth: Vec<TimedPoint> = Vec::with_capacity(waypoints.len());
     for w in waypoints {
@@ -78,16 +78,19 @@ pub fn waypoint_errors(
     if estimates.is_empty() {
         let span = |v: &[TimedPoint]| (v[0].t, v[v.len() - 1].t);
         let (w0, w1) = span(&truth);
-        return Err(Error::Input(match track.is_empty() {
-            true => "the track has no points".into(),
+        return Err(match track.is_empty() {
+            true => Error::not_enough("the track has no points", ""),
             false => {
                 let (t0, t1) = span(track);
-                format!(
-                    "none of the {} waypoints ([{w0}, {w1}] s) lies within the track's time span [{t0}, {t1}] s: are they on the same clock?",
-                    truth.len()
+                Error::mismatch(
+                    format!(
+                        "none of the {} waypoints ([{w0}, {w1}] s) lies within the track's time span [{t0}, {t1}] s",
+                        truth.len()
+                    ),
+                    "are they on the same clock?",
                 )
             }
-        }));
+        });
     }
     let mut report = position_errors(&matched, &estimates, alignment)?;
     report.skipped = truth.len() - estimates.len();

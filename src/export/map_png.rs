@@ -160,7 +160,7 @@ pub fn render_map_png(picture: &MapPicture, config: &PictureConfig) -> Result<Ve
     let pixmap = render(picture, config)?;
     pixmap
         .encode_png()
-        .map_err(|e| Error::Input(format!("cannot encode the map picture as PNG: {e}")))
+        .map_err(|e| Error::encode("encode the map picture as PNG", e))
 }
 
 /// Renders `picture` and writes it to `path` atomically.
@@ -255,10 +255,10 @@ fn render(picture: &MapPicture, config: &PictureConfig) -> Result<Pixmap> {
     check_finite(picture)?;
     let layout = Layout::new(picture, config);
     let mut pixmap = Pixmap::new(layout.width, layout.height).ok_or_else(|| {
-        Error::Input(format!(
-            "cannot allocate a {}×{} picture",
-            layout.width, layout.height
-        ))
+        Error::encode(
+            format!("allocate a {}×{} picture", layout.width, layout.height),
+            "out of memory",
+        )
     })?;
     pixmap.fill(Color::WHITE);
     if let Some(plan) = picture.plan {
@@ -302,14 +302,15 @@ fn check_finite(picture: &MapPicture) -> Result<()> {
             .iter()
             .position(|p| !(p.0.is_finite() && p.1.is_finite()))
         {
-            return Err(Error::Input(format!("{name} point {i} is not finite")));
+            return Err(Error::invalid(format!("{name} point {i}"), "is not finite"));
         }
     }
     let r = picture.map.radius;
     if !(r.is_finite() && r > 0.0) {
-        return Err(Error::Input(format!(
-            "map hexagon radius {r} is not a positive number"
-        )));
+        return Err(Error::invalid(
+            "the map's hexagon radius",
+            format!("{r} m is not a positive number"),
+        ));
     }
     Ok(())
 }

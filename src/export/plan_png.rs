@@ -177,8 +177,9 @@ impl Layout {
             .reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))
             .unwrap_or((-5.0, -5.0, 5.0, 5.0));
         if ![x0, y0, x1, y1].iter().all(|v| v.is_finite()) {
-            return Err(Error::Input(
-                "the floor plan has non-finite coordinates".into(),
+            return Err(Error::invalid(
+                "the floor plan",
+                "has non-finite coordinates",
             ));
         }
         let (w_m, h_m) = ((x1 - x0).max(1.0), (y1 - y0).max(1.0));
@@ -227,21 +228,23 @@ impl Layout {
 pub fn render_plan_png(pictures: &[PlanPicture], config: &PlanPictureConfig) -> Result<Vec<u8>> {
     config.validate()?;
     if pictures.is_empty() {
-        return Err(Error::Input("no picture to draw".into()));
+        return Err(Error::not_enough("no picture to draw", ""));
     }
     let layout = Layout::new(pictures, config)?;
     let height = (layout.margin + layout.row_h * pictures.len() as f64).ceil() as u32;
     if u64::from(layout.width) * u64::from(height) > 400_000_000 {
-        return Err(Error::Input(format!(
-            "a {}×{height} picture is too large; draw fewer snapshots",
-            layout.width
-        )));
+        return Err(Error::too_large(
+            "a picture",
+            format!("{}×{height} pixels", layout.width),
+            "4×10⁸ pixels",
+            "draw fewer snapshots",
+        ));
     }
     let mut pixmap = Pixmap::new(layout.width, height).ok_or_else(|| {
-        Error::Input(format!(
-            "cannot allocate a {}×{height} picture",
-            layout.width
-        ))
+        Error::encode(
+            format!("allocate a {}×{height} picture", layout.width),
+            "out of memory",
+        )
     })?;
     pixmap.fill(Color::WHITE);
     let ts = config.text_scale;
@@ -279,7 +282,7 @@ pub fn render_plan_png(pictures: &[PlanPicture], config: &PlanPictureConfig) -> 
     }
     pixmap
         .encode_png()
-        .map_err(|e| Error::Input(format!("cannot encode the picture: {e}")))
+        .map_err(|e| Error::encode("encode the picture as PNG", e))
 }
 
 /// Renders `pictures` and writes them to `path` atomically.

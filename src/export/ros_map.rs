@@ -38,13 +38,15 @@ pub fn encode_pgm(grid: &OccupancyGrid) -> Result<Vec<u8>> {
     }
     let mut bytes = Vec::new();
     let (w, h) = (
-        u32::try_from(grid.width).map_err(|_| Error::Input("grid too wide".into()))?,
-        u32::try_from(grid.height).map_err(|_| Error::Input("grid too tall".into()))?,
+        u32::try_from(grid.width)
+            .map_err(|_| Error::too_large("an occupancy grid", grid.width, u32::MAX, ""))?,
+        u32::try_from(grid.height)
+            .map_err(|_| Error::too_large("an occupancy grid", grid.height, u32::MAX, ""))?,
     );
     PnmEncoder::new(&mut bytes)
         .with_subtype(PnmSubtype::Graymap(SampleEncoding::Binary))
         .encode(pixels.as_slice(), w, h, ExtendedColorType::L8)
-        .map_err(|e| Error::Input(format!("cannot encode the occupancy grid as PGM: {e}")))?;
+        .map_err(|e| Error::encode("encode the occupancy grid as PGM", e))?;
     Ok(bytes)
 }
 
@@ -64,7 +66,7 @@ pub fn write_ros_map(pgm: &Path, yaml: &Path, grid: &OccupancyGrid) -> Result<()
     let name = pgm
         .file_name()
         .and_then(|n| n.to_str())
-        .ok_or_else(|| Error::Input(format!("{}: not a file name", pgm.display())))?;
+        .ok_or_else(|| Error::output(pgm, "not a file name"))?;
     write_atomically(pgm, &encode_pgm(grid)?)?;
     write_atomically(yaml, ros_map_yaml(grid, name).as_bytes())
 }

@@ -53,11 +53,13 @@ impl RunFolder {
                 };
                 match process_is_running(pid) {
                     Some(true) => {
-                        return Err(Error::Input(format!(
-                            "{}: another run (process {pid}) is writing into it; wait for it to \
-                             end or choose another --out",
-                            destination.display()
-                        )));
+                        return Err(Error::output(
+                            destination,
+                            format!(
+                                "another run (process {pid}) is writing into it; wait for it \
+                                 to end or choose another --out"
+                            ),
+                        ));
                     }
                     Some(false) => {
                         let _ = std::fs::remove_dir_all(entry.path());
@@ -67,19 +69,21 @@ impl RunFolder {
             }
         }
         if destination.exists() && !destination.is_dir() {
-            return Err(Error::Input(format!(
-                "--out {} is a file: the outputs go into a folder; choose a folder's path",
-                destination.display()
-            )));
+            return Err(Error::output(
+                destination,
+                "--out is a file: the outputs go into a folder; choose a folder's path",
+            ));
         }
         let staging = parent.join(format!("{prefix}{own}"));
         // Errors name the folder asked for, not the hidden staging folder beside it.
         let unwritable = |e: std::io::Error| {
-            Error::Input(format!(
-                "{}: cannot write the outputs into its folder {}: {e}",
-                destination.display(),
-                parent.display()
-            ))
+            Error::output(
+                destination,
+                format!(
+                    "cannot write the outputs into its folder {}: {e}",
+                    parent.display()
+                ),
+            )
         };
         if staging.exists() {
             std::fs::remove_dir_all(&staging).map_err(unwritable)?;
@@ -118,7 +122,7 @@ impl RunFolder {
     /// Writes `value` as pretty JSON into `name`.
     pub fn write_json<T: serde::Serialize>(&self, name: &str, value: &T) -> Result<()> {
         let text = serde_json::to_string_pretty(value)
-            .map_err(|e| Error::Input(format!("cannot serialise {name}: {e}")))?;
+            .map_err(|e| Error::encode(format!("serialise {name}"), e))?;
         self.write(name, text.as_bytes())
     }
 
@@ -158,12 +162,14 @@ impl RunFolder {
     /// when an output would replace a protected input ([`RunFolder::protect`]).
     pub fn commit(mut self) -> Result<PathBuf> {
         if let Some((input, name)) = self.replaced_input()? {
-            return Err(Error::Input(format!(
-                "{}: this run's output `{name}` would replace the input {} or a file beside \
-                 it; choose an --out apart from the inputs (nothing was written)",
-                self.destination.display(),
-                input.display()
-            )));
+            return Err(Error::output(
+                &self.destination,
+                format!(
+                    "this run's output `{name}` would replace the input {} or a file beside \
+                     it; choose an --out apart from the inputs (nothing was written)",
+                    input.display()
+                ),
+            ));
         }
         std::fs::create_dir_all(&self.destination).map_err(|e| Error::io(&self.destination, e))?;
         let entries = std::fs::read_dir(&self.staging).map_err(|e| Error::io(&self.staging, e))?;

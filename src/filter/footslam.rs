@@ -158,10 +158,13 @@ impl FootSlam {
         if !anchors.gps.is_empty() {
             motion_config.length_scale_sigma0 = config.gps.length_scale_sigma0;
             if let Some(w) = anchors.gps.windows(2).find(|w| w[1].t <= w[0].t) {
-                return Err(crate::error::Error::Input(format!(
-                    "GPS fixes must be in increasing time order (fix at {} s after {} s)",
-                    w[1].t, w[0].t
-                )));
+                return Err(crate::error::Error::invalid(
+                    format!("GPS fix at {} s", w[1].t),
+                    format!(
+                        "follows one at {} s: fixes must be in increasing time order",
+                        w[0].t
+                    ),
+                ));
             }
         }
         let motion = StepMotion::new(motion_config);

@@ -105,7 +105,10 @@ impl NearestFingerprint {
             .iter()
             .any(|c| c.radio.scans >= config.min_scans.max(1))
         {
-            return Err(Error::Input("the radio map has no cell with scans".into()));
+            return Err(Error::not_enough(
+                "the radio map has no cell with scans",
+                "survey the building first",
+            ));
         }
         let centres = map
             .cells

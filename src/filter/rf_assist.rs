@@ -211,8 +211,9 @@ impl RfLocaliser {
         let raster = CellRaster::on_plan(map, topology, config.raster)?;
         let prints = Fingerprints::new(map, config.missing_rssi, config.min_scans, distance);
         if prints.access_points() == 0 {
-            return Err(Error::Input(
-                "the radio map has no access point readings".into(),
+            return Err(Error::not_enough(
+                "the radio map has no access point readings",
+                "survey the building first",
             ));
         }
         Ok(Self {

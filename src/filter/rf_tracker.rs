@@ -59,10 +59,10 @@ impl<'a> RfTracker<'a> {
     ) -> Result<Self> {
         config.validate()?;
         if let Some(w) = scans.windows(2).find(|w| w[1].t < w[0].t) {
-            return Err(Error::Input(format!(
-                "WiFi scans are not in time order (t = {} after t = {})",
-                w[1].t, w[0].t
-            )));
+            return Err(Error::invalid(
+                format!("WiFi scan at t = {}", w[1].t),
+                format!("follows one at t = {}: scans must be in time order", w[0].t),
+            ));
         }
         let tracker = match config.start {
             Some(_) => Some(Tracker::new(topology, config)?),

@@ -203,8 +203,9 @@ pub fn survey_paths(
         calibration.push((assignments, scans));
     }
     if counts.iter().all(|c| c.added == 0) {
-        return Err(Error::Input(
-            "no WiFi scan fell in a cell of the plan: nothing to make a radio map of".into(),
+        return Err(Error::not_enough(
+            "no WiFi scan fell in a cell of the plan: nothing to make a radio map of",
+            "",
         ));
     }
     let held = calibrate_map(&mut map, &calibration, missing_rssi, miss);

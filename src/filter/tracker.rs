@@ -191,8 +191,9 @@ impl<'a> Tracker<'a> {
     ) -> Result<Self> {
         config.validate()?;
         if topology.is_empty() {
-            return Err(Error::Input(
-                "the floor plan has no walkable surface".into(),
+            return Err(Error::not_enough(
+                "the floor plan has no walkable surface",
+                "",
             ));
         }
         let bins = KldBins::new(&config.kld, topology.bounds(), topology.levels())?;
@@ -883,8 +884,9 @@ impl<'a> Tracker<'a> {
                 .collect();
             chunk += PRIOR_BATCH;
             if batch.iter().all(Vec::is_empty) {
-                return Err(Error::Input(
-                    "no prior particle could be placed on a walkable surface".into(),
+                return Err(Error::not_enough(
+                    "no prior particle could be placed on a walkable surface",
+                    "",
                 ));
             }
             for (p, keep) in batch.into_iter().flatten() {
@@ -905,8 +907,9 @@ impl<'a> Tracker<'a> {
             }
         }
         if drawn.is_empty() {
-            return Err(Error::Input(
-                "no prior particle could be placed inside the prior region".into(),
+            return Err(Error::not_enough(
+                "no prior particle could be placed inside the prior region",
+                "",
             ));
         }
         drawn.shrink_to_fit();
@@ -922,14 +925,17 @@ impl<'a> Tracker<'a> {
             .topology
             .locate(start.x, start.y, start.level, None)
             .ok_or_else(|| {
-                Error::Input(format!(
-                    "the start ({}, {}{}) is not on a walkable surface of the plan",
-                    start.x,
-                    start.y,
-                    start
-                        .level
-                        .map_or(String::new(), |l| format!(", level {l}"))
-                ))
+                Error::mismatch(
+                    format!(
+                        "the start ({}, {}{}) is not on a walkable surface of the plan",
+                        start.x,
+                        start.y,
+                        start
+                            .level
+                            .map_or(String::new(), |l| format!(", level {l}"))
+                    ),
+                    "give a start inside the plan, in its frame",
+                )
             })?;
         Ok(StartSampler {
             topology: self.topology,
@@ -1001,10 +1007,10 @@ impl Motion<'_> {
 impl StepInput {
     fn of(step: &Step) -> Result<Self> {
         if !(step.length.is_finite() && step.dheading.is_finite() && step.dz.is_finite()) {
-            return Err(Error::Input(format!(
-                "step at t = {} s has a non-finite length, heading change or height change",
-                step.t
-            )));
+            return Err(Error::invalid(
+                format!("step at t = {} s", step.t),
+                "has a non-finite length, heading change or height change",
+            ));
         }
         Ok(Self {
             length: step.length as f32,

@@ -108,10 +108,13 @@ pub fn detect_strides(
     let f0 = mean_force(first);
     let gravity = config.gravity.unwrap_or(f0.norm());
     if !(5.0..=15.0).contains(&gravity) {
-        return Err(Error::Input(format!(
-            "the first stance's mean specific force is {gravity:.2} m/s², not gravity: are the \
-             accelerations in m/s² (not g)?"
-        )));
+        return Err(Error::invalid(
+            "the first stance",
+            format!(
+                "mean specific force is {gravity:.2} m/s², not gravity: are the accelerations \
+                 in m/s² (not g)?"
+            ),
+        ));
     }
     figures.gravity = gravity;
     let bias = gyro_bias(&t, &gyro, &mask.statistic, first, config);
@@ -310,7 +313,7 @@ fn finish(
         _ => 0.0,
     };
     let trace = StepTrace::new(steps)
-        .map_err(|(i, m)| Error::Input(format!("stride {i} of the foot INS: {m}")))?;
+        .map_err(|(i, m)| Error::invalid(format!("stride {i} of the foot INS"), m))?;
     Ok(StepEvents {
         trace,
         path,

@@ -379,8 +379,9 @@ pub fn detect_steps(
         height_change_m: start_height.map_or(0.0, |h0| height - h0),
         dz_capped,
     };
-    let trace = StepTrace::new(steps)
-        .map_err(|(i, m)| Error::Input(format!("phone step {i} is implausible: {m}")))?;
+    let trace = StepTrace::new(steps).map_err(|(i, m)| {
+        Error::invalid(format!("phone step {i}"), format!("is implausible: {m}"))
+    })?;
     Ok(StepEvents {
         trace,
         path,

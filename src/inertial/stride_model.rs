@@ -9,9 +9,10 @@
 //! ([`super::step_detector`]) and `K` the one constant to calibrate per person and phone.
 //! Harle reports such models within about 8 % of the true length for a calibrated walker.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, check_range};
 use crate::sensor::step::MAX_STEP_LENGTH;
 use serde::{Deserialize, Serialize};
+use std::ops::Bound::{Excluded, Unbounded};
 
 /// The stride model's one constant; every default in one place.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -60,20 +61,14 @@ impl StrideModelConfig {
 /// the true and `D̂` the measured length (metres). The model is linear in `K`, so one walk
 /// suffices; average over several walks to beat the step-to-step noise.
 pub fn calibrate_constant(k_old: f64, true_length: f64, measured_length: f64) -> Result<f64> {
-    if !(k_old.is_finite() && k_old > 0.0) {
-        return Err(Error::Input(format!(
-            "the stride constant to calibrate must be positive, found {k_old}"
-        )));
-    }
-    if !(true_length.is_finite() && true_length > 0.0) {
-        return Err(Error::Input(format!(
-            "the true length of a calibration walk must be positive, found {true_length} m"
-        )));
-    }
+    let positive = (Excluded(0.0), Unbounded);
+    check_range("stride constant", k_old, positive, "")?;
+    check_range("calibration walk's true length", true_length, positive, "m")?;
     if !(measured_length.is_finite() && measured_length > 0.0) {
-        return Err(Error::Input(format!(
-            "the calibration walk's measured length is {measured_length} m: no steps were detected"
-        )));
+        return Err(Error::not_enough(
+            format!("the calibration walk's measured length is {measured_length} m"),
+            "no steps were detected; check the recording",
+        ));
     }
     Ok(k_old * true_length / measured_length)
 }

@@ -48,9 +48,12 @@ impl CellRaster {
             || bounds[3] < bounds[1]
             || levels.1 < levels.0
         {
-            return Err(Error::Input(format!(
-                "cannot rasterise radio-map cells over bounds {bounds:?}, levels {levels:?} at {resolution} m"
-            )));
+            return Err(Error::invalid(
+                "a radio-map raster",
+                format!(
+                    "bounds {bounds:?}, levels {levels:?} at {resolution} m are not a valid extent"
+                ),
+            ));
         }
         let nx = ((bounds[2] - bounds[0]) / resolution).ceil() as usize + 1;
         let ny = ((bounds[3] - bounds[1]) / resolution).ceil() as usize + 1;
@@ -60,9 +63,12 @@ impl CellRaster {
             .and_then(|s| s.checked_mul(n_levels))
             .filter(|&s| s <= 1 << 30)
             .ok_or_else(|| {
-                Error::Input(format!(
-                    "a {resolution} m raster of {nx} × {ny} squares on {n_levels} levels is too large"
-                ))
+                Error::too_large(
+                    format!("a {resolution} m raster of the radio map"),
+                    format!("{nx} × {ny} squares on {n_levels} levels"),
+                    "2³⁰ squares",
+                    "",
+                )
             })?;
         let mut squares = vec![NONE; size];
         let mut placed = 0usize;
@@ -120,9 +126,9 @@ impl CellRaster {
             }
         }
         if placed == 0 {
-            return Err(Error::Input(
-                "no radio-map cell lies on the floor plan (a map of another building, or another origin?)"
-                    .into(),
+            return Err(Error::mismatch(
+                "no radio-map cell lies on the floor plan",
+                "a map of another building, or another origin? Use the plan the map was surveyed on",
             ));
         }
         Ok(Self {

@@ -171,10 +171,12 @@ impl FloorTopology {
     pub fn build(plan: &FloorPlan, config: &TopologyConfig) -> Result<Self> {
         config.validate()?;
         if plan.polygons.len() > MAX_SURFACES {
-            return Err(Error::Input(format!(
-                "the plan has {} surfaces; at most {MAX_SURFACES} are supported",
-                plan.polygons.len()
-            )));
+            return Err(Error::too_large(
+                "the plan",
+                format!("{} surfaces", plan.polygons.len()),
+                MAX_SURFACES,
+                "split the building into several plans",
+            ));
         }
         for (i, f) in plan.polygons.iter().enumerate() {
             check_surface(i, f)?;
@@ -208,9 +210,10 @@ impl FloorTopology {
                 .coords()
                 .any(|c| !(c.x.is_finite() && c.y.is_finite()))
             {
-                return Err(Error::Input(format!(
-                    "barrier {i} has a non-finite coordinate"
-                )));
+                return Err(Error::invalid(
+                    format!("barrier {i}"),
+                    "has a non-finite coordinate",
+                ));
             }
             for l in b.line.lines() {
                 if (l.end.x - l.start.x).hypot(l.end.y - l.start.y) > MIN_PIECE {
@@ -596,7 +599,7 @@ fn check_surface(i: usize, f: &super::FloorPolygon) -> Result<()> {
         .name
         .as_ref()
         .map_or(String::new(), |n| format!(" (\"{n}\")"));
-    let bad = |m: String| Err(Error::Input(format!("floor polygon {i}{name}: {m}")));
+    let bad = |m: String| Err(Error::invalid(format!("floor polygon {i}{name}"), m));
     if !f.z.is_finite() {
         return bad(format!("height z = {} is not finite", f.z));
     }

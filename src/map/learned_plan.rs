@@ -119,13 +119,15 @@ pub fn walkable_plan(map: &HexMapSnapshot, config: &PlanConfig) -> Result<Learne
         .filter(|c| c.visits() >= config.min_visits)
         .count();
     if walkable == 0 {
-        return Err(Error::Input(format!(
-            "no hexagon of the map has {} or more visits ({} hexagons, at most {} visits): \
-             lower --min-visits",
-            config.min_visits,
-            map.cells.len(),
-            map.cells.iter().map(|c| c.visits()).max().unwrap_or(0)
-        )));
+        return Err(Error::not_enough(
+            format!(
+                "no hexagon of the map has {} or more visits ({} hexagons, at most {} visits)",
+                config.min_visits,
+                map.cells.len(),
+                map.cells.iter().map(|c| c.visits()).max().unwrap_or(0)
+            ),
+            "lower --min-visits",
+        ));
     }
     let (mut holes_filled, mut pieces_dropped) = (0, 0);
     let mut surfaces = Vec::new();
@@ -146,10 +148,13 @@ pub fn walkable_plan(map: &HexMapSnapshot, config: &PlanConfig) -> Result<Learne
         );
     }
     if surfaces.is_empty() {
-        return Err(Error::Input(format!(
-            "every walkable piece of the map is smaller than {} m²: lower plan.min_area",
-            config.min_area
-        )));
+        return Err(Error::not_enough(
+            format!(
+                "every walkable piece of the map is smaller than {} m²",
+                config.min_area
+            ),
+            "lower plan.min_area",
+        ));
     }
     let area_m2 = surfaces.iter().map(|s| s.polygon.unsigned_area()).sum();
     Ok(LearnedPlan {
@@ -226,11 +231,7 @@ fn level_pieces(
 /// one height per level (learned plans): an error names a level with several heights
 /// (stairs, a stepped floor), which growing would merge.
 pub fn grow_plan(plan: &FloorPlan, margin: f64) -> Result<FloorPlan> {
-    if !(margin.is_finite() && (0.0..=5.0).contains(&margin)) {
-        return Err(Error::Input(format!(
-            "a plan margin must be in [0, 5] m (got {margin})"
-        )));
-    }
+    crate::error::check_range("plan margin", margin, 0.0..=5.0, "m")?;
     if margin == 0.0 {
         return Ok(plan.clone());
     }
@@ -244,11 +245,14 @@ pub fn grow_plan(plan: &FloorPlan, margin: f64) -> Result<FloorPlan> {
             plan.polygons.iter().filter(|p| p.level == level).collect();
         let z = surfaces[0].z;
         if let Some(other) = surfaces.iter().find(|p| (p.z - z).abs() > 1e-6) {
-            return Err(Error::Input(format!(
-                "level {level} has surfaces at heights {z} m and {} m: only a plan with one \
-                 height per level (a learned plan) can be grown",
-                other.z
-            )));
+            return Err(Error::invalid(
+                format!("level {level}"),
+                format!(
+                    "has surfaces at heights {z} m and {} m: only a plan with one height per \
+                     level (a learned plan) can be grown",
+                    other.z
+                ),
+            ));
         }
         let polygons: Vec<Polygon<f64>> = surfaces.iter().map(|p| p.polygon.clone()).collect();
         let mut pieces: Vec<Polygon<f64>> = unary_union(&polygons).buffer(margin).0;

@@ -26,24 +26,27 @@ const RADIUS_TOLERANCE: f64 = 1e-9;
 pub fn merge_maps(maps: &[(&HexMapSnapshot, f64)]) -> Result<HexMapSnapshot> {
     let (first, _) = maps
         .first()
-        .ok_or_else(|| Error::Input("no maps to merge".into()))?;
+        .ok_or_else(|| Error::not_enough("no maps to merge", "give at least one map"))?;
     let mut sums: BTreeMap<(i32, i32, i32), [f64; 6]> = BTreeMap::new();
     // Per level: Σ weight·z and Σ weight over the maps that give its height.
     let mut heights: BTreeMap<i32, (f64, f64)> = BTreeMap::new();
     for (i, &(map, weight)) in maps.iter().enumerate() {
         if (map.radius - first.radius).abs() > RADIUS_TOLERANCE {
-            return Err(Error::Input(format!(
-                "map {} has hexagons of radius {} m, map 1 of {} m: maps merge only on one grid",
-                i + 1,
-                map.radius,
-                first.radius
-            )));
+            return Err(Error::mismatch(
+                format!(
+                    "map {} has hexagons of radius {} m, map 1 of {} m",
+                    i + 1,
+                    map.radius,
+                    first.radius
+                ),
+                "maps merge only on one grid; learn them with one footslam.hex_radius",
+            ));
         }
         if !(weight.is_finite() && weight >= 0.0) {
-            return Err(Error::Input(format!(
-                "map {}: weight {weight} must be a finite number ≥ 0",
-                i + 1
-            )));
+            return Err(Error::invalid(
+                format!("map {}", i + 1),
+                format!("weight {weight} must be a finite number ≥ 0"),
+            ));
         }
         // Heights are relative to each walk's first floor: move this map's onto the
         // heights so far by the mean difference on the levels they share.

@@ -103,19 +103,22 @@ impl OccupancyGrid {
                 )
             })
         else {
-            return Err(Error::Input(format!(
-                "the plan has no polygon on level {level} to make an occupancy grid of"
-            )));
+            return Err(Error::not_enough(
+                format!("the plan has no polygon on level {level} to make an occupancy grid of"),
+                "choose a level the plan has",
+            ));
         };
         let r = config.resolution;
         let origin = (lo.0 - config.border, lo.1 - config.border);
         let width = ((hi.0 + config.border - origin.0) / r).ceil().max(1.0) as usize;
         let height = ((hi.1 + config.border - origin.1) / r).ceil().max(1.0) as usize;
         if width.saturating_mul(height) > MAX_SQUARES {
-            return Err(Error::Input(format!(
-                "an occupancy grid of {width} × {height} squares at {r} m is too large \
-                 (at most {MAX_SQUARES}): raise the resolution"
-            )));
+            return Err(Error::too_large(
+                format!("an occupancy grid at {r} m"),
+                format!("{width} × {height} squares"),
+                MAX_SQUARES,
+                "raise the resolution",
+            ));
         }
         let mut cells = vec![Occupancy::Unknown; width * height];
         // Scan lines through the squares' centres: each polygon fills between pairs of

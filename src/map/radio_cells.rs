@@ -114,8 +114,9 @@ impl CellMap {
     pub fn build(plan: &FloorPlan, topology: &FloorTopology, config: &CellConfig) -> Result<Self> {
         config.validate()?;
         if plan.polygons.len() != topology.len() {
-            return Err(Error::Input(
-                "the topology was not built from this plan".into(),
+            return Err(Error::mismatch(
+                "the topology was not built from this plan",
+                "build the topology from the plan it is used with",
             ));
         }
         let groups = find_rooms(plan, topology, config.door_width);

@@ -180,9 +180,9 @@ impl RadioMap {
                 .zip(&other.cells)
                 .any(|(a, b)| a.id != b.id)
         {
-            return Err(Error::Input(
-                "radio maps with different cells cannot be merged (survey them on the same plan at the same granularity)"
-                    .into(),
+            return Err(Error::mismatch(
+                "radio maps with different cells cannot be merged",
+                "survey them on the same plan at the same granularity",
             ));
         }
         for (a, b) in self.cells.iter_mut().zip(&other.cells) {

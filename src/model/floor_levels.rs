@@ -116,10 +116,13 @@ impl LevelTracker {
         }];
         for l in seeded.iter().filter(|l| l.level != start) {
             if !l.z.is_finite() || levels.iter().any(|k| k.level == l.level) {
-                return Err(Error::Input(format!(
-                    "floor level {} given twice or with a height that is not finite",
-                    l.level
-                )));
+                return Err(Error::invalid(
+                    format!("floor level {}", l.level),
+                    format!(
+                        "given twice or with a height that is not finite ({} m)",
+                        l.z
+                    ),
+                ));
             }
             levels.push(*l);
         }

@@ -88,7 +88,7 @@ impl Campus {
         let (x0, y0, x1, y1) = office
             .plan
             .bounds()
-            .ok_or_else(|| Error::Input("the office has no surfaces".into()))?;
+            .ok_or_else(|| Error::Simulation("the office has no surfaces".into()))?;
         let (a, _) = office.config.centre_line_size();
         let x = lobby_axis(
             &office,

@@ -151,7 +151,7 @@ pub fn read_compass(
         step.heading = Some(wrap_angle(reading));
     }
     StepTrace::new(steps)
-        .map_err(|(i, m)| Error::Input(format!("simulated step {i} is implausible: {m}")))
+        .map_err(|(i, m)| Error::Simulation(format!("simulated step {i} is implausible: {m}")))
 }
 
 #[cfg(test)]

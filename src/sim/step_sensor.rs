@@ -156,7 +156,7 @@ pub fn measure_steps_from(
         (x, y, z, heading) = (pose.x, pose.y, pose.z, pose.heading);
     }
     StepTrace::new(steps)
-        .map_err(|(i, m)| Error::Input(format!("simulated step {i} is implausible: {m}")))
+        .map_err(|(i, m)| Error::Simulation(format!("simulated step {i} is implausible: {m}")))
 }
 
 /// Heading-drift increments for `n` steps: a random walk of the rate with its mean replaced

@@ -343,7 +343,7 @@ fn walk(
 }
 
 fn off_plan(p: Coord<f64>) -> Error {
-    Error::Input(format!(
+    Error::Simulation(format!(
         "simulated route leaves the building at ({:.3}, {:.3}); the layout is inconsistent",
         p.x, p.y
     ))

@@ -161,7 +161,7 @@ fn walk(
     for stride in strides(route, config.gait(), |_| None, rng) {
         let on_route = stride.on_route;
         if !on_floor(on_route) {
-            return Err(Error::Input(format!(
+            return Err(Error::Simulation(format!(
                 "simulated route leaves the floor at ({:.3}, {:.3}); the building's layout is inconsistent",
                 on_route.x, on_route.y
             )));

@@ -187,8 +187,9 @@ impl RadioWorld {
     pub fn new(topology: &FloorTopology, config: &WifiSimConfig, seed: u64) -> Result<Self> {
         config.validate()?;
         if topology.is_empty() {
-            return Err(Error::Input(
-                "the floor plan has no walkable surface".into(),
+            return Err(Error::not_enough(
+                "the floor plan has no walkable surface",
+                "",
             ));
         }
         let mut rng = Pcg64Mcg::seed_from_u64(seed);
