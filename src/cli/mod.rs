@@ -19,6 +19,7 @@ mod merge;
 mod plan;
 mod radio_outputs;
 mod simulate;
+mod simulate_args;
 mod simulate_campus;
 mod steps;
 mod survey;
@@ -57,7 +58,7 @@ enum Command {
     Survey(survey::Args),
     /// Simulate a building (office floor or multi-floor tower), a walk and its sensors.
     #[command(allow_negative_numbers = true)]
-    Simulate(simulate::Args),
+    Simulate(simulate_args::Args),
     /// Place each WiFi scan by a radio map alone (weighted k-nearest fingerprints).
     #[command(allow_negative_numbers = true)]
     Fingerprint(fingerprint::Args),

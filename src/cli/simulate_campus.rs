@@ -2,7 +2,7 @@
 //! yard, with GPS fixes outdoors and the building's rough outline.
 
 use super::common::{output_dir, path_length, read_config, walk_prefix, write_truth_png};
-use super::simulate::{Args, Sensor};
+use super::simulate_args::{Args, Sensor};
 use anyhow::Result;
 use footslam::dataset::floor_plan_geojson::write_floor_plan;
 use footslam::dataset::steps_csv::write_steps;

@@ -19,8 +19,8 @@
 //!    integrated: the open stride is dropped, and the INS restarts at the next stance
 //!    (re-levelled, same yaw, same position).
 
-pub use super::foot_config::{FootConfig, FootFigures};
-use super::stance::samples_in;
+use super::foot_config::{FootConfig, FootFigures};
+use super::stance::{ShoeDetector, samples_in};
 use super::strapdown::{NavState, heading_axis, heading_of, level};
 use super::zupt::ZuptFilter;
 use super::{HeadingSource, StepEvents};
@@ -69,8 +69,7 @@ pub fn detect_strides(
     let accel: Vec<[f64; 3]> = samples.iter().map(|s| s.accel).collect();
     let gyro: Vec<[f64; 3]> = samples.iter().map(|s| s.gyro).collect();
 
-    let mask = config
-        .detector(config.gravity.unwrap_or(9.81))
+    let mask = ShoeDetector::new(config, config.gravity.unwrap_or(9.81))
         .detect(&t, &accel, &gyro, dt_median);
     let stance = &mask.stance;
     let mut figures = FootFigures {

@@ -1,7 +1,6 @@
 //! The configuration and the figures of the foot-mounted INS ([`super::detect_strides`]):
 //! every parameter, its unit and default.
 
-use super::stance::ShoeDetector;
 use crate::error::Result;
 use crate::sensor::step::MAX_STEP_LENGTH;
 use serde::{Deserialize, Serialize};
@@ -183,14 +182,6 @@ impl FootConfig {
             "m",
         )?;
         crate::error::check_range("foot.min_stride_s", self.min_stride_s, 0.0..=10.0, "s")
-    }
-
-    /// The stance detector on this configuration, with gravity `gravity` (m/s²).
-    pub(super) fn detector(&self, gravity: f64) -> ShoeDetector<'_> {
-        ShoeDetector {
-            config: self,
-            gravity,
-        }
     }
 }
 

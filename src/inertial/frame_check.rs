@@ -16,7 +16,8 @@
 //!   correlation 0.85–0.94, on a real phone walk; a negated axis gives the opposite sign,
 //!   and timestamps stretched by a factor `k` make the gyroscope turn `k` times as far.
 
-use super::foot::{FootConfig, detect_strides};
+use super::foot::detect_strides;
+use super::foot_config::FootConfig;
 use crate::sensor::ImuRecording;
 
 /// Mean stance velocity residual above which a foot recording's gyroscope looks out of the

@@ -21,7 +21,8 @@ pub mod stride_model;
 pub mod zupt;
 
 pub use barometer::{BarometerConfig, pressure_height};
-pub use foot::{FootConfig, FootFigures, detect_strides};
+pub use foot::detect_strides;
+pub use foot_config::{FootConfig, FootFigures};
 pub use frame_check::{FrameFinding, check_foot_frame, check_phone_frame};
 pub use heading_fusion::HeadingFusionConfig;
 pub use mount_check::check_mount;

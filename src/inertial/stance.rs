@@ -26,7 +26,7 @@
 //! above the ceiling it certainly moves. The mask is then cleaned: holes shorter than
 //! `max_hole` inside a stance are filled, stances shorter than `min_stance` dropped.
 
-use super::FootConfig;
+use super::foot_config::FootConfig;
 use std::collections::VecDeque;
 
 /// The detector: the foot INS's configuration (see [`FootConfig`] for units and defaults)
@@ -66,7 +66,12 @@ pub fn samples_in(seconds: f64, dt: f64, min: usize) -> usize {
     ((seconds / dt).round() as usize).max(min)
 }
 
-impl ShoeDetector<'_> {
+impl<'a> ShoeDetector<'a> {
+    /// The stance detector on `config`, with gravity `gravity` (m/s²).
+    pub fn new(config: &'a FootConfig, gravity: f64) -> Self {
+        ShoeDetector { config, gravity }
+    }
+
     /// The SHOE statistic `T_k` (eq. 11) of every sample; the window is centred on `k` and
     /// shrinks at the ends. `dt` is the median sampling interval.
     pub fn statistic(&self, accel: &[[f64; 3]], gyro: &[[f64; 3]], dt: f64) -> Vec<f64> {

@@ -10,7 +10,8 @@
 //! the outline a user would have is that rectangle with every side moved by up to
 //! `outline_error` (the plan is "known only to a few metres").
 
-use super::office::{Office, OfficeConfig};
+use super::office::Office;
+use super::office_config::OfficeConfig;
 use crate::error::{Error, Result};
 use crate::map::{FloorPlan, FloorPolygon};
 use geo::{Coord, Polygon, Rect};

@@ -12,11 +12,12 @@
 use super::campus::{Campus, CampusConfig};
 use super::compass::{CompassSimConfig, read_compass};
 use super::gps_receiver::{GpsRecord, GpsSimConfig, receive_fixes};
-use super::office::OfficeConfig;
+use super::office_config::OfficeConfig;
 use super::step_sensor::{StepNoiseConfig, measure_steps_from};
 use super::tour::plan_route;
 use super::truth::{TruePath, TruePose};
-use super::walker::{WalkConfig, walk_waypoints};
+use super::walk_config::WalkConfig;
+use super::walker::walk_waypoints;
 use super::{NOISE_STREAM, WALK_STREAM, stream_seed};
 use crate::error::Result;
 use crate::geometry::LocalFrame;

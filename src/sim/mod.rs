@@ -8,10 +8,12 @@
 //! origin facing east, so dead-reckoning the measured trace from `Pose2::default()` follows the
 //! truth up to the sensor errors, and the floor plan is placed accordingly (see [`office`]).
 //!
-//! * [`office`] — the office floor plan (corridor loop, rooms, doors) and its configuration
+//! * [`office`] — the office floor plan (corridor loop, rooms, doors)
+//! * [`office_config`] — the office's dimensions
 //! * [`rooms`] — rooms along the loop, their doors and anchors
 //! * [`route`] — polylines with rounded corners, walked by arc length
 //! * [`tour`] — the plan of the walk: laps of the loop with detours into rooms
+//! * [`walk_config`] — the tour's laps and room visits and the walker's gait
 //! * [`walker`] — the walker striding along the planned route, and its true poses
 //! * [`step_sensor`] — step measurements with foot-mounted-grade errors and heading drift
 //! * [`truth`] — the true path, one pose per step
@@ -28,6 +30,7 @@ pub mod campus_walk;
 pub mod compass;
 pub mod gps_receiver;
 pub mod office;
+pub mod office_config;
 pub mod rooms;
 pub mod route;
 pub mod step_sensor;
@@ -37,6 +40,7 @@ pub mod tour;
 pub mod tower;
 pub mod tower_walk;
 pub mod truth;
+pub mod walk_config;
 pub mod walker;
 pub mod wifi;
 
@@ -44,14 +48,16 @@ pub use campus::{Campus, CampusConfig};
 pub use campus_walk::{CampusSimConfig, CampusSimulation, CampusWalk, simulate_campus};
 pub use compass::CompassSimConfig;
 pub use gps_receiver::{GpsRecord, GpsSimConfig, receive_fixes};
-pub use office::{Office, OfficeConfig, Room, office_floor};
+pub use office::{Office, Room, office_floor};
+pub use office_config::OfficeConfig;
 pub use step_sensor::{StepNoiseConfig, measure_steps, measure_steps_from};
 pub use tower::{Tower, TowerConfig, TowerRoom};
 pub use tower_walk::{
     TourKind, TowerWalkConfig, floor_changes, floor_resolved_at, simulate_tower_walk,
 };
 pub use truth::{TruePath, TruePose};
-pub use walker::{WalkConfig, simulate_walk};
+pub use walk_config::WalkConfig;
+pub use walker::simulate_walk;
 pub use wifi::{AccessPoint, RadioWorld, WifiSimConfig, expected_field};
 
 use crate::error::Result;

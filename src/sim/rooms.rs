@@ -1,7 +1,7 @@
 //! Rooms along the sides of the office's corridor loop: their placement, doors and the anchors
 //! a walker steers by (see [`super::office`] for the frame).
 
-use super::office::{OfficeConfig, config_error};
+use super::office_config::{OfficeConfig, config_error};
 use crate::error::Result;
 use geo::{Coord, Rect};
 

@@ -182,8 +182,10 @@ fn drift_increments(n: usize, config: &StepNoiseConfig, rng: &mut Pcg64Mcg) -> V
 mod tests {
     use super::*;
     use crate::geometry::Pose2;
-    use crate::sim::office::{Office, OfficeConfig};
-    use crate::sim::walker::{WalkConfig, simulate_walk};
+    use crate::sim::office::Office;
+    use crate::sim::office_config::OfficeConfig;
+    use crate::sim::walk_config::WalkConfig;
+    use crate::sim::walker::simulate_walk;
 
     fn truth() -> TruePath {
         let office = Office::new(&OfficeConfig::default()).expect("office");

@@ -7,7 +7,7 @@
 //! out the same way.
 
 use super::office::Office;
-use super::walker::WalkConfig;
+use super::walk_config::WalkConfig;
 use geo::{Coord, Rect};
 use rand::RngExt;
 use rand_pcg::Pcg64Mcg;
@@ -113,7 +113,7 @@ fn point_in_room(area: Rect<f64>, margin: f64, from: Coord<f64>, rng: &mut Pcg64
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::office::OfficeConfig;
+    use crate::sim::office_config::OfficeConfig;
     use rand::SeedableRng;
 
     #[test]

@@ -1,0 +1,102 @@
+//! The flags of `footslam simulate` ([`Args`]): the building, its walk and its sensor, read
+//! by the office and tower runs ([`super::simulate`]) and the campus run
+//! ([`super::simulate_campus`]).
+
+use super::common::parse_origin;
+use footslam::geometry::LocalFrame;
+use footslam::sim::StepNoiseConfig;
+use std::path::PathBuf;
+
+/// Which building to simulate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(super) enum Building {
+    /// One office floor: a corridor loop with rooms (the FootSLAM walks).
+    Office,
+    /// A multi-floor building with two stairwells of treads (known-map tracking).
+    Tower,
+    /// The office in a yard with a front door: outdoor–indoor–outdoor walks with GPS fixes
+    /// outdoors, and the building's rough outline.
+    Campus,
+}
+
+/// Which tour the tower's walker takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(super) enum Tour {
+    /// Room after random room from a random start.
+    Random,
+    /// A radio survey: every room swept lane by lane, both stairwells between every pair of
+    /// floors (ends where the tour ends — about 23 minutes on the default building — or
+    /// after `--minutes` when given).
+    Survey,
+}
+
+/// Arguments of `footslam simulate`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The building.
+    #[arg(long, value_enum, default_value = "office")]
+    pub(super) building: Building,
+    /// Tower: number of floors (overrides the config file).
+    #[arg(long)]
+    pub(super) floors: Option<usize>,
+    /// Tower: every floor with the same layout (overrides the config file).
+    #[arg(long)]
+    pub(super) identical_floors: bool,
+    /// Tower: length of the walk in minutes (overrides the config file).
+    #[arg(long)]
+    pub(super) minutes: Option<f64>,
+    /// Tower: the kind of tour (overrides the config file; default random).
+    #[arg(long, value_enum)]
+    pub(super) tour: Option<Tour>,
+    /// Random seed (overrides the config file).
+    #[arg(long)]
+    pub(super) seed: Option<u64>,
+    /// Office, campus: laps of the corridor loop (overrides the config file).
+    #[arg(long)]
+    pub(super) laps: Option<usize>,
+    /// Campus: number of walks of the building, written to walk-1/ … walk-N/ when more
+    /// than one (overrides the config file).
+    #[arg(long)]
+    pub(super) walks: Option<usize>,
+    /// Campus: the walks end indoors after the tour, so GPS sees only the way in
+    /// (overrides the config file's `walk_out`).
+    #[arg(long)]
+    pub(super) entrance_only: bool,
+    /// Campus: the steps carry a compass's absolute `heading` (overrides the config file's
+    /// `compass.enabled`).
+    #[arg(long)]
+    pub(super) compass: bool,
+    /// Step-sensor errors: `foot` (a foot-mounted IMU, the default) or `phone` (a hand-held
+    /// phone's PDR; on the campus also its compass), both measured on real recordings
+    /// (docs/error-models.md). Overrides the config file's `noise` (and `compass`).
+    #[arg(long, value_enum)]
+    pub(super) sensor: Option<Sensor>,
+    /// Simulation configuration (TOML, or JSON such as a previous run's config.json).
+    #[arg(long)]
+    pub(super) config: Option<PathBuf>,
+    /// WGS84 origin of the local frame for the floor plan GeoJSON, `LAT,LON` (default 0,0).
+    #[arg(long, value_parser = parse_origin, allow_hyphen_values = true)]
+    pub(super) origin: Option<LocalFrame>,
+    /// Output folder (default: a new folder under `outputs/`).
+    #[arg(long)]
+    pub(super) out: Option<PathBuf>,
+}
+
+/// Step-sensor error presets of `--sensor`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(super) enum Sensor {
+    /// A foot-mounted IMU's strides.
+    Foot,
+    /// A hand-held phone's steps.
+    Phone,
+}
+
+impl Sensor {
+    /// The preset's step errors.
+    pub(super) fn noise(self) -> StepNoiseConfig {
+        match self {
+            Self::Foot => StepNoiseConfig::foot(),
+            Self::Phone => StepNoiseConfig::phone(),
+        }
+    }
+}
