@@ -6,8 +6,8 @@
 //! detectors see real strides, turns and stances throughout.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use footslam::dataset::{read_imu, write_imu};
 use footslam::inertial::{FootConfig, PhoneConfig, detect_steps, detect_strides};
+use footslam::io::{read_imu, write_imu};
 use footslam::sensor::{ImuRecording, ImuSample};
 use std::hint::black_box;
 use std::path::Path;

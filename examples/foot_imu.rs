@@ -16,9 +16,9 @@
 
 #![allow(clippy::print_stdout)] // an example reports on stdout
 
-use footslam::dataset::read_imu;
 use footslam::geometry::RigidTransform;
 use footslam::inertial::{FootConfig, detect_strides};
+use footslam::io::read_imu;
 use footslam::sensor::{ImuRecording, ImuSample};
 use std::path::{Path, PathBuf};
 use std::time::Instant;

@@ -2,7 +2,7 @@
 //! ground-truth waypoints: pure dead reckoning started at each walk's first waypoint
 //! (position given, heading from the recording), error at every later waypoint.
 //!
-//! DIR holds pairs `NAME.imu.csv` (the `footslam::dataset::read_imu` format) and
+//! DIR holds pairs `NAME.imu.csv` (the `footslam::io::read_imu` format) and
 //! `NAME.waypoints.csv` (header `t,x,y`: seconds on the IMU's clock, metres east and north).
 //! A missing DIR is skipped with a message. Also times one hour of synthetic 100 Hz data.
 //!
@@ -15,8 +15,8 @@
 
 #![allow(clippy::print_stdout)] // an example reports on stdout
 
-use footslam::dataset::read_imu;
 use footslam::inertial::{PhoneConfig, detect_steps};
+use footslam::io::read_imu;
 use footslam::sensor::{ImuRecording, ImuSample};
 use std::path::{Path, PathBuf};
 use std::time::Instant;

@@ -9,10 +9,10 @@
 
 #![allow(dead_code)]
 
-use footslam::dataset;
-use footslam::export::map_geojson::{read_map_geojson, read_stored_map};
-use footslam::export::radio_map_geojson::read_radio_map_geojson;
 use footslam::geometry::LocalFrame;
+use footslam::io;
+use footslam::io::map_geojson::{read_map_geojson, read_stored_map};
+use footslam::io::radio_map_geojson::read_radio_map_geojson;
 use std::path::{Path, PathBuf};
 
 /// What a target does with one input.
@@ -72,14 +72,14 @@ fn finite(values: impl IntoIterator<Item = f64>, what: &str) {
 /// length.
 pub fn steps_csv(data: &[u8]) {
     let path = file("steps.csv", data);
-    if let Ok(trace) = dataset::read_steps(&path) {
+    if let Ok(trace) = io::read_steps(&path) {
         for s in trace.steps() {
             finite([s.t, s.length, s.dheading, s.dz], "steps");
         }
-        let _ = dataset::steps_csv::has_dz_column(&path);
+        let _ = io::steps_csv::has_dz_column(&path);
         let again = file("steps-again.csv", b"");
-        dataset::steps_csv::write_steps(&again, &trace).expect("write steps");
-        let back = dataset::read_steps(&again).expect("a written trace reads back");
+        io::steps_csv::write_steps(&again, &trace).expect("write steps");
+        let back = io::read_steps(&again).expect("a written trace reads back");
         assert_eq!(back.len(), trace.len());
     }
 }
@@ -87,7 +87,7 @@ pub fn steps_csv(data: &[u8]) {
 /// An IMU recording (`imu.csv`), then both step detectors on what it accepts.
 pub fn imu_csv(data: &[u8]) {
     let path = file("imu.csv", data);
-    if let Ok(recording) = dataset::read_imu(&path) {
+    if let Ok(recording) = io::read_imu(&path) {
         let config = footslam::inertial::StepsConfig::default();
         let _ = footslam::inertial::detect_strides(&recording, &config.foot);
         let _ = footslam::inertial::detect_steps(&recording, &config.phone);
@@ -97,7 +97,7 @@ pub fn imu_csv(data: &[u8]) {
 /// A WiFi log (`wifi.csv`).
 pub fn wifi_csv(data: &[u8]) {
     let path = file("wifi.csv", data);
-    if let Ok(scans) = dataset::read_wifi(&path) {
+    if let Ok(scans) = io::read_wifi(&path) {
         finite(scans.iter().map(|s| s.t), "wifi");
     }
 }
@@ -105,7 +105,7 @@ pub fn wifi_csv(data: &[u8]) {
 /// GPS fixes as CSV (`gps.csv`).
 pub fn gps_csv(data: &[u8]) {
     let path = file("gps.csv", data);
-    if let Ok(fixes) = dataset::read_gps_csv(&path) {
+    if let Ok(fixes) = io::read_gps_csv(&path) {
         finite(fixes.iter().flat_map(|f| [f.t, f.lat, f.lon]), "gps");
     }
 }
@@ -113,25 +113,25 @@ pub fn gps_csv(data: &[u8]) {
 /// GPS fixes as GPX.
 pub fn gpx(data: &[u8]) {
     let path = file("gps.gpx", data);
-    let _ = dataset::read_gpx(&path, 0.0);
+    let _ = io::read_gpx(&path, 0.0);
 }
 
 /// The CSVs `eval` reads: a ground truth, a track, a trajectory and waypoints (the same
 /// bytes to each).
 pub fn eval_csv(data: &[u8]) {
     let path = file("eval.csv", data);
-    let _ = dataset::truth_csv::read_truth(&path);
-    let _ = dataset::read_track(&path);
-    let _ = dataset::read_trajectory(&path);
-    let _ = dataset::read_certain_trajectory(&path);
-    let _ = dataset::read_waypoints(&path);
+    let _ = io::truth_csv::read_truth(&path);
+    let _ = io::read_track(&path);
+    let _ = io::read_trajectory(&path);
+    let _ = io::read_certain_trajectory(&path);
+    let _ = io::read_waypoints(&path);
 }
 
 /// A floor plan (GeoJSON), then the topology built on what it accepts (bounded loops on
 /// any valid plan).
 pub fn floor_plan(data: &[u8]) {
     let path = file("plan.geojson", data);
-    if let Ok((plan, _)) = dataset::floor_plan_geojson::read_floor_plan(&path, None) {
+    if let Ok((plan, _)) = io::floor_plan_geojson::read_floor_plan(&path, None) {
         let _ =
             footslam::map::FloorTopology::build(&plan, &footslam::map::TopologyConfig::default());
     }
@@ -141,7 +141,7 @@ pub fn floor_plan(data: &[u8]) {
 pub fn outline(data: &[u8]) {
     let path = file("outline.geojson", data);
     let frame = LocalFrame::new(52.0, 0.1).expect("frame");
-    let _ = dataset::read_outline(&path, &frame);
+    let _ = io::read_outline(&path, &frame);
 }
 
 /// A radio map (GeoJSON).
@@ -160,8 +160,8 @@ pub fn hex_map(data: &[u8]) {
 /// A walk manifest, as `learn --walks` and `survey --walks` read it.
 pub fn manifest(data: &[u8]) {
     let path = file("walks.csv", data);
-    let _ = dataset::read_walk_manifest(&path, false);
-    let _ = dataset::read_walk_manifest(&path, true);
+    let _ = io::read_walk_manifest(&path, false);
+    let _ = io::read_walk_manifest(&path, true);
 }
 
 /// A component configuration, as JSON and as TOML, into each configuration type and its
@@ -187,15 +187,15 @@ pub fn config(data: &[u8]) {
         footslam::sim::SimConfig,
         footslam::map::CellConfig,
         footslam::filter::FingerprintConfig,
-        footslam::dataset::ilc_trace::IlcImportConfig
+        footslam::io::import::ilc_trace::IlcImportConfig
     );
 }
 
 /// An Indoor Location Competition 2.0 trace file.
 pub fn ilc_trace(data: &[u8]) {
     let path = file("trace.txt", data);
-    let config = dataset::ilc_trace::IlcImportConfig::default();
-    let _ = dataset::ilc_trace::read_ilc_trace(&path, &config);
+    let config = io::import::ilc_trace::IlcImportConfig::default();
+    let _ = io::import::ilc_trace::read_ilc_trace(&path, &config);
 }
 
 /// An Indoor Location Competition 2.0 floor: `floor_info.json` and `geojson_map.json`,
@@ -209,14 +209,14 @@ pub fn ilc_floor(data: &[u8]) {
     std::fs::create_dir_all(&dir).expect("floor folder");
     std::fs::write(dir.join("floor_info.json"), info).expect("info");
     std::fs::write(dir.join("geojson_map.json"), map).expect("map");
-    let _ = dataset::ilc_floor::read_ilc_floor(&dir);
+    let _ = io::import::ilc_floor::read_ilc_floor(&dir);
 }
 
 /// An IPIN competition logfile.
 pub fn ipin_log(data: &[u8]) {
     let path = file("log.txt", data);
-    let config = dataset::ipin_log::IpinImportConfig::default();
-    let _ = dataset::ipin_log::read_ipin_log(&path, &config);
+    let config = io::import::ipin_log::IpinImportConfig::default();
+    let _ = io::import::ipin_log::read_ipin_log(&path, &config);
 }
 
 /// Runs every input of `fuzz/corpus/NAME/` through target `NAME`; returns the number run.

@@ -16,10 +16,12 @@
 //! * **Raw IMU recordings to step events** ([`inertial`]): a foot-mounted zero-velocity-aided
 //!   INS ([`inertial::detect_strides`]) and a phone's step-and-heading system
 //!   ([`inertial::detect_steps`]), over [`sensor::ImuRecording`].
-//! * Readers for step traces, IMU recordings, floor plans and public datasets (the Indoor
-//!   Location Competition 2.0, IPIN logfiles) ([`dataset`]), exporters to RFC 7946 GeoJSON
-//!   and pictures ([`export`]), a simulator of office and multi-floor walks with a
-//!   foot-mounted-grade error model ([`sim`]) and evaluation ([`eval`]).
+//! * One module per file format, reading and writing it: step traces, IMU recordings, WiFi
+//!   and GPS logs, floor plans and learned maps as RFC 7946 GeoJSON, and importers of public
+//!   datasets (the Indoor Location Competition 2.0, IPIN logfiles) ([`io`]); pictures of
+//!   maps, plans, paths and particle clouds ([`render`]); a simulator of office and
+//!   multi-floor walks with a foot-mounted-grade error model ([`sim`]) and evaluation
+//!   ([`eval`]).
 //!
 //! ```
 //! use footslam::filter::{FootSlam, FootSlamConfig};
@@ -62,19 +64,20 @@
 //! # Ok::<(), footslam::Error>(())
 //! ```
 //!
-//! Layers point down only: [`geometry`] → [`sensor`] → [`inertial`], [`map`] → [`model`] → [`filter`] →
-//! [`dataset`], [`export`] (and [`sim`], [`eval`]). The library never prints.
+//! Layers point down only, each using only those before it: [`geometry`] → [`sensor`] →
+//! [`inertial`], [`map`] → [`model`] → [`filter`] → [`io`] (files) → [`render`] (pictures),
+//! with [`sim`] and [`eval`] beside them. The library never prints.
 
-pub mod dataset;
 pub mod error;
 pub mod eval;
-pub mod export;
 pub mod filter;
 pub mod geometry;
 pub mod inertial;
+pub mod io;
 pub mod map;
 pub mod model;
 pub mod random;
+pub mod render;
 pub mod sensor;
 pub mod sim;
 

@@ -1,8 +1,8 @@
 //! The foot-mounted INS on a real excerpt (see `tests/data/README.md`): stride count, lengths
 //! and turns against the Vicon truth.
 
-use footslam::dataset::read_imu;
 use footslam::inertial::{FootConfig, HeadingSource, detect_strides};
+use footslam::io::read_imu;
 use std::path::Path;
 
 /// Truth of the excerpt: end time (s) and length (m) of each complete stride, and the change of

@@ -4,9 +4,9 @@
 //! track must stay about as good as on the clean trace (no corrupted map), the particle
 //! cloud must not collapse, and no value may be non-finite.
 
-use footslam::dataset::TimedPoint;
 use footslam::eval::{Alignment, position_errors};
 use footslam::filter::{FootSlam, FootSlamConfig};
+use footslam::io::TimedPoint;
 use footslam::sensor::Step;
 use footslam::sim::{SimConfig, simulate};
 use std::f64::consts::PI;

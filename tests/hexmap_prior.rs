@@ -9,8 +9,8 @@
 //! localisation by more than a few steps.
 
 use assert_cmd::Command;
-use footslam::dataset::read_trajectory;
 use footslam::eval::{Alignment, position_errors};
+use footslam::io::read_trajectory;
 use std::path::Path;
 
 fn footslam() -> Command {

@@ -3,9 +3,9 @@
 //! inputs that must fail with the file and line named, never a panic.
 
 use assert_cmd::Command;
-use footslam::dataset::floor_plan_geojson::read_floor_plan;
-use footslam::dataset::ipin_log::synthetic_ipin_log;
-use footslam::dataset::{read_gps_csv, read_imu, read_waypoints, read_wifi};
+use footslam::io::floor_plan_geojson::read_floor_plan;
+use footslam::io::import::ipin_log::synthetic_ipin_log;
+use footslam::io::{read_gps_csv, read_imu, read_waypoints, read_wifi};
 use footslam::map::{FloorTopology, TopologyConfig};
 use std::path::{Path, PathBuf};
 

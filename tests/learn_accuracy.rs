@@ -7,9 +7,9 @@
 //! least 90 % of the visit-weighted learned hexagons in walkable space.
 
 use assert_cmd::Command;
-use footslam::dataset::{TimedPoint, read_trajectory};
 use footslam::eval::{Alignment, position_errors, walkable_fraction};
-use footslam::export::map_geojson::read_map_geojson;
+use footslam::io::map_geojson::read_map_geojson;
+use footslam::io::{TimedPoint, read_trajectory};
 use footslam::sim::{SimConfig, simulate};
 
 #[allow(clippy::print_stderr)] // reports the figures with --nocapture
@@ -22,7 +22,7 @@ fn check_seed(seed: u64, drift_deg: f64) {
     config.noise.drift_total = drift_deg.to_radians();
     let sim = simulate(&config).expect("simulate");
     let steps = dir.path().join("steps.csv");
-    footslam::dataset::steps_csv::write_steps(&steps, &sim.steps).expect("write steps");
+    footslam::io::steps_csv::write_steps(&steps, &sim.steps).expect("write steps");
     let out = dir.path().join("run");
     Command::cargo_bin("footslam")
         .expect("binary")
@@ -155,7 +155,7 @@ fn compass_headings_keep_the_learned_map_in_the_world_frame() {
     let dir = tempfile::tempdir().expect("tempdir");
     let (truth, trace) = rotated_walk_with_headings(505, 40f64.to_radians());
     let steps = dir.path().join("steps.csv");
-    footslam::dataset::steps_csv::write_steps(&steps, &trace).expect("write steps");
+    footslam::io::steps_csv::write_steps(&steps, &trace).expect("write steps");
     let learn = |name: &str, extra: &[&str]| {
         let out = dir.path().join(name);
         Command::cargo_bin("footslam")

@@ -13,10 +13,10 @@
 //!   the command wrote.
 
 use assert_cmd::Command;
-use footslam::dataset::floor_plan_geojson::read_floor_plan;
-use footslam::dataset::{TimedPoint, read_track, read_trajectory};
 use footslam::eval::{Alignment, plan_overlap, position_errors};
-use footslam::export::ros_map::{FREE, OCCUPIED, UNKNOWN};
+use footslam::io::floor_plan_geojson::read_floor_plan;
+use footslam::io::ros_map::{FREE, OCCUPIED, UNKNOWN};
+use footslam::io::{TimedPoint, read_track, read_trajectory};
 use footslam::map::{Occupancy, OccupancyConfig, OccupancyGrid};
 use std::path::Path;
 

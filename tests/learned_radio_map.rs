@@ -232,7 +232,7 @@ fn footslam() -> assert_cmd::Command {
 
 #[test]
 fn learn_wifi_writes_a_radio_map_on_the_learned_plan_and_refuses_a_log_on_another_clock() {
-    use footslam::export::radio_map_geojson::read_radio_map_geojson;
+    use footslam::io::radio_map_geojson::read_radio_map_geojson;
     use predicates::prelude::*;
     let dir = tempfile::tempdir().expect("tempdir");
     let sim = dir.path().join("sim");

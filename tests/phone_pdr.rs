@@ -2,8 +2,8 @@
 //! see `tests/data/README.md`): the step count against a hand count, and an absolute
 //! heading that follows the walk's waypoints.
 
-use footslam::dataset::read_imu;
 use footslam::inertial::{HeadingSource, PhoneConfig, detect_steps};
+use footslam::io::read_imu;
 use std::path::Path;
 
 #[test]

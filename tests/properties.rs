@@ -2,11 +2,11 @@
 //! writes (to the written precision), FootSLAM emits only finite values for any valid step
 //! trace, and its results do not depend on the thread count.
 
-use footslam::dataset::{
+use footslam::filter::{FootSlam, FootSlamConfig};
+use footslam::io::{
     TimedPoint, read_steps, read_trajectory, read_wifi, steps_csv::write_steps, write_trajectory,
     write_wifi,
 };
-use footslam::filter::{FootSlam, FootSlamConfig};
 use footslam::sensor::{Step, StepTrace, WifiReading, WifiScan};
 use proptest::prelude::*;
 
@@ -168,7 +168,7 @@ proptest! {
     fn gps_fixes_round_trip(
         fixes in prop::collection::vec((0.1f64..30.0, -80.0f64..80.0, -179.0f64..179.0, 0.5f64..200.0), 1..30),
     ) {
-        use footslam::dataset::{read_gps_csv, write_gps_csv};
+        use footslam::io::{read_gps_csv, write_gps_csv};
         let mut t = 1.7e9;
         let fixes: Vec<footslam::sensor::GpsFix> = fixes
             .into_iter()
@@ -189,7 +189,7 @@ proptest! {
     fn tracks_round_trip(
         points in prop::collection::vec((0.01f64..5.0, -1e4f64..1e4, -1e4f64..1e4, -50.0f64..50.0, -3i32..10), 1..40),
     ) {
-        use footslam::dataset::{TrackPoint, read_track, write_track};
+        use footslam::io::{TrackPoint, read_track, write_track};
         let mut t = 1.7e9;
         let points: Vec<TrackPoint> = points
             .into_iter()
@@ -214,7 +214,7 @@ proptest! {
         lat in -60.0f64..60.0,
         lon in -170.0f64..170.0,
     ) {
-        use footslam::dataset::floor_plan_geojson::{read_floor_plan, write_floor_plan};
+        use footslam::io::floor_plan_geojson::{read_floor_plan, write_floor_plan};
         use footslam::geometry::LocalFrame;
         use footslam::map::{FloorPlan, FloorPolygon};
         let polygons: Vec<FloorPolygon> = rooms
@@ -254,7 +254,7 @@ proptest! {
         cells in prop::collection::btree_map((-200i32..200, -200i32..200, 0i32..3), prop::array::uniform6(0u32..50), 1..60),
         radius in 0.2f64..3.0,
     ) {
-        use footslam::export::map_geojson::{read_map_geojson, write_map_geojson};
+        use footslam::io::map_geojson::{read_map_geojson, write_map_geojson};
         use footslam::geometry::{Hex, LocalFrame};
         use footslam::map::hex_transitions::{HexCell, HexMapSnapshot};
         let mut cells: Vec<HexCell> = cells
@@ -285,7 +285,7 @@ proptest! {
     fn imu_recordings_round_trip(
         samples in prop::collection::vec((0.001f64..0.05, prop::array::uniform3(-5.0f64..5.0), prop::array::uniform3(-8.0f64..8.0), prop::array::uniform3(-60.0f64..60.0), 950.0f64..1050.0), 2..60),
     ) {
-        use footslam::dataset::{read_imu, write_imu};
+        use footslam::io::{read_imu, write_imu};
         use footslam::sensor::{ImuRecording, ImuSample};
         let mut t = 1.7e9;
         let samples: Vec<ImuSample> = samples

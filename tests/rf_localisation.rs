@@ -98,9 +98,9 @@ fn a_radio_map_halves_the_steps_to_localise_without_losing_walkers() {
 #[test]
 #[allow(clippy::print_stderr)] // reports the figures with --nocapture
 fn a_radio_map_without_a_calibration_derives_its_threshold_and_still_halves_the_steps() {
-    use footslam::export::radio_map_geojson::{read_radio_map_geojson, write_radio_map_geojson};
     use footslam::filter::EpsilonSource;
     use footslam::geometry::LocalFrame;
+    use footslam::io::radio_map_geojson::{read_radio_map_geojson, write_radio_map_geojson};
     let SimulatedSurvey {
         topology, mut map, ..
     } = simulate_survey(&TowerSimConfig::default(), 2000, 2).expect("survey");

@@ -108,7 +108,7 @@ fn a_phone_excerpt_gives_steps_with_absolute_heading_a_summary_and_a_picture() {
     for name in ["steps.csv", "summary.json", "steps.png", "config.json"] {
         assert!(out.join(name).is_file(), "{name}");
     }
-    let steps = footslam::dataset::read_steps(&out.join("steps.csv")).expect("steps.csv");
+    let steps = footslam::io::read_steps(&out.join("steps.csv")).expect("steps.csv");
     // 28 steps by hand count (tests/data/README.md).
     assert!((25..=31).contains(&steps.len()), "{}", steps.len());
     assert!(steps.steps().iter().all(|s| s.heading.is_some()));
@@ -149,7 +149,7 @@ fn a_foot_excerpt_gives_strides_without_absolute_heading() {
         .assert()
         .success()
         .stdout(predicate::str::contains("strides"));
-    let steps = footslam::dataset::read_steps(&out.join("steps.csv")).expect("steps.csv");
+    let steps = footslam::io::read_steps(&out.join("steps.csv")).expect("steps.csv");
     // The excerpt's truth (tests/data/README.md): three strides of 1.11–1.26 m after a stand.
     assert!((3..=4).contains(&steps.len()), "{}", steps.len());
     assert!(steps.steps().iter().all(|s| s.heading.is_none()));

@@ -279,7 +279,7 @@ fn bad_inputs_get_clear_errors() {
 fn simulate_tower_writes_wifi_scans_and_the_radio_truth() {
     let dir = tempfile::tempdir().expect("tempdir");
     let sim = simulate_tower(dir.path(), "8", "2");
-    let scans = footslam::dataset::read_wifi(&sim.join("wifi.csv")).expect("wifi.csv parses");
+    let scans = footslam::io::read_wifi(&sim.join("wifi.csv")).expect("wifi.csv parses");
     // A scan about every 2 s of the 2-minute walk, each hearing several access points.
     assert!((50..=70).contains(&scans.len()), "{} scans", scans.len());
     assert!(
@@ -329,7 +329,7 @@ fn survey_builds_a_radio_map_from_tracked_walks() {
     assert!(summary["speed_vs_real_time"].as_f64().expect("speed") > 0.0);
     let coverage = std::fs::read_to_string(out.join("coverage.csv")).expect("coverage");
     assert_eq!(coverage.lines().count(), 6);
-    let (map, _) = footslam::export::radio_map_geojson::read_radio_map_geojson(
+    let (map, _) = footslam::io::radio_map_geojson::read_radio_map_geojson(
         &out.join("radiomap.geojson"),
         None,
     )
@@ -356,8 +356,8 @@ fn survey_builds_a_radio_map_from_tracked_walks() {
 
 /// Position errors of `out`'s track.csv against `sim`'s truth.csv, unaligned.
 fn track_errors(sim: &Path, out: &Path) -> footslam::eval::ErrorReport {
-    let truth = footslam::dataset::read_trajectory(&sim.join("truth.csv")).expect("truth");
-    let track = footslam::dataset::read_trajectory(&out.join("track.csv")).expect("track");
+    let truth = footslam::io::read_trajectory(&sim.join("truth.csv")).expect("truth");
+    let track = footslam::io::read_trajectory(&out.join("track.csv")).expect("track");
     footslam::eval::position_errors(&truth, &track, footslam::eval::Alignment::None)
         .expect("errors")
 }
@@ -399,8 +399,8 @@ fn a_start_without_a_heading_localises_at_the_known_place() {
 fn with_headings(sim: &Path, seed: u64) -> PathBuf {
     use footslam::random::{gauss, stream};
     use rand::RngExt;
-    let trace = footslam::dataset::read_steps(&sim.join("steps.csv")).expect("steps");
-    let truth = footslam::dataset::truth_csv::read_truth(&sim.join("truth.csv")).expect("truth");
+    let trace = footslam::io::read_steps(&sim.join("steps.csv")).expect("steps");
+    let truth = footslam::io::truth_csv::read_truth(&sim.join("truth.csv")).expect("truth");
     let mut rng = stream(seed, 0, 0x4EAD);
     let steps: Vec<footslam::sensor::Step> = trace
         .steps()
@@ -419,7 +419,7 @@ fn with_headings(sim: &Path, seed: u64) -> PathBuf {
         .collect();
     let path = sim.join("steps-heading.csv");
     let trace = footslam::sensor::StepTrace::new(steps).expect("valid");
-    footslam::dataset::steps_csv::write_steps(&path, &trace).expect("write");
+    footslam::io::steps_csv::write_steps(&path, &trace).expect("write");
     path
 }
 

@@ -21,8 +21,8 @@
 //! Runs use 5,000 particles (a quarter of the default) to keep the tests short.
 
 use assert_cmd::Command;
-use footslam::dataset::read_trajectory;
 use footslam::eval::{Alignment, position_errors};
+use footslam::io::read_trajectory;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 

@@ -1,9 +1,9 @@
 //! Pieces shared by the subcommands: origins, output folders, progress bars, config files.
 
 use anyhow::{Context, Result, bail};
-use footslam::dataset::read_wifi;
-use footslam::dataset::steps_csv::has_dz_column;
 use footslam::geometry::LocalFrame;
+use footslam::io::read_wifi;
+use footslam::io::steps_csv::has_dz_column;
 use footslam::map::FloorPlan;
 use footslam::map::RadioMap;
 use footslam::sensor::{StepTrace, WifiScan};
@@ -161,11 +161,7 @@ pub fn path_length(points: impl IntoIterator<Item = (f64, f64)>) -> f64 {
 
 /// Where walk `i` of a run writes: its own `walk-<i+1>/` folder (created) when the run has
 /// several, else the run folder itself; the prefix for its file names.
-pub fn walk_prefix(
-    folder: &footslam::export::RunFolder,
-    i: usize,
-    several: bool,
-) -> Result<String> {
+pub fn walk_prefix(folder: &footslam::io::RunFolder, i: usize, several: bool) -> Result<String> {
     if !several {
         return Ok(String::new());
     }
@@ -180,7 +176,7 @@ pub fn write_truth_png(
     plan: &footslam::map::FloorPlan,
     truth: &[(f64, f64)],
 ) -> Result<()> {
-    use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
+    use footslam::render::map_png::{MapPicture, PictureConfig, write_map_png};
     let empty = footslam::map::HexMapSnapshot {
         radius: 0.5,
         alpha: 0.8,

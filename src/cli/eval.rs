@@ -2,16 +2,16 @@
 
 use super::common::{SAME_ORIGIN, parse_origin, read_config, require_file};
 use anyhow::{Context, Result};
-use footslam::dataset::floor_plan_geojson::read_floor_plan;
-use footslam::dataset::{
-    TimedPoint, read_certain_trajectory, read_steps, read_track, read_trajectory, read_waypoints,
-};
 use footslam::eval::{
     Alignment, ErrorReport, floor_accuracy, plan_overlap, position_errors, walkable_fraction,
     waypoint_errors,
 };
-use footslam::export::map_geojson::read_map_geojson;
 use footslam::geometry::LocalFrame;
+use footslam::io::floor_plan_geojson::read_floor_plan;
+use footslam::io::map_geojson::read_map_geojson;
+use footslam::io::{
+    TimedPoint, read_certain_trajectory, read_steps, read_track, read_trajectory, read_waypoints,
+};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `footslam eval`.
@@ -140,7 +140,7 @@ pub fn run(args: Args) -> Result<()> {
     // Both files with `z` and `level` columns (truth.csv, track's track.csv): floor accuracy.
     let floors = match (read_track(&truth_path), read_track(&args.track)) {
         (Ok(truth), Ok(track)) => {
-            let levels = |v: &[footslam::dataset::TrackPoint]| -> Vec<(f64, i32)> {
+            let levels = |v: &[footslam::io::TrackPoint]| -> Vec<(f64, i32)> {
                 v.iter().map(|p| (p.t, p.level)).collect()
             };
             floor_accuracy(&levels(&truth), &levels(&track))
@@ -335,7 +335,7 @@ fn run_waypoints(args: Args) -> Result<()> {
 /// step's measured heading less its turn, so the path follows the measured headings.
 fn dead_reckoning_from(
     trace: &footslam::sensor::StepTrace,
-    first: &footslam::dataset::Waypoint,
+    first: &footslam::io::Waypoint,
     absolute: bool,
 ) -> Vec<TimedPoint> {
     let steps = trace.steps();
@@ -403,5 +403,5 @@ fn run_origin(csv: &Path, anchored: bool) -> Option<LocalFrame> {
     if anchored && !(tied("gps_file") || tied("plan_file")) {
         return None;
     }
-    footslam::dataset::geojson_file::read_origin(value.get("origin")?).ok()
+    footslam::io::geojson_file::read_origin(value.get("origin")?).ok()
 }

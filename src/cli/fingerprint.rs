@@ -3,10 +3,10 @@
 
 use super::common::{check_scans_match, output_dir, read_config, require_file};
 use anyhow::{Result, bail};
-use footslam::dataset::{TrackPoint, read_wifi, write_track};
-use footslam::export::RunFolder;
-use footslam::export::radio_map_geojson::read_radio_map_geojson;
 use footslam::filter::{FingerprintConfig, NearestFingerprint};
+use footslam::io::RunFolder;
+use footslam::io::radio_map_geojson::read_radio_map_geojson;
+use footslam::io::{TrackPoint, read_wifi, write_track};
 use serde::Serialize;
 use std::path::PathBuf;
 

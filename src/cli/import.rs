@@ -3,13 +3,13 @@
 
 use super::common::parse_origin;
 use anyhow::{Context, Result, bail};
-use footslam::dataset::floor_plan_geojson::{read_floor_plan, write_floor_plan};
-use footslam::dataset::ilc_floor::{IlcFloor, PlanReport, Walkable, read_ilc_floor};
-use footslam::dataset::ilc_trace::{IlcImportConfig, IlcTrace, read_ilc_trace};
-use footslam::dataset::ipin_log::{IpinImportConfig, positions_to_waypoints, read_ipin_log};
-use footslam::dataset::{Waypoint, write_gps_csv, write_imu, write_waypoints, write_wifi};
-use footslam::export::RunFolder;
 use footslam::geometry::LocalFrame;
+use footslam::io::RunFolder;
+use footslam::io::floor_plan_geojson::{read_floor_plan, write_floor_plan};
+use footslam::io::import::ilc_floor::{IlcFloor, PlanReport, Walkable, read_ilc_floor};
+use footslam::io::import::ilc_trace::{IlcImportConfig, IlcTrace, read_ilc_trace};
+use footslam::io::import::ipin_log::{IpinImportConfig, positions_to_waypoints, read_ipin_log};
+use footslam::io::{Waypoint, write_gps_csv, write_imu, write_waypoints, write_wifi};
 use footslam::map::{FloorPlan, FloorTopology, TopologyConfig};
 use serde_json::json;
 use std::path::{Path, PathBuf};

@@ -8,21 +8,21 @@ use super::common::{
 use super::learn_inputs::{Walk, WalkArgs, check_same_grid, read_walks};
 use super::learn_radio::{RadioSummary, learn_radio_map};
 use anyhow::Result;
-use footslam::dataset::floor_plan_geojson::write_floor_plan;
-use footslam::dataset::{TimedPoint, TrackPoint, parse_utc_time, read_outline, write_trajectory};
-use footslam::export::RunFolder;
-use footslam::export::map_geojson::{read_stored_map, write_map_geojson, write_walks_map_geojson};
-use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
-use footslam::export::track_geojson::write_track_geojson;
 use footslam::filter::gps_start::heading_from_fixes;
 use footslam::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate, StartPose};
 use footslam::geometry::Hex;
 use footslam::geometry::{HexGrid, LocalFrame};
+use footslam::io::RunFolder;
+use footslam::io::floor_plan_geojson::write_floor_plan;
+use footslam::io::map_geojson::{read_stored_map, write_map_geojson, write_walks_map_geojson};
+use footslam::io::track_geojson::write_track_geojson;
+use footslam::io::{TimedPoint, TrackPoint, parse_utc_time, read_outline, write_trajectory};
 use footslam::map::{
     CellConfig, EdgePrior, HexMapSnapshot, PlanConfig, merge_maps, register_maps, shift_map,
     walkable_plan,
 };
 use footslam::model::{GpsObservation, HeadingLikelihood, find_levels};
+use footslam::render::map_png::{MapPicture, PictureConfig, write_map_png};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::PathBuf;

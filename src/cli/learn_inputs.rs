@@ -3,9 +3,9 @@
 
 use super::common::{SAME_ORIGIN, read_scans, require_file};
 use anyhow::{Context, Result, bail};
-use footslam::dataset::{ManifestWalk, read_gps_csv, read_gpx, read_steps, read_walk_manifest};
 use footslam::filter::StartPose;
 use footslam::geometry::LocalFrame;
+use footslam::io::{ManifestWalk, read_gps_csv, read_gpx, read_steps, read_walk_manifest};
 use footslam::sensor::{GpsFix, StepTrace, WifiScan};
 use std::path::{Path, PathBuf};
 

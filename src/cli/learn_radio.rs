@@ -6,9 +6,9 @@
 use super::learn_inputs::Walk;
 use super::radio_outputs::{held_out_quantiles, write_radio_map_files};
 use anyhow::{Context, Result};
-use footslam::export::RunFolder;
 use footslam::filter::{EPSILON_MISS, FootSlamEstimate, RfConfig, path_points, survey_paths};
 use footslam::geometry::LocalFrame;
+use footslam::io::RunFolder;
 use footslam::map::{CellConfig, HexMapSnapshot, PlanConfig, walkable_plan};
 use serde::Serialize;
 use std::collections::BTreeMap;

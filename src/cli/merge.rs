@@ -2,7 +2,7 @@
 
 use super::common::{SAME_ORIGIN, require_file, warn};
 use anyhow::{Result, bail};
-use footslam::export::map_geojson::{read_stored_map, write_walks_map_geojson};
+use footslam::io::map_geojson::{read_stored_map, write_walks_map_geojson};
 use footslam::map::merge_maps;
 use std::path::PathBuf;
 

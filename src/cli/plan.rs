@@ -3,12 +3,12 @@
 
 use super::common::{output_dir, read_config, require_file};
 use anyhow::Result;
-use footslam::dataset::floor_plan_geojson::write_floor_plan;
-use footslam::export::map_geojson::read_stored_map;
-use footslam::export::plan_png::{PlanPicture, PlanPictureConfig, write_plan_png};
-use footslam::export::{RunFolder, write_ros_map};
 use footslam::geometry::LocalFrame;
+use footslam::io::floor_plan_geojson::write_floor_plan;
+use footslam::io::map_geojson::read_stored_map;
+use footslam::io::{RunFolder, write_ros_map};
 use footslam::map::{LearnedPlan, OccupancyConfig, OccupancyGrid, PlanConfig, walkable_plan};
+use footslam::render::plan_png::{PlanPicture, PlanPictureConfig, write_plan_png};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 

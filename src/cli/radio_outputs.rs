@@ -3,14 +3,14 @@
 //! per access point.
 
 use anyhow::Result;
-use footslam::export::RunFolder;
-use footslam::export::plan_png::{
-    ColourBar, PlanCell, PlanMarker, PlanPicture, PlanPictureConfig, viridis_rgb, write_plan_png,
-};
-use footslam::export::radio_map_geojson::{write_radio_map_csv, write_radio_map_geojson};
 use footslam::geometry::LocalFrame;
+use footslam::io::RunFolder;
+use footslam::io::radio_map_geojson::{write_radio_map_csv, write_radio_map_geojson};
 use footslam::map::{FloorPlan, RadioMap};
 use footslam::model::wifi_distance::{HeldOut, Normalisation};
+use footslam::render::plan_png::{
+    ColourBar, PlanCell, PlanMarker, PlanPicture, PlanPictureConfig, viridis_rgb, write_plan_png,
+};
 use geo::Centroid;
 use std::collections::BTreeMap;
 

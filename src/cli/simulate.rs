@@ -4,15 +4,15 @@
 use super::common::{output_dir, path_length, read_config, write_truth_png};
 use super::simulate_args::{Args, Building, Tour};
 use anyhow::Result;
-use footslam::dataset::floor_plan_geojson::write_floor_plan;
-use footslam::dataset::radio_truth_csv::{write_access_points, write_radio_field};
-use footslam::dataset::steps_csv::write_steps;
-use footslam::dataset::truth_csv::write_truth;
-use footslam::dataset::write_wifi;
-use footslam::export::RunFolder;
-use footslam::export::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, write_plan_png};
 use footslam::geometry::LocalFrame;
+use footslam::io::RunFolder;
+use footslam::io::floor_plan_geojson::write_floor_plan;
+use footslam::io::radio_truth_csv::{write_access_points, write_radio_field};
+use footslam::io::steps_csv::write_steps;
+use footslam::io::truth_csv::write_truth;
+use footslam::io::write_wifi;
 use footslam::map::{FloorTopology, TopologyConfig};
+use footslam::render::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, write_plan_png};
 use footslam::sim::{
     SimConfig, TourKind, TowerSimConfig, TruePose, expected_field, floor_changes,
     floor_resolved_at, simulate, simulate_tower,

@@ -4,11 +4,11 @@
 use super::common::{output_dir, path_length, read_config, walk_prefix, write_truth_png};
 use super::simulate_args::{Args, Sensor};
 use anyhow::Result;
-use footslam::dataset::floor_plan_geojson::write_floor_plan;
-use footslam::dataset::steps_csv::write_steps;
-use footslam::dataset::truth_csv::write_truth;
-use footslam::dataset::{write_gps_csv, write_outline};
-use footslam::export::RunFolder;
+use footslam::io::RunFolder;
+use footslam::io::floor_plan_geojson::write_floor_plan;
+use footslam::io::steps_csv::write_steps;
+use footslam::io::truth_csv::write_truth;
+use footslam::io::{write_gps_csv, write_outline};
 use footslam::sim::{CampusSimConfig, CampusWalk, CompassSimConfig, simulate_campus};
 use serde::Serialize;
 

@@ -3,15 +3,15 @@
 
 use super::common::{output_dir, read_config, require_file};
 use anyhow::{Context, Result};
-use footslam::dataset::{ImuUnits, read_imu_in, steps_csv::write_steps};
-use footslam::export::RunFolder;
-use footslam::export::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::inertial::frame_check::axes_flag;
 use footslam::inertial::{
     FrameFinding, HeadingSource, Mount, StepEvents, StepsConfig, check_foot_frame, check_mount,
     check_phone_frame, detect_steps, detect_strides,
 };
+use footslam::io::RunFolder;
+use footslam::io::{ImuUnits, read_imu_in, steps_csv::write_steps};
 use footslam::map::hex_transitions::HexMapSnapshot;
+use footslam::render::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::sensor::{ImuRecording, SamplingReport};
 use serde::Serialize;
 use std::path::PathBuf;

@@ -7,14 +7,14 @@ use super::common::{
 };
 use super::radio_outputs::{held_out_quantiles, write_radio_map_files};
 use anyhow::{Context, Result, bail};
-use footslam::dataset::floor_plan_geojson::read_floor_plan;
-use footslam::dataset::{read_steps, read_walk_manifest};
-use footslam::export::RunFolder;
-use footslam::export::radio_map_geojson::read_radio_map_geojson;
 use footslam::filter::{
     Assignments, StartPose, TrackStep, Tracker, TrackerConfig, calibrate_map, placed_steps,
     survey_assignments, survey_walk,
 };
+use footslam::io::RunFolder;
+use footslam::io::floor_plan_geojson::read_floor_plan;
+use footslam::io::radio_map_geojson::read_radio_map_geojson;
+use footslam::io::{read_steps, read_walk_manifest};
 use footslam::map::{CellConfig, CellMap, FloorTopology, RadioMap};
 use footslam::sensor::WifiScan;
 use serde::{Deserialize, Serialize};

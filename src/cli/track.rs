@@ -5,21 +5,21 @@ use super::common::{
     parse_origin, peak_memory_bytes, read_config, read_scans, require_file, warn,
 };
 use anyhow::{Context, Result, bail};
-use footslam::dataset::floor_plan_geojson::read_floor_plan;
-use footslam::dataset::{SmoothedPoint, TrackPoint, read_steps, write_smoothed_track, write_track};
-use footslam::export::RunFolder;
-use footslam::export::map_geojson::read_map_geojson;
-use footslam::export::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, PlanPoints};
-use footslam::export::radio_map_geojson::read_radio_map_geojson;
-use footslam::export::track_geojson::write_track_geojson;
 use footslam::filter::{
     Recovery, RfLocaliser, RfMode, RfTracker, SmoothedStep, StartPose, TrackStep, Tracker,
     TrackerConfig,
 };
 use footslam::geometry::LocalFrame;
+use footslam::io::RunFolder;
+use footslam::io::floor_plan_geojson::read_floor_plan;
+use footslam::io::map_geojson::read_map_geojson;
+use footslam::io::radio_map_geojson::read_radio_map_geojson;
+use footslam::io::track_geojson::write_track_geojson;
+use footslam::io::{SmoothedPoint, TrackPoint, read_steps, write_smoothed_track, write_track};
 use footslam::map::{FloorTopology, grow_plan};
 use footslam::model::TransitionPrior;
 use footslam::model::wifi_distance::Normalisation;
+use footslam::render::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, PlanPoints};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -543,7 +543,7 @@ pub fn run(args: Args) -> Result<()> {
         })
         .collect();
     if !pictures.is_empty() {
-        footslam::export::plan_png::write_plan_png(
+        footslam::render::plan_png::write_plan_png(
             &folder.path("particles.png"),
             &pictures,
             &PlanPictureConfig::default(),
@@ -556,7 +556,7 @@ pub fn run(args: Args) -> Result<()> {
             .filter(|p| !p.certain)
             .map(|p| (p.point.x as f32, p.point.y as f32, p.point.level))
             .collect();
-        footslam::export::plan_png::write_plan_png(
+        footslam::render::plan_png::write_plan_png(
             &folder.path("track.png"),
             &[PlanPicture {
                 plan: &plan,

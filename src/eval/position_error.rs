@@ -9,9 +9,9 @@
 //! Percentiles use the nearest-rank method: of `n` errors sorted ascending, the `P`-th
 //! percentile is the one of rank `⌈P·n/100⌉` (1-based), an actual error, never interpolated.
 
-use crate::dataset::TimedPoint;
 use crate::error::{Error, Result};
 use crate::geometry::RigidTransform;
+use crate::io::TimedPoint;
 use serde::{Deserialize, Serialize, Serializer};
 
 /// How the track is placed on the truth before measuring.

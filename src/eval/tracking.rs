@@ -2,8 +2,8 @@
 //! whether that was the right place, and how well the walker was tracked afterwards.
 
 use super::position_error::{Alignment, ErrorReport, position_errors};
-use crate::dataset::TimedPoint;
 use crate::filter::{Cluster, SmoothedStep, TrackStep};
+use crate::io::TimedPoint;
 use crate::sim::TruePose;
 use serde::Serialize;
 

@@ -1,8 +1,8 @@
 //! How much of a learned map lies in walkable space: a plausibility check of a map against
 //! a floor plan.
 
-use crate::export::map_geojson::visits;
 use crate::geometry::{HexGrid, RigidTransform};
+use crate::io::map_geojson::visits;
 use crate::map::{FloorPlan, HexMapSnapshot};
 
 /// The visit-weighted fraction, in [0, 1], of `map`'s hexagon centres that lie on a

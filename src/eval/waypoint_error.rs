@@ -6,8 +6,8 @@
 //! that starts at localisation has no estimate before it).
 
 use super::position_error::{Alignment, ErrorReport, interpolate_at, position_errors};
-use crate::dataset::{TimedPoint, Waypoint};
 use crate::error::{Error, Result};
+use crate::io::{TimedPoint, Waypoint};
 use serde::Serialize;
 
 /// How long after its last point a track still stands there, seconds.

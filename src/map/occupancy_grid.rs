@@ -1,6 +1,6 @@
 //! A floor plan as an occupancy grid — free, occupied, unknown squares — the map that most
 //! robot and indoor localisers load (ROS `map_server`, AMCL, Cartographer's pure
-//! localisation, Nav2). Written by [`crate::export::write_ros_map`].
+//! localisation, Nav2). Written by [`crate::io::write_ros_map`].
 //!
 //! A square is **free** when its centre lies in a walkable polygon of the level (scan-line
 //! fill, even–odd per polygon, so holes stay out); **occupied** when it is not free but lies

@@ -100,7 +100,7 @@ pub fn write_wifi(path: &Path, scans: &[WifiScan]) -> Result<()> {
             ));
         }
     }
-    crate::export::write_atomically(path, text.as_bytes())
+    crate::io::write_atomically(path, text.as_bytes())
 }
 
 #[cfg(test)]

@@ -75,7 +75,7 @@ fn read_rows(path: &Path, certain_only: bool) -> Result<(Vec<TimedPoint>, usize)
 
 /// Writes `t,x,y` rows (millimetre precision).
 pub fn write_trajectory(path: &Path, points: impl IntoIterator<Item = TimedPoint>) -> Result<()> {
-    crate::export::write_atomically_with(path, |w| {
+    crate::io::write_atomically_with(path, |w| {
         w.write_all(b"t,x,y\n")?;
         for p in points {
             writeln!(w, "{:.3},{:.3},{:.3}", p.t, p.x, p.y)?;

@@ -7,9 +7,9 @@
 //! and a GeoJSON Point per step of such a walk is gigabytes no GIS opens. The file is written
 //! as it is serialised, never held in memory whole.
 
-use crate::dataset::TrackPoint;
 use crate::error::{Error, Result};
 use crate::geometry::LocalFrame;
+use crate::io::TrackPoint;
 use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject};
 use serde_json::json;
 use std::path::Path;
@@ -46,7 +46,7 @@ pub fn write_track_geojson(path: &Path, track: &[TrackPoint], frame: &LocalFrame
     // their arrays one at a time.
     let collection =
         serde_json::to_string(&shell(frame, Vec::new())).map_err(|e| Error::io(path, e.into()))?;
-    let (head, tail) = super::split_once_at(&collection, "\"features\":[]");
+    let (head, tail) = super::geojson_file::split_once_at(&collection, "\"features\":[]");
     let line = (track.len() >= 2)
         .then(|| serde_json::to_string(&line_feature(track, Vec::new(), omitted)))
         .transpose()
@@ -55,7 +55,8 @@ pub fn write_track_geojson(path: &Path, track: &[TrackPoint], frame: &LocalFrame
         w.write_all(head.as_bytes())?;
         let mut first = true;
         if let Some(line) = &line {
-            let (line_head, line_tail) = super::split_once_at(line, "\"coordinates\":[]");
+            let (line_head, line_tail) =
+                super::geojson_file::split_once_at(line, "\"coordinates\":[]");
             w.write_all(line_head.as_bytes())?;
             for (i, p) in track.iter().enumerate() {
                 if i > 0 {
@@ -116,7 +117,7 @@ fn shell(frame: &LocalFrame, features: Vec<Feature>) -> FeatureCollection {
     FeatureCollection {
         bbox: None,
         features,
-        foreign_members: Some(crate::dataset::geojson_file::origin_member(frame)),
+        foreign_members: Some(crate::io::geojson_file::origin_member(frame)),
     }
 }
 

@@ -48,7 +48,7 @@ pub fn has_dz_column(path: &Path) -> Result<bool> {
 /// Writes a step trace as CSV (`t,length,dheading,dz` and `heading` when any step has one).
 pub fn write_steps(path: &Path, trace: &StepTrace) -> Result<()> {
     let with_heading = trace.steps().iter().any(|s| s.heading.is_some());
-    crate::export::write_atomically_with(path, |w| {
+    crate::io::write_atomically_with(path, |w| {
         w.write_all(if with_heading {
             b"t,length,dheading,dz,heading\n"
         } else {

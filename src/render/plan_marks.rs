@@ -1,8 +1,8 @@
 //! Marks on plan pictures: labelled markers (e.g. where an access point is strongest) and a
 //! colour bar explaining a heatmap's colours, drawn by [`super::plan_png`].
 
+use super::canvas::{INK, WHITE, fill, rect, rgb, stroke};
 use super::glyphs::{self, GLYPH_HEIGHT};
-use super::map_png::canvas::{INK, WHITE, fill, rect, rgb, stroke};
 use tiny_skia::{FillRule, PathBuilder, Pixmap};
 
 /// A labelled marker over the plan.

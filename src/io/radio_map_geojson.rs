@@ -12,10 +12,10 @@
 //! The CSV has one row per cell and access point: `cell,level,bssid,n,mean,std,misses`
 //! (`misses` = scans of the cell that did not hear the access point).
 
-use crate::dataset::floor_plan_geojson::{polygon_positions, read_polygon};
-use crate::dataset::geojson_file::{collection_frame, origin_member};
 use crate::error::{Error, Result};
 use crate::geometry::LocalFrame;
+use crate::io::floor_plan_geojson::{polygon_positions, read_polygon};
+use crate::io::geojson_file::{collection_frame, origin_member};
 use crate::map::{ApStats, CellRadio, RadioMap, RadioMapCell};
 use geo::MultiPolygon;
 use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject, JsonValue};
@@ -118,7 +118,7 @@ pub fn read_radio_map_geojson(
     path: &Path,
     origin: Option<LocalFrame>,
 ) -> Result<(RadioMap, LocalFrame)> {
-    let collection = crate::dataset::geojson_file::read_feature_collection(path)?;
+    let collection = crate::io::geojson_file::read_feature_collection(path)?;
     let whole = |message: String| Error::parse(path, 0, message);
     let frame = collection_frame(path, &collection, origin)?;
     let mut cells = Vec::with_capacity(collection.features.len());

@@ -1,8 +1,8 @@
 //! The legend strip below the map: scale bar (left), colour bar and north arrow (right).
 
-use super::canvas::{INK, WHITE, fill, push_ring, rect, stroke, viridis};
 use super::{Layout, PictureConfig, Shading};
-use crate::export::glyphs::{self, GLYPH_HEIGHT};
+use crate::render::canvas::{INK, WHITE, fill, push_ring, rect, stroke, viridis};
+use crate::render::glyphs::{self, GLYPH_HEIGHT};
 use tiny_skia::{FillRule, PathBuilder, Pixmap};
 
 /// Colour bar length, pixels.

@@ -1,6 +1,6 @@
-use super::canvas::{INK, PATH_RED, START_GREEN};
 use super::*;
 use crate::map::{FloorPolygon, HexCell};
+use crate::render::canvas::{INK, PATH_RED, START_GREEN};
 use geo::{LineString, Polygon};
 use hexx::Hex;
 use std::collections::BTreeMap;

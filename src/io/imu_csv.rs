@@ -188,7 +188,7 @@ pub fn write_imu(path: &Path, recording: &ImuRecording) -> Result<()> {
     if recording.has_pressure() {
         header.push_str(",pressure");
     }
-    crate::export::write_atomically_with(path, |w| {
+    crate::io::write_atomically_with(path, |w| {
         writeln!(w, "{header}")?;
         for s in recording.samples() {
             write!(w, "{:.4}", s.t)?;

@@ -1,18 +1,6 @@
-//! Layer 4 (out): GeoJSON, pictures and run folders. Every file is written completely or
-//! not at all (written beside its destination, then renamed).
-
-mod glyphs;
-pub mod map_geojson;
-pub mod map_png;
-pub mod plan_marks;
-pub mod plan_png;
-pub mod radio_map_geojson;
-pub mod ros_map;
-pub mod run_folder;
-pub mod track_geojson;
-
-pub use ros_map::write_ros_map;
-pub use run_folder::RunFolder;
+//! Files written completely or not at all: every output goes to a temporary file beside its
+//! destination, is synced, then renamed over it ([`write_atomically`],
+//! [`write_atomically_with`]).
 
 use crate::error::{Error, Result};
 use std::io::Write;
@@ -48,22 +36,6 @@ pub fn write_atomically_with(
         let _ = std::fs::remove_file(&tmp);
     }
     result
-}
-
-/// Writes a GeoJSON feature collection to `path` atomically.
-pub fn write_geojson(path: &Path, collection: &geojson::FeatureCollection) -> Result<()> {
-    let text = serde_json::to_string(collection).map_err(|e| Error::io(path, e.into()))?;
-    write_atomically(path, text.as_bytes())
-}
-
-/// `text` split around the first `marker`, the marker's last character (`]`) kept in the
-/// tail; panics when there is none (a serialisation of our own types).
-pub(crate) fn split_once_at<'a>(text: &'a str, marker: &str) -> (&'a str, &'a str) {
-    let at = text
-        .find(marker)
-        .expect("the serialised shell holds its empty array");
-    let cut = at + marker.len() - 1;
-    (&text[..cut], &text[cut..])
 }
 
 fn tempfile_in(dir: &Path, path: &Path) -> Result<(std::path::PathBuf, std::fs::File)> {

@@ -63,7 +63,7 @@ pub struct SmoothedPoint {
 /// Writes `t,x,y,z,level` rows (millimetre precision).
 pub fn write_track(path: &Path, points: &[TrackPoint]) -> Result<()> {
     check_finite(points.iter(), path)?;
-    crate::export::write_atomically_with(path, |w| {
+    crate::io::write_atomically_with(path, |w| {
         w.write_all(b"t,x,y,z,level\n")?;
         for p in points {
             write_point(w, p)?;
@@ -77,7 +77,7 @@ pub fn write_track(path: &Path, points: &[TrackPoint]) -> Result<()> {
 /// `t,x,y,z,level` reads it as a track.
 pub fn write_smoothed_track(path: &Path, points: &[SmoothedPoint]) -> Result<()> {
     check_finite(points.iter().map(|p| &p.point), path)?;
-    crate::export::write_atomically_with(path, |w| {
+    crate::io::write_atomically_with(path, |w| {
         w.write_all(b"t,x,y,z,level,certain,hypotheses\n")?;
         for p in points {
             write_point(w, &p.point)?;

@@ -20,7 +20,7 @@ pub fn write_truth(path: &Path, truth: &TruePath) -> Result<()> {
             p.t, p.x, p.y, p.z, p.level, p.heading
         ));
     }
-    crate::export::write_atomically(path, text.as_bytes())
+    crate::io::write_atomically(path, text.as_bytes())
 }
 
 /// Reads a true path; times must be strictly increasing and levels integers. Errors name the

@@ -83,7 +83,7 @@ pub fn write_waypoints(path: &Path, waypoints: &[Waypoint]) -> Result<()> {
         }
         text.push('\n');
     }
-    crate::export::write_atomically(path, text.as_bytes())
+    crate::io::write_atomically(path, text.as_bytes())
 }
 
 #[cfg(test)]

@@ -51,13 +51,13 @@ pub fn floor_plan_to_geojson(plan: &FloorPlan, frame: &LocalFrame) -> FeatureCol
 
 /// Writes [`floor_plan_to_geojson`] to `path` atomically.
 pub fn write_floor_plan(path: &Path, plan: &FloorPlan, frame: &LocalFrame) -> Result<()> {
-    crate::export::write_geojson(path, &floor_plan_to_geojson(plan, frame))
+    crate::io::write_geojson(path, &floor_plan_to_geojson(plan, frame))
 }
 
 /// Reads a floor plan and the frame its local coordinates are in: `origin` when given (it
 /// overrides the file's), else the file's `origin` member, else an error.
 pub fn read_floor_plan(path: &Path, origin: Option<LocalFrame>) -> Result<(FloorPlan, LocalFrame)> {
-    let collection = crate::dataset::geojson_file::read_feature_collection(path)?;
+    let collection = crate::io::geojson_file::read_feature_collection(path)?;
     let whole = |message: String| Error::parse(path, 0, message);
     let frame = super::geojson_file::collection_frame(path, &collection, origin)?;
     let mut plan = FloorPlan::default();

@@ -13,7 +13,7 @@ pub fn write_access_points(path: &Path, aps: &[AccessPoint]) -> Result<()> {
     for a in aps {
         text.push_str(&format!("{},{:.3},{:.3},{}\n", a.bssid, a.x, a.y, a.level));
     }
-    crate::export::write_atomically(path, text.as_bytes())
+    crate::io::write_atomically(path, text.as_bytes())
 }
 
 /// Writes the expected field: one row per grid point, one column per access point (in the
@@ -45,7 +45,7 @@ pub fn write_radio_field(
         }
         text.push('\n');
     }
-    crate::export::write_atomically(path, text.as_bytes())
+    crate::io::write_atomically(path, text.as_bytes())
 }
 
 #[cfg(test)]

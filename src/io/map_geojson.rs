@@ -131,7 +131,7 @@ pub fn read_map_geojson(path: &Path) -> Result<(HexMapSnapshot, LocalFrame)> {
 
 /// [`read_map_geojson`], with the collection's foreign members.
 fn read_map_and_members(path: &Path) -> Result<(HexMapSnapshot, LocalFrame, JsonObject)> {
-    let collection = crate::dataset::geojson_file::read_feature_collection(path)?;
+    let collection = crate::io::geojson_file::read_feature_collection(path)?;
     let whole = |message: String| Error::parse(path, 0, message);
     let members = collection.foreign_members.unwrap_or_default();
     let (frame, radius, alpha) = read_header(&members).map_err(whole)?;

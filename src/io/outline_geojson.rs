@@ -85,7 +85,7 @@ pub fn write_outline(path: &Path, outline: &Polygon<f64>, frame: &LocalFrame) ->
         features: vec![feature],
         foreign_members: Some(super::geojson_file::origin_member(frame)),
     };
-    crate::export::write_geojson(path, &collection)
+    crate::io::write_geojson(path, &collection)
 }
 
 #[cfg(test)]

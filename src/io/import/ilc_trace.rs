@@ -34,9 +34,9 @@
 
 use super::log_lines::{LogLines, axes, number, read_log_lines};
 use super::sensor_streams::{ImuStreams, SensorStream, assemble_imu, rotation_vector_quaternion};
-use super::waypoints_csv::Waypoint;
 use super::wifi_sightings::{DroppedSightings, fresh_readings};
 use crate::error::{Error, Result};
+use crate::io::waypoints_csv::Waypoint;
 use crate::sensor::imu::{ImuRecording, MAX_ACCEL, MAX_GYRO, MAX_MAG, SamplingReport};
 use crate::sensor::wifi::{WifiReading, WifiScan, check_reading, normalise_bssid};
 use serde::{Deserialize, Serialize};

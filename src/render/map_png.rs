@@ -7,17 +7,16 @@
 //! strip holds a scale bar, a colour bar with its range and a north arrow. North is up: the
 //! local frame's y axis is flipped into image rows.
 
-pub(crate) mod canvas;
 mod legend;
 
-use crate::error::{Error, Result};
-use crate::export::map_geojson::{transition_probabilities, visits};
-use crate::geometry::HexGrid;
-use crate::map::{FloorPlan, HexMapSnapshot};
-use canvas::{
+use super::canvas::{
     INK, PATH_RED, PLAN_FILL, PLAN_WALL, START_GREEN, TRUTH_BLUE, WHITE, fill, polyline_pieces,
     push_ring, rect, stroke, viridis,
 };
+use crate::error::{Error, Result};
+use crate::geometry::HexGrid;
+use crate::io::map_geojson::{transition_probabilities, visits};
+use crate::map::{FloorPlan, HexMapSnapshot};
 use legend::{draw_legend, legend_height};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -165,7 +164,7 @@ pub fn render_map_png(picture: &MapPicture, config: &PictureConfig) -> Result<Ve
 
 /// Renders `picture` and writes it to `path` atomically.
 pub fn write_map_png(path: &Path, picture: &MapPicture, config: &PictureConfig) -> Result<()> {
-    super::write_atomically(path, &render_map_png(picture, config)?)
+    crate::io::write_atomically(path, &render_map_png(picture, config)?)
 }
 
 /// Where the map lies in the image.

@@ -4,10 +4,8 @@
 //! lines and point clouds as density-blended dots. Several pictures (snapshots at chosen
 //! steps) stack top to bottom in one image, each under its title. North is up.
 
+use super::canvas::{INK, PLAN_WALL, fill, polyline, polyline_pieces, push_ring, rgb, stroke};
 use super::glyphs::{self, GLYPH_HEIGHT};
-use super::map_png::canvas::{
-    INK, PLAN_WALL, fill, polyline, polyline_pieces, push_ring, rgb, stroke,
-};
 pub use super::plan_marks::{ColourBar, PlanMarker};
 use crate::error::{Error, Result};
 use crate::map::FloorPlan;
@@ -291,7 +289,7 @@ pub fn write_plan_png(
     pictures: &[PlanPicture],
     config: &PlanPictureConfig,
 ) -> Result<()> {
-    super::write_atomically(path, &render_plan_png(pictures, config)?)
+    crate::io::write_atomically(path, &render_plan_png(pictures, config)?)
 }
 
 /// Surfaces shaded by their height off their level's floor (light grey on the floor, blue
@@ -346,7 +344,7 @@ fn draw_plan(pixmap: &mut Pixmap, layout: &Layout, row: usize, plan: &FloorPlan)
 
 /// Viridis (perceptually uniform, dark blue to yellow) at `t` in [0, 1], for cell colours.
 pub fn viridis_rgb(t: f64) -> [u8; 3] {
-    let c = super::map_png::canvas::viridis(t);
+    let c = super::canvas::viridis(t);
     [c.red(), c.green(), c.blue()]
 }
 

@@ -1,6 +1,8 @@
-//! Reading a GeoJSON FeatureCollection file, with the file and line named in errors, and the
-//! collection's `origin` foreign member (`{"lat", "lon"}`: the WGS84 place of the local frame).
+//! GeoJSON FeatureCollection files: read with the file and line named in errors, written
+//! atomically, and the collection's `origin` foreign member (`{"lat", "lon"}`: the WGS84
+//! place of the local frame).
 
+use super::atomic_file::write_atomically;
 use crate::error::{Error, Result};
 use crate::geometry::LocalFrame;
 use geojson::{FeatureCollection, JsonObject, JsonValue};
@@ -73,4 +75,20 @@ pub fn read_feature_collection(path: &Path) -> Result<FeatureCollection> {
             format!("not a GeoJSON FeatureCollection: {e}"),
         )
     })
+}
+
+/// Writes a GeoJSON feature collection to `path` atomically.
+pub fn write_geojson(path: &Path, collection: &geojson::FeatureCollection) -> Result<()> {
+    let text = serde_json::to_string(collection).map_err(|e| Error::io(path, e.into()))?;
+    write_atomically(path, text.as_bytes())
+}
+
+/// `text` split around the first `marker`, the marker's last character (`]`) kept in the
+/// tail; panics when there is none (a serialisation of our own types).
+pub(crate) fn split_once_at<'a>(text: &'a str, marker: &str) -> (&'a str, &'a str) {
+    let at = text
+        .find(marker)
+        .expect("the serialised shell holds its empty array");
+    let cut = at + marker.len() - 1;
+    (&text[..cut], &text[cut..])
 }

@@ -20,9 +20,9 @@
 //! metres differ slightly from the W × H scaling; [`IlcFloorSummary::geodesic_width_m`]
 //! tells by how much).
 
-use super::floor_plan_geojson::written_degrees;
 use crate::error::{Error, Result};
 use crate::geometry::LocalFrame;
+use crate::io::floor_plan_geojson::written_degrees;
 use crate::map::{FloorPlan, FloorPolygon};
 use geo::{
     Area, BooleanOps, Coord, LineString, MapCoords, MultiPolygon, Orient, Polygon, Validation,
@@ -294,7 +294,7 @@ impl IlcFloor {
 }
 
 fn read_json(path: &Path) -> Result<Value> {
-    let text = super::geojson_file::read_json_text(path)?;
+    let text = crate::io::geojson_file::read_json_text(path)?;
     serde_json::from_str(&text).map_err(|e| Error::parse(path, e.line(), format!("not JSON: {e}")))
 }
 

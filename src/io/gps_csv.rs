@@ -46,7 +46,7 @@ pub fn write_gps_csv(path: &Path, fixes: &[GpsFix]) -> Result<()> {
             f.t, f.lat, f.lon, f.accuracy
         ));
     }
-    crate::export::write_atomically(path, text.as_bytes())
+    crate::io::write_atomically(path, text.as_bytes())
 }
 
 #[cfg(test)]

@@ -1,0 +1,14 @@
+//! Layer 5: pictures (PNG, drawn with `tiny-skia`), each written atomically through
+//! [`crate::io::write_atomically`].
+//!
+//! * [`map_png`] — a learned hexagon map with paths, plan and legend
+//! * [`plan_png`] — multi-floor plans with paths, particle clouds, cells and heatmaps
+//! * [`plan_marks`] — labelled markers and colour bars on plan pictures
+//! * `canvas` — colours and drawing primitives shared by the pictures
+//! * `glyphs` — a tiny bitmap font for labels
+
+mod canvas;
+mod glyphs;
+pub mod map_png;
+pub mod plan_marks;
+pub mod plan_png;
