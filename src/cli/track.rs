@@ -6,7 +6,7 @@ use super::common::{
 };
 use anyhow::{Context, Result, bail};
 use footslam::filter::{
-    Recovery, RfLocaliser, RfMode, RfTracker, SmoothedStep, StartPose, TrackStep, Tracker,
+    Recovery, RfLocaliser, RfMode, RfTracker, SmoothedWalk, StartPose, TrackStep, Tracker,
     TrackerConfig,
 };
 use footslam::geometry::LocalFrame;
@@ -148,7 +148,7 @@ pub(super) fn parse_start(s: &str) -> Result<StartPose, String> {
 }
 
 #[derive(Debug, Serialize)]
-struct Summary {
+struct Summary<'r> {
     rf: Option<RfSummary>,
     /// Whether the steps' absolute headings weighted the particles.
     headings_used: bool,
@@ -169,10 +169,13 @@ struct Summary {
     particles_initial: usize,
     particles_max: usize,
     particles_final: usize,
-    particles_per_step: Vec<usize>,
-    clusters_per_step: Vec<Option<usize>>,
+    /// Written from the step records as they are read (a long walk's lists are long).
+    #[serde(serialize_with = "particles_per_step")]
+    particles_per_step: &'r [StepRecord],
+    #[serde(serialize_with = "clusters_per_step")]
+    clusters_per_step: &'r [StepRecord],
     deaths: usize,
-    recoveries: Vec<RecoveryEvent>,
+    recoveries: &'r [RecoveryEvent],
     seed: u64,
     threads: usize,
     runtime_s: f64,
@@ -222,9 +225,18 @@ struct SmoothingSummary {
     runtime_s: f64,
 }
 
-/// The smoothed belief per step of the walk.
-struct Smoothing {
-    steps: Vec<Option<SmoothedStep>>,
+/// The smoothed belief per step of the walk, computed as it is read.
+struct Smoothing<'a> {
+    walk: SmoothedWalk<'a>,
+    path_nodes_peak: usize,
+}
+
+/// What the smoothed walk gave, counted as it was written.
+#[derive(Debug, Default)]
+struct SmoothedStats {
+    estimated: usize,
+    certain: usize,
+    first_certain: Option<usize>,
     path_nodes_peak: usize,
     runtime_s: f64,
 }
@@ -244,13 +256,38 @@ struct PlanStats {
     levels: (i32, i32),
 }
 
-/// What the summary needs of each step's report (the estimate goes into the track):
-/// 16 bytes a step, where a whole report is over a hundred.
+/// What the summary needs of each step's report (the estimate goes into the track): 8
+/// bytes a step, where a whole report is over a hundred. Particles are below 2³¹
+/// (`kld.max_particles` ≤ 2·10⁸), so the top bit holds `localised`.
 #[derive(Debug, Clone, Copy)]
 struct StepRecord {
-    particles: u32,
-    clusters: Option<u32>,
-    localised: bool,
+    particles_localised: u32,
+    /// `u32::MAX`: not clustered.
+    clusters: u32,
+}
+
+impl StepRecord {
+    const LOCALISED: u32 = 1 << 31;
+
+    fn particles(self) -> usize {
+        (self.particles_localised & !Self::LOCALISED) as usize
+    }
+
+    fn localised(self) -> bool {
+        self.particles_localised & Self::LOCALISED != 0
+    }
+
+    fn clusters(self) -> Option<usize> {
+        (self.clusters != u32::MAX).then_some(self.clusters as usize)
+    }
+}
+
+fn particles_per_step<S: serde::Serializer>(r: &&[StepRecord], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_seq(r.iter().map(|r| r.particles()))
+}
+
+fn clusters_per_step<S: serde::Serializer>(r: &&[StepRecord], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_seq(r.iter().map(|r| r.clusters()))
 }
 
 /// Every step's [`StepRecord`], and the steps at which every particle died.
@@ -263,11 +300,15 @@ struct StepRecords {
 impl StepRecords {
     /// Records the report of step `i` (0-based) at time `t`.
     fn push(&mut self, i: usize, t: f64, report: &TrackStep) {
-        let count = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
+        let count = |n: usize, max: u32| u32::try_from(n).map_or(max, |n| n.min(max));
+        let localised = if report.localised {
+            StepRecord::LOCALISED
+        } else {
+            0
+        };
         self.steps.push(StepRecord {
-            particles: count(report.particles),
-            clusters: report.clusters.map(count),
-            localised: report.localised,
+            particles_localised: count(report.particles, StepRecord::LOCALISED - 1) | localised,
+            clusters: report.clusters.map_or(u32::MAX, |c| count(c, u32::MAX - 1)),
         });
         if let Some(recovery) = report.recovery {
             self.recoveries.push(RecoveryEvent {
@@ -451,12 +492,9 @@ pub fn run(args: Args) -> Result<()> {
                 progress.inc();
             }
             progress.finish();
-            let smoothing_started = Instant::now();
-            let smoothed = walker.take_smoothed();
-            let smoothing = smoothed.map(|steps| Smoothing {
-                steps,
+            let smoothing = walker.take_smoothed(trace.len()).map(|walk| Smoothing {
+                walk,
                 path_nodes_peak: walker.tracker().map_or(0, Tracker::path_nodes_peak),
-                runtime_s: smoothing_started.elapsed().as_secs_f64(),
             });
             Ok((
                 reports,
@@ -482,45 +520,61 @@ pub fn run(args: Args) -> Result<()> {
             .chain(args.hexmap.iter())
             .chain(args.config.iter()),
     );
-    let smoothed_track: Option<Vec<SmoothedPoint>> = smoothing.as_ref().map(|s| {
-        trace
-            .steps()
-            .iter()
-            .zip(&s.steps)
-            .filter_map(|(step, k)| {
-                let k = k.as_ref()?;
-                let c = k.estimate?;
-                Some(SmoothedPoint {
-                    point: TrackPoint {
-                        t: step.t,
+    // The trace's times are all the outputs need of it now.
+    let (steps_total, steps_with_heading) = (trace.len(), trace.with_heading());
+    let times: Vec<f64> = trace.steps().iter().map(|s| s.t).collect();
+    drop(trace);
+    // The answer: the smoothed track's certain steps, else (online) the filtered track. The
+    // smoothed walk is read once, into track.csv and the answer, then dropped.
+    let smoothing_started = Instant::now();
+    let smoothed = match smoothing {
+        Some(s) => {
+            let mut stats = SmoothedStats::default();
+            let mut answer = Vec::new();
+            let mut uncertain = Vec::new();
+            let points = times
+                .iter()
+                .zip(s.walk.iter())
+                .enumerate()
+                .filter_map(|(i, (&t, k))| {
+                    let k = k?;
+                    stats.certain += usize::from(k.certain);
+                    if k.certain && stats.first_certain.is_none() {
+                        stats.first_certain = Some(i + 1);
+                    }
+                    let c = k.estimate?;
+                    stats.estimated += 1;
+                    let point = TrackPoint {
+                        t,
                         x: c.x,
                         y: c.y,
                         z: c.z,
                         level: c.level,
-                    },
-                    certain: k.certain,
-                    hypotheses: k.hypotheses,
-                })
-            })
-            .collect()
-    });
-    // The answer: the smoothed track's certain steps, else (online) the filtered track.
-    let answer: Vec<TrackPoint> = match &smoothed_track {
-        Some(points) => {
+                    };
+                    if k.certain {
+                        answer.push(point);
+                    } else {
+                        uncertain.push((c.x as f32, c.y as f32, c.level));
+                    }
+                    Some(SmoothedPoint {
+                        point,
+                        certain: k.certain,
+                        hypotheses: k.hypotheses,
+                    })
+                });
             write_smoothed_track(&folder.path("track.csv"), points)?;
             write_track(&folder.path("track_filtered.csv"), &track)?;
-            points
-                .iter()
-                .filter(|p| p.certain)
-                .map(|p| p.point)
-                .collect()
+            stats.path_nodes_peak = s.path_nodes_peak;
+            stats.runtime_s = smoothing_started.elapsed().as_secs_f64();
+            Some((stats, answer, uncertain))
         }
         None => {
             write_track(&folder.path("track.csv"), &track)?;
-            track.clone()
+            None
         }
     };
-    write_track_geojson(&folder.path("track.geojson"), &answer, &frame)?;
+    let answer = smoothed.as_ref().map_or(&track[..], |(_, a, _)| &a[..]);
+    write_track_geojson(&folder.path("track.geojson"), answer, &frame)?;
     let track_points: Vec<(f64, f64, i32)> = track.iter().map(|p| (p.x, p.y, p.level)).collect();
     let pictures: Vec<PlanPicture> = snapshots
         .iter()
@@ -549,13 +603,8 @@ pub fn run(args: Args) -> Result<()> {
             &PlanPictureConfig::default(),
         )?;
     }
-    if let Some(points) = &smoothed_track {
+    if let Some((_, answer, uncertain)) = &smoothed {
         let certain: Vec<(f64, f64, i32)> = answer.iter().map(|p| (p.x, p.y, p.level)).collect();
-        let uncertain: Vec<(f32, f32, i32)> = points
-            .iter()
-            .filter(|p| !p.certain)
-            .map(|p| (p.point.x as f32, p.point.y as f32, p.point.level))
-            .collect();
         footslam::render::plan_png::write_plan_png(
             &folder.path("track.png"),
             &[PlanPicture {
@@ -563,7 +612,7 @@ pub fn run(args: Args) -> Result<()> {
                 title: Some(format!(
                     "smoothed: {} of {} steps certain",
                     certain.len(),
-                    trace.len()
+                    steps_total
                 )),
                 paths: vec![
                     PlanPath {
@@ -578,7 +627,7 @@ pub fn run(args: Args) -> Result<()> {
                     },
                 ],
                 points: vec![PlanPoints {
-                    points: &uncertain,
+                    points: uncertain,
                     colour: PARTICLE_COLOUR,
                     label: "smoothed (uncertain)",
                 }],
@@ -591,8 +640,8 @@ pub fn run(args: Args) -> Result<()> {
     }
     folder.write_json("config.json", &config)?;
 
-    let first = reports.steps.iter().position(|r| r.localised);
-    let particle_steps: usize = reports.steps.iter().map(|r| r.particles as usize).sum();
+    let first = reports.steps.iter().position(|r| r.localised());
+    let particle_steps: usize = reports.steps.iter().map(|r| r.particles()).sum();
     let summary = Summary {
         rf: radio
             .as_ref()
@@ -608,33 +657,24 @@ pub fn run(args: Args) -> Result<()> {
                 started_at_step: reports
                     .steps
                     .iter()
-                    .position(|r| r.particles > 0)
+                    .position(|r| r.particles() > 0)
                     .map(|i| i + 1),
                 measurements_ignored: ignored,
             }),
         headings_used: headings_used > 0,
-        steps_with_heading: trace.with_heading(),
+        steps_with_heading,
         plan_file: plan_path.display().to_string(),
         hexmap_file: args.hexmap.as_ref().map(|p| p.display().to_string()),
         hexmap_hexagons: transitions.as_ref().map(TransitionPrior::len),
         steps_file: steps_path.display().to_string(),
-        steps: trace.len(),
+        steps: steps_total,
         steps_to_localise: first.map(|i| i + 1),
-        localised_at_t: first.map(|i| trace.steps()[i].t),
+        localised_at_t: first.map(|i| times[i]),
         track_rows: track.len(),
-        smoothing: smoothing.as_ref().map(|s| SmoothingSummary {
-            steps_estimated: s
-                .steps
-                .iter()
-                .flatten()
-                .filter(|k| k.estimate.is_some())
-                .count(),
-            steps_certain: s.steps.iter().flatten().filter(|k| k.certain).count(),
-            first_certain_step: s
-                .steps
-                .iter()
-                .position(|k| k.is_some_and(|k| k.certain))
-                .map(|i| i + 1),
+        smoothing: smoothed.as_ref().map(|(s, ..)| SmoothingSummary {
+            steps_estimated: s.estimated,
+            steps_certain: s.certain,
+            first_certain_step: s.first_certain,
             path_nodes_peak: s.path_nodes_peak,
             runtime_s: s.runtime_s,
         }),
@@ -642,22 +682,15 @@ pub fn run(args: Args) -> Result<()> {
         particles_max: reports
             .steps
             .iter()
-            .map(|r| r.particles as usize)
+            .map(|r| r.particles())
             .max()
             .unwrap_or(initial)
             .max(initial),
-        particles_final: reports
-            .steps
-            .last()
-            .map_or(initial, |r| r.particles as usize),
-        particles_per_step: reports.steps.iter().map(|r| r.particles as usize).collect(),
-        clusters_per_step: reports
-            .steps
-            .iter()
-            .map(|r| r.clusters.map(|c| c as usize))
-            .collect(),
+        particles_final: reports.steps.last().map_or(initial, |r| r.particles()),
+        particles_per_step: &reports.steps,
+        clusters_per_step: &reports.steps,
         deaths: reports.recoveries.len(),
-        recoveries: reports.recoveries,
+        recoveries: &reports.recoveries,
         seed: config.seed,
         threads,
         runtime_s: started.elapsed().as_secs_f64(),
@@ -725,11 +758,12 @@ impl<'a> Walker<'a> {
         }
     }
 
-    /// The smoothed belief after each step processed (`None` without smoothing).
-    fn take_smoothed(&mut self) -> Option<Vec<Option<SmoothedStep>>> {
+    /// The smoothed belief after each of the walk's `steps` steps (`None` without
+    /// smoothing), computed as it is read.
+    fn take_smoothed(&mut self, steps: usize) -> Option<SmoothedWalk<'a>> {
         match self {
             // Tracker step k + 1 stands after the walk's step k; step 0 is the prior.
-            Walker::Plain(t) => Some(t.take_smoothed()?.into_iter().skip(1).map(Some).collect()),
+            Walker::Plain(t) => Some(t.take_smoothed()?.on_walk(0, steps)),
             Walker::Rf(t) => t.take_smoothed(),
         }
     }

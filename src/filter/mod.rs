@@ -24,7 +24,7 @@ pub use footslam_config::FOOTSLAM_HEADING_CORRELATION;
 pub use kld::KldConfig;
 pub use lineage::Lineage;
 pub use nearest_fingerprint::{FingerprintConfig, FingerprintFix, NearestFingerprint};
-pub use path_tree::{PathTree, SmoothedStep};
+pub use path_tree::{PathTree, SmoothedStep, SmoothedWalk};
 pub use recovery::{Recovery, RecoveryConfig};
 pub use resample::{ResampleConfig, ResampleMethod};
 pub use rf_assist::{EpsilonSource, RfConfig, RfLocaliser, RfMode};

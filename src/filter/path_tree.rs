@@ -79,11 +79,15 @@ impl SmoothedStep {
     };
 }
 
-/// A fixed-lag answer as the tree keeps it until the end: only a certain one is ever used,
-/// so only a certain one is kept, in 64 bytes (an `Option<SmoothedStep>` takes 96, every
-/// step of the walk). Lossless: counts below 2³² are kept exactly.
+/// `certain`, kept in the top bit of [`StoredStep::ancestors`].
+const CERTAIN_BIT: u32 = 1 << 31;
+
+/// A smoothed step as the tree keeps it until the end of the walk: 64 bytes, where a
+/// [`SmoothedStep`] takes 96. Lossless: every count here is below 2³¹ (particles are capped
+/// at `kld.max_particles` ≤ 2·10⁸, clusters at `cluster.max_particles` ≤ 10⁷); a larger
+/// one would be kept as 2³¹ − 1.
 #[derive(Debug, Clone, Copy)]
-struct LaggedAnswer {
+struct StoredStep {
     x: f64,
     y: f64,
     z: f64,
@@ -91,13 +95,14 @@ struct LaggedAnswer {
     spread: f64,
     weight: f64,
     level: i32,
-    /// `u32::MAX`: no answer kept.
+    /// `u32::MAX`: no estimate.
     particles: u32,
     hypotheses: u32,
+    /// Distinct ancestors; the top bit is `certain`.
     ancestors: u32,
 }
 
-impl LaggedAnswer {
+impl StoredStep {
     const NONE: Self = Self {
         x: 0.0,
         y: 0.0,
@@ -111,37 +116,34 @@ impl LaggedAnswer {
         ancestors: 0,
     };
 
-    /// `answer` when certain and its counts fit, else [`Self::NONE`].
-    fn keep(answer: &SmoothedStep) -> Self {
-        let fits = |n: usize| u32::try_from(n).ok().filter(|&n| n < u32::MAX);
-        match (answer.estimate, answer.certain) {
-            (Some(c), true) => match (
-                fits(c.particles),
-                fits(answer.hypotheses),
-                fits(answer.ancestors),
-            ) {
-                (Some(particles), Some(hypotheses), Some(ancestors)) => Self {
-                    x: c.x,
-                    y: c.y,
-                    z: c.z,
-                    heading: c.heading,
-                    spread: c.spread,
-                    weight: c.weight,
-                    level: c.level,
-                    particles,
-                    hypotheses,
-                    ancestors,
-                },
-                _ => Self::NONE,
+    fn store(step: &SmoothedStep) -> Self {
+        let count = |n: usize| u32::try_from(n).map_or(CERTAIN_BIT - 1, |n| n.min(CERTAIN_BIT - 1));
+        let certain = if step.certain { CERTAIN_BIT } else { 0 };
+        let (hypotheses, ancestors) = (count(step.hypotheses), count(step.ancestors) | certain);
+        match step.estimate {
+            Some(c) => Self {
+                x: c.x,
+                y: c.y,
+                z: c.z,
+                heading: c.heading,
+                spread: c.spread,
+                weight: c.weight,
+                level: c.level,
+                particles: count(c.particles),
+                hypotheses,
+                ancestors,
             },
-            _ => Self::NONE,
+            None => Self {
+                hypotheses,
+                ancestors,
+                ..Self::NONE
+            },
         }
     }
 
-    /// The answer kept, `None` when none.
-    fn get(&self) -> Option<SmoothedStep> {
-        (self.particles != u32::MAX).then_some(SmoothedStep {
-            estimate: Some(Cluster {
+    fn get(&self) -> SmoothedStep {
+        SmoothedStep {
+            estimate: (self.particles != u32::MAX).then_some(Cluster {
                 x: self.x,
                 y: self.y,
                 z: self.z,
@@ -152,26 +154,36 @@ impl LaggedAnswer {
                 particles: self.particles as usize,
             }),
             hypotheses: self.hypotheses as usize,
-            certain: true,
-            ancestors: self.ancestors as usize,
-        })
+            certain: self.ancestors & CERTAIN_BIT != 0,
+            ancestors: (self.ancestors & !CERTAIN_BIT) as usize,
+        }
     }
 }
 
 /// The ancestry of the current belief, generation by generation, pruned to the nodes that
 /// still have descendants.
+///
+/// Memory on a long walk: the current segment's coalesced start is one node a step (16
+/// bytes) in [`Self::chain`](#structfield.chain), its fixed-lag answers 64 bytes a step, and
+/// the steps settled by earlier cuts 64 bytes a step; only the generations since the last
+/// coalescence hold several nodes.
 #[derive(Debug, Clone, Default)]
 pub struct PathTree {
     /// Lag of the fixed-lag answer (0 = none).
     lag: usize,
-    /// Fixed-lag answers by step (`None` where not computed).
-    lagged: Vec<LaggedAnswer>,
-    /// Step of `generations[0]`.
+    /// Fixed-lag answers of the current segment, by step − `first_step` (`NONE` where not
+    /// computed).
+    lagged: Vec<StoredStep>,
+    /// First step of the current segment.
     first_step: usize,
-    /// One generation per step from `first_step` on; the last is the current belief.
+    /// The current segment's coalesced start: one node per step from `first_step` on, each
+    /// the only ancestor of everything after it. The first generation after the chain
+    /// descends from its last node.
+    chain: Vec<PathNode>,
+    /// The generations after the chain, one per step; the last is the current belief.
     generations: Vec<Vec<PathNode>>,
     /// Smoothed steps `0..first_step`, fixed by earlier cuts.
-    settled: Vec<SmoothedStep>,
+    settled: Vec<StoredStep>,
     /// Largest number of nodes held at once.
     peak_nodes: usize,
     /// A pruned generation's buffer, reused by the next one.
@@ -198,12 +210,12 @@ impl PathTree {
 
     /// Steps covered: `0..=last step` (0 before anything was added).
     pub fn steps(&self) -> usize {
-        self.first_step + self.generations.len()
+        self.first_step + self.segment_len()
     }
 
     /// Nodes held now.
     pub fn nodes(&self) -> usize {
-        self.generations.iter().map(Vec::len).sum()
+        self.chain.len() + self.generations.iter().map(Vec::len).sum::<usize>()
     }
 
     /// Largest number of nodes held at once (memory: 16 bytes each).
@@ -222,7 +234,6 @@ impl PathTree {
         cluster: &ClusterConfig,
     ) {
         self.cut(step, topology, cluster);
-        self.lagged.truncate(step);
         // Nodes made outside the tree have no parent (`PathNode::new`).
         self.generations.push(nodes);
         self.note_size();
@@ -254,34 +265,60 @@ impl PathTree {
         self.generations.push(generation);
         self.note_size();
         self.prune();
+        self.coalesce();
         self.answer_lagged(topology, cluster);
+    }
+
+    /// Generations of the current segment (chain and live ones).
+    fn segment_len(&self) -> usize {
+        self.chain.len() + self.generations.len()
+    }
+
+    /// Generation `g` of the current segment.
+    fn generation(&self, g: usize) -> &[PathNode] {
+        match g.checked_sub(self.chain.len()) {
+            None => std::slice::from_ref(&self.chain[g]),
+            Some(i) => &self.generations[i],
+        }
+    }
+
+    /// Moves the leading one-node generations into the chain: nothing after them can prune
+    /// them (every later node descends from their one node), so each keeps 16 bytes instead
+    /// of a buffer of its own.
+    fn coalesce(&mut self) {
+        if self.generations.last().is_none_or(Vec::is_empty) {
+            return;
+        }
+        let single = self.generations[..self.generations.len() - 1]
+            .iter()
+            .take_while(|g| g.len() == 1)
+            .count();
+        if single > 0 {
+            self.chain
+                .extend(self.generations.drain(..single).map(|g| g[0]));
+        }
     }
 
     /// The fixed-lag answer for the step `lag` generations before the newest one.
     fn answer_lagged(&mut self, topology: &FloorTopology, cluster: &ClusterConfig) {
-        let len = self.generations.len();
+        let len = self.segment_len();
         if self.lag == 0 || len <= self.lag {
             return;
         }
-        let newest = &self.generations[len - 1];
+        let newest = self.generation(len - 1);
         if newest.len() > cluster.max_particles {
             return;
         }
         let mut weights = vec![1.0f64; newest.len()];
         for g in (len - self.lag..len).rev() {
-            weights = parent_weights(
-                &self.generations[g],
-                &weights,
-                self.generations[g - 1].len(),
-            );
+            weights = parent_weights(self.generation(g), &weights, self.generation(g - 1).len());
         }
         let g = len - 1 - self.lag;
-        let step = self.first_step + g;
-        let answer = centroid(&self.generations[g], &weights, topology, cluster.max_spread);
-        if self.lagged.len() <= step {
-            self.lagged.resize(step + 1, LaggedAnswer::NONE);
+        let answer = centroid(self.generation(g), &weights, topology, cluster.max_spread);
+        if self.lagged.len() <= g {
+            self.lagged.resize(g + 1, StoredStep::NONE);
         }
-        self.lagged[step] = LaggedAnswer::keep(&answer);
+        self.lagged[g] = StoredStep::store(&answer);
     }
 
     /// Fixes the smoothed answer of every step before `step` from the current belief's
@@ -291,93 +328,101 @@ impl PathTree {
         if step < self.first_step {
             self.settled.truncate(step);
         } else {
-            let smoothed = self.answer_current(topology, cluster);
-            let keep = (step - self.first_step).min(smoothed.len());
-            self.settled.extend_from_slice(&smoothed[..keep]);
-            self.settled.resize(step, SmoothedStep::NONE);
+            let keep = step - self.first_step;
+            let answers: Vec<StoredStep> = self
+                .answer_current(topology, cluster)
+                .take(keep)
+                .map(|s| StoredStep::store(&s))
+                .collect();
+            self.settled.extend(answers);
+            self.settled.resize(step, StoredStep::NONE);
         }
+        self.chain.clear();
         self.generations.clear();
+        self.lagged.clear();
         self.first_step = step;
     }
 
     /// The smoothed belief at every step `0..self.steps()`: settled steps as they were fixed,
     /// the current segment from the current belief's ancestry.
     pub fn smoothed(&self, topology: &FloorTopology, cluster: &ClusterConfig) -> Vec<SmoothedStep> {
-        let mut out = self.settled.clone();
-        out.resize(self.first_step, SmoothedStep::NONE);
-        out.extend(self.answer_current(topology, cluster));
-        out
+        self.smoothed_iter(topology, cluster).collect()
     }
 
-    /// [`Self::smoothed`], consuming the tree: the settled steps are moved rather than copied
-    /// and the fixed-lag answers freed before the answer grows (a long walk's smoother holds
-    /// about 100 bytes a step in each).
-    pub fn into_smoothed(
-        mut self,
-        topology: &FloorTopology,
-        cluster: &ClusterConfig,
-    ) -> Vec<SmoothedStep> {
-        let current = self.answer_current(topology, cluster);
-        self.lagged = Vec::new();
-        self.generations = Vec::new();
-        let mut out = std::mem::take(&mut self.settled);
-        out.resize(self.first_step, SmoothedStep::NONE);
-        out.extend(current);
-        out
+    /// [`Self::smoothed`] step by step, without holding the walk's answers: the current
+    /// segment's live generations are smoothed first, its chain and the settled steps as
+    /// they are read.
+    pub fn smoothed_iter<'s>(
+        &'s self,
+        topology: &'s FloorTopology,
+        cluster: &'s ClusterConfig,
+    ) -> impl Iterator<Item = SmoothedStep> + 's {
+        debug_assert_eq!(self.settled.len(), self.first_step);
+        self.settled
+            .iter()
+            .map(StoredStep::get)
+            .chain(self.answer_current(topology, cluster))
     }
 
     /// The current segment's answer: the final ancestry, refined by the fixed-lag answer
     /// where both are certain and agree.
-    fn answer_current(
-        &self,
-        topology: &FloorTopology,
-        cluster: &ClusterConfig,
-    ) -> Vec<SmoothedStep> {
-        let mut out = self.smooth_current(topology, cluster);
-        for (g, full) in out.iter_mut().enumerate() {
-            let lagged = self
-                .lagged
-                .get(self.first_step + g)
-                .and_then(LaggedAnswer::get);
-            if let (Some(l), Some(f)) = (lagged, full.estimate)
-                && full.certain
-                && l.certain
-                && let Some(e) = l.estimate
-                && e.level == f.level
-                && (e.x - f.x).hypot(e.y - f.y) <= cluster.max_spread
-            {
-                *full = l;
-            }
-        }
-        out
+    fn answer_current<'s>(
+        &'s self,
+        topology: &'s FloorTopology,
+        cluster: &'s ClusterConfig,
+    ) -> impl Iterator<Item = SmoothedStep> + 's {
+        self.smooth_current(topology, cluster)
+            .enumerate()
+            .map(move |(g, mut full)| {
+                let lagged = self.lagged.get(g).map(StoredStep::get);
+                if let (Some(l), Some(f)) = (lagged, full.estimate)
+                    && full.certain
+                    && l.certain
+                    && let Some(e) = l.estimate
+                    && e.level == f.level
+                    && (e.x - f.x).hypot(e.y - f.y) <= cluster.max_spread
+                {
+                    full = l;
+                }
+                full
+            })
     }
 
     /// The current segment's generations smoothed: each node weighted by its number of
-    /// descendants in the last generation, clustered as the filter clusters its belief.
-    fn smooth_current(
-        &self,
-        topology: &FloorTopology,
+    /// descendants in the last generation, clustered as the filter clusters its belief. The
+    /// live generations are smoothed at once (backwards, as the weights flow); the chain's
+    /// nodes, each holding the whole weight, as they are read.
+    fn smooth_current<'s>(
+        &'s self,
+        topology: &'s FloorTopology,
         cluster: &ClusterConfig,
-    ) -> Vec<SmoothedStep> {
-        let Some(last) = self.generations.last() else {
-            return Vec::new();
-        };
+    ) -> impl Iterator<Item = SmoothedStep> + 's {
         let config = heading_free(cluster);
-        let mut out = vec![SmoothedStep::NONE; self.generations.len()];
-        let mut weights = vec![1.0f64; last.len()];
-        for (g, generation) in self.generations.iter().enumerate().rev() {
-            out[g] = smooth_generation(generation, &weights, topology, &config);
-            if g == 0 {
-                break;
+        let mut live = vec![SmoothedStep::NONE; self.generations.len()];
+        let mut chain_weight = Vec::new();
+        if let Some(last) = self.generations.last() {
+            let mut weights = vec![1.0f64; last.len()];
+            for (g, generation) in self.generations.iter().enumerate().rev() {
+                live[g] = smooth_generation(generation, &weights, topology, &config);
+                weights = match g {
+                    0 if self.chain.is_empty() => break,
+                    0 => parent_weights(generation, &weights, 1),
+                    _ => parent_weights(generation, &weights, self.generations[g - 1].len()),
+                };
             }
-            weights = parent_weights(generation, &weights, self.generations[g - 1].len());
+            chain_weight = weights;
         }
-        out
+        self.chain
+            .iter()
+            .map(move |n| {
+                smooth_generation(std::slice::from_ref(n), &chain_weight, topology, &config)
+            })
+            .chain(live)
     }
 
     /// Drops every node without a descendant in the last generation, newest generations
     /// first, stopping at the first generation that loses nothing (the ones before it were
-    /// pruned against it already).
+    /// pruned against it already; the chain never loses a node).
     fn prune(&mut self) {
         let remap = &mut self.remap;
         for g in (1..self.generations.len()).rev() {
@@ -421,6 +466,93 @@ impl PathTree {
 
     fn note_size(&mut self) {
         self.peak_nodes = self.peak_nodes.max(self.nodes());
+    }
+}
+
+/// A finished walk's whole-walk answer, computed step by step as it is read, so that a long
+/// walk holds its path tree (tens of bytes a step) rather than every step's answer (a hundred):
+/// from [`super::Tracker::take_smoothed`] and [`super::RfTracker::take_smoothed`].
+#[derive(Debug, Clone)]
+pub struct SmoothedWalk<'a> {
+    tree: Option<PathTree>,
+    topology: &'a FloorTopology,
+    cluster: ClusterConfig,
+    /// Walk steps before the first tree answer used (`None` there).
+    lead: usize,
+    /// Tree answers not used (the prior's, for a tracker started with the walk).
+    skip: usize,
+    /// Walk steps.
+    len: usize,
+}
+
+impl<'a> SmoothedWalk<'a> {
+    /// The answers of `tree`, one per step `0..=steps` (0 = the prior).
+    pub fn new(tree: PathTree, topology: &'a FloorTopology, cluster: ClusterConfig) -> Self {
+        let len = tree.steps();
+        Self {
+            tree: Some(tree),
+            topology,
+            cluster,
+            lead: 0,
+            skip: 0,
+            len,
+        }
+    }
+
+    /// A walk of `steps` steps without answers (a tracker that never started).
+    pub fn empty(topology: &'a FloorTopology, cluster: ClusterConfig, steps: usize) -> Self {
+        Self {
+            tree: None,
+            topology,
+            cluster,
+            lead: 0,
+            skip: 0,
+            len: steps,
+        }
+    }
+
+    /// Places the answers on a walk of `steps` steps whose tracker's prior stands after
+    /// the walk's step `before` (1-based; 0: the tracker started with the walk, and the
+    /// prior's answer is dropped): the answer after tracker step `g` becomes the walk's step
+    /// `before + g` (1-based). Steps without an answer read `None`.
+    pub fn on_walk(self, before: usize, steps: usize) -> Self {
+        Self {
+            lead: before.saturating_sub(1),
+            skip: usize::from(before == 0),
+            len: steps,
+            ..self
+        }
+    }
+
+    /// Steps of the walk.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// True for a walk of no steps.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Largest number of path nodes held at once.
+    pub fn path_nodes_peak(&self) -> usize {
+        self.tree.as_ref().map_or(0, PathTree::peak_nodes)
+    }
+
+    /// The smoothed belief at each step of the walk, in order (`None` where there is none).
+    /// Each call recomputes the current segment's answers (about the cost of clustering
+    /// each step once).
+    pub fn iter(&self) -> impl Iterator<Item = Option<SmoothedStep>> + '_ {
+        let answers = self
+            .tree
+            .iter()
+            .flat_map(|t| t.smoothed_iter(self.topology, &self.cluster))
+            .skip(self.skip)
+            .map(Some);
+        std::iter::repeat_n(None, self.lead)
+            .chain(answers)
+            .chain(std::iter::repeat(None))
+            .take(self.len)
     }
 }
 
@@ -550,7 +682,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn lagged_answers_keep_certain_ones_exactly() {
+    fn stored_steps_are_lossless() {
         let certain = SmoothedStep {
             estimate: Some(Cluster {
                 x: 1.25,
@@ -566,15 +698,21 @@ mod tests {
             certain: true,
             ancestors: 40,
         };
-        assert_eq!(LaggedAnswer::keep(&certain).get(), Some(certain));
         let unsure = SmoothedStep {
             certain: false,
+            hypotheses: 3,
             ..certain
         };
-        assert_eq!(LaggedAnswer::keep(&unsure).get(), None);
-        assert_eq!(LaggedAnswer::keep(&SmoothedStep::NONE).get(), None);
-        assert_eq!(std::mem::size_of::<LaggedAnswer>(), 64);
+        let bare = SmoothedStep {
+            ancestors: 7,
+            ..SmoothedStep::NONE
+        };
+        for s in [certain, unsure, bare, SmoothedStep::NONE] {
+            assert_eq!(StoredStep::store(&s).get(), s);
+        }
+        assert_eq!(std::mem::size_of::<StoredStep>(), 64);
     }
+
     use crate::map::TopologyConfig;
 
     fn topology() -> FloorTopology {
@@ -610,9 +748,12 @@ mod tests {
             &cluster,
         );
         assert_eq!(tree.nodes(), 1 + 1 + 3);
-        assert_eq!(tree.generations[0][0].x, 3.0);
-        assert_eq!(tree.generations[1][0].x, 12.0);
-        assert_eq!(tree.generations[2][0].parent, 0);
+        // The two one-node generations are the chain now.
+        assert_eq!(tree.chain.len(), 2);
+        assert_eq!(tree.chain[0].x, 3.0);
+        assert_eq!(tree.chain[1].x, 12.0);
+        assert_eq!(tree.generations.len(), 1);
+        assert_eq!(tree.generations[0][0].parent, 0);
         assert_eq!(tree.steps(), 3);
         assert_eq!(tree.peak_nodes(), 9);
     }

@@ -15,7 +15,7 @@
 //! Steps before the first scan come before any WiFi information; without a known start they
 //! are reported without particles (and count towards the steps to localise).
 
-use super::path_tree::SmoothedStep;
+use super::path_tree::{SmoothedStep, SmoothedWalk};
 use super::rf_assist::RfLocaliser;
 use super::tracker::{StepMeasurement, TrackStep, Tracker};
 use super::tracker_config::TrackerConfig;
@@ -94,10 +94,18 @@ impl<'a> RfTracker<'a> {
         self.place_smoothed(smoothed)
     }
 
-    /// [`Self::smoothed`], ending the smoothing ([`Tracker::take_smoothed`]).
-    pub fn take_smoothed(&mut self) -> Option<Vec<Option<SmoothedStep>>> {
-        let smoothed = self.tracker.as_mut().map(Tracker::take_smoothed);
-        self.place_smoothed(smoothed)
+    /// [`Self::smoothed`], ending the smoothing ([`Tracker::take_smoothed`]): each step's
+    /// answer is computed as it is read.
+    pub fn take_smoothed(&mut self) -> Option<SmoothedWalk<'a>> {
+        if !self.config.smoothing {
+            return None;
+        }
+        let cluster = self.config.cluster;
+        let walk = match (self.tracker.as_mut(), self.started_after) {
+            (Some(t), Some(before)) => t.take_smoothed()?.on_walk(before, self.steps),
+            _ => SmoothedWalk::empty(self.topology, cluster, self.steps),
+        };
+        Some(walk)
     }
 
     /// The tracker's smoothed steps (`None`: no tracker yet) placed on this walk's steps.

@@ -31,7 +31,7 @@
 
 use super::cluster::{Cluster, ClusterPoint, mean_shift};
 use super::kld::KldBins;
-use super::path_tree::{PathNode, PathTree, SmoothedStep};
+use super::path_tree::{PathNode, PathTree, SmoothedStep, SmoothedWalk};
 use super::recovery::{Recovery, heading_corrections};
 use super::tracker_config::{StartPose, TrackerConfig};
 use crate::error::{Error, Result};
@@ -311,12 +311,13 @@ impl<'a> Tracker<'a> {
         Some(tree.smoothed(self.topology, &self.config.cluster))
     }
 
-    /// [`Self::smoothed`], ending the smoothing: the path tree is consumed (a long walk's
-    /// answer is then built without a copy), and later calls return `None`.
-    pub fn take_smoothed(&mut self) -> Option<Vec<SmoothedStep>> {
+    /// [`Self::smoothed`], ending the smoothing: the path tree moves into the answer, which
+    /// computes each step's belief as it is read (a long walk never holds every step's
+    /// answer), and later calls return `None`.
+    pub fn take_smoothed(&mut self) -> Option<SmoothedWalk<'a>> {
         let tree = self.tree.take()?;
         self.path_nodes_peak_taken = tree.peak_nodes();
-        Some(tree.into_smoothed(self.topology, &self.config.cluster))
+        Some(SmoothedWalk::new(tree, self.topology, self.config.cluster))
     }
 
     /// Largest number of path nodes (16 bytes each) the smoother held at once (0 without

@@ -120,10 +120,14 @@ impl RunFolder {
     }
 
     /// Writes `value` as pretty JSON into `name`.
+    /// (Streamed: a long run's summary is never held as text.)
     pub fn write_json<T: serde::Serialize>(&self, name: &str, value: &T) -> Result<()> {
-        let text = serde_json::to_string_pretty(value)
+        let p = self.path(name);
+        let file = std::fs::File::create(&p).map_err(|e| Error::io(&p, e))?;
+        let mut out = std::io::BufWriter::with_capacity(1 << 16, file);
+        serde_json::to_writer_pretty(&mut out, value)
             .map_err(|e| Error::encode(format!("serialise {name}"), e))?;
-        self.write(name, text.as_bytes())
+        std::io::Write::flush(&mut out).map_err(|e| Error::io(p, e))
     }
 
     /// Names the run's input files: [`RunFolder::commit`] refuses, before moving anything,

@@ -74,17 +74,30 @@ pub fn write_track(path: &Path, points: &[TrackPoint]) -> Result<()> {
 }
 
 /// Writes `t,x,y,z,level,certain,hypotheses` rows (`certain` 1 or 0): a reader of
-/// `t,x,y,z,level` reads it as a track.
-pub fn write_smoothed_track(path: &Path, points: &[SmoothedPoint]) -> Result<()> {
-    check_finite(points.iter().map(|p| &p.point), path)?;
-    crate::io::write_atomically_with(path, |w| {
+/// `t,x,y,z,level` reads it as a track. The points are streamed (a long walk's smoothed
+/// track is computed as it is written); a non-finite one stops the writing and nothing is
+/// written.
+pub fn write_smoothed_track(
+    path: &Path,
+    points: impl IntoIterator<Item = SmoothedPoint>,
+) -> Result<()> {
+    let mut bad = None;
+    let written = crate::io::write_atomically_with(path, |w| {
         w.write_all(b"t,x,y,z,level,certain,hypotheses\n")?;
         for p in points {
+            if check_finite(std::iter::once(&p.point), path).is_err() {
+                bad = Some(p.point);
+                return Err(std::io::Error::other("a track point is not finite"));
+            }
             write_point(w, &p.point)?;
             writeln!(w, ",{},{}", u8::from(p.certain), p.hypotheses)?;
         }
         Ok(())
-    })
+    });
+    match bad {
+        Some(p) => check_finite(std::iter::once(&p), path),
+        None => written,
+    }
 }
 
 /// Refuses a track with a non-finite value (nothing is written).
