@@ -23,7 +23,8 @@ use footslam::map::{
     CellConfig, CellMap, FloorTopology, PlanConfig, RadioMap, TopologyConfig, grow_plan,
     merge_maps, walkable_plan,
 };
-use footslam::sim::{TowerSimConfig, TowerSimulation, TruePose, simulate_tower};
+use footslam::sensor::TruePose;
+use footslam::sim::{TowerSimConfig, TowerSimulation, simulate_tower};
 
 /// Grid spacing of the expected field, metres.
 const SPACING: f64 = 0.5;

@@ -13,9 +13,10 @@ use footslam::io::truth_csv::write_truth;
 use footslam::io::write_wifi;
 use footslam::map::{FloorTopology, TopologyConfig};
 use footslam::render::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, write_plan_png};
+use footslam::sensor::TruePose;
 use footslam::sim::{
-    SimConfig, TourKind, TowerSimConfig, TruePose, expected_field, floor_changes,
-    floor_resolved_at, simulate, simulate_tower,
+    SimConfig, TourKind, TowerSimConfig, expected_field, floor_changes, floor_resolved_at,
+    simulate, simulate_tower,
 };
 use serde::Serialize;
 

@@ -4,7 +4,7 @@
 use super::position_error::{Alignment, ErrorReport, position_errors};
 use crate::filter::{Cluster, SmoothedStep, TrackStep};
 use crate::io::TimedPoint;
-use crate::sim::TruePose;
+use crate::sensor::TruePose;
 use serde::Serialize;
 
 /// A first fix farther than this from the truth, or on another floor, is the wrong cluster,

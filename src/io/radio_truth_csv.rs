@@ -4,7 +4,7 @@
 //! the walkable area; not clipped at the detection floor).
 
 use crate::error::{Error, Result};
-use crate::sim::AccessPoint;
+use crate::sensor::AccessPoint;
 use std::path::Path;
 
 /// Writes the access points.

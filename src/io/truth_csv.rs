@@ -8,7 +8,7 @@
 use super::csv_table::CsvTable;
 use crate::error::{Error, Result};
 use crate::geometry::angle::wrap_angle;
-use crate::sim::{TruePath, TruePose};
+use crate::sensor::{TruePath, TruePose};
 use std::path::Path;
 
 /// Writes `truth` as CSV (millisecond times, 0.1 mm positions, microradian headings).

@@ -3,9 +3,11 @@
 pub mod gps;
 pub mod imu;
 pub mod step;
+pub mod truth;
 pub mod wifi;
 
 pub use gps::GpsFix;
 pub use imu::{ImuRecording, ImuSample, SamplingReport};
 pub use step::{Step, StepTrace};
-pub use wifi::{WifiReading, WifiScan};
+pub use truth::{TruePath, TruePose};
+pub use wifi::{AccessPoint, WifiReading, WifiScan};

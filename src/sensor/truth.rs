@@ -1,4 +1,5 @@
-//! The true path of a simulated walk: one pose per step.
+//! The true path of a walk, one pose per step: the simulator's truth, or a reference
+//! system's (read and written by [`crate::io::truth_csv`]).
 
 use crate::geometry::Pose2;
 use serde::{Deserialize, Serialize};

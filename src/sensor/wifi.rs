@@ -7,6 +7,20 @@ pub const MIN_RSSI: f64 = -120.0;
 /// Strongest RSSI accepted, dBm (a receiver touching the access point).
 pub const MAX_RSSI: f64 = 0.0;
 
+/// An access point and where it is: the radio world's truth (the simulator places them; a
+/// survey of real access points may know them too).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AccessPoint {
+    /// Its BSSID (the simulator's are locally administered MAC addresses).
+    pub bssid: String,
+    /// East, metres.
+    pub x: f64,
+    /// North, metres.
+    pub y: f64,
+    /// Floor level.
+    pub level: i32,
+}
+
 /// One access point heard in a scan.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct WifiReading {

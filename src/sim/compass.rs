@@ -16,11 +16,11 @@
 //! The readings are thus heavy-tailed and correlated, as the heading likelihood
 //! ([`crate::model::HeadingLikelihood`]) assumes they may be.
 
-use super::truth::{TruePath, TruePose};
 use crate::error::{Error, Result};
 use crate::geometry::angle::wrap_angle;
 use crate::random::gauss;
 use crate::sensor::step::{Step, StepTrace};
+use crate::sensor::truth::{TruePath, TruePose};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};

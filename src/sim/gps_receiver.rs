@@ -8,11 +8,11 @@
 //! a bias that drifted while inside. Each fix states its accuracy as
 //! `√(bias_sigma² + noise_sigma²)`.
 
-use super::truth::{TruePath, TruePose};
 use crate::error::Result;
 use crate::geometry::LocalFrame;
 use crate::random::gauss;
 use crate::sensor::GpsFix;
+use crate::sensor::truth::{TruePath, TruePose};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};

@@ -16,7 +16,6 @@
 //! * [`walk_config`] — the tour's laps and room visits and the walker's gait
 //! * [`walker`] — the walker striding along the planned route, and its true poses
 //! * [`step_sensor`] — step measurements with foot-mounted-grade errors and heading drift
-//! * [`truth`] — the true path, one pose per step
 //! * [`wifi`] — access points, path loss, shadowing and the scans a walker records
 //! * [`campus`], [`campus_walk`], [`gps_receiver`], [`compass`] — the office in a yard with a
 //!   front door, outdoor–indoor–outdoor walks, the GPS fixes taken outdoors and a compass's
@@ -39,7 +38,6 @@ pub mod survey_tour;
 pub mod tour;
 pub mod tower;
 pub mod tower_walk;
-pub mod truth;
 pub mod walk_config;
 pub mod walker;
 pub mod wifi;
@@ -55,14 +53,14 @@ pub use tower::{Tower, TowerConfig, TowerRoom};
 pub use tower_walk::{
     TourKind, TowerWalkConfig, floor_changes, floor_resolved_at, simulate_tower_walk,
 };
-pub use truth::{TruePath, TruePose};
 pub use walk_config::WalkConfig;
 pub use walker::simulate_walk;
-pub use wifi::{AccessPoint, RadioWorld, WifiSimConfig, expected_field};
+pub use wifi::{RadioWorld, WifiSimConfig, expected_field};
 
 use crate::error::Result;
 use crate::map::FloorPlan;
 use crate::sensor::step::StepTrace;
+use crate::sensor::{TruePath, TruePose};
 use serde::{Deserialize, Serialize};
 
 /// Stream number of the walker's generator.

@@ -8,11 +8,11 @@
 //! removed, so the total is exact while the drift still bends the track unevenly. A constant
 //! stride-length scale and white height noise complete the model.
 
-use super::truth::{TruePath, TruePose};
 use crate::error::{Error, Result};
 use crate::geometry::angle::wrap_angle;
 use crate::random::gauss;
 use crate::sensor::step::{MAX_STEP_LENGTH, Step, StepTrace};
+use crate::sensor::truth::{TruePath, TruePose};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};

@@ -11,10 +11,10 @@
 use super::route::Route;
 use super::stride::{Gait, strides};
 use super::tower::Tower;
-use super::truth::{TruePath, TruePose};
 use crate::error::{Error, Result};
 use crate::geometry::angle::wrap_angle;
 use crate::map::FloorTopology;
+use crate::sensor::truth::{TruePath, TruePose};
 use geo::Coord;
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;

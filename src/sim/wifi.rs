@@ -16,11 +16,11 @@
 //! `wifi_field.csv`) is the mean reading: with half the largest body loss. Scans come every `scan_interval` seconds (with
 //! jitter) at the walker's interpolated position.
 
-use super::truth::{TruePath, TruePose};
 use crate::error::{Error, Result};
 use crate::map::{FloorTopology, SegmentKind};
 use crate::random::gauss;
-use crate::sensor::{WifiReading, WifiScan};
+use crate::sensor::truth::{TruePath, TruePose};
+use crate::sensor::{AccessPoint, WifiReading, WifiScan};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};
@@ -145,19 +145,6 @@ impl WifiSimConfig {
         crate::error::check_range("wifi.scan_jitter", self.scan_jitter, 0.0..=0.5, "")?;
         Ok(())
     }
-}
-
-/// An access point.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct AccessPoint {
-    /// Its BSSID (a locally administered MAC address).
-    pub bssid: String,
-    /// East, metres.
-    pub x: f64,
-    /// North, metres.
-    pub y: f64,
-    /// Floor level.
-    pub level: i32,
 }
 
 /// One cosine of a shadowing field: `cos(wx·x + wy·y + phase)`.
