@@ -6,8 +6,9 @@
 #
 # learn: STEPS strides round a 30 m × 15 m corridor loop (0.7 m, σ 2 cm; heading noise
 #        0.01 rad), 100 particles — a long walk in one building.
-# track: the bundled office simulator's 1000-lap walk repeated to STEPS/10 steps, on its plan,
-#        from an unknown start.
+# track: the office simulator's 1000-lap walk without heading drift (so that the tracker
+#        follows it, as on a real walk with a good plan), repeated to STEPS/10 steps (or
+#        TRACK_STEPS), on its plan, from an unknown start.
 # Needs GNU time (/usr/bin/time) and python3; run after `cargo build --release`.
 set -euo pipefail
 steps=${1:-8800000}
@@ -30,8 +31,16 @@ with open(out, "w") as f:
         t += 0.5
         f.write(f"{t:.3f},{0.7 + random.gauss(0, 0.02):.4f},{turn + random.gauss(0, 0.01):.5f},0\n")
 PY
-"$bin" simulate --laps 1000 --out "$work/office" > /dev/null
-python3 - "$work/office/steps.csv" "$((steps / 10))" "$work/office_long.csv" <<'PY'
+"$bin" simulate --laps 1000 --out "$work/office_drift" > /dev/null
+python3 - "$work/office_drift/config.json" "$work/nodrift.json" <<'PY'
+import json, sys
+c = json.load(open(sys.argv[1]))
+c["noise"]["drift_total"] = 0.0
+c["noise"]["drift_rate_walk_sigma"] = 0.0
+json.dump(c, open(sys.argv[2], "w"), indent=1)
+PY
+"$bin" simulate --config "$work/nodrift.json" --out "$work/office" > /dev/null
+python3 - "$work/office/steps.csv" "${TRACK_STEPS:-$((steps / 10))}" "$work/office_long.csv" <<'PY'
 import sys
 src, n, out = sys.argv[1], int(sys.argv[2]), sys.argv[3]
 lines = open(src).read().splitlines()
