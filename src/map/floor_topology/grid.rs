@@ -1,0 +1,203 @@
+//! The grid index of a topology: a uniform grid over the plan whose cells hold the records of
+//! the segments crossing them and the ids of the surfaces whose bounding boxes meet them,
+//! each cell's items stored contiguously (compressed rows).
+
+use super::segments::{Segment, SegmentKind};
+
+/// Most cells of the spatial index (the cell size grows for larger plans).
+pub(super) const MAX_CELLS: usize = 1 << 22;
+/// The right-hand side of a wall record: no surface.
+pub(super) const NO_SURFACE: u32 = u32::MAX;
+/// Barrier records carry this flag and the level's index in their surface fields.
+pub(super) const BARRIER_FLAG: u32 = 1 << 31;
+
+/// One segment as stored in a grid cell: 24 bytes.
+///
+/// Oriented: `left` lies to the left of the direction from `a` to `b`, `right` to its right
+/// ([`NO_SURFACE`] for a wall; both the flagged level index for a barrier). Both ends are
+/// stored, so segments meeting at a corner hold that corner bit for bit alike.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Record {
+    pub(super) ax: f32,
+    pub(super) ay: f32,
+    pub(super) bx: f32,
+    pub(super) by: f32,
+    pub(super) left: u32,
+    pub(super) right: u32,
+}
+
+/// The grid: origin, reciprocal cell size, dimensions, row offsets and records.
+#[derive(Debug, Clone)]
+pub(super) struct SegmentGrid {
+    pub(super) origin: [f32; 2],
+    pub(super) inv_cell: f32,
+    pub(super) nx: usize,
+    pub(super) ny: usize,
+    pub(super) offsets: Vec<u32>,
+    pub(super) records: Vec<Record>,
+    /// Surfaces whose bounding box meets each cell (for `locate`).
+    surface_offsets: Vec<u32>,
+    surface_ids: Vec<u32>,
+}
+
+impl SegmentGrid {
+    /// The grid over `bounds` (min x, min y, max x, max y) with every segment's record in
+    /// every cell it crosses, and every surface's id in every cell its bounding box
+    /// (`bboxes`) meets; barriers are keyed by their level's index above `lowest_level`.
+    pub(super) fn build(
+        segments: &[Segment],
+        bboxes: &[[f64; 4]],
+        bounds: [f64; 4],
+        lowest_level: i32,
+        cell_size: f64,
+    ) -> Self {
+        let b = bounds;
+        // Plans spread over kilometres get coarser cells rather than a huge grid.
+        let area = (b[2] - b[0] + 2.0 * cell_size) * (b[3] - b[1] + 2.0 * cell_size);
+        let cell_size = cell_size.max((area / MAX_CELLS as f64).sqrt());
+        let pad = cell_size;
+        let mut grid = Self {
+            origin: [(b[0] - pad) as f32, (b[1] - pad) as f32],
+            inv_cell: (1.0 / cell_size) as f32,
+            nx: (((b[2] - b[0] + 2.0 * pad) / cell_size).ceil() as usize).max(1),
+            ny: (((b[3] - b[1] + 2.0 * pad) / cell_size).ceil() as usize).max(1),
+            offsets: Vec::new(),
+            records: Vec::new(),
+            surface_offsets: Vec::new(),
+            surface_ids: Vec::new(),
+        };
+        let cells = grid.nx * grid.ny;
+        // Each segment in the cells it crosses (a long diagonal wall's bounding box would be
+        // most of the grid): per row, the columns of its stretch within the row's band.
+        let spans: Vec<(usize, usize, usize, usize)> = segments
+            .iter()
+            .enumerate()
+            .flat_map(|(i, s)| grid.segment_row_spans(i, s.a, s.b))
+            .collect();
+        let records: Vec<Record> = segments
+            .iter()
+            .map(|s| {
+                let (left, right) = match s.kind {
+                    SegmentKind::Wall { surface } => (surface, NO_SURFACE),
+                    SegmentKind::Connection { a, b } => (a, b),
+                    SegmentKind::Barrier { level } => {
+                        let k = BARRIER_FLAG | (level - lowest_level) as u32;
+                        (k, k)
+                    }
+                };
+                Record {
+                    ax: s.a[0] as f32,
+                    ay: s.a[1] as f32,
+                    bx: s.b[0] as f32,
+                    by: s.b[1] as f32,
+                    left,
+                    right,
+                }
+            })
+            .collect();
+        let (offsets, items) = compress(cells, spans.iter().copied(), grid.nx);
+        grid.offsets = offsets;
+        grid.records = items.into_iter().map(|i| records[i]).collect();
+        let surface_spans: Vec<(usize, usize, usize, usize)> = bboxes
+            .iter()
+            .enumerate()
+            .flat_map(|(i, b)| {
+                let (x0, x1) = grid.span(b[0] as f32 - 1e-3, b[2] as f32 + 1e-3, 0);
+                let (y0, y1) = grid.span(b[1] as f32 - 1e-3, b[3] as f32 + 1e-3, 1);
+                (y0..=y1).map(move |y| (i, y, x0, x1))
+            })
+            .collect();
+        let (offsets, items) = compress(cells, surface_spans.iter().copied(), grid.nx);
+        grid.surface_offsets = offsets;
+        grid.surface_ids = items.into_iter().map(|i| i as u32).collect();
+        grid
+    }
+
+    /// The surfaces whose bounding box meets the cell holding `(x, y)`.
+    pub(super) fn surfaces_at(&self, x: f64, y: f64) -> &[u32] {
+        let (ix0, _) = self.span(x as f32, x as f32, 0);
+        let (iy0, _) = self.span(y as f32, y as f32, 1);
+        let cell = iy0 * self.nx + ix0;
+        &self.surface_ids
+            [self.surface_offsets[cell] as usize..self.surface_offsets[cell + 1] as usize]
+    }
+
+    /// Cell range covering `[lo, hi]` along axis `axis`, clamped to the grid.
+    #[inline]
+    pub(super) fn span(&self, lo: f32, hi: f32, axis: usize) -> (usize, usize) {
+        let n = if axis == 0 { self.nx } else { self.ny };
+        // Truncation is the floor for positive values; the rest clamp to cell 0.
+        let cell = |v: f32| {
+            let c = (v - self.origin[axis]) * self.inv_cell;
+            if c > 0.0 { (c as usize).min(n - 1) } else { 0 }
+        };
+        (cell(lo), cell(hi))
+    }
+
+    /// The row spans `(item, row, x0, x1)` of the cells segment `a`–`b` crosses, each row's
+    /// band and the segment padded by a millimetre (f32 rounding at kilometres from the
+    /// origin).
+    fn segment_row_spans(
+        &self,
+        item: usize,
+        a: [f64; 2],
+        b: [f64; 2],
+    ) -> impl Iterator<Item = (usize, usize, usize, usize)> + '_ {
+        const PAD: f64 = 1e-3;
+        let (y0, y1) = self.span(
+            (a[1].min(b[1]) - PAD) as f32,
+            (a[1].max(b[1]) + PAD) as f32,
+            1,
+        );
+        let cell = 1.0 / f64::from(self.inv_cell);
+        let origin_y = f64::from(self.origin[1]);
+        let dy = b[1] - a[1];
+        (y0..=y1).map(move |y| {
+            let band = (
+                origin_y + y as f64 * cell - PAD,
+                origin_y + (y + 1) as f64 * cell + PAD,
+            );
+            // The stretch of the segment inside the band (all of it when nearly flat).
+            let (t0, t1) = if dy.abs() < 1e-9 {
+                (0.0, 1.0)
+            } else {
+                let (u, v) = ((band.0 - a[1]) / dy, (band.1 - a[1]) / dy);
+                (u.min(v).max(0.0), u.max(v).min(1.0))
+            };
+            let (t0, t1) = if t0 <= t1 { (t0, t1) } else { (0.0, 1.0) };
+            let xa = a[0] + t0 * (b[0] - a[0]);
+            let xb = a[0] + t1 * (b[0] - a[0]);
+            let (x0, x1) = self.span((xa.min(xb) - PAD) as f32, (xa.max(xb) + PAD) as f32, 0);
+            (item, y, x0, x1)
+        })
+    }
+}
+
+/// Compressed rows: for items given as row spans `(item, row, x0, x1)` (the cells
+/// `x0..=x1` of `row`), the offsets of each cell's run (row-major, `cells + 1` entries) and
+/// the item indices in cell order.
+fn compress(
+    cells: usize,
+    spans: impl Iterator<Item = (usize, usize, usize, usize)> + Clone,
+    nx: usize,
+) -> (Vec<u32>, Vec<usize>) {
+    let mut counts = vec![0u32; cells + 1];
+    for (_, y, x0, x1) in spans.clone() {
+        for x in x0..=x1 {
+            counts[y * nx + x + 1] += 1;
+        }
+    }
+    for i in 1..=cells {
+        counts[i] += counts[i - 1];
+    }
+    let mut fill = counts.clone();
+    let mut items = vec![0usize; counts[cells] as usize];
+    for (i, y, x0, x1) in spans {
+        for x in x0..=x1 {
+            let c = y * nx + x;
+            items[fill[c] as usize] = i;
+            fill[c] += 1;
+        }
+    }
+    (counts, items)
+}

@@ -1,0 +1,278 @@
+use super::grid::MAX_CELLS;
+use super::*;
+use crate::map::{Barrier, FloorPlan, FloorPolygon};
+use geo::{Contains, Intersects, LineString, Rect};
+use rand::RngExt;
+
+fn rect(x0: f64, y0: f64, x1: f64, y1: f64, z: f64, level: i32) -> FloorPolygon {
+    FloorPolygon {
+        polygon: Rect::new((x0, y0), (x1, y1)).to_polygon(),
+        level,
+        z,
+        name: None,
+        room: None,
+    }
+}
+
+/// Two 4 m rooms 0.2 m apart joined by a 1 m door rectangle filling the gap.
+fn two_rooms() -> FloorPlan {
+    FloorPlan {
+        polygons: vec![
+            rect(0.0, 0.0, 4.0, 4.0, 0.0, 0),
+            rect(4.2, 0.0, 8.2, 4.0, 0.0, 0),
+            rect(4.0, 1.5, 4.2, 2.5, 0.0, 0),
+        ],
+        ..Default::default()
+    }
+}
+
+fn build(plan: &FloorPlan) -> FloorTopology {
+    FloorTopology::build(plan, &TopologyConfig::default()).expect("topology")
+}
+
+#[test]
+fn doors_connect_and_walls_block() {
+    let t = build(&two_rooms());
+    let connections = t
+        .segments()
+        .iter()
+        .filter(|s| matches!(s.kind, SegmentKind::Connection { .. }))
+        .count();
+    assert_eq!(connections, 2);
+    // Partial overlap: each room's 4 m wall is split into wall, door, wall.
+    let walls = t
+        .segments()
+        .iter()
+        .filter(|s| matches!(s.kind, SegmentKind::Wall { .. }))
+        .count();
+    assert_eq!(walls, 5 + 5 + 2);
+    assert_eq!(t.walk(0, [3.5, 2.0], [4.7, 2.0]), Some(1));
+    assert_eq!(t.walk(0, [3.5, 2.0], [4.1, 2.0]), Some(2));
+    assert_eq!(t.walk(0, [3.5, 3.5], [4.7, 3.5]), None);
+    assert_eq!(t.walk(0, [1.0, 1.0], [2.0, 1.5]), Some(0));
+    assert_eq!(t.walk(1, [4.7, 2.0], [3.5, 2.0]), Some(0));
+    // Starting on (or a hair off) a connection line never loses the crossing.
+    for x in [4.0, 4.0 - 1e-6, 3.999_999_8] {
+        assert_eq!(t.walk(0, [x, 2.0], [4.7, 2.0]), Some(1), "from x = {x}");
+    }
+    assert_eq!(t.walk(0, [4.0, 2.0], [3.0, 2.0]), Some(0));
+    assert_eq!(t.walk(2, [4.0, 2.0], [4.1, 2.0]), Some(2));
+    assert!((t.total_area() - (32.0 + 0.2)).abs() < 1e-9);
+}
+
+#[test]
+fn heights_decide_connections_and_stairs_chain() {
+    // A corridor, then five treads rising 0.17 m, then a landing 1 m up.
+    let mut polygons = vec![rect(0.0, 0.0, 2.0, 1.0, 0.0, 0)];
+    for k in 0..5 {
+        let x = 2.0 + 0.3 * f64::from(k);
+        polygons.push(rect(x, 0.0, x + 0.3, 1.0, 0.17 * f64::from(k + 1), 0));
+    }
+    polygons.push(rect(3.5, 0.0, 5.0, 1.0, 1.0, 1));
+    // Beside the landing, 1 m lower: a wall, not a connection.
+    polygons.push(rect(5.0, 0.0, 6.0, 1.0, 0.0, 0));
+    let t = build(&FloorPlan {
+        polygons,
+        ..Default::default()
+    });
+    let end = t.walk(0, [1.5, 0.5], [2.7, 0.5]).expect("up three treads");
+    assert!((t.z(end) - 0.51).abs() < 1e-6);
+    assert_eq!(t.walk(0, [1.0, 0.5], [4.0, 0.5]), Some(6));
+    assert_eq!(t.walk(6, [4.5, 0.5], [5.5, 0.5]), None);
+    assert_eq!(t.levels(), (0, 1));
+}
+
+#[test]
+fn barriers_block_their_level_only() {
+    let mut plan = FloorPlan {
+        polygons: vec![
+            rect(0.0, 0.0, 10.0, 4.0, 0.0, 0),
+            rect(0.0, 0.0, 10.0, 4.0, 3.0, 1),
+        ],
+        ..Default::default()
+    };
+    plan.barriers.push(Barrier {
+        line: LineString::from(vec![(5.0, -1.0), (5.0, 5.0)]),
+        level: 1,
+    });
+    let t = build(&plan);
+    assert_eq!(t.walk(0, [4.5, 2.0], [5.5, 2.0]), Some(0));
+    assert_eq!(t.walk(1, [4.5, 2.0], [5.5, 2.0]), None);
+    // Stacked floors never leak into each other.
+    assert_eq!(t.locate(2.0, 2.0, None, None), Some(0));
+    assert_eq!(t.locate(2.0, 2.0, None, Some(2.9)), Some(1));
+    assert_eq!(t.locate(2.0, 2.0, Some(1), None), Some(1));
+    assert_eq!(t.locate(20.0, 2.0, None, None), None);
+}
+
+#[test]
+fn uniform_samples_respect_holes_and_areas() {
+    let outer = Rect::new((0.0, 0.0), (10.0, 10.0)).to_polygon();
+    let hole = Rect::new((2.0, 2.0), (8.0, 8.0))
+        .to_polygon()
+        .exterior()
+        .clone();
+    let plan = FloorPlan {
+        polygons: vec![
+            FloorPolygon {
+                polygon: geo::Polygon::new(outer.exterior().clone(), vec![hole]),
+                level: 0,
+                z: 0.0,
+                name: None,
+                room: None,
+            },
+            rect(20.0, 0.0, 28.0, 8.0, 0.0, 0),
+        ],
+        ..Default::default()
+    };
+    let t = build(&plan);
+    let mut rng = crate::random::stream(3, 0, 0);
+    let mut first = 0;
+    let n = 20_000;
+    for _ in 0..n {
+        let (s, [x, y]) = t.sample_uniform(&mut rng);
+        assert!(plan.is_walkable(x, y, Some(0)), "({x}, {y})");
+        assert_eq!(t.locate(x, y, None, None), Some(s));
+        first += usize::from(s == 0);
+    }
+    // Areas 64 and 64: half each.
+    let share = first as f64 / f64::from(n);
+    assert!((share - 0.5).abs() < 0.02, "{share}");
+}
+
+/// Random 0.7 m steps, a quarter aimed through segment corners: every step that
+/// survives ends on (or within a millimetre of) the surface it reports.
+fn leaks(plan: &FloorPlan, seed: u64) -> usize {
+    use geo::{Distance, Euclidean};
+    let t = build(plan);
+    let mut rng = crate::random::stream(seed, 0, 0);
+    let mut leaks = 0;
+    for _ in 0..60_000 {
+        let (s, [x, y]) = t.sample_uniform(&mut rng);
+        let from = [x as f32, y as f32];
+        let h: f32 = rng.random_range(0.0..std::f32::consts::TAU);
+        let mut to = [from[0] + 0.7 * h.cos(), from[1] + 0.7 * h.sin()];
+        if rng.random_range(0..4) == 0 {
+            let seg = &t.segments()[rng.random_range(0..t.segments().len())];
+            let v = [seg.a[0] as f32, seg.a[1] as f32];
+            let d = (v[0] - from[0]).hypot(v[1] - from[1]);
+            if d > 0.05 && d < 1.0 {
+                let k = 0.8 / d;
+                to = [
+                    from[0] + k * (v[0] - from[0]),
+                    from[1] + k * (v[1] - from[1]),
+                ];
+            }
+        }
+        if let Some(end) = t.walk(s, from, to) {
+            let p = geo::Point::new(f64::from(to[0]), f64::from(to[1]));
+            if Euclidean.distance(&p, &plan.polygons[end as usize].polygon) > 1e-3 {
+                leaks += 1;
+            }
+        }
+    }
+    leaks
+}
+
+#[test]
+fn no_step_leaks_through_corners() {
+    let office = crate::sim::office_floor(&Default::default()).expect("office");
+    assert_eq!(leaks(&office, 1), 0);
+    let tower = crate::sim::Tower::new(&Default::default()).expect("tower");
+    assert_eq!(leaks(&tower.plan, 2), 0);
+}
+
+#[test]
+fn far_apart_surfaces_get_a_coarser_index_not_a_huge_one() {
+    let plan = FloorPlan {
+        polygons: vec![
+            rect(0.0, 0.0, 4.0, 4.0, 0.0, 0),
+            rect(50_000.0, 50_000.0, 50_004.0, 50_004.0, 0.0, 0),
+        ],
+        ..Default::default()
+    };
+    let t = build(&plan);
+    let (nx, ny) = (t.grid.nx, t.grid.ny);
+    assert!(nx * ny <= MAX_CELLS + 2 * (nx + ny));
+    assert_eq!(t.walk(0, [1.0, 1.0], [2.0, 2.0]), Some(0));
+    assert_eq!(t.walk(1, [50_001.0, 50_001.0], [50_006.0, 50_001.0]), None);
+}
+
+#[test]
+fn broken_plans_are_rejected_by_name() {
+    let bow_tie = FloorPolygon {
+        polygon: geo::Polygon::new(
+            LineString::from(vec![
+                (0.0, 0.0),
+                (2.0, 2.0),
+                (2.0, 0.0),
+                (0.0, 2.0),
+                (0.0, 0.0),
+            ]),
+            vec![],
+        ),
+        level: 0,
+        z: 0.0,
+        name: Some("lobby".into()),
+        room: None,
+    };
+    let plan = FloorPlan {
+        polygons: vec![rect(0.0, 0.0, 1.0, 1.0, 0.0, 0), bow_tie],
+        ..Default::default()
+    };
+    let e = FloorTopology::build(&plan, &TopologyConfig::default())
+        .expect_err("bow tie")
+        .to_string();
+    assert!(e.contains("polygon 1") && e.contains("lobby"), "{e}");
+    let nan = FloorPlan {
+        polygons: vec![rect(0.0, 0.0, f64::NAN, 1.0, 0.0, 0)],
+        ..Default::default()
+    };
+    assert!(FloorTopology::build(&nan, &TopologyConfig::default()).is_err());
+    let high = FloorPlan {
+        polygons: vec![rect(0.0, 0.0, 1.0, 1.0, f64::INFINITY, 0)],
+        ..Default::default()
+    };
+    assert!(FloorTopology::build(&high, &TopologyConfig::default()).is_err());
+}
+
+#[test]
+fn walks_agree_with_a_brute_force_reference_on_the_office() {
+    let plan = crate::sim::office_floor(&Default::default()).expect("office");
+    let t = build(&plan);
+    let mut rng = crate::random::stream(5, 0, 0);
+    let mut checked = 0;
+    for _ in 0..20_000 {
+        let (s, [x, y]) = t.sample_uniform(&mut rng);
+        let h = rng.random_range(0.0..std::f64::consts::TAU);
+        let l = rng.random_range(0.0..1.0);
+        let (tx, ty) = (x + l * h.cos(), y + l * h.sin());
+        let got = t.walk(s, [x as f32, y as f32], [tx as f32, ty as f32]);
+        // Reference: the step stays inside the union of walkable surfaces when every
+        // point along it is walkable (office walls are 0.2 m thick, steps ≤ 1 m).
+        let inside = (0..=50).all(|k| {
+            let f = f64::from(k) / 50.0;
+            plan.is_walkable(x + f * (tx - x), y + f * (ty - y), Some(0))
+        });
+        // Grazing a corner within a millimetre can go either way.
+        let near_edge = (0..=50).any(|k| {
+            let f = f64::from(k) / 50.0;
+            let (px, py) = (x + f * (tx - x), y + f * (ty - y));
+            [(0.001, 0.0), (-0.001, 0.0), (0.0, 0.001), (0.0, -0.001)]
+                .iter()
+                .any(|(dx, dy)| plan.is_walkable(px + dx, py + dy, Some(0)) != inside)
+        });
+        if near_edge {
+            continue;
+        }
+        checked += 1;
+        assert_eq!(got.is_some(), inside, "step ({x}, {y}) → ({tx}, {ty})");
+        if let Some(end) = got {
+            assert_eq!(t.locate(tx, ty, None, None).map(|_| ()), Some(()));
+            let poly = &plan.polygons[end as usize].polygon;
+            let p = geo::Point::new(tx, ty);
+            assert!(poly.contains(&p) || poly.intersects(&p), "ends in {end}");
+        }
+    }
+    assert!(checked > 15_000);
+}
