@@ -20,8 +20,9 @@
 //! * [`campus`], [`campus_walk`], [`gps_receiver`], [`compass`] — the office in a yard with a
 //!   front door, outdoor–indoor–outdoor walks, the GPS fixes taken outdoors and a compass's
 //!   disturbed headings ([`simulate_campus`])
-//! * [`tower`], [`tower_walk`] — a multi-floor building with two stairwells of treads, and
-//!   long tours through it from a random start ([`simulate_tower`])
+//! * [`tower`], [`tower_config`], [`tower_walk`] — a multi-floor building with two
+//!   stairwells of treads, its dimensions, and long tours through it from a random start
+//!   ([`simulate_tower`])
 //! * [`survey_tour`] — survey tours of such a building: every room swept, every flight walked
 
 pub mod campus;
@@ -37,6 +38,7 @@ mod stride;
 pub mod survey_tour;
 pub mod tour;
 pub mod tower;
+pub mod tower_config;
 pub mod tower_walk;
 pub mod walk_config;
 pub mod walker;
@@ -49,7 +51,8 @@ pub use gps_receiver::{GpsRecord, GpsSimConfig, receive_fixes};
 pub use office::{Office, Room, office_floor};
 pub use office_config::OfficeConfig;
 pub use step_sensor::{StepNoiseConfig, measure_steps, measure_steps_from};
-pub use tower::{Tower, TowerConfig, TowerRoom};
+pub use tower::{Tower, TowerRoom};
+pub use tower_config::TowerConfig;
 pub use tower_walk::{
     TourKind, TowerWalkConfig, floor_changes, floor_resolved_at, simulate_tower_walk,
 };
