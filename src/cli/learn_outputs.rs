@@ -1,0 +1,204 @@
+//! The outputs of one learned walk: its track (CSV and GeoJSON), map (GeoJSON and one picture
+//! per floor), walkable plan and configuration, and its figures for `summary.json`.
+
+use super::common::path_length;
+use super::learn_inputs::Walk;
+use super::learn_walks::WalkRun;
+use anyhow::Result;
+use footslam::geometry::{HexGrid, LocalFrame};
+use footslam::io::RunFolder;
+use footslam::io::floor_plan_geojson::write_floor_plan;
+use footslam::io::map_geojson::write_map_geojson;
+use footslam::io::track_geojson::write_track_geojson;
+use footslam::io::{TimedPoint, TrackPoint, write_trajectory};
+use footslam::map::{HexMapSnapshot, PlanConfig, walkable_plan};
+use footslam::render::map_png::{MapPicture, PictureConfig, write_map_png};
+use serde::Serialize;
+
+/// One walk's figures in `summary.json`.
+#[derive(Debug, Serialize)]
+pub(super) struct Summary {
+    steps_file: String,
+    gps_file: Option<String>,
+    /// Steps of the trace that carry an absolute heading.
+    steps_with_heading: usize,
+    /// Steps whose absolute heading weighted the particles.
+    headings_used: usize,
+    pub(super) particles: usize,
+    pub(super) steps: usize,
+    seed: u64,
+    pub(super) filter_runtime_s: f64,
+    pub(super) particle_steps_per_s: f64,
+    pub(super) final_effective_sample_size: f64,
+    min_effective_sample_size: f64,
+    resamplings: usize,
+    best_particle: usize,
+    best_particle_weight: f64,
+    best_path_log_likelihood: f64,
+    pub(super) hexagons: usize,
+    /// Floors found from the steps' height changes (1 for a walk on one floor).
+    levels: usize,
+    map_area_m2: f64,
+    path_length_m: f64,
+    pub(super) gps_fixes: usize,
+    pub(super) gps_fixes_used: usize,
+    /// How far path and map were moved towards the prior map's frame, metres.
+    prior_offset_m: (f64, f64),
+    /// Where the walk's orientation came from and how well it is known.
+    heading: HeadingSummary,
+    /// Walkable area of `plan.geojson`, m² (`None`: the map had too little to make a plan
+    /// of, and no file was written).
+    walkable_plan_m2: Option<f64>,
+}
+
+/// Where a walk's start heading came from and how uncertain the map's orientation is.
+#[derive(Debug, Clone, Copy, Serialize)]
+struct HeadingSummary {
+    /// `gps fixes` (the first fixes' track), `compass` (the steps' `heading` column),
+    /// `config` (`start.heading` with `start_heading_sigma`), `assumed` (`start.heading`,
+    /// exact: a map in the walk's own frame) or `unknown` (uniform over the circle).
+    start_source: &'static str,
+    /// The start heading, degrees counter-clockwise from east.
+    start_deg: f64,
+    /// Its spread before the walk, degrees (1σ; 0 when assumed exact).
+    start_sigma_deg: f64,
+    /// The spread of the particles' headings after the last step, degrees (1σ,
+    /// [`FootSlam::heading_spread`]): the map's orientation as the whole walk pins it.
+    final_sigma_deg: f64,
+}
+
+/// Writes one walk's outputs under `prefix` and returns its summary.
+pub(super) fn write_walk(
+    folder: &RunFolder,
+    prefix: &str,
+    walk: &Walk,
+    run: &WalkRun,
+    frame: &LocalFrame,
+) -> Result<Summary> {
+    let (config, estimate, filter) = (&run.config, &run.estimate, &run.filter);
+    let at = |name: &str| folder.path(&format!("{prefix}{name}"));
+    // Built one at a time from the trace and the path (a long walk's per-step outputs are
+    // the largest things a run holds).
+    let steps_and_path = || walk.trace.steps().iter().zip(&estimate.path);
+    write_trajectory(
+        &at("track.csv"),
+        steps_and_path().map(|(s, p)| TimedPoint {
+            t: s.t,
+            x: p.x,
+            y: p.y,
+        }),
+    )?;
+    let points: Vec<TrackPoint> = steps_and_path()
+        .zip(&estimate.levels)
+        .map(|((s, p), &level)| TrackPoint {
+            t: s.t,
+            x: p.x,
+            y: p.y,
+            z: estimate.map.level_height(level),
+            level,
+        })
+        .collect();
+    write_track_geojson(&at("track.geojson"), &points, frame)?;
+    drop(points);
+    write_map_geojson(&at("map.geojson"), &estimate.map, frame)?;
+    let walkable_plan_m2 = write_learned_plan(&at("plan.geojson"), &estimate.map, frame)?;
+    let path: Vec<(f64, f64)> = estimate.path.iter().map(|p| (p.x, p.y)).collect();
+    // One picture per floor: `map.png` the first (level 0), `map-level+N.png` the others.
+    let mut levels = estimate.map.cell_levels();
+    if !levels.contains(&0) {
+        levels.insert(0, 0);
+    }
+    for level in levels {
+        let on_level = HexMapSnapshot {
+            cells: estimate
+                .map
+                .cells
+                .iter()
+                .filter(|c| c.level == level)
+                .cloned()
+                .collect(),
+            levels: Vec::new(),
+            ..estimate.map
+        };
+        // The path on this floor, broken where the walk left it.
+        let (mut walked, mut breaks) = (Vec::new(), Vec::new());
+        let mut previous = None;
+        for (i, (p, &l)) in path.iter().zip(&estimate.levels).enumerate() {
+            if l == level {
+                if previous.is_some_and(|j| j + 1 != i) {
+                    breaks.push(walked.len());
+                }
+                walked.push(*p);
+                previous = Some(i);
+            }
+        }
+        let picture = MapPicture {
+            map: &on_level,
+            path: &walked,
+            path_breaks: &breaks,
+            truth: None,
+            plan: None,
+        };
+        let name = match level {
+            0 => "map.png".to_string(),
+            l => format!("map-level{l:+}.png"),
+        };
+        write_map_png(&at(&name), &picture, &PictureConfig::default())?;
+    }
+    if !prefix.is_empty() {
+        folder.write_json(&format!("{prefix}config.json"), config)?;
+    }
+    let ess = filter.ess_history();
+    let steps = walk.trace.len();
+    Ok(Summary {
+        steps_file: walk.steps_path.display().to_string(),
+        gps_file: walk.gps_path.as_ref().map(|p| p.display().to_string()),
+        steps_with_heading: walk.trace.with_heading(),
+        headings_used: filter.headings_used(),
+        particles: config.particles,
+        steps,
+        seed: config.seed,
+        filter_runtime_s: run.runtime_s,
+        particle_steps_per_s: (config.particles * steps) as f64 / run.runtime_s.max(1e-9),
+        final_effective_sample_size: filter.effective_sample_size(),
+        min_effective_sample_size: ess.iter().copied().fold(f64::INFINITY, f64::min),
+        resamplings: filter.resamplings(),
+        best_particle: estimate.index,
+        best_particle_weight: estimate.weight,
+        best_path_log_likelihood: estimate.path_log_likelihood,
+        hexagons: estimate.map.cells.len(),
+        levels: estimate.map.levels.len().max(1),
+        map_area_m2: estimate.map.cells.len() as f64 * HexGrid::new(config.hex_radius).cell_area(),
+        path_length_m: path_length(path.iter().copied()),
+        gps_fixes: walk.fixes.len(),
+        gps_fixes_used: filter.gps_fixes_used(),
+        prior_offset_m: estimate.prior_offset,
+        walkable_plan_m2,
+        heading: HeadingSummary {
+            start_source: run.start_source,
+            start_deg: config.start.heading.to_degrees(),
+            start_sigma_deg: config
+                .start_heading_sigma
+                .min(std::f64::consts::PI)
+                .to_degrees(),
+            final_sigma_deg: filter.heading_spread().to_degrees(),
+        },
+    })
+}
+
+/// Writes the walkable plan of `map` ([`walkable_plan`], default settings) to `path` and
+/// returns its area; writes nothing and returns `None` when the map is too small to make
+/// one (`footslam plan` gives the reason and the settings to change).
+pub(super) fn write_learned_plan(
+    path: &std::path::Path,
+    map: &HexMapSnapshot,
+    frame: &LocalFrame,
+) -> Result<Option<f64>> {
+    match walkable_plan(map, &PlanConfig::default()) {
+        Ok(learned) => {
+            write_floor_plan(path, &learned.plan, frame)?;
+            Ok(Some(learned.area_m2))
+        }
+        Err(_) => Ok(None),
+    }
+}

@@ -1,0 +1,224 @@
+//! Learning the walks of `footslam learn`: one walk's FootSLAM run (its start from a given
+//! start, GPS fixes or step headings; registered onto a prior map first when it has GPS),
+//! and a batch's FeetSLAM passes, each walk learned again on the others' merged maps.
+
+use super::common::Progress;
+use super::learn_inputs::Walk;
+use anyhow::Result;
+use footslam::filter::gps_start::heading_from_fixes;
+use footslam::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
+use footslam::geometry::{Hex, LocalFrame};
+use footslam::map::{EdgePrior, HexMapSnapshot, merge_maps, register_maps};
+use footslam::model::{GpsObservation, HeadingLikelihood, find_levels};
+use rayon::prelude::*;
+use std::sync::Mutex;
+use std::time::Instant;
+
+/// The widest shift searched when registering a walk's map onto a prior map, metres.
+const MAX_REGISTRATION: f64 = 25.0;
+/// Step headings that set a walk's start heading (the most probable under the heading
+/// model, so disturbed ones among them do not pull it).
+const START_HEADING_READINGS: usize = 10;
+
+/// What every walk of a run shares.
+pub(super) struct Shared<'a> {
+    pub(super) config: &'a FootSlamConfig,
+    pub(super) frame: &'a LocalFrame,
+    /// `α` with the outline and the `--prior-map` counts.
+    pub(super) prior: &'a EdgePrior,
+    pub(super) prior_map: Option<&'a HexMapSnapshot>,
+    pub(super) prior_walks: u32,
+}
+
+/// Learns the walks, each with seed `seed + i`: alone, then — for a batch in one frame —
+/// `config.iterations` FeetSLAM passes in which each walk is learned again with the merged
+/// map of the other walks' previous pass as prior pseudo-counts (weight `prior_weight`).
+/// Each pass reads only the pass before, so the result does not depend on the order in
+/// which walks finish or on the thread count. Returns the last pass and the passes run.
+pub(super) fn learn_batch(walks: &[Walk], shared: &Shared) -> Result<(Vec<WalkRun>, u32)> {
+    let batch = walks.len() > 1;
+    // Walks share a frame when each starts at a known place. (Walks placed by GPS alone
+    // carry each its own GPS bias: they meet through `--prior-map`'s registration instead.)
+    let one_frame = walks.iter().all(|w| w.start.is_some());
+    let iterations = if batch && one_frame {
+        shared.config.iterations
+    } else {
+        0
+    };
+    let bar = (batch && iterations > 0).then(|| {
+        let passes = u64::from(iterations) + 1;
+        Mutex::new(Progress::new(passes * walks.len() as u64, "learning walks"))
+    });
+    let pass = |priors: Option<&[EdgePrior]>| {
+        walks
+            .par_iter()
+            .enumerate()
+            .map(|(i, walk)| {
+                let mut config = shared.config.clone();
+                config.seed = config.seed.wrapping_add(i as u64);
+                let prior = priors.map_or(shared.prior, |p| &p[i]);
+                let run = learn_walk(walk, config, shared, prior, !batch);
+                if let Some(bar) = &bar
+                    && let Ok(mut bar) = bar.lock()
+                {
+                    bar.inc();
+                }
+                run
+            })
+            .collect::<Result<Vec<_>>>()
+    };
+    let mut runs = pass(None)?;
+    for _ in 0..iterations {
+        let priors = (0..runs.len())
+            .map(|i| {
+                let others: Vec<_> = runs
+                    .iter()
+                    .enumerate()
+                    .filter(|&(j, _)| j != i)
+                    .map(|(_, r)| (&r.estimate.map, 1.0))
+                    .collect();
+                let mut prior = shared.prior.clone();
+                prior.add_counts(&merge_maps(&others)?, shared.config.prior_weight);
+                Ok(prior)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        runs = pass(Some(&priors))?;
+    }
+    if let Some(bar) = bar
+        && let Ok(bar) = bar.into_inner()
+    {
+        bar.finish();
+    }
+    Ok((runs, iterations))
+}
+
+/// The result of learning one walk.
+pub(super) struct WalkRun {
+    pub(super) config: FootSlamConfig,
+    pub(super) start_source: &'static str,
+    pub(super) filter: FootSlam,
+    pub(super) estimate: FootSlamEstimate,
+    pub(super) runtime_s: f64,
+}
+
+/// Learns one walk: with GPS it starts at the first fix (spread by its accuracy), heading
+/// from the first fixes ([`heading_from_fixes`]) or, when they do not tell, unknown
+/// (uniform) — unless the configuration gives a heading spread. Steps with absolute
+/// headings set the start heading instead (the heading before the first step that best
+/// explains the first readings, [`HeadingLikelihood::start_heading`]), so the learned map
+/// keeps its orientation (x east, y north).
+fn learn_walk(
+    walk: &Walk,
+    mut config: FootSlamConfig,
+    shared: &Shared,
+    prior: &EdgePrior,
+    progress: bool,
+) -> Result<WalkRun> {
+    let (frame, prior_map, prior_walks) = (shared.frame, shared.prior_map, shared.prior_walks);
+    let gps: Vec<GpsObservation> = walk
+        .fixes
+        .iter()
+        .map(|f| GpsObservation::from_fix(f, frame))
+        .collect();
+    let mut heading_given = config.start_heading_sigma != 0.0;
+    let mut start_source = match config.start_heading_sigma {
+        s if s >= std::f64::consts::PI => "unknown",
+        s if s != 0.0 => "config",
+        _ => "assumed",
+    };
+    // A given start (`--start`, a manifest's) places the walk; its heading, when given,
+    // is known; without one it is unknown unless GPS fixes or step headings tell.
+    if let Some(start) = walk.start {
+        config.start.x = start.x;
+        config.start.y = start.y;
+        if let Some(level) = start.level {
+            config.start_level = level;
+        }
+        if let Some(heading) = start.heading {
+            config.start.heading = heading;
+            heading_given = true;
+            start_source = "given";
+        } else if !heading_given {
+            config.start_heading_sigma = std::f64::consts::PI;
+            start_source = "unknown";
+        }
+    }
+    if let Some(first) = gps.first() {
+        if walk.start.is_none() {
+            config.start.x = first.x;
+            config.start.y = first.y;
+            config.start_position_sigma = config.start_position_sigma.max(first.sigma);
+        }
+        if !heading_given {
+            match heading_from_fixes(&gps, walk.trace.steps()) {
+                Some((heading, sigma)) => {
+                    config.start.heading = heading;
+                    config.start_heading_sigma = sigma;
+                    start_source = "gps fixes";
+                }
+                None => {
+                    config.start_heading_sigma = std::f64::consts::PI;
+                    start_source = "unknown";
+                }
+            }
+        }
+    }
+    let compass = HeadingLikelihood::new(config.heading);
+    if !heading_given
+        && compass.enabled()
+        && let Some((heading, sigma)) =
+            compass.start_heading(walk.trace.steps(), START_HEADING_READINGS)
+    {
+        config.start.heading = heading;
+        config.start_heading_sigma = sigma;
+        start_source = "compass";
+    }
+    let started = Instant::now();
+    // The walk's floors from its height changes, known before the first step so that a
+    // stair climbed the first time already splits at half height.
+    let levels = find_levels(walk.trace.steps(), config.levels, config.start_level)?;
+    // With GPS and a prior map: first learn the walk alone, in its own GPS frame, and
+    // register its map onto the prior to find where the two frames meet.
+    let mut prior_offset = Hex::ZERO;
+    if let (Some(map), false) = (prior_map, gps.is_empty()) {
+        let alone = Anchors {
+            gps: gps.clone(),
+            levels: levels.clone(),
+            ..Default::default()
+        };
+        let mut first = FootSlam::with_anchors(config.clone(), alone)?;
+        for step in walk.trace.steps() {
+            first.update(step);
+        }
+        let n = f64::from(prior_walks.max(1));
+        let reach = (3.0 * config.gps.bias_sigma * (1.0 + 1.0 / n).sqrt()).min(MAX_REGISTRATION);
+        prior_offset = register_maps(&first.estimate().map, map, reach).0;
+    }
+    let anchors = Anchors {
+        gps,
+        prior: Some(prior.clone()),
+        prior_walks,
+        prior_offset,
+        levels,
+    };
+    let mut filter = FootSlam::with_anchors(config.clone(), anchors)?;
+    let mut bar = progress.then(|| Progress::new(walk.trace.len() as u64, "learning"));
+    for step in walk.trace.steps() {
+        filter.update(step);
+        if let Some(b) = bar.as_mut() {
+            b.inc();
+        }
+    }
+    if let Some(b) = bar {
+        b.finish();
+    }
+    let runtime_s = started.elapsed().as_secs_f64();
+    let estimate = filter.estimate();
+    Ok(WalkRun {
+        config,
+        start_source,
+        filter,
+        estimate,
+        runtime_s,
+    })
+}
