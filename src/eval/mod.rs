@@ -1,6 +1,12 @@
-//! Evaluation of estimates against references: position errors of a track against the
-//! ground truth or at sparse waypoints, how often a 2.5D track is on the right floor, how much of a learned map lies in a floor plan's walkable space, and how a learned plan
-//! overlaps the true one.
+//! Evaluation of estimates against references.
+//!
+//! * [`position_error`] — position errors of a track against the ground truth
+//! * [`waypoint_error`] — errors at sparse ground-truth points (real datasets)
+//! * [`floor_accuracy`](mod@floor_accuracy) — how often a 2.5D track is on the right floor
+//! * [`tracking`] — a known-map tracking run scored against the truth
+//! * [`rf_localisation`] — RF-assisted localisation scored against localisation without it
+//! * [`walkable`] — how much of a learned map lies in a floor plan's walkable space
+//! * [`plan_overlap`](mod@plan_overlap) — how a learned plan overlaps the true one
 
 pub mod floor_accuracy;
 pub mod plan_overlap;

@@ -1,7 +1,11 @@
 //! Layer 0: pure geometry, no I/O.
 //!
-//! Angles, poses, the hexagon grid (the only module that touches `hexx`), the local
-//! east-north frame placed on the WGS84 globe, and rigid alignment of trajectories.
+//! * [`angle`] — angle wrapping (radians throughout)
+//! * [`pose`] — a 2D pose in the local frame
+//! * [`hex_grid`] — the hexagon grid of the transition map (the only module that touches
+//!   `hexx`)
+//! * [`local_frame`] — the local east-north frame placed on the WGS84 globe
+//! * [`alignment`] — rigid alignment of matched point sets (trajectories)
 
 pub mod alignment;
 pub mod angle;

@@ -6,6 +6,24 @@
 //! and a hand-held phone's **step-and-heading system** (§V: step detection on the
 //! acceleration magnitude, a stride-length model, heading from the orientation or from gyro
 //! and magnetometer fusion, height from the barometer).
+//!
+//! Foot-mounted INS:
+//! * [`foot`] — the front end: IMU → strides ([`detect_strides`])
+//! * [`foot_config`] — its configuration and figures
+//! * [`stance`] — stance detection (the SHOE detector, adaptive threshold)
+//! * [`strapdown`] — strapdown mechanisation in a local z-up frame
+//! * [`zupt`] — the error-state Kalman filter with zero-velocity updates
+//!
+//! Phone step-and-heading system:
+//! * [`phone`] — the front end: IMU → steps ([`detect_steps`])
+//! * [`step_detector`] — steps from the acceleration magnitude
+//! * [`stride_model`] — stride length from the acceleration swing (Weinberg)
+//! * [`heading_fusion`] — walking direction from rotation vector, gyroscope and magnetometer
+//! * [`barometer`] — height changes from air pressure
+//!
+//! Checks of a recording:
+//! * [`frame_check`] — gyroscope in the accelerometer's frame, timestamps in seconds
+//! * [`mount_check`] — the mount the user named (foot or phone)
 
 pub mod barometer;
 pub mod foot;

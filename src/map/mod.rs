@@ -1,4 +1,21 @@
 //! Layer 1: the maps.
+//!
+//! Floor plans:
+//! * [`floor_plan`] — 2.5D floor plans: walkable polygons with a level and a height, barriers
+//! * [`floor_topology`] — a plan's walls and connections, indexed for walking steps through it
+//! * [`occupancy_grid`] — a plan as free, occupied and unknown squares (a ROS map)
+//!
+//! Learned hexagon maps (FootSLAM):
+//! * [`hex_transitions`] — the per-particle hexagon transition map, shared copy-on-write
+//! * [`edge_prior`] — the Dirichlet prior of every hexagon edge (outline, earlier maps)
+//! * [`map_merge`] — maps of several walks combined
+//! * [`map_registration`] — a map registered onto another of the same building
+//! * [`learned_plan`] — a learned map as a walkable floor plan
+//!
+//! Radio maps:
+//! * [`radio_cells`] — rooms and cells of a floor plan, the units of a radio map
+//! * [`radio_map`] — per cell, the scans taken there and each access point's histogram
+//! * [`cell_raster`] — which cell holds a point, in O(1)
 
 pub mod cell_raster;
 pub mod edge_prior;

@@ -1,4 +1,13 @@
 //! Layer 2: probabilistic models, apart from the filter machinery.
+//!
+//! * [`step_motion`] — the step measurement model of FootSLAM (the proposal)
+//! * [`floor_levels`] — floors from height changes
+//! * [`transition_prior`] — a learned hexagon map as a motion prior for tracking
+//! * [`gps_likelihood`] — the GPS fix likelihood, robust and tempered
+//! * [`heading_likelihood`] — the compass heading likelihood, robust to disturbances
+//! * [`wifi_distance`] — the normalised RSSI distance between a scan and a radio-map cell
+//! * [`wifi_likelihood`] — the probabilistic WiFi measurement (eq. 14)
+//! * [`derived_epsilon`] — a radio map's region threshold derived from the map itself
 
 pub mod derived_epsilon;
 pub mod floor_levels;

@@ -1,4 +1,10 @@
 //! Layer 1: measurements as recorded, as plain validated data.
+//!
+//! * [`step`] — step events (length, heading change, height change, absolute heading)
+//! * [`imu`] — raw inertial recordings
+//! * [`wifi`] — WiFi scans, and access points
+//! * [`gps`] — GNSS position fixes
+//! * [`truth`] — true paths, one pose per step (the simulator's, a reference system's)
 
 pub mod gps;
 pub mod imu;
