@@ -26,6 +26,8 @@ mod simulate_campus;
 mod steps;
 mod survey;
 mod track;
+mod track_pictures;
+mod track_summary;
 
 use clap::{Parser, Subcommand};
 

@@ -4,10 +4,13 @@ use super::common::{
     Progress, SAME_ORIGIN, bundled, check_height_changes, check_scans_match, output_dir,
     parse_origin, peak_memory_bytes, read_config, read_scans, require_file, warn,
 };
+use super::track_pictures::{snapshot, write_particles_png, write_track_png};
+use super::track_summary::{
+    PlanStats, RfSummary, SmoothedStats, SmoothingSummary, StepRecords, Summary,
+};
 use anyhow::{Context, Result, bail};
 use footslam::filter::{
-    Recovery, RfLocaliser, RfMode, RfTracker, SmoothedWalk, StartPose, TrackStep, Tracker,
-    TrackerConfig,
+    RfLocaliser, RfMode, RfTracker, SmoothedWalk, StartPose, TrackStep, Tracker, TrackerConfig,
 };
 use footslam::geometry::LocalFrame;
 use footslam::io::RunFolder;
@@ -19,8 +22,6 @@ use footslam::io::{SmoothedPoint, TrackPoint, read_steps, write_smoothed_track, 
 use footslam::map::{FloorTopology, grow_plan};
 use footslam::model::TransitionPrior;
 use footslam::model::wifi_distance::Normalisation;
-use footslam::render::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, PlanPoints};
-use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -29,10 +30,6 @@ const DEFAULT_PLAN: &str = "datasets/tower/floor.geojson";
 const DEFAULT_STEPS: &str = "datasets/tower/steps.csv";
 /// Automatic snapshots: the prior, these steps, the step of localisation and the last step.
 const AUTO_SNAPSHOTS: [usize; 2] = [5, 25];
-/// Colours of the pictures.
-const PARTICLE_COLOUR: [u8; 3] = [200, 30, 30];
-const TRACK_COLOUR: [u8; 3] = [20, 60, 200];
-const FILTERED_COLOUR: [u8; 3] = [230, 150, 30];
 
 /// Arguments of `footslam track`.
 #[derive(Debug, clap::Args)]
@@ -147,228 +144,10 @@ pub(super) fn parse_start(s: &str) -> Result<StartPose, String> {
     s.parse()
 }
 
-#[derive(Debug, Serialize)]
-struct Summary<'r> {
-    rf: Option<RfSummary>,
-    /// Whether the steps' absolute headings weighted the particles.
-    headings_used: bool,
-    /// Steps of the trace that carry an absolute heading.
-    steps_with_heading: usize,
-    plan_file: String,
-    /// The learned map whose transitions were the motion prior, and its hexagons.
-    hexmap_file: Option<String>,
-    hexmap_hexagons: Option<usize>,
-    steps_file: String,
-    steps: usize,
-    steps_to_localise: Option<usize>,
-    localised_at_t: Option<f64>,
-    /// Rows of the filtered track (from localisation on).
-    track_rows: usize,
-    /// The whole-walk answer (absent with `--online`).
-    smoothing: Option<SmoothingSummary>,
-    particles_initial: usize,
-    particles_max: usize,
-    particles_final: usize,
-    /// Written from the step records as they are read (a long walk's lists are long).
-    #[serde(serialize_with = "particles_per_step")]
-    particles_per_step: &'r [StepRecord],
-    #[serde(serialize_with = "clusters_per_step")]
-    clusters_per_step: &'r [StepRecord],
-    deaths: usize,
-    recoveries: &'r [RecoveryEvent],
-    seed: u64,
-    threads: usize,
-    runtime_s: f64,
-    filter_runtime_s: f64,
-    particle_steps_per_s: f64,
-    bytes_per_particle: f64,
-    peak_memory_bytes: Option<u64>,
-    plan: PlanStats,
-    origin: LocalFrame,
-    version: &'static str,
-}
-
-/// What the radio map did.
-#[derive(Debug, Serialize)]
-struct RfSummary {
-    radiomap_file: String,
-    wifi_file: String,
-    scans: usize,
-    /// Scans that hear at least one access point of the radio map (a warning below half).
-    scans_matched: usize,
-    mode: RfMode,
-    /// The distance's divisor used: `paper` (k) or `sqrt` (√k).
-    distance: Normalisation,
-    /// The region threshold used.
-    epsilon_dbm: f64,
-    /// Where it came from: `given`, `calibrated` (the map's) or `derived` (from the map's
-    /// histograms, for a map without a calibration).
-    epsilon_source: footslam::filter::EpsilonSource,
-    /// The step at which the filter started (the first after the first scan).
-    started_at_step: Option<usize>,
-    /// Scans no particle was consistent with (ignored).
-    measurements_ignored: usize,
-}
-
-/// What the smoother answered.
-#[derive(Debug, Serialize)]
-struct SmoothingSummary {
-    /// Steps with a smoothed estimate (`track.csv` rows).
-    steps_estimated: usize,
-    /// Steps whose place the whole walk settles (one hypothesis).
-    steps_certain: usize,
-    /// The first certain step (1-based).
-    first_certain_step: Option<usize>,
-    /// Largest number of path nodes held (16 bytes each).
-    path_nodes_peak: usize,
-    /// Seconds spent smoothing after the last step.
-    runtime_s: f64,
-}
-
-/// The smoothed belief per step of the walk, computed as it is read.
-struct Smoothing<'a> {
-    walk: SmoothedWalk<'a>,
-    path_nodes_peak: usize,
-}
-
-/// What the smoothed walk gave, counted as it was written.
-#[derive(Debug, Default)]
-struct SmoothedStats {
-    estimated: usize,
-    certain: usize,
-    first_certain: Option<usize>,
-    path_nodes_peak: usize,
-    runtime_s: f64,
-}
-
-#[derive(Debug, Serialize)]
-struct RecoveryEvent {
-    step: usize,
-    t: f64,
-    #[serde(flatten)]
-    recovery: Recovery,
-}
-
-#[derive(Debug, Serialize)]
-struct PlanStats {
-    surfaces: usize,
-    walkable_area_m2: f64,
-    levels: (i32, i32),
-}
-
-/// What the summary needs of each step's report (the estimate goes into the track): 8
-/// bytes a step, where a whole report is over a hundred. Particles are below 2³¹
-/// (`kld.max_particles` ≤ 2·10⁸), so the top bit holds `localised`.
-#[derive(Debug, Clone, Copy)]
-struct StepRecord {
-    particles_localised: u32,
-    /// `u32::MAX`: not clustered.
-    clusters: u32,
-}
-
-impl StepRecord {
-    const LOCALISED: u32 = 1 << 31;
-
-    fn particles(self) -> usize {
-        (self.particles_localised & !Self::LOCALISED) as usize
-    }
-
-    fn localised(self) -> bool {
-        self.particles_localised & Self::LOCALISED != 0
-    }
-
-    fn clusters(self) -> Option<usize> {
-        (self.clusters != u32::MAX).then_some(self.clusters as usize)
-    }
-}
-
-fn particles_per_step<S: serde::Serializer>(r: &&[StepRecord], s: S) -> Result<S::Ok, S::Error> {
-    s.collect_seq(r.iter().map(|r| r.particles()))
-}
-
-fn clusters_per_step<S: serde::Serializer>(r: &&[StepRecord], s: S) -> Result<S::Ok, S::Error> {
-    s.collect_seq(r.iter().map(|r| r.clusters()))
-}
-
-/// Every step's [`StepRecord`], and the steps at which every particle died.
-#[derive(Debug, Default)]
-struct StepRecords {
-    steps: Vec<StepRecord>,
-    recoveries: Vec<RecoveryEvent>,
-}
-
-impl StepRecords {
-    /// Records the report of step `i` (0-based) at time `t`.
-    fn push(&mut self, i: usize, t: f64, report: &TrackStep) {
-        let count = |n: usize, max: u32| u32::try_from(n).map_or(max, |n| n.min(max));
-        let localised = if report.localised {
-            StepRecord::LOCALISED
-        } else {
-            0
-        };
-        self.steps.push(StepRecord {
-            particles_localised: count(report.particles, StepRecord::LOCALISED - 1) | localised,
-            clusters: report.clusters.map_or(u32::MAX, |c| count(c, u32::MAX - 1)),
-        });
-        if let Some(recovery) = report.recovery {
-            self.recoveries.push(RecoveryEvent {
-                step: i + 1,
-                t,
-                recovery,
-            });
-        }
-    }
-}
-
-/// A particle cloud kept for particles.png.
-struct Snapshot {
-    title: String,
-    points: Vec<(f32, f32, i32)>,
-    track_len: usize,
-}
-
 /// Runs `footslam track`.
 pub fn run(args: Args) -> Result<()> {
     let started = Instant::now();
-    let mut config: TrackerConfig = match &args.config {
-        Some(p) => read_config(p)?,
-        None => TrackerConfig::default(),
-    };
-    if let Some(s) = args.seed {
-        config.seed = s;
-    }
-    if args.start.is_some() {
-        config.start = args.start;
-    }
-    if args.ignore_heading {
-        config.heading.enabled = false;
-    }
-    if let Some(m) = args.rf_mode {
-        config.rf.mode = match m {
-            RfModeArg::Containment => RfMode::Containment,
-            RfModeArg::Probabilistic => RfMode::Probabilistic,
-            RfModeArg::PriorOnly => RfMode::PriorOnly,
-        };
-    }
-    if args.rf_epsilon.is_some() {
-        config.rf.epsilon = args.rf_epsilon;
-    }
-    if let Some(d) = args.rf_distance {
-        config.rf.distance = Some(match d {
-            RfDistanceArg::Paper => Normalisation::Paper,
-            RfDistanceArg::Sqrt => Normalisation::Sqrt,
-        });
-    }
-    if args.rf_every_step {
-        config.rf.every_step = true;
-    }
-    if args.online {
-        config.smoothing = false;
-    }
-    if let Some(w) = args.hexmap_weight {
-        config.transitions.weight = w;
-    }
-    config.validate()?;
+    let config = tracker_config(&args)?;
     let plan_path = args.plan.clone().unwrap_or_else(|| bundled(DEFAULT_PLAN));
     let steps_path = args.steps.clone().unwrap_or_else(|| bundled(DEFAULT_STEPS));
     require_file(&plan_path, "floor plan")?;
@@ -524,118 +303,25 @@ pub fn run(args: Args) -> Result<()> {
     let (steps_total, steps_with_heading) = (trace.len(), trace.with_heading());
     let times: Vec<f64> = trace.steps().iter().map(|s| s.t).collect();
     drop(trace);
-    // The answer: the smoothed track's certain steps, else (online) the filtered track. The
-    // smoothed walk is read once, into track.csv and the answer, then dropped.
-    let smoothing_started = Instant::now();
-    let smoothed = match smoothing {
-        Some(s) => {
-            let mut stats = SmoothedStats::default();
-            let mut answer = Vec::new();
-            let mut uncertain = Vec::new();
-            let points = times
-                .iter()
-                .zip(s.walk.iter())
-                .enumerate()
-                .filter_map(|(i, (&t, k))| {
-                    let k = k?;
-                    stats.certain += usize::from(k.certain);
-                    if k.certain && stats.first_certain.is_none() {
-                        stats.first_certain = Some(i + 1);
-                    }
-                    let c = k.estimate?;
-                    stats.estimated += 1;
-                    let point = TrackPoint {
-                        t,
-                        x: c.x,
-                        y: c.y,
-                        z: c.z,
-                        level: c.level,
-                    };
-                    if k.certain {
-                        answer.push(point);
-                    } else {
-                        uncertain.push((c.x as f32, c.y as f32, c.level));
-                    }
-                    Some(SmoothedPoint {
-                        point,
-                        certain: k.certain,
-                        hypotheses: k.hypotheses,
-                    })
-                });
-            write_smoothed_track(&folder.path("track.csv"), points)?;
-            write_track(&folder.path("track_filtered.csv"), &track)?;
-            stats.path_nodes_peak = s.path_nodes_peak;
-            stats.runtime_s = smoothing_started.elapsed().as_secs_f64();
-            Some((stats, answer, uncertain))
-        }
-        None => {
-            write_track(&folder.path("track.csv"), &track)?;
-            None
-        }
-    };
+    // The answer: the smoothed track's certain steps, else (online) the filtered track.
+    let smoothed = write_tracks(&folder, &times, smoothing, &track)?;
     let answer = smoothed.as_ref().map_or(&track[..], |(_, a, _)| &a[..]);
     write_track_geojson(&folder.path("track.geojson"), answer, &frame)?;
     let track_points: Vec<(f64, f64, i32)> = track.iter().map(|p| (p.x, p.y, p.level)).collect();
-    let pictures: Vec<PlanPicture> = snapshots
-        .iter()
-        .map(|s| PlanPicture {
-            plan: &plan,
-            title: Some(s.title.clone()),
-            paths: vec![PlanPath {
-                points: &track_points[..s.track_len],
-                colour: TRACK_COLOUR,
-                label: "track",
-            }],
-            points: vec![PlanPoints {
-                points: &s.points,
-                colour: PARTICLE_COLOUR,
-                label: "particles",
-            }],
-            cells: Vec::new(),
-            markers: Vec::new(),
-            colour_bar: None,
-        })
-        .collect();
-    if !pictures.is_empty() {
-        footslam::render::plan_png::write_plan_png(
-            &folder.path("particles.png"),
-            &pictures,
-            &PlanPictureConfig::default(),
-        )?;
-    }
+    write_particles_png(
+        &folder.path("particles.png"),
+        &plan,
+        &snapshots,
+        &track_points,
+    )?;
     if let Some((_, answer, uncertain)) = &smoothed {
-        let certain: Vec<(f64, f64, i32)> = answer.iter().map(|p| (p.x, p.y, p.level)).collect();
-        footslam::render::plan_png::write_plan_png(
+        write_track_png(
             &folder.path("track.png"),
-            &[PlanPicture {
-                plan: &plan,
-                title: Some(format!(
-                    "smoothed: {} of {} steps certain",
-                    certain.len(),
-                    steps_total
-                )),
-                paths: vec![
-                    PlanPath {
-                        points: &track_points,
-                        colour: FILTERED_COLOUR,
-                        label: "filtered",
-                    },
-                    PlanPath {
-                        points: &certain,
-                        colour: TRACK_COLOUR,
-                        label: "smoothed (certain)",
-                    },
-                ],
-                points: vec![PlanPoints {
-                    points: uncertain,
-                    colour: PARTICLE_COLOUR,
-                    label: "smoothed (uncertain)",
-                }],
-                cells: Vec::new(),
-                markers: Vec::new(),
-                colour_bar: None,
-            }],
-            &PlanPictureConfig::default(),
+            &plan,
+            &track_points,
+            answer,
+            uncertain,
+            steps_total,
         )?;
     }
     folder.write_json("config.json", &config)?;
@@ -708,41 +394,123 @@ pub fn run(args: Args) -> Result<()> {
     };
     folder.write_json("summary.json", &summary)?;
     let out = folder.commit()?;
-    match summary.steps_to_localise {
-        Some(k) => outln!(
-            "localised after {k} of {} steps ({} particles at the start, {} at the end, {} deaths)",
-            summary.steps,
-            summary.particles_initial,
-            summary.particles_final,
-            summary.deaths
-        ),
-        None => outln!(
-            "not localised in {} steps ({} particles at the start, {} at the end, {} deaths)",
-            summary.steps,
-            summary.particles_initial,
-            summary.particles_final,
-            summary.deaths
-        ),
-    }
-    if let Some(rf) = &summary.rf {
-        outln!(
-            "radio map: {} measurements, {} distance, epsilon {:.2} dBm ({}), started at step {}, {} scan(s) ignored",
-            rf.mode.name(),
-            rf.distance.name(),
-            rf.epsilon_dbm,
-            rf.epsilon_source.name(),
-            rf.started_at_step.map_or("-".into(), |s| s.to_string()),
-            rf.measurements_ignored
-        );
-    }
-    outln!(
-        "filter: {:.2} s, {:.2e} particle-steps/s",
-        summary.filter_runtime_s,
-        summary.particle_steps_per_s
-    );
-    outln!("outputs: {}", out.display());
+    summary.print(&out);
     Ok(())
 }
+
+/// The tracker's configuration: the config file's (or the defaults), with the flags'
+/// overrides, validated.
+fn tracker_config(args: &Args) -> Result<TrackerConfig> {
+    let mut config: TrackerConfig = match &args.config {
+        Some(p) => read_config(p)?,
+        None => TrackerConfig::default(),
+    };
+    if let Some(s) = args.seed {
+        config.seed = s;
+    }
+    if args.start.is_some() {
+        config.start = args.start;
+    }
+    if args.ignore_heading {
+        config.heading.enabled = false;
+    }
+    if let Some(m) = args.rf_mode {
+        config.rf.mode = match m {
+            RfModeArg::Containment => RfMode::Containment,
+            RfModeArg::Probabilistic => RfMode::Probabilistic,
+            RfModeArg::PriorOnly => RfMode::PriorOnly,
+        };
+    }
+    if args.rf_epsilon.is_some() {
+        config.rf.epsilon = args.rf_epsilon;
+    }
+    if let Some(d) = args.rf_distance {
+        config.rf.distance = Some(match d {
+            RfDistanceArg::Paper => Normalisation::Paper,
+            RfDistanceArg::Sqrt => Normalisation::Sqrt,
+        });
+    }
+    if args.rf_every_step {
+        config.rf.every_step = true;
+    }
+    if args.online {
+        config.smoothing = false;
+    }
+    if let Some(w) = args.hexmap_weight {
+        config.transitions.weight = w;
+    }
+    config.validate()?;
+    Ok(config)
+}
+
+/// The smoothed belief per step of the walk, computed as it is read.
+struct Smoothing<'a> {
+    walk: SmoothedWalk<'a>,
+    path_nodes_peak: usize,
+}
+
+/// Writes `track.csv` (and, with smoothing, `track_filtered.csv`) and returns, with
+/// smoothing, what the smoother gave, the answer (the smoothed track's certain steps) and
+/// the uncertain steps' estimates; `None` online, where the answer is the filtered `track`.
+/// The smoothed walk is read once, into track.csv and the answer, then dropped.
+fn write_tracks(
+    folder: &RunFolder,
+    times: &[f64],
+    smoothing: Option<Smoothing>,
+    track: &[TrackPoint],
+) -> Result<Option<SmoothedTracks>> {
+    let smoothing_started = Instant::now();
+    Ok(match smoothing {
+        Some(s) => {
+            let mut stats = SmoothedStats::default();
+            let mut answer = Vec::new();
+            let mut uncertain = Vec::new();
+            let points = times
+                .iter()
+                .zip(s.walk.iter())
+                .enumerate()
+                .filter_map(|(i, (&t, k))| {
+                    let k = k?;
+                    stats.certain += usize::from(k.certain);
+                    if k.certain && stats.first_certain.is_none() {
+                        stats.first_certain = Some(i + 1);
+                    }
+                    let c = k.estimate?;
+                    stats.estimated += 1;
+                    let point = TrackPoint {
+                        t,
+                        x: c.x,
+                        y: c.y,
+                        z: c.z,
+                        level: c.level,
+                    };
+                    if k.certain {
+                        answer.push(point);
+                    } else {
+                        uncertain.push((c.x as f32, c.y as f32, c.level));
+                    }
+                    Some(SmoothedPoint {
+                        point,
+                        certain: k.certain,
+                        hypotheses: k.hypotheses,
+                    })
+                });
+            write_smoothed_track(&folder.path("track.csv"), points)?;
+            write_track(&folder.path("track_filtered.csv"), track)?;
+            stats.path_nodes_peak = s.path_nodes_peak;
+            stats.runtime_s = smoothing_started.elapsed().as_secs_f64();
+            Some((stats, answer, uncertain))
+        }
+        None => {
+            write_track(&folder.path("track.csv"), track)?;
+            None
+        }
+    })
+}
+
+/// What [`write_tracks`] gives with smoothing: the smoother's counts, the answer (certain
+/// steps) and the uncertain steps' estimates as `(x, y, level)`.
+type SmoothedTracks = (SmoothedStats, Vec<TrackPoint>, Vec<(f32, f32, i32)>);
 
 /// The tracker with or without a radio map.
 enum Walker<'a> {
@@ -773,26 +541,6 @@ impl<'a> Walker<'a> {
             Walker::Plain(t) => t.update(step),
             Walker::Rf(t) => t.update(step),
         }
-    }
-}
-
-/// The tracker's particle cloud now, titled for the picture.
-fn snapshot(tracker: &Tracker, step: usize, what: &str, track_len: usize) -> Snapshot {
-    let topology = tracker.topology();
-    let points: Vec<(f32, f32, i32)> = tracker
-        .particles()
-        .iter()
-        .map(|p| (p.x, p.y, topology.level(p.surface)))
-        .collect();
-    let title = if step == 0 {
-        format!("prior: {} particles", points.len())
-    } else {
-        format!("{what} {step}: {} particles", points.len())
-    };
-    Snapshot {
-        title,
-        points,
-        track_len,
     }
 }
 

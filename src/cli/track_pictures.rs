@@ -1,0 +1,119 @@
+//! `footslam track`'s pictures: the particle cloud at chosen steps (`particles.png`) and
+//! the filtered and smoothed tracks (`track.png`).
+
+use footslam::filter::Tracker;
+use footslam::io::TrackPoint;
+use footslam::map::FloorPlan;
+use footslam::render::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, PlanPoints};
+use std::path::Path;
+
+/// Colours of the pictures.
+const PARTICLE_COLOUR: [u8; 3] = [200, 30, 30];
+const TRACK_COLOUR: [u8; 3] = [20, 60, 200];
+const FILTERED_COLOUR: [u8; 3] = [230, 150, 30];
+
+/// A particle cloud kept for particles.png.
+pub(super) struct Snapshot {
+    title: String,
+    points: Vec<(f32, f32, i32)>,
+    track_len: usize,
+}
+
+/// The tracker's particle cloud now, titled for the picture.
+pub(super) fn snapshot(tracker: &Tracker, step: usize, what: &str, track_len: usize) -> Snapshot {
+    let topology = tracker.topology();
+    let points: Vec<(f32, f32, i32)> = tracker
+        .particles()
+        .iter()
+        .map(|p| (p.x, p.y, topology.level(p.surface)))
+        .collect();
+    let title = if step == 0 {
+        format!("prior: {} particles", points.len())
+    } else {
+        format!("{what} {step}: {} particles", points.len())
+    };
+    Snapshot {
+        title,
+        points,
+        track_len,
+    }
+}
+
+/// `particles.png`: one picture per snapshot, with the filtered track (`track_points`, as
+/// `(x, y, level)`) up to the snapshot's step; nothing without snapshots.
+pub(super) fn write_particles_png(
+    path: &Path,
+    plan: &FloorPlan,
+    snapshots: &[Snapshot],
+    track_points: &[(f64, f64, i32)],
+) -> footslam::Result<()> {
+    let pictures: Vec<PlanPicture> = snapshots
+        .iter()
+        .map(|s| PlanPicture {
+            plan,
+            title: Some(s.title.clone()),
+            paths: vec![PlanPath {
+                points: &track_points[..s.track_len],
+                colour: TRACK_COLOUR,
+                label: "track",
+            }],
+            points: vec![PlanPoints {
+                points: &s.points,
+                colour: PARTICLE_COLOUR,
+                label: "particles",
+            }],
+            cells: Vec::new(),
+            markers: Vec::new(),
+            colour_bar: None,
+        })
+        .collect();
+    if !pictures.is_empty() {
+        footslam::render::plan_png::write_plan_png(path, &pictures, &PlanPictureConfig::default())?;
+    }
+    Ok(())
+}
+
+/// `track.png`: the filtered track (`track_points`), the smoothed track's certain steps
+/// (`answer`) and its uncertain estimates, over a walk of `steps_total` steps.
+pub(super) fn write_track_png(
+    path: &Path,
+    plan: &FloorPlan,
+    track_points: &[(f64, f64, i32)],
+    answer: &[TrackPoint],
+    uncertain: &[(f32, f32, i32)],
+    steps_total: usize,
+) -> footslam::Result<()> {
+    let certain: Vec<(f64, f64, i32)> = answer.iter().map(|p| (p.x, p.y, p.level)).collect();
+    footslam::render::plan_png::write_plan_png(
+        path,
+        &[PlanPicture {
+            plan,
+            title: Some(format!(
+                "smoothed: {} of {} steps certain",
+                certain.len(),
+                steps_total
+            )),
+            paths: vec![
+                PlanPath {
+                    points: track_points,
+                    colour: FILTERED_COLOUR,
+                    label: "filtered",
+                },
+                PlanPath {
+                    points: &certain,
+                    colour: TRACK_COLOUR,
+                    label: "smoothed (certain)",
+                },
+            ],
+            points: vec![PlanPoints {
+                points: uncertain,
+                colour: PARTICLE_COLOUR,
+                label: "smoothed (uncertain)",
+            }],
+            cells: Vec::new(),
+            markers: Vec::new(),
+            colour_bar: None,
+        }],
+        &PlanPictureConfig::default(),
+    )
+}

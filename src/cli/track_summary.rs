@@ -1,0 +1,217 @@
+//! `footslam track`'s summary: `summary.json`, the step records it is written from, and the
+//! lines printed at the end of a run.
+
+use footslam::filter::{Recovery, RfMode, TrackStep};
+use footslam::geometry::LocalFrame;
+use footslam::model::wifi_distance::Normalisation;
+use serde::Serialize;
+use std::path::Path;
+
+/// `summary.json`.
+#[derive(Debug, Serialize)]
+pub(super) struct Summary<'r> {
+    pub(super) rf: Option<RfSummary>,
+    /// Whether the steps' absolute headings weighted the particles.
+    pub(super) headings_used: bool,
+    /// Steps of the trace that carry an absolute heading.
+    pub(super) steps_with_heading: usize,
+    pub(super) plan_file: String,
+    /// The learned map whose transitions were the motion prior, and its hexagons.
+    pub(super) hexmap_file: Option<String>,
+    pub(super) hexmap_hexagons: Option<usize>,
+    pub(super) steps_file: String,
+    pub(super) steps: usize,
+    pub(super) steps_to_localise: Option<usize>,
+    pub(super) localised_at_t: Option<f64>,
+    /// Rows of the filtered track (from localisation on).
+    pub(super) track_rows: usize,
+    /// The whole-walk answer (absent with `--online`).
+    pub(super) smoothing: Option<SmoothingSummary>,
+    pub(super) particles_initial: usize,
+    pub(super) particles_max: usize,
+    pub(super) particles_final: usize,
+    /// Written from the step records as they are read (a long walk's lists are long).
+    #[serde(serialize_with = "particles_per_step")]
+    pub(super) particles_per_step: &'r [StepRecord],
+    #[serde(serialize_with = "clusters_per_step")]
+    pub(super) clusters_per_step: &'r [StepRecord],
+    pub(super) deaths: usize,
+    pub(super) recoveries: &'r [RecoveryEvent],
+    pub(super) seed: u64,
+    pub(super) threads: usize,
+    pub(super) runtime_s: f64,
+    pub(super) filter_runtime_s: f64,
+    pub(super) particle_steps_per_s: f64,
+    pub(super) bytes_per_particle: f64,
+    pub(super) peak_memory_bytes: Option<u64>,
+    pub(super) plan: PlanStats,
+    pub(super) origin: LocalFrame,
+    pub(super) version: &'static str,
+}
+
+/// What the radio map did.
+#[derive(Debug, Serialize)]
+pub(super) struct RfSummary {
+    pub(super) radiomap_file: String,
+    pub(super) wifi_file: String,
+    pub(super) scans: usize,
+    /// Scans that hear at least one access point of the radio map (a warning below half).
+    pub(super) scans_matched: usize,
+    pub(super) mode: RfMode,
+    /// The distance's divisor used: `paper` (k) or `sqrt` (√k).
+    pub(super) distance: Normalisation,
+    /// The region threshold used.
+    pub(super) epsilon_dbm: f64,
+    /// Where it came from: `given`, `calibrated` (the map's) or `derived` (from the map's
+    /// histograms, for a map without a calibration).
+    pub(super) epsilon_source: footslam::filter::EpsilonSource,
+    /// The step at which the filter started (the first after the first scan).
+    pub(super) started_at_step: Option<usize>,
+    /// Scans no particle was consistent with (ignored).
+    pub(super) measurements_ignored: usize,
+}
+
+/// What the smoother answered.
+#[derive(Debug, Serialize)]
+pub(super) struct SmoothingSummary {
+    /// Steps with a smoothed estimate (`track.csv` rows).
+    pub(super) steps_estimated: usize,
+    /// Steps whose place the whole walk settles (one hypothesis).
+    pub(super) steps_certain: usize,
+    /// The first certain step (1-based).
+    pub(super) first_certain_step: Option<usize>,
+    /// Largest number of path nodes held (16 bytes each).
+    pub(super) path_nodes_peak: usize,
+    /// Seconds spent smoothing after the last step.
+    pub(super) runtime_s: f64,
+}
+
+/// What the smoothed walk gave, counted as it was written.
+#[derive(Debug, Default)]
+pub(super) struct SmoothedStats {
+    pub(super) estimated: usize,
+    pub(super) certain: usize,
+    pub(super) first_certain: Option<usize>,
+    pub(super) path_nodes_peak: usize,
+    pub(super) runtime_s: f64,
+}
+
+/// A step at which every particle died, and how the filter recovered.
+#[derive(Debug, Serialize)]
+pub(super) struct RecoveryEvent {
+    pub(super) step: usize,
+    pub(super) t: f64,
+    #[serde(flatten)]
+    pub(super) recovery: Recovery,
+}
+
+/// The floor plan's size.
+#[derive(Debug, Serialize)]
+pub(super) struct PlanStats {
+    pub(super) surfaces: usize,
+    pub(super) walkable_area_m2: f64,
+    pub(super) levels: (i32, i32),
+}
+
+/// What the summary needs of each step's report (the estimate goes into the track): 8
+/// bytes a step, where a whole report is over a hundred. Particles are below 2³¹
+/// (`kld.max_particles` ≤ 2·10⁸), so the top bit holds `localised`.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct StepRecord {
+    particles_localised: u32,
+    /// `u32::MAX`: not clustered.
+    clusters: u32,
+}
+
+impl StepRecord {
+    const LOCALISED: u32 = 1 << 31;
+
+    pub(super) fn particles(self) -> usize {
+        (self.particles_localised & !Self::LOCALISED) as usize
+    }
+
+    pub(super) fn localised(self) -> bool {
+        self.particles_localised & Self::LOCALISED != 0
+    }
+
+    fn clusters(self) -> Option<usize> {
+        (self.clusters != u32::MAX).then_some(self.clusters as usize)
+    }
+}
+
+fn particles_per_step<S: serde::Serializer>(r: &&[StepRecord], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_seq(r.iter().map(|r| r.particles()))
+}
+
+fn clusters_per_step<S: serde::Serializer>(r: &&[StepRecord], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_seq(r.iter().map(|r| r.clusters()))
+}
+
+/// Every step's [`StepRecord`], and the steps at which every particle died.
+#[derive(Debug, Default)]
+pub(super) struct StepRecords {
+    pub(super) steps: Vec<StepRecord>,
+    pub(super) recoveries: Vec<RecoveryEvent>,
+}
+
+impl StepRecords {
+    /// Records the report of step `i` (0-based) at time `t`.
+    pub(super) fn push(&mut self, i: usize, t: f64, report: &TrackStep) {
+        let count = |n: usize, max: u32| u32::try_from(n).map_or(max, |n| n.min(max));
+        let localised = if report.localised {
+            StepRecord::LOCALISED
+        } else {
+            0
+        };
+        self.steps.push(StepRecord {
+            particles_localised: count(report.particles, StepRecord::LOCALISED - 1) | localised,
+            clusters: report.clusters.map_or(u32::MAX, |c| count(c, u32::MAX - 1)),
+        });
+        if let Some(recovery) = report.recovery {
+            self.recoveries.push(RecoveryEvent {
+                step: i + 1,
+                t,
+                recovery,
+            });
+        }
+    }
+}
+
+impl Summary<'_> {
+    /// Prints the run's outcome on stdout, `out` being the run's folder.
+    pub(super) fn print(&self, out: &Path) {
+        match self.steps_to_localise {
+            Some(k) => outln!(
+                "localised after {k} of {} steps ({} particles at the start, {} at the end, {} deaths)",
+                self.steps,
+                self.particles_initial,
+                self.particles_final,
+                self.deaths
+            ),
+            None => outln!(
+                "not localised in {} steps ({} particles at the start, {} at the end, {} deaths)",
+                self.steps,
+                self.particles_initial,
+                self.particles_final,
+                self.deaths
+            ),
+        }
+        if let Some(rf) = &self.rf {
+            outln!(
+                "radio map: {} measurements, {} distance, epsilon {:.2} dBm ({}), started at step {}, {} scan(s) ignored",
+                rf.mode.name(),
+                rf.distance.name(),
+                rf.epsilon_dbm,
+                rf.epsilon_source.name(),
+                rf.started_at_step.map_or("-".into(), |s| s.to_string()),
+                rf.measurements_ignored
+            );
+        }
+        outln!(
+            "filter: {:.2} s, {:.2e} particle-steps/s",
+            self.filter_runtime_s,
+            self.particle_steps_per_s
+        );
+        outln!("outputs: {}", out.display());
+    }
+}
