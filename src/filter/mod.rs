@@ -1,4 +1,26 @@
 //! Layer 3: particle-filter machinery and the filters built from it.
+//!
+//! Machinery:
+//! * [`resample`] — which particles survive, by index
+//! * [`kld`] — KLD-sampling (Fox 2003): how many particles a belief needs
+//! * [`cluster`] — mean-shift clusters of a belief, its estimate and hypotheses
+//! * [`lineage`] — FootSLAM's particle ancestry (the answer's path)
+//! * [`path_tree`] — the tracker's pruned ancestry and its whole-walk (smoothed) answer
+//! * [`recovery`] — what to do when every particle dies
+//!
+//! FootSLAM (learning maps from walks, Robertson et al. 2009):
+//! * [`footslam`] — the Rao-Blackwellised particle filter
+//! * [`footslam_config`], [`footslam_anchors`] — its settings, and what ties a walk to the
+//!   world (GPS, an outline, earlier maps)
+//! * [`gps_start`], [`outline_fit`] — a walk's start from GPS fixes; a learned walk against
+//!   a building outline
+//!
+//! Tracking on known plans (Woodman & Harle 2008, 2009):
+//! * [`tracker`], [`tracker_config`] — the 2.5D floor-plan tracker and its settings
+//! * [`rf_assist`], [`rf_tracker`] — WiFi containment regions from a radio map, and the
+//!   tracker driven by steps and scans together
+//! * [`survey`] — radio maps built while tracking
+//! * [`nearest_fingerprint`] — the radio map alone: weighted k-nearest-neighbour fingerprints
 
 pub mod cluster;
 pub mod footslam;
