@@ -2,7 +2,7 @@
 //! a floor plan.
 
 use crate::geometry::{HexGrid, RigidTransform};
-use crate::io::map_geojson::visits;
+use crate::map::hex_transitions::visits;
 use crate::map::{FloorPlan, HexMapSnapshot};
 
 /// The visit-weighted fraction, in [0, 1], of `map`'s hexagon centres that lie on a

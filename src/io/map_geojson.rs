@@ -26,6 +26,7 @@
 
 use crate::error::{Error, Result};
 use crate::geometry::{HexGrid, LocalFrame};
+use crate::map::hex_transitions::{transition_probabilities, visits};
 use crate::map::{FloorLevel, HexCell, HexMapSnapshot};
 use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject, JsonValue};
 use hexx::Hex;
@@ -163,25 +164,6 @@ fn read_map_and_members(path: &Path) -> Result<(HexMapSnapshot, LocalFrame, Json
         frame,
         members,
     ))
-}
-
-/// Posterior-mean transition probabilities `(N_e + α) / (N + 6α)`; uniform when `N + 6α = 0`.
-pub fn transition_probabilities(counts: &[u32; 6], alpha: f64) -> [f64; 6] {
-    let total: f64 = counts.iter().map(|&n| f64::from(n)).sum::<f64>() + 6.0 * alpha;
-    if total > 0.0 {
-        counts.map(|n| (f64::from(n) + alpha) / total)
-    } else {
-        [1.0 / 6.0; 6]
-    }
-}
-
-/// Passes through a hexagon with edge counts `counts`: `⌈Σ counts / 2⌉`.
-pub fn visits(counts: &[u32; 6]) -> u64 {
-    counts
-        .iter()
-        .map(|&n| u64::from(n))
-        .sum::<u64>()
-        .div_ceil(2)
 }
 
 fn cell_feature(grid: &HexGrid, frame: &LocalFrame, alpha: f64, cell: &HexCell) -> Feature {

@@ -15,7 +15,7 @@ use super::canvas::{
 };
 use crate::error::{Error, Result};
 use crate::geometry::HexGrid;
-use crate::io::map_geojson::{transition_probabilities, visits};
+use crate::map::hex_transitions::{transition_probabilities, visits};
 use crate::map::{FloorPlan, HexMapSnapshot};
 use legend::{draw_legend, legend_height};
 use serde::{Deserialize, Serialize};
