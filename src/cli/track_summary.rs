@@ -157,7 +157,7 @@ pub(super) struct StepRecords {
 impl StepRecords {
     /// Records the report of step `i` (0-based) at time `t`.
     pub(super) fn push(&mut self, i: usize, t: f64, report: &TrackStep) {
-        let count = |n: usize, max: u32| u32::try_from(n).map_or(max, |n| n.min(max));
+        let count = |n: usize, max: u32| n.min(max as usize) as u32;
         let localised = if report.localised {
             StepRecord::LOCALISED
         } else {

@@ -85,7 +85,7 @@ pub fn write_smoothed_track(
     let written = crate::io::write_atomically_with(path, |w| {
         w.write_all(b"t,x,y,z,level,certain,hypotheses\n")?;
         for p in points {
-            if check_finite(std::iter::once(&p.point), path).is_err() {
+            if !is_finite(&p.point) {
                 bad = Some(p.point);
                 return Err(std::io::Error::other("a track point is not finite"));
             }
@@ -95,22 +95,28 @@ pub fn write_smoothed_track(
         Ok(())
     });
     match bad {
-        Some(p) => check_finite(std::iter::once(&p), path),
+        Some(p) => Err(not_finite(&p, path)),
         None => written,
     }
 }
 
 /// Refuses a track with a non-finite value (nothing is written).
 fn check_finite<'a>(mut points: impl Iterator<Item = &'a TrackPoint>, path: &Path) -> Result<()> {
-    match points
-        .find(|p| !(p.t.is_finite() && p.x.is_finite() && p.y.is_finite() && p.z.is_finite()))
-    {
-        Some(p) => Err(Error::invalid(
-            format!("track point at t = {}", p.t),
-            format!("is not finite; nothing written to {}", path.display()),
-        )),
+    match points.find(|p| !is_finite(p)) {
+        Some(p) => Err(not_finite(p, path)),
         None => Ok(()),
     }
+}
+
+fn is_finite(p: &TrackPoint) -> bool {
+    p.t.is_finite() && p.x.is_finite() && p.y.is_finite() && p.z.is_finite()
+}
+
+fn not_finite(p: &TrackPoint, path: &Path) -> Error {
+    Error::invalid(
+        format!("track point at t = {}", p.t),
+        format!("is not finite; nothing written to {}", path.display()),
+    )
 }
 
 fn write_point(w: &mut dyn Write, p: &TrackPoint) -> std::io::Result<()> {

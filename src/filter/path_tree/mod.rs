@@ -241,14 +241,16 @@ impl PathTree {
         if step < self.first_step {
             self.settled.truncate(step);
         } else {
+            // Settled straight from the answer as it is read (no copy of the segment's).
             let keep = step - self.first_step;
-            let answers: Vec<StoredStep> = self
-                .answer_current(topology, cluster)
-                .take(keep)
-                .map(|s| StoredStep::store(&s))
-                .collect();
-            self.settled.extend(answers);
-            self.settled.resize(step, StoredStep::NONE);
+            let mut settled = std::mem::take(&mut self.settled);
+            settled.extend(
+                self.answer_current(topology, cluster)
+                    .take(keep)
+                    .map(|s| StoredStep::store(&s)),
+            );
+            settled.resize(step, StoredStep::NONE);
+            self.settled = settled;
         }
         self.chain.clear();
         self.generations.clear();

@@ -41,7 +41,7 @@ impl StoredStep {
     };
 
     pub(super) fn store(step: &SmoothedStep) -> Self {
-        let count = |n: usize| u32::try_from(n).map_or(CERTAIN_BIT - 1, |n| n.min(CERTAIN_BIT - 1));
+        let count = |n: usize| n.min((CERTAIN_BIT - 1) as usize) as u32;
         let certain = if step.certain { CERTAIN_BIT } else { 0 };
         let (hypotheses, ancestors) = (count(step.hypotheses), count(step.ancestors) | certain);
         match step.estimate {
