@@ -76,6 +76,7 @@ pub mod inertial;
 pub mod io;
 pub mod map;
 pub mod model;
+pub mod pipeline;
 pub mod random;
 pub mod render;
 pub mod sensor;

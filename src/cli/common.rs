@@ -7,9 +7,8 @@ use footslam::io::steps_csv::has_dz_column;
 use footslam::map::FloorPlan;
 use footslam::map::RadioMap;
 use footslam::sensor::{StepTrace, WifiScan};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+
 
 /// Two local frames whose origins are closer than this are the same, metres.
 pub const SAME_ORIGIN: f64 = 1e-3;
@@ -72,45 +71,6 @@ pub fn read_config<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
             .with_context(|| format!("{}: invalid configuration", path.display()))
     } else {
         toml::from_str(text).with_context(|| format!("{}: invalid configuration", path.display()))
-    }
-}
-
-/// A progress bar on stderr that appears only once a run has lasted a second.
-pub struct Progress {
-    bar: ProgressBar,
-    started: Instant,
-    shown: bool,
-}
-
-impl Progress {
-    /// A bar for `len` units of work described by `what`.
-    pub fn new(len: u64, what: &str) -> Self {
-        let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::hidden());
-        if let Ok(style) = ProgressStyle::with_template(
-            "{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} ({per_sec}, eta {eta})",
-        ) {
-            bar.set_style(style);
-        }
-        bar.set_message(what.to_string());
-        Self {
-            bar,
-            started: Instant::now(),
-            shown: false,
-        }
-    }
-
-    /// Advances by one unit.
-    pub fn inc(&mut self) {
-        if !self.shown && self.started.elapsed() > Duration::from_secs(1) {
-            self.bar.set_draw_target(ProgressDrawTarget::stderr());
-            self.shown = true;
-        }
-        self.bar.inc(1);
-    }
-
-    /// Removes the bar.
-    pub fn finish(self) {
-        self.bar.finish_and_clear();
     }
 }
 

@@ -1,24 +1,26 @@
 //! `footslam learn`: FootSLAM on one walk or a batch of walks, optionally anchored to the
 //! world by GPS fixes, a rough building outline and a map learned on earlier walks.
 //!
-//! [`run`] reads the walks and the anchors ([`super::learn_inputs`]), learns the walks
-//! ([`super::learn_walks`]), writes each walk's outputs ([`super::learn_outputs`]), the merged
-//! maps and the radio map of their WiFi logs ([`super::learn_radio`]), and the run's summary.
+//! [`run`] reads the walks and the anchors ([`super::learn_inputs`]), learns them
+//! ([`footslam::pipeline::learn`]), writes each walk's outputs ([`super::learn_outputs`]),
+//! the merged maps and the radio map of their WiFi logs ([`super::learn_radio`]), and the
+//! run's summary.
 
 use super::common::{
     bundled, output_dir, parse_origin, peak_memory_bytes, read_config, require_file, walk_prefix,
 };
-use super::learn_inputs::{WalkArgs, check_same_grid, read_walks};
+use super::learn_inputs::{WalkArgs, WalkFiles, check_same_grid, read_walks};
 use super::learn_outputs::{Summary, write_learned_plan, write_walk};
-use super::learn_radio::{RadioSummary, learn_radio_map};
-use super::learn_walks::{Shared, learn_batch};
+use super::learn_radio::{RadioSummary, write_learned_radio_map};
+use super::progress_bars::Bars;
 use anyhow::Result;
 use footslam::filter::{FootSlamConfig, StartPose};
-use footslam::geometry::{HexGrid, LocalFrame};
-use footslam::io::RunFolder;
-use footslam::io::map_geojson::{read_stored_map, write_walks_map_geojson};
-use footslam::io::{parse_utc_time, read_outline};
-use footslam::map::{CellConfig, EdgePrior, merge_maps, shift_map};
+use footslam::geometry::LocalFrame;
+use footslam::io::map_geojson::{StoredMap, read_stored_map, write_walks_map_geojson};
+use footslam::io::{RunFolder, parse_utc_time, read_outline};
+use footslam::map::CellConfig;
+use footslam::pipeline::{LearnInput, LearnWalk, Learned, default_frame, learn};
+use geo::Polygon;
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -135,6 +137,62 @@ struct RunSummary {
 /// Runs `footslam learn`.
 pub fn run(args: Args) -> Result<()> {
     let started = Instant::now();
+    let config = learn_config(&args)?;
+    let walk_args = WalkArgs {
+        steps: &args.steps,
+        gps: &args.gps,
+        wifi: &args.wifi,
+        starts: &args.start,
+        manifest: args.walks.as_deref(),
+        gps_t0: args.gps_t0,
+    };
+    let (files, walks) = read_walks(&walk_args, &bundled(DEFAULT_STEPS))?;
+    let cells = CellConfig {
+        granularity: args.cell.unwrap_or(CellConfig::default().granularity),
+        ..CellConfig::default()
+    };
+    cells.validate()?;
+    let (prior_map, frame, outline) = read_anchors(&args, &config, &walks)?;
+    let input = LearnInput {
+        walks: &walks,
+        frame,
+        outline: outline.as_ref(),
+        prior_map: prior_map.as_ref(),
+        cells,
+    };
+    let pool = super::common::worker_pool(args.threads)?;
+    let threads = pool.current_num_threads();
+    let learned = pool.install(|| learn(&input, &config, &Bars::default()))?;
+
+    let mut folder = RunFolder::create(&output_dir(args.out.clone(), "learn"))?;
+    folder.protect(
+        files
+            .iter()
+            .flat_map(|w| [Some(&w.steps_path), w.gps_path.as_ref(), w.wifi_path.as_ref()])
+            .flatten()
+            .chain(args.prior_map.iter())
+            .chain(args.outline.iter())
+            .chain(args.config.iter())
+            .chain(args.walks.iter()),
+    );
+    let mut summary = write_outputs(&folder, &files, &input, &learned)?;
+    summary.runtime_s = started.elapsed().as_secs_f64();
+    summary.threads = threads;
+    // One walk: the configuration it ran with (start from its fixes included); a batch: the
+    // shared one (each walk's own is in its folder).
+    match (walks.len() > 1, learned.walks.first()) {
+        (false, Some(run)) => folder.write_json("config.json", &run.config)?,
+        _ => folder.write_json("config.json", &config)?,
+    }
+    folder.write_json("summary.json", &summary)?;
+    let out = folder.commit()?;
+    summary.print(&out);
+    Ok(())
+}
+
+/// The FootSLAM configuration: the config file's (or the defaults) with the flags'
+/// overrides, validated.
+fn learn_config(args: &Args) -> Result<FootSlamConfig> {
     let mut config: FootSlamConfig = match &args.config {
         Some(p) => read_config(p)?,
         None => FootSlamConfig::default(),
@@ -155,20 +213,15 @@ pub fn run(args: Args) -> Result<()> {
         config.heading.enabled = false;
     }
     config.validate()?;
-    let walk_args = WalkArgs {
-        steps: &args.steps,
-        gps: &args.gps,
-        wifi: &args.wifi,
-        starts: &args.start,
-        manifest: args.walks.as_deref(),
-        gps_t0: args.gps_t0,
-    };
-    let walks = read_walks(&walk_args, &bundled(DEFAULT_STEPS))?;
-    let cells = CellConfig {
-        granularity: args.cell.unwrap_or(CellConfig::default().granularity),
-        ..CellConfig::default()
-    };
-    cells.validate()?;
+    Ok(config)
+}
+
+/// The prior map, the run's frame and the outline in it.
+fn read_anchors(
+    args: &Args,
+    config: &FootSlamConfig,
+    walks: &[LearnWalk],
+) -> Result<(Option<StoredMap>, LocalFrame, Option<Polygon<f64>>)> {
     let prior_map = match &args.prior_map {
         Some(p) => {
             require_file(p, "prior map")?;
@@ -176,160 +229,105 @@ pub fn run(args: Args) -> Result<()> {
         }
         None => None,
     };
-    let first_fix = walks.iter().find_map(|w| w.fixes.first());
     let frame = args
         .origin
-        .or(prior_map.as_ref().map(|m| m.frame))
-        .or(first_fix.and_then(|f| LocalFrame::new(f.lat, f.lon)))
-        .unwrap_or_default();
-
-    let grid = HexGrid::new(config.hex_radius);
-    let mut prior = EdgePrior::uniform(config.alpha);
-    let mut outline_edges = 0;
-    if let Some(path) = &args.outline {
-        require_file(path, "outline")?;
-        let outline = read_outline(path, &frame)?;
-        outline_edges = prior.add_outline(&grid, &outline, config.outline_alpha);
-    }
-    let (mut prior_map_hexagons, mut prior_walks) = (0, 0);
-    if let (Some(stored), Some(path)) = (&prior_map, &args.prior_map) {
-        check_same_grid(
-            path,
-            stored.map.radius,
-            &stored.frame,
-            config.hex_radius,
-            &frame,
-        )?;
-        prior.add_counts(&stored.map, config.prior_weight);
-        prior_map_hexagons = stored.map.cells.len();
-        prior_walks = stored.walks;
-    }
-
-    let pool = super::common::worker_pool(args.threads)?;
-    let threads = pool.current_num_threads();
-    let batch = walks.len() > 1;
-    let stored = prior_map.as_ref().map(|m| &m.map);
-    let shared = Shared {
-        config: &config,
-        frame: &frame,
-        prior: &prior,
-        prior_map: stored,
-        prior_walks,
+        .unwrap_or_else(|| default_frame(prior_map.as_ref(), walks));
+    let outline = match &args.outline {
+        Some(path) => {
+            require_file(path, "outline")?;
+            Some(read_outline(path, &frame)?)
+        }
+        None => None,
     };
-    let (runs, iterations) = pool.install(|| learn_batch(&walks, &shared))?;
+    if let (Some(stored), Some(path)) = (&prior_map, &args.prior_map) {
+        let radius = stored.map.radius;
+        check_same_grid(path, radius, &stored.frame, config.hex_radius, &frame)?;
+    }
+    Ok((prior_map, frame, outline))
+}
 
-    let out = output_dir(args.out, "learn");
-    let mut folder = RunFolder::create(&out)?;
-    folder.protect(
-        walks
-            .iter()
-            .flat_map(|w| {
-                [
-                    Some(&w.steps_path),
-                    w.gps_path.as_ref(),
-                    w.wifi_path.as_ref(),
-                ]
-            })
-            .flatten()
-            .chain(args.prior_map.iter())
-            .chain(args.outline.iter())
-            .chain(args.config.iter())
-            .chain(args.walks.iter()),
-    );
-    let mut summaries = Vec::with_capacity(runs.len());
-    for (i, (walk, run)) in walks.iter().zip(&runs).enumerate() {
-        let prefix = walk_prefix(&folder, i, batch)?;
-        summaries.push(write_walk(&folder, &prefix, walk, run, &frame)?);
-        if let Some(stored) = &prior_map {
-            // The prior and this walk, in this walk's frame: the next walk's prior.
-            let prior = shift_map(&stored.map, run.estimate.prior_shift);
-            let merged = merge_maps(&[(&prior, 1.0), (&run.estimate.map, 1.0)])?;
+/// Writes every walk's outputs, the merged maps and the radio map; returns the summary
+/// (its runtime and threads left for the caller).
+fn write_outputs(
+    folder: &RunFolder,
+    files: &[WalkFiles],
+    input: &LearnInput,
+    learned: &Learned,
+) -> Result<RunSummary> {
+    let frame = &input.frame;
+    let batch = input.walks.len() > 1;
+    let mut summaries = Vec::with_capacity(learned.walks.len());
+    for (i, (walk, run)) in input.walks.iter().zip(&learned.walks).enumerate() {
+        let prefix = walk_prefix(folder, i, batch)?;
+        summaries.push(write_walk(folder, &prefix, &files[i], walk, run, frame)?);
+        if let (Some(stored), Some(merged)) = (input.prior_map, learned.merged_with_prior.get(i)) {
             let path = folder.path(&format!("{prefix}merged.geojson"));
-            write_walks_map_geojson(&path, &merged, &frame, stored.walks + 1)?;
+            write_walks_map_geojson(&path, merged, frame, stored.walks + 1)?;
             let plan = folder.path(&format!("{prefix}merged_plan.geojson"));
-            write_learned_plan(&plan, &merged, &frame)?;
+            write_learned_plan(&plan, merged, frame)?;
         }
     }
-    let batch_merged = if batch && prior_map.is_none() {
-        let maps: Vec<_> = runs.iter().map(|r| (&r.estimate.map, 1.0)).collect();
-        let walks = maps.len() as u32;
-        let merged = merge_maps(&maps)?;
-        write_walks_map_geojson(&folder.path("merged.geojson"), &merged, &frame, walks)?;
-        write_learned_plan(&folder.path("merged_plan.geojson"), &merged, &frame)?;
-        Some(merged)
-    } else {
-        None
+    if let Some(merged) = &learned.merged {
+        let walks = learned.walks.len() as u32;
+        write_walks_map_geojson(&folder.path("merged.geojson"), merged, frame, walks)?;
+        write_learned_plan(&folder.path("merged_plan.geojson"), merged, frame)?;
+    }
+    let radio = match &learned.radio {
+        Some(radio) => Some(write_learned_radio_map(
+            folder,
+            input.walks,
+            radio,
+            &input.cells,
+            frame,
+        )?),
+        None => None,
     };
-    // The radio map: every walk's scans on the plan of everything the run learned (the
-    // batch's merged map, or the walks' maps with the prior moved into the first's frame).
-    let radio = if walks.iter().any(|w| w.wifi_path.is_some()) {
-        let run_map = match batch_merged {
-            Some(merged) => merged,
-            None => {
-                let prior = prior_map
-                    .as_ref()
-                    .zip(runs.first())
-                    .map(|(stored, first)| shift_map(&stored.map, first.estimate.prior_shift));
-                let mut all: Vec<_> = runs.iter().map(|r| (&r.estimate.map, 1.0)).collect();
-                all.extend(prior.as_ref().map(|p| (p, 1.0)));
-                merge_maps(&all)?
-            }
-        };
-        let estimates: Vec<_> = runs.iter().map(|r| &r.estimate).collect();
-        Some(learn_radio_map(
-            &folder, &walks, &estimates, &run_map, &cells, &frame,
-        )?)
-    } else {
-        None
-    };
-    let (single, summaries) = if batch {
+    let (single, walks) = if batch {
         (None, summaries)
     } else {
         (summaries.pop(), Vec::new())
     };
-    let summary = RunSummary {
+    Ok(RunSummary {
         single,
-        walks: summaries,
-        runtime_s: started.elapsed().as_secs_f64(),
-        threads,
-        outline_edges,
-        prior_map_hexagons,
-        prior_map_walks: prior_walks,
-        iterations,
+        walks,
+        runtime_s: 0.0,
+        threads: 0,
+        outline_edges: learned.outline_edges,
+        prior_map_hexagons: learned.prior_map_hexagons,
+        prior_map_walks: learned.prior_map_walks,
+        iterations: learned.iterations,
         peak_memory_bytes: peak_memory_bytes(),
-        origin: frame,
+        origin: *frame,
         radio,
         version: env!("CARGO_PKG_VERSION"),
-    };
-    // One walk: the configuration it ran with (start from its fixes included); a batch: the
-    // shared one (each walk's own is in its folder).
-    match (batch, runs.first()) {
-        (false, Some(run)) => folder.write_json("config.json", &run.config)?,
-        _ => folder.write_json("config.json", &config)?,
+    })
+}
+
+impl RunSummary {
+    /// Prints each walk's figures and the output folder.
+    fn print(&self, out: &std::path::Path) {
+        let batch = !self.walks.is_empty();
+        for (i, s) in self.single.iter().chain(&self.walks).enumerate() {
+            let walk = if batch {
+                format!("walk {}: ", i + 1)
+            } else {
+                String::new()
+            };
+            let gps = if s.gps_fixes > 0 {
+                format!(" and {} GPS fixes", s.gps_fixes_used)
+            } else {
+                String::new()
+            };
+            outln!(
+                "{walk}learned {} hexagons from {} steps{gps} with {} particles in {:.2} s ({:.2e} particle-steps/s); final ESS {:.0}",
+                s.hexagons,
+                s.steps,
+                s.particles,
+                s.filter_runtime_s,
+                s.particle_steps_per_s,
+                s.final_effective_sample_size
+            );
+        }
+        outln!("outputs: {}", out.display());
     }
-    folder.write_json("summary.json", &summary)?;
-    let out = folder.commit()?;
-    for (i, s) in summary.single.iter().chain(&summary.walks).enumerate() {
-        let walk = if batch {
-            format!("walk {}: ", i + 1)
-        } else {
-            String::new()
-        };
-        let gps = if s.gps_fixes > 0 {
-            format!(" and {} GPS fixes", s.gps_fixes_used)
-        } else {
-            String::new()
-        };
-        outln!(
-            "{walk}learned {} hexagons from {} steps{gps} with {} particles in {:.2} s ({:.2e} particle-steps/s); final ESS {:.0}",
-            s.hexagons,
-            s.steps,
-            s.particles,
-            s.filter_runtime_s,
-            s.particle_steps_per_s,
-            s.final_effective_sample_size
-        );
-    }
-    outln!("outputs: {}", out.display());
-    Ok(())
 }

@@ -6,21 +6,16 @@ use anyhow::{Context, Result, bail};
 use footslam::filter::StartPose;
 use footslam::geometry::LocalFrame;
 use footslam::io::{ManifestWalk, read_gps_csv, read_gpx, read_steps, read_walk_manifest};
-use footslam::sensor::{GpsFix, StepTrace, WifiScan};
+use footslam::pipeline::LearnWalk;
+use footslam::sensor::{GpsFix, StepTrace};
 use std::path::{Path, PathBuf};
 
-/// One walk to learn.
+/// The files of one walk to learn.
 #[derive(Debug)]
-pub(super) struct Walk {
+pub(super) struct WalkFiles {
     pub(super) steps_path: PathBuf,
     pub(super) gps_path: Option<PathBuf>,
-    pub(super) trace: StepTrace,
-    pub(super) fixes: Vec<GpsFix>,
     pub(super) wifi_path: Option<PathBuf>,
-    /// The walk's WiFi scans, in time order (empty without a log).
-    pub(super) scans: Vec<WifiScan>,
-    /// The walk's known start (`--start`, a manifest's `start`).
-    pub(super) start: Option<StartPose>,
 }
 
 /// One walk found from the flags, a manifest or a folder (the manifest's own record).
@@ -41,8 +36,12 @@ pub(super) struct WalkArgs<'a> {
 }
 
 /// The walks named by `--steps` (files or folders) with their GPS fixes (`--gps`, one per
-/// walk in order, or none), WiFi logs and starts likewise; or those of a manifest.
-pub(super) fn read_walks(args: &WalkArgs, default: &Path) -> Result<Vec<Walk>> {
+/// walk in order, or none), WiFi logs and starts likewise; or those of a manifest: their
+/// files and what they hold, in the order of the walks.
+pub(super) fn read_walks(
+    args: &WalkArgs,
+    default: &Path,
+) -> Result<(Vec<WalkFiles>, Vec<LearnWalk>)> {
     let mut found: Vec<Found> = Vec::new();
     if let Some(manifest) = args.manifest {
         if !(args.steps.is_empty()
@@ -114,17 +113,21 @@ pub(super) fn read_walks(args: &WalkArgs, default: &Path) -> Result<Vec<Walk>> {
                 Some(p) => read_scans(p, &trace)?,
                 None => Vec::new(),
             };
-            Ok(Walk {
+            let files = WalkFiles {
                 steps_path: f.steps,
                 gps_path: f.gps,
+                wifi_path: f.wifi,
+            };
+            let walk = LearnWalk {
                 trace,
                 fixes,
-                wifi_path: f.wifi,
                 scans,
                 start: f.start,
-            })
+            };
+            Ok((files, walk))
         })
-        .collect()
+        .collect::<Result<Vec<_>>>()
+        .map(|pairs| pairs.into_iter().unzip())
 }
 
 /// The walks of a manifest CSV ([`read_walk_manifest`]), each of whose files must exist.

@@ -2,8 +2,7 @@
 //! per floor), walkable plan and configuration, and its figures for `summary.json`.
 
 use super::common::path_length;
-use super::learn_inputs::Walk;
-use super::learn_walks::WalkRun;
+use super::learn_inputs::WalkFiles;
 use anyhow::Result;
 use footslam::geometry::{HexGrid, LocalFrame};
 use footslam::io::RunFolder;
@@ -12,6 +11,7 @@ use footslam::io::map_geojson::write_map_geojson;
 use footslam::io::track_geojson::write_track_geojson;
 use footslam::io::{TimedPoint, TrackPoint, write_trajectory};
 use footslam::map::{HexMapSnapshot, PlanConfig, walkable_plan};
+use footslam::pipeline::{LearnWalk, WalkRun};
 use footslam::render::map_png::{MapPicture, PictureConfig, write_map_png};
 use serde::Serialize;
 
@@ -71,7 +71,8 @@ struct HeadingSummary {
 pub(super) fn write_walk(
     folder: &RunFolder,
     prefix: &str,
-    walk: &Walk,
+    files: &WalkFiles,
+    walk: &LearnWalk,
     run: &WalkRun,
     frame: &LocalFrame,
 ) -> Result<Summary> {
@@ -151,8 +152,8 @@ pub(super) fn write_walk(
     let ess = filter.ess_history();
     let steps = walk.trace.len();
     Ok(Summary {
-        steps_file: walk.steps_path.display().to_string(),
-        gps_file: walk.gps_path.as_ref().map(|p| p.display().to_string()),
+        steps_file: files.steps_path.display().to_string(),
+        gps_file: files.gps_path.as_ref().map(|p| p.display().to_string()),
         steps_with_heading: walk.trace.with_heading(),
         headings_used: filter.headings_used(),
         particles: config.particles,

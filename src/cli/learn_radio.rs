@@ -1,15 +1,12 @@
-//! `learn --wifi`: a radio map from the walks alone. Each walk's scans are placed on its
-//! learned path (FootSLAM's most probable path) and added to the cells of the plan learned
-//! from the run's map — the survey of Woodman & Harle (2009) with no floor plan drawn by
-//! anyone: the learned map stands in for the plan, the learned path for the tracker.
+//! `learn --wifi`'s outputs: the radio map made from the walks alone
+//! ([`footslam::pipeline::LearnedRadio`]) and its summary.
 
-use super::learn_inputs::Walk;
 use super::radio_outputs::{held_out_quantiles, write_radio_map_files};
-use anyhow::{Context, Result};
-use footslam::filter::{EPSILON_MISS, FootSlamEstimate, RfConfig, path_points, survey_paths};
+use anyhow::Result;
 use footslam::geometry::LocalFrame;
 use footslam::io::RunFolder;
-use footslam::map::{CellConfig, HexMapSnapshot, PlanConfig, walkable_plan};
+use footslam::map::CellConfig;
+use footslam::pipeline::{LearnWalk, LearnedRadio};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -36,39 +33,19 @@ pub(super) struct RadioSummary {
     ndist_leave_one_out_p50_p90_p99_max: BTreeMap<&'static str, [Option<f64>; 4]>,
 }
 
-/// Builds the radio map of `walks` on the plan learned from `map` (every walk's learned map,
-/// merged, in the frame of the walks' paths: `estimates`, one per walk) and writes
-/// `radiomap.geojson`, `radiomap.csv` and the heatmaps into `folder`.
-pub(super) fn learn_radio_map(
+/// Writes the radio map `learn` made of the walks' WiFi (`radiomap.geojson`, `radiomap.csv`
+/// and the heatmaps) into `folder` and returns its summary; `walks` gives each walk's scans.
+pub(super) fn write_learned_radio_map(
     folder: &RunFolder,
-    walks: &[Walk],
-    estimates: &[&FootSlamEstimate],
-    map: &HexMapSnapshot,
+    walks: &[LearnWalk],
+    radio: &LearnedRadio,
     cell_config: &CellConfig,
     frame: &LocalFrame,
 ) -> Result<RadioSummary> {
-    let plan_config = PlanConfig::default();
-    let learned = walkable_plan(map, &plan_config)
-        .context("the learned map is too small to cut radio-map cells from")?;
-    let paths: Vec<_> = walks
-        .iter()
-        .zip(estimates)
-        .map(|(walk, estimate)| {
-            let path = path_points(walk.trace.steps(), &estimate.path, plan_config.level);
-            (path, walk.scans.as_slice())
-        })
-        .collect();
-    let survey = survey_paths(
-        &learned.plan,
-        &paths,
-        cell_config,
-        RfConfig::default().missing_rssi,
-        EPSILON_MISS,
-    )
-    .context("WiFi on the learned plan")?;
-    let radio = &survey.map;
-    write_radio_map_files(folder, "", &learned.plan, radio, frame)?;
-    let (coverage, per_cell) = radio.coverage();
+    let survey = &radio.survey;
+    let map = &survey.map;
+    write_radio_map_files(folder, "", &radio.plan.plan, map, frame)?;
+    let (coverage, per_cell) = map.coverage();
     Ok(RadioSummary {
         granularity_m: cell_config.granularity,
         cells: survey.cells.cells().len(),
@@ -78,9 +55,9 @@ pub(super) fn learn_radio_map(
         scans_skipped: survey.counts.iter().map(|c| c.skipped).collect(),
         coverage,
         mean_scans_per_covered_cell: per_cell,
-        access_points: radio.access_points().len(),
-        epsilon: radio.epsilon,
-        epsilon_sqrt: radio.epsilon_sqrt,
+        access_points: map.access_points().len(),
+        epsilon: map.epsilon,
+        epsilon_sqrt: map.epsilon_sqrt,
         ndist_leave_one_out_p50_p90_p99_max: held_out_quantiles(&survey.held),
     })
 }

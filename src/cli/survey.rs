@@ -2,28 +2,23 @@
 //! walker on the known plan and adding its scans where it was (Woodman & Harle 2009).
 
 use super::common::{
-    Progress, check_height_changes, output_dir, parse_origin, peak_memory_bytes, read_config,
-    read_scans, require_file,
+    check_height_changes, output_dir, parse_origin, peak_memory_bytes, read_config, read_scans,
+    require_file,
 };
+use super::progress_bars::Bars;
 use super::radio_outputs::{held_out_quantiles, write_radio_map_files};
 use anyhow::{Context, Result, bail};
-use footslam::filter::{
-    Assignments, StartPose, TrackStep, Tracker, TrackerConfig, calibrate_map, placed_steps,
-    survey_assignments, survey_walk,
-};
+use footslam::filter::StartPose;
 use footslam::io::RunFolder;
 use footslam::io::floor_plan_geojson::read_floor_plan;
 use footslam::io::radio_map_geojson::read_radio_map_geojson;
 use footslam::io::{read_steps, read_walk_manifest};
-use footslam::map::{CellConfig, CellMap, FloorTopology, RadioMap};
-use footslam::sensor::WifiScan;
-use serde::{Deserialize, Serialize};
+use footslam::map::{FloorPlan, FloorTopology};
+use footslam::pipeline::{SurveyConfig, SurveyInput, SurveyWalk, Surveyed, survey};
+use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Instant;
-
-/// Granularities of the coverage table (the paper's Table 1), metres.
-const COVERAGE_GRANULARITIES: [f64; 5] = [1.0, 2.0, 3.0, 4.0, 5.0];
 
 /// Arguments of `footslam survey`.
 #[derive(Debug, clap::Args)]
@@ -77,29 +72,6 @@ pub struct Args {
     threads: Option<usize>,
 }
 
-/// The survey's configuration, written as `config.json`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct SurveyConfig {
-    /// The tracker of every walk (its seed is the first walk's; walk `k` uses seed + k).
-    pub tracker: TrackerConfig,
-    /// Rooms and cells.
-    pub cells: CellConfig,
-    /// Share of surveyed scans allowed outside their own cell's region when calibrating the
-    /// map's `ε` (default 0.001; the paper's ε gave 0.00028 per step on its building).
-    pub epsilon_miss: f64,
-}
-
-impl Default for SurveyConfig {
-    fn default() -> Self {
-        Self {
-            tracker: TrackerConfig::default(),
-            cells: CellConfig::default(),
-            epsilon_miss: footslam::filter::EPSILON_MISS,
-        }
-    }
-}
-
 #[derive(Debug, Serialize)]
 struct WalkSummary {
     steps_file: String,
@@ -135,10 +107,6 @@ struct Summary {
     peak_memory_bytes: Option<u64>,
 }
 
-/// A survey at one granularity: its cells, the map, each walk's scans (added, skipped) and
-/// where they went.
-type Surveyed = (CellMap, RadioMap, Vec<(usize, usize)>, Vec<Assignments>);
-
 /// Runs `footslam survey`.
 pub fn run(args: Args) -> Result<()> {
     let started = Instant::now();
@@ -149,6 +117,57 @@ pub fn run(args: Args) -> Result<()> {
             args.wifi.len()
         );
     }
+    let config = survey_config(&args)?;
+    require_file(&args.plan, "floor plan")?;
+    let (plan, frame) = read_floor_plan(&args.plan, args.origin)?;
+    let topology = FloorTopology::build(&plan, &config.tracker.topology)
+        .with_context(|| format!("{}: not a usable floor plan", args.plan.display()))?;
+    let (files, walks) = read_walks(&args, &plan)?;
+    let earlier = args
+        .merge
+        .iter()
+        .map(|path| {
+            require_file(path, "radio map")?;
+            Ok(read_radio_map_geojson(path, Some(frame))?.0)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let input = SurveyInput {
+        plan: &plan,
+        topology: &topology,
+        walks: &walks,
+        earlier: &earlier,
+    };
+    let pool = super::common::worker_pool(args.threads)?;
+    let surveyed = pool.install(|| survey(&input, &config, &Bars::default()))?;
+
+    let mut folder = RunFolder::create(&output_dir(args.out.clone(), "survey"))?;
+    folder.protect(
+        [&args.plan]
+            .into_iter()
+            .chain(&args.steps)
+            .chain(&args.wifi)
+            .chain(&args.merge)
+            .chain(args.walks.iter())
+            .chain(args.config.iter()),
+    );
+    write_radio_map_files(&folder, "", &plan, &surveyed.map, &frame)?;
+    let mut coverage = String::from("granularity_m,cells,coverage_percent,mean_scans_per_cell\n");
+    for c in &surveyed.coverage {
+        let (g, n, share, mean) = (c.granularity, c.cells, 100.0 * c.share, c.mean_scans);
+        coverage.push_str(&format!("{g},{n},{share:.1},{mean:.2}\n"));
+    }
+    folder.write("coverage.csv", coverage.as_bytes())?;
+    folder.write_json("config.json", &config)?;
+    let summary = Summary::new(&files, &walks, &surveyed, &config, started);
+    folder.write_json("summary.json", &summary)?;
+    let out = folder.commit()?;
+    summary.print(&out);
+    Ok(())
+}
+
+/// The survey's configuration: the config file's (or the defaults) with the flags'
+/// overrides, validated.
+fn survey_config(args: &Args) -> Result<SurveyConfig> {
     let mut config: SurveyConfig = match &args.config {
         Some(p) => read_config(p)?,
         None => SurveyConfig::default(),
@@ -167,11 +186,12 @@ pub fn run(args: Args) -> Result<()> {
     if !(config.epsilon_miss.is_finite() && (0.0..=0.5).contains(&config.epsilon_miss)) {
         bail!("epsilon_miss = {} must be in [0, 0.5]", config.epsilon_miss);
     }
-    require_file(&args.plan, "floor plan")?;
-    let (plan, frame) = read_floor_plan(&args.plan, args.origin)?;
-    let topology = FloorTopology::build(&plan, &config.tracker.topology)
-        .with_context(|| format!("{}: not a usable floor plan", args.plan.display()))?;
-    let mut pairs: Vec<WalkFiles> = args
+    Ok(config)
+}
+
+/// The walks of the `--steps`/`--wifi` pairs and the manifest: their files and contents.
+fn read_walks(args: &Args, plan: &FloorPlan) -> Result<(Vec<WalkFiles>, Vec<SurveyWalk>)> {
+    let mut files: Vec<WalkFiles> = args
         .steps
         .iter()
         .cloned()
@@ -183,184 +203,96 @@ pub fn run(args: Args) -> Result<()> {
         })
         .collect();
     if let Some(manifest) = &args.walks {
-        pairs.extend(read_manifest(manifest)?);
+        files.extend(read_manifest(manifest)?);
     }
-    if pairs.is_empty() && args.merge.is_empty() {
+    if files.is_empty() && args.merge.is_empty() {
         bail!("nothing to survey: give --steps/--wifi pairs, --walks or --merge");
     }
-    let mut walks = Vec::with_capacity(pairs.len());
-    for w in &pairs {
+    let mut walks = Vec::with_capacity(files.len());
+    for w in &files {
         require_file(&w.steps, "step trace")?;
         require_file(&w.wifi, "WiFi log")?;
         let trace = read_steps(&w.steps)?;
-        check_height_changes(&w.steps, &args.plan, &plan, args.one_floor)?;
+        check_height_changes(&w.steps, &args.plan, plan, args.one_floor)?;
         let scans = read_scans(&w.wifi, &trace)?;
-        walks.push((trace, scans));
+        walks.push(SurveyWalk {
+            trace,
+            scans,
+            start: w.start,
+        });
     }
-    // A walk's own start overrides the shared one.
-    let starts: Vec<Option<StartPose>> = pairs
-        .iter()
-        .map(|w| w.start.or(config.tracker.start))
-        .collect();
-    let pool = super::common::worker_pool(args.threads)?;
-    let total: u64 = walks.iter().map(|(s, _)| s.len() as u64).sum();
-    // Per walk: the filter's reports, and the steps its scans are placed by.
-    let runs: Vec<(Vec<TrackStep>, Vec<TrackStep>)> = pool.install(|| -> Result<_> {
-        let mut progress = Progress::new(total, "surveying");
-        let mut runs = Vec::with_capacity(walks.len());
-        for (k, (trace, _)) in walks.iter().enumerate() {
-            let tracker_config = TrackerConfig {
-                seed: config.tracker.seed.wrapping_add(k as u64),
-                start: starts[k],
-                ..config.tracker.clone()
-            };
-            let mut tracker = Tracker::new(&topology, &tracker_config)
-                .with_context(|| format!("walk {} ({})", k + 1, pairs[k].steps.display()))?;
-            let mut reports = Vec::with_capacity(trace.len());
-            for step in trace.steps() {
-                reports.push(tracker.update(step)?);
-                progress.inc();
-            }
-            let placed = placed_steps(&tracker, reports.clone());
-            runs.push((reports, placed));
-        }
-        progress.finish();
-        Ok(runs)
-    })?;
-    let scans: Vec<&[WifiScan]> = walks.iter().map(|(_, w)| w.as_slice()).collect();
-    let build = |granularity: f64| -> Result<Surveyed> {
-        let cells = CellMap::build(
-            &plan,
-            &topology,
-            &CellConfig {
-                granularity,
-                ..config.cells
-            },
-        )?;
-        let mut map = RadioMap::empty(&cells);
-        let assignments: Vec<Assignments> = runs
-            .iter()
-            .zip(&scans)
-            .map(|((_, placed), scans)| survey_assignments(&cells, &topology, placed, scans))
-            .collect();
-        let counts = assignments
-            .iter()
-            .zip(&scans)
-            .map(|(a, scans)| {
-                let c = survey_walk(&mut map, a, scans);
-                (c.added, c.skipped)
-            })
-            .collect();
-        Ok((cells, map, counts, assignments))
-    };
-    let (cells, mut map, counts, assignments) = build(config.cells.granularity)?;
-    for path in &args.merge {
-        require_file(path, "radio map")?;
-        let (earlier, _) = read_radio_map_geojson(path, Some(frame))?;
-        map.merge(&earlier).with_context(|| {
-            format!(
-                "{}: not a map of this plan at {} m cells",
-                path.display(),
-                config.cells.granularity
-            )
-        })?;
-    }
-    let calibration: Vec<(Assignments, &[WifiScan])> =
-        assignments.into_iter().zip(scans.iter().copied()).collect();
-    let held = calibrate_map(
-        &mut map,
-        &calibration,
-        config.tracker.rf.missing_rssi,
-        config.epsilon_miss,
-    );
-    let quantiles = held_out_quantiles(&held);
+    Ok((files, walks))
+}
 
-    let mut folder = RunFolder::create(&output_dir(args.out, "survey"))?;
-    folder.protect(
-        [&args.plan]
-            .into_iter()
-            .chain(&args.steps)
-            .chain(&args.wifi)
-            .chain(&args.merge)
-            .chain(args.walks.iter())
-            .chain(args.config.iter()),
-    );
-    write_radio_map_files(&folder, "", &plan, &map, &frame)?;
-    let mut coverage = String::from("granularity_m,cells,coverage_percent,mean_scans_per_cell\n");
-    for g in COVERAGE_GRANULARITIES {
-        let (_, m, ..) = build(g)?;
-        let (share, mean) = m.coverage();
-        coverage.push_str(&format!(
-            "{g},{},{:.1},{:.2}\n",
-            m.cells.len(),
-            100.0 * share,
-            mean
-        ));
-    }
-    folder.write("coverage.csv", coverage.as_bytes())?;
-    folder.write_json("config.json", &config)?;
-    let (share, mean) = map.coverage();
-    let duration: f64 = walks
-        .iter()
-        .map(|(s, _)| {
-            let st = s.steps();
-            st.last().map_or(0.0, |l| l.t - st[0].t)
-        })
-        .sum();
-    let runtime = started.elapsed().as_secs_f64();
-    let summary = Summary {
-        walks: walks
+impl Summary {
+    /// The run's summary from what the survey did.
+    fn new(
+        files: &[WalkFiles],
+        walks: &[SurveyWalk],
+        surveyed: &Surveyed,
+        config: &SurveyConfig,
+        started: Instant,
+    ) -> Self {
+        let map = &surveyed.map;
+        let (share, mean) = map.coverage();
+        let duration: f64 = walks
             .iter()
-            .zip(&runs)
-            .zip(&counts)
-            .zip(pairs.iter().zip(&starts))
-            .map(
-                |((((trace, wifi), (reports, placed)), &(added, skipped)), (files, start))| {
-                    WalkSummary {
-                        steps_file: files.steps.display().to_string(),
-                        wifi_file: files.wifi.display().to_string(),
-                        start: *start,
-                        steps: trace.len(),
-                        scans: wifi.len(),
-                        steps_to_localise: reports.iter().position(|r| r.localised).map(|i| i + 1),
-                        steps_placed: placed.iter().filter(|r| r.estimate.is_some()).count(),
-                        scans_added: added,
-                        scans_skipped: skipped,
-                    }
-                },
-            )
-            .collect(),
-        cells: cells.cells().len(),
-        rooms: cells.rooms().len(),
-        granularity_m: config.cells.granularity,
-        coverage: share,
-        mean_scans_per_covered_cell: mean,
-        epsilon: map.epsilon,
-        epsilon_sqrt: map.epsilon_sqrt,
-        ndist_leave_one_out_p50_p90_p99_max: quantiles,
-        access_points: map.access_points().len(),
-        runtime_s: runtime,
-        walk_duration_s: duration,
-        speed_vs_real_time: duration / runtime.max(1e-9),
-        peak_memory_bytes: peak_memory_bytes(),
-    };
-    folder.write_json("summary.json", &summary)?;
-    let out = folder.commit()?;
-    let speed = if summary.walks.is_empty() {
-        String::new()
-    } else {
-        format!(" ({:.0}× real time)", summary.speed_vs_real_time)
-    };
-    outln!(
-        "surveyed {} walk(s) into {} cells: {:.1} % covered, {:.1} scans per covered cell, {} access points{speed}",
-        summary.walks.len(),
-        summary.cells,
-        100.0 * share,
-        mean,
-        summary.access_points,
-    );
-    outln!("outputs: {}", out.display());
-    Ok(())
+            .map(|w| {
+                let st = w.trace.steps();
+                st.last().map_or(0.0, |l| l.t - st[0].t)
+            })
+            .sum();
+        let runtime = started.elapsed().as_secs_f64();
+        Summary {
+            walks: files
+                .iter()
+                .zip(walks)
+                .zip(&surveyed.walks)
+                .map(|((files, walk), done)| WalkSummary {
+                    steps_file: files.steps.display().to_string(),
+                    wifi_file: files.wifi.display().to_string(),
+                    start: done.start,
+                    steps: walk.trace.len(),
+                    scans: walk.scans.len(),
+                    steps_to_localise: done.steps_to_localise,
+                    steps_placed: done.steps_placed,
+                    scans_added: done.scans_added,
+                    scans_skipped: done.scans_skipped,
+                })
+                .collect(),
+            cells: surveyed.cells.cells().len(),
+            rooms: surveyed.cells.rooms().len(),
+            granularity_m: config.cells.granularity,
+            coverage: share,
+            mean_scans_per_covered_cell: mean,
+            epsilon: map.epsilon,
+            epsilon_sqrt: map.epsilon_sqrt,
+            ndist_leave_one_out_p50_p90_p99_max: held_out_quantiles(&surveyed.held),
+            access_points: map.access_points().len(),
+            runtime_s: runtime,
+            walk_duration_s: duration,
+            speed_vs_real_time: duration / runtime.max(1e-9),
+            peak_memory_bytes: peak_memory_bytes(),
+        }
+    }
+
+    /// Prints the outcome and the output folder.
+    fn print(&self, out: &std::path::Path) {
+        let speed = if self.walks.is_empty() {
+            String::new()
+        } else {
+            format!(" ({:.0}× real time)", self.speed_vs_real_time)
+        };
+        outln!(
+            "surveyed {} walk(s) into {} cells: {:.1} % covered, {:.1} scans per covered cell, {} access points{speed}",
+            self.walks.len(),
+            self.cells,
+            100.0 * self.coverage,
+            self.mean_scans_per_covered_cell,
+            self.access_points,
+        );
+        outln!("outputs: {}", out.display());
+    }
 }
 
 /// One walk to survey: its files and, when known, its own start.

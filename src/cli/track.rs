@@ -1,17 +1,14 @@
 //! `footslam track`: locate and track a walker on a known 2.5D floor plan from step events.
 
 use super::common::{
-    Progress, SAME_ORIGIN, bundled, check_height_changes, check_scans_match, output_dir,
-    parse_origin, peak_memory_bytes, read_config, read_scans, require_file, warn,
+    SAME_ORIGIN, bundled, check_height_changes, check_scans_match, output_dir, parse_origin,
+    peak_memory_bytes, read_config, read_scans, require_file,
 };
-use super::track_pictures::{snapshot, write_particles_png, write_track_png};
-use super::track_summary::{
-    PlanStats, RfSummary, SmoothedStats, SmoothingSummary, StepRecords, Summary,
-};
+use super::progress_bars::Bars;
+use super::track_pictures::{write_particles_png, write_track_png};
+use super::track_summary::{PlanStats, RfSummary, SmoothedStats, SmoothingSummary, Summary};
 use anyhow::{Context, Result, bail};
-use footslam::filter::{
-    RfLocaliser, RfMode, RfTracker, SmoothedWalk, StartPose, TrackStep, Tracker, TrackerConfig,
-};
+use footslam::filter::{RfLocaliser, RfMode, SmoothedWalk, StartPose, TrackerConfig};
 use footslam::geometry::LocalFrame;
 use footslam::io::RunFolder;
 use footslam::io::floor_plan_geojson::read_floor_plan;
@@ -19,17 +16,17 @@ use footslam::io::map_geojson::read_map_geojson;
 use footslam::io::radio_map_geojson::read_radio_map_geojson;
 use footslam::io::track_geojson::write_track_geojson;
 use footslam::io::{SmoothedPoint, TrackPoint, read_steps, write_smoothed_track, write_track};
-use footslam::map::{FloorTopology, grow_plan};
+use footslam::map::{FloorPlan, FloorTopology, grow_plan};
 use footslam::model::TransitionPrior;
 use footslam::model::wifi_distance::Normalisation;
+use footslam::pipeline::{RadioInput, SnapshotSteps, TrackInput, TrackRun, track};
+use footslam::sensor::{StepTrace, WifiScan};
 use std::path::PathBuf;
 use std::time::Instant;
 
 /// The bundled sample building and walk, used when `--plan` / `--steps` are not given.
 const DEFAULT_PLAN: &str = "datasets/tower/floor.geojson";
 const DEFAULT_STEPS: &str = "datasets/tower/steps.csv";
-/// Automatic snapshots: the prior, these steps, the step of localisation and the last step.
-const AUTO_SNAPSHOTS: [usize; 2] = [5, 25];
 
 /// Arguments of `footslam track`.
 #[derive(Debug, clap::Args)]
@@ -148,6 +145,84 @@ pub(super) fn parse_start(s: &str) -> Result<StartPose, String> {
 pub fn run(args: Args) -> Result<()> {
     let started = Instant::now();
     let config = tracker_config(&args)?;
+    let mut inputs = read_inputs(&args, &config)?;
+    let input = TrackInput {
+        topology: &inputs.topology,
+        transitions: inputs.transitions.as_ref(),
+        radio: inputs.radio.as_ref().map(|r| RadioInput {
+            localiser: &r.localiser,
+            scans: &r.scans,
+        }),
+    };
+    let snapshots = match &args.snapshots {
+        Some(list) => SnapshotSteps::At(list.clone()),
+        None => SnapshotSteps::Auto,
+    };
+    let pool = super::common::worker_pool(args.threads)?;
+    let threads = pool.current_num_threads();
+    let bars = Bars::default();
+    let mut run = pool.install(|| track(&input, &inputs.trace, &config, &snapshots, &bars))?;
+
+    let mut folder = RunFolder::create(&output_dir(args.out.clone(), "track"))?;
+    folder.protect(
+        [&inputs.plan_path, &inputs.steps_path]
+            .into_iter()
+            .chain(args.radiomap.iter())
+            .chain(args.wifi.iter())
+            .chain(args.hexmap.iter())
+            .chain(args.config.iter()),
+    );
+    // The trace's times are all the outputs need of it now.
+    let times: Vec<f64> = inputs.trace.steps().iter().map(|s| s.t).collect();
+    inputs.steps_with_heading = inputs.trace.with_heading();
+    inputs.trace = StepTrace::default();
+    // The answer: the smoothed track's certain steps, else (online) the filtered track.
+    let smoothed = write_tracks(&folder, &times, run.smoothed.take(), &run)?;
+    let answer = smoothed.as_ref().map_or(&run.filtered[..], |(_, a, _)| &a[..]);
+    write_track_geojson(&folder.path("track.geojson"), answer, &inputs.frame)?;
+    let points: Vec<(f64, f64, i32)> = run.filtered.iter().map(|p| (p.x, p.y, p.level)).collect();
+    let particles = folder.path("particles.png");
+    write_particles_png(&particles, &inputs.plan, &run.snapshots, &points)?;
+    if let Some((_, answer, uncertain)) = &smoothed {
+        let path = folder.path("track.png");
+        write_track_png(&path, &inputs.plan, &points, answer, uncertain, times.len())?;
+    }
+    folder.write_json("config.json", &config)?;
+    let stats = smoothed.as_ref().map(|(s, ..)| s);
+    let summary = summary(&args, &inputs, &run, &times, stats, threads, started);
+    folder.write_json("summary.json", &summary)?;
+    let out = folder.commit()?;
+    summary.print(&out);
+    Ok(())
+}
+
+/// What `track` read: the plan, the walk and, when given, the learned map and the radio map
+/// with the walk's scans.
+struct Inputs {
+    plan_path: PathBuf,
+    steps_path: PathBuf,
+    plan: FloorPlan,
+    frame: LocalFrame,
+    topology: FloorTopology,
+    transitions: Option<TransitionPrior>,
+    trace: StepTrace,
+    /// Steps of the trace with an absolute heading (kept when the trace is dropped).
+    steps_with_heading: usize,
+    radio: Option<RadioFiles>,
+}
+
+/// The radio map (as a localiser) and the walk's scans, with their files.
+struct RadioFiles {
+    map_path: PathBuf,
+    wifi_path: PathBuf,
+    localiser: RfLocaliser,
+    scans: Vec<WifiScan>,
+    /// Scans that hear an access point of the map.
+    matched: usize,
+}
+
+/// Reads and checks `track`'s inputs.
+fn read_inputs(args: &Args, config: &TrackerConfig) -> Result<Inputs> {
     let plan_path = args.plan.clone().unwrap_or_else(|| bundled(DEFAULT_PLAN));
     let steps_path = args.steps.clone().unwrap_or_else(|| bundled(DEFAULT_STEPS));
     require_file(&plan_path, "floor plan")?;
@@ -193,171 +268,76 @@ pub fn run(args: Args) -> Result<()> {
             let (map, _) = read_radio_map_geojson(map_path, Some(frame))?;
             let scans = read_scans(wifi_path, &trace)?;
             let matched = check_scans_match(&map, &scans, map_path, wifi_path)?;
-            let rf = RfLocaliser::new(&map, &topology, &config.rf).with_context(|| {
+            let localiser = RfLocaliser::new(&map, &topology, &config.rf).with_context(|| {
                 format!(
                     "{}: cannot localise with this radio map",
                     map_path.display()
                 )
             })?;
-            Some((rf, scans, map_path, wifi_path, matched))
+            Some(RadioFiles {
+                map_path: map_path.clone(),
+                wifi_path: wifi_path.clone(),
+                localiser,
+                scans,
+                matched,
+            })
         }
         _ => None,
     };
-    let pool = super::common::worker_pool(args.threads)?;
-    let threads = pool.current_num_threads();
-    let wanted = |step: usize, last: bool| match &args.snapshots {
-        Some(list) => list.contains(&step),
-        None => step == 0 || AUTO_SNAPSHOTS.contains(&step) || last,
-    };
+    Ok(Inputs {
+        plan_path,
+        steps_path,
+        plan,
+        frame,
+        topology,
+        transitions,
+        steps_with_heading: trace.with_heading(),
+        trace,
+        radio,
+    })
+}
 
-    let filter_started = Instant::now();
-    let (reports, snapshots, initial, bytes_per_particle, track, ignored, headings_used, smoothing) =
-        pool.install(|| -> Result<_> {
-            let mut walker = match &radio {
-                Some((rf, scans, ..)) => {
-                    let mut t = RfTracker::new(&topology, &config, rf, scans)?;
-                    t.set_transition_prior(transitions.as_ref());
-                    Walker::Rf(Box::new(t))
-                }
-                None => {
-                    let mut t = Tracker::new(&topology, &config)?;
-                    t.set_transition_prior(transitions.as_ref());
-                    Walker::Plain(Box::new(t))
-                }
-            };
-            if let Some(tracker) = walker.tracker()
-                && tracker.capped_draws() > 0
-            {
-                warn(&format!(
-                    "the prior over {} stopped at kld.max_particles = {} before the KLD bound \
-                     was met: the plan is large for an unknown start (each step will be slow \
-                     and the prior thin); give --start, a radio map, or raise the cap",
-                    plan_path.display(),
-                    config.kld.max_particles
-                ));
-            }
-            let mut snapshots = Vec::new();
-            if let Some(tracker) = walker.tracker()
-                && wanted(0, trace.is_empty())
-            {
-                snapshots.push(snapshot(tracker, 0, "prior", 0));
-            }
-            let mut progress = Progress::new(trace.len() as u64, "tracking");
-            let mut reports = StepRecords::default();
-            let mut track: Vec<TrackPoint> = Vec::new();
-            let mut localised_before = false;
-            for (i, step) in trace.steps().iter().enumerate() {
-                let report = walker.update(step)?;
-                let first_fix = report.localised && !localised_before;
-                localised_before |= report.localised;
-                if localised_before && let Some(c) = report.estimate {
-                    track.push(TrackPoint {
-                        t: step.t,
-                        x: c.x,
-                        y: c.y,
-                        z: c.z,
-                        level: c.level,
-                    });
-                }
-                let k = i + 1;
-                let auto_fix = args.snapshots.is_none() && first_fix;
-                if (wanted(k, k == trace.len()) || auto_fix)
-                    && let Some(tracker) = walker.tracker()
-                {
-                    let what = if first_fix { "localised" } else { "step" };
-                    snapshots.push(snapshot(tracker, k, what, track.len()));
-                }
-                reports.push(i, step.t, &report);
-                progress.inc();
-            }
-            progress.finish();
-            let smoothing = walker.take_smoothed(trace.len()).map(|walk| Smoothing {
-                walk,
-                path_nodes_peak: walker.tracker().map_or(0, Tracker::path_nodes_peak),
-            });
-            Ok((
-                reports,
-                snapshots,
-                // The prior's particles: an RF tracker starts at the first scan.
-                walker.tracker().map_or(0, Tracker::initial_particles),
-                walker.tracker().map_or(0.0, Tracker::bytes_per_particle),
-                track,
-                walker.tracker().map_or(0, Tracker::measurements_ignored),
-                walker.tracker().map_or(0, Tracker::headings_used),
-                smoothing,
-            ))
-        })?;
-    let filter_runtime = filter_started.elapsed().as_secs_f64();
-
-    let out = output_dir(args.out, "track");
-    let mut folder = RunFolder::create(&out)?;
-    folder.protect(
-        [&plan_path, &steps_path]
-            .into_iter()
-            .chain(args.radiomap.iter())
-            .chain(args.wifi.iter())
-            .chain(args.hexmap.iter())
-            .chain(args.config.iter()),
-    );
-    // The trace's times are all the outputs need of it now.
-    let (steps_total, steps_with_heading) = (trace.len(), trace.with_heading());
-    let times: Vec<f64> = trace.steps().iter().map(|s| s.t).collect();
-    drop(trace);
-    // The answer: the smoothed track's certain steps, else (online) the filtered track.
-    let smoothed = write_tracks(&folder, &times, smoothing, &track)?;
-    let answer = smoothed.as_ref().map_or(&track[..], |(_, a, _)| &a[..]);
-    write_track_geojson(&folder.path("track.geojson"), answer, &frame)?;
-    let track_points: Vec<(f64, f64, i32)> = track.iter().map(|p| (p.x, p.y, p.level)).collect();
-    write_particles_png(
-        &folder.path("particles.png"),
-        &plan,
-        &snapshots,
-        &track_points,
-    )?;
-    if let Some((_, answer, uncertain)) = &smoothed {
-        write_track_png(
-            &folder.path("track.png"),
-            &plan,
-            &track_points,
-            answer,
-            uncertain,
-            steps_total,
-        )?;
-    }
-    folder.write_json("config.json", &config)?;
-
-    let first = reports.steps.iter().position(|r| r.localised());
-    let particle_steps: usize = reports.steps.iter().map(|r| r.particles()).sum();
-    let summary = Summary {
-        rf: radio
-            .as_ref()
-            .map(|(rf, scans, map_path, wifi_path, matched)| RfSummary {
-                radiomap_file: map_path.display().to_string(),
-                wifi_file: wifi_path.display().to_string(),
-                scans: scans.len(),
-                scans_matched: *matched,
-                mode: rf.config().mode,
-                distance: rf.distance(),
-                epsilon_dbm: rf.epsilon(),
-                epsilon_source: rf.epsilon_source(),
-                started_at_step: reports
-                    .steps
-                    .iter()
-                    .position(|r| r.particles() > 0)
-                    .map(|i| i + 1),
-                measurements_ignored: ignored,
-            }),
-        headings_used: headings_used > 0,
-        steps_with_heading,
-        plan_file: plan_path.display().to_string(),
+/// `summary.json` of a run: its inputs, the filter's figures and the smoother's.
+fn summary<'r>(
+    args: &Args,
+    inputs: &Inputs,
+    run: &'r TrackRun,
+    times: &[f64],
+    smoothed: Option<&SmoothedStats>,
+    threads: usize,
+    started: Instant,
+) -> Summary<'r> {
+    let records = &run.records;
+    let first = records.first_localised();
+    let initial = run.initial_particles;
+    Summary {
+        rf: inputs.radio.as_ref().map(|r| RfSummary {
+            radiomap_file: r.map_path.display().to_string(),
+            wifi_file: r.wifi_path.display().to_string(),
+            scans: r.scans.len(),
+            scans_matched: r.matched,
+            mode: r.localiser.config().mode,
+            distance: r.localiser.distance(),
+            epsilon_dbm: r.localiser.epsilon(),
+            epsilon_source: r.localiser.epsilon_source(),
+            started_at_step: records
+                .steps
+                .iter()
+                .position(|r| r.particles() > 0)
+                .map(|i| i + 1),
+            measurements_ignored: run.measurements_ignored,
+        }),
+        headings_used: run.headings_used > 0,
+        steps_with_heading: inputs.steps_with_heading,
+        plan_file: inputs.plan_path.display().to_string(),
         hexmap_file: args.hexmap.as_ref().map(|p| p.display().to_string()),
-        hexmap_hexagons: transitions.as_ref().map(TransitionPrior::len),
-        steps_file: steps_path.display().to_string(),
-        steps: steps_total,
+        hexmap_hexagons: inputs.transitions.as_ref().map(TransitionPrior::len),
+        steps_file: inputs.steps_path.display().to_string(),
+        steps: times.len(),
         steps_to_localise: first.map(|i| i + 1),
         localised_at_t: first.map(|i| times[i]),
-        track_rows: track.len(),
-        smoothing: smoothed.as_ref().map(|(s, ..)| SmoothingSummary {
+        track_rows: run.filtered.len(),
+        smoothing: smoothed.map(|s| SmoothingSummary {
             steps_estimated: s.estimated,
             steps_certain: s.certain,
             first_certain_step: s.first_certain,
@@ -365,37 +345,33 @@ pub fn run(args: Args) -> Result<()> {
             runtime_s: s.runtime_s,
         }),
         particles_initial: initial,
-        particles_max: reports
+        particles_max: records
             .steps
             .iter()
             .map(|r| r.particles())
             .max()
             .unwrap_or(initial)
             .max(initial),
-        particles_final: reports.steps.last().map_or(initial, |r| r.particles()),
-        particles_per_step: &reports.steps,
-        clusters_per_step: &reports.steps,
-        deaths: reports.recoveries.len(),
-        recoveries: &reports.recoveries,
-        seed: config.seed,
+        particles_final: records.steps.last().map_or(initial, |r| r.particles()),
+        particles_per_step: &records.steps,
+        clusters_per_step: &records.steps,
+        deaths: records.recoveries.len(),
+        recoveries: &records.recoveries,
+        seed: run.seed,
         threads,
         runtime_s: started.elapsed().as_secs_f64(),
-        filter_runtime_s: filter_runtime,
-        particle_steps_per_s: particle_steps as f64 / filter_runtime.max(1e-9),
-        bytes_per_particle,
+        filter_runtime_s: run.filter_runtime_s,
+        particle_steps_per_s: records.particle_steps() as f64 / run.filter_runtime_s.max(1e-9),
+        bytes_per_particle: run.bytes_per_particle,
         peak_memory_bytes: peak_memory_bytes(),
         plan: PlanStats {
-            surfaces: topology.len(),
-            walkable_area_m2: topology.total_area(),
-            levels: topology.levels(),
+            surfaces: inputs.topology.len(),
+            walkable_area_m2: inputs.topology.total_area(),
+            levels: inputs.topology.levels(),
         },
-        origin: frame,
+        origin: inputs.frame,
         version: env!("CARGO_PKG_VERSION"),
-    };
-    folder.write_json("summary.json", &summary)?;
-    let out = folder.commit()?;
-    summary.print(&out);
-    Ok(())
+    }
 }
 
 /// The tracker's configuration: the config file's (or the defaults), with the flags'
@@ -443,12 +419,6 @@ fn tracker_config(args: &Args) -> Result<TrackerConfig> {
     Ok(config)
 }
 
-/// The smoothed belief per step of the walk, computed as it is read.
-struct Smoothing<'a> {
-    walk: SmoothedWalk<'a>,
-    path_nodes_peak: usize,
-}
-
 /// Writes `track.csv` (and, with smoothing, `track_filtered.csv`) and returns, with
 /// smoothing, what the smoother gave, the answer (the smoothed track's certain steps) and
 /// the uncertain steps' estimates; `None` online, where the answer is the filtered `track`.
@@ -456,18 +426,19 @@ struct Smoothing<'a> {
 fn write_tracks(
     folder: &RunFolder,
     times: &[f64],
-    smoothing: Option<Smoothing>,
-    track: &[TrackPoint],
+    smoothed: Option<SmoothedWalk>,
+    run: &TrackRun,
 ) -> Result<Option<SmoothedTracks>> {
     let smoothing_started = Instant::now();
-    Ok(match smoothing {
-        Some(s) => {
+    let track = &run.filtered;
+    Ok(match smoothed {
+        Some(walk) => {
             let mut stats = SmoothedStats::default();
             let mut answer = Vec::new();
             let mut uncertain = Vec::new();
             let points = times
                 .iter()
-                .zip(s.walk.iter())
+                .zip(walk.iter())
                 .enumerate()
                 .filter_map(|(i, (&t, k))| {
                     let k = k?;
@@ -497,7 +468,7 @@ fn write_tracks(
                 });
             write_smoothed_track(&folder.path("track.csv"), points)?;
             write_track(&folder.path("track_filtered.csv"), track)?;
-            stats.path_nodes_peak = s.path_nodes_peak;
+            stats.path_nodes_peak = run.path_nodes_peak;
             stats.runtime_s = smoothing_started.elapsed().as_secs_f64();
             Some((stats, answer, uncertain))
         }
@@ -511,38 +482,6 @@ fn write_tracks(
 /// What [`write_tracks`] gives with smoothing: the smoother's counts, the answer (certain
 /// steps) and the uncertain steps' estimates as `(x, y, level)`.
 type SmoothedTracks = (SmoothedStats, Vec<TrackPoint>, Vec<(f32, f32, i32)>);
-
-/// The tracker with or without a radio map.
-enum Walker<'a> {
-    Plain(Box<Tracker<'a>>),
-    Rf(Box<RfTracker<'a>>),
-}
-
-impl<'a> Walker<'a> {
-    fn tracker(&self) -> Option<&Tracker<'a>> {
-        match self {
-            Walker::Plain(t) => Some(t),
-            Walker::Rf(t) => t.tracker(),
-        }
-    }
-
-    /// The smoothed belief after each of the walk's `steps` steps (`None` without
-    /// smoothing), computed as it is read.
-    fn take_smoothed(&mut self, steps: usize) -> Option<SmoothedWalk<'a>> {
-        match self {
-            // Tracker step k + 1 stands after the walk's step k; step 0 is the prior.
-            Walker::Plain(t) => Some(t.take_smoothed()?.on_walk(0, steps)),
-            Walker::Rf(t) => t.take_smoothed(),
-        }
-    }
-
-    fn update(&mut self, step: &footslam::sensor::Step) -> footslam::Result<TrackStep> {
-        match self {
-            Walker::Plain(t) => t.update(step),
-            Walker::Rf(t) => t.update(step),
-        }
-    }
-}
 
 #[cfg(test)]
 mod tests {

@@ -1,9 +1,9 @@
 //! `footslam track`'s pictures: the particle cloud at chosen steps (`particles.png`) and
 //! the filtered and smoothed tracks (`track.png`).
 
-use footslam::filter::Tracker;
 use footslam::io::TrackPoint;
 use footslam::map::FloorPlan;
+use footslam::pipeline::CloudSnapshot;
 use footslam::render::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, PlanPoints};
 use std::path::Path;
 
@@ -12,30 +12,12 @@ const PARTICLE_COLOUR: [u8; 3] = [200, 30, 30];
 const TRACK_COLOUR: [u8; 3] = [20, 60, 200];
 const FILTERED_COLOUR: [u8; 3] = [230, 150, 30];
 
-/// A particle cloud kept for particles.png.
-pub(super) struct Snapshot {
-    title: String,
-    points: Vec<(f32, f32, i32)>,
-    track_len: usize,
-}
-
-/// The tracker's particle cloud now, titled for the picture.
-pub(super) fn snapshot(tracker: &Tracker, step: usize, what: &str, track_len: usize) -> Snapshot {
-    let topology = tracker.topology();
-    let points: Vec<(f32, f32, i32)> = tracker
-        .particles()
-        .iter()
-        .map(|p| (p.x, p.y, topology.level(p.surface)))
-        .collect();
-    let title = if step == 0 {
-        format!("prior: {} particles", points.len())
+/// A snapshot's title: `prior: N particles`, `step K: N particles`, `localised K: …`.
+fn title(s: &CloudSnapshot) -> String {
+    if s.step == 0 {
+        format!("prior: {} particles", s.points.len())
     } else {
-        format!("{what} {step}: {} particles", points.len())
-    };
-    Snapshot {
-        title,
-        points,
-        track_len,
+        format!("{} {}: {} particles", s.what, s.step, s.points.len())
     }
 }
 
@@ -44,14 +26,14 @@ pub(super) fn snapshot(tracker: &Tracker, step: usize, what: &str, track_len: us
 pub(super) fn write_particles_png(
     path: &Path,
     plan: &FloorPlan,
-    snapshots: &[Snapshot],
+    snapshots: &[CloudSnapshot],
     track_points: &[(f64, f64, i32)],
 ) -> footslam::Result<()> {
     let pictures: Vec<PlanPicture> = snapshots
         .iter()
         .map(|s| PlanPicture {
             plan,
-            title: Some(s.title.clone()),
+            title: Some(title(s)),
             paths: vec![PlanPath {
                 points: &track_points[..s.track_len],
                 colour: TRACK_COLOUR,

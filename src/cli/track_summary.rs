@@ -1,7 +1,8 @@
 //! `footslam track`'s summary: `summary.json`, the step records it is written from, and the
 //! lines printed at the end of a run.
 
-use footslam::filter::{Recovery, RfMode, TrackStep};
+use footslam::filter::RfMode;
+use footslam::pipeline::{RecoveryEvent, StepRecord};
 use footslam::geometry::LocalFrame;
 use footslam::model::wifi_distance::Normalisation;
 use serde::Serialize;
@@ -96,15 +97,6 @@ pub(super) struct SmoothedStats {
     pub(super) runtime_s: f64,
 }
 
-/// A step at which every particle died, and how the filter recovered.
-#[derive(Debug, Serialize)]
-pub(super) struct RecoveryEvent {
-    pub(super) step: usize,
-    pub(super) t: f64,
-    #[serde(flatten)]
-    pub(super) recovery: Recovery,
-}
-
 /// The floor plan's size.
 #[derive(Debug, Serialize)]
 pub(super) struct PlanStats {
@@ -113,68 +105,12 @@ pub(super) struct PlanStats {
     pub(super) levels: (i32, i32),
 }
 
-/// What the summary needs of each step's report (the estimate goes into the track): 8
-/// bytes a step, where a whole report is over a hundred. Particles are below 2³¹
-/// (`kld.max_particles` ≤ 2·10⁸), so the top bit holds `localised`.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct StepRecord {
-    particles_localised: u32,
-    /// `u32::MAX`: not clustered.
-    clusters: u32,
-}
-
-impl StepRecord {
-    const LOCALISED: u32 = 1 << 31;
-
-    pub(super) fn particles(self) -> usize {
-        (self.particles_localised & !Self::LOCALISED) as usize
-    }
-
-    pub(super) fn localised(self) -> bool {
-        self.particles_localised & Self::LOCALISED != 0
-    }
-
-    fn clusters(self) -> Option<usize> {
-        (self.clusters != u32::MAX).then_some(self.clusters as usize)
-    }
-}
-
 fn particles_per_step<S: serde::Serializer>(r: &&[StepRecord], s: S) -> Result<S::Ok, S::Error> {
     s.collect_seq(r.iter().map(|r| r.particles()))
 }
 
 fn clusters_per_step<S: serde::Serializer>(r: &&[StepRecord], s: S) -> Result<S::Ok, S::Error> {
     s.collect_seq(r.iter().map(|r| r.clusters()))
-}
-
-/// Every step's [`StepRecord`], and the steps at which every particle died.
-#[derive(Debug, Default)]
-pub(super) struct StepRecords {
-    pub(super) steps: Vec<StepRecord>,
-    pub(super) recoveries: Vec<RecoveryEvent>,
-}
-
-impl StepRecords {
-    /// Records the report of step `i` (0-based) at time `t`.
-    pub(super) fn push(&mut self, i: usize, t: f64, report: &TrackStep) {
-        let count = |n: usize, max: u32| n.min(max as usize) as u32;
-        let localised = if report.localised {
-            StepRecord::LOCALISED
-        } else {
-            0
-        };
-        self.steps.push(StepRecord {
-            particles_localised: count(report.particles, StepRecord::LOCALISED - 1) | localised,
-            clusters: report.clusters.map_or(u32::MAX, |c| count(c, u32::MAX - 1)),
-        });
-        if let Some(recovery) = report.recovery {
-            self.recoveries.push(RecoveryEvent {
-                step: i + 1,
-                t,
-                recovery,
-            });
-        }
-    }
 }
 
 impl Summary<'_> {

@@ -1,17 +1,16 @@
-//! Learning the walks of `footslam learn`: one walk's FootSLAM run (its start from a given
-//! start, GPS fixes or step headings; registered onto a prior map first when it has GPS),
-//! and a batch's FeetSLAM passes, each walk learned again on the others' merged maps.
+//! Learning the walks of [`learn`](super::learn): one walk's FootSLAM run (its start from a
+//! given start, GPS fixes or step headings; registered onto a prior map first when it has
+//! GPS), and a batch's FeetSLAM passes, each walk learned again on the others' merged maps.
 
-use super::common::Progress;
-use super::learn_inputs::Walk;
-use anyhow::Result;
-use footslam::filter::gps_start::heading_from_fixes;
-use footslam::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
-use footslam::geometry::{Hex, LocalFrame};
-use footslam::map::{EdgePrior, HexMapSnapshot, merge_maps, register_maps};
-use footslam::model::{GpsObservation, HeadingLikelihood, find_levels};
+use super::Progress;
+use super::learn::LearnWalk;
+use crate::Result;
+use crate::filter::gps_start::heading_from_fixes;
+use crate::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
+use crate::geometry::{Hex, LocalFrame};
+use crate::map::{EdgePrior, HexMapSnapshot, merge_maps, register_maps};
+use crate::model::{GpsObservation, HeadingLikelihood, find_levels};
 use rayon::prelude::*;
-use std::sync::Mutex;
 use std::time::Instant;
 
 /// The widest shift searched when registering a walk's map onto a prior map, metres.
@@ -24,7 +23,7 @@ const START_HEADING_READINGS: usize = 10;
 pub(super) struct Shared<'a> {
     pub(super) config: &'a FootSlamConfig,
     pub(super) frame: &'a LocalFrame,
-    /// `α` with the outline and the `--prior-map` counts.
+    /// `α` with the outline and the prior map's counts.
     pub(super) prior: &'a EdgePrior,
     pub(super) prior_map: Option<&'a HexMapSnapshot>,
     pub(super) prior_walks: u32,
@@ -35,7 +34,11 @@ pub(super) struct Shared<'a> {
 /// map of the other walks' previous pass as prior pseudo-counts (weight `prior_weight`).
 /// Each pass reads only the pass before, so the result does not depend on the order in
 /// which walks finish or on the thread count. Returns the last pass and the passes run.
-pub(super) fn learn_batch(walks: &[Walk], shared: &Shared) -> Result<(Vec<WalkRun>, u32)> {
+pub(super) fn learn_batch(
+    walks: &[LearnWalk],
+    shared: &Shared,
+    progress: &dyn Progress,
+) -> Result<(Vec<WalkRun>, u32)> {
     let batch = walks.len() > 1;
     // Walks share a frame when each starts at a known place. (Walks placed by GPS alone
     // carry each its own GPS bias: they meet through `--prior-map`'s registration instead.)
@@ -45,10 +48,11 @@ pub(super) fn learn_batch(walks: &[Walk], shared: &Shared) -> Result<(Vec<WalkRu
     } else {
         0
     };
-    let bar = (batch && iterations > 0).then(|| {
+    let bar = batch && iterations > 0;
+    if bar {
         let passes = u64::from(iterations) + 1;
-        Mutex::new(Progress::new(passes * walks.len() as u64, "learning walks"))
-    });
+        progress.start("learning walks", passes * walks.len() as u64);
+    }
     let pass = |priors: Option<&[EdgePrior]>| {
         walks
             .par_iter()
@@ -57,11 +61,10 @@ pub(super) fn learn_batch(walks: &[Walk], shared: &Shared) -> Result<(Vec<WalkRu
                 let mut config = shared.config.clone();
                 config.seed = config.seed.wrapping_add(i as u64);
                 let prior = priors.map_or(shared.prior, |p| &p[i]);
-                let run = learn_walk(walk, config, shared, prior, !batch);
-                if let Some(bar) = &bar
-                    && let Ok(mut bar) = bar.lock()
-                {
-                    bar.inc();
+                let steps = (!batch).then_some(progress);
+                let run = learn_walk(walk, config, shared, prior, steps);
+                if bar {
+                    progress.advance(1);
                 }
                 run
             })
@@ -84,21 +87,27 @@ pub(super) fn learn_batch(walks: &[Walk], shared: &Shared) -> Result<(Vec<WalkRu
             .collect::<Result<Vec<_>>>()?;
         runs = pass(Some(&priors))?;
     }
-    if let Some(bar) = bar
-        && let Ok(bar) = bar.into_inner()
-    {
-        bar.finish();
+    if bar {
+        progress.finish();
     }
     Ok((runs, iterations))
 }
 
 /// The result of learning one walk.
-pub(super) struct WalkRun {
-    pub(super) config: FootSlamConfig,
-    pub(super) start_source: &'static str,
-    pub(super) filter: FootSlam,
-    pub(super) estimate: FootSlamEstimate,
-    pub(super) runtime_s: f64,
+#[derive(Debug)]
+pub struct WalkRun {
+    /// The configuration it ran with (its seed, and its start from a given start, GPS
+    /// fixes or step headings).
+    pub config: FootSlamConfig,
+    /// Where the start heading came from: `given`, `gps fixes`, `compass`, `config`,
+    /// `assumed` or `unknown`.
+    pub start_source: &'static str,
+    /// The filter after the last step.
+    pub filter: FootSlam,
+    /// Its most probable map and path.
+    pub estimate: FootSlamEstimate,
+    /// Seconds spent in the filter.
+    pub runtime_s: f64,
 }
 
 /// Learns one walk: with GPS it starts at the first fix (spread by its accuracy), heading
@@ -108,11 +117,11 @@ pub(super) struct WalkRun {
 /// explains the first readings, [`HeadingLikelihood::start_heading`]), so the learned map
 /// keeps its orientation (x east, y north).
 fn learn_walk(
-    walk: &Walk,
+    walk: &LearnWalk,
     mut config: FootSlamConfig,
     shared: &Shared,
     prior: &EdgePrior,
-    progress: bool,
+    progress: Option<&dyn Progress>,
 ) -> Result<WalkRun> {
     let (frame, prior_map, prior_walks) = (shared.frame, shared.prior_map, shared.prior_walks);
     let gps: Vec<GpsObservation> = walk
@@ -202,15 +211,17 @@ fn learn_walk(
         levels,
     };
     let mut filter = FootSlam::with_anchors(config.clone(), anchors)?;
-    let mut bar = progress.then(|| Progress::new(walk.trace.len() as u64, "learning"));
+    if let Some(p) = progress {
+        p.start("learning", walk.trace.len() as u64);
+    }
     for step in walk.trace.steps() {
         filter.update(step);
-        if let Some(b) = bar.as_mut() {
-            b.inc();
+        if let Some(p) = progress {
+            p.advance(1);
         }
     }
-    if let Some(b) = bar {
-        b.finish();
+    if let Some(p) = progress {
+        p.finish();
     }
     let runtime_s = started.elapsed().as_secs_f64();
     let estimate = filter.estimate();

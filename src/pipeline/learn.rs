@@ -1,0 +1,208 @@
+//! FootSLAM on one walk or a batch of walks (Robertson et al. 2009; FeetSLAM for batches),
+//! anchored to the world by GPS fixes, a rough building outline and a map learned on earlier
+//! walks, as stages:
+//!
+//! 1. **prior** — the Dirichlet prior `α`, lowered across the outline's edges and raised by
+//!    the prior map's counts;
+//! 2. **walks** — each walk learned alone, then, for a batch in one frame, FeetSLAM passes
+//!    in which each walk is learned again with the others' merged map as its prior;
+//! 3. **merge** — each walk with the prior map (the next walk's prior), or the batch's maps
+//!    into one;
+//! 4. **radio** — with WiFi, every walk's scans placed on its learned path and added to the
+//!    cells of the plan learned from everything the run learned (Woodman & Harle 2009's
+//!    survey with no drawn plan).
+
+use super::Progress;
+use super::learn_walks::{Shared, learn_batch};
+use crate::Result;
+use crate::filter::{
+    EPSILON_MISS, FootSlamConfig, PathSurvey, RfConfig, StartPose, path_points, survey_paths,
+};
+use crate::geometry::{HexGrid, LocalFrame};
+use crate::io::map_geojson::StoredMap;
+use crate::map::{
+    CellConfig, EdgePrior, HexMapSnapshot, LearnedPlan, PlanConfig, merge_maps, shift_map,
+    walkable_plan,
+};
+use crate::sensor::{GpsFix, StepTrace, WifiScan};
+use geo::Polygon;
+
+pub use super::learn_walks::WalkRun;
+
+/// One walk to learn.
+#[derive(Debug, Clone, Default)]
+pub struct LearnWalk {
+    /// Its steps.
+    pub trace: StepTrace,
+    /// Its GPS fixes, in time order on the steps' clock (empty: none).
+    pub fixes: Vec<GpsFix>,
+    /// Its WiFi scans, in time order (empty: none).
+    pub scans: Vec<WifiScan>,
+    /// Its known start.
+    pub start: Option<StartPose>,
+}
+
+/// What [`learn`] reads besides the walks.
+#[derive(Debug, Clone, Copy)]
+pub struct LearnInput<'a> {
+    /// The walks: one, or a batch learned in parallel (walk `i` has seed `seed + i`).
+    pub walks: &'a [LearnWalk],
+    /// The local frame of maps and paths ([`default_frame`] when the user gives none).
+    pub frame: LocalFrame,
+    /// The building's rough outline in the frame's metres: crossing it becomes improbable.
+    pub outline: Option<&'a Polygon<f64>>,
+    /// A map learned earlier, on the run's grid: its counts become prior pseudo-counts.
+    pub prior_map: Option<&'a StoredMap>,
+    /// Radio-map cells, for walks with WiFi.
+    pub cells: CellConfig,
+}
+
+/// What [`learn`] gives.
+#[derive(Debug)]
+pub struct Learned {
+    /// Each walk's run, in the order of the walks (the last FeetSLAM pass).
+    pub walks: Vec<WalkRun>,
+    /// FeetSLAM passes run after the first (0 for one walk, or walks in frames of their own).
+    pub iterations: u32,
+    /// Hexagon edges the outline crosses.
+    pub outline_edges: usize,
+    /// Hexagons and walks of the prior map (0, 0 without one).
+    pub prior_map_hexagons: usize,
+    /// Walks whose counts the prior map holds.
+    pub prior_map_walks: u32,
+    /// Per walk, with a prior map: the prior moved into the walk's frame merged with the
+    /// walk's map (the next walk's prior). Empty without a prior map.
+    pub merged_with_prior: Vec<HexMapSnapshot>,
+    /// A batch without a prior map: the walks' maps merged.
+    pub merged: Option<HexMapSnapshot>,
+    /// The radio map of the walks' WiFi (when any walk has scans).
+    pub radio: Option<LearnedRadio>,
+}
+
+/// The radio map `learn` makes of the walks' WiFi.
+#[derive(Debug)]
+pub struct LearnedRadio {
+    /// The plan learned from the run's map, whose cells hold the scans.
+    pub plan: LearnedPlan,
+    /// The cells, the map and each walk's scans added and skipped.
+    pub survey: PathSurvey,
+}
+
+/// The frame of a run without a given origin: the prior map's, else the first GPS fix's,
+/// else the default (0, 0).
+pub fn default_frame(prior_map: Option<&StoredMap>, walks: &[LearnWalk]) -> LocalFrame {
+    let first_fix = walks.iter().find_map(|w| w.fixes.first());
+    prior_map
+        .map(|m| m.frame)
+        .or(first_fix.and_then(|f| LocalFrame::new(f.lat, f.lon)))
+        .unwrap_or_default()
+}
+
+/// Learns the walks of `input` with `config` in the stages of the [module](self).
+pub fn learn(
+    input: &LearnInput,
+    config: &FootSlamConfig,
+    progress: &dyn Progress,
+) -> Result<Learned> {
+    config.validate()?;
+    input.cells.validate()?;
+    // 1. prior
+    let grid = HexGrid::new(config.hex_radius);
+    let mut prior = EdgePrior::uniform(config.alpha);
+    let outline_edges = input
+        .outline
+        .map_or(0, |o| prior.add_outline(&grid, o, config.outline_alpha));
+    let (mut prior_map_hexagons, mut prior_map_walks) = (0, 0);
+    if let Some(stored) = input.prior_map {
+        prior.add_counts(&stored.map, config.prior_weight);
+        prior_map_hexagons = stored.map.cells.len();
+        prior_map_walks = stored.walks;
+    }
+    // 2. walks
+    let shared = Shared {
+        config,
+        frame: &input.frame,
+        prior: &prior,
+        prior_map: input.prior_map.map(|m| &m.map),
+        prior_walks: prior_map_walks,
+    };
+    let (walks, iterations) = learn_batch(input.walks, &shared, progress)?;
+    // 3. merge
+    let batch = input.walks.len() > 1;
+    let mut merged_with_prior = Vec::new();
+    if let Some(stored) = input.prior_map {
+        for run in &walks {
+            let prior = shift_map(&stored.map, run.estimate.prior_shift);
+            merged_with_prior.push(merge_maps(&[(&prior, 1.0), (&run.estimate.map, 1.0)])?);
+        }
+    }
+    let merged = if batch && input.prior_map.is_none() {
+        let maps: Vec<_> = walks.iter().map(|r| (&r.estimate.map, 1.0)).collect();
+        Some(merge_maps(&maps)?)
+    } else {
+        None
+    };
+    // 4. radio
+    let radio = if input.walks.iter().any(|w| !w.scans.is_empty()) {
+        // Everything the run learned: the batch's merged map, or the walks' maps with the
+        // prior moved into the first's frame.
+        let run_map = match &merged {
+            Some(m) => m.clone(),
+            None => {
+                let prior = input
+                    .prior_map
+                    .zip(walks.first())
+                    .map(|(stored, first)| shift_map(&stored.map, first.estimate.prior_shift));
+                let mut all: Vec<_> = walks.iter().map(|r| (&r.estimate.map, 1.0)).collect();
+                all.extend(prior.as_ref().map(|p| (p, 1.0)));
+                merge_maps(&all)?
+            }
+        };
+        Some(radio_map(input.walks, &walks, &run_map, &input.cells)?)
+    } else {
+        None
+    };
+    Ok(Learned {
+        walks,
+        iterations,
+        outline_edges,
+        prior_map_hexagons,
+        prior_map_walks,
+        merged_with_prior,
+        merged,
+        radio,
+    })
+}
+
+/// Stage 4: the walks' scans on the plan learned from `map`, each walk's placed by its
+/// learned path.
+fn radio_map(
+    walks: &[LearnWalk],
+    runs: &[WalkRun],
+    map: &HexMapSnapshot,
+    cells: &CellConfig,
+) -> Result<LearnedRadio> {
+    let plan_config = PlanConfig::default();
+    let plan = walkable_plan(map, &plan_config).map_err(|e| {
+        crate::Error::not_enough(
+            format!("the learned map is too small to cut radio-map cells from: {e}"),
+            "walk more of the building, or leave out --wifi",
+        )
+    })?;
+    let paths: Vec<_> = walks
+        .iter()
+        .zip(runs)
+        .map(|(walk, run)| {
+            let path = path_points(walk.trace.steps(), &run.estimate.path, plan_config.level);
+            (path, walk.scans.as_slice())
+        })
+        .collect();
+    let survey = survey_paths(
+        &plan.plan,
+        &paths,
+        cells,
+        RfConfig::default().missing_rssi,
+        EPSILON_MISS,
+    )?;
+    Ok(LearnedRadio { plan, survey })
+}

@@ -1,0 +1,254 @@
+//! A WiFi radio survey from ordinary walks on a known floor plan (Woodman & Harle 2009), as
+//! stages:
+//!
+//! 1. **track** — each walk tracked on the plan (walk `k` with seed `seed + k`, from its own
+//!    start when known); its steps placed by the whole-walk answer;
+//! 2. **cells** — the plan cut into rooms and cells of the configured granularity, each
+//!    walk's scans assigned to the cell of the step at or after them and counted into
+//!    per-cell RSSI histograms;
+//! 3. **merge** — radio maps surveyed before on the same plan added in (counts are sums);
+//! 4. **calibrate** — the region threshold ε from the walks' own held-out scans;
+//! 5. **coverage** — the same walks at 1 to 5 m cells (the paper's Table 1).
+
+use super::Progress;
+use crate::filter::{
+    Assignments, EPSILON_MISS, StartPose, TrackStep, Tracker, TrackerConfig,
+    calibrate_map, placed_steps, survey_assignments, survey_walk,
+};
+use crate::map::{CellConfig, CellMap, FloorPlan, FloorTopology, RadioMap};
+use crate::model::wifi_distance::HeldOut;
+use crate::sensor::{StepTrace, WifiScan};
+use crate::{Error, Result};
+use serde::{Deserialize, Serialize};
+
+/// Granularities of the coverage table (the paper's Table 1), metres.
+pub const COVERAGE_GRANULARITIES: [f64; 5] = [1.0, 2.0, 3.0, 4.0, 5.0];
+
+/// The survey's configuration, written as `config.json`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SurveyConfig {
+    /// The tracker of every walk (its seed is the first walk's; walk `k` uses seed + k).
+    pub tracker: TrackerConfig,
+    /// Rooms and cells.
+    pub cells: CellConfig,
+    /// Share of surveyed scans allowed outside their own cell's region when calibrating the
+    /// map's `ε` (default 0.001; the paper's ε gave 0.00028 per step on its building).
+    pub epsilon_miss: f64,
+}
+
+impl Default for SurveyConfig {
+    fn default() -> Self {
+        Self {
+            tracker: TrackerConfig::default(),
+            cells: CellConfig::default(),
+            epsilon_miss: EPSILON_MISS,
+        }
+    }
+}
+
+impl SurveyConfig {
+    /// Checks every part.
+    pub fn validate(&self) -> Result<()> {
+        self.tracker.validate()?;
+        self.cells.validate()?;
+        crate::error::check_range("epsilon_miss", self.epsilon_miss, 0.0..=0.5, "")
+    }
+}
+
+/// One walk to survey.
+#[derive(Debug, Clone, Default)]
+pub struct SurveyWalk {
+    /// Its steps.
+    pub trace: StepTrace,
+    /// Its WiFi scans, in time order on the steps' clock.
+    pub scans: Vec<WifiScan>,
+    /// Its own known start (else the configuration's, else unknown).
+    pub start: Option<StartPose>,
+}
+
+/// What [`survey`] reads.
+#[derive(Debug, Clone, Copy)]
+pub struct SurveyInput<'a> {
+    /// The floor plan.
+    pub plan: &'a FloorPlan,
+    /// Its topology (built with the tracker's topology configuration).
+    pub topology: &'a FloorTopology,
+    /// The walks.
+    pub walks: &'a [SurveyWalk],
+    /// Radio maps surveyed before on this plan at this granularity, merged in.
+    pub earlier: &'a [RadioMap],
+}
+
+/// What the survey did with one walk.
+#[derive(Debug, Clone)]
+pub struct SurveyedWalk {
+    /// The start it was tracked from.
+    pub start: Option<StartPose>,
+    /// Steps until the tracker was localised (1-based).
+    pub steps_to_localise: Option<usize>,
+    /// Steps whose place the survey knew.
+    pub steps_placed: usize,
+    /// Scans added to a cell, and scans left out.
+    pub scans_added: usize,
+    /// Scans from localisation on whose step had no estimate or no cell.
+    pub scans_skipped: usize,
+}
+
+/// One row of the coverage table.
+#[derive(Debug, Clone, Copy)]
+pub struct Coverage {
+    /// Cell granularity, metres.
+    pub granularity: f64,
+    /// Cells of the plan.
+    pub cells: usize,
+    /// Share of the plan's area in cells with a scan.
+    pub share: f64,
+    /// Scans per covered cell.
+    pub mean_scans: f64,
+}
+
+/// What [`survey`] gives.
+#[derive(Debug)]
+pub struct Surveyed {
+    /// The cells at the configured granularity.
+    pub cells: CellMap,
+    /// The radio map, merged and calibrated.
+    pub map: RadioMap,
+    /// Per walk, in order.
+    pub walks: Vec<SurveyedWalk>,
+    /// The held-out scans ε was calibrated on.
+    pub held: Vec<HeldOut>,
+    /// The coverage table ([`COVERAGE_GRANULARITIES`]).
+    pub coverage: Vec<Coverage>,
+}
+
+/// Surveys the walks of `input` with `config` in the stages of the [module](self).
+pub fn survey(
+    input: &SurveyInput,
+    config: &SurveyConfig,
+    progress: &dyn Progress,
+) -> Result<Surveyed> {
+    config.validate()?;
+    let starts: Vec<Option<StartPose>> = input
+        .walks
+        .iter()
+        .map(|w| w.start.or(config.tracker.start))
+        .collect();
+    // 1. track: per walk, the filter's reports, and the steps its scans are placed by.
+    let total: u64 = input.walks.iter().map(|w| w.trace.len() as u64).sum();
+    progress.start("surveying", total);
+    let mut runs: Vec<(Vec<TrackStep>, Vec<TrackStep>)> = Vec::with_capacity(input.walks.len());
+    for (k, walk) in input.walks.iter().enumerate() {
+        let tracker_config = TrackerConfig {
+            seed: config.tracker.seed.wrapping_add(k as u64),
+            start: starts[k],
+            ..config.tracker.clone()
+        };
+        let mut tracker = Tracker::new(input.topology, &tracker_config)?;
+        let mut reports = Vec::with_capacity(walk.trace.len());
+        for step in walk.trace.steps() {
+            reports.push(tracker.update(step)?);
+            progress.advance(1);
+        }
+        let placed = placed_steps(&tracker, reports.clone());
+        runs.push((reports, placed));
+    }
+    progress.finish();
+    // 2. cells
+    let placed: Vec<&[TrackStep]> = runs.iter().map(|(_, p)| p.as_slice()).collect();
+    let (cells, mut map, counts, assignments) =
+        cells_and_map(input, &placed, &config.cells, config.cells.granularity)?;
+    // 3. merge
+    for (k, earlier) in input.earlier.iter().enumerate() {
+        map.merge(earlier).map_err(|e| {
+            Error::mismatch(
+                format!(
+                    "earlier radio map {}: not a map of this plan at {} m cells ({e})",
+                    k + 1,
+                    config.cells.granularity
+                ),
+                "merge maps surveyed on the same plan with the same cell granularity",
+            )
+        })?;
+    }
+    // 4. calibrate
+    let calibration: Vec<(Assignments, &[WifiScan])> = assignments
+        .into_iter()
+        .zip(input.walks.iter().map(|w| w.scans.as_slice()))
+        .collect();
+    let held = calibrate_map(
+        &mut map,
+        &calibration,
+        config.tracker.rf.missing_rssi,
+        config.epsilon_miss,
+    );
+    // 5. coverage
+    let coverage = COVERAGE_GRANULARITIES
+        .iter()
+        .map(|&g| {
+            let (_, m, ..) = cells_and_map(input, &placed, &config.cells, g)?;
+            let (share, mean_scans) = m.coverage();
+            Ok(Coverage {
+                granularity: g,
+                cells: m.cells.len(),
+                share,
+                mean_scans,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let walks = runs
+        .iter()
+        .zip(&counts)
+        .zip(&starts)
+        .map(|(((reports, placed), &(added, skipped)), start)| SurveyedWalk {
+            start: *start,
+            steps_to_localise: reports.iter().position(|r| r.localised).map(|i| i + 1),
+            steps_placed: placed.iter().filter(|r| r.estimate.is_some()).count(),
+            scans_added: added,
+            scans_skipped: skipped,
+        })
+        .collect();
+    Ok(Surveyed {
+        cells,
+        map,
+        walks,
+        held,
+        coverage,
+    })
+}
+
+/// Stage 2 at one granularity: the cells, the map of every walk's scans, each walk's scans
+/// (added, skipped) and where they went.
+type AtGranularity = (CellMap, RadioMap, Vec<(usize, usize)>, Vec<Assignments>);
+
+fn cells_and_map(
+    input: &SurveyInput,
+    placed: &[&[TrackStep]],
+    cell_config: &CellConfig,
+    granularity: f64,
+) -> Result<AtGranularity> {
+    let cells = CellMap::build(
+        input.plan,
+        input.topology,
+        &CellConfig {
+            granularity,
+            ..*cell_config
+        },
+    )?;
+    let mut map = RadioMap::empty(&cells);
+    let assignments: Vec<Assignments> = placed
+        .iter()
+        .zip(input.walks)
+        .map(|(placed, walk)| survey_assignments(&cells, input.topology, placed, &walk.scans))
+        .collect();
+    let counts = assignments
+        .iter()
+        .zip(input.walks)
+        .map(|(a, walk)| {
+            let c = survey_walk(&mut map, a, &walk.scans);
+            (c.added, c.skipped)
+        })
+        .collect();
+    Ok((cells, map, counts, assignments))
+}

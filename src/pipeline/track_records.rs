@@ -1,0 +1,93 @@
+//! What a tracking run keeps of each step's report: 8 bytes a step (particles, clusters,
+//! localised), where a whole [`TrackStep`] is over a hundred, and the steps at which every
+//! particle died.
+
+use crate::filter::{Recovery, TrackStep};
+use serde::Serialize;
+
+/// One step's particle count, cluster count and whether the walker was localised. Particles
+/// are below 2³¹ (`kld.max_particles` ≤ 2·10⁸), so the top bit holds `localised`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct StepRecord {
+    particles_localised: u32,
+    /// `u32::MAX`: not clustered.
+    clusters: u32,
+}
+
+impl StepRecord {
+    const LOCALISED: u32 = 1 << 31;
+
+    /// The record of a step's report.
+    pub fn new(report: &TrackStep) -> Self {
+        let count = |n: usize, max: u32| n.min(max as usize) as u32;
+        let localised = if report.localised {
+            Self::LOCALISED
+        } else {
+            0
+        };
+        Self {
+            particles_localised: count(report.particles, Self::LOCALISED - 1) | localised,
+            clusters: report.clusters.map_or(u32::MAX, |c| count(c, u32::MAX - 1)),
+        }
+    }
+
+    /// Particles after the step.
+    pub fn particles(self) -> usize {
+        (self.particles_localised & !Self::LOCALISED) as usize
+    }
+
+    /// Whether the walker was localised (one dominant cluster) after the step.
+    pub fn localised(self) -> bool {
+        self.particles_localised & Self::LOCALISED != 0
+    }
+
+    /// Clusters after the step (`None`: the step was not clustered).
+    pub fn clusters(self) -> Option<usize> {
+        (self.clusters != u32::MAX).then_some(self.clusters as usize)
+    }
+}
+
+/// A step at which every particle died, and how the filter recovered.
+#[derive(Debug, Clone, Serialize)]
+pub struct RecoveryEvent {
+    /// The step (1-based).
+    pub step: usize,
+    /// Its time, seconds.
+    pub t: f64,
+    /// What the filter did.
+    #[serde(flatten)]
+    pub recovery: Recovery,
+}
+
+/// Every step's [`StepRecord`], and the steps at which every particle died.
+#[derive(Debug, Default, Clone)]
+pub struct StepRecords {
+    /// One record per step of the walk.
+    pub steps: Vec<StepRecord>,
+    /// The deaths, in step order.
+    pub recoveries: Vec<RecoveryEvent>,
+}
+
+impl StepRecords {
+    /// Records the report of step `i` (0-based) at time `t`.
+    pub fn push(&mut self, i: usize, t: f64, report: &TrackStep) {
+        self.steps.push(StepRecord::new(report));
+        if let Some(recovery) = report.recovery {
+            self.recoveries.push(RecoveryEvent {
+                step: i + 1,
+                t,
+                recovery,
+            });
+        }
+    }
+
+    /// The first localised step (0-based).
+    pub fn first_localised(&self) -> Option<usize> {
+        self.steps.iter().position(|r| r.localised())
+    }
+
+    /// Particles summed over the steps (the filter's work).
+    pub fn particle_steps(&self) -> usize {
+        self.steps.iter().map(|r| r.particles()).sum()
+    }
+}
