@@ -3,7 +3,7 @@
 use super::common::{SAME_ORIGIN, require_file, warn};
 use anyhow::{Result, bail};
 use footslam::io::map_geojson::{read_stored_map, write_walks_map_geojson};
-use footslam::map::merge_maps;
+use footslam::pipeline::merge;
 use std::path::PathBuf;
 
 /// Arguments of `footslam merge`.
@@ -80,22 +80,15 @@ pub fn run(args: Args) -> Result<()> {
     let weighted: Vec<_> = maps
         .iter()
         .enumerate()
-        .map(|(i, m)| (&m.map, args.weights.get(i).copied().unwrap_or(1.0)))
+        .map(|(i, m)| (m, args.weights.get(i).copied().unwrap_or(1.0)))
         .collect();
-    let merged = merge_maps(&weighted)?;
-    // The walks behind the merge: those of every map that counts.
-    let walks: u32 = maps
-        .iter()
-        .zip(&weighted)
-        .filter(|(_, (_, w))| *w > 0.0)
-        .map(|(m, _)| m.walks)
-        .sum();
-    write_walks_map_geojson(&args.out, &merged, &frame, walks.max(1))?;
+    let merged = merge(&weighted)?;
+    write_walks_map_geojson(&args.out, &merged.map, &merged.frame, merged.walks)?;
     outln!(
         "merged {} maps ({} walks) into {} hexagons: {}",
         maps.len(),
-        walks,
-        merged.cells.len(),
+        merged.walks,
+        merged.map.cells.len(),
         args.out.display()
     );
     Ok(())

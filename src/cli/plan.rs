@@ -7,9 +7,10 @@ use footslam::geometry::LocalFrame;
 use footslam::io::floor_plan_geojson::write_floor_plan;
 use footslam::io::map_geojson::read_stored_map;
 use footslam::io::{RunFolder, write_ros_map};
-use footslam::map::{LearnedPlan, OccupancyConfig, OccupancyGrid, PlanConfig, walkable_plan};
+use footslam::map::{LearnedPlan, OccupancyGrid};
+use footslam::pipeline::{PlanRunConfig, Planned, plan};
 use footslam::render::plan_png::{PlanPicture, PlanPictureConfig, write_plan_png};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 use std::path::PathBuf;
 
 /// Arguments of `footslam plan`.
@@ -31,16 +32,6 @@ pub struct Args {
     /// Output folder (default: a new folder under `outputs/`).
     #[arg(long)]
     out: Option<PathBuf>,
-}
-
-/// Everything `plan` needs; every default in its component.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct PlanRunConfig {
-    /// The walkable plan ([`PlanConfig`]).
-    pub plan: PlanConfig,
-    /// The occupancy grid ([`OccupancyConfig`]).
-    pub grid: OccupancyConfig,
 }
 
 #[derive(Debug, Serialize)]
@@ -76,21 +67,8 @@ pub fn run(args: Args) -> Result<()> {
     }
     require_file(&args.map, "map")?;
     let stored = read_stored_map(&args.map)?;
-    let learned = walkable_plan(&stored.map, &config.plan)?;
-    // One occupancy grid per floor: `map.pgm` for the plan's `level` (the walks' first
-    // floor) or, when the walks never stood on it, the lowest; `map-level+N.pgm` the others.
-    let mut levels = learned.plan.levels();
-    let main = if levels.contains(&config.plan.level) {
-        config.plan.level
-    } else {
-        levels[0]
-    };
-    levels.retain(|&l| l != main);
-    levels.insert(0, main);
-    let grids = levels
-        .iter()
-        .map(|&l| OccupancyGrid::from_plan(&learned.plan, l, &config.grid).map(|g| (l, g)))
-        .collect::<footslam::Result<Vec<_>>>()?;
+    // One occupancy grid per floor: `map.pgm` for the main floor, `map-level+N.pgm` others.
+    let Planned { learned, grids } = plan(&stored.map, &config)?;
     let grid = &grids[0].1;
     let mut folder = RunFolder::create(&output_dir(args.out, "plan"))?;
     folder.protect(std::iter::once(&args.map).chain(args.config.iter()));

@@ -4,13 +4,11 @@
 use super::common::{output_dir, read_config, require_file};
 use anyhow::{Context, Result};
 use footslam::inertial::frame_check::axes_flag;
-use footslam::inertial::{
-    FrameFinding, HeadingSource, Mount, StepEvents, StepsConfig, check_foot_frame, check_mount,
-    check_phone_frame, detect_steps, detect_strides,
-};
+use footslam::inertial::{FrameFinding, HeadingSource, Mount, StepsConfig};
 use footslam::io::RunFolder;
 use footslam::io::{ImuUnits, read_imu_in, steps_csv::write_steps};
 use footslam::map::hex_transitions::HexMapSnapshot;
+use footslam::pipeline::{DetectorFigures, FrameVerdict, StepsRun, steps};
 use footslam::render::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::sensor::{ImuRecording, SamplingReport};
 use serde::Serialize;
@@ -71,7 +69,7 @@ enum MountArg {
 }
 
 #[derive(Debug, Serialize)]
-struct Summary<F: Serialize> {
+struct Summary<'r> {
     imu_file: String,
     mount: Mount,
     steps: usize,
@@ -83,7 +81,7 @@ struct Summary<F: Serialize> {
     /// Why the output may be wrong (e.g. the recording does not look like the mount).
     warnings: Vec<String>,
     sampling: SamplingReport,
-    detector: F,
+    detector: &'r DetectorFigures,
     runtime_s: f64,
     version: &'static str,
 }
@@ -114,57 +112,20 @@ pub fn run(args: Args) -> Result<()> {
     let out = output_dir(args.out.clone(), "steps");
     let mut folder = RunFolder::create(&out)?;
     folder.protect(std::iter::once(&args.imu).chain(args.config.iter()));
-    let context = || format!("{}: cannot detect steps", args.imu.display());
-    let (mount, trace_len) = match args.mount {
-        MountArg::Foot => {
-            let events = detect_strides(&recording, &config.foot).with_context(context)?;
-            let residual = events.figures.mean_zupt_residual;
-            // A recording that is not a foot's (said by the mount check) is not judged by
-            // the foot INS's residual too.
-            let mount_warning = check_mount(&recording, Mount::Foot, events.trace.len());
-            let finding = mount_warning
-                .is_none()
-                .then(|| check_foot_frame(&recording, &config.foot, residual))
-                .flatten();
-            let warnings = mount_warning
-                .into_iter()
-                .chain(frame_warnings(&args, finding, true)?)
-                .collect();
-            let n = events.trace.len();
-            write_outputs(
-                &folder,
-                &args,
-                &recording,
-                (Mount::Foot, warnings),
-                events,
-                started,
-            )?;
-            (Mount::Foot, n)
-        }
-        MountArg::Phone => {
-            let events = detect_steps(&recording, &config.phone).with_context(context)?;
-            // With the quaternion giving the heading, a mirrored gyroscope does no harm.
-            let gyro_heading = events.heading_source != HeadingSource::RotationVector;
-            let warnings = check_mount(&recording, Mount::Phone, events.trace.len())
-                .into_iter()
-                .chain(frame_warnings(
-                    &args,
-                    check_phone_frame(&recording),
-                    gyro_heading,
-                )?)
-                .collect();
-            let n = events.trace.len();
-            write_outputs(
-                &folder,
-                &args,
-                &recording,
-                (Mount::Phone, warnings),
-                events,
-                started,
-            )?;
-            (Mount::Phone, n)
-        }
+    let mount = match args.mount {
+        MountArg::Foot => Mount::Foot,
+        MountArg::Phone => Mount::Phone,
     };
+    let run = steps(&recording, mount, &config)
+        .with_context(|| format!("{}: cannot detect steps", args.imu.display()))?;
+    let warnings = run
+        .mount_warning
+        .clone()
+        .into_iter()
+        .chain(frame_warnings(&args, run.frame_verdict())?)
+        .collect();
+    let trace_len = run.trace.len();
+    write_outputs(&folder, &args, &recording, warnings, run, started)?;
     folder.write_json("config.json", &config)?;
     let out = folder.commit()?;
     let what = match mount {
@@ -176,39 +137,35 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// A frame finding ([`footslam::inertial::frame_check`]) as an error, or as warnings where
-/// the output does not depend on it (a mirrored gyroscope when `gyro_used` is false; an
-/// inconsistency no flip explains).
-fn frame_warnings(
-    args: &Args,
-    finding: Option<FrameFinding>,
-    gyro_used: bool,
-) -> Result<Vec<String>> {
+/// The frame check's verdict as an error, or as warnings where the output does not depend
+/// on the finding.
+fn frame_warnings(args: &Args, verdict: FrameVerdict) -> Result<Vec<String>> {
     let flipped = match args.gyro_flip {
         Some(flip) => format!(" (after --gyro-flip {})", axes_flag(flip)),
         None => String::new(),
     };
-    match finding {
-        None => Ok(Vec::new()),
-        Some(f @ FrameFinding::MirroredGyro { .. }) if !gyro_used => Ok(vec![format!(
+    match verdict {
+        FrameVerdict::Fine => Ok(Vec::new()),
+        FrameVerdict::Warn(f @ FrameFinding::MirroredGyro { .. }) => Ok(vec![format!(
             "{}{flipped} (the heading comes from the orientation quaternion, unaffected)",
             f.message()
         )]),
-        Some(f @ FrameFinding::Inconsistent { .. }) => Ok(vec![f.message()]),
-        Some(f) => anyhow::bail!("{}: {}{flipped}", args.imu.display(), f.message()),
+        FrameVerdict::Warn(f) => Ok(vec![f.message()]),
+        FrameVerdict::Reject(f) => anyhow::bail!("{}: {}{flipped}", args.imu.display(), f.message()),
     }
 }
 
-fn write_outputs<F: Serialize>(
+fn write_outputs(
     folder: &RunFolder,
     args: &Args,
     recording: &ImuRecording,
-    (mount, warnings): (Mount, Vec<String>),
-    events: StepEvents<F>,
+    warnings: Vec<String>,
+    run: StepsRun,
     started: Instant,
 ) -> Result<()> {
+    let mount = run.mount;
     let sampling = recording.report().clone();
-    let steps = events.trace.steps();
+    let steps = run.trace.steps();
     if steps.is_empty() {
         anyhow::bail!(
             "{}: no {} detected in {:.1} s of data (is --mount right? is the walker moving?)",
@@ -220,14 +177,14 @@ fn write_outputs<F: Serialize>(
             sampling.duration_s
         );
     }
-    write_steps(&folder.path("steps.csv"), &events.trace)?;
+    write_steps(&folder.path("steps.csv"), &run.trace)?;
     for w in &warnings {
         #[allow(clippy::print_stderr)]
         {
             eprintln!("warning: {}: {w}", args.imu.display());
         }
     }
-    let path: Vec<(f64, f64)> = events.path.iter().map(|p| (p[0], p[1])).collect();
+    let path: Vec<(f64, f64)> = run.path.iter().map(|p| (p[0], p[1])).collect();
     let empty = HexMapSnapshot {
         radius: 0.5,
         alpha: 0.8,
@@ -247,11 +204,11 @@ fn write_outputs<F: Serialize>(
         mean_stride_m: total_length_m / steps.len() as f64,
         total_length_m,
         net_height_change_m: steps.iter().map(|s| s.dz).sum(),
-        heading_source: events.heading_source,
-        steps_with_heading: events.trace.with_heading(),
+        heading_source: run.heading_source,
+        steps_with_heading: run.trace.with_heading(),
         warnings,
         sampling,
-        detector: events.figures,
+        detector: &run.figures,
         runtime_s: started.elapsed().as_secs_f64(),
         version: env!("CARGO_PKG_VERSION"),
     };

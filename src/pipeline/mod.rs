@@ -4,13 +4,19 @@
 //!
 //! * [`learn`] — FootSLAM on one walk or a batch, with GPS, an outline and a prior map
 //!   (prior, walks, merge, radio).
+//! * [`merge`] — maps of several walks in one frame combined (their counts summed).
+//! * [`plan`] — a learned map as a walkable floor plan and occupancy grids.
+//! * [`steps`] — a raw IMU recording (foot or phone) to step events (detect, check).
 //! * [`survey`] — a WiFi radio map from walks tracked on a known plan (track, cells, merge,
 //!   calibrate, coverage).
 //! * [`track`] — one walk on a known floor plan (prior, steps, smoothing).
 
 mod learn;
 mod learn_walks;
+mod merge;
+mod plan;
 mod progress;
+mod steps;
 mod survey;
 mod track;
 mod track_records;
@@ -18,7 +24,10 @@ mod track_records;
 pub use learn::{
     LearnInput, LearnWalk, Learned, LearnedRadio, WalkRun, default_frame, learn,
 };
+pub use merge::{SAME_ORIGIN_M, merge};
+pub use plan::{PlanRunConfig, Planned, plan};
 pub use progress::{Progress, Silent};
+pub use steps::{DetectorFigures, FrameVerdict, StepsRun, steps};
 pub use survey::{
     COVERAGE_GRANULARITIES, Coverage, SurveyConfig, SurveyInput, SurveyWalk, Surveyed,
     SurveyedWalk, survey,

@@ -1,0 +1,118 @@
+//! A raw IMU recording to step events, as stages:
+//!
+//! 1. **detect** — a foot-mounted recording through the zero-velocity-aided INS (one event
+//!    per stride, [`detect_strides`]), a phone's through the step-and-heading system (one per
+//!    step, [`detect_steps`]);
+//! 2. **check** — whether the recording looks like the mount ([`check_mount`]), and whether
+//!    its axes agree with each other ([`check_foot_frame`], [`check_phone_frame`]).
+
+use crate::Result;
+use crate::inertial::{
+    FootFigures, FrameFinding, HeadingSource, Mount, PhoneFigures, StepsConfig,
+    check_foot_frame, check_mount, check_phone_frame, detect_steps, detect_strides,
+};
+use crate::sensor::{ImuRecording, StepTrace};
+use serde::Serialize;
+
+/// The detector's figures, per mount.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum DetectorFigures {
+    /// The foot INS's.
+    Foot(FootFigures),
+    /// The phone's step-and-heading system's.
+    Phone(PhoneFigures),
+}
+
+/// What [`steps`] gives.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepsRun {
+    /// The mount the recording was read as.
+    pub mount: Mount,
+    /// The step events, one per step (phone) or stride (foot), in time order.
+    pub trace: StepTrace,
+    /// The front end's dead-reckoned `[x, y, z]` after each event, from the start (one
+    /// point more than `trace`).
+    pub path: Vec<[f64; 3]>,
+    /// How headings were obtained.
+    pub heading_source: HeadingSource,
+    /// The detector's figures.
+    pub figures: DetectorFigures,
+    /// The recording does not look like the mount (e.g. a phone's rates from a foot).
+    pub mount_warning: Option<String>,
+    /// What the frame check found (checked on a foot only when the mount looks right).
+    pub frame: Option<FrameFinding>,
+    /// Whether the gyroscope set the headings (a mirrored one then makes them wrong).
+    pub gyro_used: bool,
+}
+
+/// Whether a [`StepsRun`]'s frame finding makes its output wrong.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FrameVerdict {
+    /// Nothing found.
+    Fine,
+    /// A finding the output does not depend on: a mirrored gyroscope whose headings were not
+    /// used, or an inconsistency no flip explains.
+    Warn(FrameFinding),
+    /// A finding that makes the output wrong.
+    Reject(FrameFinding),
+}
+
+impl StepsRun {
+    /// The verdict on the frame finding.
+    pub fn frame_verdict(&self) -> FrameVerdict {
+        match &self.frame {
+            None => FrameVerdict::Fine,
+            Some(f) => match f {
+                FrameFinding::MirroredGyro { .. } if !self.gyro_used => {
+                    FrameVerdict::Warn(f.clone())
+                }
+                FrameFinding::Inconsistent { .. } => FrameVerdict::Warn(f.clone()),
+                _ => FrameVerdict::Reject(f.clone()),
+            },
+        }
+    }
+}
+
+/// Detects the steps of `recording` as `mount`, in the stages of the [module](self).
+pub fn steps(recording: &ImuRecording, mount: Mount, config: &StepsConfig) -> Result<StepsRun> {
+    config.validate()?;
+    Ok(match mount {
+        Mount::Foot => {
+            let events = detect_strides(recording, &config.foot)?;
+            let residual = events.figures.mean_zupt_residual;
+            // A recording that is not a foot's (said by the mount check) is not judged by
+            // the foot INS's residual too.
+            let mount_warning = check_mount(recording, Mount::Foot, events.trace.len());
+            let frame = mount_warning
+                .is_none()
+                .then(|| check_foot_frame(recording, &config.foot, residual))
+                .flatten();
+            StepsRun {
+                mount,
+                trace: events.trace,
+                path: events.path,
+                heading_source: events.heading_source,
+                figures: DetectorFigures::Foot(events.figures),
+                mount_warning,
+                frame,
+                gyro_used: true,
+            }
+        }
+        Mount::Phone => {
+            let events = detect_steps(recording, &config.phone)?;
+            let mount_warning = check_mount(recording, Mount::Phone, events.trace.len());
+            StepsRun {
+                mount,
+                trace: events.trace,
+                path: events.path,
+                // With the quaternion giving the heading, a mirrored gyroscope does no harm.
+                gyro_used: events.heading_source != HeadingSource::RotationVector,
+                heading_source: events.heading_source,
+                figures: DetectorFigures::Phone(events.figures),
+                mount_warning,
+                frame: check_phone_frame(recording),
+            }
+        }
+    })
+}
