@@ -13,7 +13,7 @@
 //!    survey with no drawn plan).
 
 use super::Progress;
-use super::learn_walks::{Shared, learn_batch};
+use super::learn_walks::{Shared, learn_batch, learn_walk_at, walk_prior};
 use crate::Result;
 use crate::filter::{
     EPSILON_MISS, FootSlamConfig, PathSurvey, RfConfig, StartPose, path_points, survey_paths,
@@ -27,7 +27,7 @@ use crate::map::{
 use crate::sensor::{GpsFix, StepTrace, WifiScan};
 use geo::Polygon;
 
-pub use super::learn_walks::WalkRun;
+pub use super::learn_walks::{WalkRun, feetslam_passes, others_map};
 
 /// One walk to learn.
 #[derive(Debug, Clone, Default)]
@@ -107,26 +107,35 @@ pub fn learn(
     config.validate()?;
     input.cells.validate()?;
     // 1. prior
-    let grid = HexGrid::new(config.hex_radius);
-    let mut prior = EdgePrior::uniform(config.alpha);
-    let outline_edges = input
-        .outline
-        .map_or(0, |o| prior.add_outline(&grid, o, config.outline_alpha));
-    let (mut prior_map_hexagons, mut prior_map_walks) = (0, 0);
-    if let Some(stored) = input.prior_map {
-        prior.add_counts(&stored.map, config.prior_weight);
-        prior_map_hexagons = stored.map.cells.len();
-        prior_map_walks = stored.walks;
-    }
+    let base = base_prior(input, config);
     // 2. walks
     let shared = Shared {
         config,
         frame: &input.frame,
-        prior: &prior,
+        prior: &base.prior,
         prior_map: input.prior_map.map(|m| &m.map),
-        prior_walks: prior_map_walks,
+        prior_walks: base.prior_map_walks,
     };
     let (walks, iterations) = learn_batch(input.walks, &shared, progress)?;
+    combine(input, config, walks, iterations)
+}
+
+/// Stages 3 and 4 of [`learn`] on the walks' runs (one per walk of `input`, in order, from
+/// [`learn`]'s stage 2 or from [`learn_one`] tasks after `iterations` FeetSLAM passes): the
+/// merged maps and the radio map.
+pub fn combine(
+    input: &LearnInput,
+    config: &FootSlamConfig,
+    walks: Vec<WalkRun>,
+    iterations: u32,
+) -> Result<Learned> {
+    if walks.len() != input.walks.len() {
+        return Err(crate::Error::mismatch(
+            format!("{} runs for {} walks", walks.len(), input.walks.len()),
+            "give one run per walk, in the order of the walks",
+        ));
+    }
+    let base = base_prior(input, config);
     // 3. merge
     let batch = input.walks.len() > 1;
     let mut merged_with_prior = Vec::new();
@@ -165,13 +174,74 @@ pub fn learn(
     Ok(Learned {
         walks,
         iterations,
-        outline_edges,
-        prior_map_hexagons,
-        prior_map_walks,
+        outline_edges: base.outline_edges,
+        prior_map_hexagons: base.prior_map_hexagons,
+        prior_map_walks: base.prior_map_walks,
         merged_with_prior,
         merged,
         radio,
     })
+}
+
+/// Stage 1's result.
+struct BasePrior {
+    /// `α`, with the outline and the prior map's counts.
+    prior: EdgePrior,
+    outline_edges: usize,
+    prior_map_hexagons: usize,
+    prior_map_walks: u32,
+}
+
+/// Stage 1: the Dirichlet prior every walk of the run starts from.
+fn base_prior(input: &LearnInput, config: &FootSlamConfig) -> BasePrior {
+    let grid = HexGrid::new(config.hex_radius);
+    let mut prior = EdgePrior::uniform(config.alpha);
+    let outline_edges = input
+        .outline
+        .map_or(0, |o| prior.add_outline(&grid, o, config.outline_alpha));
+    let (mut prior_map_hexagons, mut prior_map_walks) = (0, 0);
+    if let Some(stored) = input.prior_map {
+        prior.add_counts(&stored.map, config.prior_weight);
+        prior_map_hexagons = stored.map.cells.len();
+        prior_map_walks = stored.walks;
+    }
+    BasePrior {
+        prior,
+        outline_edges,
+        prior_map_hexagons,
+        prior_map_walks,
+    }
+}
+
+/// Walk `index` of `input` alone, as one task of a batch spread over machines: with seed
+/// `seed + index` and, in a FeetSLAM pass, `others` — the merged map of the other walks'
+/// previous pass ([`others_map`]) — as prior pseudo-counts. The same computation as that
+/// walk's in [`learn`] (its stage 2), so a batch fanned out walk by walk and pass by pass
+/// ([`feetslam_passes`]) gives the same maps and paths. No radio map, no merge.
+pub fn learn_one(
+    input: &LearnInput,
+    index: usize,
+    others: Option<&HexMapSnapshot>,
+    config: &FootSlamConfig,
+) -> Result<WalkRun> {
+    config.validate()?;
+    let walk = input.walks.get(index).ok_or_else(|| {
+        crate::Error::invalid(
+            format!("walk {index}"),
+            format!("the batch has {} walks (0-based index)", input.walks.len()),
+        )
+    })?;
+    let base = base_prior(input, config);
+    let shared = Shared {
+        config,
+        frame: &input.frame,
+        prior: &base.prior,
+        prior_map: input.prior_map.map(|m| &m.map),
+        prior_walks: base.prior_map_walks,
+    };
+    let prior = walk_prior(&base.prior, others, config.prior_weight);
+    // A walk alone reports its steps in `learn`; a task of a batch does not.
+    learn_walk_at(walk, index, &shared, &prior, None)
 }
 
 /// Stage 4: the walks' scans on the plan learned from `map`, each walk's placed by its

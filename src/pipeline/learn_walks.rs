@@ -29,25 +29,68 @@ pub(super) struct Shared<'a> {
     pub(super) prior_walks: u32,
 }
 
+/// FeetSLAM passes after the first for `walks`: `config.iterations` for a batch whose walks
+/// share a frame (each starts at a known place), else 0. (Walks placed by GPS alone carry
+/// each its own GPS bias: they meet through a prior map's registration instead.)
+pub fn feetslam_passes(walks: &[LearnWalk], config: &FootSlamConfig) -> u32 {
+    let one_frame = walks.iter().all(|w| w.start.is_some());
+    if walks.len() > 1 && one_frame {
+        config.iterations
+    } else {
+        0
+    }
+}
+
+/// The merged map of every map of `maps` but the `i`-th: walk `i`'s prior in a FeetSLAM pass.
+pub fn others_map(maps: &[&HexMapSnapshot], i: usize) -> Result<HexMapSnapshot> {
+    let others: Vec<_> = maps
+        .iter()
+        .enumerate()
+        .filter(|&(j, _)| j != i)
+        .map(|(_, m)| (*m, 1.0))
+        .collect();
+    merge_maps(&others)
+}
+
+/// A walk's prior: the run's `base` with, in a FeetSLAM pass, the other walks' merged map
+/// as pseudo-counts of weight `prior_weight`.
+pub(super) fn walk_prior(
+    base: &EdgePrior,
+    others: Option<&HexMapSnapshot>,
+    prior_weight: f64,
+) -> EdgePrior {
+    let mut prior = base.clone();
+    if let Some(others) = others {
+        prior.add_counts(others, prior_weight);
+    }
+    prior
+}
+
+/// Walk `i` of a run, with seed `seed + i` and prior `prior`; `steps` reports its steps.
+pub(super) fn learn_walk_at(
+    walk: &LearnWalk,
+    i: usize,
+    shared: &Shared,
+    prior: &EdgePrior,
+    steps: Option<&dyn Progress>,
+) -> Result<WalkRun> {
+    let mut config = shared.config.clone();
+    config.seed = config.seed.wrapping_add(i as u64);
+    learn_walk(walk, config, shared, prior, steps)
+}
+
 /// Learns the walks, each with seed `seed + i`: alone, then — for a batch in one frame —
-/// `config.iterations` FeetSLAM passes in which each walk is learned again with the merged
-/// map of the other walks' previous pass as prior pseudo-counts (weight `prior_weight`).
-/// Each pass reads only the pass before, so the result does not depend on the order in
-/// which walks finish or on the thread count. Returns the last pass and the passes run.
+/// [`feetslam_passes`] passes in which each walk is learned again with the merged map of the
+/// other walks' previous pass as prior pseudo-counts (weight `prior_weight`). Each pass
+/// reads only the pass before, so the result does not depend on the order in which walks
+/// finish or on the thread count. Returns the last pass and the passes run.
 pub(super) fn learn_batch(
     walks: &[LearnWalk],
     shared: &Shared,
     progress: &dyn Progress,
 ) -> Result<(Vec<WalkRun>, u32)> {
     let batch = walks.len() > 1;
-    // Walks share a frame when each starts at a known place. (Walks placed by GPS alone
-    // carry each its own GPS bias: they meet through `--prior-map`'s registration instead.)
-    let one_frame = walks.iter().all(|w| w.start.is_some());
-    let iterations = if batch && one_frame {
-        shared.config.iterations
-    } else {
-        0
-    };
+    let iterations = feetslam_passes(walks, shared.config);
     let bar = batch && iterations > 0;
     if bar {
         let passes = u64::from(iterations) + 1;
@@ -58,11 +101,9 @@ pub(super) fn learn_batch(
             .par_iter()
             .enumerate()
             .map(|(i, walk)| {
-                let mut config = shared.config.clone();
-                config.seed = config.seed.wrapping_add(i as u64);
                 let prior = priors.map_or(shared.prior, |p| &p[i]);
                 let steps = (!batch).then_some(progress);
-                let run = learn_walk(walk, config, shared, prior, steps);
+                let run = learn_walk_at(walk, i, shared, prior, steps);
                 if bar {
                     progress.advance(1);
                 }
@@ -72,17 +113,11 @@ pub(super) fn learn_batch(
     };
     let mut runs = pass(None)?;
     for _ in 0..iterations {
+        let maps: Vec<&HexMapSnapshot> = runs.iter().map(|r| &r.estimate.map).collect();
         let priors = (0..runs.len())
             .map(|i| {
-                let others: Vec<_> = runs
-                    .iter()
-                    .enumerate()
-                    .filter(|&(j, _)| j != i)
-                    .map(|(_, r)| (&r.estimate.map, 1.0))
-                    .collect();
-                let mut prior = shared.prior.clone();
-                prior.add_counts(&merge_maps(&others)?, shared.config.prior_weight);
-                Ok(prior)
+                let others = others_map(&maps, i)?;
+                Ok(walk_prior(shared.prior, Some(&others), shared.config.prior_weight))
             })
             .collect::<Result<Vec<_>>>()?;
         runs = pass(Some(&priors))?;

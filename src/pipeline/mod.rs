@@ -22,7 +22,8 @@ mod track;
 mod track_records;
 
 pub use learn::{
-    LearnInput, LearnWalk, Learned, LearnedRadio, WalkRun, default_frame, learn,
+    LearnInput, LearnWalk, Learned, LearnedRadio, WalkRun, combine, default_frame,
+    feetslam_passes, learn, learn_one, others_map,
 };
 pub use merge::{SAME_ORIGIN_M, merge};
 pub use plan::{PlanRunConfig, Planned, plan};
