@@ -260,19 +260,19 @@ fn write_outputs(
     for (i, (walk, run)) in input.walks.iter().zip(&learned.walks).enumerate() {
         let prefix = walk_prefix(folder, i, batch)?;
         summaries.push(write_walk(folder, &prefix, &files[i], walk, run, frame)?);
-        if let (Some(stored), Some(merged)) = (input.prior_map, learned.merged_with_prior.get(i)) {
+        if let (Some(stored), Some(merged)) = (input.prior_map, learned.combined.merged_with_prior.get(i)) {
             let path = folder.path(&format!("{prefix}merged.geojson"));
             write_walks_map_geojson(&path, merged, frame, stored.walks + 1)?;
             let plan = folder.path(&format!("{prefix}merged_plan.geojson"));
             write_learned_plan(&plan, merged, frame)?;
         }
     }
-    if let Some(merged) = &learned.merged {
+    if let Some(merged) = &learned.combined.merged {
         let walks = learned.walks.len() as u32;
         write_walks_map_geojson(&folder.path("merged.geojson"), merged, frame, walks)?;
         write_learned_plan(&folder.path("merged_plan.geojson"), merged, frame)?;
     }
-    let radio = match &learned.radio {
+    let radio = match &learned.combined.radio {
         Some(radio) => Some(write_learned_radio_map(
             folder,
             input.walks,

@@ -16,7 +16,7 @@ use super::Progress;
 use super::learn_walks::{Shared, learn_batch, learn_walk_at, walk_prior};
 use crate::Result;
 use crate::filter::{
-    EPSILON_MISS, FootSlamConfig, PathSurvey, RfConfig, StartPose, path_points, survey_paths,
+    EPSILON_MISS, FootSlamConfig, FootSlamEstimate, PathSurvey, RfConfig, StartPose, path_points, survey_paths,
 };
 use crate::geometry::{HexGrid, LocalFrame};
 use crate::io::map_geojson::StoredMap;
@@ -70,6 +70,13 @@ pub struct Learned {
     pub prior_map_hexagons: usize,
     /// Walks whose counts the prior map holds.
     pub prior_map_walks: u32,
+    /// The merged maps and the radio map.
+    pub combined: Combined,
+}
+
+/// What [`combine`] makes of the walks' answers.
+#[derive(Debug)]
+pub struct Combined {
     /// Per walk, with a prior map: the prior moved into the walk's frame merged with the
     /// walk's map (the next walk's prior). Empty without a prior map.
     pub merged_with_prior: Vec<HexMapSnapshot>,
@@ -117,36 +124,39 @@ pub fn learn(
         prior_walks: base.prior_map_walks,
     };
     let (walks, iterations) = learn_batch(input.walks, &shared, progress)?;
-    combine(input, config, walks, iterations)
+    let estimates: Vec<&FootSlamEstimate> = walks.iter().map(|r| &r.estimate).collect();
+    let combined = combine(input, &estimates)?;
+    Ok(Learned {
+        walks,
+        iterations,
+        outline_edges: base.outline_edges,
+        prior_map_hexagons: base.prior_map_hexagons,
+        prior_map_walks: base.prior_map_walks,
+        combined,
+    })
 }
 
-/// Stages 3 and 4 of [`learn`] on the walks' runs (one per walk of `input`, in order, from
-/// [`learn`]'s stage 2 or from [`learn_one`] tasks after `iterations` FeetSLAM passes): the
+/// Stages 3 and 4 of [`learn`] on the walks' answers (one per walk of `input`, in order,
+/// from [`learn`]'s stage 2 or from [`learn_one`] tasks after the FeetSLAM passes): the
 /// merged maps and the radio map.
-pub fn combine(
-    input: &LearnInput,
-    config: &FootSlamConfig,
-    walks: Vec<WalkRun>,
-    iterations: u32,
-) -> Result<Learned> {
-    if walks.len() != input.walks.len() {
+pub fn combine(input: &LearnInput, estimates: &[&FootSlamEstimate]) -> Result<Combined> {
+    if estimates.len() != input.walks.len() {
         return Err(crate::Error::mismatch(
-            format!("{} runs for {} walks", walks.len(), input.walks.len()),
-            "give one run per walk, in the order of the walks",
+            format!("{} answers for {} walks", estimates.len(), input.walks.len()),
+            "give one answer per walk, in the order of the walks",
         ));
     }
-    let base = base_prior(input, config);
     // 3. merge
     let batch = input.walks.len() > 1;
     let mut merged_with_prior = Vec::new();
     if let Some(stored) = input.prior_map {
-        for run in &walks {
-            let prior = shift_map(&stored.map, run.estimate.prior_shift);
-            merged_with_prior.push(merge_maps(&[(&prior, 1.0), (&run.estimate.map, 1.0)])?);
+        for estimate in estimates {
+            let prior = shift_map(&stored.map, estimate.prior_shift);
+            merged_with_prior.push(merge_maps(&[(&prior, 1.0), (&estimate.map, 1.0)])?);
         }
     }
     let merged = if batch && input.prior_map.is_none() {
-        let maps: Vec<_> = walks.iter().map(|r| (&r.estimate.map, 1.0)).collect();
+        let maps: Vec<_> = estimates.iter().map(|e| (&e.map, 1.0)).collect();
         Some(merge_maps(&maps)?)
     } else {
         None
@@ -160,23 +170,18 @@ pub fn combine(
             None => {
                 let prior = input
                     .prior_map
-                    .zip(walks.first())
-                    .map(|(stored, first)| shift_map(&stored.map, first.estimate.prior_shift));
-                let mut all: Vec<_> = walks.iter().map(|r| (&r.estimate.map, 1.0)).collect();
+                    .zip(estimates.first())
+                    .map(|(stored, first)| shift_map(&stored.map, first.prior_shift));
+                let mut all: Vec<_> = estimates.iter().map(|e| (&e.map, 1.0)).collect();
                 all.extend(prior.as_ref().map(|p| (p, 1.0)));
                 merge_maps(&all)?
             }
         };
-        Some(radio_map(input.walks, &walks, &run_map, &input.cells)?)
+        Some(radio_map(input.walks, estimates, &run_map, &input.cells)?)
     } else {
         None
     };
-    Ok(Learned {
-        walks,
-        iterations,
-        outline_edges: base.outline_edges,
-        prior_map_hexagons: base.prior_map_hexagons,
-        prior_map_walks: base.prior_map_walks,
+    Ok(Combined {
         merged_with_prior,
         merged,
         radio,
@@ -248,7 +253,7 @@ pub fn learn_one(
 /// learned path.
 fn radio_map(
     walks: &[LearnWalk],
-    runs: &[WalkRun],
+    estimates: &[&FootSlamEstimate],
     map: &HexMapSnapshot,
     cells: &CellConfig,
 ) -> Result<LearnedRadio> {
@@ -261,9 +266,9 @@ fn radio_map(
     })?;
     let paths: Vec<_> = walks
         .iter()
-        .zip(runs)
-        .map(|(walk, run)| {
-            let path = path_points(walk.trace.steps(), &run.estimate.path, plan_config.level);
+        .zip(estimates)
+        .map(|(walk, estimate)| {
+            let path = path_points(walk.trace.steps(), &estimate.path, plan_config.level);
             (path, walk.scans.as_slice())
         })
         .collect();

@@ -22,7 +22,7 @@ mod track;
 mod track_records;
 
 pub use learn::{
-    LearnInput, LearnWalk, Learned, LearnedRadio, WalkRun, combine, default_frame,
+    Combined, LearnInput, LearnWalk, Learned, LearnedRadio, WalkRun, combine, default_frame,
     feetslam_passes, learn, learn_one, others_map,
 };
 pub use merge::{SAME_ORIGIN_M, merge};
