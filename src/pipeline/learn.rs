@@ -218,24 +218,22 @@ fn base_prior(input: &LearnInput, config: &FootSlamConfig) -> BasePrior {
     }
 }
 
-/// Walk `index` of `input` alone, as one task of a batch spread over machines: with seed
-/// `seed + index` and, in a FeetSLAM pass, `others` — the merged map of the other walks'
-/// previous pass ([`others_map`]) — as prior pseudo-counts. The same computation as that
-/// walk's in [`learn`] (its stage 2), so a batch fanned out walk by walk and pass by pass
-/// ([`feetslam_passes`]) gives the same maps and paths. No radio map, no merge.
+/// One walk of a batch alone, as one task of a batch spread over threads, processes or
+/// machines: `walk`, the batch's walk number `index` (0-based; its seed is `seed + index`),
+/// learned in `input`'s frame with its outline and prior map (`input.walks` is not read, so
+/// a task needs only its own walk) and, in a FeetSLAM pass, `others` — the merged map of
+/// the other walks' previous pass ([`others_map`]) — as prior pseudo-counts. The same
+/// computation as that walk's in [`learn`] (its stage 2), so a batch fanned out walk by walk
+/// and pass by pass ([`feetslam_passes`]) gives the same maps and paths; [`combine`] then
+/// merges them.
 pub fn learn_one(
     input: &LearnInput,
+    walk: &LearnWalk,
     index: usize,
     others: Option<&HexMapSnapshot>,
     config: &FootSlamConfig,
 ) -> Result<WalkRun> {
     config.validate()?;
-    let walk = input.walks.get(index).ok_or_else(|| {
-        crate::Error::invalid(
-            format!("walk {index}"),
-            format!("the batch has {} walks (0-based index)", input.walks.len()),
-        )
-    })?;
     let base = base_prior(input, config);
     let shared = Shared {
         config,
