@@ -75,7 +75,11 @@ fn a_batch_fanned_out_walk_by_walk_learns_what_learn_does() {
     let mut answers: Vec<FootSlamEstimate> = walks
         .iter()
         .enumerate()
-        .map(|(i, w)| learn_one(&input, w, i, None, &config).expect("pass 0").estimate)
+        .map(|(i, w)| {
+            learn_one(&input, w, i, None, &config)
+                .expect("pass 0")
+                .estimate
+        })
         .collect();
     for _ in 0..passes {
         let maps: Vec<_> = answers.iter().map(|e| &e.map).collect();
@@ -110,7 +114,15 @@ fn the_cli_writes_what_the_pipelines_compute() {
     let dir = tempfile::tempdir().expect("tempdir");
     let d = dir.path();
     footslam()
-        .args(["simulate", "--building", "tower", "--minutes", "2", "--seed", "4"])
+        .args([
+            "simulate",
+            "--building",
+            "tower",
+            "--minutes",
+            "2",
+            "--seed",
+            "4",
+        ])
         .arg("--out")
         .arg(d.join("sim"))
         .assert()
@@ -175,7 +187,11 @@ fn the_cli_writes_what_the_pipelines_compute() {
     let run = track(&input, &trace, &tracker, &SnapshotSteps::Never, &Silent).expect("track");
     let filtered = d.join("lib-track.csv");
     write_track(&filtered, &run.filtered).expect("write");
-    assert_eq!(read(&filtered), read(&d.join("track/track_filtered.csv")), "track");
+    assert_eq!(
+        read(&filtered),
+        read(&d.join("track/track_filtered.csv")),
+        "track"
+    );
 
     // survey: the walk's WiFi into a radio map, seed 5.
     footslam()
@@ -205,7 +221,11 @@ fn the_cli_writes_what_the_pipelines_compute() {
     let surveyed = survey(&input, &survey_config, &Silent).expect("survey");
     let radio = d.join("lib-radiomap.geojson");
     write_radio_map_geojson(&radio, &surveyed.map, &frame).expect("write");
-    assert_eq!(read(&radio), read(&d.join("survey/radiomap.geojson")), "survey");
+    assert_eq!(
+        read(&radio),
+        read(&d.join("survey/radiomap.geojson")),
+        "survey"
+    );
 
     // steps: a phone recording's step events.
     let imu = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/phone_excerpt.csv");

@@ -9,7 +9,6 @@ use footslam::map::RadioMap;
 use footslam::sensor::{StepTrace, WifiScan};
 use std::path::{Path, PathBuf};
 
-
 /// Two local frames whose origins are closer than this are the same, metres.
 pub const SAME_ORIGIN: f64 = 1e-3;
 

@@ -100,7 +100,14 @@ pub(super) fn read_walks(
     for (walk, start) in found.iter_mut().zip(args.starts) {
         walk.start = Some(*start);
     }
-    let gps_t0 = args.gps_t0;
+    read_found(found, args.gps_t0)
+}
+
+/// Reads the files of `found`: each walk's files and what they hold, in order.
+pub(super) fn read_found(
+    found: Vec<Found>,
+    gps_t0: Option<f64>,
+) -> Result<(Vec<WalkFiles>, Vec<LearnWalk>)> {
     found
         .into_iter()
         .map(|f| {
@@ -131,7 +138,7 @@ pub(super) fn read_walks(
 }
 
 /// The walks of a manifest CSV ([`read_walk_manifest`]), each of whose files must exist.
-fn read_manifest(path: &Path) -> Result<Vec<Found>> {
+pub(super) fn read_manifest(path: &Path) -> Result<Vec<Found>> {
     require_file(path, "walk manifest")?;
     let walks = read_walk_manifest(path, false)?;
     for w in &walks {
@@ -184,7 +191,7 @@ fn walks_in_folder(dir: &Path) -> Result<Vec<Found>> {
 }
 
 /// Fixes from CSV or GPX, checked to overlap the walk in time.
-fn read_fixes(path: &Path, t0: Option<f64>, trace: &StepTrace) -> Result<Vec<GpsFix>> {
+pub(super) fn read_fixes(path: &Path, t0: Option<f64>, trace: &StepTrace) -> Result<Vec<GpsFix>> {
     let is_gpx = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("gpx"));

@@ -16,6 +16,7 @@ mod learn;
 mod learn_inputs;
 mod learn_outputs;
 mod learn_radio;
+mod learn_shard;
 mod merge;
 mod plan;
 mod progress_bars;

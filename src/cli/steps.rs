@@ -151,7 +151,9 @@ fn frame_warnings(args: &Args, verdict: FrameVerdict) -> Result<Vec<String>> {
             f.message()
         )]),
         FrameVerdict::Warn(f) => Ok(vec![f.message()]),
-        FrameVerdict::Reject(f) => anyhow::bail!("{}: {}{flipped}", args.imu.display(), f.message()),
+        FrameVerdict::Reject(f) => {
+            anyhow::bail!("{}: {}{flipped}", args.imu.display(), f.message())
+        }
     }
 }
 

@@ -178,7 +178,9 @@ pub fn run(args: Args) -> Result<()> {
     inputs.trace = StepTrace::default();
     // The answer: the smoothed track's certain steps, else (online) the filtered track.
     let smoothed = write_tracks(&folder, &times, run.smoothed.take(), &run)?;
-    let answer = smoothed.as_ref().map_or(&run.filtered[..], |(_, a, _)| &a[..]);
+    let answer = smoothed
+        .as_ref()
+        .map_or(&run.filtered[..], |(_, a, _)| &a[..]);
     write_track_geojson(&folder.path("track.geojson"), answer, &inputs.frame)?;
     let points: Vec<(f64, f64, i32)> = run.filtered.iter().map(|p| (p.x, p.y, p.level)).collect();
     let particles = folder.path("particles.png");

@@ -2,9 +2,9 @@
 //! lines printed at the end of a run.
 
 use footslam::filter::RfMode;
-use footslam::pipeline::{RecoveryEvent, StepRecord};
 use footslam::geometry::LocalFrame;
 use footslam::model::wifi_distance::Normalisation;
+use footslam::pipeline::{RecoveryEvent, StepRecord};
 use serde::Serialize;
 use std::path::Path;
 

@@ -16,7 +16,8 @@ use super::Progress;
 use super::learn_walks::{Shared, learn_batch, learn_walk_at, walk_prior};
 use crate::Result;
 use crate::filter::{
-    EPSILON_MISS, FootSlamConfig, FootSlamEstimate, PathSurvey, RfConfig, StartPose, path_points, survey_paths,
+    EPSILON_MISS, FootSlamConfig, FootSlamEstimate, PathSurvey, RfConfig, StartPose, path_points,
+    survey_paths,
 };
 use crate::geometry::{HexGrid, LocalFrame};
 use crate::io::map_geojson::StoredMap;
@@ -142,7 +143,11 @@ pub fn learn(
 pub fn combine(input: &LearnInput, estimates: &[&FootSlamEstimate]) -> Result<Combined> {
     if estimates.len() != input.walks.len() {
         return Err(crate::Error::mismatch(
-            format!("{} answers for {} walks", estimates.len(), input.walks.len()),
+            format!(
+                "{} answers for {} walks",
+                estimates.len(),
+                input.walks.len()
+            ),
             "give one answer per walk, in the order of the walks",
         ));
     }

@@ -117,7 +117,11 @@ pub(super) fn learn_batch(
         let priors = (0..runs.len())
             .map(|i| {
                 let others = others_map(&maps, i)?;
-                Ok(walk_prior(shared.prior, Some(&others), shared.config.prior_weight))
+                Ok(walk_prior(
+                    shared.prior,
+                    Some(&others),
+                    shared.config.prior_weight,
+                ))
             })
             .collect::<Result<Vec<_>>>()?;
         runs = pass(Some(&priors))?;

@@ -8,8 +8,8 @@
 
 use crate::Result;
 use crate::inertial::{
-    FootFigures, FrameFinding, HeadingSource, Mount, PhoneFigures, StepsConfig,
-    check_foot_frame, check_mount, check_phone_frame, detect_steps, detect_strides,
+    FootFigures, FrameFinding, HeadingSource, Mount, PhoneFigures, StepsConfig, check_foot_frame,
+    check_mount, check_phone_frame, detect_steps, detect_strides,
 };
 use crate::sensor::{ImuRecording, StepTrace};
 use serde::Serialize;

@@ -12,8 +12,8 @@
 
 use super::Progress;
 use crate::filter::{
-    Assignments, EPSILON_MISS, StartPose, TrackStep, Tracker, TrackerConfig,
-    calibrate_map, placed_steps, survey_assignments, survey_walk,
+    Assignments, EPSILON_MISS, StartPose, TrackStep, Tracker, TrackerConfig, calibrate_map,
+    placed_steps, survey_assignments, survey_walk,
 };
 use crate::map::{CellConfig, CellMap, FloorPlan, FloorTopology, RadioMap};
 use crate::model::wifi_distance::HeldOut;
@@ -201,13 +201,15 @@ pub fn survey(
         .iter()
         .zip(&counts)
         .zip(&starts)
-        .map(|(((reports, placed), &(added, skipped)), start)| SurveyedWalk {
-            start: *start,
-            steps_to_localise: reports.iter().position(|r| r.localised).map(|i| i + 1),
-            steps_placed: placed.iter().filter(|r| r.estimate.is_some()).count(),
-            scans_added: added,
-            scans_skipped: skipped,
-        })
+        .map(
+            |(((reports, placed), &(added, skipped)), start)| SurveyedWalk {
+                start: *start,
+                steps_to_localise: reports.iter().position(|r| r.localised).map(|i| i + 1),
+                steps_placed: placed.iter().filter(|r| r.estimate.is_some()).count(),
+                scans_added: added,
+                scans_skipped: skipped,
+            },
+        )
         .collect();
     Ok(Surveyed {
         cells,

@@ -20,11 +20,7 @@ impl StepRecord {
     /// The record of a step's report.
     pub fn new(report: &TrackStep) -> Self {
         let count = |n: usize, max: u32| n.min(max as usize) as u32;
-        let localised = if report.localised {
-            Self::LOCALISED
-        } else {
-            0
-        };
+        let localised = if report.localised { Self::LOCALISED } else { 0 };
         Self {
             particles_localised: count(report.particles, Self::LOCALISED - 1) | localised,
             clusters: report.clusters.map_or(u32::MAX, |c| count(c, u32::MAX - 1)),

@@ -1,0 +1,215 @@
+//! `learn --walks M --shard I/N`: one shard of a batch, for batch schedulers without Python
+//! (Slurm arrays, Kubernetes indexed jobs). Walk `k` of the manifest (0-based) belongs to
+//! shard `k mod N` and is learned exactly as in the unsharded batch — seed `seed + k`, the
+//! batch's frame, outline and prior map — into `walk-<k+1>/`. With `--previous`, the shard
+//! runs a FeetSLAM pass: each walk's prior is the merged map of the other walks' maps in the
+//! previous pass's shard folders. Outputs depend only on the arguments, so a shard run again
+//! rewrites the same files; `footslam merge` of the last pass's `walk-*/map.geojson` (in walk
+//! order) gives the batch's `merged.geojson`.
+
+use super::common::{output_dir, peak_memory_bytes, require_file, walk_prefix};
+use super::learn::Args;
+use super::learn_inputs::{check_same_grid, read_found, read_manifest};
+use super::learn_outputs::{Summary, write_walk};
+use anyhow::{Context, Result, bail};
+use footslam::filter::FootSlamConfig;
+use footslam::geometry::LocalFrame;
+use footslam::io::map_geojson::{StoredMap, read_stored_map};
+use footslam::io::{ManifestWalk, RunFolder, read_outline};
+use footslam::map::{CellConfig, HexMapSnapshot};
+use footslam::pipeline::{LearnInput, default_frame, learn_one, others_map};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// `--shard I/N`: shard `I` (0-based) of `N`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Shard {
+    /// This shard, `0 ≤ index < count`.
+    pub index: usize,
+    /// Shards in all.
+    pub count: usize,
+}
+
+/// Parses `I/N` with `0 ≤ I < N`.
+pub fn parse_shard(s: &str) -> Result<Shard, String> {
+    let (i, n) = s
+        .split_once('/')
+        .ok_or_else(|| format!("expected I/N (shard I of N, 0 ≤ I < N), got `{s}`"))?;
+    let number = |v: &str, what: &str| {
+        v.trim()
+            .parse::<usize>()
+            .map_err(|_| format!("{what} `{v}` is not a whole number ≥ 0"))
+    };
+    let (index, count) = (number(i, "shard")?, number(n, "shard count")?);
+    if count == 0 || index >= count {
+        return Err(format!("shard {index} of {count}: need 0 ≤ I < N"));
+    }
+    Ok(Shard { index, count })
+}
+
+/// `summary.json` of a shard.
+#[derive(Debug, Serialize)]
+struct ShardSummary {
+    shard: Shard,
+    /// The manifest's walks in all, and this shard's (1-based, as the `walk-<k>` folders).
+    manifest_walks: usize,
+    shard_walks: Vec<usize>,
+    /// The previous pass's shard folders (empty: the first pass, each walk alone).
+    previous: Vec<String>,
+    walks: Vec<Summary>,
+    runtime_s: f64,
+    peak_memory_bytes: Option<u64>,
+    origin: LocalFrame,
+    version: &'static str,
+}
+
+/// Runs one shard of `learn --walks`.
+pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) -> Result<()> {
+    let started = Instant::now();
+    let all = read_manifest(manifest)?;
+    let mine: Vec<usize> = (shard.index..all.len()).step_by(shard.count).collect();
+    let found: Vec<ManifestWalk> = mine.iter().map(|&k| all[k].clone()).collect();
+    let (files, walks) = read_found(found, args.gps_t0)?;
+    let prior_map = match &args.prior_map {
+        Some(p) => {
+            require_file(p, "prior map")?;
+            Some(read_stored_map(p)?)
+        }
+        None => None,
+    };
+    let frame = batch_frame(args, &all, prior_map.as_ref())?;
+    let outline = match &args.outline {
+        Some(path) => Some(read_outline(path, &frame)?),
+        None => None,
+    };
+    if let (Some(stored), Some(path)) = (&prior_map, &args.prior_map) {
+        let radius = stored.map.radius;
+        check_same_grid(path, radius, &stored.frame, config.hex_radius, &frame)?;
+    }
+    let others = previous_priors(&args.previous, &all, &mine)?;
+    let input = LearnInput {
+        walks: &walks,
+        frame,
+        outline: outline.as_ref(),
+        prior_map: prior_map.as_ref(),
+        cells: CellConfig::default(),
+    };
+    let pool = super::common::worker_pool(args.threads)?;
+    let runs = pool.install(|| {
+        (0..walks.len())
+            .into_par_iter()
+            .map(|i| learn_one(&input, &walks[i], mine[i], others[i].as_ref(), config))
+            .collect::<footslam::Result<Vec<_>>>()
+    })?;
+    let mut folder = RunFolder::create(&output_dir(args.out.clone(), "learn"))?;
+    folder.protect(
+        all.iter()
+            .flat_map(|w| [Some(&w.steps), w.gps.as_ref(), w.wifi.as_ref()])
+            .flatten()
+            .chain([manifest.to_path_buf()].iter())
+            .chain(args.prior_map.iter())
+            .chain(args.outline.iter())
+            .chain(args.config.iter()),
+    );
+    let mut summaries = Vec::with_capacity(runs.len());
+    for (i, run) in runs.iter().enumerate() {
+        let prefix = walk_prefix(&folder, mine[i], true)?;
+        summaries.push(write_walk(
+            &folder, &prefix, &files[i], &walks[i], run, &frame,
+        )?);
+    }
+    folder.write_json("config.json", config)?;
+    let summary = ShardSummary {
+        shard,
+        manifest_walks: all.len(),
+        shard_walks: mine.iter().map(|k| k + 1).collect(),
+        previous: args
+            .previous
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect(),
+        walks: summaries,
+        runtime_s: started.elapsed().as_secs_f64(),
+        peak_memory_bytes: peak_memory_bytes(),
+        origin: frame,
+        version: env!("CARGO_PKG_VERSION"),
+    };
+    folder.write_json("summary.json", &summary)?;
+    let out = folder.commit()?;
+    outln!(
+        "shard {}/{}: learned walks {:?} of {}",
+        shard.index,
+        shard.count,
+        summary.shard_walks,
+        all.len()
+    );
+    outln!("outputs: {}", out.display());
+    Ok(())
+}
+
+/// The batch's frame, the same in every shard: `--origin`, else the prior map's, else the
+/// first GPS fix of the manifest's walks in order (not only this shard's), else (0, 0).
+fn batch_frame(
+    args: &Args,
+    all: &[ManifestWalk],
+    prior_map: Option<&StoredMap>,
+) -> Result<LocalFrame> {
+    if let Some(origin) = args.origin {
+        return Ok(origin);
+    }
+    let first_with_gps: Vec<ManifestWalk> = all
+        .iter()
+        .filter(|w| w.gps.is_some())
+        .take(1)
+        .cloned()
+        .collect();
+    let (_, walks) = read_found(first_with_gps, args.gps_t0)?;
+    Ok(default_frame(prior_map, &walks))
+}
+
+/// Per walk of this shard (`mine`, 0-based manifest indices): in a FeetSLAM pass, the
+/// merged map of the other walks' maps of the previous pass, found as `walk-<k>/map.geojson`
+/// in the `previous` folders (each walk of the manifest exactly once); `None` in the first.
+fn previous_priors(
+    previous: &[PathBuf],
+    all: &[ManifestWalk],
+    mine: &[usize],
+) -> Result<Vec<Option<HexMapSnapshot>>> {
+    if previous.is_empty() {
+        return Ok(vec![None; mine.len()]);
+    }
+    if all.len() < 2 || all.iter().any(|w| w.start.is_none()) {
+        bail!(
+            "--previous: FeetSLAM passes need a batch of walks that each start at a known place \
+             (a manifest `start` for every walk); these walks do not share a frame"
+        );
+    }
+    let maps = (1..=all.len())
+        .map(|k| {
+            let found: Vec<PathBuf> = previous
+                .iter()
+                .map(|d| d.join(format!("walk-{k}/map.geojson")))
+                .filter(|p| p.is_file())
+                .collect();
+            match found.as_slice() {
+                [one] => read_stored_map(one).map(|m| m.map).map_err(Into::into),
+                [] => bail!(
+                    "--previous: no folder holds walk-{k}/map.geojson (walk {k} of {}): give \
+                     every shard folder of the previous pass",
+                    all.len()
+                ),
+                _ => bail!("--previous: walk-{k}/map.geojson is in several folders: {found:?}"),
+            }
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let refs: Vec<&HexMapSnapshot> = maps.iter().collect();
+    mine.iter()
+        .map(|&k| {
+            others_map(&refs, k)
+                .map(Some)
+                .with_context(|| format!("--previous: the maps of the walks other than {}", k + 1))
+        })
+        .collect()
+}
