@@ -16,6 +16,12 @@
 //! * **Raw IMU recordings to step events** ([`inertial`]): a foot-mounted zero-velocity-aided
 //!   INS ([`inertial::detect_strides`]) and a phone's step-and-heading system
 //!   ([`inertial::detect_steps`]), over [`sensor::ImuRecording`].
+//! * **Pipelines** ([`pipeline`]): the toolkit's work as functions over typed inputs —
+//!   [`pipeline::steps`], [`pipeline::learn`] (and [`pipeline::learn_one`] /
+//!   [`pipeline::combine`] for a batch spread over machines), [`pipeline::merge`],
+//!   [`pipeline::plan`], [`pipeline::track`], [`pipeline::survey`] — each a list of named
+//!   stages, reporting through [`pipeline::Progress`]. The command line and the Python
+//!   package are faces over them.
 //! * One module per file format, reading and writing it: step traces, IMU recordings, WiFi
 //!   and GPS logs, floor plans and learned maps as RFC 7946 GeoJSON, and importers of public
 //!   datasets (the Indoor Location Competition 2.0, IPIN logfiles) ([`io`]); pictures of
@@ -64,9 +70,35 @@
 //! # Ok::<(), footslam::Error>(())
 //! ```
 //!
+//! The same work as the command line's `learn`, through its pipeline (no files):
+//!
+//! ```
+//! use footslam::filter::FootSlamConfig;
+//! use footslam::geometry::LocalFrame;
+//! use footslam::map::CellConfig;
+//! use footslam::pipeline::{LearnInput, LearnWalk, Silent, learn};
+//! use footslam::sim::{SimConfig, simulate};
+//!
+//! let mut sim_config = SimConfig { seed: 4, ..Default::default() };
+//! sim_config.walk.laps = 1;
+//! let walks = [LearnWalk { trace: simulate(&sim_config)?.steps, ..Default::default() }];
+//! let input = LearnInput {
+//!     walks: &walks,
+//!     frame: LocalFrame::default(),
+//!     outline: None,
+//!     prior_map: None,
+//!     cells: CellConfig::default(),
+//! };
+//! let config = FootSlamConfig { particles: 300, ..Default::default() };
+//! let learned = learn(&input, &config, &Silent)?;
+//! assert_eq!(learned.walks[0].estimate.path.len(), walks[0].trace.len());
+//! # Ok::<(), footslam::Error>(())
+//! ```
+//!
 //! Layers point down only, each using only those before it: [`geometry`] → [`sensor`] →
-//! [`inertial`], [`map`] → [`model`] → [`filter`] → [`io`] (files) → [`render`] (pictures),
-//! with [`sim`] and [`eval`] beside them. The library never prints.
+//! [`inertial`], [`map`] → [`model`] → [`filter`] → [`io`] (files) → [`pipeline`] (the
+//! work, reading no files) and [`render`] (pictures), with [`sim`] and [`eval`] beside them.
+//! The library never prints.
 
 pub mod error;
 pub mod eval;
