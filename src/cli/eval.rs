@@ -1,10 +1,11 @@
 //! `footslam eval`: position error of a track against the truth.
 
 use super::common::{SAME_ORIGIN, parse_origin, read_config, require_file};
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use footslam::eval::{
-    Alignment, ErrorReport, floor_accuracy, plan_overlap, position_errors, walkable_fraction,
-    waypoint_errors,
+    Alignment, ErrorReport, PlanOverlap, WaypointDeadReckoning, WaypointErrors,
+    dead_reckoning_track, plan_overlap, position_errors, reproject, track_floor_accuracy,
+    walkable_fraction, waypoint_dead_reckoning, waypoint_errors,
 };
 use footslam::geometry::LocalFrame;
 use footslam::io::floor_plan_geojson::read_floor_plan;
@@ -12,6 +13,7 @@ use footslam::io::map_geojson::read_map_geojson;
 use footslam::io::{
     TimedPoint, read_certain_trajectory, read_steps, read_track, read_trajectory, read_waypoints,
 };
+use footslam::sensor::StepTrace;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `footslam eval`.
@@ -99,132 +101,178 @@ pub fn run(args: Args) -> Result<()> {
     require_file(&truth_path, "truth file")?;
     let truth = read_trajectory(&truth_path)?;
     let (mut track, uncertain) = read_certain_trajectory(&args.track)?;
-    // Runs anchored to the world (learn --gps) put their local frame's origin at the first
-    // fix, not where the simulator put the truth's: compare in the truth's frame.
-    let reprojected = match (
-        run_origin(&truth_path, false),
-        run_origin(&args.track, true),
-    ) {
-        (Some(truth_frame), Some(track_frame))
-            if truth_frame.distance_to(&track_frame) > SAME_ORIGIN =>
-        {
-            for p in &mut track {
-                let (lon, lat) = track_frame.to_lon_lat(p.x, p.y);
-                (p.x, p.y) = truth_frame.to_local(lon, lat);
-            }
-            Some((track_frame, truth_frame))
-        }
-        _ => None,
-    };
+    let reprojected = reproject_to_truth(&truth_path, &args.track, &mut track);
     let alignment = Alignment::from(args.align);
     let report = position_errors(&truth, &track, alignment)?;
     let dead_reckoning = match &args.steps {
         Some(path) => {
-            require_file(path, "step trace")?;
-            let trace = read_steps(path)?;
-            let poses = trace.dead_reckon(Default::default());
-            let dr: Vec<TimedPoint> = trace
-                .steps()
-                .iter()
-                .zip(poses)
-                .map(|(s, p)| TimedPoint {
-                    t: s.t,
-                    x: p.x,
-                    y: p.y,
-                })
-                .collect();
+            let dr = dead_reckoning_track(&read_step_trace(path)?);
             Some(position_errors(&truth, &dr, alignment)?)
         }
         None => None,
     };
     // Both files with `z` and `level` columns (truth.csv, track's track.csv): floor accuracy.
     let floors = match (read_track(&truth_path), read_track(&args.track)) {
-        (Ok(truth), Ok(track)) => {
-            let levels = |v: &[footslam::io::TrackPoint]| -> Vec<(f64, i32)> {
-                v.iter().map(|p| (p.t, p.level)).collect()
-            };
-            floor_accuracy(&levels(&truth), &levels(&track))
-        }
+        (Ok(truth), Ok(track)) => track_floor_accuracy(&truth, &track),
         _ => None,
     };
     if args.plan.is_some() && args.map.is_none() && args.learned_plan.is_none() {
-        anyhow::bail!("--plan is for --map or --learned-plan: give one of them");
+        bail!("--plan is for --map or --learned-plan: give one of them");
     }
-    let overlap = match (&args.learned_plan, &args.plan) {
-        (Some(learned), Some(plan)) => {
-            require_file(learned, "learned plan")?;
-            require_file(plan, "floor plan")?;
-            let (learned, _) = read_floor_plan(learned, args.origin)?;
-            let (plan, _) = read_floor_plan(plan, args.origin)?;
-            // Levels from the truth's `level` column when it has one, compared by number:
-            // a learned plan numbers its floors from the walks' start levels (`learn
-            // --start X,Y,HEADING,LEVEL`; 0 when not given).
-            let visited: Vec<(f64, f64, i32)> = match read_track(&truth_path) {
-                Ok(t) => t.iter().map(|p| (p.x, p.y, p.level)).collect(),
-                Err(_) => truth.iter().map(|p| (p.x, p.y, 0)).collect(),
-            };
-            Some(plan_overlap(
-                &learned,
-                &plan,
-                &visited,
-                0,
-                report.transform.as_ref(),
-                VISITED_REACH,
-                OVERLAP_RESOLUTION,
-            )?)
-        }
-        _ => None,
-    };
-    let walkable = match (&args.map, &args.plan) {
-        (Some(map), Some(plan)) => {
-            require_file(map, "map")?;
-            require_file(plan, "floor plan")?;
-            let (map, _) = read_map_geojson(map)?;
-            let (plan, _) = read_floor_plan(plan, args.origin)?;
-            Some(walkable_fraction(&map, &plan, report.transform.as_ref()))
-        }
-        _ => None,
+    let overlap = learned_plan_overlap(&args, &truth_path, &truth, &report)?;
+    let walkable = map_walkable_fraction(&args, &report)?;
+    let outcome = Outcome {
+        report,
+        dead_reckoning,
+        walkable,
+        overlap,
+        floors,
+        reprojected,
+        uncertain,
     };
     if args.json {
-        let value = serde_json::json!({
-            "track": report,
-            "dead_reckoning": dead_reckoning,
-            "walkable_fraction": walkable,
-            "plan_overlap": overlap,
-            "floor_accuracy": floors,
-            "track_reprojected_from": reprojected.map(|(from, _)| from),
-            "uncertain_rows_left_out": uncertain,
-        });
-        outln!("{}", serde_json::to_string_pretty(&value)?);
+        print_json(&outcome)
     } else {
-        if let Some((from, to)) = reprojected {
-            outln!(
-                "track moved from its run's origin ({:.6}, {:.6}) to the truth's ({:.6}, {:.6})",
-                from.lat,
-                from.lon,
-                to.lat,
-                to.lon
-            );
-        }
-        note_uncertain(uncertain);
-        print_table(&report, dead_reckoning.as_ref());
-        if let Some(f) = floors {
-            outln!("right floor {:.1} % of track points", 100.0 * f);
-        }
-        if let Some(w) = walkable {
-            outln!("walkable {:.1} % of visit-weighted map hexagons", 100.0 * w);
-        }
-        if let Some(o) = overlap {
-            outln!(
-                "learned plan: precision {:.3}, recall of visited space {:.3} ({:.0} m² learned, {:.0} m² visited)",
-                o.precision,
-                o.recall,
-                o.learned_m2,
-                o.visited_m2
-            );
-        }
+        print_summary(&outcome);
+        Ok(())
     }
+}
+
+/// What `eval --truth` found, to print.
+struct Outcome {
+    /// The track's errors.
+    report: ErrorReport,
+    /// Dead reckoning's errors, with `--steps`.
+    dead_reckoning: Option<ErrorReport>,
+    /// The map's visit-weighted walkable fraction, with `--map`.
+    walkable: Option<f64>,
+    /// The learned plan's overlap with the true one, with `--learned-plan`.
+    overlap: Option<PlanOverlap>,
+    /// The share of track points on the right floor, when both files have levels.
+    floors: Option<f64>,
+    /// The track's run origin and the truth's, when the track was moved between them.
+    reprojected: Option<(LocalFrame, LocalFrame)>,
+    /// Uncertain track rows left out.
+    uncertain: usize,
+}
+
+/// Runs anchored to the world (learn --gps) put their local frame's origin at the first fix,
+/// not where the simulator put the truth's: moves `track` into the truth's frame when their
+/// origins differ, and returns (the track's origin, the truth's).
+fn reproject_to_truth(
+    truth: &Path,
+    track_path: &Path,
+    track: &mut [TimedPoint],
+) -> Option<(LocalFrame, LocalFrame)> {
+    let truth_frame = run_origin(truth, false)?;
+    let track_frame = run_origin(track_path, true)?;
+    if truth_frame.distance_to(&track_frame) <= SAME_ORIGIN {
+        return None;
+    }
+    reproject(track, &track_frame, &truth_frame);
+    Some((track_frame, truth_frame))
+}
+
+/// The step trace of `--steps`.
+fn read_step_trace(path: &Path) -> Result<StepTrace> {
+    require_file(path, "step trace")?;
+    Ok(read_steps(path)?)
+}
+
+/// `--learned-plan` with `--plan`: the learned plan's overlap with the true one, after the
+/// track's alignment.
+fn learned_plan_overlap(
+    args: &Args,
+    truth_path: &Path,
+    truth: &[TimedPoint],
+    report: &ErrorReport,
+) -> Result<Option<PlanOverlap>> {
+    let (Some(learned), Some(plan)) = (&args.learned_plan, &args.plan) else {
+        return Ok(None);
+    };
+    require_file(learned, "learned plan")?;
+    require_file(plan, "floor plan")?;
+    let (learned, _) = read_floor_plan(learned, args.origin)?;
+    let (plan, _) = read_floor_plan(plan, args.origin)?;
+    // Levels from the truth's `level` column when it has one, compared by number: a learned
+    // plan numbers its floors from the walks' start levels (`learn --start X,Y,HEADING,LEVEL`;
+    // 0 when not given).
+    let visited: Vec<(f64, f64, i32)> = match read_track(truth_path) {
+        Ok(t) => t.iter().map(|p| (p.x, p.y, p.level)).collect(),
+        Err(_) => truth.iter().map(|p| (p.x, p.y, 0)).collect(),
+    };
+    let transform = report.transform.as_ref();
+    Ok(Some(plan_overlap(
+        &learned,
+        &plan,
+        &visited,
+        0,
+        transform,
+        VISITED_REACH,
+        OVERLAP_RESOLUTION,
+    )?))
+}
+
+/// `--map` with `--plan`: the map's visit-weighted fraction in walkable space, after the
+/// track's alignment.
+fn map_walkable_fraction(args: &Args, report: &ErrorReport) -> Result<Option<f64>> {
+    let (Some(map), Some(plan)) = (&args.map, &args.plan) else {
+        return Ok(None);
+    };
+    require_file(map, "map")?;
+    require_file(plan, "floor plan")?;
+    let (map, _) = read_map_geojson(map)?;
+    let (plan, _) = read_floor_plan(plan, args.origin)?;
+    Ok(Some(walkable_fraction(
+        &map,
+        &plan,
+        report.transform.as_ref(),
+    )))
+}
+
+/// Prints `eval --truth --json`.
+fn print_json(o: &Outcome) -> Result<()> {
+    let value = serde_json::json!({
+        "track": o.report,
+        "dead_reckoning": o.dead_reckoning,
+        "walkable_fraction": o.walkable,
+        "plan_overlap": o.overlap,
+        "floor_accuracy": o.floors,
+        "track_reprojected_from": o.reprojected.map(|(from, _)| from),
+        "uncertain_rows_left_out": o.uncertain,
+    });
+    outln!("{}", serde_json::to_string_pretty(&value)?);
     Ok(())
+}
+
+/// Prints `eval --truth` as a table and lines.
+fn print_summary(o: &Outcome) {
+    if let Some((from, to)) = o.reprojected {
+        outln!(
+            "track moved from its run's origin ({:.6}, {:.6}) to the truth's ({:.6}, {:.6})",
+            from.lat,
+            from.lon,
+            to.lat,
+            to.lon
+        );
+    }
+    note_uncertain(o.uncertain);
+    print_table(&o.report, o.dead_reckoning.as_ref());
+    if let Some(f) = o.floors {
+        outln!("right floor {:.1} % of track points", 100.0 * f);
+    }
+    if let Some(w) = o.walkable {
+        outln!("walkable {:.1} % of visit-weighted map hexagons", 100.0 * w);
+    }
+    if let Some(o) = o.overlap {
+        outln!(
+            "learned plan: precision {:.3}, recall of visited space {:.3} ({:.0} m² learned, {:.0} m² visited)",
+            o.precision,
+            o.recall,
+            o.learned_m2,
+            o.visited_m2
+        );
+    }
 }
 
 /// Says how many smoothed rows were left out as uncertain (none said when none).
@@ -265,10 +313,10 @@ fn print_table(report: &ErrorReport, dead_reckoning: Option<&ErrorReport>) {
 /// `eval --waypoints`: errors at sparse ground-truth points.
 fn run_waypoints(args: Args) -> Result<()> {
     let Some(path) = &args.waypoints else {
-        anyhow::bail!("give --truth or --waypoints");
+        bail!("give --truth or --waypoints");
     };
     if args.map.is_some() || args.learned_plan.is_some() || args.plan.is_some() {
-        anyhow::bail!(
+        bail!(
             "--map, --learned-plan and --plan need a dense --truth (the visited space); \
              with --waypoints give the waypoints file as --truth instead"
         );
@@ -281,97 +329,65 @@ fn run_waypoints(args: Args) -> Result<()> {
         .with_context(|| format!("{} against {}", args.track.display(), path.display()))?;
     let dead_reckoning = match &args.steps {
         Some(steps) => {
-            require_file(steps, "step trace")?;
-            let trace = read_steps(steps)?;
-            let absolute = trace.steps().first().and_then(|s| s.heading).is_some();
-            let dr = dead_reckoning_from(&trace, &waypoints[0], absolute);
-            let align = if absolute {
-                alignment
-            } else {
-                Alignment::Rigid
-            };
-            Some((waypoint_errors(&waypoints, &dr, align)?, absolute))
+            let trace = read_step_trace(steps)?;
+            Some(waypoint_dead_reckoning(&waypoints, &trace, alignment)?)
         }
         None => None,
     };
     if args.json {
-        let value = serde_json::json!({
-            "track": errors.report,
-            "waypoints": errors.points,
-            "held": errors.held,
-            "dead_reckoning": dead_reckoning.as_ref().map(|(d, _)| &d.report),
-            "dead_reckoning_waypoints": dead_reckoning.as_ref().map(|(d, _)| &d.points),
-            "dead_reckoning_heading": dead_reckoning.as_ref().map(|(_, a)| if *a { "absolute" } else { "rigidly aligned" }),
-            "uncertain_rows_left_out": uncertain,
-        });
-        outln!("{}", serde_json::to_string_pretty(&value)?);
+        print_waypoints_json(&errors, dead_reckoning.as_ref(), uncertain)
     } else {
-        note_uncertain(uncertain);
-        print_table(
-            &errors.report,
-            dead_reckoning.as_ref().map(|(d, _)| &d.report),
-        );
-        if errors.held > 0 {
-            outln!(
-                "{} waypoints after the track's last step compared with its end (the walker stands)",
-                errors.held
-            );
-        }
-        if errors.report.skipped > 0 {
-            outln!(
-                "{} waypoints outside the track's time span were skipped",
-                errors.report.skipped
-            );
-        }
-        if let Some((_, false)) = dead_reckoning {
-            outln!("dead reckoning rigidly aligned: the steps carry no absolute heading");
-        }
+        print_waypoints_summary(&errors, dead_reckoning.as_ref(), uncertain);
+        Ok(())
     }
+}
+
+/// Prints `eval --waypoints --json`.
+fn print_waypoints_json(
+    errors: &WaypointErrors,
+    dead_reckoning: Option<&WaypointDeadReckoning>,
+    uncertain: usize,
+) -> Result<()> {
+    let heading = |d: &WaypointDeadReckoning| match d.absolute_heading {
+        true => "absolute",
+        false => "rigidly aligned",
+    };
+    let value = serde_json::json!({
+        "track": errors.report,
+        "waypoints": errors.points,
+        "held": errors.held,
+        "dead_reckoning": dead_reckoning.map(|d| &d.errors.report),
+        "dead_reckoning_waypoints": dead_reckoning.map(|d| &d.errors.points),
+        "dead_reckoning_heading": dead_reckoning.map(heading),
+        "uncertain_rows_left_out": uncertain,
+    });
+    outln!("{}", serde_json::to_string_pretty(&value)?);
     Ok(())
 }
 
-/// Dead reckoning placed at the first waypoint at its time: the walker stands at the start
-/// until the first step; with `absolute`, the heading before the first step is the first
-/// step's measured heading less its turn, so the path follows the measured headings.
-fn dead_reckoning_from(
-    trace: &footslam::sensor::StepTrace,
-    first: &footslam::io::Waypoint,
-    absolute: bool,
-) -> Vec<TimedPoint> {
-    let steps = trace.steps();
-    let heading = match steps.first() {
-        Some(s) if absolute => s.heading.unwrap_or(0.0) - s.dheading,
-        _ => 0.0,
-    };
-    let start = footslam::geometry::Pose2 {
-        x: 0.0,
-        y: 0.0,
-        heading,
-    };
-    let t0 = steps.first().map_or(first.t, |s| first.t.min(s.t - 1e-3));
-    let mut points = vec![TimedPoint {
-        t: t0,
-        x: 0.0,
-        y: 0.0,
-    }];
-    points.extend(
-        steps
-            .iter()
-            .zip(trace.dead_reckon(start))
-            .map(|(s, p)| TimedPoint {
-                t: s.t,
-                x: p.x,
-                y: p.y,
-            }),
-    );
-    // Shift so that the path passes the first waypoint at its time.
-    if let Some((x, y)) = footslam::eval::position_error::interpolate_at(&points, first.t) {
-        for p in &mut points {
-            p.x += first.x - x;
-            p.y += first.y - y;
-        }
+/// Prints `eval --waypoints` as a table and lines.
+fn print_waypoints_summary(
+    errors: &WaypointErrors,
+    dead_reckoning: Option<&WaypointDeadReckoning>,
+    uncertain: usize,
+) {
+    note_uncertain(uncertain);
+    print_table(&errors.report, dead_reckoning.map(|d| &d.errors.report));
+    if errors.held > 0 {
+        outln!(
+            "{} waypoints after the track's last step compared with its end (the walker stands)",
+            errors.held
+        );
     }
-    points
+    if errors.report.skipped > 0 {
+        outln!(
+            "{} waypoints outside the track's time span were skipped",
+            errors.report.skipped
+        );
+    }
+    if dead_reckoning.is_some_and(|d| !d.absolute_heading) {
+        outln!("dead reckoning rigidly aligned: the steps carry no absolute heading");
+    }
 }
 
 /// The WGS84 origin recorded in the `summary.json` beside a run's CSV file (simulate, learn,

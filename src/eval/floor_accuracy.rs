@@ -1,6 +1,8 @@
 //! How often a 2.5D track is on the right floor: the share of track points whose level equals
 //! the truth's level at the same time.
 
+use crate::io::TrackPoint;
+
 /// A time and a floor level.
 pub type TimedLevel = (f64, i32);
 
@@ -23,6 +25,14 @@ pub fn floor_accuracy(truth: &[TimedLevel], track: &[TimedLevel]) -> Option<f64>
         }
     }
     (compared > 0).then(|| right as f64 / compared as f64)
+}
+
+/// [`floor_accuracy`] of two 2.5D tracks (e.g. the simulator's truth.csv and track's
+/// track.csv), compared by their points' levels.
+pub fn track_floor_accuracy(truth: &[TrackPoint], track: &[TrackPoint]) -> Option<f64> {
+    let levels =
+        |v: &[TrackPoint]| -> Vec<TimedLevel> { v.iter().map(|p| (p.t, p.level)).collect() };
+    floor_accuracy(&levels(truth), &levels(track))
 }
 
 #[cfg(test)]
