@@ -17,9 +17,9 @@
 //!   INS ([`inertial::detect_strides`]) and a phone's step-and-heading system
 //!   ([`inertial::detect_steps`]), over [`sensor::ImuRecording`].
 //! * **Pipelines** ([`pipeline`]): the toolkit's work as functions over typed inputs —
-//!   [`pipeline::steps`], [`pipeline::learn`] (and [`pipeline::learn_one`] /
-//!   [`pipeline::combine`] for a batch spread over machines), [`pipeline::merge`],
-//!   [`pipeline::plan`], [`pipeline::track`], [`pipeline::survey`] — each a list of named
+//!   [`pipeline::steps()`], [`pipeline::learn()`] (and [`pipeline::learn_one`] /
+//!   [`pipeline::combine`] for a batch spread over machines), [`pipeline::merge()`],
+//!   [`pipeline::plan()`], [`pipeline::track()`], [`pipeline::survey()`] — each a list of named
 //!   stages, reporting through [`pipeline::Progress`]. The command line and the Python
 //!   package are faces over them.
 //! * One module per file format, reading and writing it: step traces, IMU recordings, WiFi

@@ -2,23 +2,23 @@
 //! kiss-icp's pipeline reads): what the command line, the Python package and the batch
 //! runner call. Pipelines read no files, print nothing, and report through [`Progress`].
 //!
-//! * [`learn`] — FootSLAM on one walk or a batch, with GPS, an outline and a prior map
+//! * [`learn`](mod@learn) — FootSLAM on one walk or a batch, with GPS, an outline and a prior map
 //!   (prior, walks, merge, radio).
-//! * [`merge`] — maps of several walks in one frame combined (their counts summed).
-//! * [`plan`] — a learned map as a walkable floor plan and occupancy grids.
-//! * [`steps`] — a raw IMU recording (foot or phone) to step events (detect, check).
-//! * [`survey`] — a WiFi radio map from walks tracked on a known plan (track, cells, merge,
+//! * [`merge`](mod@merge) — maps of several walks in one frame combined (their counts summed).
+//! * [`plan`](mod@plan) — a learned map as a walkable floor plan and occupancy grids.
+//! * [`steps`](mod@steps) — a raw IMU recording (foot or phone) to step events (detect, check).
+//! * [`survey`](mod@survey) — a WiFi radio map from walks tracked on a known plan (track, cells, merge,
 //!   calibrate, coverage).
-//! * [`track`] — one walk on a known floor plan (prior, steps, smoothing).
+//! * [`track`](mod@track) — one walk on a known floor plan (prior, steps, smoothing).
 
-mod learn;
+pub mod learn;
 mod learn_walks;
-mod merge;
-mod plan;
+pub mod merge;
+pub mod plan;
 mod progress;
-mod steps;
-mod survey;
-mod track;
+pub mod steps;
+pub mod survey;
+pub mod track;
 mod track_records;
 
 pub use learn::{
