@@ -8,10 +8,11 @@ use footslam::io::RunFolder;
 use footslam::io::floor_plan_geojson::{read_floor_plan, write_floor_plan};
 use footslam::io::import::ilc_floor::{IlcFloor, PlanReport, Walkable, read_ilc_floor};
 use footslam::io::import::ilc_trace::{IlcImportConfig, IlcTrace, read_ilc_trace};
-use footslam::io::import::ipin_log::{IpinImportConfig, positions_to_waypoints, read_ipin_log};
+use footslam::io::import::ipin_log::{IpinImportConfig, IpinLog, IpinLogSummary, read_ipin_log};
+use footslam::io::import::walkable_share::{WalkableShare, walkable_shares};
 use footslam::io::{Waypoint, write_gps_csv, write_imu, write_waypoints, write_wifi};
 use footslam::map::{FloorPlan, FloorTopology, TopologyConfig};
-use serde_json::json;
+use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -128,16 +129,9 @@ fn stem(path: &Path) -> String {
         .map_or_else(|| "trace".into(), |s| s.to_string_lossy().into_owned())
 }
 
-/// Share of waypoints on a plan's walkable area: (on, total).
-fn on_plan(plan: &FloorPlan, waypoints: &[Waypoint]) -> (usize, usize) {
-    let on = waypoints
-        .iter()
-        .filter(|w| plan.is_walkable(w.x, w.y, None))
-        .count();
-    (on, waypoints.len())
-}
-
-fn percent((on, total): (usize, usize)) -> String {
+/// A share of waypoints as a percentage and a count.
+fn percent(share: WalkableShare) -> String {
+    let WalkableShare { on, total } = share;
     if total == 0 {
         "n/a".into()
     } else {
@@ -145,6 +139,12 @@ fn percent((on, total): (usize, usize)) -> String {
     }
 }
 
+/// The name `--walkable` gives a choice (`outline`, `corridors`).
+fn walkable_name(choice: Walkable) -> String {
+    format!("{choice:?}").to_lowercase()
+}
+
+/// `import ilc`: traces and a floor into one folder.
 fn run_ilc(args: IlcArgs) -> Result<()> {
     let started = Instant::now();
     if args.trace.is_empty() && args.floor.is_none() {
@@ -155,111 +155,23 @@ fn run_ilc(args: IlcArgs) -> Result<()> {
     };
     let files = trace_files(&args.trace)?;
     let nested = files.len() > 1 || args.trace.iter().any(|p| p.is_dir());
-    let mut names = std::collections::BTreeSet::new();
-    for f in &files {
-        if !names.insert(stem(f)) {
-            bail!(
-                "two traces are named {}: their folders would clash",
-                stem(f)
-            );
-        }
-    }
-    let mut traces: Vec<(String, IlcTrace)> = Vec::with_capacity(files.len());
-    for f in &files {
-        traces.push((stem(f), read_ilc_trace(f, &config)?));
-    }
+    let traces = read_traces(&files, &config)?;
     let floor = match &args.floor {
         Some(dir) => Some(read_ilc_floor(dir)?),
         None => None,
     };
     let folder = RunFolder::create(&args.out)?;
     let walkable = Walkable::from(args.walkable);
-    let all_waypoints: Vec<Waypoint> = traces
-        .iter()
-        .flat_map(|(_, t)| t.waypoints.iter().copied())
-        .collect();
-    let mut floor_json = serde_json::Value::Null;
-    let mut chosen_plan: Option<FloorPlan> = None;
-    if let Some(floor) = &floor {
-        let (plan, report) = floor.plan(walkable)?;
-        write_floor_plan(&folder.path("floor.geojson"), &plan, &floor.frame)?;
-        check_written_plan(&folder.path("floor.geojson"), &plan)?;
-        let mut shares = serde_json::Map::new();
-        let mut share_text = Vec::new();
-        for choice in [Walkable::Outline, Walkable::Corridors] {
-            let share = if choice == walkable {
-                on_plan(&plan, &all_waypoints)
-            } else {
-                on_plan(&floor.plan(choice)?.0, &all_waypoints)
-            };
-            shares.insert(
-                format!("{choice:?}").to_lowercase(),
-                json!({"on": share.0, "total": share.1}),
-            );
-            share_text.push(format!(
-                "{} {}",
-                format!("{choice:?}").to_lowercase(),
-                percent(share)
-            ));
+    let (floor_json, plan) = match &floor {
+        Some(floor) => {
+            let (json, plan) = import_floor(&folder, floor, walkable, &traces)?;
+            (json, Some(plan))
         }
-        print_floor(floor, &report);
-        if !all_waypoints.is_empty() {
-            outln!(
-                "  waypoints on the walkable area: {}",
-                share_text.join(", ")
-            );
-            let (on, total) = on_plan(&plan, &all_waypoints);
-            if (on as f64) < 0.95 * total as f64 {
-                outln!(
-                    "  warning: {} of {total} waypoints lie off the walkable area{}",
-                    total - on,
-                    if walkable == Walkable::Corridors {
-                        " (walkers entered shops?): consider --walkable outline"
-                    } else {
-                        ""
-                    }
-                );
-            }
-        }
-        floor_json = json!({
-            "file": "floor.geojson",
-            "origin": {"lat": floor.frame.lat, "lon": floor.frame.lon},
-            "floor": floor.summary,
-            "plan": report,
-            "waypoints_on_walkable": shares,
-        });
-        chosen_plan = Some(plan);
-    }
-    let mut traces_json = Vec::new();
+        None => (Value::Null, None),
+    };
+    let mut traces_json = Vec::with_capacity(traces.len());
     for (name, trace) in &traces {
-        let prefix = if nested {
-            folder.create_dir(name)?;
-            format!("{name}/")
-        } else {
-            String::new()
-        };
-        let mut written = vec!["imu.csv"];
-        write_imu(&folder.path(&format!("{prefix}imu.csv")), &trace.imu)?;
-        if !trace.wifi.is_empty() {
-            write_wifi(&folder.path(&format!("{prefix}wifi.csv")), &trace.wifi)?;
-            written.push("wifi.csv");
-        }
-        if !trace.waypoints.is_empty() {
-            write_waypoints(
-                &folder.path(&format!("{prefix}waypoints.csv")),
-                &trace.waypoints,
-            )?;
-            written.push("waypoints.csv");
-        }
-        let share = chosen_plan.as_ref().map(|p| on_plan(p, &trace.waypoints));
-        print_trace(name, trace, share);
-        traces_json.push(json!({
-            "name": name,
-            "folder": if nested { name.as_str() } else { "." },
-            "written": written,
-            "summary": trace.summary,
-            "waypoints_on_walkable": share.map(|(on, total)| json!({"on": on, "total": total})),
-        }));
+        traces_json.push(write_trace(&folder, name, trace, nested, plan.as_ref())?);
     }
     let summary = json!({
         "source": "Microsoft Indoor Location Competition 2.0 (MIT licence, XYZ10 Inc.)",
@@ -283,6 +195,96 @@ fn run_ilc(args: IlcArgs) -> Result<()> {
         started.elapsed().as_secs_f64()
     );
     Ok(())
+}
+
+/// Reads the trace files, each named after its file stem (names must differ: each may get
+/// its own folder).
+fn read_traces(files: &[PathBuf], config: &IlcImportConfig) -> Result<Vec<(String, IlcTrace)>> {
+    let mut names = std::collections::BTreeSet::new();
+    for f in files {
+        if !names.insert(stem(f)) {
+            bail!(
+                "two traces are named {}: their folders would clash",
+                stem(f)
+            );
+        }
+    }
+    let mut traces = Vec::with_capacity(files.len());
+    for f in files {
+        traces.push((stem(f), read_ilc_trace(f, config)?));
+    }
+    Ok(traces)
+}
+
+/// Writes floor.geojson (checked by reading it back) and says how many of the traces'
+/// waypoints lie on each choice of walkable area: the summary's `floor` and the plan.
+fn import_floor(
+    folder: &RunFolder,
+    floor: &IlcFloor,
+    walkable: Walkable,
+    traces: &[(String, IlcTrace)],
+) -> Result<(Value, FloorPlan)> {
+    let all_waypoints: Vec<Waypoint> = traces
+        .iter()
+        .flat_map(|(_, t)| t.waypoints.iter().copied())
+        .collect();
+    let (plan, report) = floor.plan(walkable)?;
+    write_floor_plan(&folder.path("floor.geojson"), &plan, &floor.frame)?;
+    check_written_plan(&folder.path("floor.geojson"), &plan)?;
+    let shares = walkable_shares(floor, walkable, &plan, &all_waypoints)?;
+    print_floor(floor, &report);
+    if !all_waypoints.is_empty() {
+        print_shares(&shares, walkable);
+    }
+    let shares_json: serde_json::Map<String, Value> = shares
+        .iter()
+        .map(|&(choice, share)| (walkable_name(choice), json!(share)))
+        .collect();
+    let json = json!({
+        "file": "floor.geojson",
+        "origin": {"lat": floor.frame.lat, "lon": floor.frame.lon},
+        "floor": floor.summary,
+        "plan": report,
+        "waypoints_on_walkable": shares_json,
+    });
+    Ok((json, plan))
+}
+
+/// Writes one trace's files (into its own folder when `nested`), prints its line and
+/// returns its entry of the summary's `traces`.
+fn write_trace(
+    folder: &RunFolder,
+    name: &str,
+    trace: &IlcTrace,
+    nested: bool,
+    plan: Option<&FloorPlan>,
+) -> Result<Value> {
+    let prefix = if nested {
+        folder.create_dir(name)?;
+        format!("{name}/")
+    } else {
+        String::new()
+    };
+    let at = |file: &str| folder.path(&format!("{prefix}{file}"));
+    let mut written = vec!["imu.csv"];
+    write_imu(&at("imu.csv"), &trace.imu)?;
+    if !trace.wifi.is_empty() {
+        write_wifi(&at("wifi.csv"), &trace.wifi)?;
+        written.push("wifi.csv");
+    }
+    if !trace.waypoints.is_empty() {
+        write_waypoints(&at("waypoints.csv"), &trace.waypoints)?;
+        written.push("waypoints.csv");
+    }
+    let share = plan.map(|p| WalkableShare::of(p, &trace.waypoints));
+    print_trace(name, trace, share);
+    Ok(json!({
+        "name": name,
+        "folder": if nested { name } else { "." },
+        "written": written,
+        "summary": trace.summary,
+        "waypoints_on_walkable": share,
+    }))
 }
 
 /// Reads the written plan back: the tracker's topology must accept it and its metres must
@@ -339,7 +341,30 @@ fn print_floor(floor: &IlcFloor, report: &PlanReport) {
     );
 }
 
-fn print_trace(name: &str, trace: &IlcTrace, share: Option<(usize, usize)>) {
+/// The share of waypoints on each choice of walkable area, and a warning when too few lie
+/// on the chosen one.
+fn print_shares(shares: &[(Walkable, WalkableShare)], walkable: Walkable) {
+    let text: Vec<String> = shares
+        .iter()
+        .map(|&(choice, share)| format!("{} {}", walkable_name(choice), percent(share)))
+        .collect();
+    outln!("  waypoints on the walkable area: {}", text.join(", "));
+    let chosen = shares.iter().find(|(choice, _)| *choice == walkable);
+    if let Some(&(_, share)) = chosen.filter(|(_, share)| share.suspect()) {
+        outln!(
+            "  warning: {} of {} waypoints lie off the walkable area{}",
+            share.off(),
+            share.total,
+            if walkable == Walkable::Corridors {
+                " (walkers entered shops?): consider --walkable outline"
+            } else {
+                ""
+            }
+        );
+    }
+}
+
+fn print_trace(name: &str, trace: &IlcTrace, share: Option<WalkableShare>) {
     let s = &trace.summary;
     let total_wifi = s.wifi_readings + s.stale_readings_dropped + s.duplicate_bssids_dropped;
     outln!(
@@ -378,18 +403,43 @@ fn print_log_notes(
     }
 }
 
+/// `import ipin`: one logfile into a folder.
 fn run_ipin(args: IpinArgs) -> Result<()> {
     let started = Instant::now();
     let config = IpinImportConfig {
         max_wifi_age_s: args.max_wifi_age,
     };
     let log = read_ipin_log(&args.log, &config)?;
-    let frame = args.origin.or_else(|| {
-        log.positions
-            .first()
-            .and_then(|p| LocalFrame::new(p.lat, p.lon))
-    });
+    let frame = log.waypoint_frame(args.origin);
     let folder = RunFolder::create(&args.out)?;
+    let written = write_ipin_files(&folder, &log, frame.as_ref())?;
+    folder.write_json(
+        "summary.json",
+        &json!({
+            "source": "IPIN competition logfile (GetSensorData format)",
+            "log": args.log,
+            "origin": frame.map(|f| json!({"lat": f.lat, "lon": f.lon})),
+            "written": written,
+            "summary": log.summary,
+            "seconds": started.elapsed().as_secs_f64(),
+        }),
+    )?;
+    let out = folder.commit()?;
+    print_ipin(&args.log, &log.summary);
+    if let Some(f) = frame {
+        outln!("  waypoints.csv frame origin: {:.7},{:.7}", f.lat, f.lon);
+    }
+    outln!("wrote {} to {}", written.join(", "), out.display());
+    Ok(())
+}
+
+/// Writes the log's files (imu.csv, and wifi.csv, gps.csv and waypoints.csv when it has
+/// their data) and returns their names.
+fn write_ipin_files(
+    folder: &RunFolder,
+    log: &IpinLog,
+    frame: Option<&LocalFrame>,
+) -> Result<Vec<&'static str>> {
     let mut written = vec!["imu.csv"];
     write_imu(&folder.path("imu.csv"), &log.imu)?;
     if !log.wifi.is_empty() {
@@ -400,31 +450,20 @@ fn run_ipin(args: IpinArgs) -> Result<()> {
         write_gps_csv(&folder.path("gps.csv"), &log.gnss)?;
         written.push("gps.csv");
     }
-    if let (Some(frame), false) = (&frame, log.positions.is_empty()) {
-        write_waypoints(
-            &folder.path("waypoints.csv"),
-            &positions_to_waypoints(&log.positions, frame),
-        )?;
+    if let Some(waypoints) = log.waypoints(frame) {
+        write_waypoints(&folder.path("waypoints.csv"), &waypoints)?;
         written.push("waypoints.csv");
     }
-    let s = &log.summary;
-    folder.write_json(
-        "summary.json",
-        &json!({
-            "source": "IPIN competition logfile (GetSensorData format)",
-            "log": args.log,
-            "origin": frame.map(|f| json!({"lat": f.lat, "lon": f.lon})),
-            "written": written,
-            "summary": s,
-            "seconds": started.elapsed().as_secs_f64(),
-        }),
-    )?;
-    let out = folder.commit()?;
+    Ok(written)
+}
+
+/// The logfile's counts and notes.
+fn print_ipin(path: &Path, s: &IpinLogSummary) {
     let total_wifi = s.wifi_readings + s.stale_readings_dropped + s.duplicate_bssids_dropped;
     outln!(
         "{}: {} IMU samples ({:.0} Hz, {:.1} s{}), {} WiFi scans ({} stale readings of {} dropped), \
          {} GNSS fixes, {} positions",
-        args.log.display(),
+        path.display(),
         s.imu.samples,
         s.imu.rate_hz,
         s.imu.duration_s,
@@ -444,9 +483,4 @@ fn run_ipin(args: IpinArgs) -> Result<()> {
         "not converted",
         &s.skipped_tags,
     );
-    if let Some(f) = frame {
-        outln!("  waypoints.csv frame origin: {:.7},{:.7}", f.lat, f.lon);
-    }
-    outln!("wrote {} to {}", written.join(", "), out.display());
-    Ok(())
 }

@@ -151,6 +151,25 @@ pub fn positions_to_waypoints(positions: &[IpinPosition], frame: &LocalFrame) ->
         .collect()
 }
 
+impl IpinLog {
+    /// The frame of the log's waypoints: `origin` when given, else the first ground-truth
+    /// position's; `None` when neither is there.
+    pub fn waypoint_frame(&self, origin: Option<LocalFrame>) -> Option<LocalFrame> {
+        origin.or_else(|| {
+            self.positions
+                .first()
+                .and_then(|p| LocalFrame::new(p.lat, p.lon))
+        })
+    }
+
+    /// The ground-truth positions as waypoints in `frame`'s metres; `None` without a frame
+    /// or without positions.
+    pub fn waypoints(&self, frame: Option<&LocalFrame>) -> Option<Vec<Waypoint>> {
+        let frame = frame.filter(|_| !self.positions.is_empty())?;
+        Some(positions_to_waypoints(&self.positions, frame))
+    }
+}
+
 /// The state of a read.
 #[derive(Default)]
 struct Reader {

@@ -11,10 +11,12 @@
 //!   skipped
 //! * [`sensor_streams`] — separately clocked sensor streams put onto the accelerometer's clock
 //! * [`wifi_sightings`] — stale and repeated WiFi sightings dropped from a scan
+//! * [`walkable_share`] — how many waypoints lie on an imported plan's walkable area
 
 pub mod ilc_floor;
 pub mod ilc_trace;
 pub mod ipin_log;
 pub mod log_lines;
 pub mod sensor_streams;
+pub mod walkable_share;
 pub mod wifi_sightings;
