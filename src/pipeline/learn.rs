@@ -16,8 +16,8 @@ use super::Progress;
 use super::learn_walks::{Shared, learn_batch, learn_walk_at, walk_prior};
 use crate::Result;
 use crate::filter::{
-    EPSILON_MISS, FootSlamConfig, FootSlamEstimate, PathSurvey, RfConfig, StartPose, path_points,
-    survey_paths,
+    EPSILON_MISS, FootSlamConfig, FootSlamEstimate, PathPoint, PathSurvey, RfConfig, StartPose,
+    path_points, survey_paths,
 };
 use crate::geometry::{HexGrid, LocalFrame};
 use crate::io::map_geojson::StoredMap;
@@ -260,24 +260,36 @@ fn radio_map(
     map: &HexMapSnapshot,
     cells: &CellConfig,
 ) -> Result<LearnedRadio> {
-    let plan_config = PlanConfig::default();
-    let plan = walkable_plan(map, &plan_config).map_err(|e| {
+    let level = PlanConfig::default().level;
+    let paths: Vec<_> = walks
+        .iter()
+        .zip(estimates)
+        .map(|(walk, estimate)| {
+            let path = path_points(walk.trace.steps(), &estimate.path, level);
+            (path, walk.scans.as_slice())
+        })
+        .collect();
+    learned_radio_map(&paths, map, cells)
+}
+
+/// A radio map with no drawn plan: the walks' scans (`paths`: per walk its `(t, x, y,
+/// level)` per step — a learned path — and its scans in time order) added to the cells of
+/// the plan learned from `map` (everything the run learned, in the paths' frame), `ε`
+/// calibrated on the walks' own scans. [`learn`]'s stage 4, for walks learned apart.
+pub fn learned_radio_map(
+    paths: &[(Vec<PathPoint>, &[WifiScan])],
+    map: &HexMapSnapshot,
+    cells: &CellConfig,
+) -> Result<LearnedRadio> {
+    let plan = walkable_plan(map, &PlanConfig::default()).map_err(|e| {
         crate::Error::not_enough(
             format!("the learned map is too small to cut radio-map cells from: {e}"),
             "walk more of the building, or leave out --wifi",
         )
     })?;
-    let paths: Vec<_> = walks
-        .iter()
-        .zip(estimates)
-        .map(|(walk, estimate)| {
-            let path = path_points(walk.trace.steps(), &estimate.path, plan_config.level);
-            (path, walk.scans.as_slice())
-        })
-        .collect();
     let survey = survey_paths(
         &plan.plan,
-        &paths,
+        paths,
         cells,
         RfConfig::default().missing_rssi,
         EPSILON_MISS,

@@ -23,7 +23,7 @@ mod track_records;
 
 pub use learn::{
     Combined, LearnInput, LearnWalk, Learned, LearnedRadio, WalkRun, combine, default_frame,
-    feetslam_passes, learn, learn_one, others_map,
+    feetslam_passes, learn, learn_one, learned_radio_map, others_map,
 };
 pub use merge::{SAME_ORIGIN_M, merge};
 pub use plan::{PlanRunConfig, Planned, plan};
