@@ -1,20 +1,53 @@
 //! Header-addressed numeric CSV reading shared by the CSV readers: columns are found by
 //! name (extra columns are ignored), every value is parsed with the file, line and column
 //! named in the error.
+//!
+//! A table is read from a file ([`CsvTable::open`]) or from text held in memory
+//! ([`CsvTable::from_text`], for callers whose data is not in a file, such as the Python
+//! package's arrays): the same parsing and checks, errors naming the file and line, or the
+//! table's name and 0-based data row.
 
 use crate::error::{Error, Result};
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
-/// A CSV file opened for reading by column name.
+/// Where a table's rows come from, for error messages.
+#[derive(Debug, Clone)]
+pub enum CsvSource {
+    /// A file: errors name it and the 1-based line.
+    File(PathBuf),
+    /// Text in memory under a name (e.g. `steps`): errors name it and the 0-based data row
+    /// (`steps row 3: …`, the header `steps header: …`, the whole table `steps: …`).
+    Memory(String),
+}
+
+impl CsvSource {
+    /// An error at 1-based `line` of the text (0: the whole table, 1: the header).
+    pub fn error(&self, line: usize, message: impl Into<String>) -> Error {
+        match self {
+            CsvSource::File(path) => Error::parse(path, line, message),
+            CsvSource::Memory(name) => {
+                let item = match line {
+                    0 => name.clone(),
+                    1 => format!("{name} header"),
+                    l => format!("{name} row {}", l - 2),
+                };
+                Error::invalid(item, message)
+            }
+        }
+    }
+}
+
+/// A CSV file (or text) opened for reading by column name.
 pub struct CsvTable {
-    path: PathBuf,
-    reader: csv::Reader<std::fs::File>,
+    source: CsvSource,
+    reader: csv::Reader<Box<dyn Read + Send>>,
     headers: Vec<String>,
 }
 
 /// One data row with its 1-based line number.
 pub struct CsvRow<'a> {
-    path: &'a Path,
+    source: &'a CsvSource,
     line: usize,
     record: csv::StringRecord,
 }
@@ -23,45 +56,59 @@ impl CsvTable {
     /// Opens `path` and reads its header row.
     pub fn open(path: &Path) -> Result<Self> {
         let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+        Self::from_reader(Box::new(file), CsvSource::File(path.to_path_buf()))
+    }
+
+    /// Reads `text` (a header row, then data rows) as a table called `name` in errors.
+    pub fn from_text(text: impl Into<String>, name: &str) -> Result<Self> {
+        let bytes = std::io::Cursor::new(text.into().into_bytes());
+        Self::from_reader(Box::new(bytes), CsvSource::Memory(name.to_owned()))
+    }
+
+    fn from_reader(input: Box<dyn Read + Send>, source: CsvSource) -> Result<Self> {
         let mut reader = csv::ReaderBuilder::new()
             .has_headers(true)
             .trim(csv::Trim::All)
             .flexible(false)
-            .from_reader(file);
+            .from_reader(input);
         let headers = reader
             .headers()
-            .map_err(|e| Error::parse(path, 1, format!("cannot read the header row: {e}")))?
+            .map_err(|e| source.error(1, format!("cannot read the header row: {e}")))?
             .iter()
             .map(|h| h.trim_start_matches('\u{feff}').to_ascii_lowercase())
             .collect::<Vec<_>>();
         if headers.iter().all(|h| h.is_empty()) {
-            return Err(Error::parse(
-                path,
-                1,
-                "the file is empty: expected a header row",
-            ));
+            return Err(source.error(1, "the file is empty: expected a header row"));
         }
         for (i, h) in headers.iter().enumerate() {
             if !h.is_empty() && headers[..i].contains(h) {
-                return Err(Error::parse(
-                    path,
+                return Err(source.error(
                     1,
                     format!("column `{h}` appears twice in the header: which one is meant?"),
                 ));
             }
         }
         Ok(Self {
-            path: path.to_path_buf(),
+            source,
             reader,
             headers,
         })
     }
 
+    /// An error at 1-based `line` (0: the whole table), naming the file or the table.
+    pub fn error(&self, line: usize, message: impl Into<String>) -> Error {
+        self.source.error(line, message)
+    }
+
+    /// Where the rows come from.
+    pub fn source(&self) -> &CsvSource {
+        &self.source
+    }
+
     /// Index of a required column.
     pub fn column(&self, name: &str) -> Result<usize> {
         self.optional_column(name).ok_or_else(|| {
-            Error::parse(
-                &self.path,
+            self.error(
                 1,
                 format!(
                     "missing column `{name}` (header has: {})",
@@ -74,11 +121,6 @@ impl CsvTable {
     /// Index of an optional column.
     pub fn optional_column(&self, name: &str) -> Option<usize> {
         self.headers.iter().position(|h| h == name)
-    }
-
-    /// The file's path.
-    pub fn path(&self) -> &Path {
-        &self.path
     }
 
     /// Calls `f` on every data row, in order; stops at the first error.
@@ -94,7 +136,7 @@ impl CsvTable {
                         continue;
                     }
                     let row = CsvRow {
-                        path: &self.path,
+                        source: &self.source,
                         line,
                         record: std::mem::take(&mut record),
                     };
@@ -103,11 +145,7 @@ impl CsvTable {
                 }
                 Err(e) => {
                     let line = e.position().map_or(line, |p| p.line() as usize);
-                    return Err(Error::parse(
-                        &self.path,
-                        line,
-                        format!("malformed CSV: {e}"),
-                    ));
+                    return Err(self.error(line, format!("malformed CSV: {e}")));
                 }
             }
         }
@@ -122,7 +160,7 @@ impl CsvRow<'_> {
 
     /// A parse error at this row.
     pub fn error(&self, message: impl Into<String>) -> Error {
-        Error::parse(self.path, self.line, message)
+        self.source.error(self.line, message)
     }
 
     /// Fails unless time `t` comes strictly after `previous` (the previous row's time).

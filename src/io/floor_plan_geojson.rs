@@ -58,8 +58,29 @@ pub fn write_floor_plan(path: &Path, plan: &FloorPlan, frame: &LocalFrame) -> Re
 /// overrides the file's), else the file's `origin` member, else an error.
 pub fn read_floor_plan(path: &Path, origin: Option<LocalFrame>) -> Result<(FloorPlan, LocalFrame)> {
     let collection = crate::io::geojson_file::read_feature_collection(path)?;
+    floor_plan_from_collection(&collection, path, origin)
+}
+
+/// Reads a floor plan from GeoJSON `text` (the file format) as [`read_floor_plan`] reads a
+/// file; errors name `name`.
+pub fn floor_plan_from_str(
+    text: &str,
+    name: &str,
+    origin: Option<LocalFrame>,
+) -> Result<(FloorPlan, LocalFrame)> {
+    let path = Path::new(name);
+    let collection = crate::io::geojson_file::feature_collection_from_str(text, path)?;
+    floor_plan_from_collection(&collection, path, origin)
+}
+
+/// A floor plan from a parsed collection; errors name `path`.
+fn floor_plan_from_collection(
+    collection: &FeatureCollection,
+    path: &Path,
+    origin: Option<LocalFrame>,
+) -> Result<(FloorPlan, LocalFrame)> {
     let whole = |message: String| Error::parse(path, 0, message);
-    let frame = super::geojson_file::collection_frame(path, &collection, origin)?;
+    let frame = super::geojson_file::collection_frame(path, collection, origin)?;
     let mut plan = FloorPlan::default();
     for (i, feature) in collection.features.iter().enumerate() {
         read_feature(feature, &frame, &mut plan).map_err(|m| {

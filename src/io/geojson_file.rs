@@ -67,10 +67,16 @@ pub fn read_json_text(path: &Path) -> Result<String> {
 
 /// Reads `path` as an RFC 7946 FeatureCollection.
 pub fn read_feature_collection(path: &Path) -> Result<FeatureCollection> {
-    let text = read_json_text(path)?;
-    serde_json::from_str(&text).map_err(|e| {
+    feature_collection_from_str(&read_json_text(path)?, path)
+}
+
+/// Parses `text` as an RFC 7946 FeatureCollection; errors name `name` (a file's path, or a
+/// name for text held in memory) and the line.
+pub fn feature_collection_from_str(text: &str, name: &Path) -> Result<FeatureCollection> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    serde_json::from_str(text).map_err(|e| {
         Error::parse(
-            path,
+            name,
             e.line(),
             format!("not a GeoJSON FeatureCollection: {e}"),
         )

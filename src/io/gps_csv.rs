@@ -2,13 +2,22 @@
 //! degrees, 1σ horizontal metres — default 5 m); extra columns are ignored.
 
 use super::csv_table::CsvTable;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::sensor::gps::{DEFAULT_ACCURACY, GpsFix, check_fix};
 use std::path::Path;
 
 /// Reads and validates GPS fixes; errors name the file and line.
 pub fn read_gps_csv(path: &Path) -> Result<Vec<GpsFix>> {
-    let mut table = CsvTable::open(path)?;
+    gps_from_table(CsvTable::open(path)?)
+}
+
+/// Reads and validates GPS fixes from CSV `text` (the file format's header and rows), as
+/// [`read_gps_csv`] reads a file; errors name the table `name` and the 0-based data row.
+pub fn gps_from_str(text: &str, name: &str) -> Result<Vec<GpsFix>> {
+    gps_from_table(CsvTable::from_text(text, name)?)
+}
+
+fn gps_from_table(mut table: CsvTable) -> Result<Vec<GpsFix>> {
     let t = table.column("t")?;
     let lat = table.column("lat")?;
     let lon = table.column("lon")?;
@@ -28,11 +37,7 @@ pub fn read_gps_csv(path: &Path) -> Result<Vec<GpsFix>> {
         Ok(())
     })?;
     if fixes.is_empty() {
-        return Err(Error::parse(
-            path,
-            0,
-            "no fixes: the file has a header but no data rows",
-        ));
+        return Err(table.error(0, "no fixes: the file has a header but no data rows"));
     }
     Ok(fixes)
 }

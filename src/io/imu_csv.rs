@@ -10,7 +10,7 @@
 //! file, line and problem.
 
 use super::csv_table::{CsvRow, CsvTable};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::sensor::imu::{ImuRecording, ImuSample, check_sample};
 use std::path::Path;
 
@@ -43,7 +43,17 @@ pub fn read_imu(path: &Path) -> Result<ImuRecording> {
 /// force must look like gravity ([`ImuRecording::new`]): a file in g (median ≈ 1) is an
 /// error that says so, rather than a walk integrated with a tenth of gravity.
 pub fn read_imu_in(path: &Path, units: ImuUnits) -> Result<ImuRecording> {
-    let mut table = CsvTable::open(path)?;
+    imu_from_table(CsvTable::open(path)?, units)
+}
+
+/// Reads and validates an IMU recording from CSV `text` (the file format's header and
+/// rows) in `units`, as [`read_imu_in`] reads a file; errors name the table `name` and the
+/// 0-based data row.
+pub fn imu_from_str(text: &str, name: &str, units: ImuUnits) -> Result<ImuRecording> {
+    imu_from_table(CsvTable::from_text(text, name)?, units)
+}
+
+fn imu_from_table(mut table: CsvTable, units: ImuUnits) -> Result<ImuRecording> {
     const REQUIRED: [&str; 7] = ["t", "ax", "ay", "az", "gx", "gy", "gz"];
     let mut required = [0usize; 7];
     for (slot, name) in required.iter_mut().zip(REQUIRED) {
@@ -54,8 +64,7 @@ pub fn read_imu_in(path: &Path, units: ImuUnits) -> Result<ImuRecording> {
         match found.iter().filter(|c| c.is_some()).count() {
             0 => Ok(None),
             n if n == names.len() => Ok(Some(found.into_iter().flatten().collect())),
-            _ => Err(Error::parse(
-                path,
+            _ => Err(table.error(
                 1,
                 format!(
                     "columns {} go together: found only some of them",
@@ -108,20 +117,16 @@ pub fn read_imu_in(path: &Path, units: ImuUnits) -> Result<ImuRecording> {
         Ok(())
     })?;
     if samples.is_empty() {
-        return Err(Error::parse(
-            path,
-            0,
-            "no samples: the file has a header but no data rows",
-        ));
+        return Err(table.error(0, "no samples: the file has a header but no data rows"));
     }
     mag.backfill(&mut samples, |s, v| s.mag = Some(v));
     quat.backfill(&mut samples, |s, v| s.orientation = Some(v));
     pressure.backfill(&mut samples, |s, [v]| s.pressure = Some(v));
     for (s, &line) in samples.iter().zip(&lines) {
-        check_sample(s).map_err(|m| Error::parse(path, line, m))?;
+        check_sample(s).map_err(|m| table.error(line, m))?;
     }
     ImuRecording::new(samples, duplicates)
-        .map_err(|(i, m)| Error::parse(path, lines.get(i).copied().unwrap_or(0), m))
+        .map_err(|(i, m)| table.error(lines.get(i).copied().unwrap_or(0), m))
 }
 
 /// An optional channel read row by row, holding its last value over empty cells.

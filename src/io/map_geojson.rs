@@ -109,7 +109,21 @@ pub struct StoredMap {
 
 /// Reads a map written by [`write_map_geojson`] or [`write_walks_map_geojson`].
 pub fn read_stored_map(path: &Path) -> Result<StoredMap> {
-    let (map, frame, members) = read_map_and_members(path)?;
+    let collection = crate::io::geojson_file::read_feature_collection(path)?;
+    stored_map_from_collection(collection, path)
+}
+
+/// Reads a map from GeoJSON `text` (the format [`write_walks_map_geojson`] writes), as
+/// [`read_stored_map`] reads a file; errors name `name`.
+pub fn stored_map_from_str(text: &str, name: &str) -> Result<StoredMap> {
+    let path = Path::new(name);
+    let collection = crate::io::geojson_file::feature_collection_from_str(text, path)?;
+    stored_map_from_collection(collection, path)
+}
+
+/// A stored map from a parsed collection; errors name `path`.
+fn stored_map_from_collection(collection: FeatureCollection, path: &Path) -> Result<StoredMap> {
+    let (map, frame, members) = map_and_members(collection, path)?;
     let walks = match members.get("walks") {
         None | Some(JsonValue::Null) => 1,
         Some(v) => v
@@ -127,12 +141,16 @@ pub fn read_stored_map(path: &Path) -> Result<StoredMap> {
 /// (within 5 % of a radius), which catches files whose `origin` or `hex_radius` was edited.
 /// Errors name the file and the zero-based feature index.
 pub fn read_map_geojson(path: &Path) -> Result<(HexMapSnapshot, LocalFrame)> {
-    read_map_and_members(path).map(|(map, frame, _)| (map, frame))
+    let collection = crate::io::geojson_file::read_feature_collection(path)?;
+    map_and_members(collection, path).map(|(map, frame, _)| (map, frame))
 }
 
-/// [`read_map_geojson`], with the collection's foreign members.
-fn read_map_and_members(path: &Path) -> Result<(HexMapSnapshot, LocalFrame, JsonObject)> {
-    let collection = crate::io::geojson_file::read_feature_collection(path)?;
+/// The map of a parsed collection, with the collection's foreign members; errors name
+/// `path`.
+fn map_and_members(
+    collection: FeatureCollection,
+    path: &Path,
+) -> Result<(HexMapSnapshot, LocalFrame, JsonObject)> {
     let whole = |message: String| Error::parse(path, 0, message);
     let members = collection.foreign_members.unwrap_or_default();
     let (frame, radius, alpha) = read_header(&members).map_err(whole)?;
@@ -371,6 +389,17 @@ mod tests {
                 .collect(),
             other => panic!("not a polygon: {other:?}"),
         }
+    }
+
+    #[test]
+    fn text_reads_as_a_file_does() {
+        let fc = walks_map_to_geojson(&sample_map(), &frame(), 3);
+        let text = serde_json::to_string(&fc).expect("json");
+        let stored = stored_map_from_str(&text, "map").expect("read");
+        assert_eq!(stored.map, sample_map());
+        assert_eq!((stored.frame, stored.walks), (frame(), 3));
+        let e = stored_map_from_str("{\"type\": \"Feature", "maps[1]").unwrap_err();
+        assert!(e.to_string().starts_with("maps[1]:1: not a GeoJSON"), "{e}");
     }
 
     #[test]

@@ -12,9 +12,20 @@ use std::path::Path;
 
 /// Reads the outline polygon in the local frame `frame`; errors name the file and problem.
 pub fn read_outline(path: &Path, frame: &LocalFrame) -> Result<Polygon<f64>> {
-    let text = super::geojson_file::read_json_text(path)?;
+    outline_from_text(&super::geojson_file::read_json_text(path)?, path, frame)
+}
+
+/// Reads the outline polygon from GeoJSON `text` (a Polygon, Feature or FeatureCollection
+/// of one, as [`read_outline`] reads a file); errors name `name`.
+pub fn outline_from_str(text: &str, name: &str, frame: &LocalFrame) -> Result<Polygon<f64>> {
+    outline_from_text(text, Path::new(name), frame)
+}
+
+/// The outline of `text`; errors name `path`.
+fn outline_from_text(text: &str, path: &Path, frame: &LocalFrame) -> Result<Polygon<f64>> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let whole = |m: String| Error::parse(path, 0, m);
-    let json: GeoJson = serde_json::from_str(&text)
+    let json: GeoJson = serde_json::from_str(text)
         .map_err(|e| Error::parse(path, e.line(), format!("not GeoJSON: {e}")))?;
     let geometry = match json {
         GeoJson::Geometry(g) => g,

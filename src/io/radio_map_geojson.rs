@@ -119,8 +119,29 @@ pub fn read_radio_map_geojson(
     origin: Option<LocalFrame>,
 ) -> Result<(RadioMap, LocalFrame)> {
     let collection = crate::io::geojson_file::read_feature_collection(path)?;
+    radio_map_from_collection(&collection, path, origin)
+}
+
+/// Reads a radio map from GeoJSON `text` (the format of `radiomap.geojson`), as
+/// [`read_radio_map_geojson`] reads a file; errors name `name`.
+pub fn radio_map_from_str(
+    text: &str,
+    name: &str,
+    origin: Option<LocalFrame>,
+) -> Result<(RadioMap, LocalFrame)> {
+    let path = Path::new(name);
+    let collection = crate::io::geojson_file::feature_collection_from_str(text, path)?;
+    radio_map_from_collection(&collection, path, origin)
+}
+
+/// A radio map from a parsed collection; errors name `path`.
+fn radio_map_from_collection(
+    collection: &FeatureCollection,
+    path: &Path,
+    origin: Option<LocalFrame>,
+) -> Result<(RadioMap, LocalFrame)> {
     let whole = |message: String| Error::parse(path, 0, message);
-    let frame = collection_frame(path, &collection, origin)?;
+    let frame = collection_frame(path, collection, origin)?;
     let mut cells = Vec::with_capacity(collection.features.len());
     for (i, feature) in collection.features.iter().enumerate() {
         cells.push(read_cell(feature, &frame).map_err(|m| whole(format!("feature {i}: {m}")))?);

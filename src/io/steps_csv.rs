@@ -2,13 +2,22 @@
 //! counter-clockwise, metres, radians from east); extra columns are ignored.
 
 use super::csv_table::CsvTable;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::sensor::step::{Step, StepTrace, check_step};
 use std::path::Path;
 
 /// Reads and validates a step trace; errors name the file and line.
 pub fn read_steps(path: &Path) -> Result<StepTrace> {
-    let mut table = CsvTable::open(path)?;
+    steps_from_table(CsvTable::open(path)?)
+}
+
+/// Reads and validates a step trace from CSV `text` (the file format's header and rows),
+/// as [`read_steps`] reads a file; errors name the table `name` and the 0-based data row.
+pub fn steps_from_str(text: &str, name: &str) -> Result<StepTrace> {
+    steps_from_table(CsvTable::from_text(text, name)?)
+}
+
+fn steps_from_table(mut table: CsvTable) -> Result<StepTrace> {
     let t = table.column("t")?;
     let length = table.column("length")?;
     let dheading = table.column("dheading")?;
@@ -30,13 +39,9 @@ pub fn read_steps(path: &Path) -> Result<StepTrace> {
         Ok(())
     })?;
     if steps.is_empty() {
-        return Err(Error::parse(
-            path,
-            0,
-            "no steps: the file has a header but no data rows",
-        ));
+        return Err(table.error(0, "no steps: the file has a header but no data rows"));
     }
-    StepTrace::new(steps).map_err(|(i, m)| Error::parse(path, i + 2, m))
+    StepTrace::new(steps).map_err(|(i, m)| table.error(i + 2, m))
 }
 
 /// Whether a step trace's header has a `dz` column (without one every step reads `dz = 0`,
@@ -89,6 +94,40 @@ mod tests {
         assert_eq!(tr.len(), 2);
         assert_eq!(tr.steps()[1].dz, 0.2);
         assert!(tr.steps()[0].heading.is_none());
+    }
+
+    #[test]
+    fn text_reads_as_a_file_does_and_errors_name_the_row() {
+        let text = "t,length,dheading,dz\n0,0.7,0.1,0.0\n1,0.8,-0.1,0.2\n";
+        assert_eq!(
+            steps_from_str(text, "steps").expect("ok"),
+            read(text).expect("ok")
+        );
+        let e = steps_from_str("t,length,dheading\n0,0.7,0\n1,NaN,0\n", "steps")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "steps row 1: column `length`: `NaN` is not a finite number"
+        );
+        let e = steps_from_str("t,length,dheading\n1,0.7,0\n0,0.7,0\n", "walk")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("walk row 1: ") && e.contains("increasing"),
+            "{e}"
+        );
+        let e = steps_from_str("t,length\n0,0.7\n", "steps")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("steps header: missing column `dheading`"),
+            "{e}"
+        );
+        let e = steps_from_str("t,length,dheading\n", "steps")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("steps: no steps"), "{e}");
     }
 
     #[test]

@@ -10,7 +10,16 @@ use std::path::Path;
 
 /// Reads a WiFi log into scans, in time order.
 pub fn read_wifi(path: &Path) -> Result<Vec<WifiScan>> {
-    let mut table = CsvTable::open(path)?;
+    wifi_from_table(CsvTable::open(path)?)
+}
+
+/// Reads a WiFi log from CSV `text` (the file format's header and rows), as [`read_wifi`]
+/// reads a file; errors name the table `name` and the 0-based data row.
+pub fn wifi_from_str(text: &str, name: &str) -> Result<Vec<WifiScan>> {
+    wifi_from_table(CsvTable::from_text(text, name)?)
+}
+
+fn wifi_from_table(mut table: CsvTable) -> Result<Vec<WifiScan>> {
     let (t, bssid, rssi) = (
         table.column("t")?,
         table.column("bssid")?,
@@ -63,11 +72,7 @@ pub fn read_wifi(path: &Path) -> Result<Vec<WifiScan>> {
         Ok(())
     })?;
     if scans.is_empty() {
-        return Err(Error::parse(
-            path,
-            0,
-            "no sightings: the file has a header but no data rows",
-        ));
+        return Err(table.error(0, "no sightings: the file has a header but no data rows"));
     }
     Ok(scans)
 }

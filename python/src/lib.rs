@@ -1,0 +1,149 @@
+//! Python bindings of footslam (`import footslam`): the library's pipelines — steps from raw
+//! IMU data, FootSLAM on one walk or a batch, merging maps, plans from learned maps, tracking
+//! on known floor plans and WiFi radio surveys — over numpy arrays, pandas frames or files.
+//!
+//! Each function reads its inputs as the command line reads its files (the same readers and
+//! checks, so the same errors), runs one [`footslam::pipeline`] function with the GIL
+//! released, and returns numpy arrays and GeoJSON dicts. Library errors become
+//! [`FootslamError`] (a `ValueError`) with the command line's message, a missing file
+//! `FileNotFoundError`, input of the wrong type `TypeError`.
+//!
+//! * [`steps`](steps::steps) — raw IMU recording → step events
+//! * [`learn`](learn::learn), [`learn_one`](learn::learn_one),
+//!   [`others_map`](maps::others_map), [`feetslam_passes`](learn::feetslam_passes) —
+//!   FootSLAM, and a batch fanned out walk by walk
+//! * [`merge`](maps::merge), [`plan`](maps::plan) — maps combined, a map as a floor plan
+//! * [`track`](track::track) — one walk on a known floor plan
+//! * [`survey`](survey::survey) — a WiFi radio map from walks on a known plan
+
+use footslam::pipeline::Progress;
+use pyo3::prelude::*;
+use std::sync::Mutex;
+
+mod checks;
+mod inputs;
+mod learn;
+mod maps;
+mod outputs;
+mod steps;
+mod survey;
+mod track;
+
+pyo3::create_exception!(
+    footslam,
+    FootslamError,
+    pyo3::exceptions::PyValueError,
+    "Bad data, a bad configuration or inputs that do not belong together, as footslam's \
+     library reports them: the message is the one the command line prints."
+);
+
+pyo3::create_exception!(
+    footslam,
+    FootslamWarning,
+    pyo3::exceptions::PyUserWarning,
+    "Something a run found that may make its result wrong (the command line's `warning:` lines)."
+);
+
+/// The Python exception of a library error: `FileNotFoundError` for a file that is not
+/// there, `OSError` for other I/O errors, [`FootslamError`] for the rest; the message is the
+/// library's.
+pub(crate) fn py_error(error: footslam::Error) -> PyErr {
+    match &error {
+        footslam::Error::Io { error: io, .. } if io.kind() == std::io::ErrorKind::NotFound => {
+            pyo3::exceptions::PyFileNotFoundError::new_err(error.to_string())
+        }
+        footslam::Error::Io { .. } => pyo3::exceptions::PyOSError::new_err(error.to_string()),
+        _ => FootslamError::new_err(error.to_string()),
+    }
+}
+
+/// A [`FootslamError`] with `message` (a check of this crate's, worded as the command
+/// line's).
+pub(crate) fn fail(message: impl Into<String>) -> PyErr {
+    FootslamError::new_err(message.into())
+}
+
+/// A library error with `context` before its message, as the command line's
+/// `with_context` prints it (`context: message`).
+pub(crate) fn with_context(context: impl std::fmt::Display) -> impl Fn(footslam::Error) -> PyErr {
+    move |error| match error {
+        footslam::Error::Io { .. } => py_error(error),
+        other => fail(format!("{context}: {other}")),
+    }
+}
+
+/// Progress that keeps a pipeline's warnings, to be issued as Python warnings once the run
+/// is over (the GIL is released while it runs).
+#[derive(Default)]
+pub(crate) struct Warnings(Mutex<Vec<String>>);
+
+impl Progress for Warnings {
+    fn warn(&self, message: &str) {
+        if let Ok(mut list) = self.0.lock() {
+            list.push(message.to_owned());
+        }
+    }
+}
+
+impl Warnings {
+    /// Adds a warning of this crate's own checks.
+    pub(crate) fn push(&self, message: String) {
+        self.warn(&message);
+    }
+
+    /// Issues the warnings kept as [`FootslamWarning`]s.
+    pub(crate) fn emit(&self, py: Python<'_>) -> PyResult<()> {
+        let list = match self.0.lock() {
+            Ok(mut list) => std::mem::take(&mut *list),
+            Err(_) => Vec::new(),
+        };
+        let warnings = py.import("warnings")?;
+        let category = py.get_type::<FootslamWarning>();
+        for message in list {
+            warnings.call_method1("warn", (message, &category, 3))?;
+        }
+        Ok(())
+    }
+}
+
+/// Runs `work` with the GIL released, on `threads` worker threads (`None` or 0: the global
+/// pool, one thread per core). Results do not depend on the thread count.
+pub(crate) fn detached<T, F>(py: Python<'_>, threads: Option<usize>, work: F) -> PyResult<T>
+where
+    T: Send,
+    F: FnOnce() -> PyResult<T> + Send,
+{
+    let pool = match threads {
+        None | Some(0) => None,
+        Some(n) => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| fail(format!("cannot start {n} worker threads: {e}")))?,
+        ),
+    };
+    // PyErr is Send: an error made while detached is raised once the GIL is back.
+    py.detach(move || match pool {
+        Some(pool) => pool.install(work),
+        None => work(),
+    })
+}
+
+/// The module `footslam._footslam`.
+#[pymodule]
+fn _footslam(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("FootslamError", py.get_type::<FootslamError>())?;
+    m.add("FootslamWarning", py.get_type::<FootslamWarning>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(steps::steps, m)?)?;
+    m.add_function(wrap_pyfunction!(learn::learn, m)?)?;
+    m.add_function(wrap_pyfunction!(learn::learn_one, m)?)?;
+    m.add_function(wrap_pyfunction!(learn::feetslam_passes, m)?)?;
+    m.add_function(wrap_pyfunction!(maps::others_map, m)?)?;
+    m.add_function(wrap_pyfunction!(maps::merge, m)?)?;
+    m.add_function(wrap_pyfunction!(maps::plan, m)?)?;
+    m.add_function(wrap_pyfunction!(track::track, m)?)?;
+    m.add_function(wrap_pyfunction!(survey::survey, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,235 @@
+//! `footslam.merge`, `footslam.others_map` and `footslam.plan`: learned maps combined, and
+//! a learned map as a walkable floor plan with occupancy grids.
+
+use crate::inputs::{self, Document};
+use crate::outputs::{grid_i8, json_object};
+use crate::{detached, fail, py_error};
+use footslam::io::floor_plan_geojson::floor_plan_to_geojson;
+use footslam::io::map_geojson::{StoredMap, walks_map_to_geojson};
+use footslam::map::Occupancy;
+use footslam::pipeline::{PlanRunConfig, Planned, SAME_ORIGIN_M};
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use serde_json::json;
+
+/// The maps of a list (paths or GeoJSON dicts), read.
+fn read_maps(py: Python<'_>, maps: &Bound<'_, PyAny>) -> PyResult<(Vec<StoredMap>, Vec<String>)> {
+    let Some(list) = inputs::as_list(maps)? else {
+        return Err(PyTypeError::new_err(
+            "maps: expected a list of maps (paths or GeoJSON dicts)",
+        ));
+    };
+    let docs = list
+        .iter()
+        .enumerate()
+        .map(|(i, m)| inputs::document(m, "map", &format!("maps[{i}]")))
+        .collect::<PyResult<Vec<_>>>()?;
+    let labels = docs.iter().map(Document::label).collect();
+    let maps = detached(py, None, || {
+        docs.iter()
+            .map(|d| d.stored_map().map_err(py_error))
+            .collect::<PyResult<Vec<_>>>()
+    })?;
+    Ok((maps, labels))
+}
+
+/// Merges maps learned on several walks of one building, in one frame (``footslam merge``):
+/// their edge counts summed with weights.
+///
+/// Args:
+///     maps: the maps: paths or GeoJSON dicts (``map.geojson`` of ``learn``, or merges).
+///     weights: one weight ≥ 0 per map (default all 1; a map of weight 0 is left out).
+///
+/// Returns:
+///     dict: the merged map as GeoJSON (the format of ``map.geojson``, ``walks`` the sum
+///     of the walks of the maps that count).
+///
+/// Raises:
+///     FootslamError: maps in different frames or on different grids, bad weights.
+///     FileNotFoundError: a path names no file.
+#[pyfunction]
+#[pyo3(signature = (maps, weights=None))]
+pub(crate) fn merge<'py>(
+    py: Python<'py>,
+    maps: &Bound<'py, PyAny>,
+    weights: Option<Vec<f64>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let (maps, labels) = read_maps(py, maps)?;
+    let weights = weights.unwrap_or_default();
+    if !weights.is_empty() && weights.len() != maps.len() {
+        return Err(fail(format!(
+            "{} weights for {} maps: give one weight per map",
+            weights.len(),
+            maps.len()
+        )));
+    }
+    if let Some(w) = weights.iter().find(|w| !(w.is_finite() && **w >= 0.0)) {
+        return Err(fail(format!("weights: {w} is not a finite weight ≥ 0")));
+    }
+    if !weights.is_empty() && weights.iter().all(|&w| w == 0.0) {
+        return Err(fail(
+            "weights are all 0: the merged map would be empty; give at least one map weight > 0",
+        ));
+    }
+    if let Some(first) = maps.first() {
+        let frame = first.frame;
+        for (label, m) in labels.iter().zip(&maps).skip(1) {
+            let off = frame.distance_to(&m.frame);
+            if off > SAME_ORIGIN_M {
+                return Err(fail(format!(
+                    "{label}: its origin ({}, {}) lies {off:.3} m from the first map's ({}, {}); \
+                     only maps in one frame merge (learn the walks with one origin)",
+                    m.frame.lat, m.frame.lon, frame.lat, frame.lon
+                )));
+            }
+        }
+    }
+    let collection = detached(py, None, || {
+        let weighted: Vec<_> = maps
+            .iter()
+            .enumerate()
+            .map(|(i, m)| (m, weights.get(i).copied().unwrap_or(1.0)))
+            .collect();
+        let merged = footslam::pipeline::merge(&weighted).map_err(py_error)?;
+        Ok(walks_map_to_geojson(
+            &merged.map,
+            &merged.frame,
+            merged.walks,
+        ))
+    })?;
+    json_object(py, &collection)
+}
+
+/// The merged map of every map but the ``i``-th (``footslam.pipeline::others_map``): walk
+/// ``i``'s ``others`` in a FeetSLAM pass of a batch fanned out with :func:`learn_one`.
+///
+/// Args:
+///     maps: the batch's maps of the previous pass, in the order of the walks (paths or
+///         GeoJSON dicts, in one frame).
+///     i: the walk (0-based) left out.
+///
+/// Returns:
+///     dict: the merged map as GeoJSON, in the frame of the first map.
+///
+/// Raises:
+///     FootslamError: maps on different grids, ``i`` out of range.
+#[pyfunction]
+pub(crate) fn others_map<'py>(
+    py: Python<'py>,
+    maps: &Bound<'py, PyAny>,
+    i: usize,
+) -> PyResult<Bound<'py, PyAny>> {
+    let (maps, _) = read_maps(py, maps)?;
+    if i >= maps.len() {
+        return Err(fail(format!(
+            "walk {i}: the batch has {} maps (0-based index)",
+            maps.len()
+        )));
+    }
+    let collection = detached(py, None, || {
+        let snapshots: Vec<_> = maps.iter().map(|m| &m.map).collect();
+        let merged = footslam::pipeline::others_map(&snapshots, i).map_err(py_error)?;
+        let walks = maps
+            .iter()
+            .enumerate()
+            .filter(|&(j, _)| j != i)
+            .map(|(_, m)| m.walks)
+            .sum::<u32>()
+            .max(1);
+        Ok(walks_map_to_geojson(&merged, &maps[0].frame, walks))
+    })?;
+    json_object(py, &collection)
+}
+
+/// A learned map as a walkable floor plan and occupancy grids (``footslam plan``).
+///
+/// Args:
+///     map: the learned map (path or GeoJSON dict: ``map.geojson``, ``merged.geojson`` or
+///         a merge).
+///     config: a dict (or TOML/JSON file) with ``plan`` and ``grid`` tables.
+///     min_visits: passes through a hexagon that make it walkable (default 1).
+///     resolution: side of an occupancy-grid square, metres (default 0.05).
+///
+/// Returns:
+///     dict: ``plan`` — the floor plan as GeoJSON (``plan.geojson``, what :func:`track` and
+///     :func:`survey` read); ``grids`` — per floor (the main one first) a dict with
+///     ``level``, ``resolution`` (m), ``origin`` (``(x, y)`` of the south-west corner,
+///     local metres) and ``occupancy`` (an ``int8`` array of shape ``(height, width)``,
+///     row 0 the southernmost: 0 free, 100 occupied, -1 unknown, as ROS maps); ``summary``.
+///
+/// Raises:
+///     FootslamError: a map with too little walked to make a plan of, a bad configuration.
+///     FileNotFoundError: ``map`` names no file.
+#[pyfunction]
+#[pyo3(signature = (map, *, config=None, min_visits=None, resolution=None))]
+pub(crate) fn plan<'py>(
+    py: Python<'py>,
+    map: &Bound<'py, PyAny>,
+    config: Option<&Bound<'py, PyAny>>,
+    min_visits: Option<u32>,
+    resolution: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mut config: PlanRunConfig = inputs::config(config)?;
+    if let Some(k) = min_visits {
+        config.plan.min_visits = k;
+    }
+    if let Some(r) = resolution {
+        config.grid.resolution = r;
+    }
+    let doc = inputs::document(map, "map", "map")?;
+    let label = doc.label();
+    let (stored, planned) = detached(py, None, || {
+        let stored = doc.stored_map().map_err(py_error)?;
+        let planned = footslam::pipeline::plan(&stored.map, &config).map_err(py_error)?;
+        Ok((stored, planned))
+    })?;
+    let Planned { learned, grids } = planned;
+    let result = PyDict::new(py);
+    let plan = floor_plan_to_geojson(&learned.plan, &stored.frame);
+    result.set_item("plan", json_object(py, &plan)?)?;
+    let mut out = Vec::with_capacity(grids.len());
+    for (level, grid) in &grids {
+        let values: Vec<i8> = grid
+            .cells
+            .iter()
+            .map(|c| match c {
+                Occupancy::Free => 0,
+                Occupancy::Occupied => 100,
+                Occupancy::Unknown => -1,
+            })
+            .collect();
+        let g = PyDict::new(py);
+        g.set_item("level", level)?;
+        g.set_item("resolution", grid.resolution)?;
+        g.set_item("origin", grid.origin)?;
+        g.set_item("occupancy", grid_i8(py, values, grid.height, grid.width)?)?;
+        out.push(g);
+    }
+    result.set_item("grids", out)?;
+    let main = &grids
+        .first()
+        .ok_or_else(|| fail(format!("{label}: the plan has no floor")))?
+        .1;
+    let (free, occupied, unknown) = main.counts();
+    let summary = json!({
+        "map_file": label,
+        "map_hexagons": stored.map.cells.len(),
+        "map_walks": stored.walks,
+        "hexagons_used": learned.hexagons,
+        "hexagons_left_out": learned.hexagons_left_out,
+        "polygons": learned.plan.polygons.len(),
+        "holes_filled": learned.holes_filled,
+        "pieces_dropped": learned.pieces_dropped,
+        "walkable_area_m2": learned.area_m2,
+        "grid_width": main.width,
+        "grid_height": main.height,
+        "grid_free": free,
+        "grid_occupied": occupied,
+        "grid_unknown": unknown,
+        "origin": stored.frame,
+    });
+    result.set_item("summary", json_object(py, &summary)?)?;
+    result.set_item("config", json_object(py, &config)?)?;
+    Ok(result)
+}
