@@ -11,14 +11,14 @@ use footslam::io::radio_truth_csv::{write_access_points, write_radio_field};
 use footslam::io::steps_csv::write_steps;
 use footslam::io::truth_csv::write_truth;
 use footslam::io::write_wifi;
-use footslam::map::{FloorTopology, TopologyConfig};
 use footslam::render::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, write_plan_png};
 use footslam::sensor::TruePose;
 use footslam::sim::{
-    SimConfig, TourKind, TowerSimConfig, expected_field, floor_changes, floor_resolved_at,
+    SimConfig, TourKind, TowerSimConfig, TowerSimulation, floor_changes, floor_resolved_at,
     simulate, simulate_tower,
 };
 use serde::Serialize;
+use std::path::Path;
 
 /// Spacing of the expected-RSSI grid written to `wifi_field.csv`, metres.
 const FIELD_SPACING: f64 = 1.0;
@@ -63,7 +63,33 @@ pub fn run(args: Args) -> Result<()> {
     }
 }
 
+/// `simulate --building tower`.
 fn run_tower(args: Args) -> Result<()> {
+    let config = tower_config(&args)?;
+    let origin = args.origin.unwrap_or_default();
+    let sim = simulate_tower(&config)?;
+    let folder = RunFolder::create(&output_dir(args.out, "simulate"))?;
+    let truth = write_tower_files(&folder, &sim, &origin)?;
+    folder.write_json("config.json", &config)?;
+    let summary = tower_summary(&config, &sim, &truth, origin);
+    folder.write_json("summary.json", &summary)?;
+    let out = folder.commit()?;
+    outln!(
+        "simulated {} steps ({:.0} m, {:.0} s) through {} floors, {} changes of floor, {} WiFi scans of {} access points",
+        summary.steps,
+        summary.path_length_m,
+        summary.duration_s,
+        summary.floors,
+        summary.floor_changes.len(),
+        summary.wifi_scans,
+        summary.access_points
+    );
+    outln!("outputs: {}", out.display());
+    Ok(())
+}
+
+/// The tower's configuration: the config file's (or the default) with the flags applied.
+fn tower_config(args: &Args) -> Result<TowerSimConfig> {
     let mut config: TowerSimConfig = match &args.config {
         Some(p) => read_config(p)?,
         None => TowerSimConfig::default(),
@@ -94,27 +120,36 @@ fn run_tower(args: Args) -> Result<()> {
             config.walk.minutes = SURVEY_MINUTES_CAP;
         }
     }
-    let origin = args.origin.unwrap_or_default();
-    let sim = simulate_tower(&config)?;
-    let folder = RunFolder::create(&output_dir(args.out, "simulate"))?;
-    write_floor_plan(&folder.path("floor.geojson"), &sim.plan, &origin)?;
+    Ok(config)
+}
+
+/// Writes the tower's plan, steps, truth, WiFi scans, access points, expected RSSI field and
+/// truth picture; returns the true path `(x, y, level)` from the start.
+fn write_tower_files(
+    folder: &RunFolder,
+    sim: &TowerSimulation,
+    origin: &LocalFrame,
+) -> Result<Vec<(f64, f64, i32)>> {
+    write_floor_plan(&folder.path("floor.geojson"), &sim.plan, origin)?;
     write_steps(&folder.path("steps.csv"), &sim.steps)?;
     write_truth(&folder.path("truth.csv"), &sim.truth)?;
     write_wifi(&folder.path("wifi.csv"), &sim.wifi)?;
     let aps = sim.radio.access_points();
     write_access_points(&folder.path("wifi_aps.csv"), aps)?;
-    let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default())?;
-    let field = expected_field(&sim.radio, &topology, FIELD_SPACING);
+    let field = sim.expected_field(FIELD_SPACING)?;
     write_radio_field(&folder.path("wifi_field.csv"), aps, &field)?;
-    let truth: Vec<(f64, f64, i32)> = std::iter::once(&sim.start)
-        .chain(&sim.truth.poses)
-        .map(|p| (p.x, p.y, p.level))
-        .collect();
+    let truth = sim.true_points();
+    write_tower_png(&folder.path("truth.png"), sim, &truth)?;
+    Ok(truth)
+}
+
+/// `truth.png` of the tower: the true walk over every floor.
+fn write_tower_png(path: &Path, sim: &TowerSimulation, truth: &[(f64, f64, i32)]) -> Result<()> {
     let picture = PlanPicture {
         plan: &sim.plan,
         title: Some(format!("true walk: {} steps", sim.truth.len())),
         paths: vec![PlanPath {
-            points: &truth,
+            points: truth,
             colour: [33, 102, 172],
             label: "truth",
         }],
@@ -123,14 +158,19 @@ fn run_tower(args: Args) -> Result<()> {
         markers: Vec::new(),
         colour_bar: None,
     };
-    write_plan_png(
-        &folder.path("truth.png"),
-        &[picture],
-        &PlanPictureConfig::default(),
-    )?;
-    folder.write_json("config.json", &config)?;
+    write_plan_png(path, &[picture], &PlanPictureConfig::default())?;
+    Ok(())
+}
+
+/// The tower run's `summary.json`.
+fn tower_summary(
+    config: &TowerSimConfig,
+    sim: &TowerSimulation,
+    truth: &[(f64, f64, i32)],
+    origin: LocalFrame,
+) -> TowerSummary {
     let levels = (0, config.building.floors as i32 - 1);
-    let summary = TowerSummary {
+    TowerSummary {
         steps: sim.steps.len(),
         duration_s: sim.truth.poses.last().map_or(0.0, |p| p.t),
         path_length_m: path_length(truth.iter().map(|p| (p.0, p.1))),
@@ -140,27 +180,14 @@ fn run_tower(args: Args) -> Result<()> {
         start: sim.start,
         floor_changes: floor_changes(&sim.start, &sim.truth),
         floor_resolved_at: floor_resolved_at(&sim.start, &sim.truth, levels),
-        access_points: aps.len(),
+        access_points: sim.radio.access_points().len(),
         wifi_scans: sim.wifi.len(),
         seed: config.seed,
         origin,
-    };
-    folder.write_json("summary.json", &summary)?;
-    let out = folder.commit()?;
-    outln!(
-        "simulated {} steps ({:.0} m, {:.0} s) through {} floors, {} changes of floor, {} WiFi scans of {} access points",
-        summary.steps,
-        summary.path_length_m,
-        summary.duration_s,
-        summary.floors,
-        summary.floor_changes.len(),
-        summary.wifi_scans,
-        summary.access_points
-    );
-    outln!("outputs: {}", out.display());
-    Ok(())
+    }
 }
 
+/// `simulate --building office`.
 fn run_office(args: Args) -> Result<()> {
     let mut config: SimConfig = match &args.config {
         Some(p) => read_config(p)?,

@@ -34,6 +34,36 @@ struct Summary {
 
 /// Runs the campus simulation.
 pub fn run(args: Args) -> Result<()> {
+    let config = campus_config(&args)?;
+    let origin = args.origin.unwrap_or_default();
+    let sim = simulate_campus(&config, &origin)?;
+    let folder = RunFolder::create(&output_dir(args.out, "simulate"))?;
+    write_floor_plan(&folder.path("floor.geojson"), &sim.plan, &origin)?;
+    write_outline(&folder.path("outline.geojson"), &sim.outline, &origin)?;
+    let several = sim.walks.len() > 1;
+    let mut walks = Vec::new();
+    for (i, walk) in sim.walks.iter().enumerate() {
+        let prefix = walk_prefix(&folder, i, several)?;
+        walks.push(write_walk(&folder, &prefix, walk, &sim.plan)?);
+    }
+    folder.write_json("config.json", &config)?;
+    let summary = Summary {
+        walks,
+        floor_polygons: sim.plan.polygons.len(),
+        seed: config.seed,
+        origin,
+    };
+    folder.write_json("summary.json", &summary)?;
+    let out = folder.commit()?;
+    for w in &summary.walks {
+        print_walk(w);
+    }
+    outln!("outputs: {}", out.display());
+    Ok(())
+}
+
+/// The campus's configuration: the config file's (or the default) with the flags applied.
+fn campus_config(args: &Args) -> Result<CampusSimConfig> {
     let mut config: CampusSimConfig = match &args.config {
         Some(p) => read_config(p)?,
         None => CampusSimConfig::default(),
@@ -59,46 +89,28 @@ pub fn run(args: Args) -> Result<()> {
     if args.compass {
         config.compass.enabled = true;
     }
-    let origin = args.origin.unwrap_or_default();
-    let sim = simulate_campus(&config, &origin)?;
-    let folder = RunFolder::create(&output_dir(args.out, "simulate"))?;
-    write_floor_plan(&folder.path("floor.geojson"), &sim.plan, &origin)?;
-    write_outline(&folder.path("outline.geojson"), &sim.outline, &origin)?;
-    let several = sim.walks.len() > 1;
-    let mut walks = Vec::new();
-    for (i, walk) in sim.walks.iter().enumerate() {
-        let prefix = walk_prefix(&folder, i, several)?;
-        walks.push(write_walk(&folder, &prefix, walk, &sim.plan)?);
-    }
-    folder.write_json("config.json", &config)?;
-    let summary = Summary {
-        walks,
-        floor_polygons: sim.plan.polygons.len(),
-        seed: config.seed,
-        origin,
-    };
-    folder.write_json("summary.json", &summary)?;
-    let out = folder.commit()?;
-    for w in &summary.walks {
-        outln!(
-            "simulated {} steps ({:.0} m, {:.0} s) with {} GPS fixes outdoors (error mean {:.1} m, p95 {:.1} m){}",
-            w.steps,
-            w.path_length_m,
-            w.duration_s,
-            w.gps_fixes,
-            w.gps_error_mean_m,
-            w.gps_error_p95_m,
-            if w.folder.is_empty() {
-                String::new()
-            } else {
-                format!(" in {}", w.folder)
-            }
-        );
-    }
-    outln!("outputs: {}", out.display());
-    Ok(())
+    Ok(config)
 }
 
+/// One walk's line.
+fn print_walk(w: &WalkSummary) {
+    outln!(
+        "simulated {} steps ({:.0} m, {:.0} s) with {} GPS fixes outdoors (error mean {:.1} m, p95 {:.1} m){}",
+        w.steps,
+        w.path_length_m,
+        w.duration_s,
+        w.gps_fixes,
+        w.gps_error_mean_m,
+        w.gps_error_p95_m,
+        if w.folder.is_empty() {
+            String::new()
+        } else {
+            format!(" in {}", w.folder)
+        }
+    );
+}
+
+/// Writes one walk's steps, truth, GPS fixes and truth picture; returns its summary.
 fn write_walk(
     folder: &RunFolder,
     prefix: &str,
@@ -113,22 +125,15 @@ fn write_walk(
         .chain(walk.truth.poses.iter().map(|p| (p.x, p.y)))
         .collect();
     write_truth_png(&at("truth.png"), plan, &truth)?;
-    let errors = &walk.gps.errors;
-    let n = errors.len().max(1) as f64;
-    let mut sorted = errors.clone();
-    sorted.sort_by(f64::total_cmp);
-    let p95 = sorted
-        .get(((sorted.len() as f64 * 0.95).ceil() as usize).saturating_sub(1))
-        .copied()
-        .unwrap_or(0.0);
+    let errors = walk.gps.error_summary();
     Ok(WalkSummary {
         folder: prefix.trim_end_matches('/').to_string(),
         steps: walk.steps.len(),
         duration_s: walk.truth.poses.last().map_or(0.0, |p| p.t),
         path_length_m: path_length(truth.iter().copied()),
         gps_fixes: walk.gps.fixes.len(),
-        gps_error_mean_m: errors.iter().sum::<f64>() / n,
-        gps_error_rms_m: (errors.iter().map(|e| e * e).sum::<f64>() / n).sqrt(),
-        gps_error_p95_m: p95,
+        gps_error_mean_m: errors.mean,
+        gps_error_rms_m: errors.rms,
+        gps_error_p95_m: errors.p95,
     })
 }

@@ -76,6 +76,37 @@ pub struct GpsRecord {
     pub errors: Vec<f64>,
 }
 
+/// Summary of a walk's GPS errors, metres.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GpsErrorSummary {
+    /// Mean horizontal error (0 without fixes).
+    pub mean: f64,
+    /// Root mean square error (0 without fixes).
+    pub rms: f64,
+    /// 95th percentile, nearest rank (0 without fixes).
+    pub p95: f64,
+}
+
+impl GpsRecord {
+    /// The mean, root mean square and 95th percentile (nearest rank: the error of rank
+    /// `⌈0.95·n⌉` of `n` sorted ascending) of the fixes' errors.
+    pub fn error_summary(&self) -> GpsErrorSummary {
+        let errors = &self.errors;
+        let n = errors.len().max(1) as f64;
+        let mut sorted = errors.clone();
+        sorted.sort_by(f64::total_cmp);
+        let p95 = sorted
+            .get(((sorted.len() as f64 * 0.95).ceil() as usize).saturating_sub(1))
+            .copied()
+            .unwrap_or(0.0);
+        GpsErrorSummary {
+            mean: errors.iter().sum::<f64>() / n,
+            rms: (errors.iter().map(|e| e * e).sum::<f64>() / n).sqrt(),
+            p95,
+        }
+    }
+}
+
 /// The fixes of a walk from `start` (at time `start.t`) along `truth`, taken every `1/rate`
 /// seconds while `outdoors(x, y)` holds at the true position, placed on the globe by
 /// `frame`; drawn from a generator seeded with `seed`.
@@ -168,6 +199,20 @@ mod tests {
             })
             .collect();
         (start, TruePath { poses })
+    }
+
+    #[test]
+    fn error_summary_by_hand() {
+        let record = |errors: Vec<f64>| GpsRecord {
+            fixes: Vec::new(),
+            errors,
+        };
+        // 20 errors 1..=20 m: mean 10.5, rms √(2870/20), p95 the 19th.
+        let s = record((1..=20).map(f64::from).collect()).error_summary();
+        assert_eq!((s.mean, s.p95), (10.5, 19.0));
+        assert!((s.rms - (2870.0f64 / 20.0).sqrt()).abs() < 1e-12);
+        let none = record(Vec::new()).error_summary();
+        assert_eq!((none.mean, none.rms, none.p95), (0.0, 0.0, 0.0));
     }
 
     #[test]

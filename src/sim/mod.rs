@@ -47,7 +47,7 @@ pub mod wifi;
 pub use campus::{Campus, CampusConfig};
 pub use campus_walk::{CampusSimConfig, CampusSimulation, CampusWalk, simulate_campus};
 pub use compass::CompassSimConfig;
-pub use gps_receiver::{GpsRecord, GpsSimConfig, receive_fixes};
+pub use gps_receiver::{GpsErrorSummary, GpsRecord, GpsSimConfig, receive_fixes};
 pub use office::{Office, Room, office_floor};
 pub use office_config::OfficeConfig;
 pub use step_sensor::{StepNoiseConfig, measure_steps, measure_steps_from};
@@ -173,6 +173,25 @@ pub struct TowerSimulation {
     pub radio: RadioWorld,
     /// The WiFi scans recorded along the walk.
     pub wifi: Vec<crate::sensor::WifiScan>,
+}
+
+impl TowerSimulation {
+    /// The true path as `(x, y, level)`, from the start before the first step to the last
+    /// step.
+    pub fn true_points(&self) -> Vec<(f64, f64, i32)> {
+        std::iter::once(&self.start)
+            .chain(&self.truth.poses)
+            .map(|p| (p.x, p.y, p.level))
+            .collect()
+    }
+
+    /// The expected RSSI of every access point on a grid of `spacing` metres over the
+    /// building's walkable surfaces ([`expected_field`]).
+    pub fn expected_field(&self, spacing: f64) -> Result<Vec<(i32, f64, f64, Vec<f64>)>> {
+        let topology =
+            crate::map::FloorTopology::build(&self.plan, &crate::map::TopologyConfig::default())?;
+        Ok(expected_field(&self.radio, &topology, spacing))
+    }
 }
 
 /// Runs the multi-floor simulation described by `config`; equal configurations give equal
