@@ -58,7 +58,7 @@ pub use tower_walk::{
 };
 pub use walk_config::WalkConfig;
 pub use walker::simulate_walk;
-pub use wifi::{RadioWorld, WifiSimConfig, expected_field};
+pub use wifi::{FieldPoint, RadioWorld, WifiSimConfig, expected_field};
 
 use crate::error::Result;
 use crate::map::FloorPlan;
@@ -187,7 +187,7 @@ impl TowerSimulation {
 
     /// The expected RSSI of every access point on a grid of `spacing` metres over the
     /// building's walkable surfaces ([`expected_field`]).
-    pub fn expected_field(&self, spacing: f64) -> Result<Vec<(i32, f64, f64, Vec<f64>)>> {
+    pub fn expected_field(&self, spacing: f64) -> Result<Vec<FieldPoint>> {
         let topology =
             crate::map::FloorTopology::build(&self.plan, &crate::map::TopologyConfig::default())?;
         Ok(expected_field(&self.radio, &topology, spacing))

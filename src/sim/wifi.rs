@@ -320,13 +320,16 @@ impl RadioWorld {
     }
 }
 
+/// A point of the expected RSSI field: `(level, x, y, [dBm per access point])`.
+pub type FieldPoint = (i32, f64, f64, Vec<f64>);
+
 /// The expected RSSI of every access point on a grid of `spacing` metres over the walkable
-/// area of every level: `(level, x, y, [dBm per access point])`, in level, y, x order.
+/// area of every level, in level, y, x order.
 pub fn expected_field(
     world: &RadioWorld,
     topology: &FloorTopology,
     spacing: f64,
-) -> Vec<(i32, f64, f64, Vec<f64>)> {
+) -> Vec<FieldPoint> {
     let b = topology.bounds();
     let spacing = spacing.max(0.1);
     let (nx, ny) = (
