@@ -622,12 +622,13 @@ pub(crate) fn start(obj: Option<&Bound<'_, PyAny>>, name: &str) -> PyResult<Opti
                     "{name}: expected (x, y[, heading[, level]]), got {len} values"
                 )));
             }
-            format!(
-                "{},{},{},{level}",
-                number("x", 0)?,
-                number("y", 1)?,
-                number("heading", 2)?
-            )
+            let heading = number("heading", 2)?;
+            let mut fields = vec![number("x", 0)?, number("y", 1)?, heading, level];
+            // `X,Y`, `X,Y,HEADING`, `X,Y,,LEVEL`: no trailing empty fields.
+            while fields.len() > 2 && fields.last().is_some_and(String::is_empty) {
+                fields.pop();
+            }
+            fields.join(",")
         };
     text.parse::<StartPose>()
         .map(Some)

@@ -625,7 +625,7 @@ pub(crate) fn feetslam_passes(
 ) -> PyResult<u32> {
     let config: FootSlamConfig = inputs::config(config)?;
     config.validate().map_err(py_error)?;
-    let start = known_starts.then(|| StartPose {
+    let start = known_starts.then_some(StartPose {
         x: 0.0,
         y: 0.0,
         heading: None,

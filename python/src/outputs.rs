@@ -47,7 +47,7 @@ pub(crate) fn grid_i8<'py>(
     rows: usize,
     cols: usize,
 ) -> PyResult<Bound<'py, PyArray2<i8>>> {
-    Ok(PyArray1::from_vec(py, values).reshape([rows, cols])?)
+    PyArray1::from_vec(py, values).reshape([rows, cols])
 }
 
 /// A serialisable value as the Python object its JSON reads as (dicts, lists, numbers,
