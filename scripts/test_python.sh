@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# The Python package's tests: builds the wheel (maturin, release, abi3), installs it into
+# the current Python environment (no virtualenv is made: use one, or a CI runner's Python),
+# and runs pytest on python/tests, which compares the package's results with the CLI's.
+#
+# Needs a Rust toolchain and network access to PyPI on first use. PYTHON picks the
+# interpreter (default python3); extra arguments go to pytest (e.g. -k track).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+PYTHON="${PYTHON:-python3}"
+export PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_ROOT_USER_ACTION=ignore
+
+"$PYTHON" -m pip install --quiet "maturin>=1.9,<2" "pytest>=7" "numpy>=1.21" pandas
+
+# The CLI the tests compare with (shares target/ with the wheel's build).
+cargo build --release --bin footslam
+
+wheels=target/python-wheels
+rm -rf "$wheels"
+"$PYTHON" -m maturin build --release --quiet -m python/Cargo.toml -o "$wheels"
+"$PYTHON" -m pip install --quiet --force-reinstall --no-deps "$wheels"/footslam-*.whl
+
+# From the repository root, so that python/footslam (the sources, without the compiled
+# module) does not shadow the installed package.
+"$PYTHON" -m pytest -q python/tests "$@"
