@@ -2,7 +2,7 @@
 
 use super::common::{SAME_ORIGIN, require_file, warn};
 use anyhow::{Result, bail};
-use footslam::io::map_geojson::{read_stored_map, write_walks_map_geojson};
+use footslam::io::map_geojson::{StoredMap, read_stored_map, write_walks_map_geojson};
 use footslam::pipeline::merge;
 use std::path::PathBuf;
 
@@ -23,21 +23,7 @@ pub struct Args {
 
 /// Runs `footslam merge`.
 pub fn run(args: Args) -> Result<()> {
-    if !args.weights.is_empty() && args.weights.len() != args.maps.len() {
-        bail!(
-            "{} weights for {} maps: give one weight per map",
-            args.weights.len(),
-            args.maps.len()
-        );
-    }
-    if let Some(w) = args.weights.iter().find(|w| !(w.is_finite() && **w >= 0.0)) {
-        bail!("--weights: {w} is not a finite weight ≥ 0");
-    }
-    if !args.weights.is_empty() && args.weights.iter().all(|&w| w == 0.0) {
-        bail!(
-            "--weights are all 0: the merged map would be empty; give at least one map weight > 0"
-        );
-    }
+    check_weights(&args.weights, args.maps.len())?;
     if args.out.is_dir() {
         bail!(
             "--out {} is a folder: merge writes one map file, e.g. --out {}",
@@ -45,38 +31,8 @@ pub fn run(args: Args) -> Result<()> {
             args.out.join("merged.geojson").display()
         );
     }
-    // One map given twice counts its walks twice: say so (a user may mean it as a weight).
-    let mut seen: Vec<PathBuf> = Vec::new();
-    for path in &args.maps {
-        let key = path.canonicalize().unwrap_or_else(|_| path.clone());
-        if seen.contains(&key) {
-            warn(&format!(
-                "{} is given twice: its counts are added twice (use --weights to weigh a map)",
-                path.display()
-            ));
-        }
-        seen.push(key);
-    }
-    let mut maps = Vec::with_capacity(args.maps.len());
-    for path in &args.maps {
-        require_file(path, "map")?;
-        maps.push(read_stored_map(path)?);
-    }
-    let frame = maps[0].frame;
-    for (path, f) in args.maps.iter().zip(maps.iter().map(|m| &m.frame)).skip(1) {
-        let off = frame.distance_to(f);
-        if off > SAME_ORIGIN {
-            bail!(
-                "{}: its origin ({}, {}) lies {off:.3} m from the first map's ({}, {}); \
-                 only maps in one frame merge (learn the walks with one --origin)",
-                path.display(),
-                f.lat,
-                f.lon,
-                frame.lat,
-                frame.lon
-            );
-        }
-    }
+    warn_repeated(&args.maps);
+    let maps = read_maps(&args.maps)?;
     let weighted: Vec<_> = maps
         .iter()
         .enumerate()
@@ -92,4 +48,63 @@ pub fn run(args: Args) -> Result<()> {
         args.out.display()
     );
     Ok(())
+}
+
+/// `--weights`: none, or one finite weight ≥ 0 per map, not all 0.
+fn check_weights(weights: &[f64], maps: usize) -> Result<()> {
+    if !weights.is_empty() && weights.len() != maps {
+        bail!(
+            "{} weights for {maps} maps: give one weight per map",
+            weights.len()
+        );
+    }
+    if let Some(w) = weights.iter().find(|w| !(w.is_finite() && **w >= 0.0)) {
+        bail!("--weights: {w} is not a finite weight ≥ 0");
+    }
+    if !weights.is_empty() && weights.iter().all(|&w| w == 0.0) {
+        bail!(
+            "--weights are all 0: the merged map would be empty; give at least one map weight > 0"
+        );
+    }
+    Ok(())
+}
+
+/// One map given twice counts its walks twice: says so (a user may mean it as a weight).
+fn warn_repeated(paths: &[PathBuf]) {
+    let mut seen: Vec<PathBuf> = Vec::new();
+    for path in paths {
+        let key = path.canonicalize().unwrap_or_else(|_| path.clone());
+        if seen.contains(&key) {
+            warn(&format!(
+                "{} is given twice: its counts are added twice (use --weights to weigh a map)",
+                path.display()
+            ));
+        }
+        seen.push(key);
+    }
+}
+
+/// Reads the maps, which must share the first one's frame.
+fn read_maps(paths: &[PathBuf]) -> Result<Vec<StoredMap>> {
+    let mut maps = Vec::with_capacity(paths.len());
+    for path in paths {
+        require_file(path, "map")?;
+        maps.push(read_stored_map(path)?);
+    }
+    let frame = maps[0].frame;
+    for (path, f) in paths.iter().zip(maps.iter().map(|m| &m.frame)).skip(1) {
+        let off = frame.distance_to(f);
+        if off > SAME_ORIGIN {
+            bail!(
+                "{}: its origin ({}, {}) lies {off:.3} m from the first map's ({}, {}); \
+                 only maps in one frame merge (learn the walks with one --origin)",
+                path.display(),
+                f.lat,
+                f.lon,
+                frame.lat,
+                frame.lon
+            );
+        }
+    }
+    Ok(maps)
 }
