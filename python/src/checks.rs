@@ -4,7 +4,7 @@
 //! another building than the radio map.
 
 use crate::fail;
-use crate::inputs::Table;
+use crate::tables::Table;
 use footslam::geometry::LocalFrame;
 use footslam::map::{FloorPlan, RadioMap};
 use footslam::pipeline::SAME_ORIGIN_M;

@@ -23,10 +23,13 @@ use std::sync::Mutex;
 mod checks;
 mod inputs;
 mod learn;
+mod learn_inputs;
+mod learn_outputs;
 mod maps;
 mod outputs;
 mod steps;
 mod survey;
+mod tables;
 mod track;
 
 pyo3::create_exception!(

@@ -1,7 +1,8 @@
 //! `footslam.steps`: a raw IMU recording → step events, as `footslam steps` makes them.
 
-use crate::inputs::{self, IMU};
+use crate::inputs;
 use crate::outputs::{Column, columns, json_object, points3};
+use crate::tables::{self, IMU};
 use crate::{Warnings, detached, fail, py_error, with_context};
 use footslam::inertial::frame_check::{axes_flag, parse_axes};
 use footslam::inertial::{FrameFinding, Mount, StepsConfig};
@@ -86,7 +87,7 @@ pub(crate) fn steps<'py>(
     let flip = gyro_flip
         .map(|axes| parse_axes(axes).map_err(|m| fail(format!("gyro_flip: {m}"))))
         .transpose()?;
-    let table = inputs::table(imu, &IMU, "imu")?;
+    let table = tables::table(imu, &IMU, "imu")?;
     let label = table.label();
     let started = std::time::Instant::now();
     let (run, sampling) = detached(py, None, || {

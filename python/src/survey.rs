@@ -2,8 +2,9 @@
 //! `footslam survey` makes it.
 
 use crate::checks::{check_height_changes, read_scans};
-use crate::inputs::{self, STEPS, Table, WIFI};
+use crate::inputs;
 use crate::outputs::{Column, columns, json_object};
+use crate::tables::{self, STEPS, Table, WIFI};
 use crate::{Warnings, detached, fail, py_error, with_context};
 use footslam::filter::StartPose;
 use footslam::io::radio_map_geojson::radio_map_to_geojson;
@@ -67,8 +68,8 @@ fn walk_tables(walks: &Bound<'_, PyAny>) -> PyResult<Vec<WalkTables>> {
                 )));
             };
             Ok(WalkTables {
-                steps: inputs::table(&steps, &STEPS, &format!("walks[{i}].steps"))?,
-                wifi: inputs::table(&wifi, &WIFI, &format!("walks[{i}].wifi"))?,
+                steps: tables::table(&steps, &STEPS, &format!("walks[{i}].steps"))?,
+                wifi: tables::table(&wifi, &WIFI, &format!("walks[{i}].wifi"))?,
                 start: inputs::start(start.as_ref(), &format!("walks[{i}].start"))?,
             })
         })

@@ -2,8 +2,9 @@
 //! track` runs it.
 
 use crate::checks::{check_height_changes, check_scans_match, read_scans};
-use crate::inputs::{self, STEPS, WIFI};
+use crate::inputs;
 use crate::outputs::{Column, columns, json_object};
+use crate::tables::{self, STEPS, WIFI};
 use crate::{Warnings, detached, fail, py_error, with_context};
 use footslam::filter::{RfLocaliser, RfMode, TrackerConfig};
 use footslam::io::TrackPoint;
@@ -162,14 +163,14 @@ pub(crate) fn track<'py>(
         }
     };
     let plan_doc = inputs::document(plan, "floor plan", "plan")?;
-    let steps_table = inputs::table(steps, &STEPS, "steps")?;
+    let steps_table = tables::table(steps, &STEPS, "steps")?;
     let hexmap_doc = present(hexmap)
         .map(|o| inputs::document(o, "learned map", "hexmap"))
         .transpose()?;
     let radio_doc = radio_map
         .map(|o| inputs::document(o, "radio map", "radio_map"))
         .transpose()?;
-    let wifi_table = wifi.map(|o| inputs::table(o, &WIFI, "wifi")).transpose()?;
+    let wifi_table = wifi.map(|o| tables::table(o, &WIFI, "wifi")).transpose()?;
     let origin = inputs::origin(origin)?;
     let warnings = Warnings::default();
     let out = detached(py, threads, || {
