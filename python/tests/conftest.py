@@ -51,11 +51,14 @@ def cli():
 
 @pytest.fixture(scope="session")
 def sim(cli, tmp_path_factory):
-    """Two small simulated walks: an office floor (one lap) and a three-floor tower with
-    WiFi (two minutes)."""
+    """Small simulated walks: two of an office floor (one lap each), one of a three-floor
+    tower with WiFi (two minutes) and one of a campus with GPS fixes and an outline."""
     root = tmp_path_factory.mktemp("sim")
     cli("simulate", "--building", "office", "--laps", 1, "--seed", 3, "--out", root / "office")
+    cli("simulate", "--building", "office", "--laps", 1, "--seed", 8, "--out", root / "office2")
     cli("simulate", "--building", "tower", "--minutes", 2, "--seed", 4, "--out", root / "tower")
+    cli("simulate", "--building", "campus", "--seed", 1, "--origin", "48.15,11.57",
+        "--out", root / "campus")
     return root
 
 

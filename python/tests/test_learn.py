@@ -86,6 +86,49 @@ def test_a_batch_and_its_tasks_match_the_cli(cli, sim, tmp_path):
     assert footslam.feetslam_passes(2, known_starts=True) == 2
 
 
+def test_a_batch_fanned_out_pass_by_pass_learns_what_the_cli_learns(cli, sim, tmp_path):
+    """Walks with known starts share a frame: FeetSLAM passes, each walk a task
+    (learn_one) given the others' merged map of the pass before (others_map)."""
+    steps = [sim / "office" / "steps.csv", sim / "office2" / "steps.csv"]
+    cli("learn", "--steps", steps[0], "--steps", steps[1], "--start", "0,0,0", "--start",
+        "0,0,0", "--particles", PARTICLES, "--seed", SEED, "--out", tmp_path)
+    passes = footslam.feetslam_passes(len(steps), known_starts=True)
+    assert passes == read_json(tmp_path / "summary.json")["iterations"] > 0
+    maps = [None, None]
+    for _ in range(passes + 1):
+        previous = list(maps)
+        maps = [
+            footslam.learn_one(s, i, start=(0, 0, 0), particles=PARTICLES, seed=SEED,
+                               others=footslam.others_map(previous, i) if previous[0] else None)["map"]
+            for i, s in enumerate(steps)
+        ]
+    for i, m in enumerate(maps):
+        assert m == read_json(tmp_path / f"walk-{i + 1}" / "map.geojson")
+
+
+def test_gps_outline_and_prior_map_match_the_cli(cli, sim, tmp_path):
+    """A campus walk placed by GPS inside its outline, then learned again on its own map."""
+    pd = pytest.importorskip("pandas")
+    campus = sim / "campus"
+    args = ["--steps", campus / "steps.csv", "--gps", campus / "gps.csv", "--outline",
+            campus / "outline.geojson", "--particles", PARTICLES, "--seed", SEED]
+    cli("learn", *args, "--out", tmp_path / "first")
+    outline = read_json(campus / "outline.geojson")
+    first = footslam.learn(campus / "steps.csv", gps=pd.read_csv(campus / "gps.csv"),
+                           outline=outline, particles=PARTICLES, seed=SEED)
+    walk = first["walks"][0]
+    assert walk["map"] == read_json(tmp_path / "first" / "map.geojson")
+    assert_track(walk["track"], read_csv(tmp_path / "first" / "track.csv"))
+    cli("learn", *args, "--prior-map", tmp_path / "first" / "map.geojson",
+        "--out", tmp_path / "second")
+    second = footslam.learn(campus / "steps.csv", gps=campus / "gps.csv", outline=outline,
+                            prior_map=walk["map"], particles=PARTICLES, seed=SEED)
+    walk = second["walks"][0]
+    assert walk["map"] == read_json(tmp_path / "second" / "map.geojson")
+    assert walk["merged_with_prior"] == read_json(tmp_path / "second" / "merged.geojson")
+    assert second["summary"]["prior_map_walks"] == 1
+
+
 def test_merge_and_plan_match_the_cli(cli, office, tmp_path):
     out, got = office
     map_path = out / "map.geojson"
