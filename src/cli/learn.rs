@@ -180,6 +180,24 @@ pub fn run(args: Args) -> Result<()> {
     let learned = pool.install(|| learn(&input, &config, &Bars::default()))?;
 
     let mut folder = RunFolder::create(&output_dir(args.out.clone(), "learn"))?;
+    protect_inputs(&mut folder, &args, &files);
+    let mut summary = write_outputs(&folder, &files, &input, &learned)?;
+    summary.runtime_s = started.elapsed().as_secs_f64();
+    summary.threads = threads;
+    // One walk: the configuration it ran with (start from its fixes included); a batch: the
+    // shared one (each walk's own is in its folder).
+    match (walks.len() > 1, learned.walks.first()) {
+        (false, Some(run)) => folder.write_json("config.json", &run.config)?,
+        _ => folder.write_json("config.json", &config)?,
+    }
+    folder.write_json("summary.json", &summary)?;
+    let out = folder.commit()?;
+    summary.print(&out);
+    Ok(())
+}
+
+/// Marks every input file of the run as one its outputs must not replace.
+fn protect_inputs(folder: &mut RunFolder, args: &Args, files: &[WalkFiles]) {
     folder.protect(
         files
             .iter()
@@ -196,19 +214,6 @@ pub fn run(args: Args) -> Result<()> {
             .chain(args.config.iter())
             .chain(args.walks.iter()),
     );
-    let mut summary = write_outputs(&folder, &files, &input, &learned)?;
-    summary.runtime_s = started.elapsed().as_secs_f64();
-    summary.threads = threads;
-    // One walk: the configuration it ran with (start from its fixes included); a batch: the
-    // shared one (each walk's own is in its folder).
-    match (walks.len() > 1, learned.walks.first()) {
-        (false, Some(run)) => folder.write_json("config.json", &run.config)?,
-        _ => folder.write_json("config.json", &config)?,
-    }
-    folder.write_json("summary.json", &summary)?;
-    let out = folder.commit()?;
-    summary.print(&out);
-    Ok(())
 }
 
 /// The FootSLAM configuration: the config file's (or the defaults) with the flags'

@@ -18,6 +18,7 @@ use footslam::io::map_geojson::{StoredMap, read_stored_map};
 use footslam::io::{ManifestWalk, RunFolder, read_outline};
 use footslam::map::{CellConfig, HexMapSnapshot};
 use footslam::pipeline::{LearnInput, default_frame, learn_one, others_map};
+use geo::Polygon;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -72,22 +73,7 @@ pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) 
     let mine: Vec<usize> = (shard.index..all.len()).step_by(shard.count).collect();
     let found: Vec<ManifestWalk> = mine.iter().map(|&k| all[k].clone()).collect();
     let (files, walks) = read_found(found, args.gps_t0)?;
-    let prior_map = match &args.prior_map {
-        Some(p) => {
-            require_file(p, "prior map")?;
-            Some(read_stored_map(p)?)
-        }
-        None => None,
-    };
-    let frame = batch_frame(args, &all, prior_map.as_ref())?;
-    let outline = match &args.outline {
-        Some(path) => Some(read_outline(path, &frame)?),
-        None => None,
-    };
-    if let (Some(stored), Some(path)) = (&prior_map, &args.prior_map) {
-        let radius = stored.map.radius;
-        check_same_grid(path, radius, &stored.frame, config.hex_radius, &frame)?;
-    }
+    let (prior_map, frame, outline) = read_anchors(args, config, &all)?;
     let others = previous_priors(&args.previous, &all, &mine)?;
     let input = LearnInput {
         walks: &walks,
@@ -103,16 +89,7 @@ pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) 
             .map(|i| learn_one(&input, &walks[i], mine[i], others[i].as_ref(), config))
             .collect::<footslam::Result<Vec<_>>>()
     })?;
-    let mut folder = RunFolder::create(&output_dir(args.out.clone(), "learn"))?;
-    folder.protect(
-        all.iter()
-            .flat_map(|w| [Some(&w.steps), w.gps.as_ref(), w.wifi.as_ref()])
-            .flatten()
-            .chain([manifest.to_path_buf()].iter())
-            .chain(args.prior_map.iter())
-            .chain(args.outline.iter())
-            .chain(args.config.iter()),
-    );
+    let folder = shard_folder(args, manifest, &all)?;
     let mut summaries = Vec::with_capacity(runs.len());
     for (i, run) in runs.iter().enumerate() {
         let prefix = walk_prefix(&folder, mine[i], true)?;
@@ -138,15 +115,57 @@ pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) 
     };
     folder.write_json("summary.json", &summary)?;
     let out = folder.commit()?;
+    let (walks, n) = (&summary.shard_walks, all.len());
     outln!(
-        "shard {}/{}: learned walks {:?} of {}",
+        "shard {}/{}: learned walks {walks:?} of {n}",
         shard.index,
-        shard.count,
-        summary.shard_walks,
-        all.len()
+        shard.count
     );
     outln!("outputs: {}", out.display());
     Ok(())
+}
+
+/// The shard's output folder, every input of the batch protected.
+fn shard_folder(args: &Args, manifest: &Path, all: &[ManifestWalk]) -> Result<RunFolder> {
+    let mut folder = RunFolder::create(&output_dir(args.out.clone(), "learn"))?;
+    folder.protect(
+        all.iter()
+            .flat_map(|w| [Some(&w.steps), w.gps.as_ref(), w.wifi.as_ref()])
+            .flatten()
+            .chain([manifest.to_path_buf()].iter())
+            .chain(args.prior_map.iter())
+            .chain(args.outline.iter())
+            .chain(args.config.iter()),
+    );
+    Ok(folder)
+}
+
+/// The prior map, the batch's frame and the outline in it, as the whole batch reads them.
+fn read_anchors(
+    args: &Args,
+    config: &FootSlamConfig,
+    all: &[ManifestWalk],
+) -> Result<(Option<StoredMap>, LocalFrame, Option<Polygon<f64>>)> {
+    let prior_map = match &args.prior_map {
+        Some(p) => {
+            require_file(p, "prior map")?;
+            Some(read_stored_map(p)?)
+        }
+        None => None,
+    };
+    let frame = batch_frame(args, all, prior_map.as_ref())?;
+    let outline = match &args.outline {
+        Some(path) => {
+            require_file(path, "outline")?;
+            Some(read_outline(path, &frame)?)
+        }
+        None => None,
+    };
+    if let (Some(stored), Some(path)) = (&prior_map, &args.prior_map) {
+        let radius = stored.map.radius;
+        check_same_grid(path, radius, &stored.frame, config.hex_radius, &frame)?;
+    }
+    Ok((prior_map, frame, outline))
 }
 
 /// The batch's frame, the same in every shard: `--origin`, else the prior map's, else the
