@@ -50,3 +50,39 @@ fn no_import_cycles() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// The command line's commands only read, call the library and write: each `run` (and
+/// `run_*`) function of `src/cli/` is at most this many lines.
+const MAX_RUN_LINES: usize = 60;
+
+#[test]
+fn cli_run_functions_are_short() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    rust_files(&root.join("src/cli"), &mut files);
+    let mut long = Vec::new();
+    let mut found = 0;
+    for file in &files {
+        let text = std::fs::read_to_string(file).expect("read");
+        let mut start: Option<(usize, &str)> = None;
+        for (i, line) in text.lines().enumerate() {
+            let is_run = ["pub fn run", "fn run_", "pub fn run_", "pub(super) fn run"]
+                .iter()
+                .any(|p| line.starts_with(p));
+            if start.is_none() && is_run {
+                start = Some((i, line));
+            } else if let Some((first, head)) = start
+                && line == "}"
+            {
+                found += 1;
+                let lines = i - first + 1;
+                if lines > MAX_RUN_LINES {
+                    long.push(format!("{}: `{head}` ({lines} lines)", file.display()));
+                }
+                start = None;
+            }
+        }
+    }
+    assert!(found >= 10, "found only {found} run functions");
+    assert!(long.is_empty(), "over {MAX_RUN_LINES} lines: {long:?}");
+}

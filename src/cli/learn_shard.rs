@@ -8,7 +8,7 @@
 //! order) gives the batch's `merged.geojson`.
 
 use super::common::{output_dir, peak_memory_bytes, require_file, walk_prefix};
-use super::learn::Args;
+use super::learn_args::{Args, Shard};
 use super::learn_inputs::{check_same_grid, read_found, read_manifest};
 use super::learn_outputs::{Summary, write_walk};
 use anyhow::{Context, Result, bail};
@@ -23,32 +23,6 @@ use rayon::prelude::*;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-
-/// `--shard I/N`: shard `I` (0-based) of `N`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub struct Shard {
-    /// This shard, `0 ≤ index < count`.
-    pub index: usize,
-    /// Shards in all.
-    pub count: usize,
-}
-
-/// Parses `I/N` with `0 ≤ I < N`.
-pub fn parse_shard(s: &str) -> Result<Shard, String> {
-    let (i, n) = s
-        .split_once('/')
-        .ok_or_else(|| format!("expected I/N (shard I of N, 0 ≤ I < N), got `{s}`"))?;
-    let number = |v: &str, what: &str| {
-        v.trim()
-            .parse::<usize>()
-            .map_err(|_| format!("{what} `{v}` is not a whole number ≥ 0"))
-    };
-    let (index, count) = (number(i, "shard")?, number(n, "shard count")?);
-    if count == 0 || index >= count {
-        return Err(format!("shard {index} of {count}: need 0 ≤ I < N"));
-    }
-    Ok(Shard { index, count })
-}
 
 /// `summary.json` of a shard.
 #[derive(Debug, Serialize)]

@@ -13,6 +13,7 @@ mod eval;
 mod fingerprint;
 mod import;
 mod learn;
+mod learn_args;
 mod learn_inputs;
 mod learn_outputs;
 mod learn_radio;
@@ -45,7 +46,7 @@ struct Cli {
 enum Command {
     /// Learn a hexagon transition map and the walker's path from a step trace (FootSLAM).
     #[command(allow_negative_numbers = true)]
-    Learn(learn::Args),
+    Learn(learn_args::Args),
     /// Combine maps learned on several walks of one building (same frame).
     #[command(allow_negative_numbers = true)]
     Merge(merge::Args),

@@ -16,8 +16,8 @@ use super::Progress;
 use super::learn_walks::{Shared, learn_batch, learn_walk_at, walk_prior};
 use crate::Result;
 use crate::filter::{
-    EPSILON_MISS, FootSlamConfig, FootSlamEstimate, PathPoint, PathSurvey, RfConfig, StartPose,
-    path_points, survey_paths,
+    EPSILON_MISS, FootSlamConfig, FootSlamEstimate, PathPoint, PathSurvey, RfConfig, path_points,
+    survey_paths,
 };
 use crate::geometry::{HexGrid, LocalFrame};
 use crate::io::map_geojson::StoredMap;
@@ -25,23 +25,10 @@ use crate::map::{
     CellConfig, EdgePrior, HexMapSnapshot, LearnedPlan, PlanConfig, merge_maps, shift_map,
     walkable_plan,
 };
-use crate::sensor::{GpsFix, StepTrace, WifiScan};
+use crate::sensor::WifiScan;
 use geo::Polygon;
 
-pub use super::learn_walks::{WalkRun, feetslam_passes, others_map};
-
-/// One walk to learn.
-#[derive(Debug, Clone, Default)]
-pub struct LearnWalk {
-    /// Its steps.
-    pub trace: StepTrace,
-    /// Its GPS fixes, in time order on the steps' clock (empty: none).
-    pub fixes: Vec<GpsFix>,
-    /// Its WiFi scans, in time order (empty: none).
-    pub scans: Vec<WifiScan>,
-    /// Its known start.
-    pub start: Option<StartPose>,
-}
+pub use super::learn_walks::{LearnWalk, WalkRun, feetslam_passes, others_map};
 
 /// What [`learn`] reads besides the walks.
 #[derive(Debug, Clone, Copy)]

@@ -3,13 +3,14 @@
 //! GPS), and a batch's FeetSLAM passes, each walk learned again on the others' merged maps.
 
 use super::Progress;
-use super::learn::LearnWalk;
 use crate::Result;
+use crate::filter::StartPose;
 use crate::filter::gps_start::heading_from_fixes;
 use crate::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
 use crate::geometry::{Hex, LocalFrame};
 use crate::map::{EdgePrior, HexMapSnapshot, merge_maps, register_maps};
 use crate::model::{GpsObservation, HeadingLikelihood, find_levels};
+use crate::sensor::{GpsFix, StepTrace, WifiScan};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -18,6 +19,19 @@ const MAX_REGISTRATION: f64 = 25.0;
 /// Step headings that set a walk's start heading (the most probable under the heading
 /// model, so disturbed ones among them do not pull it).
 const START_HEADING_READINGS: usize = 10;
+
+/// One walk to learn.
+#[derive(Debug, Clone, Default)]
+pub struct LearnWalk {
+    /// Its steps.
+    pub trace: StepTrace,
+    /// Its GPS fixes, in time order on the steps' clock (empty: none).
+    pub fixes: Vec<GpsFix>,
+    /// Its WiFi scans, in time order (empty: none).
+    pub scans: Vec<WifiScan>,
+    /// Its known start.
+    pub start: Option<StartPose>,
+}
 
 /// What every walk of a run shares.
 pub(super) struct Shared<'a> {

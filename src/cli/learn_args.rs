@@ -1,0 +1,129 @@
+//! The arguments of `footslam learn`, with `--shard`'s `I/N`.
+
+use super::common::parse_origin;
+use footslam::filter::StartPose;
+use footslam::geometry::LocalFrame;
+use footslam::io::parse_utc_time;
+use serde::Serialize;
+use std::path::PathBuf;
+
+/// Arguments of `footslam learn`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Step trace CSV (`t,length,dheading[,dz][,heading]`; an absolute `heading` column sets
+    /// the start heading and weights the particles, see `--ignore-heading`), or a folder holding `steps.csv`
+    /// or sub-folders that do (one walk each, with `gps.csv` or `gps.gpx` beside it when
+    /// there is one). Repeat for a batch of walks, learned in parallel (walk i has seed
+    /// `seed + i`). Default: the bundled sample walk.
+    #[arg(long)]
+    pub(super) steps: Vec<PathBuf>,
+    /// GPS fixes: CSV `t,lat,lon[,accuracy]` on the steps' clock, or GPX 1.1 (by the `.gpx`
+    /// extension). Repeat once per walk, in the order of the walks.
+    #[arg(long)]
+    pub(super) gps: Vec<PathBuf>,
+    /// UTC time of the steps' `t = 0` for GPX files (RFC 3339, e.g. 2024-05-01T10:00:00Z,
+    /// or Unix seconds). Default: the steps' `t` are Unix seconds.
+    #[arg(long, value_parser = parse_utc_time)]
+    pub(super) gps_t0: Option<f64>,
+    /// WiFi log CSV (`t,bssid,rssi[,ssid,freq]`) of a walk, on the steps' clock: its scans
+    /// are placed on the learned path and make a radio map on the plan learned from the
+    /// run's map (`radiomap.geojson`, `radiomap.csv`, heatmaps and ε, as `footslam survey`
+    /// writes them). Repeat once per walk, in the order of the walks; a walk folder's
+    /// `wifi.csv` is found without it.
+    #[arg(long)]
+    pub(super) wifi: Vec<PathBuf>,
+    /// Radio-map cell granularity with WiFi, metres (default 3).
+    #[arg(long)]
+    pub(super) cell: Option<f64>,
+    /// Building outline (GeoJSON Polygon, Feature or FeatureCollection of one), known to a
+    /// few metres: crossing it becomes improbable (low Dirichlet prior `outline_alpha`).
+    #[arg(long)]
+    pub(super) outline: Option<PathBuf>,
+    /// A map learned earlier (map.geojson, a `footslam merge` of several, or the
+    /// merged.geojson of a walk learned with a prior map): its counts become prior
+    /// pseudo-counts. Its origin becomes the default origin. The run then also writes
+    /// merged.geojson: the prior and this walk's map in this walk's frame (the next walk's
+    /// prior; with GPS the frame averages the walks' GPS biases).
+    #[arg(long)]
+    pub(super) prior_map: Option<PathBuf>,
+    /// Weight of the prior map's counts (overrides the config file; default 1).
+    #[arg(long)]
+    pub(super) prior_weight: Option<f64>,
+    /// Number of particles (overrides the config file).
+    #[arg(long)]
+    pub(super) particles: Option<usize>,
+    /// Random seed (overrides the config file).
+    #[arg(long)]
+    pub(super) seed: Option<u64>,
+    /// Hexagon circumradius in metres (overrides the config file; default 0.5).
+    #[arg(long)]
+    pub(super) hex_radius: Option<f64>,
+    /// WGS84 origin of the local frame, `LAT,LON` in degrees. Default: the prior map's
+    /// origin, else the first GPS fix, else 0,0.
+    #[arg(long, value_parser = parse_origin, allow_hyphen_values = true)]
+    pub(super) origin: Option<LocalFrame>,
+    /// FootSLAM configuration (TOML, or JSON such as a previous run's config.json).
+    #[arg(long)]
+    pub(super) config: Option<PathBuf>,
+    /// Output folder (default: a new folder under `outputs/`).
+    #[arg(long)]
+    pub(super) out: Option<PathBuf>,
+    /// Worker threads (default: all cores; at most 4 per core). Results do not depend on it.
+    #[arg(long)]
+    pub(super) threads: Option<usize>,
+    /// The walk's known start, `X,Y[,HEADING[,LEVEL]]` (metres in the local frame, radians
+    /// counter-clockwise from east, the floor level; `X,Y,,LEVEL` for a level without a
+    /// heading). Without HEADING the start heading is unknown (the step headings set it
+    /// where the trace has them). Repeat once per walk, in the order of the walks: walks
+    /// with known starts are learned into one frame. A given start wins over the first GPS
+    /// fix.
+    #[arg(long, value_parser = super::track::parse_start, allow_hyphen_values = true)]
+    pub(super) start: Vec<StartPose>,
+    /// Walk manifest CSV instead of `--steps`/`--gps`/`--wifi`/`--start`: a header naming
+    /// `steps` and optionally `gps`, `wifi` and `start` (as `--start`, quoted), one walk a
+    /// row, paths relative to the manifest.
+    #[arg(long)]
+    pub(super) walks: Option<PathBuf>,
+    /// Learn only shard `I` of `N` (0-based) of the `--walks` manifest: walk `k` (0-based)
+    /// when `k mod N = I`, exactly as in the whole batch (seed `seed + k`), into
+    /// `walk-<k+1>/`. For batch schedulers (Slurm arrays, Kubernetes jobs): run the shards
+    /// of a pass in any order or place, then `footslam merge` their `walk-*/map.geojson`.
+    #[arg(long, value_parser = parse_shard, requires = "walks")]
+    pub(super) shard: Option<Shard>,
+    /// With `--shard`: the shard folders of the previous pass (repeat, or one folder per
+    /// shard): this shard runs a FeetSLAM pass, each walk against the merged map of the
+    /// other walks' `walk-<k>/map.geojson` there. Without it: the first pass, each walk
+    /// alone.
+    #[arg(long, requires = "shard")]
+    pub(super) previous: Vec<PathBuf>,
+    /// Ignore the step traces' absolute `heading` column (same as `heading.enabled = false`
+    /// in the config): the walk then starts at `start.heading` (default 0, east).
+    #[arg(long)]
+    pub(super) ignore_heading: bool,
+}
+
+/// `--shard I/N`: shard `I` (0-based) of `N`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Shard {
+    /// This shard, `0 ≤ index < count`.
+    pub index: usize,
+    /// Shards in all.
+    pub count: usize,
+}
+
+/// Parses `I/N` with `0 ≤ I < N`.
+pub fn parse_shard(s: &str) -> Result<Shard, String> {
+    let (i, n) = s
+        .split_once('/')
+        .ok_or_else(|| format!("expected I/N (shard I of N, 0 ≤ I < N), got `{s}`"))?;
+    let number = |v: &str, what: &str| {
+        v.trim()
+            .parse::<usize>()
+            .map_err(|_| format!("{what} `{v}` is not a whole number ≥ 0"))
+    };
+    let (index, count) = (number(i, "shard")?, number(n, "shard count")?);
+    if count == 0 || index >= count {
+        return Err(format!("shard {index} of {count}: need 0 ≤ I < N"));
+    }
+    Ok(Shard { index, count })
+}
