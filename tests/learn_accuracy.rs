@@ -2,49 +2,38 @@
 //!
 //! Each case simulates an office floor and a 3-lap walk with room visits under
 //! foot-mounted-grade noise (0.5° white heading noise per step, 15° heading drift over the
-//! walk), runs `footslam learn` end to end with its default particle count, and checks:
+//! walk), learns it as `footslam learn` does (the library's pipeline) with the default
+//! particle count, and checks:
 //! p95 error after rigid alignment ≤ 1.5 m and ≤ a third of dead reckoning's, and at
 //! least 90 % of the visit-weighted learned hexagons in walkable space.
 
-use assert_cmd::Command;
+mod common;
+
+use common::{Anchors, learn_walks, learned_track, recorded, truth_track, walk_of};
 use footslam::eval::{Alignment, position_errors, walkable_fraction};
-use footslam::io::map_geojson::read_map_geojson;
-use footslam::io::{TimedPoint, read_trajectory};
+use footslam::filter::FootSlamConfig;
+use footslam::io::TimedPoint;
 use footslam::sim::{SimConfig, simulate};
 
 #[allow(clippy::print_stderr)] // reports the figures with --nocapture
 fn check_seed(seed: u64, drift_deg: f64) {
-    let dir = tempfile::tempdir().expect("tempdir");
     let mut config = SimConfig {
         seed,
         ..Default::default()
     };
     config.noise.drift_total = drift_deg.to_radians();
     let sim = simulate(&config).expect("simulate");
-    let steps = dir.path().join("steps.csv");
-    footslam::io::steps_csv::write_steps(&steps, &sim.steps).expect("write steps");
-    let out = dir.path().join("run");
-    Command::cargo_bin("footslam")
-        .expect("binary")
-        .args(["learn", "--steps"])
-        .arg(&steps)
-        .arg("--out")
-        .arg(&out)
-        .assert()
-        .success();
-
-    let truth: Vec<TimedPoint> = sim
-        .truth
-        .poses
-        .iter()
-        .map(|p| TimedPoint {
-            t: p.t,
-            x: p.x,
-            y: p.y,
-        })
-        .collect();
-    let track = read_trajectory(&out.join("track.csv")).expect("track");
-    assert_eq!(track.len(), sim.steps.len(), "one row per step");
+    let steps = recorded(&sim.steps);
+    let run = learn_walks(
+        &[walk_of(&steps)],
+        Anchors::default(),
+        &FootSlamConfig::default(),
+    )
+    .walks
+    .remove(0);
+    let truth = truth_track(&sim.truth.poses);
+    let track = learned_track(&steps, &run);
+    assert_eq!(track.len(), steps.len(), "one row per step");
     let learned = position_errors(&truth, &track, Alignment::Rigid).expect("errors");
     let dr: Vec<TimedPoint> = sim
         .steps
@@ -58,8 +47,7 @@ fn check_seed(seed: u64, drift_deg: f64) {
         })
         .collect();
     let dead_reckoning = position_errors(&truth, &dr, Alignment::Rigid).expect("errors");
-    let (map, _) = read_map_geojson(&out.join("map.geojson")).expect("map");
-    let walkable = walkable_fraction(&map, &sim.plan, learned.transform.as_ref());
+    let walkable = walkable_fraction(&run.estimate.map, &sim.plan, learned.transform.as_ref());
     eprintln!(
         "seed {seed} drift {drift_deg}°: learned p95 {:.2} m, dead reckoning p95 {:.2} m, walkable {:.1} %",
         learned.p95,
@@ -152,43 +140,32 @@ fn rotated_walk_with_headings(
 #[test]
 #[allow(clippy::print_stderr)] // reports the figures with --nocapture
 fn compass_headings_keep_the_learned_map_in_the_world_frame() {
-    let dir = tempfile::tempdir().expect("tempdir");
     let (truth, trace) = rotated_walk_with_headings(505, 40f64.to_radians());
-    let steps = dir.path().join("steps.csv");
-    footslam::io::steps_csv::write_steps(&steps, &trace).expect("write steps");
-    let learn = |name: &str, extra: &[&str]| {
-        let out = dir.path().join(name);
-        Command::cargo_bin("footslam")
-            .expect("binary")
-            .args(["learn", "--steps"])
-            .arg(&steps)
-            .arg("--out")
-            .arg(&out)
-            .args(extra)
-            .assert()
-            .success();
-        let summary: serde_json::Value = serde_json::from_str(
-            &std::fs::read_to_string(out.join("summary.json")).expect("summary"),
-        )
-        .expect("json");
-        let track = read_trajectory(&out.join("track.csv")).expect("track");
+    let trace = recorded(&trace);
+    let learn = |config: FootSlamConfig| {
+        let run = learn_walks(&[walk_of(&trace)], Anchors::default(), &config)
+            .walks
+            .remove(0);
+        let track = learned_track(&trace, &run);
         let none = position_errors(&truth, &track, Alignment::None).expect("errors");
         let rigid = position_errors(&truth, &track, Alignment::Rigid).expect("errors");
-        (summary["headings_used"].as_u64(), none.p95, rigid.p95)
+        (run.filter.headings_used(), none.p95, rigid.p95)
     };
     // This compass errs independently from step to step (white noise and outliers), so
     // its readings are not tempered for a disturbance's correlation length (which
     // `heading.correlation_length`, 3 m by default, assumes of indoor magnetometers).
-    let independent = dir.path().join("independent.toml");
-    std::fs::write(&independent, "[heading]\ncorrelation_length = 0.0\n").expect("config");
-    let (used, with, with_shape) =
-        learn("with", &["--config", independent.to_str().expect("utf-8")]);
-    let (unused, without, without_shape) = learn("without", &["--ignore-heading"]);
+    let mut independent = FootSlamConfig::default();
+    independent.heading.correlation_length = 0.0;
+    let (used, with, with_shape) = learn(independent);
+    // `--ignore-heading`.
+    let mut ignore = FootSlamConfig::default();
+    ignore.heading.enabled = false;
+    let (unused, without, without_shape) = learn(ignore);
     eprintln!(
         "unaligned p95: {with:.2} m with headings, {without:.2} m without; after rigid alignment {with_shape:.2} m and {without_shape:.2} m"
     );
-    assert_eq!(used, Some(trace.len() as u64));
-    assert_eq!(unused, Some(0));
+    assert_eq!(used, trace.len());
+    assert_eq!(unused, 0);
     // Measured (seed 505): 2.9 m with headings against 21 m without (the walk frame is 40°
     // off the world's); after rigid alignment 1.1 m and 0.5 m (a map learned at 40° to the
     // hexagon grid's axes comes out a little less sharp, and about 4° turned).
