@@ -1,24 +1,37 @@
 //! No floor plan needed (issue 14): walks → learned map → walkable plan and ROS occupancy
-//! grid, end to end through the CLI on simulated office walks.
+//! grid, on simulated walks learned through the library (`footslam::pipeline::learn` and
+//! `plan`, as `footslam learn` runs them).
 //!
-//! * Three walks of one office learned as a batch: `merged_plan.geojson` (and each walk's
-//!   `plan.geojson`) against the simulator's true plan, after the walks' rigid alignment:
-//!   precision ≥ 0.9 and recall of visited space (true walkable area within 0.75 m of the
-//!   walks) ≥ 0.8, by area.
-//! * Three walks of the three-floor tower from their known starts (`learn --walks` with a
-//!   `start` column, floor included): the merged plan has one level per floor, 3 m apart,
-//!   and the same precision and recall targets hold over the three floors.
-//! * `footslam plan` writes `plan.geojson`, `map.pgm` and `map.yaml`; the PGM read back with
-//!   the `image` crate's decoder and the YAML's fields match the grid rebuilt from the plan
-//!   the command wrote.
+//! * Three walks of one office learned as a batch: the merged map's plan (`learn`'s
+//!   `merged_plan.geojson`, and each walk's `plan.geojson`) against the simulator's true
+//!   plan, after the walks' rigid alignment: precision ≥ 0.9 and recall of visited space
+//!   (true walkable area within 0.75 m of the walks) ≥ 0.8, by area.
+//! * Three walks of the three-floor tower from their known starts (floor included): the
+//!   merged plan has one level per floor, 3 m apart, and the same precision and recall
+//!   targets hold over the three floors.
+//! * The command line on those files: `footslam eval --learned-plan` reports the library's
+//!   figures; `footslam plan` writes `plan.geojson`, `map.pgm` and `map.yaml`, the PGM read
+//!   back with the `image` crate's decoder and the YAML's fields matching the grid rebuilt
+//!   from the plan the command wrote; `learn` draws one map picture per floor.
+
+mod common;
 
 use assert_cmd::Command;
+use common::{Anchors, learn_walks, learned_track, recorded, recorded_truth, truth_track};
 use footslam::eval::{Alignment, plan_overlap, position_errors};
-use footslam::io::floor_plan_geojson::read_floor_plan;
+use footslam::filter::{FootSlamConfig, StartPose};
+use footslam::geometry::LocalFrame;
+use footslam::io::floor_plan_geojson::{read_floor_plan, write_floor_plan};
+use footslam::io::map_geojson::write_walks_map_geojson;
 use footslam::io::ros_map::{FREE, OCCUPIED, UNKNOWN};
-use footslam::io::{TimedPoint, read_track, read_trajectory};
-use footslam::map::{Occupancy, OccupancyConfig, OccupancyGrid};
+use footslam::io::truth_csv::write_truth;
+use footslam::io::{TimedPoint, read_trajectory, write_trajectory};
+use footslam::map::{FloorPlan, HexMapSnapshot, Occupancy, OccupancyConfig, OccupancyGrid};
+use footslam::pipeline::{LearnWalk, PlanRunConfig, plan};
+use footslam::sensor::TruePath;
+use footslam::sim::{SimConfig, TowerSimConfig, simulate, simulate_tower};
 use std::path::Path;
+use std::sync::OnceLock;
 
 /// "Visited space": true walkable area within this many metres of the walks — the map's
 /// hexagon radius (0.5 m, where the feet went) plus the plan's `grow` (0.25 m, the body's
@@ -29,53 +42,85 @@ fn footslam() -> Command {
     Command::cargo_bin("footslam").expect("binary")
 }
 
+/// The walkable plan of a learned map, as `learn` writes it beside the map.
+fn plan_of(map: &HexMapSnapshot) -> FloorPlan {
+    plan(map, &PlanRunConfig::default())
+        .expect("plan")
+        .learned
+        .plan
+}
+
+/// Three office walks (seeds 11, 12, 13) learned as one batch with 5,000 particles: what the
+/// tests read of the run.
+struct OfficeWalks {
+    /// The true plan.
+    plan: FloorPlan,
+    /// Each walk's true path (as its `truth.csv` records it).
+    truths: Vec<TruePath>,
+    /// The first walk's learned track (its `track.csv` rows).
+    track: Vec<TimedPoint>,
+    /// The first walk's map.
+    map: HexMapSnapshot,
+    /// The walks' maps merged.
+    merged: HexMapSnapshot,
+}
+
+/// [`OfficeWalks`], learned once for the tests that read them.
+fn office_walks() -> &'static OfficeWalks {
+    static WALKS: OnceLock<OfficeWalks> = OnceLock::new();
+    WALKS.get_or_init(|| {
+        let sims: Vec<_> = [11u64, 12, 13]
+            .into_iter()
+            .map(|seed| {
+                simulate(&SimConfig {
+                    seed,
+                    ..Default::default()
+                })
+                .expect("simulate")
+            })
+            .collect();
+        let walks: Vec<LearnWalk> = sims
+            .iter()
+            .map(|s| LearnWalk {
+                trace: recorded(&s.steps),
+                ..Default::default()
+            })
+            .collect();
+        let config = FootSlamConfig {
+            particles: 5000,
+            ..Default::default()
+        };
+        let mut learned = learn_walks(&walks, Anchors::default(), &config);
+        let first = learned.walks.swap_remove(0);
+        OfficeWalks {
+            plan: sims[0].plan.clone(),
+            truths: sims.iter().map(|s| recorded_truth(&s.truth)).collect(),
+            track: learned_track(&walks[0].trace, &first),
+            map: first.estimate.map,
+            merged: learned.combined.merged.expect("a batch's merged map"),
+        }
+    })
+}
+
 #[test]
 #[allow(clippy::print_stderr)] // reports the figures with --nocapture
-fn three_office_walks_make_a_walkable_plan_and_a_ros_grid() {
-    let dir = tempfile::tempdir().expect("tempdir");
-    let d = dir.path();
-    let seeds = [11u64, 12, 13];
-    for s in seeds {
-        footslam()
-            .args(["simulate", "--building", "office", "--seed", &s.to_string()])
-            .arg("--out")
-            .arg(d.join(format!("sim-{s}")))
-            .assert()
-            .success();
-    }
-    let mut learn = footslam();
-    learn
-        .args(["learn", "--particles", "5000", "--out"])
-        .arg(d.join("learn"));
-    for s in seeds {
-        learn
-            .arg("--steps")
-            .arg(d.join(format!("sim-{s}/steps.csv")));
-    }
-    learn.assert().success();
-
+fn three_office_walks_make_a_walkable_plan() {
+    let o = office_walks();
     // The walks start where the simulator's do, so the learned frame is the truth's up to
     // FootSLAM's drift: align by the first walk's track.
-    let truth_of = |s: u64| read_trajectory(&d.join(format!("sim-{s}/truth.csv"))).expect("truth");
-    let aligned = position_errors(
-        &truth_of(seeds[0]),
-        &read_trajectory(&d.join("learn/walk-1/track.csv")).expect("track"),
-        Alignment::Rigid,
-    )
-    .expect("errors");
+    let aligned = position_errors(&truth_track(&o.truths[0].poses), &o.track, Alignment::Rigid)
+        .expect("errors");
     let transform = aligned.transform.expect("rigid");
-    let visited: Vec<(f64, f64, i32)> = seeds
+    let visited: Vec<(f64, f64, i32)> = o
+        .truths
         .iter()
-        .flat_map(|&s| truth_of(s))
-        .map(|p: TimedPoint| (p.x, p.y, 0))
+        .flat_map(|t| &t.poses)
+        .map(|p| (p.x, p.y, 0))
         .collect();
-    let (truth_plan, _) =
-        read_floor_plan(&d.join(format!("sim-{}/floor.geojson", seeds[0])), None).expect("plan");
-    let overlap = |plan: &Path| {
-        let (learned, _) = read_floor_plan(plan, None).expect("learned plan");
+    let overlap = |learned: &FloorPlan| {
         plan_overlap(
-            &learned,
-            &truth_plan,
+            learned,
+            &o.plan,
             &visited,
             0,
             Some(&transform),
@@ -84,39 +129,81 @@ fn three_office_walks_make_a_walkable_plan_and_a_ros_grid() {
         )
         .expect("overlap")
     };
-    let merged = overlap(&d.join("learn/merged_plan.geojson"));
+    let merged = overlap(&plan_of(&o.merged));
     eprintln!("merged plan of three walks: {merged:?}");
     assert!(merged.precision >= 0.9, "{merged:?}");
     assert!(merged.recall >= 0.8, "{merged:?}");
-    // `footslam eval --learned-plan` reports the same figures for one walk's truth.
+    let single = overlap(&plan_of(&o.map));
+    eprintln!("plan of walk 1: {single:?}");
+    assert!(single.precision >= 0.9, "{single:?}");
+}
+
+#[test]
+fn eval_and_plan_read_a_learned_plan_and_write_a_ros_grid() {
+    let o = office_walks();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = dir.path();
+    // The files `simulate` and `learn` write, from the run above (origin 0,0).
+    let frame = LocalFrame::default();
+    let (truth, track, floor) = (
+        d.join("truth.csv"),
+        d.join("track.csv"),
+        d.join("floor.geojson"),
+    );
+    let (merged_plan, merged_map) = (d.join("merged_plan.geojson"), d.join("merged.geojson"));
+    write_truth(&truth, &o.truths[0]).expect("truth");
+    write_trajectory(&track, o.track.iter().copied()).expect("track");
+    write_floor_plan(&floor, &o.plan, &frame).expect("plan");
+    write_floor_plan(&merged_plan, &plan_of(&o.merged), &frame).expect("merged plan");
+    write_walks_map_geojson(&merged_map, &o.merged, &frame, 3).expect("merged map");
+
+    // `footslam eval --learned-plan` reports the overlap the library computes of the files.
     let assert = footslam()
         .args(["eval", "--json", "--align", "rigid", "--truth"])
-        .arg(d.join(format!("sim-{}/truth.csv", seeds[0])))
+        .arg(&truth)
         .arg("--track")
-        .arg(d.join("learn/walk-1/track.csv"))
+        .arg(&track)
         .arg("--plan")
-        .arg(d.join(format!("sim-{}/floor.geojson", seeds[0])))
+        .arg(&floor)
         .arg("--learned-plan")
-        .arg(d.join("learn/merged_plan.geojson"))
+        .arg(&merged_plan)
         .assert()
         .success();
     let json: serde_json::Value =
         serde_json::from_slice(&assert.get_output().stdout).expect("json");
+    let read_plan = |p: &Path| read_floor_plan(p, None).expect("plan").0;
+    let truth_points = read_trajectory(&truth).expect("truth");
+    let transform = position_errors(
+        &truth_points,
+        &read_trajectory(&track).expect("track"),
+        Alignment::Rigid,
+    )
+    .expect("errors")
+    .transform
+    .expect("rigid");
+    let visited: Vec<(f64, f64, i32)> = truth_points.iter().map(|p| (p.x, p.y, 0)).collect();
+    let expected = plan_overlap(
+        &read_plan(&merged_plan),
+        &read_plan(&floor),
+        &visited,
+        0,
+        Some(&transform),
+        VISITED,
+        0.05,
+    )
+    .expect("overlap");
     let precision = json["plan_overlap"]["precision"]
         .as_f64()
         .expect("precision");
-    assert!((precision - merged.precision).abs() < 1e-9, "{json}");
+    assert!((precision - expected.precision).abs() < 1e-9, "{json}");
     let recall = json["plan_overlap"]["recall"].as_f64().expect("recall");
     assert!((0.0..=1.0).contains(&recall), "{json}");
-    let single = overlap(&d.join("learn/walk-1/plan.geojson"));
-    eprintln!("plan of walk 1: {single:?}");
-    assert!(single.precision >= 0.9, "{single:?}");
 
     // `footslam plan`: the files, and the ROS grid read back.
     let out = d.join("plan");
     footslam()
         .args(["plan", "--map"])
-        .arg(d.join("learn/merged.geojson"))
+        .arg(&merged_map)
         .args(["--resolution", "0.1", "--out"])
         .arg(&out)
         .assert()
@@ -271,43 +358,41 @@ fn sim_start(sim: &Path) -> String {
 #[allow(clippy::print_stderr)] // reports the figures with --nocapture
 fn three_tower_walks_make_one_plan_level_per_floor() {
     // Three walks of the three-floor tower, each from its known start (floor included),
-    // learned into one frame through a manifest: the merged plan has one level per floor,
-    // and each learned level matches its true floor.
-    let dir = tempfile::tempdir().expect("tempdir");
-    let d = dir.path();
-    let seeds = [1u64, 2, 3];
-    let mut manifest = String::from("steps,start\n");
-    for &s in &seeds {
-        let sim = d.join(format!("sim-{s}"));
-        footslam()
-            .args(["simulate", "--building", "tower", "--seed", &s.to_string()])
-            .arg("--out")
-            .arg(&sim)
-            .assert()
-            .success();
-        manifest.push_str(&format!("sim-{s}/steps.csv,\"{}\"\n", sim_start(&sim)));
-    }
-    std::fs::write(d.join("walks.csv"), manifest).expect("manifest");
-    footslam()
-        .arg("learn") // default particles (20,000)
-        .arg("--walks")
-        .arg(d.join("walks.csv"))
-        .arg("--out")
-        .arg(d.join("learn"))
-        .assert()
-        .success();
-    let (truth_plan, _) = read_floor_plan(&d.join("sim-1/floor.geojson"), None).expect("true plan");
-    let (learned, _) =
-        read_floor_plan(&d.join("learn/merged_plan.geojson"), None).expect("learned plan");
-    let mut levels: Vec<i32> = learned.polygons.iter().map(|p| p.level).collect();
+    // learned into one frame with the default particles (20,000): the merged plan has one
+    // level per floor, and each learned level matches its true floor.
+    let sims: Vec<_> = [1u64, 2, 3]
+        .into_iter()
+        .map(|seed| {
+            simulate_tower(&TowerSimConfig {
+                seed,
+                ..Default::default()
+            })
+            .expect("simulate")
+        })
+        .collect();
+    let walks: Vec<LearnWalk> = sims
+        .iter()
+        .map(|s| LearnWalk {
+            trace: recorded(&s.steps),
+            start: Some(StartPose {
+                x: s.start.x,
+                y: s.start.y,
+                heading: Some(s.start.heading),
+                level: Some(s.start.level),
+            }),
+            ..Default::default()
+        })
+        .collect();
+    let learned = learn_walks(&walks, Anchors::default(), &FootSlamConfig::default());
+    let plan = plan_of(learned.combined.merged.as_ref().expect("merged map"));
+    let mut levels: Vec<i32> = plan.polygons.iter().map(|p| p.level).collect();
     levels.sort_unstable();
     levels.dedup();
     assert_eq!(levels, vec![0, 1, 2], "one plan level per floor");
     // Floor heights: 3 m apart, as the simulator's.
     for l in [0, 1] {
         let z = |l: i32| {
-            learned
-                .polygons
+            plan.polygons
                 .iter()
                 .find(|p| p.level == l)
                 .expect("level")
@@ -315,18 +400,41 @@ fn three_tower_walks_make_one_plan_level_per_floor() {
         };
         assert!((z(l + 1) - z(l) - 3.0).abs() < 0.3, "{} {}", z(l), z(l + 1));
     }
-    let visited: Vec<(f64, f64, i32)> = seeds
+    let visited: Vec<(f64, f64, i32)> = sims
         .iter()
-        .flat_map(|s| read_track(&d.join(format!("sim-{s}/truth.csv"))).expect("truth"))
+        .flat_map(|s| recorded_truth(&s.truth).poses)
         .map(|p| (p.x, p.y, p.level))
         .collect();
     // The walks start where the simulator's do: the learned frame is the truth's, with
     // no alignment.
-    let o = plan_overlap(&learned, &truth_plan, &visited, 0, None, VISITED, 0.05).expect("overlap");
+    let o = plan_overlap(&plan, &sims[0].plan, &visited, 0, None, VISITED, 0.05).expect("overlap");
     eprintln!("tower, merged plan of three walks, three floors: {o:?}");
     assert!(o.precision >= 0.9, "{o:?}");
     assert!(o.recall >= 0.8, "{o:?}");
-    // Each walk's pictures: one per floor it walked.
-    assert!(d.join("learn/walk-1/map.png").is_file());
-    assert!(d.join("learn/walk-1/map-level+2.png").is_file());
+    // The first walk's map reaches the top floor (`learn` draws one picture per floor).
+    assert!(learned.walks[0].estimate.map.cell_levels().contains(&2));
+}
+
+#[test]
+fn learn_draws_one_map_picture_per_floor() {
+    // The first tower walk above, from its known start, through the command line (few
+    // particles: the floors come from the steps' height changes).
+    let dir = tempfile::tempdir().expect("tempdir");
+    let sim = dir.path().join("sim");
+    footslam()
+        .args(["simulate", "--building", "tower", "--seed", "1", "--out"])
+        .arg(&sim)
+        .assert()
+        .success();
+    let out = dir.path().join("learn");
+    footslam()
+        .args(["learn", "--particles", "500", "--steps"])
+        .arg(sim.join("steps.csv"))
+        .arg(format!("--start={}", sim_start(&sim)))
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success();
+    assert!(out.join("map.png").is_file());
+    assert!(out.join("map-level+2.png").is_file());
 }
