@@ -1,13 +1,28 @@
-//! The radio survey end to end on a simulated survey walk of the three-floor building
-//! (`footslam simulate --tour survey`, 20–30 minutes): coverage of 3 m cells (the paper's
-//! Table 1: 96 % after 2.5 hours of walking), per-cell mean RSSI against the simulator's
-//! expected field, speed against real time, and `footslam track --radiomap` using the map.
+//! The radio survey on a simulated survey walk of the three-floor building (20–30 minutes),
+//! through the library (`footslam::pipeline::survey` and `track`, as `footslam survey` and
+//! `footslam track --radiomap` run them): coverage of 3 m cells (the paper's Table 1: 96 %
+//! after 2.5 hours of walking), per-cell mean RSSI against the simulator's expected field,
+//! speed against real time, and tracking with the map; and the command line's files, flags
+//! and messages on short walks.
+
+mod common;
 
 use assert_cmd::Command;
+use common::{recorded, recorded_plan, recorded_radio_map, recorded_scans, smoothed_track};
 use footslam::eval::rf_localisation::{SimulatedSurvey, radio_map_rms, simulate_survey};
-use footslam::sim::TowerSimConfig;
+use footslam::filter::{EpsilonSource, RfConfig, RfLocaliser, RfMode, StartPose, TrackerConfig};
+use footslam::geometry::LocalFrame;
+use footslam::map::{FloorPlan, FloorTopology, RadioMap};
+use footslam::model::wifi_distance::Normalisation;
+use footslam::pipeline::{
+    RadioInput, Silent, SnapshotSteps, SurveyConfig, SurveyInput, SurveyWalk, TrackInput, TrackRun,
+    survey, track,
+};
+use footslam::sensor::{StepTrace, WifiScan};
+use footslam::sim::{TourKind, TowerSimConfig};
 use predicates::prelude::*;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 fn footslam() -> Command {
     Command::cargo_bin("footslam").expect("binary")
@@ -15,6 +30,10 @@ fn footslam() -> Command {
 
 /// The origin the survey's walks are placed by.
 const ORIGIN: &str = "52.21,0.091";
+
+fn origin() -> LocalFrame {
+    LocalFrame::new(52.21, 0.091).expect("origin")
+}
 
 /// `footslam simulate --building tower` of `minutes` with `seed` and `origin` (plus `extra`
 /// arguments) into `dir/name`.
@@ -60,21 +79,190 @@ fn json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).expect("read")).expect("json")
 }
 
+/// A tower walk of `minutes` with `seed` and `tour` (`footslam simulate --building tower`
+/// placed at [`ORIGIN`]): its plan, steps and scans as its files record them.
+struct Walk {
+    plan: FloorPlan,
+    steps: StepTrace,
+    scans: Vec<WifiScan>,
+    start: StartPose,
+    duration_s: f64,
+}
+
+fn walk(minutes: f64, seed: u64, tour: TourKind) -> Walk {
+    let mut config = TowerSimConfig {
+        seed,
+        ..Default::default()
+    };
+    config.walk.minutes = minutes;
+    config.walk.tour = tour;
+    let sim = footslam::sim::simulate_tower(&config).expect("simulate");
+    Walk {
+        plan: recorded_plan(&sim.plan, origin()),
+        steps: recorded(&sim.steps),
+        scans: recorded_scans(&sim.wifi),
+        start: StartPose {
+            x: sim.start.x,
+            y: sim.start.y,
+            heading: Some(sim.start.heading),
+            level: Some(sim.start.level),
+        },
+        duration_s: sim.truth.poses.last().map_or(0.0, |p| p.t),
+    }
+}
+
+/// `footslam track --radiomap` of `walk` on `topology` with `localiser` (its configuration
+/// the tracker's `rf`).
+fn track_with<'a>(
+    walk: &'a Walk,
+    topology: &'a FloorTopology,
+    localiser: &'a RfLocaliser,
+) -> TrackRun<'a> {
+    let input = TrackInput {
+        topology,
+        transitions: None,
+        radio: Some(RadioInput {
+            localiser,
+            scans: &walk.scans,
+        }),
+    };
+    let config = TrackerConfig {
+        rf: *localiser.config(),
+        ..Default::default()
+    };
+    track(&input, &walk.steps, &config, &SnapshotSteps::Never, &Silent).expect("track")
+}
+
 #[test]
+#[allow(clippy::print_stderr)] // reports the figures with --nocapture
 fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
+    let survey_walk = walk(30.0, 31, TourKind::Survey);
+    let minutes = survey_walk.duration_s / 60.0;
+    assert!((20.0..=30.0).contains(&minutes), "{minutes} min");
+    let config = SurveyConfig::default();
+    let topology =
+        FloorTopology::build(&survey_walk.plan, &config.tracker.topology).expect("topology");
+    let walks = [SurveyWalk {
+        trace: survey_walk.steps.clone(),
+        scans: survey_walk.scans.clone(),
+        start: Some(survey_walk.start),
+    }];
+    let input = SurveyInput {
+        plan: &survey_walk.plan,
+        topology: &topology,
+        walks: &walks,
+        earlier: &[],
+    };
+    let started = Instant::now();
+    let surveyed = survey(&input, &config, &Silent).expect("survey");
+    let steps = survey_walk.steps.steps();
+    let duration = steps[steps.len() - 1].t - steps[0].t;
+    let speed = duration / started.elapsed().as_secs_f64();
+    let (coverage, _) = surveyed.map.coverage();
+    eprintln!(
+        "survey of {minutes:.1} min: coverage {:.1} %, {speed:.0}× real time, ε {:?} (√k {:?})",
+        100.0 * coverage,
+        surveyed.map.epsilon,
+        surveyed.map.epsilon_sqrt
+    );
+    assert!(coverage >= 0.96, "coverage {coverage}");
+    assert!(speed >= 100.0, "{speed}× real time");
+    let epsilon = surveyed.map.epsilon.expect("calibrated epsilon");
+    assert!(epsilon > 0.0 && epsilon < 20.0, "{epsilon}");
+    let epsilon_sqrt = surveyed.map.epsilon_sqrt.expect("calibrated for √k");
+    // The same held-out distances times √k ≥ 1: a larger threshold.
+    assert!(
+        epsilon_sqrt > epsilon && epsilon_sqrt < 60.0,
+        "{epsilon_sqrt}"
+    );
+    let three = surveyed
+        .coverage
+        .iter()
+        .find(|c| c.granularity == 3.0)
+        .expect("3 m row");
+    assert!((100.0 * three.share - 100.0 * coverage).abs() < 0.06);
+
+    // Another walk in the same building, localised with the map (as `radiomap.geojson`
+    // records it) in each mode.
+    let other = walk(3.0, 32, TourKind::Random);
+    let topology = FloorTopology::build(&other.plan, &Default::default()).expect("topology");
+    let radiomap = recorded_radio_map(&surveyed.map, origin());
+    let localiser = |map: &RadioMap, rf: RfConfig| RfLocaliser::new(map, &topology, &rf);
+    for mode in [
+        RfMode::Containment,
+        RfMode::Probabilistic,
+        RfMode::PriorOnly,
+    ] {
+        let rf = RfConfig {
+            mode,
+            ..Default::default()
+        };
+        let localiser = localiser(&radiomap, rf).expect("localiser");
+        let run = track_with(&other, &topology, &localiser);
+        let steps = run.records.first_localised().map(|i| i + 1);
+        eprintln!("{mode:?}: localised after {steps:?} steps");
+        assert!(steps.is_some(), "{mode:?}: not localised");
+        assert_eq!(run.measurements_ignored, 0, "{mode:?}");
+        // The map is calibrated for √k, so that is the default distance.
+        assert_eq!(localiser.distance(), Normalisation::Sqrt);
+        assert!((localiser.epsilon() - epsilon_sqrt).abs() < 0.01);
+    }
+    // The paper's distance on request, with its own calibrated threshold.
+    let paper = RfConfig {
+        distance: Some(Normalisation::Paper),
+        ..Default::default()
+    };
+    let localiser_paper = localiser(&radiomap, paper).expect("localiser");
+    let run = track_with(&other, &topology, &localiser_paper);
+    assert!(run.records.first_localised().is_some());
+    assert_eq!(localiser_paper.distance(), Normalisation::Paper);
+    assert!((localiser_paper.epsilon() - epsilon).abs() < 0.01);
+    // Another tool's map without thresholds: √k with a threshold derived from the map's
+    // histograms; near the survey's own calibration.
+    let foreign = RadioMap {
+        epsilon: None,
+        epsilon_sqrt: None,
+        ..radiomap.clone()
+    };
+    let derived = localiser(&foreign, RfConfig::default()).expect("localiser");
+    track_with(&other, &topology, &derived);
+    assert_eq!(derived.distance(), Normalisation::Sqrt);
+    assert_eq!(derived.epsilon_source(), EpsilonSource::Derived);
+    let e = derived.epsilon();
+    assert!(
+        e > 0.5 * epsilon_sqrt && e < 2.0 * epsilon_sqrt,
+        "derived {e} vs calibrated {epsilon_sqrt}"
+    );
+    // The same run on one thread and on two.
+    let tracks: Vec<_> = [1, 2]
+        .iter()
+        .map(|&threads| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("pool");
+            let localiser = localiser(&radiomap, RfConfig::default()).expect("localiser");
+            let run = pool.install(|| track_with(&other, &topology, &localiser));
+            (run.filtered.clone(), smoothed_track(&other.steps, &run))
+        })
+        .collect();
+    assert!(tracks[0] == tracks[1], "the thread count changed the track");
+}
+
+#[test]
+fn survey_and_track_write_the_radio_figures_and_refuse_what_they_cannot_use() {
+    // `footslam survey` of a short survey walk from its known start, and `footslam track`
+    // of another walk with the map: the files, the flags and the messages.
     let dir = tempfile::tempdir().expect("tempdir");
     let sim = simulate_tower(
         dir.path(),
         "survey-walk",
-        30,
+        SURVEY_MINUTES,
         31,
         ORIGIN,
         &["--tour", "survey"],
     );
-    let walk = json(&sim.join("summary.json"));
-    let minutes = walk["duration_s"].as_f64().expect("duration") / 60.0;
-    assert!((20.0..=30.0).contains(&minutes), "{minutes} min");
-    let s = &walk["start"];
+    let s = &json(&sim.join("summary.json"))["start"];
     let start = format!("{},{},{},{}", s["x"], s["y"], s["heading"], s["level"]);
     let out = dir.path().join("survey");
     footslam()
@@ -94,17 +282,8 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
     let summary = json(&out.join("summary.json"));
     let radiomap = out.join("radiomap.geojson");
     let coverage = summary["coverage"].as_f64().expect("coverage");
-    assert!(coverage >= 0.96, "coverage {coverage}");
-    let speed = summary["speed_vs_real_time"].as_f64().expect("speed");
-    assert!(speed >= 100.0, "{speed}× real time");
     let epsilon = summary["epsilon"].as_f64().expect("calibrated epsilon");
-    assert!(epsilon > 0.0 && epsilon < 20.0, "{epsilon}");
     let epsilon_sqrt = summary["epsilon_sqrt"].as_f64().expect("calibrated for √k");
-    // The same held-out distances times √k ≥ 1: a larger threshold.
-    assert!(
-        epsilon_sqrt > epsilon && epsilon_sqrt < 60.0,
-        "{epsilon_sqrt}"
-    );
     let table = std::fs::read_to_string(out.join("coverage.csv")).expect("coverage.csv");
     let three: Vec<&str> = table
         .lines()
@@ -114,39 +293,30 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
         .collect();
     assert!((three[2].parse::<f64>().expect("percent") - 100.0 * coverage).abs() < 0.06);
 
-    // Another walk in the same building, localised with the map in each mode.
     let other = simulate_tower(dir.path(), "walk", 3, 32, ORIGIN, &[]);
-    for mode in ["containment", "probabilistic", "prior-only"] {
-        let run = dir.path().join(format!("track-{mode}"));
-        track_with_map(&other, &radiomap, &run)
-            .arg("--wifi")
-            .arg(other.join("wifi.csv"))
-            .args(["--rf-mode", mode])
-            .assert()
-            .success()
-            .stdout(predicate::str::contains("localised after"));
-        let config = json(&run.join("config.json"));
-        assert_eq!(config["rf"]["mode"], mode.replace('-', "_"));
-        let rf = &json(&run.join("summary.json"))["rf"];
-        assert_eq!(rf["measurements_ignored"], 0, "{mode}");
-        // The map is calibrated for √k, so that is the default distance.
-        assert_eq!(rf["distance"], "sqrt");
-        assert!((rf["epsilon_dbm"].as_f64().expect("epsilon") - epsilon_sqrt).abs() < 0.01);
-    }
-    // The paper's distance on request, with its own calibrated threshold.
+    let run = dir.path().join("track-prior-only");
+    track_with_map(&other, &radiomap, &run)
+        .arg("--wifi")
+        .arg(other.join("wifi.csv"))
+        .args(["--rf-mode", "prior-only"])
+        .assert()
+        .success();
+    assert_eq!(json(&run.join("config.json"))["rf"]["mode"], "prior_only");
+    let rf = &json(&run.join("summary.json"))["rf"];
+    assert_eq!(rf["distance"], "sqrt");
+    assert!((rf["epsilon_dbm"].as_f64().expect("epsilon") - epsilon_sqrt).abs() < 0.01);
     let run = dir.path().join("track-paper");
     track_with_map(&other, &radiomap, &run)
         .arg("--wifi")
         .arg(other.join("wifi.csv"))
         .args(["--rf-distance", "paper"])
         .assert()
-        .success()
-        .stdout(predicate::str::contains("localised after"));
+        .success();
     let rf = &json(&run.join("summary.json"))["rf"];
     assert_eq!(rf["distance"], "paper");
     assert!((rf["epsilon_dbm"].as_f64().expect("epsilon") - epsilon).abs() < 0.01);
-    // Another tool's map without thresholds: √k with a threshold derived from the map's
-    // histograms, said in the summary; near the survey's own calibration.
+    // Another tool's map without thresholds: the summary and the output say where the
+    // threshold came from.
     let mut foreign = json(&radiomap);
     let members = foreign.as_object_mut().expect("collection");
     members.remove("epsilon");
@@ -162,13 +332,9 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
         .stdout(predicate::str::contains(
             "derived from the map's histograms",
         ));
-    let rf = &json(&run.join("summary.json"))["rf"];
-    assert_eq!(rf["distance"], "sqrt");
-    assert_eq!(rf["epsilon_source"], "derived");
-    let derived = rf["epsilon_dbm"].as_f64().expect("epsilon");
-    assert!(
-        derived > 0.5 * epsilon_sqrt && derived < 2.0 * epsilon_sqrt,
-        "derived {derived} vs calibrated {epsilon_sqrt}"
+    assert_eq!(
+        json(&run.join("summary.json"))["rf"]["epsilon_source"],
+        "derived"
     );
     // A map of single scans shows no spread: the error names the ways out.
     let mut single = foreign.clone();
@@ -192,21 +358,6 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
             predicate::str::contains("--rf-epsilon")
                 .and(predicate::str::contains("footslam survey")),
         );
-    // The same run on one thread and on two.
-    let tracks: Vec<String> = ["1", "2"]
-        .iter()
-        .map(|threads| {
-            let run = dir.path().join(format!("threads-{threads}"));
-            track_with_map(&other, &radiomap, &run)
-                .arg("--wifi")
-                .arg(other.join("wifi.csv"))
-                .args(["--threads", threads])
-                .assert()
-                .success();
-            std::fs::read_to_string(run.join("track.csv")).expect("track.csv")
-        })
-        .collect();
-    assert_eq!(tracks[0], tracks[1]);
     // A radio map needs its scans, and a map of another place is refused.
     track_with_map(&other, &radiomap, &dir.path().join("no-wifi"))
         .assert()
@@ -222,6 +373,9 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
             "no radio-map cell lies on the floor plan",
         ));
 }
+
+/// Minutes of the survey walk of the command-line test: enough for a calibrated map.
+const SURVEY_MINUTES: u32 = 6;
 
 #[test]
 fn surveyed_cell_means_are_within_3_db_rms_of_the_expected_field() {
