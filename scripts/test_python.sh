@@ -12,13 +12,17 @@ export PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_ROOT_USER_ACTION=ignore
 
 "$PYTHON" -m pip install --quiet "maturin>=1.9,<2" "pytest>=7" "numpy>=1.21" pandas
 
-# The CLI the tests compare with (shares target/ with the wheel's build).
-cargo build --release --bin footslam
-
 wheels=target/python-wheels
 rm -rf "$wheels"
 "$PYTHON" -m maturin build --release --quiet -m python/Cargo.toml -o "$wheels"
 "$PYTHON" -m pip install --quiet --force-reinstall --no-deps "$wheels"/footslam-*.whl
+
+# The CLI the tests compare with (FOOTSLAM_BIN names one already built). Built with the
+# workspace's features, it links the library the wheel's build just compiled, rather
+# than compiling it again with the root package's narrower feature set.
+if [[ -z "${FOOTSLAM_BIN:-}" ]]; then
+    cargo build --release --workspace --bin footslam
+fi
 
 # From the repository root, so that python/footslam (the sources, without the compiled
 # module) does not shadow the installed package.

@@ -296,13 +296,15 @@ fn numbers(
     };
     let floats = match kind.as_str() {
         "f" | "i" | "u" => array.call_method1("astype", ("float64",))?,
-        // Python objects: numbers (and None, read as NaN) pass, anything else is an error.
+        // Python objects: numbers (and missing values, read as NaN) pass, anything else is
+        // an error.
         "O" => {
             let list = array.call_method0("tolist")?;
             let mut values = Vec::new();
             for item in list.try_iter()? {
                 let item = item?;
-                if item.is_none() {
+                // None and pandas' NA (nullable dtypes) are missing values.
+                if item.is_none() || type_name(&item) == "NAType" {
                     values.push(f64::NAN);
                 } else if item.is_instance_of::<PyString>()
                     || item.is_instance_of::<pyo3::types::PyBool>()
@@ -332,7 +334,9 @@ fn texts(
     let mut values = Vec::new();
     for item in list.try_iter()? {
         let item = item?;
-        let missing = item.is_none() || item.extract::<f64>().is_ok_and(f64::is_nan);
+        let missing = item.is_none()
+            || type_name(&item) == "NAType"
+            || item.extract::<f64>().is_ok_and(f64::is_nan);
         values.push(if missing {
             None
         } else {

@@ -21,7 +21,7 @@ DATA = ROOT / "tests" / "data"
 def _binary():
     given = os.environ.get("FOOTSLAM_BIN")
     if given:
-        return Path(given)
+        return Path(given).resolve()
     path = ROOT / "target" / "release" / "footslam"
     if not path.is_file():
         if shutil.which("cargo") is None:

@@ -110,6 +110,17 @@ def test_dataframe_with_a_text_column():
         footslam.learn(frame)
 
 
+def test_nullable_pandas_columns_read_na_as_missing():
+    pd = pytest.importorskip("pandas")
+    frame = pd.DataFrame(STEPS).astype("Float64")
+    frame["heading"] = pd.array([0.1, None, 0.2], dtype="Float64")
+    got = footslam.learn(frame, particles=20)
+    assert got["walks"][0]["summary"]["steps_with_heading"] == 2
+    frame.loc[1, "length"] = None
+    with pytest.raises(footslam.FootslamError, match="steps row 1: column `length`"):
+        footslam.learn(frame)
+
+
 def test_missing_files_raise_file_not_found(tmp_path):
     with pytest.raises(FileNotFoundError, match="step trace `.*nope.csv` does not exist"):
         footslam.learn(tmp_path / "nope.csv")
