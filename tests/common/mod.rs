@@ -102,6 +102,16 @@ pub struct Anchors<'a> {
     pub prior_map: Option<&'a StoredMap>,
 }
 
+/// `work` run as the command line runs a command: on the threads of a worker pool of its
+/// own (all cores), so that the pipeline's parallel loops run on the thread that calls them
+/// rather than wait on a pool from outside it. Results do not depend on the pool.
+pub fn in_own_pool<T: Send>(work: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .build()
+        .expect("worker pool")
+        .install(work)
+}
+
 /// The walks learned with `config`, as `footslam learn` learns them (walk `i` with seed
 /// `seed + i`).
 pub fn learn_walks(walks: &[LearnWalk], anchors: Anchors, config: &FootSlamConfig) -> Learned {
@@ -112,7 +122,7 @@ pub fn learn_walks(walks: &[LearnWalk], anchors: Anchors, config: &FootSlamConfi
         prior_map: anchors.prior_map,
         cells: CellConfig::default(),
     };
-    learn(&input, config, &Silent).expect("learn")
+    in_own_pool(|| learn(&input, config, &Silent)).expect("learn")
 }
 
 /// One walk of steps alone (no GPS, WiFi or start).
