@@ -10,6 +10,8 @@ numpy arrays, pandas DataFrames or files.
   walk by walk (the same maps and paths as :func:`learn`)
 * :func:`merge` — maps of several walks combined
 * :func:`plan` — a learned map as a floor plan and occupancy grids
+* :func:`radio_map` — the radio map of walks learned apart, on their merged map's plan
+* :mod:`footslam.batch` — buildings × walks on a Dask cluster
 * :func:`track` — one walk on a known floor plan
 * :func:`survey` — a WiFi radio map from walks on a known plan
 
@@ -30,6 +32,7 @@ from ._footslam import (
     merge,
     others_map,
     plan,
+    radio_map,
     steps,
     survey,
     track,
@@ -45,6 +48,7 @@ __all__ = [
     "merge",
     "others_map",
     "plan",
+    "radio_map",
     "steps",
     "survey",
     "track",

@@ -261,3 +261,19 @@ def survey(
     threads: Optional[int] = None,
 ) -> SurveyResult:
     """A WiFi radio map from walks tracked on a known plan (``footslam survey``)."""
+
+class RadioMapResult(TypedDict):
+    radio_map: FeatureCollection
+    plan: FeatureCollection
+    summary: dict[str, Any]
+
+def radio_map(
+    map: GeoJson,
+    tracks: Sequence[Mapping[str, Any]],
+    wifi: Sequence[Table],
+    *,
+    cell: Optional[float] = None,
+) -> RadioMapResult:
+    """The radio map of walks learned apart, on the plan of their merged map (``learn``'s
+    radio stage): with the merged map and ``learn_one``'s tracks, ``learn``'s
+    ``radio_map``."""

@@ -27,6 +27,7 @@ mod learn_inputs;
 mod learn_outputs;
 mod maps;
 mod outputs;
+mod radio;
 mod steps;
 mod survey;
 mod tables;
@@ -103,7 +104,9 @@ impl Warnings {
         let warnings = py.import("warnings")?;
         let category = py.get_type::<FootslamWarning>();
         for message in list {
-            warnings.call_method1("warn", (message, &category, 3))?;
+            // stacklevel 1: called from native code, the nearest Python frame is the caller of
+            // the footslam function.
+            warnings.call_method1("warn", (message, &category, 1))?;
         }
         Ok(())
     }
@@ -146,6 +149,7 @@ fn _footslam(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(maps::others_map, m)?)?;
     m.add_function(wrap_pyfunction!(maps::merge, m)?)?;
     m.add_function(wrap_pyfunction!(maps::plan, m)?)?;
+    m.add_function(wrap_pyfunction!(radio::radio_map, m)?)?;
     m.add_function(wrap_pyfunction!(track::track, m)?)?;
     m.add_function(wrap_pyfunction!(survey::survey, m)?)?;
     Ok(())

@@ -1,0 +1,140 @@
+//! `footslam.radio_map`: `learn`'s radio stage for walks learned apart (the batch runner's
+//! last step per building): the walks' scans placed on their learned tracks and added to the
+//! cells of the plan learned from the merged map.
+
+use crate::inputs::{self, Document};
+use crate::outputs::json_object;
+use crate::tables::{WIFI, table};
+use crate::{detached, fail, py_error};
+use footslam::filter::PathPoint;
+use footslam::io::floor_plan_geojson::floor_plan_to_geojson;
+use footslam::io::radio_map_geojson::radio_map_to_geojson;
+use footslam::map::{CellConfig, PlanConfig};
+use footslam::pipeline::learned_radio_map;
+use footslam::sensor::WifiScan;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// One column of a track dict as floats.
+fn column(track: &Bound<'_, PyAny>, name: &str, what: &str) -> PyResult<Vec<f64>> {
+    let values = track
+        .get_item(name)
+        .map_err(|_| fail(format!("{what}: no `{name}` column")))?;
+    let values = match values.call_method0("tolist") {
+        Ok(list) => list,
+        Err(_) => values,
+    };
+    values
+        .extract::<Vec<f64>>()
+        .map_err(|_| fail(format!("{what}: column `{name}` is not a list of numbers")))
+}
+
+/// A radio map with no drawn plan from walks learned apart (``footslam::pipeline::
+/// learned_radio_map``): each walk's scans go to the cell of its learned track's step at or
+/// after them, on the plan learned from ``map``; ε is calibrated on the walks' own scans.
+/// With the merged map and the tracks of :func:`learn_one` (after the FeetSLAM passes) it
+/// gives :func:`learn`'s ``radio_map`` for the same walks.
+///
+/// Args:
+///     map: the merged map of the walks (GeoJSON dict or path), in the tracks' frame.
+///     tracks: per walk with WiFi, its learned track (a dict with ``t``, ``x``, ``y``
+///         columns, as ``learn_one``'s ``track``).
+///     wifi: per walk, in the same order, its WiFi log (path, DataFrame or dict of columns
+///         ``t, bssid, rssi``), on the track's clock.
+///     cell: radio-map cell granularity, metres (default 3).
+///
+/// Returns:
+///     dict: ``radio_map`` (GeoJSON, as ``radiomap.geojson``), ``plan`` (the learned plan
+///     its cells lie on) and ``summary`` (cells, coverage, access points, ε).
+///
+/// Raises:
+///     FootslamError: a map too small to cut cells from, a log on another clock, bad data.
+///     FileNotFoundError: a path names no file.
+#[pyfunction]
+#[pyo3(signature = (map, tracks, wifi, *, cell=None))]
+pub(crate) fn radio_map<'py>(
+    py: Python<'py>,
+    map: &Bound<'py, PyAny>,
+    tracks: &Bound<'py, PyAny>,
+    wifi: &Bound<'py, PyAny>,
+    cell: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let map_doc: Document = inputs::document(map, "map", "map")?;
+    let tracks = inputs::as_list(tracks)?.ok_or_else(|| fail("tracks: expected a list"))?;
+    let logs = inputs::as_list(wifi)?.ok_or_else(|| fail("wifi: expected a list"))?;
+    if tracks.len() != logs.len() || tracks.is_empty() {
+        return Err(fail(format!(
+            "{} tracks and {} WiFi logs: give one log per track, at least one",
+            tracks.len(),
+            logs.len()
+        )));
+    }
+    let level = PlanConfig::default().level;
+    let mut walks: Vec<(Vec<PathPoint>, Vec<WifiScan>)> = Vec::with_capacity(tracks.len());
+    for (i, (track, log)) in tracks.iter().zip(&logs).enumerate() {
+        let what = format!("tracks[{i}]");
+        let (t, x, y) = (
+            column(track, "t", &what)?,
+            column(track, "x", &what)?,
+            column(track, "y", &what)?,
+        );
+        if t.len() != x.len() || t.len() != y.len() || t.is_empty() {
+            return Err(fail(format!("{what}: columns t, x, y of one length > 0")));
+        }
+        let scans = table(log, &WIFI, &format!("wifi[{i}]"))?
+            .wifi()
+            .map_err(py_error)?;
+        let (a, b) = (t[0], t[t.len() - 1]);
+        if !scans.iter().any(|s| s.t >= a && s.t <= b) {
+            return Err(fail(format!(
+                "wifi[{i}]: no scan falls within the walk's time span [{a}, {b}] s: the WiFi \
+                 log and the track must share one clock"
+            )));
+        }
+        let path = t
+            .iter()
+            .zip(&x)
+            .zip(&y)
+            .map(|((&t, &x), &y)| (t, x, y, level))
+            .collect();
+        walks.push((path, scans));
+    }
+    let cells = CellConfig {
+        granularity: cell.unwrap_or(CellConfig::default().granularity),
+        ..CellConfig::default()
+    };
+    let (radio, frame) = detached(py, None, || {
+        cells.validate().map_err(py_error)?;
+        let stored = map_doc.stored_map().map_err(py_error)?;
+        let paths: Vec<(Vec<PathPoint>, &[WifiScan])> = walks
+            .iter()
+            .map(|(p, s)| (p.clone(), s.as_slice()))
+            .collect();
+        let radio = learned_radio_map(&paths, &stored.map, &cells).map_err(py_error)?;
+        Ok((radio, stored.frame))
+    })?;
+    let (coverage, per_cell) = radio.survey.map.coverage();
+    let summary = serde_json::json!({
+        "granularity_m": cells.granularity,
+        "cells": radio.survey.cells.cells().len(),
+        "rooms": radio.survey.cells.rooms().len(),
+        "scans_added": radio.survey.counts.iter().map(|c| c.added).collect::<Vec<_>>(),
+        "scans_skipped": radio.survey.counts.iter().map(|c| c.skipped).collect::<Vec<_>>(),
+        "coverage": coverage,
+        "mean_scans_per_covered_cell": per_cell,
+        "access_points": radio.survey.map.access_points().len(),
+        "epsilon": radio.survey.map.epsilon,
+        "epsilon_sqrt": radio.survey.map.epsilon_sqrt,
+    });
+    let result = PyDict::new(py);
+    result.set_item(
+        "radio_map",
+        json_object(py, &radio_map_to_geojson(&radio.survey.map, &frame))?,
+    )?;
+    result.set_item(
+        "plan",
+        json_object(py, &floor_plan_to_geojson(&radio.plan.plan, &frame))?,
+    )?;
+    result.set_item("summary", json_object(py, &summary)?)?;
+    Ok(result)
+}
