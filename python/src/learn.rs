@@ -120,7 +120,7 @@ pub(crate) fn learn<'py>(
 }
 
 /// Learns walk ``index`` of a batch alone: one task of a batch spread over processes or
-/// machines (``footslam.pipeline::learn_one``).
+/// machines (the library's ``pipeline::learn_one``).
 ///
 /// The same computation as that walk's in :func:`learn` (seed ``seed + index``, the run's
 /// frame, outline and prior map), so a batch fanned out walk by walk — and, for walks with
@@ -213,9 +213,9 @@ pub(crate) fn learn_one<'py>(
     out.to_python(py)
 }
 
-/// FeetSLAM passes after the first for a batch (``footslam.pipeline::feetslam_passes``):
-/// the configuration's ``iterations`` for a batch of several walks that all have known
-/// starts (one frame), else 0.
+/// FeetSLAM passes after the first for a batch (the library's
+/// ``pipeline::feetslam_passes``): the configuration's ``iterations`` for a batch of
+/// several walks that all have known starts (one frame), else 0.
 ///
 /// Args:
 ///     walks: the number of walks in the batch.

@@ -101,8 +101,8 @@ pub(crate) fn merge<'py>(
     json_object(py, &collection)
 }
 
-/// The merged map of every map but the ``i``-th (``footslam.pipeline::others_map``): walk
-/// ``i``'s ``others`` in a FeetSLAM pass of a batch fanned out with :func:`learn_one`.
+/// The merged map of every map but the ``i``-th (the library's ``pipeline::others_map``):
+/// walk ``i``'s ``others`` in a FeetSLAM pass of a batch fanned out with :func:`learn_one`.
 ///
 /// Args:
 ///     maps: the batch's maps of the previous pass, in the order of the walks (paths or

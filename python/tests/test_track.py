@@ -64,8 +64,9 @@ def test_track_matches_the_cli(cli, sim, config_file, tmp_path):
     tower = sim / "tower"
     cli("track", "--plan", tower / "floor.geojson", "--steps", tower / "steps.csv",
         "--seed", 6, "--config", config_file, "--out", tmp_path)
-    with pytest.warns(footslam.FootslamWarning, match="kld.max_particles"):
+    with pytest.warns(footslam.FootslamWarning, match="kld.max_particles") as warned:
         got = footslam.track(tower / "floor.geojson", tower / "steps.csv", seed=6, config=CONFIG)
+    assert warned[0].filename == __file__  # the warning points at the caller
     expected = read_csv(tmp_path / "track.csv")
     assert_points(got["track"], expected)
     np.testing.assert_array_equal(got["track"]["certain"], expected["certain"] == 1)
