@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
-# The project's test command (README, CI): unit, integration and regression tests in
-# release mode (the accuracy tests run real particle filters).
+# The project's test command (README, CI): the Rust unit, integration and regression tests
+# in release mode (the accuracy tests run real particle filters), then the Python
+# package's tests (scripts/test_python.sh: builds the wheel with maturin, runs pytest,
+# including the Dask batch runner on a local cluster).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo test --release "$@"
+scripts/test_python.sh
