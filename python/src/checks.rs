@@ -140,18 +140,3 @@ pub(crate) fn check_scans_match(
     });
     Ok((matched, warning))
 }
-
-/// Length of a polyline, metres.
-pub(crate) fn path_length(points: impl IntoIterator<Item = (f64, f64)>) -> f64 {
-    let mut points = points.into_iter();
-    let Some(mut last) = points.next() else {
-        return 0.0;
-    };
-    points
-        .map(|p| {
-            let d = (p.0 - last.0).hypot(p.1 - last.1);
-            last = p;
-            d
-        })
-        .sum()
-}

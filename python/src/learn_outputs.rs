@@ -3,16 +3,16 @@
 //! `map.geojson`, `plan.geojson`, `summary.json` and `config.json`), and a run's merged
 //! maps and radio map.
 
-use crate::checks::path_length;
 use crate::learn_inputs::Inputs;
 use crate::outputs::{Column, columns, json_object};
-use crate::survey::held_out_quantiles;
 use footslam::filter::FootSlamConfig;
+use footslam::geometry::path_length;
 use footslam::geometry::{HexGrid, LocalFrame};
 use footslam::io::floor_plan_geojson::floor_plan_to_geojson;
 use footslam::io::map_geojson::walks_map_to_geojson;
 use footslam::io::radio_map_geojson::radio_map_to_geojson;
 use footslam::map::{PlanConfig, walkable_plan};
+use footslam::model::wifi_distance::held_out_quantiles;
 use footslam::pipeline::{LearnWalk, Learned, WalkRun};
 use geojson::FeatureCollection;
 use pyo3::prelude::*;

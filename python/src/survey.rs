@@ -9,28 +9,12 @@ use crate::{Warnings, detached, fail, py_error, with_context};
 use footslam::filter::StartPose;
 use footslam::io::radio_map_geojson::radio_map_to_geojson;
 use footslam::map::FloorTopology;
-use footslam::model::wifi_distance::{HeldOut, Normalisation};
+use footslam::model::wifi_distance::held_out_quantiles;
 use footslam::pipeline::{SurveyConfig, SurveyInput, SurveyWalk};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use serde_json::json;
-use std::collections::BTreeMap;
-
-/// Per distance (`paper`, `sqrt`): the p50, p90, p99 and maximum of the held-out distances
-/// a map's `ε` is chosen from (`None` without any), as `summary.json` gives them.
-pub(crate) fn held_out_quantiles(held: &[HeldOut]) -> BTreeMap<&'static str, [Option<f64>; 4]> {
-    Normalisation::ALL
-        .into_iter()
-        .map(|norm| {
-            let mut d: Vec<f64> = held.iter().map(|h| h.ndist(norm)).collect();
-            d.sort_by(f64::total_cmp);
-            let q =
-                |q: f64| (!d.is_empty()).then(|| d[((d.len() - 1) as f64 * q).round() as usize]);
-            (norm.name(), [q(0.5), q(0.9), q(0.99), q(1.0)])
-        })
-        .collect()
-}
 
 /// One walk to survey, as given.
 struct WalkTables {

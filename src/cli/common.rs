@@ -103,21 +103,6 @@ pub fn require_file(path: &Path, what: &str) -> Result<()> {
     Ok(())
 }
 
-/// Length of a polyline, metres.
-pub fn path_length(points: impl IntoIterator<Item = (f64, f64)>) -> f64 {
-    let mut points = points.into_iter();
-    let Some(mut last) = points.next() else {
-        return 0.0;
-    };
-    points
-        .map(|p| {
-            let d = (p.0 - last.0).hypot(p.1 - last.1);
-            last = p;
-            d
-        })
-        .sum()
-}
-
 /// Where walk `i` of a run writes: its own `walk-<i+1>/` folder (created) when the run has
 /// several, else the run folder itself; the prefix for its file names.
 pub fn walk_prefix(folder: &footslam::io::RunFolder, i: usize, several: bool) -> Result<String> {

@@ -6,22 +6,19 @@
 //! the merged maps and the radio map of their WiFi logs ([`super::learn_radio`]), and the
 //! run's summary.
 
-use super::common::{
-    bundled, output_dir, peak_memory_bytes, read_config, require_file, walk_prefix,
-};
+use super::common::{bundled, output_dir, peak_memory_bytes, read_config, walk_prefix};
 use super::learn_args::Args;
-use super::learn_inputs::{WalkArgs, WalkFiles, check_same_grid, read_walks};
+use super::learn_inputs::{WalkArgs, WalkFiles, read_anchors, read_walks};
 use super::learn_outputs::{Summary, write_learned_plan, write_walk};
 use super::learn_radio::{RadioSummary, write_learned_radio_map};
 use super::progress_bars::Bars;
 use anyhow::Result;
 use footslam::filter::FootSlamConfig;
 use footslam::geometry::LocalFrame;
-use footslam::io::map_geojson::{StoredMap, read_stored_map, write_walks_map_geojson};
-use footslam::io::{RunFolder, read_outline};
+use footslam::io::RunFolder;
+use footslam::io::map_geojson::{StoredMap, write_walks_map_geojson};
 use footslam::map::CellConfig;
-use footslam::pipeline::{LearnInput, LearnWalk, Learned, default_frame, learn};
-use geo::Polygon;
+use footslam::pipeline::{LearnInput, Learned, default_frame, learn};
 use serde::Serialize;
 use std::time::Instant;
 
@@ -72,7 +69,8 @@ pub fn run(args: Args) -> Result<()> {
         ..CellConfig::default()
     };
     cells.validate()?;
-    let (prior_map, frame, outline) = read_anchors(&args, &config, &walks)?;
+    let default = |prior: Option<&StoredMap>| Ok(default_frame(prior, &walks));
+    let (prior_map, frame, outline) = read_anchors(&args, &config, default)?;
     let input = LearnInput {
         walks: &walks,
         frame,
@@ -145,36 +143,6 @@ fn learn_config(args: &Args) -> Result<FootSlamConfig> {
     }
     config.validate()?;
     Ok(config)
-}
-
-/// The prior map, the run's frame and the outline in it.
-fn read_anchors(
-    args: &Args,
-    config: &FootSlamConfig,
-    walks: &[LearnWalk],
-) -> Result<(Option<StoredMap>, LocalFrame, Option<Polygon<f64>>)> {
-    let prior_map = match &args.prior_map {
-        Some(p) => {
-            require_file(p, "prior map")?;
-            Some(read_stored_map(p)?)
-        }
-        None => None,
-    };
-    let frame = args
-        .origin
-        .unwrap_or_else(|| default_frame(prior_map.as_ref(), walks));
-    let outline = match &args.outline {
-        Some(path) => {
-            require_file(path, "outline")?;
-            Some(read_outline(path, &frame)?)
-        }
-        None => None,
-    };
-    if let (Some(stored), Some(path)) = (&prior_map, &args.prior_map) {
-        let radius = stored.map.radius;
-        check_same_grid(path, radius, &stored.frame, config.hex_radius, &frame)?;
-    }
-    Ok((prior_map, frame, outline))
 }
 
 /// Writes every walk's outputs, the merged maps and the radio map; returns the summary

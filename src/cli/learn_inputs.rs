@@ -1,13 +1,18 @@
 //! The inputs of `footslam learn`: walks from files and folders, their GPS fixes and WiFi
-//! logs, and the check that a prior map lies on the run's grid.
+//! logs, the prior map and outline, and the check that a prior map lies on the run's grid.
 
 use super::common::{SAME_ORIGIN, read_scans, require_file};
+use super::learn_args::Args;
 use anyhow::{Context, Result, bail};
-use footslam::filter::StartPose;
+use footslam::filter::{FootSlamConfig, StartPose};
 use footslam::geometry::LocalFrame;
-use footslam::io::{ManifestWalk, read_gps_csv, read_gpx, read_steps, read_walk_manifest};
+use footslam::io::map_geojson::{StoredMap, read_stored_map};
+use footslam::io::{
+    ManifestWalk, read_gps_csv, read_gpx, read_outline, read_steps, read_walk_manifest,
+};
 use footslam::pipeline::LearnWalk;
 use footslam::sensor::{GpsFix, StepTrace};
+use geo::Polygon;
 use std::path::{Path, PathBuf};
 
 /// The files of one walk to learn.
@@ -247,4 +252,36 @@ pub(super) fn check_same_grid(
         );
     }
     Ok(())
+}
+
+/// The prior map, the run's frame and the outline in it.
+/// `frame` gives the frame when `--origin` does not, from the prior map.
+pub(super) fn read_anchors(
+    args: &Args,
+    config: &FootSlamConfig,
+    frame: impl FnOnce(Option<&StoredMap>) -> Result<LocalFrame>,
+) -> Result<(Option<StoredMap>, LocalFrame, Option<Polygon<f64>>)> {
+    let prior_map = match &args.prior_map {
+        Some(p) => {
+            require_file(p, "prior map")?;
+            Some(read_stored_map(p)?)
+        }
+        None => None,
+    };
+    let frame = match args.origin {
+        Some(origin) => origin,
+        None => frame(prior_map.as_ref())?,
+    };
+    let outline = match &args.outline {
+        Some(path) => {
+            require_file(path, "outline")?;
+            Some(read_outline(path, &frame)?)
+        }
+        None => None,
+    };
+    if let (Some(stored), Some(path)) = (&prior_map, &args.prior_map) {
+        let radius = stored.map.radius;
+        check_same_grid(path, radius, &stored.frame, config.hex_radius, &frame)?;
+    }
+    Ok((prior_map, frame, outline))
 }

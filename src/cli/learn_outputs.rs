@@ -1,9 +1,9 @@
 //! The outputs of one learned walk: its track (CSV and GeoJSON), map (GeoJSON and one picture
 //! per floor), walkable plan and configuration, and its figures for `summary.json`.
 
-use super::common::path_length;
 use super::learn_inputs::WalkFiles;
 use anyhow::Result;
+use footslam::geometry::path_length;
 use footslam::geometry::{HexGrid, LocalFrame};
 use footslam::io::RunFolder;
 use footslam::io::floor_plan_geojson::write_floor_plan;

@@ -1,11 +1,12 @@
 //! `learn --wifi`'s outputs: the radio map made from the walks alone
 //! ([`footslam::pipeline::LearnedRadio`]) and its summary.
 
-use super::radio_outputs::{held_out_quantiles, write_radio_map_files};
+use super::radio_outputs::write_radio_map_files;
 use anyhow::Result;
 use footslam::geometry::LocalFrame;
 use footslam::io::RunFolder;
 use footslam::map::CellConfig;
+use footslam::model::wifi_distance::held_out_quantiles;
 use footslam::pipeline::{LearnWalk, LearnedRadio};
 use serde::Serialize;
 use std::collections::BTreeMap;

@@ -7,18 +7,17 @@
 //! rewrites the same files; `footslam merge` of the last pass's `walk-*/map.geojson` (in walk
 //! order) gives the batch's `merged.geojson`.
 
-use super::common::{output_dir, peak_memory_bytes, require_file, walk_prefix};
+use super::common::{output_dir, peak_memory_bytes, walk_prefix};
 use super::learn_args::{Args, Shard};
-use super::learn_inputs::{check_same_grid, read_found, read_manifest};
+use super::learn_inputs::{read_anchors, read_found, read_manifest};
 use super::learn_outputs::{Summary, write_walk};
 use anyhow::{Context, Result, bail};
 use footslam::filter::FootSlamConfig;
 use footslam::geometry::LocalFrame;
 use footslam::io::map_geojson::{StoredMap, read_stored_map};
-use footslam::io::{ManifestWalk, RunFolder, read_outline};
+use footslam::io::{ManifestWalk, RunFolder};
 use footslam::map::{CellConfig, HexMapSnapshot};
 use footslam::pipeline::{LearnInput, default_frame, learn_one, others_map};
-use geo::Polygon;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -47,7 +46,8 @@ pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) 
     let mine: Vec<usize> = (shard.index..all.len()).step_by(shard.count).collect();
     let found: Vec<ManifestWalk> = mine.iter().map(|&k| all[k].clone()).collect();
     let (files, walks) = read_found(found, args.gps_t0)?;
-    let (prior_map, frame, outline) = read_anchors(args, config, &all)?;
+    let frame = |prior: Option<&StoredMap>| batch_frame(args, &all, prior);
+    let (prior_map, frame, outline) = read_anchors(args, config, frame)?;
     let others = previous_priors(&args.previous, &all, &mine)?;
     let input = LearnInput {
         walks: &walks,
@@ -114,44 +114,13 @@ fn shard_folder(args: &Args, manifest: &Path, all: &[ManifestWalk]) -> Result<Ru
     Ok(folder)
 }
 
-/// The prior map, the batch's frame and the outline in it, as the whole batch reads them.
-fn read_anchors(
-    args: &Args,
-    config: &FootSlamConfig,
-    all: &[ManifestWalk],
-) -> Result<(Option<StoredMap>, LocalFrame, Option<Polygon<f64>>)> {
-    let prior_map = match &args.prior_map {
-        Some(p) => {
-            require_file(p, "prior map")?;
-            Some(read_stored_map(p)?)
-        }
-        None => None,
-    };
-    let frame = batch_frame(args, all, prior_map.as_ref())?;
-    let outline = match &args.outline {
-        Some(path) => {
-            require_file(path, "outline")?;
-            Some(read_outline(path, &frame)?)
-        }
-        None => None,
-    };
-    if let (Some(stored), Some(path)) = (&prior_map, &args.prior_map) {
-        let radius = stored.map.radius;
-        check_same_grid(path, radius, &stored.frame, config.hex_radius, &frame)?;
-    }
-    Ok((prior_map, frame, outline))
-}
-
-/// The batch's frame, the same in every shard: `--origin`, else the prior map's, else the
-/// first GPS fix of the manifest's walks in order (not only this shard's), else (0, 0).
+/// The batch's frame without `--origin`, the same in every shard: the prior map's, else
+/// the first GPS fix of the manifest's walks in order (not only this shard's), else (0, 0).
 fn batch_frame(
     args: &Args,
     all: &[ManifestWalk],
     prior_map: Option<&StoredMap>,
 ) -> Result<LocalFrame> {
-    if let Some(origin) = args.origin {
-        return Ok(origin);
-    }
     let first_with_gps: Vec<ManifestWalk> = all
         .iter()
         .filter(|w| w.gps.is_some())

@@ -7,12 +7,10 @@ use footslam::geometry::LocalFrame;
 use footslam::io::RunFolder;
 use footslam::io::radio_map_geojson::{write_radio_map_csv, write_radio_map_geojson};
 use footslam::map::{FloorPlan, RadioMap};
-use footslam::model::wifi_distance::{HeldOut, Normalisation};
 use footslam::render::plan_png::{
     ColourBar, PlanCell, PlanMarker, PlanPicture, PlanPictureConfig, viridis_rgb, write_plan_png,
 };
 use geo::Centroid;
-use std::collections::BTreeMap;
 
 /// Heatmap colours run from this RSSI (dark) to [`HEATMAP_TOP`] (bright), dBm.
 const HEATMAP_FLOOR: f64 = -96.0;
@@ -86,19 +84,4 @@ pub(super) fn write_radio_map_files(
         )?;
     }
     Ok(())
-}
-
-/// Per distance (`paper`, `sqrt`): the p50, p90, p99 and maximum of the held-out distances
-/// a map's `ε` is chosen from (`None` without any).
-pub(super) fn held_out_quantiles(held: &[HeldOut]) -> BTreeMap<&'static str, [Option<f64>; 4]> {
-    Normalisation::ALL
-        .into_iter()
-        .map(|norm| {
-            let mut d: Vec<f64> = held.iter().map(|h| h.ndist(norm)).collect();
-            d.sort_by(f64::total_cmp);
-            let q =
-                |q: f64| (!d.is_empty()).then(|| d[((d.len() - 1) as f64 * q).round() as usize]);
-            (norm.name(), [q(0.5), q(0.9), q(0.99), q(1.0)])
-        })
-        .collect()
 }

@@ -1,10 +1,11 @@
 //! `footslam simulate`: a building, a walk through it and its step trace: the single-floor
 //! office of the FootSLAM experiments, or the multi-floor tower for known-map tracking.
 
-use super::common::{output_dir, path_length, read_config, write_truth_png};
+use super::common::{output_dir, read_config, write_truth_png};
 use super::simulate_args::{Args, Building, Tour};
 use anyhow::Result;
 use footslam::geometry::LocalFrame;
+use footslam::geometry::path_length;
 use footslam::io::RunFolder;
 use footslam::io::floor_plan_geojson::write_floor_plan;
 use footslam::io::radio_truth_csv::{write_access_points, write_radio_field};

@@ -1,9 +1,10 @@
 //! `footslam simulate --building campus`: outdoor–indoor–outdoor walks of the office in its
 //! yard, with GPS fixes outdoors and the building's rough outline.
 
-use super::common::{output_dir, path_length, read_config, walk_prefix, write_truth_png};
+use super::common::{output_dir, read_config, walk_prefix, write_truth_png};
 use super::simulate_args::{Args, Sensor};
 use anyhow::Result;
+use footslam::geometry::path_length;
 use footslam::io::RunFolder;
 use footslam::io::floor_plan_geojson::write_floor_plan;
 use footslam::io::steps_csv::write_steps;

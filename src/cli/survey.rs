@@ -6,7 +6,7 @@ use super::common::{
     require_file,
 };
 use super::progress_bars::Bars;
-use super::radio_outputs::{held_out_quantiles, write_radio_map_files};
+use super::radio_outputs::write_radio_map_files;
 use anyhow::{Context, Result, bail};
 use footslam::filter::StartPose;
 use footslam::io::RunFolder;
@@ -14,6 +14,7 @@ use footslam::io::floor_plan_geojson::read_floor_plan;
 use footslam::io::radio_map_geojson::read_radio_map_geojson;
 use footslam::io::{read_steps, read_walk_manifest};
 use footslam::map::{FloorPlan, FloorTopology};
+use footslam::model::wifi_distance::held_out_quantiles;
 use footslam::pipeline::{SurveyConfig, SurveyInput, SurveyWalk, Surveyed, survey};
 use serde::Serialize;
 use std::collections::BTreeMap;

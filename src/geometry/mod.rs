@@ -11,10 +11,12 @@ pub mod alignment;
 pub mod angle;
 pub mod hex_grid;
 pub mod local_frame;
+pub mod path_length;
 pub mod pose;
 
 pub use alignment::RigidTransform;
 pub use angle::{wrap_angle, wrap_turn};
 pub use hex_grid::{Crossing, Hex, HexGrid};
 pub use local_frame::LocalFrame;
+pub use path_length::path_length;
 pub use pose::Pose2;

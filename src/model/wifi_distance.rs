@@ -147,6 +147,23 @@ impl HeldOut {
     }
 }
 
+/// Quantiles (p50, p90, p99, max) of held-out distances per distance divisor (`paper`,
+/// `sqrt`): the spread `ε` is chosen from, as `summary.json` reports it.
+pub fn held_out_quantiles(
+    held: &[HeldOut],
+) -> std::collections::BTreeMap<&'static str, [Option<f64>; 4]> {
+    Normalisation::ALL
+        .into_iter()
+        .map(|norm| {
+            let mut d: Vec<f64> = held.iter().map(|h| h.ndist(norm)).collect();
+            d.sort_by(f64::total_cmp);
+            let q =
+                |q: f64| (!d.is_empty()).then(|| d[((d.len() - 1) as f64 * q).round() as usize]);
+            (norm.name(), [q(0.5), q(0.9), q(0.99), q(1.0)])
+        })
+        .collect()
+}
+
 /// Leave-one-visit-out distances of a survey (the paper's Fig. 11, computed from the survey
 /// itself): for each `(scan, cell)` of `assignments` (in time order), the distance between
 /// the scan and its cell's fingerprint without any scan of the same visit — the run
