@@ -6,4 +6,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo test --release "$@"
-scripts/test_python.sh
+# The Python tests compare with the CLI binary the Rust tests just built.
+FOOTSLAM_BIN="$PWD/target/release/footslam" scripts/test_python.sh
