@@ -1,5 +1,7 @@
 //! FootSLAM anchored to the world (GPS, outline, maps merged across walks) on simulated
-//! outdoor–indoor–outdoor walks of the campus office, end to end through the CLI.
+//! outdoor–indoor–outdoor walks of the campus office, simulated, learned and scored through
+//! the library (`footslam::sim`, `footslam::pipeline::learn`, `footslam::eval`) as `footslam
+//! simulate --building campus` and `footslam learn` run them.
 //!
 //! * Each walk alone (six walks, each learned with four filter seeds): the absolute p95 error
 //!   of the learned path (no alignment, in the simulator's frame) is at most the p95 error of
@@ -20,14 +22,25 @@
 //!
 //! Runs use 5,000 particles (a quarter of the default) to keep the tests short.
 
-use assert_cmd::Command;
-use footslam::eval::{Alignment, position_errors};
-use footslam::io::read_trajectory;
-use rayon::prelude::*;
-use std::path::{Path, PathBuf};
+mod common;
 
-const ORIGIN: &str = "48.15,11.57";
-const PARTICLES: &str = "5000";
+use common::{
+    Anchors, learn_walks, learned_track, nearest_rank_p95, p95, recorded, recorded_fixes,
+    recorded_truth, stored, truth_track,
+};
+use footslam::eval::Alignment;
+use footslam::filter::FootSlamConfig;
+use footslam::geometry::LocalFrame;
+use footslam::io::map_geojson::StoredMap;
+use footslam::io::{TimedPoint, read_outline, write_outline};
+use footslam::pipeline::{LearnWalk, Learned, WalkRun};
+use footslam::sim::{CampusSimConfig, simulate_campus};
+use geo::Polygon;
+use rayon::prelude::*;
+
+/// The frame the campus is placed in (`--origin`).
+const ORIGIN: (f64, f64) = (48.15, 11.57);
+const PARTICLES: usize = 5000;
 /// Filter seeds per walk in the outline comparison.
 const FILTER_SEEDS: u64 = 4;
 /// "No worse": a walk's mean p95 with the outline at most this much above without, metres
@@ -35,83 +48,96 @@ const FILTER_SEEDS: u64 = 4;
 /// with the filter seed alone).
 const NO_WORSE: f64 = 1.0;
 
-fn footslam() -> Command {
-    Command::cargo_bin("footslam").expect("binary")
+fn origin() -> LocalFrame {
+    LocalFrame::new(ORIGIN.0, ORIGIN.1).expect("origin")
 }
 
-fn simulate(dir: &Path, seed: u64, walks: usize, laps: usize) -> PathBuf {
-    simulate_with(dir, seed, walks, laps, &[])
+/// A simulated walk as the tests use it: what `learn` reads of it (its steps and GPS fixes
+/// as its files record them), its truth (as `truth.csv` records it) and the p95 error of its
+/// fixes (the simulator's `gps_error_p95_m`), metres.
+struct Walk {
+    input: LearnWalk,
+    truth: Vec<TimedPoint>,
+    gps_p95: f64,
 }
 
-/// `footslam simulate --building campus` with extra `flags`, into its own folder.
-fn simulate_with(dir: &Path, seed: u64, walks: usize, laps: usize, flags: &[&str]) -> PathBuf {
-    let sim = dir.join(format!("sim-{seed}{}", flags.concat()));
-    footslam()
-        .args(["simulate", "--building", "campus", "--origin", ORIGIN])
-        .args([
-            "--seed",
-            &seed.to_string(),
-            "--walks",
-            &walks.to_string(),
-            "--laps",
-            &laps.to_string(),
-        ])
-        .args(flags)
-        .arg("--out")
-        .arg(&sim)
-        .assert()
-        .success();
-    sim
+/// A simulated campus: the building's rough outline (as `outline.geojson` records it) and
+/// the walks.
+struct Campus {
+    outline: Polygon<f64>,
+    walks: Vec<Walk>,
 }
 
-/// `footslam learn` with the tests' particles, origin and `seed`, writing to `out`.
-fn learn_command(seed: u64, out: &Path) -> Command {
-    let mut cmd = footslam();
-    cmd.args(["learn", "--particles", PARTICLES, "--origin", ORIGIN])
-        .arg("--seed")
-        .arg(seed.to_string())
-        .arg("--out")
-        .arg(out);
-    cmd
+/// The campus and its `walks` walks of `laps` laps (`footslam simulate --building campus`);
+/// `entrance_only` and `compass` as its flags.
+fn simulate(seed: u64, walks: usize, laps: usize, entrance_only: bool, compass: bool) -> Campus {
+    let mut config = CampusSimConfig {
+        seed,
+        walks,
+        walk_out: !entrance_only,
+        ..Default::default()
+    };
+    config.walk.laps = laps;
+    config.compass.enabled |= compass;
+    let sim = simulate_campus(&config, &origin()).expect("simulate");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("outline.geojson");
+    write_outline(&path, &sim.outline, &origin()).expect("write outline");
+    let outline = read_outline(&path, &origin()).expect("read outline");
+    let walks = sim
+        .walks
+        .iter()
+        .map(|w| Walk {
+            input: LearnWalk {
+                trace: recorded(&w.steps),
+                fixes: recorded_fixes(&w.gps.fixes),
+                ..Default::default()
+            },
+            truth: truth_track(&recorded_truth(&w.truth).poses),
+            gps_p95: nearest_rank_p95(&w.gps.errors),
+        })
+        .collect();
+    Campus { outline, walks }
 }
 
-/// `learn` of one walk with GPS, plus `files` given as `(flag, path)`.
-fn learn(steps: &Path, gps: &Path, out: &Path, seed: u64, files: &[(&str, &Path)]) {
-    let mut cmd = learn_command(seed, out);
-    cmd.arg("--steps").arg(steps).arg("--gps").arg(gps);
-    for (flag, path) in files {
-        cmd.arg(flag).arg(path);
-    }
-    cmd.assert().success();
+/// `learn` of walks with GPS in the campus frame with the tests' particles and `seed`, with
+/// the outline and a prior map when given.
+fn learn(
+    walks: &[LearnWalk],
+    seed: u64,
+    outline: Option<&Polygon<f64>>,
+    prior_map: Option<&StoredMap>,
+    config: FootSlamConfig,
+) -> Learned {
+    let anchors = Anchors {
+        frame: origin(),
+        outline,
+        prior_map,
+    };
+    let config = FootSlamConfig {
+        particles: PARTICLES,
+        seed,
+        ..config
+    };
+    learn_walks(walks, anchors, &config)
 }
 
-/// Absolute p95 error of a track against the truth, metres.
-fn p95(truth: &Path, track: &Path) -> f64 {
-    let truth = read_trajectory(truth).expect("truth");
-    let track = read_trajectory(track).expect("track");
-    position_errors(&truth, &track, Alignment::None)
-        .expect("errors")
-        .p95
-}
-
-/// The p95 error of walk `i`'s GPS fixes, from the simulator's summary.
-fn gps_p95(sim: &Path, i: usize) -> f64 {
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(sim.join("summary.json")).expect("summary"))
-            .expect("json");
-    summary["walks"][i]["gps_error_p95_m"]
-        .as_f64()
-        .expect("p95")
+/// Absolute p95 error of a walk's learned path against its truth, metres.
+fn walk_p95(walk: &Walk, run: &WalkRun) -> f64 {
+    p95(
+        &walk.truth,
+        &learned_track(&walk.input.trace, run),
+        Alignment::None,
+    )
 }
 
 #[test]
 #[allow(clippy::print_stderr)] // reports the figures with --nocapture
 fn outdoor_indoor_outdoor_walks_are_anchored_and_the_outline_helps() {
-    let dir = tempfile::tempdir().expect("tempdir");
     let walks: Vec<u64> = (21..=26).collect();
-    let sims: Vec<PathBuf> = walks
+    let sims: Vec<Campus> = walks
         .iter()
-        .map(|&w| simulate(dir.path(), w, 1, 3))
+        .map(|&w| simulate(w, 1, 3, false, false))
         .collect();
     // Every walk learned with four filter seeds, with and without the outline: one run's
     // p95 varies by 1–3 m with the seed alone, more than the outline changes it.
@@ -122,12 +148,11 @@ fn outdoor_indoor_outdoor_walks_are_anchored_and_the_outline_helps() {
         .par_iter()
         .map(|&(w, f, outline)| {
             let sim = &sims[w];
-            let out = dir.path().join(format!("run-{}-{f}-{outline}", walks[w]));
-            let (steps, gps) = (sim.join("steps.csv"), sim.join("gps.csv"));
-            let shape = sim.join("outline.geojson");
-            let extra = outline.then_some(("--outline", shape.as_path()));
-            learn(&steps, &gps, &out, f, extra.as_slice());
-            p95(&sim.join("truth.csv"), &out.join("track.csv"))
+            let shape = outline.then_some(&sim.outline);
+            let walk = &sim.walks[0];
+            let input = std::slice::from_ref(&walk.input);
+            let learned = learn(input, f, shape, None, Default::default());
+            walk_p95(walk, &learned.walks[0])
         })
         .collect();
     let mean_of = |w: usize, outline: bool| {
@@ -141,7 +166,7 @@ fn outdoor_indoor_outdoor_walks_are_anchored_and_the_outline_helps() {
     };
     let (mut alone_sum, mut outline_sum) = (0.0, 0.0);
     for (w, sim) in sims.iter().enumerate() {
-        let g = gps_p95(sim, 0);
+        let g = sim.walks[0].gps_p95;
         for ((_, f, outline), p) in runs.iter().zip(&p95s).filter(|((rw, ..), _)| *rw == w) {
             assert!(
                 *p <= g + 1.5,
@@ -171,50 +196,44 @@ fn outdoor_indoor_outdoor_walks_are_anchored_and_the_outline_helps() {
     );
 }
 
-/// One building's five walks: each alone (a batch), then in sequence, each walk after the
-/// first learned from the previous walk's merged map. Returns (alone p95s, sequence p95s).
-fn five_walks(dir: &Path, seed: u64) -> (Vec<f64>, Vec<f64>) {
-    five_walks_of(&simulate(dir, seed, 5, 3), dir, seed)
-}
-
-/// [`five_walks`] of the five walks simulated in `sim`.
-fn five_walks_of(sim: &Path, dir: &Path, seed: u64) -> (Vec<f64>, Vec<f64>) {
-    let tag = sim.file_name().and_then(|n| n.to_str()).unwrap_or("sim");
-    let alone = dir.join(format!("alone-{tag}"));
+/// One building's five walks (simulated in `sim`): each alone (a batch), then in sequence,
+/// each walk after the first learned from the previous walk's merged map. Returns (alone
+/// p95s, sequence p95s).
+fn five_walks_of(sim: &Campus, seed: u64) -> (Vec<f64>, Vec<f64>) {
+    let walks: Vec<LearnWalk> = sim.walks.iter().map(|w| w.input.clone()).collect();
     // Each walk alone: no FeetSLAM iterations over the batch (they would share the maps).
-    let config = dir.join("alone.toml");
-    std::fs::write(&config, "iterations = 0\n").expect("config");
-    learn_command(seed, &alone)
-        .arg("--steps")
-        .arg(sim)
-        .arg("--config")
-        .arg(&config)
-        .assert()
-        .success();
-    let walk = |k: usize| sim.join(format!("walk-{k}"));
-    let alone_errors: Vec<f64> = (1..=5)
-        .map(|k| {
-            p95(
-                &walk(k).join("truth.csv"),
-                &alone.join(format!("walk-{k}/track.csv")),
-            )
-        })
+    let alone_config = FootSlamConfig {
+        iterations: 0,
+        ..Default::default()
+    };
+    let alone = learn(&walks, seed, None, None, alone_config);
+    let alone_errors: Vec<f64> = sim
+        .walks
+        .iter()
+        .zip(&alone.walks)
+        .map(|(walk, run)| walk_p95(walk, run))
         .collect();
-    let mut prior = alone.join("walk-1/map.geojson");
+    // The first walk's map.geojson: one walk's counts.
+    let mut prior = stored(&alone.walks[0].estimate.map, origin(), 1);
     let mut sequence = vec![alone_errors[0]];
     for k in 2..=5 {
-        let out = dir.join(format!("seq-{tag}-{k}"));
-        let (steps, gps) = (walk(k).join("steps.csv"), walk(k).join("gps.csv"));
         // Walk k of the batch had seed `seed + k - 1`: the same draws, only the prior differs.
-        learn(
-            &steps,
-            &gps,
-            &out,
-            seed + k as u64 - 1,
-            &[("--prior-map", &prior)],
+        let walk = &sim.walks[k - 1];
+        let seed = seed + k as u64 - 1;
+        let learned = learn(
+            &walks[k - 1..k],
+            seed,
+            None,
+            Some(&prior),
+            Default::default(),
         );
-        sequence.push(p95(&walk(k).join("truth.csv"), &out.join("track.csv")));
-        prior = out.join("merged.geojson");
+        sequence.push(walk_p95(walk, &learned.walks[0]));
+        // Its merged.geojson: the prior and this walk's map in this walk's frame.
+        prior = stored(
+            &learned.combined.merged_with_prior[0],
+            origin(),
+            prior.walks + 1,
+        );
     }
     (alone_errors, sequence)
 }
@@ -222,11 +241,10 @@ fn five_walks_of(sim: &Path, dir: &Path, seed: u64) -> (Vec<f64>, Vec<f64>) {
 #[test]
 #[allow(clippy::print_stderr)]
 fn five_successive_walks_improve_with_merged_maps() {
-    let dir = tempfile::tempdir().expect("tempdir");
     let (mut first, mut fifth) = (0.0, 0.0);
     let seeds = [31, 32];
     for seed in seeds {
-        let (alone, sequence) = five_walks(dir.path(), seed);
+        let (alone, sequence) = five_walks_of(&simulate(seed, 5, 3, false, false), seed);
         let mean = alone.iter().sum::<f64>() / 5.0;
         eprintln!(
             "seed {seed}: walks alone p95 {alone:.2?} m (mean {mean:.2} m); in sequence {sequence:.2?} m"
@@ -249,37 +267,34 @@ fn five_successive_walks_improve_with_merged_maps() {
 #[test]
 #[allow(clippy::print_stderr)]
 fn walks_that_stay_indoors_are_anchored_by_the_entrance_with_and_without_a_compass() {
-    let dir = tempfile::tempdir().expect("tempdir");
     let walks: Vec<u64> = (41..=44).collect();
-    let variants: [&[&str]; 2] = [&["--entrance-only"], &["--entrance-only", "--compass"]];
-    let sims: Vec<(u64, usize, PathBuf)> = walks
+    // Variant 0: `--entrance-only`; variant 1: with `--compass` too.
+    let sims: Vec<(u64, usize, Campus)> = walks
         .iter()
         .flat_map(|&w| (0..2).map(move |v| (w, v)))
-        .map(|(w, v)| (w, v, simulate_with(dir.path(), w, 1, 3, variants[v])))
+        .map(|(w, v)| (w, v, simulate(w, 1, 3, true, v == 1)))
         .collect();
     let runs: Vec<(usize, bool)> = (0..sims.len())
         .flat_map(|i| [(i, false), (i, true)])
         .collect();
-    let p95s: Vec<f64> = runs
+    // Each run's p95, and where its start heading came from and the map's final heading
+    // spread (summary.json's `heading`), degrees.
+    let results: Vec<(f64, &str, f64)> = runs
         .par_iter()
         .map(|&(i, outline)| {
-            let (w, v, sim) = &sims[i];
-            let out = dir.path().join(format!("in-{w}-{v}-{outline}"));
-            let shape = sim.join("outline.geojson");
-            let extra = outline.then_some(("--outline", shape.as_path()));
-            learn(
-                &sim.join("steps.csv"),
-                &sim.join("gps.csv"),
-                &out,
-                1,
-                extra.as_slice(),
-            );
-            p95(&sim.join("truth.csv"), &out.join("track.csv"))
+            let (_, _, sim) = &sims[i];
+            let shape = outline.then_some(&sim.outline);
+            let walk = &sim.walks[0];
+            let input = std::slice::from_ref(&walk.input);
+            let learned = learn(input, 1, shape, None, Default::default());
+            let run = &learned.walks[0];
+            let spread = run.filter.heading_spread().to_degrees();
+            (walk_p95(walk, run), run.start_source, spread)
         })
         .collect();
-    for (&(i, outline), p) in runs.iter().zip(&p95s) {
+    for (&(i, outline), (p, ..)) in runs.iter().zip(&results) {
         let (w, v, sim) = &sims[i];
-        let g = gps_p95(sim, 0);
+        let g = sim.walks[0].gps_p95;
         let compass = *v == 1;
         eprintln!(
             "walk {w} (compass: {compass}, outline: {outline}): p95 {p:.2} m, GPS p95 {g:.2} m"
@@ -289,29 +304,26 @@ fn walks_that_stay_indoors_are_anchored_by_the_entrance_with_and_without_a_compa
             "walk {w} (compass: {compass}, outline: {outline}): p95 {p:.2} m > GPS {g:.2} m + 1.5 m"
         );
     }
-    // The summary says where the heading came from and how well it is known.
-    let summary: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(dir.path().join("in-41-1-true/summary.json")).expect("summary"),
-    )
-    .expect("json");
-    assert_eq!(summary["heading"]["start_source"], "compass");
-    let spread = summary["heading"]["final_sigma_deg"]
-        .as_f64()
-        .expect("spread");
+    // Where the heading came from and how well it is known: walk 41 with the compass and
+    // the outline.
+    let (_, source, spread) = results[runs
+        .iter()
+        .position(|&(i, outline)| sims[i].0 == 41 && sims[i].1 == 1 && outline)
+        .expect("run")];
+    assert_eq!(source, "compass");
     assert!(spread > 0.0 && spread < 20.0, "{spread}");
 }
 
 #[test]
 #[allow(clippy::print_stderr)]
 fn five_walks_that_stay_indoors_improve_with_merged_maps() {
-    let dir = tempfile::tempdir().expect("tempdir");
     let (mut first, mut fifth, mut gps) = (0.0, 0.0, 0.0);
     let seeds: Vec<u64> = (31..=36).collect();
     for &seed in &seeds {
-        let sim = simulate_with(dir.path(), seed, 5, 3, &["--entrance-only"]);
-        let (alone, sequence) = five_walks_of(&sim, dir.path(), seed);
+        let sim = simulate(seed, 5, 3, true, false);
+        let (alone, sequence) = five_walks_of(&sim, seed);
         let mean = alone.iter().sum::<f64>() / 5.0;
-        let g = (0..5).map(|i| gps_p95(&sim, i)).sum::<f64>() / 5.0;
+        let g = sim.walks.iter().map(|w| w.gps_p95).sum::<f64>() / 5.0;
         eprintln!(
             "seed {seed}: walks alone p95 {alone:.2?} m (mean {mean:.2} m); in sequence {sequence:.2?} m; mean GPS p95 {g:.2} m"
         );
