@@ -8,7 +8,9 @@
 mod common;
 
 use assert_cmd::Command;
-use common::{recorded, recorded_plan, recorded_radio_map, recorded_scans, smoothed_track};
+use common::{
+    in_own_pool, recorded, recorded_plan, recorded_radio_map, recorded_scans, smoothed_track,
+};
 use footslam::eval::rf_localisation::{SimulatedSurvey, radio_map_rms, simulate_survey};
 use footslam::filter::{EpsilonSource, RfConfig, RfLocaliser, RfMode, StartPose, TrackerConfig};
 use footslam::geometry::LocalFrame;
@@ -112,7 +114,7 @@ fn walk(minutes: f64, seed: u64, tour: TourKind) -> Walk {
 }
 
 /// `footslam track --radiomap` of `walk` on `topology` with `localiser` (its configuration
-/// the tracker's `rf`).
+/// the tracker's `rf`), on the calling thread's pool.
 fn track_with<'a>(
     walk: &'a Walk,
     topology: &'a FloorTopology,
@@ -154,7 +156,7 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
         earlier: &[],
     };
     let started = Instant::now();
-    let surveyed = survey(&input, &config, &Silent).expect("survey");
+    let surveyed = in_own_pool(|| survey(&input, &config, &Silent)).expect("survey");
     let steps = survey_walk.steps.steps();
     let duration = steps[steps.len() - 1].t - steps[0].t;
     let speed = duration / started.elapsed().as_secs_f64();
@@ -198,7 +200,7 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
             ..Default::default()
         };
         let localiser = localiser(&radiomap, rf).expect("localiser");
-        let run = track_with(&other, &topology, &localiser);
+        let run = in_own_pool(|| track_with(&other, &topology, &localiser));
         let steps = run.records.first_localised().map(|i| i + 1);
         eprintln!("{mode:?}: localised after {steps:?} steps");
         assert!(steps.is_some(), "{mode:?}: not localised");
@@ -213,7 +215,7 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
         ..Default::default()
     };
     let localiser_paper = localiser(&radiomap, paper).expect("localiser");
-    let run = track_with(&other, &topology, &localiser_paper);
+    let run = in_own_pool(|| track_with(&other, &topology, &localiser_paper));
     assert!(run.records.first_localised().is_some());
     assert_eq!(localiser_paper.distance(), Normalisation::Paper);
     assert!((localiser_paper.epsilon() - epsilon).abs() < 0.01);
@@ -225,7 +227,7 @@ fn a_survey_walk_covers_the_building_fast_and_the_map_localises_a_walker() {
         ..radiomap.clone()
     };
     let derived = localiser(&foreign, RfConfig::default()).expect("localiser");
-    track_with(&other, &topology, &derived);
+    in_own_pool(|| track_with(&other, &topology, &derived));
     assert_eq!(derived.distance(), Normalisation::Sqrt);
     assert_eq!(derived.epsilon_source(), EpsilonSource::Derived);
     let e = derived.epsilon();
