@@ -9,10 +9,11 @@
 //! * Three walks of the three-floor tower from their known starts (floor included): the
 //!   merged plan has one level per floor, 3 m apart, and the same precision and recall
 //!   targets hold over the three floors.
-//! * The command line on those files: `footslam eval --learned-plan` reports the library's
-//!   figures; `footslam plan` writes `plan.geojson`, `map.pgm` and `map.yaml`, the PGM read
-//!   back with the `image` crate's decoder and the YAML's fields matching the grid rebuilt
-//!   from the plan the command wrote; `learn` draws one map picture per floor.
+//! * The command line on an office walk it learns itself (few particles): `footslam eval
+//!   --learned-plan` reports the library's figures of its files; `footslam plan` writes
+//!   `plan.geojson`, `map.pgm` and `map.yaml`, the PGM read back with the `image` crate's
+//!   decoder and the YAML's fields matching the grid rebuilt from the plan the command
+//!   wrote; `learn` draws one map picture per floor.
 
 mod common;
 
@@ -20,18 +21,14 @@ use assert_cmd::Command;
 use common::{Anchors, learn_walks, learned_track, recorded, recorded_truth, truth_track};
 use footslam::eval::{Alignment, plan_overlap, position_errors};
 use footslam::filter::{FootSlamConfig, StartPose};
-use footslam::geometry::LocalFrame;
-use footslam::io::floor_plan_geojson::{read_floor_plan, write_floor_plan};
-use footslam::io::map_geojson::write_walks_map_geojson;
+use footslam::io::floor_plan_geojson::read_floor_plan;
+use footslam::io::read_trajectory;
 use footslam::io::ros_map::{FREE, OCCUPIED, UNKNOWN};
-use footslam::io::truth_csv::write_truth;
-use footslam::io::{TimedPoint, read_trajectory, write_trajectory};
 use footslam::map::{FloorPlan, HexMapSnapshot, Occupancy, OccupancyConfig, OccupancyGrid};
 use footslam::pipeline::{LearnWalk, PlanRunConfig, plan};
 use footslam::sensor::TruePath;
 use footslam::sim::{SimConfig, TowerSimConfig, simulate, simulate_tower};
 use std::path::Path;
-use std::sync::OnceLock;
 
 /// "Visited space": true walkable area within this many metres of the walks — the map's
 /// hexagon radius (0.5 m, where the feet went) plus the plan's `grow` (0.25 m, the body's
@@ -50,69 +47,40 @@ fn plan_of(map: &HexMapSnapshot) -> FloorPlan {
         .plan
 }
 
-/// Three office walks (seeds 11, 12, 13) learned as one batch with 5,000 particles: what the
-/// tests read of the run.
-struct OfficeWalks {
-    /// The true plan.
-    plan: FloorPlan,
-    /// Each walk's true path (as its `truth.csv` records it).
-    truths: Vec<TruePath>,
-    /// The first walk's learned track (its `track.csv` rows).
-    track: Vec<TimedPoint>,
-    /// The first walk's map.
-    map: HexMapSnapshot,
-    /// The walks' maps merged.
-    merged: HexMapSnapshot,
-}
-
-/// [`OfficeWalks`], learned once for the tests that read them.
-fn office_walks() -> &'static OfficeWalks {
-    static WALKS: OnceLock<OfficeWalks> = OnceLock::new();
-    WALKS.get_or_init(|| {
-        let sims: Vec<_> = [11u64, 12, 13]
-            .into_iter()
-            .map(|seed| {
-                simulate(&SimConfig {
-                    seed,
-                    ..Default::default()
-                })
-                .expect("simulate")
-            })
-            .collect();
-        let walks: Vec<LearnWalk> = sims
-            .iter()
-            .map(|s| LearnWalk {
-                trace: recorded(&s.steps),
-                ..Default::default()
-            })
-            .collect();
-        let config = FootSlamConfig {
-            particles: 5000,
-            ..Default::default()
-        };
-        let mut learned = learn_walks(&walks, Anchors::default(), &config);
-        let first = learned.walks.swap_remove(0);
-        OfficeWalks {
-            plan: sims[0].plan.clone(),
-            truths: sims.iter().map(|s| recorded_truth(&s.truth)).collect(),
-            track: learned_track(&walks[0].trace, &first),
-            map: first.estimate.map,
-            merged: learned.combined.merged.expect("a batch's merged map"),
-        }
-    })
-}
-
 #[test]
 #[allow(clippy::print_stderr)] // reports the figures with --nocapture
 fn three_office_walks_make_a_walkable_plan() {
-    let o = office_walks();
+    // Three office walks learned as one batch with 5,000 particles.
+    let sims: Vec<_> = [11u64, 12, 13]
+        .into_iter()
+        .map(|seed| {
+            simulate(&SimConfig {
+                seed,
+                ..Default::default()
+            })
+            .expect("simulate")
+        })
+        .collect();
+    let walks: Vec<LearnWalk> = sims
+        .iter()
+        .map(|s| LearnWalk {
+            trace: recorded(&s.steps),
+            ..Default::default()
+        })
+        .collect();
+    let config = FootSlamConfig {
+        particles: 5000,
+        ..Default::default()
+    };
+    let learned = learn_walks(&walks, Anchors::default(), &config);
+    let truths: Vec<TruePath> = sims.iter().map(|s| recorded_truth(&s.truth)).collect();
     // The walks start where the simulator's do, so the learned frame is the truth's up to
     // FootSLAM's drift: align by the first walk's track.
-    let aligned = position_errors(&truth_track(&o.truths[0].poses), &o.track, Alignment::Rigid)
-        .expect("errors");
+    let track = learned_track(&walks[0].trace, &learned.walks[0]);
+    let aligned =
+        position_errors(&truth_track(&truths[0].poses), &track, Alignment::Rigid).expect("errors");
     let transform = aligned.transform.expect("rigid");
-    let visited: Vec<(f64, f64, i32)> = o
-        .truths
+    let visited: Vec<(f64, f64, i32)> = truths
         .iter()
         .flat_map(|t| &t.poses)
         .map(|p| (p.x, p.y, 0))
@@ -120,7 +88,7 @@ fn three_office_walks_make_a_walkable_plan() {
     let overlap = |learned: &FloorPlan| {
         plan_overlap(
             learned,
-            &o.plan,
+            &sims[0].plan,
             &visited,
             0,
             Some(&transform),
@@ -129,33 +97,43 @@ fn three_office_walks_make_a_walkable_plan() {
         )
         .expect("overlap")
     };
-    let merged = overlap(&plan_of(&o.merged));
+    let merged = overlap(&plan_of(
+        learned.combined.merged.as_ref().expect("merged map"),
+    ));
     eprintln!("merged plan of three walks: {merged:?}");
     assert!(merged.precision >= 0.9, "{merged:?}");
     assert!(merged.recall >= 0.8, "{merged:?}");
-    let single = overlap(&plan_of(&o.map));
+    let single = overlap(&plan_of(&learned.walks[0].estimate.map));
     eprintln!("plan of walk 1: {single:?}");
     assert!(single.precision >= 0.9, "{single:?}");
 }
 
 #[test]
 fn eval_and_plan_read_a_learned_plan_and_write_a_ros_grid() {
-    let o = office_walks();
+    // One office walk simulated and learned by the command line (few particles: only the
+    // files matter here).
     let dir = tempfile::tempdir().expect("tempdir");
     let d = dir.path();
-    // The files `simulate` and `learn` write, from the run above (origin 0,0).
-    let frame = LocalFrame::default();
+    let sim = d.join("sim");
+    footslam()
+        .args(["simulate", "--building", "office", "--seed", "11", "--out"])
+        .arg(&sim)
+        .assert()
+        .success();
+    let learned = d.join("learn");
+    footslam()
+        .args(["learn", "--particles", "1000", "--steps"])
+        .arg(sim.join("steps.csv"))
+        .arg("--out")
+        .arg(&learned)
+        .assert()
+        .success();
     let (truth, track, floor) = (
-        d.join("truth.csv"),
-        d.join("track.csv"),
-        d.join("floor.geojson"),
+        sim.join("truth.csv"),
+        learned.join("track.csv"),
+        sim.join("floor.geojson"),
     );
-    let (merged_plan, merged_map) = (d.join("merged_plan.geojson"), d.join("merged.geojson"));
-    write_truth(&truth, &o.truths[0]).expect("truth");
-    write_trajectory(&track, o.track.iter().copied()).expect("track");
-    write_floor_plan(&floor, &o.plan, &frame).expect("plan");
-    write_floor_plan(&merged_plan, &plan_of(&o.merged), &frame).expect("merged plan");
-    write_walks_map_geojson(&merged_map, &o.merged, &frame, 3).expect("merged map");
+    let (learned_plan, learned_map) = (learned.join("plan.geojson"), learned.join("map.geojson"));
 
     // `footslam eval --learned-plan` reports the overlap the library computes of the files.
     let assert = footslam()
@@ -166,7 +144,7 @@ fn eval_and_plan_read_a_learned_plan_and_write_a_ros_grid() {
         .arg("--plan")
         .arg(&floor)
         .arg("--learned-plan")
-        .arg(&merged_plan)
+        .arg(&learned_plan)
         .assert()
         .success();
     let json: serde_json::Value =
@@ -183,7 +161,7 @@ fn eval_and_plan_read_a_learned_plan_and_write_a_ros_grid() {
     .expect("rigid");
     let visited: Vec<(f64, f64, i32)> = truth_points.iter().map(|p| (p.x, p.y, 0)).collect();
     let expected = plan_overlap(
-        &read_plan(&merged_plan),
+        &read_plan(&learned_plan),
         &read_plan(&floor),
         &visited,
         0,
@@ -203,7 +181,7 @@ fn eval_and_plan_read_a_learned_plan_and_write_a_ros_grid() {
     let out = d.join("plan");
     footslam()
         .args(["plan", "--map"])
-        .arg(&merged_map)
+        .arg(&learned_map)
         .args(["--resolution", "0.1", "--out"])
         .arg(&out)
         .assert()
