@@ -8,7 +8,7 @@ use crate::tables::Table;
 use footslam::geometry::LocalFrame;
 use footslam::map::{FloorPlan, RadioMap};
 use footslam::pipeline::SAME_ORIGIN_M;
-use footslam::sensor::{GpsFix, StepTrace, WifiScan};
+use footslam::sensor::{GpsFix, StepTrace, WifiScan, scans_off_clock};
 use pyo3::PyResult;
 
 /// Below this share of a WiFi log's scans hearing an access point of the radio map, `track`
@@ -23,15 +23,8 @@ pub(crate) fn read_scans(table: &Table, trace: &StepTrace) -> PyResult<Vec<WifiS
     let (Some(first), Some(last)) = (steps.first(), steps.last()) else {
         return Ok(scans);
     };
-    let (a, b) = (first.t, last.t);
-    if !scans.iter().any(|s| s.t >= a && s.t <= b) {
-        return Err(fail(format!(
-            "{}: no scan falls within the walk's time span [{a}, {b}] s (scans run from {} to \
-             {} s): the WiFi log and the step trace must share one clock",
-            table.label(),
-            scans.first().map_or(f64::NAN, |s| s.t),
-            scans.last().map_or(f64::NAN, |s| s.t)
-        )));
+    if let Some(problem) = scans_off_clock(&scans, first.t, last.t) {
+        return Err(fail(format!("{}: {problem}", table.label())));
     }
     Ok(scans)
 }

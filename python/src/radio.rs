@@ -11,7 +11,7 @@ use footslam::io::floor_plan_geojson::floor_plan_to_geojson;
 use footslam::io::radio_map_geojson::radio_map_to_geojson;
 use footslam::map::{CellConfig, PlanConfig};
 use footslam::pipeline::learned_radio_map;
-use footslam::sensor::WifiScan;
+use footslam::sensor::{WifiScan, scans_off_clock};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -84,12 +84,8 @@ pub(crate) fn radio_map<'py>(
         let scans = table(log, &WIFI, &format!("wifi[{i}]"))?
             .wifi()
             .map_err(py_error)?;
-        let (a, b) = (t[0], t[t.len() - 1]);
-        if !scans.iter().any(|s| s.t >= a && s.t <= b) {
-            return Err(fail(format!(
-                "wifi[{i}]: no scan falls within the walk's time span [{a}, {b}] s: the WiFi \
-                 log and the track must share one clock"
-            )));
+        if let Some(problem) = scans_off_clock(&scans, t[0], t[t.len() - 1]) {
+            return Err(fail(format!("wifi[{i}]: {problem}")));
         }
         let path = t
             .iter()

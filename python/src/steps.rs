@@ -5,7 +5,7 @@ use crate::outputs::{Column, columns, json_object, points3};
 use crate::tables::{self, IMU};
 use crate::{Warnings, detached, fail, py_error, with_context};
 use footslam::inertial::frame_check::{axes_flag, parse_axes};
-use footslam::inertial::{FrameFinding, Mount, StepsConfig};
+use footslam::inertial::{Mount, StepsConfig};
 use footslam::io::ImuUnits;
 use footslam::pipeline::{FrameVerdict, StepsRun};
 use footslam::sensor::SamplingReport;
@@ -169,15 +169,9 @@ fn frame_warnings(
         Some(flip) => format!(" (after gyro_flip=\"{}\")", axes_flag(flip)),
         None => String::new(),
     };
-    match verdict {
-        FrameVerdict::Fine => Ok(Vec::new()),
-        FrameVerdict::Warn(f @ FrameFinding::MirroredGyro { .. }) => Ok(vec![format!(
-            "{}{flipped} (the heading comes from the orientation quaternion, unaffected)",
-            f.message()
-        )]),
-        FrameVerdict::Warn(f) => Ok(vec![f.message()]),
-        FrameVerdict::Reject(f) => Err(fail(format!("{label}: {}{flipped}", f.message()))),
-    }
+    verdict
+        .messages(&flipped)
+        .map_err(|problem| fail(format!("{label}: {problem}")))
 }
 
 /// `summary.json`'s figures.

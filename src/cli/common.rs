@@ -6,7 +6,7 @@ use footslam::io::read_wifi;
 use footslam::io::steps_csv::has_dz_column;
 use footslam::map::FloorPlan;
 use footslam::map::RadioMap;
-use footslam::sensor::{StepTrace, WifiScan};
+use footslam::sensor::{StepTrace, WifiScan, scans_off_clock};
 use std::path::{Path, PathBuf};
 
 /// Two local frames whose origins are closer than this are the same, metres.
@@ -242,15 +242,8 @@ pub fn read_scans(path: &Path, trace: &StepTrace) -> Result<Vec<WifiScan>> {
     let (Some(first), Some(last)) = (steps.first(), steps.last()) else {
         return Ok(scans);
     };
-    let (a, b) = (first.t, last.t);
-    if !scans.iter().any(|s| s.t >= a && s.t <= b) {
-        bail!(
-            "{}: no scan falls within the walk's time span [{a}, {b}] s (scans run from {} to \
-             {} s): the WiFi log and the step trace must share one clock",
-            path.display(),
-            scans.first().map_or(f64::NAN, |s| s.t),
-            scans.last().map_or(f64::NAN, |s| s.t)
-        );
+    if let Some(problem) = scans_off_clock(&scans, first.t, last.t) {
+        bail!("{}: {problem}", path.display());
     }
     Ok(scans)
 }

@@ -4,7 +4,7 @@
 use super::common::{output_dir, read_config, require_file};
 use anyhow::{Context, Result};
 use footslam::inertial::frame_check::axes_flag;
-use footslam::inertial::{FrameFinding, HeadingSource, Mount, StepsConfig};
+use footslam::inertial::{HeadingSource, Mount, StepsConfig};
 use footslam::io::RunFolder;
 use footslam::io::{ImuUnits, read_imu_in, steps_csv::write_steps};
 use footslam::map::hex_transitions::HexMapSnapshot;
@@ -144,17 +144,9 @@ fn frame_warnings(args: &Args, verdict: FrameVerdict) -> Result<Vec<String>> {
         Some(flip) => format!(" (after --gyro-flip {})", axes_flag(flip)),
         None => String::new(),
     };
-    match verdict {
-        FrameVerdict::Fine => Ok(Vec::new()),
-        FrameVerdict::Warn(f @ FrameFinding::MirroredGyro { .. }) => Ok(vec![format!(
-            "{}{flipped} (the heading comes from the orientation quaternion, unaffected)",
-            f.message()
-        )]),
-        FrameVerdict::Warn(f) => Ok(vec![f.message()]),
-        FrameVerdict::Reject(f) => {
-            anyhow::bail!("{}: {}{flipped}", args.imu.display(), f.message())
-        }
-    }
+    verdict
+        .messages(&flipped)
+        .map_err(|problem| anyhow::anyhow!("{}: {problem}", args.imu.display()))
 }
 
 fn write_outputs(

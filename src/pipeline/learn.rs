@@ -104,13 +104,7 @@ pub fn learn(
     // 1. prior
     let base = base_prior(input, config);
     // 2. walks
-    let shared = Shared {
-        config,
-        frame: &input.frame,
-        prior: &base.prior,
-        prior_map: input.prior_map.map(|m| &m.map),
-        prior_walks: base.prior_map_walks,
-    };
+    let shared = base.shared(input, config);
     let (walks, iterations) = learn_batch(input.walks, &shared, progress)?;
     let estimates: Vec<&FootSlamEstimate> = walks.iter().map(|r| &r.estimate).collect();
     let combined = combine(input, &estimates)?;
@@ -189,6 +183,19 @@ struct BasePrior {
     prior_map_walks: u32,
 }
 
+impl BasePrior {
+    /// What every walk of `input`'s run shares.
+    fn shared<'a>(&'a self, input: &'a LearnInput, config: &'a FootSlamConfig) -> Shared<'a> {
+        Shared {
+            config,
+            frame: &input.frame,
+            prior: &self.prior,
+            prior_map: input.prior_map.map(|m| &m.map),
+            prior_walks: self.prior_map_walks,
+        }
+    }
+}
+
 /// Stage 1: the Dirichlet prior every walk of the run starts from.
 fn base_prior(input: &LearnInput, config: &FootSlamConfig) -> BasePrior {
     let grid = HexGrid::new(config.hex_radius);
@@ -227,13 +234,7 @@ pub fn learn_one(
 ) -> Result<WalkRun> {
     config.validate()?;
     let base = base_prior(input, config);
-    let shared = Shared {
-        config,
-        frame: &input.frame,
-        prior: &base.prior,
-        prior_map: input.prior_map.map(|m| &m.map),
-        prior_walks: base.prior_map_walks,
-    };
+    let shared = base.shared(input, config);
     let prior = walk_prior(&base.prior, others, config.prior_weight);
     // A walk alone reports its steps in `learn`; a task of a batch does not.
     learn_walk_at(walk, index, &shared, &prior, None)

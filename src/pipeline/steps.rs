@@ -74,6 +74,23 @@ impl StepsRun {
     }
 }
 
+impl FrameVerdict {
+    /// The verdict in words: `Ok` with the warnings to show (none when fine), or `Err` with
+    /// why the output would be wrong. `flipped` follows the finding's message (e.g. how the
+    /// caller flipped the gyroscope, `""` when it did not).
+    pub fn messages(self, flipped: &str) -> std::result::Result<Vec<String>, String> {
+        match self {
+            Self::Fine => Ok(Vec::new()),
+            Self::Warn(f @ FrameFinding::MirroredGyro { .. }) => Ok(vec![format!(
+                "{}{flipped} (the heading comes from the orientation quaternion, unaffected)",
+                f.message()
+            )]),
+            Self::Warn(f) => Ok(vec![f.message()]),
+            Self::Reject(f) => Err(format!("{}{flipped}", f.message())),
+        }
+    }
+}
+
 /// Detects the steps of `recording` as `mount`, in the stages of the [module](self).
 pub fn steps(recording: &ImuRecording, mount: Mount, config: &StepsConfig) -> Result<StepsRun> {
     config.validate()?;
