@@ -5,7 +5,12 @@ Simulates 5 office buildings × 20 one-lap walks with the CLI (target/release/fo
 then runs footslam.batch.run_batch on a LocalCluster of 1 and of 2 single-thread worker
 processes and prints walks per second; the maps of both runs must be equal.
 
-Usage: python3 scripts/batch_throughput.py [PARTICLES]   (default 1000)
+Usage: python3 scripts/batch_throughput.py [PARTICLES]   (default 5000)
+
+5,000 particles (a quarter of FootSLAM's default) make each walk-learning task about half a
+second on one core, small beside a real walk's, yet large enough that the runner's own work
+per task (Dask's scheduling, the tasks' Python) does not dominate; with 1,000 it shows
+(BENCHMARKS.md gives both).
 """
 
 import subprocess
@@ -42,7 +47,7 @@ def make(root: Path) -> Path:
 
 
 def main() -> None:
-    particles = int(sys.argv[1]) if len(sys.argv) > 1 else 1000
+    particles = int(sys.argv[1]) if len(sys.argv) > 1 else 5000
     with tempfile.TemporaryDirectory() as tmp:
         manifest = make(Path(tmp))
         merged = {}

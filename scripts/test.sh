@@ -5,6 +5,8 @@
 # including the Dask batch runner on a local cluster).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo test --release "$@"
+# --workspace: the features of the Python package's dependencies (pyo3, numpy) join the
+# tests' build, so the wheel's build below reuses the compiled library (python/Cargo.toml).
+cargo test --release --workspace "$@"
 # The Python tests compare with the CLI binary the Rust tests just built.
 FOOTSLAM_BIN="$PWD/target/release/footslam" scripts/test_python.sh

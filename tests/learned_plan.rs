@@ -336,8 +336,11 @@ fn sim_start(sim: &Path) -> String {
 #[allow(clippy::print_stderr)] // reports the figures with --nocapture
 fn three_tower_walks_make_one_plan_level_per_floor() {
     // Three walks of the three-floor tower, each from its known start (floor included),
-    // learned into one frame with the default particles (20,000): the merged plan has one
-    // level per floor, and each learned level matches its true floor.
+    // learned into one frame with the default particles (20,000) and merged: the merged
+    // plan has one level per floor, and each learned level matches its true floor. Each
+    // walk is learned alone (no FeetSLAM passes: tests/feetslam.rs tests those): the
+    // passes cost two thirds of this test's time and moved its figures by less than their
+    // spread (precision 0.946 / recall 0.829 alone, 0.953 / 0.818 after two passes).
     let sims: Vec<_> = [1u64, 2, 3]
         .into_iter()
         .map(|seed| {
@@ -361,7 +364,11 @@ fn three_tower_walks_make_one_plan_level_per_floor() {
             ..Default::default()
         })
         .collect();
-    let learned = learn_walks(&walks, Anchors::default(), &FootSlamConfig::default());
+    let config = FootSlamConfig {
+        iterations: 0,
+        ..Default::default()
+    };
+    let learned = learn_walks(&walks, Anchors::default(), &config);
     let plan = plan_of(learned.combined.merged.as_ref().expect("merged map"));
     let mut levels: Vec<i32> = plan.polygons.iter().map(|p| p.level).collect();
     levels.sort_unstable();

@@ -13,7 +13,7 @@ Dask (not Ray) because its futures graph is what this is — tasks that pass res
 tasks, reductions over lists of futures — with no actor or object-store model to learn, the
 same code on a ``LocalCluster`` and a real scheduler (``Client("tcp://host:8786")``), and
 the PyData stack (pandas, geopandas) its users already run. The Rust code releases the GIL,
-so worker threads run filters in parallel.
+so worker threads run filters in parallel, each filter on one thread by default.
 
 The manifest is a CSV, paths relative to it::
 
@@ -182,6 +182,7 @@ def run_batch(
     particles: int | None = None,
     origin: tuple[float, float] | None = None,
     cell: float | None = None,
+    threads: int | None = 1,
 ) -> dict[str, dict]:
     """Runs the manifest's buildings on a Dask ``client`` and waits for them.
 
@@ -192,6 +193,10 @@ def run_batch(
         config, seed, particles: FootSLAM's configuration and overrides, as ``learn``'s.
         origin: the WGS84 ``(lat, lon)`` of every building's local frame (default 0, 0).
         cell: radio-map cell granularity, metres (default 3).
+        threads: threads each walk's filter runs on (default 1: the cluster's workers and
+            their threads are the parallelism, one filter per worker thread, so that filters
+            do not compete for cores; ``None``: a pool of one thread per core in each
+            worker). Results do not depend on it.
 
     Returns:
         per building (manifest order): ``walks`` (each walk's result, as
@@ -200,7 +205,10 @@ def run_batch(
         WiFi, ``radio_map`` and ``radio_plan``.
     """
     buildings = read_manifest(manifest)
-    learn_args = {"config": config, "seed": seed, "particles": particles, "origin": origin}
+    learn_args = {
+        "config": config, "seed": seed, "particles": particles, "origin": origin,
+        "threads": threads,
+    }
     futures = {}
     for name, walks in buildings.items():
         known = all(w.start is not None for w in walks)
