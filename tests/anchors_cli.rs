@@ -146,7 +146,11 @@ fn bad_gps_outline_and_prior_maps_are_explained() {
         &dir.path().join("a"),
         &["--prior-map", map_arg, "--hex-radius", "0.6"],
     ));
-    assert!(err.contains("radius"), "{err}");
+    assert!(
+        err.contains("hexagons of radius")
+            && err.contains("this run uses 0.6 m: pass --hex-radius"),
+        "{err}"
+    );
     let other = dir.path().join("other");
     learn(&sim, &other, &["--origin", "48.2,11.57"]).success();
     let err = stderr(

@@ -156,3 +156,17 @@ def test_bad_geojson_and_arguments(sim):
         footslam.survey(tower / "floor.geojson", [(tower / "steps.csv", wifi)])
     with pytest.raises(footslam.FootslamError, match="2 gps entries for 1 walks|list of one"):
         footslam.learn([STEPS], gps=[None, None])
+
+
+def test_inputs_that_do_not_belong_together():
+    # Each input is valid alone; together they are of another grid or another clock.
+    learned = footslam.learn(STEPS, particles=50, seed=1)
+    prior = learned["walks"][0]["map"]
+    with pytest.raises(footslam.FootslamError) as grid:
+        footslam.learn(STEPS, particles=50, prior_map=prior, hex_radius=0.6)
+    assert "hexagons of radius 0.5 m, but this run uses 0.6 m: pass hex_radius=0.5" in str(
+        grid.value
+    )
+    late = {"t": [5000.0, 5001.0], "lat": [48.1, 48.1], "lon": [11.5, 11.5]}
+    with pytest.raises(footslam.FootslamError, match="gps: no fix falls within the walk's time span"):
+        footslam.learn(STEPS, particles=50, gps=late)

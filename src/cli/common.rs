@@ -6,11 +6,11 @@ use footslam::io::read_wifi;
 use footslam::io::steps_csv::has_dz_column;
 use footslam::map::FloorPlan;
 use footslam::map::RadioMap;
+use footslam::pipeline::{ScanMatch, missing_height_changes};
 use footslam::sensor::{StepTrace, WifiScan, scans_off_clock};
 use std::path::{Path, PathBuf};
 
-/// Two local frames whose origins are closer than this are the same, metres.
-pub const SAME_ORIGIN: f64 = 1e-3;
+pub use footslam::pipeline::SAME_ORIGIN_M as SAME_ORIGIN;
 
 /// Parses `LAT,LON` (degrees).
 pub fn parse_origin(s: &str) -> Result<LocalFrame, String> {
@@ -174,41 +174,30 @@ pub fn warn(message: &str) {
     eprintln!("warning: {message}");
 }
 
-/// Below this share of a WiFi log's scans hearing an access point of the radio map, `track`
-/// warns: the log is mostly of somewhere the map does not cover.
-pub const MIN_MATCHED_SHARE: f64 = 0.5;
-
 /// Checks that a WiFi log and a radio map are of one building: an error when no scan hears
-/// an access point of the map, a warning when fewer than [`MIN_MATCHED_SHARE`] do. Returns
-/// how many scans matched.
+/// an access point of the map, a warning when fewer than half do
+/// ([`footslam::pipeline::MIN_MATCHED_SHARE`]). Returns how many scans matched.
 pub fn check_scans_match(
     map: &RadioMap,
     scans: &[WifiScan],
     map_path: &Path,
     wifi_path: &Path,
 ) -> Result<usize> {
-    let matched = map.scans_matched(scans);
-    let share = matched as f64 / scans.len().max(1) as f64;
-    if matched == 0 {
+    let found = ScanMatch::of(map, scans);
+    if let Some(problem) = found.unmatched() {
         bail!(
-            "{} and {}: none of the log's {} scans hears an access point of the radio map: \
-             they are of different buildings (or the BSSIDs were renamed)",
+            "{} and {}: {problem}",
             wifi_path.display(),
-            map_path.display(),
-            scans.len()
+            map_path.display()
         );
     }
-    if share < MIN_MATCHED_SHARE {
-        warn(&format!(
-            "only {matched} of {} scans of {} ({:.0} %) hear an access point of {}: the rest \
-             cannot be placed by the radio map",
-            scans.len(),
-            wifi_path.display(),
-            100.0 * share,
-            map_path.display()
-        ));
+    if let Some(warning) = found.warning(
+        &wifi_path.display().to_string(),
+        &map_path.display().to_string(),
+    ) {
+        warn(&warning);
     }
-    Ok(matched)
+    Ok(found.matched)
 }
 
 /// On a plan of several levels the steps must carry height changes (`dz`): without them
@@ -220,15 +209,13 @@ pub fn check_height_changes(
     plan: &FloorPlan,
     one_floor: bool,
 ) -> Result<()> {
-    let levels = plan.levels().len();
-    if levels > 1 && !one_floor && !has_dz_column(steps_path)? {
+    // Only a plan of several levels needs the steps' file read again for its header.
+    let has_dz = plan.levels().len() <= 1 || one_floor || has_dz_column(steps_path)?;
+    let plan_label = plan_path.display().to_string();
+    if let Some(problem) = missing_height_changes(plan, &plan_label, has_dz, one_floor) {
         bail!(
-            "{}: no `dz` column, but {} has {levels} levels: the steps' height changes are \
-             what moves the walk between floors; add `dz` (footslam steps writes it from the \
-             barometer or the foot's height), or pass --one-floor if the walk stays on its \
-             start floor",
-            steps_path.display(),
-            plan_path.display()
+            "{}: {problem}, or pass --one-floor if the walk stays on its start floor",
+            steps_path.display()
         );
     }
     Ok(())

@@ -1,7 +1,7 @@
 //! The inputs of `footslam learn`: walks from files and folders, their GPS fixes and WiFi
 //! logs, the prior map and outline, and the check that a prior map lies on the run's grid.
 
-use super::common::{SAME_ORIGIN, read_scans, require_file};
+use super::common::{read_scans, require_file};
 use super::learn_args::Args;
 use anyhow::{Context, Result, bail};
 use footslam::filter::{FootSlamConfig, StartPose};
@@ -10,7 +10,7 @@ use footslam::io::map_geojson::{StoredMap, read_stored_map};
 use footslam::io::{
     ManifestWalk, read_gps_csv, read_gpx, read_outline, read_steps, read_walk_manifest,
 };
-use footslam::pipeline::LearnWalk;
+use footslam::pipeline::{GridMismatch, LearnWalk, fixes_off_clock, grid_mismatch};
 use footslam::sensor::{GpsFix, StepTrace};
 use geo::Polygon;
 use std::path::{Path, PathBuf};
@@ -206,19 +206,16 @@ pub(super) fn read_fixes(path: &Path, t0: Option<f64>, trace: &StepTrace) -> Res
         read_gps_csv(path)?
     };
     let steps = trace.steps();
-    let (a, b) = (steps[0].t, steps[steps.len() - 1].t);
-    if !fixes.iter().any(|f| f.t >= a - 60.0 && f.t <= b) {
+    let (Some(first), Some(last)) = (steps.first(), steps.last()) else {
+        return Ok(fixes);
+    };
+    if let Some(problem) = fixes_off_clock(&fixes, first.t, last.t) {
         let hint = if is_gpx {
             "; pass --gps-t0 with the UTC time of the steps' t = 0"
         } else {
             ""
         };
-        bail!(
-            "{}: no fix falls within the walk's time span [{a}, {b}] s (fixes run from {} to {} s){hint}",
-            path.display(),
-            fixes[0].t,
-            fixes[fixes.len() - 1].t
-        );
+        bail!("{}: {problem}{hint}", path.display());
     }
     Ok(fixes)
 }
@@ -231,27 +228,17 @@ pub(super) fn check_same_grid(
     run_radius: f64,
     frame: &LocalFrame,
 ) -> Result<()> {
-    if (radius - run_radius).abs() > 1e-9 {
-        bail!(
-            "{}: hexagons of radius {radius} m, but this run uses {run_radius} m: pass --hex-radius {radius}",
-            path.display()
-        );
-    }
-    let off = frame.distance_to(map_frame);
-    if off > SAME_ORIGIN {
-        bail!(
-            "{}: its origin ({}, {}) lies {off:.3} m from this run's ({}, {}); hexagons of \
-             different origins do not line up: pass --origin {},{} (or leave --origin out)",
-            path.display(),
-            map_frame.lat,
-            map_frame.lon,
-            frame.lat,
-            frame.lon,
-            map_frame.lat,
-            map_frame.lon
-        );
-    }
-    Ok(())
+    let Some(mismatch) = grid_mismatch(radius, map_frame, run_radius, frame) else {
+        return Ok(());
+    };
+    let fix = match mismatch {
+        GridMismatch::Radius { map, .. } => format!("pass --hex-radius {map}"),
+        GridMismatch::Origin { map, .. } => format!(
+            "pass --origin {},{} (or leave --origin out)",
+            map.lat, map.lon
+        ),
+    };
+    bail!("{}: {mismatch}: {fix}", path.display())
 }
 
 /// The prior map, the run's frame and the outline in it.

@@ -2,12 +2,10 @@
 //! edge counts summed with weights (FeetSLAM's combination; counts are associative sums, so
 //! maps learned apart — on other threads, machines or days — merge as if learned together).
 
+use super::input_checks::SAME_ORIGIN_M;
 use crate::io::map_geojson::StoredMap;
 use crate::map::merge_maps;
 use crate::{Error, Result};
-
-/// Two local frames whose origins are closer than this are the same, metres.
-pub const SAME_ORIGIN_M: f64 = 1e-3;
 
 /// Merges `maps`, each with its weight (a map of weight 0 is left out; its walks do not
 /// count), into one map in their frame, holding the walks of the maps that count. An error

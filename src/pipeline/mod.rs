@@ -2,6 +2,8 @@
 //! kiss-icp's pipeline reads): what the command line, the Python package and the batch
 //! runner call. Pipelines read no files, print nothing, and report through [`Progress`].
 //!
+//! * [`input_checks`] — whether a run's inputs belong together (one clock, one grid, one
+//!   building, floors the steps can change), for the faces to check before they call one.
 //! * [`learn`](mod@learn) — FootSLAM on one walk or a batch, with GPS, an outline and a prior map
 //!   (prior, walks, merge, radio).
 //! * [`merge`](mod@merge) — maps of several walks in one frame combined (their counts summed).
@@ -11,6 +13,7 @@
 //!   calibrate, coverage).
 //! * [`track`](mod@track) — one walk on a known floor plan (prior, steps, smoothing).
 
+pub mod input_checks;
 pub mod learn;
 mod learn_walks;
 pub mod merge;
@@ -21,11 +24,15 @@ pub mod survey;
 pub mod track;
 mod track_records;
 
+pub use input_checks::{
+    GridMismatch, MIN_MATCHED_SHARE, SAME_ORIGIN_M, ScanMatch, fixes_off_clock, grid_mismatch,
+    missing_height_changes,
+};
 pub use learn::{
     Combined, LearnInput, LearnWalk, Learned, LearnedRadio, WalkRun, combine, default_frame,
     feetslam_passes, learn, learn_one, learned_radio_map, others_map,
 };
-pub use merge::{SAME_ORIGIN_M, merge};
+pub use merge::merge;
 pub use plan::{PlanRunConfig, Planned, plan};
 pub use progress::{Progress, Silent};
 pub use steps::{DetectorFigures, FrameVerdict, StepsRun, steps};
