@@ -6,7 +6,7 @@ of 1-D numpy arrays, one per column; maps and plans are GeoJSON dicts.
 """
 
 import os
-from typing import Any, Mapping, Optional, Sequence, Tuple, TypedDict, Union
+from typing import Any, Callable, Mapping, Optional, Sequence, Tuple, TypedDict, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -140,6 +140,10 @@ class SurveyResult(TypedDict):
     summary: dict[str, Any]
     config: dict[str, Any]
 
+#: ``progress(stage, done, total)``: told of a run's progress (learn, track, survey).
+ProgressCallback = Callable[[str, int, int], object]
+
+
 def steps(
     imu: Table,
     mount: str,
@@ -174,6 +178,7 @@ def learn(
     cell: Optional[float] = None,
     gps_t0: Optional[float] = None,
     threads: Optional[int] = None,
+    progress: Optional[ProgressCallback] = None,
 ) -> LearnResult:
     """Learns the map of one walk, or of a list of walks (FootSLAM; ``footslam learn``).
 
@@ -243,6 +248,7 @@ def track(
     rf_epsilon: Optional[float] = None,
     rf_every_step: bool = False,
     threads: Optional[int] = None,
+    progress: Optional[ProgressCallback] = None,
 ) -> TrackResult:
     """Tracks one walk on a known floor plan (``footslam track``); with ``wifi`` and
     ``radio_map``, RF-assisted."""
@@ -259,6 +265,7 @@ def survey(
     one_floor: bool = False,
     merge: Optional[Sequence[GeoJson]] = None,
     threads: Optional[int] = None,
+    progress: Optional[ProgressCallback] = None,
 ) -> SurveyResult:
     """A WiFi radio map from walks tracked on a known plan (``footslam survey``)."""
 

@@ -5,7 +5,7 @@ use crate::inputs::{self, Document};
 use crate::learn_inputs::{Args, read_inputs};
 use crate::learn_outputs::{learn_out, walk_out};
 use crate::outputs::json_object;
-use crate::{Warnings, detached, py_error};
+use crate::{Reporter, detached, py_error};
 use footslam::filter::{FootSlamConfig, StartPose};
 use footslam::pipeline::LearnWalk;
 use pyo3::prelude::*;
@@ -39,6 +39,10 @@ use pyo3::types::PyDict;
 ///     cell: radio-map cell granularity with WiFi, metres (default 3).
 ///     gps_t0: UTC time (Unix seconds) of the steps' ``t = 0`` for GPX files.
 ///     threads: worker threads (default: one per core); results do not depend on it.
+///     progress: a callable ``progress(stage, done, total)`` told of the run's progress
+///         from its start (``done`` 0) to its end (``done == total``), at most a few hundred
+///         times a stage — a tqdm bar or a log line (default: none). An exception it
+///         raises is raised when the run is over.
 ///
 /// Returns:
 ///     dict: ``walks`` — per walk a dict with ``track`` (columns ``t, x, y, z, level``: the
@@ -58,7 +62,7 @@ use pyo3::types::PyDict;
 #[pyo3(signature = (
     steps, *, gps=None, wifi=None, start=None, prior_map=None, outline=None, origin=None,
     config=None, seed=None, particles=None, hex_radius=None, prior_weight=None,
-    ignore_heading=false, cell=None, gps_t0=None, threads=None
+    ignore_heading=false, cell=None, gps_t0=None, threads=None, progress=None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn learn<'py>(
@@ -79,6 +83,7 @@ pub(crate) fn learn<'py>(
     cell: Option<f64>,
     gps_t0: Option<f64>,
     threads: Option<usize>,
+    progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let args = Args {
         steps,
@@ -98,7 +103,7 @@ pub(crate) fn learn<'py>(
         gps_t0,
     };
     let inputs = read_inputs(py, &args, false)?;
-    let warnings = Warnings::default();
+    let warnings = Reporter::new(progress)?;
     let out = detached(py, threads, || {
         let learned = footslam::pipeline::learn(&inputs.input(), &inputs.config, &warnings)
             .map_err(py_error)?;

@@ -16,9 +16,7 @@
 //! * [`track`](track::track) — one walk on a known floor plan
 //! * [`survey`](survey::survey) — a WiFi radio map from walks on a known plan
 
-use footslam::pipeline::Progress;
 use pyo3::prelude::*;
-use std::sync::Mutex;
 
 mod checks;
 mod inputs;
@@ -28,10 +26,13 @@ mod learn_outputs;
 mod maps;
 mod outputs;
 mod radio;
+mod report;
 mod steps;
 mod survey;
 mod tables;
 mod track;
+
+pub(crate) use report::Reporter;
 
 pyo3::create_exception!(
     footslam,
@@ -73,42 +74,6 @@ pub(crate) fn with_context(context: impl std::fmt::Display) -> impl Fn(footslam:
     move |error| match error {
         footslam::Error::Io { .. } => py_error(error),
         other => fail(format!("{context}: {other}")),
-    }
-}
-
-/// Progress that keeps a pipeline's warnings, to be issued as Python warnings once the run
-/// is over (the GIL is released while it runs).
-#[derive(Default)]
-pub(crate) struct Warnings(Mutex<Vec<String>>);
-
-impl Progress for Warnings {
-    fn warn(&self, message: &str) {
-        if let Ok(mut list) = self.0.lock() {
-            list.push(message.to_owned());
-        }
-    }
-}
-
-impl Warnings {
-    /// Adds a warning of this crate's own checks.
-    pub(crate) fn push(&self, message: String) {
-        self.warn(&message);
-    }
-
-    /// Issues the warnings kept as [`FootslamWarning`]s.
-    pub(crate) fn emit(&self, py: Python<'_>) -> PyResult<()> {
-        let list = match self.0.lock() {
-            Ok(mut list) => std::mem::take(&mut *list),
-            Err(_) => Vec::new(),
-        };
-        let warnings = py.import("warnings")?;
-        let category = py.get_type::<FootslamWarning>();
-        for message in list {
-            // stacklevel 1: called from native code, the nearest Python frame is the caller of
-            // the footslam function.
-            warnings.call_method1("warn", (message, &category, 1))?;
-        }
-        Ok(())
     }
 }
 

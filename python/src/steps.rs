@@ -3,7 +3,7 @@
 use crate::inputs;
 use crate::outputs::{Column, columns, json_object, points3};
 use crate::tables::{self, IMU};
-use crate::{Warnings, detached, fail, py_error, with_context};
+use crate::{Reporter, detached, fail, py_error, with_context};
 use footslam::inertial::frame_check::{axes_flag, parse_axes};
 use footslam::inertial::{Mount, StepsConfig};
 use footslam::io::ImuUnits;
@@ -147,7 +147,7 @@ pub(crate) fn steps<'py>(
         )?,
     )?;
     result.set_item("path", points3(py, &run.path)?)?;
-    let warnings = Warnings::default();
+    let warnings = Reporter::default();
     for w in &list {
         warnings.push(format!("{label}: {w}"));
     }

@@ -5,7 +5,7 @@ use crate::checks::{check_height_changes, read_scans};
 use crate::inputs;
 use crate::outputs::{Column, columns, json_object};
 use crate::tables::{self, STEPS, Table, WIFI};
-use crate::{Warnings, detached, fail, py_error, with_context};
+use crate::{Reporter, detached, fail, py_error, with_context};
 use footslam::filter::StartPose;
 use footslam::io::radio_map_geojson::radio_map_to_geojson;
 use footslam::map::FloorTopology;
@@ -79,6 +79,10 @@ fn walk_tables(walks: &Bound<'_, PyAny>) -> PyResult<Vec<WalkTables>> {
 ///     one_floor: allow steps without ``dz`` on a plan of several levels.
 ///     merge: radio maps surveyed before on this plan at this granularity, merged in.
 ///     threads: worker threads (default: one per core); results do not depend on it.
+///     progress: a callable ``progress(stage, done, total)`` told of the run's progress
+///         from its start (``done`` 0) to its end (``done == total``), at most a few hundred
+///         times a stage — a tqdm bar or a log line (default: none). An exception it
+///         raises is raised when the run is over.
 ///
 /// Returns:
 ///     dict: ``radio_map`` — GeoJSON as ``radiomap.geojson`` (one feature per cell with
@@ -95,7 +99,7 @@ fn walk_tables(walks: &Bound<'_, PyAny>) -> PyResult<Vec<WalkTables>> {
 #[pyfunction]
 #[pyo3(signature = (
     plan, walks, *, start=None, cell=None, config=None, seed=None, origin=None,
-    one_floor=false, merge=None, threads=None
+    one_floor=false, merge=None, threads=None, progress=None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn survey<'py>(
@@ -110,6 +114,7 @@ pub(crate) fn survey<'py>(
     one_floor: bool,
     merge: Option<&Bound<'py, PyAny>>,
     threads: Option<usize>,
+    progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mut config: SurveyConfig = inputs::config(config)?;
     if let Some(s) = seed {
@@ -139,7 +144,7 @@ pub(crate) fn survey<'py>(
         ));
     }
     let origin = inputs::origin(origin)?;
-    let warnings = Warnings::default();
+    let warnings = Reporter::new(progress)?;
     let (collection, surveyed_walks, coverage, summary) = detached(py, threads, || {
         let plan_label = plan_doc.label();
         let (plan, frame) = plan_doc.floor_plan(origin).map_err(py_error)?;

@@ -5,7 +5,7 @@ use crate::checks::{check_height_changes, check_scans_match, read_scans};
 use crate::inputs;
 use crate::outputs::{Column, columns, json_object};
 use crate::tables::{self, STEPS, WIFI};
-use crate::{Warnings, detached, fail, py_error, with_context};
+use crate::{Reporter, detached, fail, py_error, with_context};
 use footslam::filter::{RfLocaliser, RfMode, TrackerConfig};
 use footslam::io::TrackPoint;
 use footslam::map::{FloorTopology, grow_plan};
@@ -61,6 +61,10 @@ fn present<'a, 'py>(obj: Option<&'a Bound<'py, PyAny>>) -> Option<&'a Bound<'py,
 ///     rf_distance: ``"paper"`` or ``"sqrt"``; rf_epsilon: the region threshold, dBm;
 ///     rf_every_step: apply the latest scan at every step.
 ///     threads: worker threads (default: one per core); results do not depend on it.
+///     progress: a callable ``progress(stage, done, total)`` told of the run's progress
+///         from its start (``done`` 0) to its end (``done == total``), at most a few hundred
+///         times a stage — a tqdm bar or a log line (default: none). An exception it
+///         raises is raised when the run is over.
 ///
 /// Returns:
 ///     dict: ``track`` — the answer, columns ``t`` (s), ``x``, ``y``, ``z`` (m, local
@@ -79,7 +83,7 @@ fn present<'a, 'py>(obj: Option<&'a Bound<'py, PyAny>>) -> Option<&'a Bound<'py,
     plan, steps, *, start=None, wifi=None, radio_map=None, hexmap=None, hexmap_weight=None,
     origin=None, plan_margin=None, one_floor=false, config=None, seed=None,
     ignore_heading=false, online=false, rf_mode=None, rf_distance=None, rf_epsilon=None,
-    rf_every_step=false, threads=None
+    rf_every_step=false, threads=None, progress=None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn track<'py>(
@@ -103,6 +107,7 @@ pub(crate) fn track<'py>(
     rf_epsilon: Option<f64>,
     rf_every_step: bool,
     threads: Option<usize>,
+    progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     // The configuration, with the keyword overrides (`footslam track`'s flags).
     let mut config: TrackerConfig = inputs::config(config)?;
@@ -172,7 +177,7 @@ pub(crate) fn track<'py>(
         .transpose()?;
     let wifi_table = wifi.map(|o| tables::table(o, &WIFI, "wifi")).transpose()?;
     let origin = inputs::origin(origin)?;
-    let warnings = Warnings::default();
+    let warnings = Reporter::new(progress)?;
     let out = detached(py, threads, || {
         let plan_label = plan_doc.label();
         let (plan, frame) = plan_doc.floor_plan(origin).map_err(py_error)?;

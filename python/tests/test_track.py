@@ -128,3 +128,31 @@ def test_the_gil_is_released_while_a_filter_runs(sim):
     assert results[0]["track"]["x"].tolist() == results[1]["track"]["x"].tolist()
     # Held, the GIL would stop this loop until the runs were over.
     assert elapsed > 0.1 and ticks > 20, (ticks, elapsed)
+
+
+def test_progress_is_reported_and_changes_nothing(sim):
+    """A progress callable sees each stage from 0 to its total, a few hundred calls at most;
+    the result is the one without it; an exception it raises comes out when the run ends."""
+    office = sim / "office"
+    calls = []
+    quiet = footslam.learn(office / "steps.csv", particles=300, seed=2)
+    told = footslam.learn(office / "steps.csv", particles=300, seed=2,
+                          progress=lambda *a: calls.append(a))
+    assert told["walks"][0]["track"]["x"].tolist() == quiet["walks"][0]["track"]["x"].tolist()
+    stages = {stage for stage, _, _ in calls}
+    assert stages, calls
+    for stage in stages:
+        seen = [(done, total) for s, done, total in calls if s == stage]
+        total = seen[0][1]
+        assert seen[0] == (0, total) and seen[-1] == (total, total), seen
+        assert [d for d, _ in seen] == sorted(d for d, _ in seen)
+        assert len(seen) <= 203
+
+    def fails(stage, done, total):
+        raise RuntimeError(f"stop at {stage} {done}")
+
+    with pytest.raises(RuntimeError, match="stop at"):
+        footslam.track(office / "floor.geojson", office / "steps.csv", start=(0, 0, 0),
+                       progress=fails)
+    with pytest.raises(TypeError, match="progress must be a callable"):
+        footslam.track(office / "floor.geojson", office / "steps.csv", progress=3)
