@@ -145,9 +145,12 @@ def learn_task(steps: Any, walk: Walk, previous: list[dict] | None, learn_args: 
     )
 
 
-def map_of(result: dict) -> dict:
-    """A walk's map, the only part of its result the next pass and the merge need."""
-    return result["map"]
+def map_of(result: dict) -> str:
+    """A walk's map, the only part of its result the next pass and the merge need, as
+    GeoJSON text: written once here, it is read as it is by every task of the next pass
+    (each reads the other walks' maps: a dict would be written to JSON again in each, a
+    cost that grows with the square of the building's walks)."""
+    return json.dumps(result["map"], allow_nan=False)
 
 
 def merge_task(maps: list[dict]) -> dict:

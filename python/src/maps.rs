@@ -13,11 +13,11 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use serde_json::json;
 
-/// The maps of a list (paths or GeoJSON dicts), read.
+/// The maps of a list (paths, GeoJSON dicts or GeoJSON text), read.
 fn read_maps(py: Python<'_>, maps: &Bound<'_, PyAny>) -> PyResult<(Vec<StoredMap>, Vec<String>)> {
     let Some(list) = inputs::as_list(maps)? else {
         return Err(PyTypeError::new_err(
-            "maps: expected a list of maps (paths or GeoJSON dicts)",
+            "maps: expected a list of maps (paths, GeoJSON dicts or GeoJSON text)",
         ));
     };
     let docs = list
@@ -38,7 +38,8 @@ fn read_maps(py: Python<'_>, maps: &Bound<'_, PyAny>) -> PyResult<(Vec<StoredMap
 /// their edge counts summed with weights.
 ///
 /// Args:
-///     maps: the maps: paths or GeoJSON dicts (``map.geojson`` of ``learn``, or merges).
+///     maps: the maps: paths, GeoJSON dicts or GeoJSON text (``map.geojson`` of ``learn``,
+///         or merges).
 ///     weights: one weight ≥ 0 per map (default all 1; a map of weight 0 is left out).
 ///
 /// Returns:
@@ -105,8 +106,9 @@ pub(crate) fn merge<'py>(
 /// walk ``i``'s ``others`` in a FeetSLAM pass of a batch fanned out with :func:`learn_one`.
 ///
 /// Args:
-///     maps: the batch's maps of the previous pass, in the order of the walks (paths or
-///         GeoJSON dicts, in one frame).
+///     maps: the batch's maps of the previous pass, in the order of the walks (paths,
+///         GeoJSON dicts or GeoJSON text — text is read as it is, where a dict is first
+///         written out as JSON —, in one frame).
 ///     i: the walk (0-based) left out.
 ///
 /// Returns:
