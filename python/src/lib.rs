@@ -8,13 +8,12 @@
 //! [`FootslamError`] (a `ValueError`) with the command line's message, a missing file
 //! `FileNotFoundError`, input of the wrong type `TypeError`.
 //!
-//! * [`steps`](steps::steps) — raw IMU recording → step events
-//! * [`learn`](learn::learn), [`learn_one`](learn::learn_one),
-//!   [`others_map`](maps::others_map), [`feetslam_passes`](learn::feetslam_passes) —
-//!   FootSLAM, and a batch fanned out walk by walk
-//! * [`merge`](maps::merge), [`plan`](maps::plan) — maps combined, a map as a floor plan
-//! * [`track`](track::track) — one walk on a known floor plan
-//! * [`survey`](survey::survey) — a WiFi radio map from walks on a known plan
+//! * `steps.rs`: `steps` — raw IMU recording → step events
+//! * `learn.rs`, `maps.rs`: `learn`, `learn_one`, `others_map`, `feetslam_passes` — FootSLAM,
+//!   and a batch fanned out walk by walk
+//! * `maps.rs`: `merge`, `plan` — maps combined, a map as a floor plan
+//! * `track.rs`: `track` — one walk on a known floor plan
+//! * `survey.rs`: `survey` — a WiFi radio map from walks on a known plan
 
 use pyo3::prelude::*;
 
