@@ -49,12 +49,7 @@ fn a_learned_maps_transitions_sharpen_tracking_on_its_plan() {
             LearnWalk {
                 trace: recorded(&sim.steps),
                 scans: recorded_scans(&sim.wifi),
-                start: Some(StartPose {
-                    x: sim.start.x,
-                    y: sim.start.y,
-                    heading: Some(sim.start.heading),
-                    level: Some(sim.start.level),
-                }),
+                start: Some(StartPose::from(sim.start)),
                 ..Default::default()
             }
         })

@@ -355,12 +355,7 @@ fn three_tower_walks_make_one_plan_level_per_floor() {
         .iter()
         .map(|s| LearnWalk {
             trace: recorded(&s.steps),
-            start: Some(StartPose {
-                x: s.start.x,
-                y: s.start.y,
-                heading: Some(s.start.heading),
-                level: Some(s.start.level),
-            }),
+            start: Some(StartPose::from(s.start)),
             ..Default::default()
         })
         .collect();

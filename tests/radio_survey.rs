@@ -103,12 +103,7 @@ fn walk(minutes: f64, seed: u64, tour: TourKind) -> Walk {
         plan: recorded_plan(&sim.plan, origin()),
         steps: recorded(&sim.steps),
         scans: recorded_scans(&sim.wifi),
-        start: StartPose {
-            x: sim.start.x,
-            y: sim.start.y,
-            heading: Some(sim.start.heading),
-            level: Some(sim.start.level),
-        },
+        start: StartPose::from(sim.start),
         duration_s: sim.truth.poses.last().map_or(0.0, |p| p.t),
     }
 }

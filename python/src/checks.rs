@@ -11,8 +11,9 @@ use footslam::geometry::LocalFrame;
 use footslam::map::{FloorPlan, RadioMap};
 use footslam::pipeline::{
     GridMismatch, ScanMatch, fixes_off_clock, grid_mismatch, missing_height_changes,
+    scans_off_clock,
 };
-use footslam::sensor::{GpsFix, StepTrace, WifiScan, scans_off_clock};
+use footslam::sensor::{GpsFix, StepTrace, WifiScan};
 use pyo3::PyResult;
 
 /// WiFi scans, checked to overlap the walk in time: a log on another clock would place no

@@ -103,9 +103,9 @@ pub(crate) fn learn<'py>(
         gps_t0,
     };
     let inputs = read_inputs(py, &args, false)?;
-    let warnings = Reporter::new(progress)?;
+    let report = Reporter::new(progress)?;
     let out = detached(py, threads, || {
-        let learned = footslam::pipeline::learn(&inputs.input(), &inputs.config, &warnings)
+        let learned = footslam::pipeline::learn(&inputs.input(), &inputs.config, &report)
             .map_err(py_error)?;
         Ok(learn_out(&inputs, &learned))
     })?;
@@ -120,7 +120,7 @@ pub(crate) fn learn<'py>(
     result.set_item("radio_map", json_object(py, &out.radio_map)?)?;
     result.set_item("radio_plan", json_object(py, &out.radio_plan)?)?;
     result.set_item("summary", json_object(py, &out.summary)?)?;
-    warnings.emit(py)?;
+    report.emit(py)?;
     Ok(result)
 }
 

@@ -13,7 +13,7 @@ use footslam::io::map_geojson::walks_map_to_geojson;
 use footslam::io::radio_map_geojson::radio_map_to_geojson;
 use footslam::map::{PlanConfig, walkable_plan};
 use footslam::model::wifi_distance::held_out_quantiles;
-use footslam::pipeline::{LearnWalk, Learned, WalkRun};
+use footslam::pipeline::{LearnWalk, Learned, LearnedRadio, WalkRun};
 use geojson::FeatureCollection;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -149,23 +149,17 @@ pub(crate) fn learn_out(inputs: &Inputs, learned: &Learned) -> LearnOut {
         .as_ref()
         .map(|m| walks_map_to_geojson(m, frame, learned.walks.len() as u32));
     let radio = combined.radio.as_ref().map(|radio| {
-        let survey = &radio.survey;
-        let map = &survey.map;
-        let (coverage, per_cell) = map.coverage();
-        json!({
-            "granularity_m": inputs.cells.granularity,
-            "cells": survey.cells.cells().len(),
-            "rooms": survey.cells.rooms().len(),
-            "scans": inputs.walks.iter().map(|w| w.scans.len()).collect::<Vec<_>>(),
-            "scans_added": survey.counts.iter().map(|c| c.added).collect::<Vec<_>>(),
-            "scans_skipped": survey.counts.iter().map(|c| c.skipped).collect::<Vec<_>>(),
-            "coverage": coverage,
-            "mean_scans_per_covered_cell": per_cell,
-            "access_points": map.access_points().len(),
-            "epsilon": map.epsilon,
-            "epsilon_sqrt": map.epsilon_sqrt,
-            "ndist_leave_one_out_p50_p90_p99_max": held_out_quantiles(&survey.held),
-        })
+        let mut summary = radio_summary(radio, inputs.cells.granularity);
+        summary["scans"] = json!(
+            inputs
+                .walks
+                .iter()
+                .map(|w| w.scans.len())
+                .collect::<Vec<_>>()
+        );
+        summary["ndist_leave_one_out_p50_p90_p99_max"] =
+            json!(held_out_quantiles(&radio.survey.held));
+        summary
     });
     let summary = json!({
         "iterations": learned.iterations,
@@ -189,4 +183,24 @@ pub(crate) fn learn_out(inputs: &Inputs, learned: &Learned) -> LearnOut {
             .map(|r| floor_plan_to_geojson(&r.plan.plan, frame)),
         summary,
     }
+}
+
+/// The figures of a radio map learned from walks (`summary.json`'s `radio` block, less what
+/// only `learn` knows): cells, scans placed, coverage, access points, ε.
+pub(crate) fn radio_summary(radio: &LearnedRadio, granularity: f64) -> serde_json::Value {
+    let survey = &radio.survey;
+    let map = &survey.map;
+    let (coverage, per_cell) = map.coverage();
+    json!({
+        "granularity_m": granularity,
+        "cells": survey.cells.cells().len(),
+        "rooms": survey.cells.rooms().len(),
+        "scans_added": survey.counts.iter().map(|c| c.added).collect::<Vec<_>>(),
+        "scans_skipped": survey.counts.iter().map(|c| c.skipped).collect::<Vec<_>>(),
+        "coverage": coverage,
+        "mean_scans_per_covered_cell": per_cell,
+        "access_points": map.access_points().len(),
+        "epsilon": map.epsilon,
+        "epsilon_sqrt": map.epsilon_sqrt,
+    })
 }

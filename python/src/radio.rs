@@ -3,6 +3,7 @@
 //! cells of the plan learned from the merged map.
 
 use crate::inputs::{self, Document};
+use crate::learn_outputs::radio_summary;
 use crate::outputs::json_object;
 use crate::tables::{WIFI, table};
 use crate::{detached, fail, py_error};
@@ -10,8 +11,8 @@ use footslam::filter::PathPoint;
 use footslam::io::floor_plan_geojson::floor_plan_to_geojson;
 use footslam::io::radio_map_geojson::radio_map_to_geojson;
 use footslam::map::{CellConfig, PlanConfig};
-use footslam::pipeline::learned_radio_map;
-use footslam::sensor::{WifiScan, scans_off_clock};
+use footslam::pipeline::{learned_radio_map, scans_off_clock};
+use footslam::sensor::WifiScan;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -70,7 +71,8 @@ pub(crate) fn radio_map<'py>(
         )));
     }
     let level = PlanConfig::default().level;
-    let mut walks: Vec<(Vec<PathPoint>, Vec<WifiScan>)> = Vec::with_capacity(tracks.len());
+    let mut paths: Vec<Vec<PathPoint>> = Vec::with_capacity(tracks.len());
+    let mut logs_read: Vec<Vec<WifiScan>> = Vec::with_capacity(tracks.len());
     for (i, (track, log)) in tracks.iter().zip(&logs).enumerate() {
         let what = format!("tracks[{i}]");
         let (t, x, y) = (
@@ -93,7 +95,8 @@ pub(crate) fn radio_map<'py>(
             .zip(&y)
             .map(|((&t, &x), &y)| (t, x, y, level))
             .collect();
-        walks.push((path, scans));
+        paths.push(path);
+        logs_read.push(scans);
     }
     let cells = CellConfig {
         granularity: cell.unwrap_or(CellConfig::default().granularity),
@@ -102,26 +105,15 @@ pub(crate) fn radio_map<'py>(
     let (radio, frame) = detached(py, None, || {
         cells.validate().map_err(py_error)?;
         let stored = map_doc.stored_map().map_err(py_error)?;
-        let paths: Vec<(Vec<PathPoint>, &[WifiScan])> = walks
-            .iter()
-            .map(|(p, s)| (p.clone(), s.as_slice()))
+        let walks: Vec<(Vec<PathPoint>, &[WifiScan])> = paths
+            .into_iter()
+            .zip(&logs_read)
+            .map(|(path, scans)| (path, scans.as_slice()))
             .collect();
-        let radio = learned_radio_map(&paths, &stored.map, &cells).map_err(py_error)?;
+        let radio = learned_radio_map(&walks, &stored.map, &cells).map_err(py_error)?;
         Ok((radio, stored.frame))
     })?;
-    let (coverage, per_cell) = radio.survey.map.coverage();
-    let summary = serde_json::json!({
-        "granularity_m": cells.granularity,
-        "cells": radio.survey.cells.cells().len(),
-        "rooms": radio.survey.cells.rooms().len(),
-        "scans_added": radio.survey.counts.iter().map(|c| c.added).collect::<Vec<_>>(),
-        "scans_skipped": radio.survey.counts.iter().map(|c| c.skipped).collect::<Vec<_>>(),
-        "coverage": coverage,
-        "mean_scans_per_covered_cell": per_cell,
-        "access_points": radio.survey.map.access_points().len(),
-        "epsilon": radio.survey.map.epsilon,
-        "epsilon_sqrt": radio.survey.map.epsilon_sqrt,
-    });
+    let summary = radio_summary(&radio, cells.granularity);
     let result = PyDict::new(py);
     result.set_item(
         "radio_map",

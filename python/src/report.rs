@@ -92,20 +92,27 @@ impl Reporter {
         }
     }
 
-    /// Updates the stage with `update` and returns what to report, if a call is due.
-    fn due(&self, update: impl FnOnce(&mut Stage) -> bool) -> Option<(String, u64, u64)> {
-        self.callback.as_ref()?;
-        let mut stage = self.stage.lock().ok()?;
-        update(&mut stage).then(|| {
-            stage.reported = stage.done;
-            (stage.name.clone(), stage.done, stage.total)
-        })
+    /// Updates the stage with `update`, and calls the callable when `update` says a call is
+    /// due (the stage's lock released first: the callable may take its time).
+    fn update(&self, update: impl FnOnce(&mut Stage) -> bool) {
+        if self.callback.is_none() {
+            return;
+        }
+        let due = self.stage.lock().ok().and_then(|mut stage| {
+            update(&mut stage).then(|| {
+                stage.reported = stage.done;
+                (stage.name.clone(), stage.done, stage.total)
+            })
+        });
+        if let Some((name, done, total)) = due {
+            self.call(&name, done, total);
+        }
     }
 }
 
 impl Progress for Reporter {
     fn start(&self, stage: &str, total: u64) {
-        let due = self.due(|s| {
+        self.update(|s| {
             *s = Stage {
                 name: stage.to_owned(),
                 total,
@@ -113,31 +120,22 @@ impl Progress for Reporter {
             };
             true
         });
-        if let Some((name, done, total)) = due {
-            self.call(&name, done, total);
-        }
     }
 
     fn advance(&self, units: u64) {
-        let due = self.due(|s| {
+        self.update(|s| {
             s.done = (s.done + units).min(s.total);
             let every = (s.total / CALLS_PER_STAGE).max(1);
             s.done > s.reported && (s.done == s.total || s.done - s.reported >= every)
         });
-        if let Some((name, done, total)) = due {
-            self.call(&name, done, total);
-        }
     }
 
     fn finish(&self) {
-        let due = self.due(|s| {
+        self.update(|s| {
             let late = s.reported < s.total;
             s.done = s.total;
             late
         });
-        if let Some((name, done, total)) = due {
-            self.call(&name, done, total);
-        }
     }
 
     fn warn(&self, message: &str) {

@@ -147,14 +147,14 @@ pub(crate) fn steps<'py>(
         )?,
     )?;
     result.set_item("path", points3(py, &run.path)?)?;
-    let warnings = Reporter::default();
+    let report = Reporter::default();
     for w in &list {
-        warnings.push(format!("{label}: {w}"));
+        report.push(format!("{label}: {w}"));
     }
     let summary = summary(&label, &run, list, sampling, started);
     result.set_item("summary", json_object(py, &summary)?)?;
     result.set_item("config", json_object(py, &config)?)?;
-    warnings.emit(py)?;
+    report.emit(py)?;
     Ok(result)
 }
 

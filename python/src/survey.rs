@@ -144,7 +144,7 @@ pub(crate) fn survey<'py>(
         ));
     }
     let origin = inputs::origin(origin)?;
-    let warnings = Reporter::new(progress)?;
+    let report = Reporter::new(progress)?;
     let (collection, surveyed_walks, coverage, summary) = detached(py, threads, || {
         let plan_label = plan_doc.label();
         let (plan, frame) = plan_doc.floor_plan(origin).map_err(py_error)?;
@@ -173,7 +173,7 @@ pub(crate) fn survey<'py>(
             walks: &walks,
             earlier: &earlier,
         };
-        let surveyed = footslam::pipeline::survey(&input, &config, &warnings).map_err(py_error)?;
+        let surveyed = footslam::pipeline::survey(&input, &config, &report).map_err(py_error)?;
         let map = &surveyed.map;
         let (share, mean) = map.coverage();
         let summary = json!({
@@ -238,6 +238,6 @@ pub(crate) fn survey<'py>(
     result.set_item("walks", json_object(py, &surveyed_walks)?)?;
     result.set_item("summary", json_object(py, &summary)?)?;
     result.set_item("config", json_object(py, &config)?)?;
-    warnings.emit(py)?;
+    report.emit(py)?;
     Ok(result)
 }

@@ -177,7 +177,7 @@ pub(crate) fn track<'py>(
         .transpose()?;
     let wifi_table = wifi.map(|o| tables::table(o, &WIFI, "wifi")).transpose()?;
     let origin = inputs::origin(origin)?;
-    let warnings = Reporter::new(progress)?;
+    let report = Reporter::new(progress)?;
     let out = detached(py, threads, || {
         let plan_label = plan_doc.label();
         let (plan, frame) = plan_doc.floor_plan(origin).map_err(py_error)?;
@@ -214,7 +214,7 @@ pub(crate) fn track<'py>(
                 let (matched, warning) =
                     check_scans_match(&map, &scans, &doc.label(), &table.label())?;
                 if let Some(w) = warning {
-                    warnings.push(w);
+                    report.push(w);
                 }
                 let localiser =
                     RfLocaliser::new(&map, &topology, &config.rf).map_err(with_context(
@@ -232,7 +232,7 @@ pub(crate) fn track<'py>(
                 .map(|(localiser, scans, _)| RadioInput { localiser, scans }),
         };
         let mut run =
-            footslam::pipeline::track(&input, &trace, &config, &SnapshotSteps::Never, &warnings)
+            footslam::pipeline::track(&input, &trace, &config, &SnapshotSteps::Never, &report)
                 .map_err(py_error)?;
         let times: Vec<f64> = trace.steps().iter().map(|s| s.t).collect();
         let smoothed = run.smoothed.take().map(|walk| {
@@ -348,7 +348,7 @@ pub(crate) fn track<'py>(
     )?;
     result.set_item("summary", json_object(py, &out.summary)?)?;
     result.set_item("config", json_object(py, &config)?)?;
-    warnings.emit(py)?;
+    report.emit(py)?;
     Ok(result)
 }
 

@@ -6,11 +6,9 @@ use footslam::io::read_wifi;
 use footslam::io::steps_csv::has_dz_column;
 use footslam::map::FloorPlan;
 use footslam::map::RadioMap;
-use footslam::pipeline::{ScanMatch, missing_height_changes};
-use footslam::sensor::{StepTrace, WifiScan, scans_off_clock};
+use footslam::pipeline::{ScanMatch, missing_height_changes, scans_off_clock};
+use footslam::sensor::{StepTrace, WifiScan};
 use std::path::{Path, PathBuf};
-
-pub use footslam::pipeline::SAME_ORIGIN_M as SAME_ORIGIN;
 
 /// Parses `LAT,LON` (degrees).
 pub fn parse_origin(s: &str) -> Result<LocalFrame, String> {

@@ -1,6 +1,6 @@
 //! `footslam eval`: position error of a track against the truth.
 
-use super::common::{SAME_ORIGIN, parse_origin, read_config, require_file};
+use super::common::{parse_origin, read_config, require_file};
 use anyhow::{Context, Result, bail};
 use footslam::eval::{
     Alignment, ErrorReport, PlanOverlap, WaypointDeadReckoning, WaypointErrors,
@@ -13,6 +13,7 @@ use footslam::io::map_geojson::read_map_geojson;
 use footslam::io::{
     TimedPoint, read_certain_trajectory, read_steps, read_track, read_trajectory, read_waypoints,
 };
+use footslam::pipeline::SAME_ORIGIN_M;
 use footslam::sensor::StepTrace;
 use std::path::{Path, PathBuf};
 
@@ -166,7 +167,7 @@ fn reproject_to_truth(
 ) -> Option<(LocalFrame, LocalFrame)> {
     let truth_frame = run_origin(truth, false)?;
     let track_frame = run_origin(track_path, true)?;
-    if truth_frame.distance_to(&track_frame) <= SAME_ORIGIN {
+    if truth_frame.distance_to(&track_frame) <= SAME_ORIGIN_M {
         return None;
     }
     reproject(track, &track_frame, &truth_frame);

@@ -1,9 +1,9 @@
 //! `footslam merge`: combine maps learned on several walks of one building.
 
-use super::common::{SAME_ORIGIN, require_file, warn};
+use super::common::{require_file, warn};
 use anyhow::{Result, bail};
 use footslam::io::map_geojson::{StoredMap, read_stored_map, write_walks_map_geojson};
-use footslam::pipeline::merge;
+use footslam::pipeline::{SAME_ORIGIN_M, merge};
 use std::path::PathBuf;
 
 /// Arguments of `footslam merge`.
@@ -94,7 +94,7 @@ fn read_maps(paths: &[PathBuf]) -> Result<Vec<StoredMap>> {
     let frame = maps[0].frame;
     for (path, f) in paths.iter().zip(maps.iter().map(|m| &m.frame)).skip(1) {
         let off = frame.distance_to(f);
-        if off > SAME_ORIGIN {
+        if off > SAME_ORIGIN_M {
             bail!(
                 "{}: its origin ({}, {}) lies {off:.3} m from the first map's ({}, {}); \
                  only maps in one frame merge (learn the walks with one --origin)",

@@ -1,8 +1,8 @@
 //! `footslam track`: locate and track a walker on a known 2.5D floor plan from step events.
 
 use super::common::{
-    SAME_ORIGIN, bundled, check_height_changes, check_scans_match, output_dir, parse_origin,
-    peak_memory_bytes, read_config, read_scans, require_file,
+    bundled, check_height_changes, check_scans_match, output_dir, parse_origin, peak_memory_bytes,
+    read_config, read_scans, require_file,
 };
 use super::progress_bars::Bars;
 use super::track_pictures::{write_particles_png, write_track_png};
@@ -19,7 +19,7 @@ use footslam::io::{SmoothedPoint, TrackPoint, read_steps, write_smoothed_track, 
 use footslam::map::{FloorPlan, FloorTopology, grow_plan};
 use footslam::model::TransitionPrior;
 use footslam::model::wifi_distance::Normalisation;
-use footslam::pipeline::{RadioInput, SnapshotSteps, TrackInput, TrackRun, track};
+use footslam::pipeline::{RadioInput, SAME_ORIGIN_M, SnapshotSteps, TrackInput, TrackRun, track};
 use footslam::sensor::{StepTrace, WifiScan};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -240,7 +240,7 @@ fn read_inputs(args: &Args, config: &TrackerConfig) -> Result<Inputs> {
             require_file(path, "learned map")?;
             let (map, map_frame) = read_map_geojson(path)?;
             let off = frame.distance_to(&map_frame);
-            if off > SAME_ORIGIN {
+            if off > SAME_ORIGIN_M {
                 bail!(
                     "{}: its origin lies {off:.3} m from the plan's ({}): the learned map \
                      must be in the plan's frame (the map and the plan.geojson of one learn run)",

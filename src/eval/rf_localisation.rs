@@ -125,12 +125,7 @@ pub fn survey_simulations(
     let mut walks = Vec::with_capacity(sims.len());
     for sim in sims {
         let config = TrackerConfig {
-            start: Some(StartPose {
-                x: sim.start.x,
-                y: sim.start.y,
-                heading: Some(sim.start.heading),
-                level: Some(sim.start.level),
-            }),
+            start: Some(StartPose::from(sim.start)),
             ..config.clone()
         };
         let mut tracker = Tracker::new(topology, &config)?;

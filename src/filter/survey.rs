@@ -260,12 +260,7 @@ mod tests {
         let topology = FloorTopology::build(&sim.plan, &TopologyConfig::default()).expect("topo");
         let cells = CellMap::build(&sim.plan, &topology, &Default::default()).expect("cells");
         let tracker_config = TrackerConfig {
-            start: Some(StartPose {
-                x: sim.start.x,
-                y: sim.start.y,
-                heading: Some(sim.start.heading),
-                level: Some(sim.start.level),
-            }),
+            start: Some(StartPose::from(sim.start)),
             ..Default::default()
         };
         let mut tracker = Tracker::new(&topology, &tracker_config).expect("tracker");

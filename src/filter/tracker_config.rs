@@ -7,6 +7,7 @@ use super::rf_assist::RfConfig;
 use crate::error::Result;
 use crate::map::TopologyConfig;
 use crate::model::{HeadingConfig, TransitionPriorConfig};
+use crate::sensor::TruePose;
 use serde::{Deserialize, Serialize};
 
 /// A known start: where the walker stands before the first step.
@@ -24,6 +25,19 @@ pub struct StartPose {
     pub heading: Option<f64>,
     /// Floor level; `None` = any surface containing the point (the lowest).
     pub level: Option<i32>,
+}
+
+impl From<TruePose> for StartPose {
+    /// The known start of a walk whose true start pose is known (a simulation's), position,
+    /// heading and floor.
+    fn from(start: TruePose) -> Self {
+        Self {
+            x: start.x,
+            y: start.y,
+            heading: Some(start.heading),
+            level: Some(start.level),
+        }
+    }
 }
 
 impl std::str::FromStr for StartPose {

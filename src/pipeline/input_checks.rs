@@ -22,6 +22,20 @@ pub const GPS_LEAD_S: f64 = 60.0;
 /// warns: the log is mostly of somewhere the map does not cover.
 pub const MIN_MATCHED_SHARE: f64 = 0.5;
 
+/// Why `scans` cannot belong to a walk spanning `[start, end]` seconds: no scan falls in
+/// the span (a log on another clock would place no scan, or every scan at one end of the
+/// walk); `None` when one does.
+pub fn scans_off_clock(scans: &[WifiScan], start: f64, end: f64) -> Option<String> {
+    (!scans.iter().any(|s| s.t >= start && s.t <= end)).then(|| {
+        format!(
+            "no scan falls within the walk's time span [{start}, {end}] s (scans run from {} \
+             to {} s): the WiFi log and the step trace must share one clock",
+            scans.first().map_or(f64::NAN, |s| s.t),
+            scans.last().map_or(f64::NAN, |s| s.t)
+        )
+    })
+}
+
 /// Why `fixes` cannot belong to a walk spanning `[start, end]` seconds: no fix falls in the
 /// span (or up to [`GPS_LEAD_S`] before it), as with a log on another clock or a GPX track
 /// whose UTC times were not put on the steps' clock; `None` when one does (or there are no

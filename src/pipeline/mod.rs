@@ -26,7 +26,7 @@ mod track_records;
 
 pub use input_checks::{
     GridMismatch, MIN_MATCHED_SHARE, SAME_ORIGIN_M, ScanMatch, fixes_off_clock, grid_mismatch,
-    missing_height_changes,
+    missing_height_changes, scans_off_clock,
 };
 pub use learn::{
     Combined, LearnInput, LearnWalk, Learned, LearnedRadio, WalkRun, combine, default_frame,

@@ -16,4 +16,4 @@ pub use gps::GpsFix;
 pub use imu::{ImuRecording, ImuSample, SamplingReport};
 pub use step::{Step, StepTrace};
 pub use truth::{TruePath, TruePose};
-pub use wifi::{AccessPoint, WifiReading, WifiScan, scans_off_clock};
+pub use wifi::{AccessPoint, WifiReading, WifiScan};

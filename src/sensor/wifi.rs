@@ -103,20 +103,6 @@ pub fn check_reading(reading: &WifiReading) -> Result<(), String> {
     Ok(())
 }
 
-/// Why `scans` cannot belong to a walk spanning `[start, end]` seconds: no scan falls in
-/// the span (a log on another clock would place no scan, or every scan at one end of the
-/// walk); `None` when one does.
-pub fn scans_off_clock(scans: &[WifiScan], start: f64, end: f64) -> Option<String> {
-    (!scans.iter().any(|s| s.t >= start && s.t <= end)).then(|| {
-        format!(
-            "no scan falls within the walk's time span [{start}, {end}] s (scans run from {} \
-             to {} s): the WiFi log and the step trace must share one clock",
-            scans.first().map_or(f64::NAN, |s| s.t),
-            scans.last().map_or(f64::NAN, |s| s.t)
-        )
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
