@@ -4,8 +4,10 @@
 Runs `footslam steps` on the shared recordings and compares the step events with the truth:
 
 * foot (`--mount foot`): the foot-imu walks (PyShoe Vicon room, hallway footprints), one truth
-  footprint per stride: stride-length error, heading-change error, cumulative heading error
-  (drift), their tails, autocorrelation and dependence on pace and turns;
+  footprint per stride: stride-length error, heading-change error (the steps' `dheading`, the
+  change of the stride's direction, against the change of the chord between footprints),
+  cumulative heading error (drift), their tails, autocorrelation and dependence on pace and
+  turns;
 * phone (`--mount phone`): the ILC 2.0 site-1 F1 traces, sparse waypoints: per-segment stride
   scale, absolute heading (rotation vector) error per step and per segment, relative heading
   drift of the gyroscope-only heading.
@@ -316,9 +318,11 @@ def foot_units(steps, truth):
 
     Returns (units, info). A unit is the run of steps that ends at a step matched to a truth
     row (nearest row within MATCH_TOLERANCE_S; the last row, the end of the recording, takes
-    the last step when that is later than the row before); split strides (a stride longer than
-    the step-trace limit, cut in equal parts with the whole turn on the first part: dheading
-    exactly 0 and the same length as the step before) join their first part's unit."""
+    the last step when that is later than the row before). Steps matched to no row, or to a
+    row already taken, join the next unit, so that the units' lengths and heading changes add
+    up to the trace's; so do split strides (a stride longer than the step-trace limit, cut in
+    equal parts with the whole turn on the first part: dheading exactly 0 and the same length
+    as the step before)."""
     ts, tt = steps["t"], truth["t"]
     n, N = len(ts), len(tt)
     P = np.c_[truth["x"], truth["y"]]
@@ -334,17 +338,17 @@ def foot_units(steps, truth):
     split[1:] = (steps["dheading"][1:] == 0.0) & (steps["length"][1:] == steps["length"][:-1])
     H = np.cumsum(steps["dheading"])
     units, cur, jprev = [], [], 0
-    pre_steps = dropped = 0
+    pre_steps = dropped = extra = 0
     for k in range(n):
         cur.append(k)
         if j[k] < 0 or (k + 1 < n and split[k + 1]):
             continue
-        if j[k] <= jprev:  # before the first stance, or a second step on one stance
-            if j[k] == 0:
-                pre_steps += len(cur)
-            else:
-                dropped += len(cur)
+        if j[k] == 0:  # before the first stance
+            pre_steps += len(cur)
             cur = []
+            continue
+        if j[k] <= jprev:  # a second step on one stance (a spurious stance): joins the next
+            extra += 1
             continue
         j0, j1 = jprev, int(j[k])
         seg = np.diff(P[j0: j1 + 1], axis=0)
@@ -369,15 +373,16 @@ def foot_units(steps, truth):
             "matched_steps": int(sum(len(u["steps"]) for u in units)),
             "single_units": int(sum(u["single"] for u in units)),
             "split_steps": int(split.sum()), "pre_steps": int(pre_steps),
-            "unmatched_steps": int(dropped)}
+            "extra_steps": int(extra), "unmatched_steps": int(dropped)}
     return units, info
 
 
 def foot_walk_arrays(units):
-    """Arrays of one walk: heading-change errors and cumulative heading errors in two
-    conventions for the direction of stride k: `end` = the heading after the stride, H_k (what
-    the step model does now), `mid` = the mean of the headings before and after it,
-    (H_{k-1} + H_k) / 2."""
+    """Arrays of one walk. The step model moves stride k along H_k, the sum of the `dheading`
+    up to and including it (`dheading` is the change of the direction of the stride's INS
+    displacement, so H_k is that direction less the first stance's yaw). Errors against the
+    truth: x_k = dheading_k - truth turn_k (the change of the chord between footprints) per
+    stride, and the cumulative e_k = H_k - truth chord_k, from the first walking stride."""
     U = len(units)
     a = {k: np.array([u[k] for u in units], float) for k in
          ("t", "dur", "length", "dheading", "dz", "H", "truth_length", "chord", "truth_dz", "j1")}
@@ -386,24 +391,21 @@ def foot_walk_arrays(units):
     turn = np.full(U, np.nan)
     turn[1:] = wrap(np.diff(a["chord"]))
     a["turn"] = turn
-    x_end = np.full(U, np.nan)
-    x_end[1:] = wrap(a["dheading"][1:] - turn[1:])
-    x_mid = np.full(U, np.nan)
-    x_mid[1:] = wrap(0.5 * (a["dheading"][:-1] + a["dheading"][1:]) - turn[1:])
-    a["x_end"], a["x_mid"] = x_end, x_mid
+    x = np.full(U, np.nan)
+    x[1:] = wrap(a["dheading"][1:] - turn[1:])
+    a["x"] = x
     walking = (a["truth_length"] >= WALKING_STRIDE_M) & a["single"]
-    # the first stride starts from a standing foot whose yaw is not the path's tangent: it
-    # takes no part in the heading statistics (its error is the reference of the cumulative one)
+    # the first stride starts from standing: it takes no part in the heading statistics (its
+    # direction is the reference of the cumulative error)
     good = np.zeros(U, bool)
     good[2:] = walking[2:] & walking[1:-1]
     a["good"], a["walking"] = good, walking
     w = np.where(walking & (np.arange(U) >= 1))[0]
-    for name, h in (("e_end", a["H"]), ("e_mid", a["H"] - 0.5 * a["dheading"])):
-        e = np.full(U, np.nan)
-        if len(w):
-            raw = np.unwrap(wrap(h[w] - a["chord"][w]))
-            e[w] = raw - raw[0]
-        a[name] = e
+    e = np.full(U, np.nan)
+    if len(w):
+        raw = np.unwrap(wrap(a["H"][w] - a["chord"][w]))
+        e[w] = raw - raw[0]
+    a["e"] = e
     a["cum_turn"] = np.cumsum(np.nan_to_num(turn))
     return a
 
@@ -445,11 +447,9 @@ def analyse_foot(data_dir, binary, work, reuse):
 
 def foot_statistics(walks):
     out = {"walks": []}
-    pooled = {k: [] for k in ("x_end", "x_mid", "turn", "kind", "lres", "lrel", "dur", "lturn", "dz",
+    pooled = {k: [] for k in ("x", "turn", "kind", "dur_h", "lres", "lrel", "dur", "lturn", "dz",
                               "lres_kind")}
-    series = {"end": [], "mid": []}
-    times = {"end": [], "mid": []}
-    acf_h_end, acf_h_mid, acf_len = [], [], []
+    series, acf_h, acf_len = [], [], []
     scales, paces = [], []
     for w in walks:
         a = w["a"]
@@ -466,58 +466,52 @@ def foot_statistics(walks):
         pooled["lturn"].append(np.abs(np.nan_to_num(a["turn"]))[single])
         pooled["lres_kind"].append(np.full(int(single.sum()), w["kind"] == "hallway"))
         pooled["dz"].append((a["dz"] - a["truth_dz"])[a["single"]])
-        pooled["x_end"].append(a["x_end"][g])
-        pooled["x_mid"].append(a["x_mid"][g])
+        pooled["x"].append(a["x"][g])
         pooled["turn"].append(np.abs(a["turn"][g]))
         pooled["kind"].append(np.full(int(g.sum()), w["kind"] == "hallway"))
-        acf_h_end.append(a["x_end"][g])
-        acf_h_mid.append(a["x_mid"][g])
+        pooled["dur_h"].append(a["dur"][g])
+        acf_h.append(a["x"][g])
         acf_len.append(r[single])
         wk = wk & (np.arange(len(wk)) >= 1)
-        idx = a["j1"][wk]
-        row = {"walk": f"{w['kind']}/{w['name']}", **w["info"],
-               "duration_s": float(a["t"][-1] - (a["t"][0] - a["dur"][0])),
-               "truth_distance_m": float(a["truth_length"].sum()), "scale": float(scale),
-               "median_stride_s": paces[-1],
-               "length_residual_robust_sigma_m": robust_sigma(r[single])}
-        for conv in ("end", "mid"):
-            e = a["e_" + conv][wk]
-            series[conv].append((idx, e))
-            times[conv].append(a["t"][wk])
-            slope, se, resid, _ = huber_line(idx, e)
-            slope_t, se_t, _, _ = huber_line(a["t"][wk], e)
-            row[conv] = {"drift_deg_per_stride": slope * DEG, "drift_se_deg_per_stride": se * DEG,
-                         "drift_deg_per_s": slope_t * DEG, "drift_se_deg_per_s": se_t * DEG,
-                         "final_cum_error_deg": float(e[-1] * DEG),
-                         "residual_robust_sigma_deg": robust_sigma(resid) * DEG,
-                         "heading_change_robust_sigma_deg": robust_sigma(a["x_" + conv][g]) * DEG}
-        out["walks"].append(row)
+        idx, e = a["j1"][wk], a["e"][wk]
+        series.append((idx, e))
+        slope, se, resid, _ = huber_line(idx, e)
+        slope_t, se_t, _, _ = huber_line(a["t"][wk], e)
+        out["walks"].append({
+            "walk": f"{w['kind']}/{w['name']}", **w["info"],
+            "duration_s": float(a["t"][-1] - (a["t"][0] - a["dur"][0])),
+            "truth_distance_m": float(a["truth_length"].sum()), "scale": float(scale),
+            "median_stride_s": paces[-1],
+            "length_residual_robust_sigma_m": robust_sigma(r[single]),
+            "drift_deg_per_stride": slope * DEG, "drift_se_deg_per_stride": se * DEG,
+            "drift_deg_per_s": slope_t * DEG, "drift_se_deg_per_s": se_t * DEG,
+            "final_cum_error_deg": float(e[-1] * DEG),
+            "residual_robust_sigma_deg": robust_sigma(resid) * DEG,
+            "heading_change_robust_sigma_deg": robust_sigma(a["x"][g]) * DEG})
     P = {k: np.concatenate(v) for k, v in pooled.items()}
     hall = P["kind"]
     T = P["turn"]
-    out["matching"] = {"steps": int(sum(w["info"]["steps"] for w in walks)),
-                       "truth_strides": int(sum(w["info"]["truth_strides"] for w in walks)),
-                       "matched_steps": int(sum(w["info"]["matched_steps"] for w in walks)),
-                       "units": int(sum(w["info"]["units"] for w in walks)),
-                       "single_units": int(sum(w["info"]["single_units"] for w in walks)),
-                       "split_steps": int(sum(w["info"]["split_steps"] for w in walks)),
-                       "walking_pairs": int(len(T))}
-    hc = {}
-    for conv in ("end", "mid"):
-        X = P["x_" + conv]
-        t = fit_student_t(X)
-        gu = fit_gauss_uniform(X)
-        hc[conv] = {"all": summary(X, DEG), "hallway": summary(X[hall], DEG),
-                    "vicon": summary(X[~hall], DEG),
-                    "straight_lt_10deg": summary(X[T < math.radians(10)], DEG),
-                    "student_t": {"nu": t["nu"], "scale_deg": t["scale"] * DEG,
-                                  "loglik": t["loglik"], "gauss_loglik": t["gauss_loglik"]},
-                    "gauss_uniform": {"sigma_deg": gu["sigma"] * DEG,
-                                      "outlier_probability": gu["outlier_probability"]},
-                    "by_turn": binned(T * DEG, X * DEG, [0, 10, 30, 60, 90, 180])}
-    hc["lookahead_regression"] = _lookahead(walks)
-    durs = np.concatenate([w["a"]["dur"][w["a"]["good"]] for w in walks])
-    hc["mid"]["by_duration_s"] = binned(durs, P["x_mid"] * DEG, [0.0, 0.8, 0.95, 1.1, 1.25, 1.45, 3.0])
+    X = P["x"]
+    out["matching"] = {k: int(sum(w["info"][k] for w in walks))
+                       for k in ("steps", "truth_strides", "matched_steps", "units", "single_units",
+                                 "split_steps", "extra_steps", "pre_steps")}
+    out["matching"]["walking_pairs"] = int(len(T))
+    t = fit_student_t(X)
+    gu = fit_gauss_uniform(X)
+    hc = {"all": summary(X, DEG), "hallway": summary(X[hall], DEG), "vicon": summary(X[~hall], DEG),
+          "straight_lt_10deg": summary(X[T < math.radians(10)], DEG),
+          "student_t": {"nu": t["nu"], "scale_deg": t["scale"] * DEG,
+                        "loglik": t["loglik"], "gauss_loglik": t["gauss_loglik"]},
+          "gauss_uniform": {"sigma_deg": gu["sigma"] * DEG,
+                            "outlier_probability": gu["outlier_probability"]},
+          "by_turn": binned(T * DEG, X * DEG, [0, 10, 30, 60, 90, 180]),
+          "by_duration_s": binned(P["dur_h"], X * DEG, [0.0, 0.8, 0.95, 1.1, 1.25, 1.45, 3.0]),
+          "lookahead_check": _lookahead(walks),
+          "beyond_10deg": [{"walk": f"{w['kind']}/{w['name']}", "stride": int(k),
+                            "error_deg": float(w["a"]["x"][k] * DEG), "turn_deg": float(w["a"]["turn"][k] * DEG),
+                            "length_m": float(w["a"]["length"][k]), "truth_length_m": float(w["a"]["truth_length"][k]),
+                            "cum_error_deg": float(w["a"]["e"][k] * DEG)}
+                           for w in walks for k in np.where(w["a"]["good"] & (np.abs(w["a"]["x"]) > math.radians(10)))[0]]}
     # truth noise: the hallway footprints' error bounded by the hallway length residual (a
     # footprint error sigma_fp gives at least sqrt(2) sigma_fp on a stride length), then its
     # share of the heading-change error: a shared footprint enters two chords, sqrt(6) sigma_fp / L
@@ -525,58 +519,62 @@ def foot_statistics(walks):
     fp = lres_h / math.sqrt(2)
     L_h = float(np.median(np.concatenate([w["a"]["truth_length"][w["a"]["walking"]] for w in walks
                                           if w["kind"] == "hallway"])))
-    dh_noise = math.sqrt(6) * fp / L_h
-    straight = hc["mid"]["straight_lt_10deg"]["robust_sigma"] / DEG
+    rs_h, rs_v = hc["hallway"]["robust_sigma"], hc["vicon"]["robust_sigma"]
     hc["truth_noise"] = {
         "hallway_footprint_sigma_upper_m": fp,
         "hallway_median_stride_m": L_h,
-        "heading_change_noise_upper_deg": dh_noise * DEG,
-        "mid_straight_robust_sigma_deg": straight * DEG,
-        "mid_straight_corrected_deg": math.sqrt(max(straight**2 - dh_noise**2, 0)) * DEG,
-        "mid_all_corrected_deg": math.sqrt(max((hc["mid"]["all"]["robust_sigma"] / DEG) ** 2 - dh_noise**2, 0)) * DEG,
+        "heading_change_noise_upper_deg": math.sqrt(6) * fp / L_h * DEG,
+        "hallway_excess_over_vicon_deg": math.sqrt(max(rs_h**2 - rs_v**2, 0)),
         "vicon": "millimetre markers: below 0.1 deg per stride",
     }
     out["heading_change"] = hc
-    # heading state-space fits, variograms and per-walk drift
-    ml, vg, drift = {}, {}, {}
-    for conv in ("end", "mid"):
-        clean, dropped = clean_series(series[conv])
-        fit = fit_heading_model(clean)
-        # profile likelihood of the drift-rate walk: the largest sigma_q within 1.92 log-units
-        prof = []
-        for q in (1e-5, 3e-5, 1e-4, 3e-4, 1e-3, 3e-3):
-            f = fit_heading_model(clean, fixed={"sigma_q": q})
-            prof.append((q, f["loglik"]))
-        upper = max([q for q, ll in prof if ll >= fit["loglik"] - 1.92] + [fit["sigma_q"]])
-        prof_s = []
-        for sv in (0.1, 0.3, 0.5, 0.8, 1.2, 1.6, 2.0, 2.5, 3.0, 4.0):
-            f = fit_heading_model(clean, fixed={"sigma_s": math.radians(sv)})
-            prof_s.append((sv, f["loglik"]))
-        inside = [sv for sv, ll in prof_s if ll >= fit["loglik"] - 1.92]
-        ml[conv] = {**{k: v * DEG for k, v in fit.items() if k.startswith("sigma")},
-                    "loglik": fit["loglik"], "points_dropped_as_outliers": dropped,
-                    "sigma_q_upper95_deg": upper * DEG,
-                    "sigma_s_interval95_deg": [min(inside), max(inside)] if inside else None,
-                    "profile_sigma_s": prof_s,
-                    "profile_sigma_q": [[q * DEG, ll] for q, ll in prof]}
-        vg[conv] = _variogram(series[conv], 12)
-        rates = np.array([w[conv]["drift_deg_per_stride"] for w in out["walks"]]) / DEG
-        ses = np.array([w[conv]["drift_se_deg_per_stride"] for w in out["walks"]]) / DEG
-        rates_t = np.array([w[conv]["drift_deg_per_s"] for w in out["walks"]]) / DEG
-        ses_t = np.array([w[conv]["drift_se_deg_per_s"] for w in out["walks"]]) / DEG
-        hallw = np.array([w["walk"].startswith("hallway") for w in out["walks"]])
-        drift[conv] = {
-            "rate_deg_per_stride": summary(rates, DEG),
-            "rate_deg_per_s": summary(rates_t, DEG),
-            "spread_beyond_noise_deg_per_stride": spread_beyond_noise(rates, ses) * DEG,
-            "spread_beyond_noise_deg_per_s": spread_beyond_noise(rates_t, ses_t) * DEG,
-            "hallway_spread_beyond_noise_deg_per_s": spread_beyond_noise(rates_t[hallw], ses_t[hallw]) * DEG,
-            "vicon_spread_beyond_noise_deg_per_s": spread_beyond_noise(rates_t[~hallw], ses_t[~hallw]) * DEG,
-            "rms_se_deg_per_stride": float(np.sqrt(np.mean(ses**2)) * DEG),
-        }
+    # heading state-space fit (with profiles of sigma_s and sigma_q), variogram, per-walk drift
+    clean, dropped = clean_series(series)
+    fit = fit_heading_model(clean)
+    prof_q = [(q, fit_heading_model(clean, fixed={"sigma_q": q})["loglik"])
+              for q in (1e-5, 3e-5, 1e-4, 3e-4, 1e-3, 3e-3)]
+    upper_q = _profile_interval(prof_q, fit["sigma_q"], fit["loglik"])[1]
+    prof_s = [(sv, fit_heading_model(clean, fixed={"sigma_s": math.radians(sv)})["loglik"])
+              for sv in (0.2, 0.4, 0.6, 0.7, 0.8, 0.9, 1.0, 1.1, 1.2, 1.4, 1.7, 2.0, 3.0)]
+    ml = {**{k: v * DEG for k, v in fit.items() if k.startswith("sigma")},
+          "loglik": fit["loglik"], "points": int(sum(len(e) for _, e in series)),
+          "points_dropped_as_outliers": dropped,
+          "sigma_q_upper95_deg": upper_q * DEG,
+          "sigma_s_interval95_deg": _profile_interval(prof_s, fit["sigma_s"] * DEG, fit["loglik"]),
+          "profile_sigma_s": prof_s,
+          "profile_sigma_q": [[q * DEG, ll] for q, ll in prof_q]}
+    # how the fit depends on the outlier cut, and per site
+    ml["by_outlier_cut"] = {}
+    for k in (6.0, 8.0):
+        c, d = clean_series(series, k)
+        f = fit_heading_model(c)
+        ml["by_outlier_cut"][f"{k:g}"] = {**{n: v * DEG for n, v in f.items() if n.startswith("sigma")},
+                                          "points_dropped_as_outliers": d}
+    kinds = np.array([w["kind"] == "hallway" for w in walks])
+    for site, m in (("hallway", kinds), ("vicon", ~kinds)):
+        c, d = clean_series([s for s, h in zip(series, m) if h])
+        f = fit_heading_model(c)
+        ml[site] = {**{n: v * DEG for n, v in f.items() if n.startswith("sigma")},
+                    "points_dropped_as_outliers": d}
     out["heading_model_ml"] = ml
-    out["variogram"] = vg
-    out["drift"] = drift
+    out["variogram"] = _variogram(series, 12)
+    ws = out["walks"]
+    rates = np.array([w["drift_deg_per_stride"] for w in ws]) / DEG
+    ses = np.array([w["drift_se_deg_per_stride"] for w in ws]) / DEG
+    rates_t = np.array([w["drift_deg_per_s"] for w in ws]) / DEG
+    ses_t = np.array([w["drift_se_deg_per_s"] for w in ws]) / DEG
+    hallw = np.array([w["walk"].startswith("hallway") for w in ws])
+    out["drift"] = {
+        "rate_deg_per_stride": summary(rates, DEG),
+        "rate_deg_per_s": summary(rates_t, DEG),
+        "spread_beyond_noise_deg_per_stride": spread_beyond_noise(rates, ses) * DEG,
+        "spread_beyond_noise_deg_per_s": spread_beyond_noise(rates_t, ses_t) * DEG,
+        "hallway_spread_beyond_noise_deg_per_stride": spread_beyond_noise(rates[hallw], ses[hallw]) * DEG,
+        "vicon_spread_beyond_noise_deg_per_stride": spread_beyond_noise(rates[~hallw], ses[~hallw]) * DEG,
+        "hallway_spread_beyond_noise_deg_per_s": spread_beyond_noise(rates_t[hallw], ses_t[hallw]) * DEG,
+        "vicon_spread_beyond_noise_deg_per_s": spread_beyond_noise(rates_t[~hallw], ses_t[~hallw]) * DEG,
+        "rms_se_deg_per_stride": float(np.sqrt(np.mean(ses**2)) * DEG),
+    }
     out["turn_scale_factor"] = {
         "all": _turn_scale_factor(walks),
         "hallway": _turn_scale_factor([w for w in walks if w["kind"] == "hallway"]),
@@ -598,54 +596,73 @@ def foot_statistics(walks):
         "by_turn_deg": binned(LT * DEG, R, [0, 10, 30, 60, 90, 180]),
         "mean_relative_by_turn_deg": binned(LT * DEG, RR, [0, 10, 30, 60, 90, 180], fn=np.median),
     }
-    acf_e, n_e = acf_by_lag(acf_h_end, 8)
-    acf_m, n_m = acf_by_lag(acf_h_mid, 8)
+    acf_x, n_x = acf_by_lag(acf_h, 8)
     acf_l, n_l = acf_by_lag(acf_len, 8)
     mean_len = float(np.mean(np.concatenate([w["a"]["truth_length"][w["a"]["walking"]] for w in walks])))
-    out["autocorrelation"] = {"mean_stride_m": mean_len,
-                              "heading_change_end": acf_e, "heading_change_mid": acf_m,
-                              "length_residual": acf_l, "pairs_lag1": [n_e[0], n_m[0], n_l[0]]}
+    out["autocorrelation"] = {"mean_stride_m": mean_len, "heading_change": acf_x,
+                              "length_residual": acf_l, "pairs_lag1": [n_x[0], n_l[0]]}
     out["dz_error_m"] = summary(P["dz"])
-    out["_arrays"] = {"X_end": P["x_end"], "X_mid": P["x_mid"], "T": T, "R": R, "RR": RR, "D": D,
-                      "LT": LT, "series_end": series["end"], "series_mid": series["mid"],
-                      "scales": sc, "paces": np.array(paces), "kinds": [w["kind"] for w in walks]}
+    out["_arrays"] = {"X": X, "T": T, "hall": hall, "R": R, "RR": RR, "D": D, "LT": LT,
+                      "series": series, "scales": sc, "paces": np.array(paces),
+                      "kinds": [w["kind"] for w in walks]}
     return out
+
+
+def _profile_interval(profile, best_x, best_ll, drop=1.92):
+    """95 % interval of a parameter from its profile log-likelihood (points (x, loglik) on a
+    grid, plus the maximum): where the profile falls `drop` below the maximum, interpolated
+    linearly; an end that the grid does not reach is given as the grid's end."""
+    pts = sorted(list(profile) + [(best_x, best_ll)])
+    xs = np.array([p[0] for p in pts])
+    ls = np.array([p[1] for p in pts]) - (best_ll - drop)
+    i = int(np.argmax(xs == best_x))
+    lo, hi = xs[0], xs[-1]
+    for j in range(i, 0, -1):
+        if ls[j - 1] < 0:
+            lo = xs[j - 1] + (xs[j] - xs[j - 1]) * (0 - ls[j - 1]) / (ls[j] - ls[j - 1])
+            break
+    for j in range(i, len(xs) - 1):
+        if ls[j + 1] < 0:
+            hi = xs[j] + (xs[j + 1] - xs[j]) * ls[j] / (ls[j] - ls[j + 1])
+            break
+    return [float(lo), float(hi)]
 
 
 def _turn_scale_factor(walks):
     """Pooled gyro scale-factor error: e = c_w + r_w k + s * (cumulative truth turn), with an
-    offset and a drift rate per walk and one s for all (mid convention)."""
+    offset and a drift rate per walk and one s for all."""
     rows, ys, nw = [], [], len(walks)
     for i, w in enumerate(walks):
         a = w["a"]
-        wk = a["walking"] & np.isfinite(a["e_mid"])
+        wk = a["walking"] & np.isfinite(a["e"])
         for k in np.where(wk)[0]:
             row = np.zeros(2 * nw + 1)
             row[2 * i] = 1.0
             row[2 * i + 1] = a["j1"][k]
             row[-1] = a["cum_turn"][k]
             rows.append(row)
-            ys.append(a["e_mid"][k])
+            ys.append(a["e"][k])
     A, y = np.array(rows), np.array(ys)
     coef, *_ = np.linalg.lstsq(A, y, rcond=None)
     r = y - A @ coef
     s2 = np.sum(r * r) / max(len(y) - A.shape[1], 1)
     cov = s2 * np.linalg.pinv(A.T @ A)
     return {"scale_factor": float(coef[-1]), "se": float(math.sqrt(cov[-1, -1])),
-            "model": "e_mid = c_walk + r_walk * stride + s * cumulative truth turn"}
+            "model": "e = c_walk + r_walk * stride + s * cumulative truth turn"}
 
 
 def _lookahead(walks):
-    """Regression of the end-convention heading-change error on the change of turn between
-    this stride and the next: the foot's yaw at a stance is near the path's tangent there,
-    not the chord just walked, so x_k ~ g (turn_{k+1} - turn_k) with g near 1/2."""
+    """Regression of the heading-change error on the change of turn between this stride and
+    the next, x_k ~ g (turn_{k+1} - turn_k). A heading that leads the stride (the foot's yaw
+    at a stance, which points between the strides before and after it) gives g near 1/2;
+    the stride's own direction gives g near 0."""
     d, ys = [], []
     for w in walks:
         a = w["a"]
         for k in range(1, len(a["turn"]) - 1):
             if a["good"][k] and a["good"][k + 1]:
                 d.append(a["turn"][k + 1] - a["turn"][k])
-                ys.append(a["x_end"][k])
+                ys.append(a["x"][k])
     d, y = np.array(d), np.array(ys)
     gain = float(np.sum(d * y) / np.sum(d * d))
     return {"n": int(len(y)), "gain": gain, "robust_sigma_before_deg": robust_sigma(y) * DEG,
@@ -1032,42 +1049,37 @@ def parameter_sets(foot, phone):
     sc = foot["length"]["scale"]
     len_sigma = foot["length"]["residual_m"]["robust_sigma"]
     scale_sigma0 = math.sqrt(sc["sd"] ** 2 + (sc["mean"] - 1) ** 2)
-    drift0_mid = ml["mid"]["sigma_r0"]
+    dheading_sigma = round(r(ml["sigma_s"]), 4)
+    drift0 = round(r(ml["sigma_r0"]), 5)
     foot_params = {
-        "convention": "mid: stride k along (H_{k-1} + H_k) / 2 (needs a code change); "
-                      "end: along H_k (the step model now)",
+        "convention": "stride k moves along H_k = H_(k-1) + dheading_k (the step model); "
+                      "dheading = change of the direction of the stride's INS displacement",
         "footslam_motion": {
             "length_sigma": round(len_sigma, 3),
-            "dheading_sigma": round(r(ml["mid"]["sigma_s"]), 4),
-            "drift_rate_sigma0": round(r(drift0_mid), 5),
+            "dheading_sigma": dheading_sigma,
+            "drift_rate_sigma0": drift0,
             "drift_rate_walk_sigma": round(r(0.002), 6),
             "length_scale_sigma0": round(scale_sigma0, 3),
-            "duck_walk_sigma": "keep 0.1 deg (not measured: see white direction error)",
-        },
-        "footslam_motion_end_convention": {
-            "dheading_sigma": round(r(vg["end"]["fit_lag2_8"]["walk_sigma_deg_per_stride"]), 4),
-            "_note": "the yaw-vs-chord look-ahead in turns shows up as a slow, turn-signed error; "
-                     "the Gaussian state-space fit to it is not meaningful (sigma_s "
-                     f"{ml['end']['sigma_s']:.1f} deg)",
+            "duck_walk_sigma": "keep 0.1 deg (not measured)",
         },
         "tracker": {
             "length_sigma": round(len_sigma, 3),
-            "dheading_sigma": round(r(ml["mid"]["sigma_s"]), 4),
+            "dheading_sigma": dheading_sigma,
             "scale_sigma": round(scale_sigma0, 3),
-            "drift_sigma": round(r(drift0_mid), 5),
+            "drift_sigma": drift0,
             "drift_walk_sigma": 0.0,
         },
         "simulator_noise": {
             "length_sigma": round(len_sigma, 3),
             "length_scale": round(sc["mean"], 3),
-            "dheading_sigma": round(r(ml["mid"]["sigma_s"]), 4),
-            "drift_total_per_step": round(r(drift0_mid), 5),
+            "dheading_sigma": dheading_sigma,
+            "drift_total_per_step": drift0,
             "drift_rate_walk_sigma": round(r(0.001), 6),
             "dz_sigma": round(foot["dz_error_m"]["robust_sigma"], 3),
             "_note": "drift_total = drift_total_per_step x strides (the simulator takes the walk's total)",
         },
-        "white_direction_sigma_deg": {"end": ml["end"]["sigma_w"], "mid": ml["mid"]["sigma_w"],
-                                      "mid_variogram": vg["mid"]["fit_lag2_8"]["white_sigma_deg"]},
+        "white_direction_sigma_deg": {"ml": ml["sigma_w"],
+                                      "variogram": vg["fit_lag2_8"]["white_sigma_deg"]},
     }
     ph = phone
     corr = ph["step_heading_correlation"]
@@ -1141,7 +1153,7 @@ def simulate_foot(foot, params, seeds=20):
     rng = np.random.default_rng(1)
     for _ in range(seeds):
         series = []
-        for idx, e in A["series_mid"]:
+        for idx, e in A["series"]:
             n = int(idx[-1]) + 1
             drift = sim_drift(n, p["drift_total_per_step"] * n, p["drift_rate_walk_sigma"], rng)
             ce = np.cumsum(p["dheading_sigma"] * rng.standard_normal(n) + drift)
@@ -1215,53 +1227,66 @@ def figures(foot, phone, sim_foot, sim_comp, params, fig_dir):
     col = {"hallway": "C0", "vicon": "C1"}
     # 1. foot heading
     fig, ax = plt.subplots(2, 3, figsize=(13, 7.5))
-    for k, (key, title) in enumerate((("series_end", "end: stride along H_k (now)"),
-                                      ("series_mid", "mid: along (H_k-1 + H_k)/2"))):
-        for (idx, e), kind in zip(A[key], A["kinds"]):
-            ax[0, k].plot(idx, e * DEG, color=col[kind], lw=0.8, alpha=0.8)
-        ax[0, k].plot([], [], color="C0", label="hallway")
-        ax[0, k].plot([], [], color="C1", label="Vicon")
-        ax[0, k].set_ylim(-100, 100)
-        ax[0, k].set(xlabel="stride", ylabel="cumulative heading error (deg)", title=title)
-        ax[0, k].legend(fontsize=8)
-    bins = np.linspace(-60, 60, 61)
-    xx = np.linspace(-60, 60, 400)
-    for conv, c in (("end", "C0"), ("mid", "C3")):
-        X = A["X_" + conv] * DEG
-        t = foot["heading_change"][conv]["student_t"]
-        ax[0, 2].hist(np.clip(X, -60, 60), bins=bins, histtype="step", color=c, density=True, label=conv)
-        ax[0, 2].plot(xx, _t_pdf(xx, t["nu"], t["scale_deg"]), color=c, lw=0.8, ls="--",
-                      label=f"t: nu {t['nu']:g}, scale {t['scale_deg']:.1f} deg")
-    ax[0, 2].set_yscale("log")
-    ax[0, 2].set_ylim(1e-4, 0.2)
-    ax[0, 2].set(xlabel="heading-change error per stride (deg)", ylabel="density",
-                 title="heading-change error (walking strides)")
-    ax[0, 2].legend(fontsize=7)
-    for conv, c in (("end", "C0"), ("mid", "C3")):
-        bt = foot["heading_change"][conv]["by_turn"]
-        ax[1, 0].plot([0.5 * (b["lo"] + b["hi"]) for b in bt], [b["value"] for b in bt], "o-", color=c,
-                      label=conv)
-    ax[1, 0].set(xlabel="|truth turn| in the stride (deg)", ylabel="robust sigma (deg)",
-                 title="heading-change error vs turn")
-    ax[1, 0].legend(fontsize=8)
-    for conv, c, m in (("end", "C0", "o-"), ("mid", "C3", "s-")):
-        vg = foot["variogram"][conv]
-        ax[1, 1].plot(vg["lag"], vg["v_deg2"], m, color=c, label=f"measured, {conv}")
-    ax[1, 1].plot(foot["variogram"]["mid"]["lag"], sim_foot["variogram_v_deg2"], "k--",
-                  label="simulator preset")
-    ax[1, 1].set(xlabel="lag (strides)", ylabel="robust mean sq. change (deg^2)",
+    for (idx, e), kind in zip(A["series"], A["kinds"]):
+        ax[0, 0].plot(idx, e * DEG, color=col[kind], lw=0.8, alpha=0.8)
+    ax[0, 0].plot([], [], color="C0", label="hallway")
+    ax[0, 0].plot([], [], color="C1", label="Vicon")
+    ax[0, 0].axhline(0, color="k", lw=0.5)
+    ax[0, 0].set_ylim(-40, 40)
+    ax[0, 0].set(xlabel="stride", ylabel="H_k - truth chord direction (deg; clipped at +-40)",
+                 title="cumulative heading error per walk")
+    ax[0, 0].legend(fontsize=8)
+    X = A["X"] * DEG
+    hc = foot["heading_change"]
+    bins = np.linspace(-15, 15, 61)
+    for m, lab, c in ((A["hall"], "hallway", "C0"), (~A["hall"], "Vicon", "C1")):
+        ax[0, 1].hist(np.clip(X[m], -14.9, 14.9), bins=bins, histtype="step", color=c,
+                      weights=np.full(int(m.sum()), 1.0 / (len(X) * (bins[1] - bins[0]))),
+                      label=f"{lab} ({int(m.sum())})")
+    xx = np.linspace(-15, 15, 400)
+    t = hc["student_t"]
+    ax[0, 1].plot(xx, _t_pdf(xx, t["nu"], t["scale_deg"]), "k--", lw=0.8,
+                  label=f"t, all: nu {t['nu']:g}, scale {t['scale_deg']:.1f} deg")
+    ax[0, 1].set_yscale("log")
+    ax[0, 1].set_ylim(1e-4, 0.5)
+    ax[0, 1].set(xlabel="dheading - truth turn (deg; beyond +-15 in the end bins)", ylabel="density",
+                 title="heading-change error per stride")
+    ax[0, 1].legend(fontsize=7, loc="upper left")
+    bt = hc["by_turn"]
+    ax[0, 2].plot([0.5 * (b["lo"] + b["hi"]) for b in bt], [b["value"] for b in bt], "o-", color="C3")
+    for b in bt:
+        ax[0, 2].annotate(str(b["n"]), (0.5 * (b["lo"] + b["hi"]), b["value"]), fontsize=7,
+                          textcoords="offset points", xytext=(3, 4))
+    ax[0, 2].set_ylim(0, None)
+    ax[0, 2].set(xlabel="|truth turn| in the stride (deg; bins 0-10-30-60-90-180)",
+                 ylabel="robust sigma (deg)", title="heading-change error vs turn (labels: strides)")
+    vg = foot["variogram"]
+    ax[1, 0].plot(vg["lag"], vg["v_deg2"], "o-", color="C3", label="measured (robust)")
+    ax[1, 0].plot(vg["lag"], sim_foot["variogram_v_deg2"], "k--", label="simulator preset")
+    ax[1, 0].set_ylim(0, None)
+    ax[1, 0].set(xlabel="lag (strides)", ylabel="robust mean sq. change (deg^2)",
                  title="variogram of the detrended cumulative error")
-    ax[1, 1].legend(fontsize=8)
+    ax[1, 0].legend(fontsize=8)
+    ml = foot["heading_model_ml"]
+    ps = np.array(ml["profile_sigma_s"])
+    ax[1, 1].plot(ps[:, 0], ps[:, 1] - ml["loglik"], "o-", color="C3")
+    ax[1, 1].axhline(-1.92, color="k", lw=0.5, ls=":")
+    lo, hi = ml["sigma_s_interval95_deg"]
+    ax[1, 1].axvspan(lo, hi, color="C3", alpha=0.15)
+    ax[1, 1].set_ylim(-60, 5)
+    ax[1, 1].set_xlim(0, 2.2)
+    ax[1, 1].set(xlabel="accumulating noise sigma_s (deg/stride)", ylabel="profile log-likelihood",
+                 title=f"state-space fit: sigma_s {ml['sigma_s']:.2f} (95 %: {lo:.2f}-{hi:.2f})")
     ws = foot["walks"]
     y = np.arange(len(ws))
-    ax[1, 2].errorbar([w["mid"]["drift_deg_per_s"] for w in ws], y,
-                      xerr=[w["mid"]["drift_se_deg_per_s"] for w in ws], fmt="none", ecolor="0.6")
-    ax[1, 2].scatter([w["mid"]["drift_deg_per_s"] for w in ws], y,
+    ax[1, 2].errorbar([w["drift_deg_per_s"] for w in ws], y,
+                      xerr=[w["drift_se_deg_per_s"] for w in ws], fmt="none", ecolor="0.6")
+    ax[1, 2].scatter([w["drift_deg_per_s"] for w in ws], y,
                      c=[col[w["walk"].split("/")[0]] for w in ws], s=18, zorder=3)
     ax[1, 2].axvline(0, color="k", lw=0.5)
     ax[1, 2].set_yticks(y)
     ax[1, 2].set_yticklabels([w["walk"].split("/")[1][-8:] for w in ws], fontsize=6)
-    ax[1, 2].set(xlabel="heading drift rate, mid (deg/s, Huber fit +- 1 se)", title="drift per walk")
+    ax[1, 2].set(xlabel="heading drift rate (deg/s, Huber fit +- 1 se)", title="drift per walk")
     save(fig, os.path.join(fig_dir, "error-models-foot-heading.png"))
 
     # 2. foot length
@@ -1356,8 +1381,7 @@ def figures(foot, phone, sim_foot, sim_comp, params, fig_dir):
     fig, ax = plt.subplots(1, 3, figsize=(13, 3.6))
     ac = foot["autocorrelation"]
     lags = np.arange(1, 9)
-    ax[0].plot(lags, ac["heading_change_end"], "o-", label="heading change (end)")
-    ax[0].plot(lags, ac["heading_change_mid"], "s-", label="heading change (mid)")
+    ax[0].plot(lags, ac["heading_change"], "o-", label="heading change")
     ax[0].plot(lags, ac["length_residual"], "^-", label="length residual")
     ax[0].axhline(0, color="k", lw=0.5)
     ax[0].axhline(-0.5, color="k", lw=0.5, ls=":")
@@ -1430,63 +1454,82 @@ def main():
 def print_table(foot, phone, params, sim_foot, sim_comp):
     m = foot["matching"]
     print(f"FOOT: {m['steps']} step events, {m['truth_strides']} truth strides, {m['matched_steps']} steps "
-          f"matched by time (+-{MATCH_TOLERANCE_S} s), {m['single_units']} one-to-one, "
-          f"{m['split_steps']} split parts merged, {m['walking_pairs']} walking stride pairs")
-    print(f"{'walk':30s} {'str':>4s} {'s':>5s} {'scale':>6s} {'drift mid deg/str':>17s} {'deg/s':>6s} "
-          f"{'end deg/s':>9s} {'final mid':>9s} {'dh rs end':>9s} {'mid':>5s}")
+          f"matched by time (+-{MATCH_TOLERANCE_S} s; {m['extra_steps']} second steps on one stance joined "
+          f"to the next), {m['single_units']} one-to-one, {m['split_steps']} split parts merged, "
+          f"{m['walking_pairs']} walking stride pairs")
+    print(f"{'walk':30s} {'str':>4s} {'s':>5s} {'scale':>6s} {'drift deg/str':>13s} {'deg/s':>6s} "
+          f"{'final':>6s} {'dh rs':>5s}")
     for w in foot["walks"]:
-        e, d = w["end"], w["mid"]
         print(f"{w['walk']:30s} {w['truth_strides']:4d} {w['duration_s']:5.0f} {w['scale']:6.3f} "
-              f"{d['drift_deg_per_stride']:+8.2f} +- {d['drift_se_deg_per_stride']:4.2f} {d['drift_deg_per_s']:+6.2f} "
-              f"{e['drift_deg_per_s']:+9.2f} {d['final_cum_error_deg']:+9.1f} "
-              f"{e['heading_change_robust_sigma_deg']:9.1f} {d['heading_change_robust_sigma_deg']:5.1f}")
+              f"{w['drift_deg_per_stride']:+6.2f} +- {w['drift_se_deg_per_stride']:4.2f} "
+              f"{w['drift_deg_per_s']:+6.2f} {w['final_cum_error_deg']:+6.1f} "
+              f"{w['heading_change_robust_sigma_deg']:5.1f}")
     hc = foot["heading_change"]
-    for k in ("end", "mid"):
-        s, t, g = hc[k]["all"], hc[k]["student_t"], hc[k]["gauss_uniform"]
-        print(f"heading change ({k}): n {s['n']} sigma {s['sigma']:.1f} robust {s['robust_sigma']:.1f} "
-              f"p95 {s['p95_abs']:.1f} p99 {s['p99_abs']:.1f} deg, kurtosis {s['excess_kurtosis']:.1f}; "
-              f"t nu {t['nu']:g} scale {t['scale_deg']:.1f} deg; normal+uniform sigma {g['sigma_deg']:.1f} "
-              f"eps {g['outlier_probability']:.3f}")
-    print(f"look-ahead: end error = {hc['lookahead_regression']['gain']:.2f} x (next turn - this turn); "
-          f"robust sigma {hc['lookahead_regression']['robust_sigma_before_deg']:.1f} -> "
-          f"{hc['lookahead_regression']['robust_sigma_after_deg']:.1f} deg")
-    for k in ("end", "mid"):
-        ml = foot["heading_model_ml"][k]
-        vg = foot["variogram"][k]["fit_lag2_8"]
-        dr = foot["drift"][k]
-        print(f"{k}: ML sigma_s {ml['sigma_s']:.2f} deg/stride, sigma_w {ml['sigma_w']:.2f} deg, sigma_r0 "
-              f"{ml['sigma_r0']:.3f} deg/stride, sigma_q {ml['sigma_q']:.4f} (<= {ml['sigma_q_upper95_deg']:.3f}) "
-              f"deg/stride^2 [{ml['points_dropped_as_outliers']} outliers dropped]; variogram walk "
-              f"{vg['walk_sigma_deg_per_stride']:.2f} deg/stride white {vg['white_sigma_deg']:.2f} deg; "
-              f"per-walk rate spread beyond noise {dr['spread_beyond_noise_deg_per_stride']:.2f} deg/stride "
-              f"{dr['spread_beyond_noise_deg_per_s']:.2f} deg/s (hallway {dr['hallway_spread_beyond_noise_deg_per_s']:.2f}, "
-              f"Vicon {dr['vicon_spread_beyond_noise_deg_per_s']:.2f})")
+    t, g = hc["student_t"], hc["gauss_uniform"]
+    for k in ("all", "hallway", "vicon", "straight_lt_10deg"):
+        s = hc[k]
+        print(f"heading change ({k}): n {s['n']} sigma {s['sigma']:.1f} robust {s['robust_sigma']:.2f} "
+              f"p95 {s['p95_abs']:.1f} p99 {s['p99_abs']:.1f} max {s['max_abs']:.1f} deg, kurtosis "
+              f"{s['excess_kurtosis']:.1f}, beyond 3 robust sigma {s['share_beyond_3_robust_sigma']:.3f}")
+    print(f"  t nu {t['nu']:g} scale {t['scale_deg']:.2f} deg (loglik {t['loglik'] - t['gauss_loglik']:+.0f} "
+          f"over Gaussian); normal+uniform sigma {g['sigma_deg']:.2f} eps {g['outlier_probability']:.3f}")
+    print("  robust sigma by |turn|:", [(b['lo'], b['hi'], b['n'], round(b['value'], 2)) for b in hc["by_turn"]])
+    print("  robust sigma by stride duration:", [(b['lo'], b['hi'], b['n'], round(b['value'], 2))
+                                                 for b in hc["by_duration_s"]])
+    la = hc["lookahead_check"]
+    print(f"  look-ahead check: error = {la['gain']:.2f} x (next turn - this turn) (about 1/2 for a leading heading); "
+          f"robust sigma {la['robust_sigma_before_deg']:.2f} -> {la['robust_sigma_after_deg']:.2f} deg")
+    for b in hc["beyond_10deg"]:
+        print(f"  beyond 10 deg: {b['walk']} stride {b['stride']}: {b['error_deg']:+.1f} deg, turn {b['turn_deg']:+.0f}, "
+              f"length {b['length_m']:.2f} m / truth {b['truth_length_m']:.2f} m, cumulative {b['cum_error_deg']:+.1f} deg")
+    tn = hc["truth_noise"]
+    print(f"  truth noise: hallway footprints <= {tn['hallway_footprint_sigma_upper_m'] * 100:.1f} cm -> <= "
+          f"{tn['heading_change_noise_upper_deg']:.1f} deg of heading change; hallway excess over Vicon "
+          f"{tn['hallway_excess_over_vicon_deg']:.2f} deg")
+    ml = foot["heading_model_ml"]
+    vg = foot["variogram"]["fit_lag2_8"]
+    dr = foot["drift"]
+    print(f"ML: sigma_s {ml['sigma_s']:.2f} deg/stride (95 % {ml['sigma_s_interval95_deg'][0]:.2f}-"
+          f"{ml['sigma_s_interval95_deg'][1]:.2f}), sigma_w {ml['sigma_w']:.2f} deg, sigma_r0 "
+          f"{ml['sigma_r0']:.3f} deg/stride, sigma_q {ml['sigma_q']:.4f} (<= {ml['sigma_q_upper95_deg']:.3f}) "
+          f"deg/stride^2 [{ml['points_dropped_as_outliers']} of {ml['points']} points dropped as outliers]")
+    for k, f in list(ml["by_outlier_cut"].items()) + [("hallway", ml["hallway"]), ("vicon", ml["vicon"])]:
+        print(f"  {k:>7s}: sigma_s {f['sigma_s']:.2f} sigma_w {f['sigma_w']:.2f} sigma_r0 {f['sigma_r0']:.3f} "
+              f"[{f['points_dropped_as_outliers']} dropped]")
+    print(f"variogram (robust) {np.round(foot['variogram']['v_deg2'], 1).tolist()} deg^2 at lags 1..12: "
+          f"walk {vg['walk_sigma_deg_per_stride']:.2f} deg/stride, white {vg['white_sigma_deg']:.2f} deg")
+    print(f"per-walk drift rate: sd {dr['rate_deg_per_stride']['sigma']:.2f} robust "
+          f"{dr['rate_deg_per_stride']['robust_sigma']:.2f} deg/stride (sd {dr['rate_deg_per_s']['sigma']:.2f} "
+          f"robust {dr['rate_deg_per_s']['robust_sigma']:.2f} deg/s); spread beyond noise "
+          f"{dr['spread_beyond_noise_deg_per_stride']:.2f} deg/stride {dr['spread_beyond_noise_deg_per_s']:.2f} deg/s "
+          f"(hallway {dr['hallway_spread_beyond_noise_deg_per_stride']:.2f} deg/stride "
+          f"{dr['hallway_spread_beyond_noise_deg_per_s']:.2f} deg/s, Vicon "
+          f"{dr['vicon_spread_beyond_noise_deg_per_stride']:.2f} deg/stride "
+          f"{dr['vicon_spread_beyond_noise_deg_per_s']:.2f} deg/s)")
     for k, ts in foot["turn_scale_factor"].items():
-        print(f"turn scale factor (mid, {k}): {ts['scale_factor'] * 100:+.2f} +- {ts['se'] * 100:.2f} % of the truth turn")
+        print(f"turn scale factor ({k}): {ts['scale_factor'] * 100:+.2f} +- {ts['se'] * 100:.2f} % of the truth turn")
     ln = foot["length"]
     r = ln["residual_m"]
     print(f"length: per-walk scale mean {ln['scale']['mean']:.3f} sd {ln['scale']['sd']:.3f} "
           f"[{ln['scale']['min']:.3f}, {ln['scale']['max']:.3f}], corr with stride duration "
-          f"{ln['scale']['corr_with_median_stride_s']:+.2f}; residual sigma {r['sigma']:.3f} robust "
+          f"{ln['scale']['corr_with_median_stride_s']:+.2f}; residual (n {r['n']}) sigma {r['sigma']:.3f} robust "
           f"{r['robust_sigma']:.3f} p95 {r['p95_abs']:.3f} p99 {r['p99_abs']:.3f} max {r['max_abs']:.2f} m, "
           f"kurtosis {r['excess_kurtosis']:.0f}; t nu {ln['student_t']['nu']:g} scale {ln['student_t']['scale_m']:.3f} m")
+    print(f"  hallway / Vicon robust {ln['residual_m_hallway']['robust_sigma']:.4f} / "
+          f"{ln['residual_m_vicon']['robust_sigma']:.4f} m, p99 {ln['residual_m_hallway']['p99_abs']:.3f} / "
+          f"{ln['residual_m_vicon']['p99_abs']:.3f} m; relative robust {ln['relative_residual']['robust_sigma'] * 100:.1f} % "
+          f"p95 {ln['relative_residual']['p95_abs'] * 100:.1f} %")
     print("  robust sigma by stride duration:", [(b['lo'], b['hi'], b['n'], round(b['value'], 3)) for b in ln["by_duration_s"]])
     print("  median relative residual by duration:", [(b['lo'], b['hi'], round(b['value'] * 100, 2)) for b in ln["mean_relative_by_duration_s"]])
     print("  robust sigma by |turn|:", [(b['lo'], b['hi'], b['n'], round(b['value'], 3)) for b in ln["by_turn_deg"]])
     ac = foot["autocorrelation"]
-    print("ACF lag 1..4: dh end", np.round(ac["heading_change_end"][:4], 2).tolist(), "dh mid",
-          np.round(ac["heading_change_mid"][:4], 2).tolist(), "length", np.round(ac["length_residual"][:4], 2).tolist())
+    print("ACF lag 1..4: heading change", np.round(ac["heading_change"][:4], 2).tolist(),
+          "length", np.round(ac["length_residual"][:4], 2).tolist())
     dz = foot["dz_error_m"]
-    print(f"dz error: sigma {dz['sigma']:.3f} robust {dz['robust_sigma']:.3f} p99 {dz['p99_abs']:.3f} m")
-    tn = hc["truth_noise"]
-    print(f"truth noise: hallway footprints <= {tn['hallway_footprint_sigma_upper_m'] * 100:.1f} cm -> <= "
-          f"{tn['heading_change_noise_upper_deg']:.1f} deg of heading change; mid robust {hc['mid']['all']['robust_sigma']:.1f} -> "
-          f"{tn['mid_all_corrected_deg']:.1f} deg, straight {tn['mid_straight_robust_sigma_deg']:.1f} -> {tn['mid_straight_corrected_deg']:.1f} deg")
-    print("heading change (mid) robust sigma by stride duration:", [(b['lo'], b['hi'], b['n'], round(b['value'], 1)) for b in hc["mid"]["by_duration_s"]])
-    print(f"measured per-walk rate (mid): sd {foot['drift']['mid']['rate_deg_per_stride']['sigma']:.3f} robust "
-          f"{foot['drift']['mid']['rate_deg_per_stride']['robust_sigma']:.3f} deg/stride; sigma_s 95% interval "
-          f"{foot['heading_model_ml']['mid']['sigma_s_interval95_deg']} deg/stride")
-    print(f"simulated (preset, mid): heading change robust {sim_foot['heading_change']['robust_sigma']:.2f} deg; "
+    print(f"dz error (n {dz['n']}): sigma {dz['sigma']:.3f} robust {dz['robust_sigma']:.3f} p99 {dz['p99_abs']:.3f} m")
+    sh = sim_foot["heading_change"]
+    print(f"simulated (preset): heading change robust {sh['robust_sigma']:.2f} p95 {sh['p95_abs']:.1f} deg; "
+          f"variogram lag 1 / 12 {sim_foot['variogram_v_deg2'][0]:.1f} / {sim_foot['variogram_v_deg2'][11]:.1f} deg^2; "
           f"rate sd {sim_foot['rate_sd_deg_per_stride']:.3f} deg/stride")
     print()
     print(f"PHONE: legs {phone['segments']}; rotation offset {phone['rotation_offset_deg']:+.2f} deg")

@@ -12,8 +12,13 @@
 //!    unless the stance is not clear and the INS is faster than `zupt_gate_speed` at each of
 //!    its update samples (a mid-swing dip of the statistic, not a stance);
 //! 4. here: the stances cut the path into strides. Each stance's last sample closes a stride
-//!    from the previous stance (its `t`, horizontal `length`, change of the foot's yaw
-//!    `dheading`, height change `dz`). A stride that is too short in distance or time (a
+//!    from the previous stance (its `t`, horizontal `length`, height change `dz`, and
+//!    `dheading`, the change of walking direction: the direction of this stride's
+//!    displacement less the previous stride's; 0 for the first stride, whose direction is
+//!    the walk's initial heading). Dead reckoning the strides therefore reproduces the INS
+//!    path (rotated to set off along +x); the foot's yaw
+//!    would not (at a stance it points about half-way between the strides before and after,
+//!    a look-ahead of half the turn: docs/error-models.md). A stride that is too short in distance or time (a
 //!    shuffle, a spurious stance) is merged into the next one; standing still produces no
 //!    stance end and so no stride. A gap in the samples longer than `max_gap_s` cannot be
 //!    integrated: the open stride is dropped, and the INS restarts at the next stance
@@ -50,7 +55,6 @@ enum Run {
 struct Anchor {
     t: f64,
     position: Vector3<f64>,
-    yaw: f64,
 }
 
 /// Strides of a foot-mounted recording: one event per stride, the INS path at each stance
@@ -128,6 +132,8 @@ pub fn detect_strides(
     );
 
     let mut anchor: Option<Anchor> = None;
+    // The direction of the last stride walked (none before the first).
+    let mut walked: Option<f64> = None;
     let mut lost = false; // after a gap, until the next stance
     let mut reanchor = false; // after a restart, until the stance ends
     let mut run = Run::Undecided; // the current stance's fate
@@ -209,7 +215,6 @@ pub fn detect_strides(
         let here = Anchor {
             t: t[k],
             position: state.position,
-            yaw: heading_of(&state.attitude, &axis),
         };
         let Some(from) = anchor.filter(|_| !reanchor) else {
             if anchor.is_none() {
@@ -226,7 +231,14 @@ pub fn detect_strides(
             continue;
         }
         stride_time += here.t - from.t;
-        emit(&from, &here, &mut steps, &mut path, &mut figures);
+        emit(
+            &from,
+            &here,
+            &mut walked,
+            &mut steps,
+            &mut path,
+            &mut figures,
+        );
         anchor = Some(here);
     }
     figures.mean_zupt_residual = residual_sum / (residual_count.max(1) as f64);
@@ -262,10 +274,14 @@ fn gyro_bias(
     }
 }
 
-/// Appends the stride `from → to` (split into equal parts if implausibly long).
+/// Appends the stride `from → to` (split into equal parts if implausibly long); `direction`
+/// is the direction of the stride before it (radians in the INS frame; `None` before the
+/// first stride, which sets the walk's initial direction and so turns by 0), updated to
+/// this one's.
 fn emit(
     from: &Anchor,
     to: &Anchor,
+    direction: &mut Option<f64>,
     steps: &mut Vec<Step>,
     path: &mut Vec<[f64; 3]>,
     figures: &mut FootFigures,
@@ -279,17 +295,22 @@ fn emit(
         figures.split_strides += 1;
     }
     let m = parts as usize;
+    // A stride without horizontal length (possible only with `min_stride_length` 0) keeps
+    // the direction walked before it.
+    let turn = if length > 0.0 {
+        let along = d.y.atan2(d.x);
+        let before = direction.replace(along).unwrap_or(along);
+        crate::geometry::wrap_turn(along - before)
+    } else {
+        0.0
+    };
     for i in 1..=m {
         let s = i as f64 / parts;
         let p = from.position + d * s;
         steps.push(Step {
             t: from.t + (to.t - from.t) * s,
             length: length / parts,
-            dheading: if i == 1 {
-                crate::geometry::wrap_turn(to.yaw - from.yaw)
-            } else {
-                0.0
-            },
+            dheading: if i == 1 { turn } else { 0.0 },
             dz: d.z / parts,
             heading: None,
         });
@@ -437,9 +458,14 @@ mod tests {
         assert_eq!((f.gaps_skipped, f.strides_lost_to_gaps), (1, 1), "{f:?}");
         let steps = e.trace.steps();
         assert_eq!(steps.len(), 3, "{steps:?}");
-        // The strides before and after the gap keep their lengths and turns.
+        // The strides before and after the gap keep their lengths. The stride after it turns
+        // from the last one walked by its own turn plus the part of the lost stride's turn
+        // (0.5 rad) the gyroscope saw before the gap: s(τ) of the swing at 3.7 s.
         assert!((steps[0].length - 1.2).abs() < 0.03);
-        assert!((steps[1].length - 1.0).abs() < 0.03 && (steps[1].dheading + 1.2).abs() < 0.02);
+        let tau: f64 = (3.7 - 3.5) / 0.7;
+        let seen = 0.5 * (tau - (TAU * tau).sin() / TAU);
+        assert!((steps[1].length - 1.0).abs() < 0.03, "{steps:?}");
+        assert!((steps[1].dheading - (seen - 1.2)).abs() < 0.02, "{steps:?}");
         assert!((steps[2].length - 1.3).abs() < 0.03);
         // The path holds one point per stride plus the start, each stride its length apart.
         assert_eq!(e.path.len(), 4);
