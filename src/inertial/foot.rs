@@ -450,6 +450,31 @@ mod tests {
     }
 
     #[test]
+    fn dead_reckoned_strides_are_the_ins_path() {
+        // A gap in the middle too: the restart must not break the chain of directions.
+        for drop in [None, Some((3.7, 4.2))] {
+            let e = detect_strides(&synthetic(200.0, &WALK, drop), &FootConfig::default())
+                .expect("strides");
+            let steps = e.trace.steps();
+            assert_eq!(
+                steps[0].dheading, 0.0,
+                "the first stride sets the direction"
+            );
+            // The INS path turned so that its first stride runs along +x, from the origin.
+            let (x0, y0) = (e.path[0][0], e.path[0][1]);
+            let a = (e.path[1][1] - y0).atan2(e.path[1][0] - x0);
+            let walked = e
+                .trace
+                .dead_reckon(crate::geometry::Pose2::new(0.0, 0.0, 0.0));
+            for (p, q) in walked.iter().zip(&e.path[1..]) {
+                let (dx, dy) = (q[0] - x0, q[1] - y0);
+                let (x, y) = (dx * a.cos() + dy * a.sin(), dy * a.cos() - dx * a.sin());
+                assert!((p.x - x).hypot(p.y - y) < 1e-9, "{p:?} vs ({x}, {y})");
+            }
+        }
+    }
+
+    #[test]
     fn a_gap_drops_the_open_stride_and_the_walk_resumes() {
         // Half a second missing in the middle of the second swing (3.5 s + 0.35 s).
         let rec = synthetic(200.0, &WALK, Some((3.7, 4.2)));
