@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 PYTHON="${PYTHON:-python3}"
 export PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_ROOT_USER_ACTION=ignore
 
-"$PYTHON" -m pip install --quiet "maturin>=1.9,<2" "pytest>=7" "numpy>=1.21" pandas "dask[distributed]"
+"$PYTHON" -m pip install --quiet "maturin>=1.9,<2" "pytest>=7" "numpy>=1.21" pandas "dask[distributed]" geopandas
 
 wheels=target/python-wheels
 rm -rf "$wheels"
