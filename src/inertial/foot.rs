@@ -16,10 +16,10 @@
 //!    `dheading`, the change of walking direction: the direction of this stride's
 //!    displacement less the previous stride's; 0 for the first stride, whose direction is
 //!    the walk's initial heading). Dead reckoning the strides therefore reproduces the INS
-//!    path (rotated to set off along +x); the foot's yaw
-//!    would not (at a stance it points about half-way between the strides before and after,
-//!    a look-ahead of half the turn: docs/error-models.md). A stride that is too short in distance or time (a
-//!    shuffle, a spurious stance) is merged into the next one; standing still produces no
+//!    path (turned to set off along +x); the foot's yaw would not (at a stance it points
+//!    about half-way between the strides before and after, a look-ahead of half the turn:
+//!    docs/error-models.md). A stride that is too short in distance or time (a shuffle, a
+//!    spurious stance) is merged into the next one; standing still produces no
 //!    stance end and so no stride. A gap in the samples longer than `max_gap_s` cannot be
 //!    integrated: the open stride is dropped, and the INS restarts at the next stance
 //!    (re-levelled, same yaw, same position).
