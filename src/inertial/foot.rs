@@ -16,13 +16,13 @@
 //!    `dheading`, the change of walking direction: the direction of this stride's
 //!    displacement less the previous stride's; 0 for the first stride, whose direction is
 //!    the walk's initial heading). Dead reckoning the strides therefore reproduces the INS
-//!    path (turned to set off along +x); the foot's yaw would not (at a stance it points
-//!    about half-way between the strides before and after, a look-ahead of half the turn:
-//!    docs/error-models.md). A stride that is too short in distance or time (a shuffle, a
-//!    spurious stance) is merged into the next one; standing still produces no
-//!    stance end and so no stride. A gap in the samples longer than `max_gap_s` cannot be
-//!    integrated: the open stride is dropped, and the INS restarts at the next stance
-//!    (re-levelled, same yaw, same position).
+//!    path, which is given turned to that frame (the first stride along +x); the foot's yaw
+//!    would not (at a stance it points about half-way between the strides before and after,
+//!    a look-ahead of half the turn: docs/error-models.md). A stride that is too short in
+//!    distance or time (a shuffle, a spurious stance) is merged into the next one; standing
+//!    still produces no stance end and so no stride. A gap in the samples longer than
+//!    `max_gap_s` cannot be integrated: the open stride is dropped, and the INS restarts at
+//!    the next stance (re-levelled, same yaw, same position).
 
 use super::foot_config::{FootConfig, FootFigures};
 use super::stance::{ShoeDetector, samples_in};
@@ -318,11 +318,34 @@ fn emit(
     }
 }
 
+/// Turns `path` about its first point so that its first stride runs along +x: the frame
+/// in which the strides' `dheading` starts (the first stride sets the walk's direction).
+fn turn_to_first_stride(path: &mut [[f64; 3]]) {
+    let Some(&[x0, y0, _]) = path.first() else {
+        return;
+    };
+    let Some(a) = path
+        .iter()
+        .map(|p| (p[0] - x0, p[1] - y0))
+        .find(|&(dx, dy)| dx.hypot(dy) > 0.0)
+        .map(|(dx, dy)| dy.atan2(dx))
+    else {
+        return;
+    };
+    let (sin, cos) = a.sin_cos();
+    for p in path.iter_mut() {
+        let (dx, dy) = (p[0] - x0, p[1] - y0);
+        p[0] = x0 + cos * dx + sin * dy;
+        p[1] = y0 - sin * dx + cos * dy;
+    }
+}
+
 fn finish(
     steps: Vec<Step>,
-    path: Vec<[f64; 3]>,
+    mut path: Vec<[f64; 3]>,
     mut figures: FootFigures,
 ) -> Result<StepEvents<FootFigures>> {
+    turn_to_first_stride(&mut path);
     figures.strides = steps.len();
     figures.distance_m = steps.iter().map(|s| s.length).sum();
     if !steps.is_empty() {
@@ -460,16 +483,18 @@ mod tests {
                 steps[0].dheading, 0.0,
                 "the first stride sets the direction"
             );
-            // The INS path turned so that its first stride runs along +x, from the origin.
+            // The path is given in the strides' frame: its first stride runs along +x.
             let (x0, y0) = (e.path[0][0], e.path[0][1]);
-            let a = (e.path[1][1] - y0).atan2(e.path[1][0] - x0);
+            assert!(
+                (e.path[1][1] - y0).abs() < 1e-9 && e.path[1][0] > x0,
+                "{:?}",
+                e.path
+            );
             let walked = e
                 .trace
-                .dead_reckon(crate::geometry::Pose2::new(0.0, 0.0, 0.0));
+                .dead_reckon(crate::geometry::Pose2::new(x0, y0, 0.0));
             for (p, q) in walked.iter().zip(&e.path[1..]) {
-                let (dx, dy) = (q[0] - x0, q[1] - y0);
-                let (x, y) = (dx * a.cos() + dy * a.sin(), dy * a.cos() - dx * a.sin());
-                assert!((p.x - x).hypot(p.y - y) < 1e-9, "{p:?} vs ({x}, {y})");
+                assert!((p.x - q[0]).hypot(p.y - q[1]) < 1e-9, "{p:?} vs {q:?}");
             }
         }
     }
