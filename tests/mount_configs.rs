@@ -72,31 +72,19 @@ fn office(file: &str) -> String {
 }
 
 #[test]
-fn the_foot_set_configures_learn() {
-    check(
-        "learn-foot.toml",
-        &[
-            "learn",
-            "--steps",
-            &office("steps.csv"),
-            "--particles",
-            "300",
-        ],
-    );
-}
-
-#[test]
-fn the_phone_set_configures_learn() {
-    check(
-        "learn-phone.toml",
-        &[
-            "learn",
-            "--steps",
-            &office("steps.csv"),
-            "--particles",
-            "300",
-        ],
-    );
+fn the_foot_and_phone_sets_configure_learn() {
+    for file in ["learn-foot.toml", "learn-phone.toml"] {
+        check(
+            file,
+            &[
+                "learn",
+                "--steps",
+                &office("steps.csv"),
+                "--particles",
+                "300",
+            ],
+        );
+    }
 }
 
 #[test]
