@@ -1,8 +1,8 @@
 //! The foot-mounted INS ([`footslam::inertial::detect_strides`]) on every walk found under a
 //! folder (each sub-folder with an `imu.csv` and a `strides.csv` of truth stances), scored
 //! against the truth: stride count, stride-length RMS error, total-distance error and the
-//! shape error (path rigidly aligned to the footprints, p95). Then the speed on one hour of
-//! 100 Hz data (the first walk, decimated and repeated).
+//! shape error (the dead-reckoned strides rigidly aligned to the footprints, p95). Then the
+//! speed on one hour of 100 Hz data (the first walk, decimated and repeated).
 //!
 //! ```sh
 //! cargo run --release --example foot_imu -- /work/shared/data/foot-imu
