@@ -173,19 +173,12 @@ fn score(
             }
         }
     }
-    // The shape users get: `steps.csv` dead-reckoned from the first stance, which also
-    // checks that it reproduces the INS path (`dheading` is the change of stride direction).
-    let mut points = vec![(events.path[0][0], events.path[0][1])];
-    let walked = events.trace.dead_reckon(footslam::geometry::Pose2::new(
-        points[0].0,
-        points[0].1,
-        0.0,
-    ));
-    points.extend(walked.iter().map(|p| (p.x, p.y)));
+    // The shape users get: `events.path` is what `steps.csv` dead-reckons to from the first
+    // stance (`dheading` is the change of stride direction; unit-tested in `inertial::foot`).
     let (mut from, mut to) = (Vec::new(), Vec::new());
-    for (p, m) in points.iter().zip(&matches) {
+    for (p, m) in events.path.iter().zip(&matches) {
         if let Some(j) = m {
-            from.push(*p);
+            from.push((p[0], p[1]));
             to.push((truth[*j][1], truth[*j][2]));
         }
     }

@@ -30,6 +30,7 @@ use super::strapdown::{NavState, heading_axis, heading_of, level};
 use super::zupt::ZuptFilter;
 use super::{HeadingSource, StepEvents};
 use crate::error::{Error, Result};
+use crate::geometry::RigidTransform;
 use crate::sensor::step::{MAX_STEP_DZ, MAX_STEP_LENGTH};
 use crate::sensor::{ImuRecording, Step, StepTrace};
 use nalgebra::Vector3;
@@ -332,11 +333,13 @@ fn turn_to_first_stride(path: &mut [[f64; 3]]) {
     else {
         return;
     };
-    let (sin, cos) = a.sin_cos();
+    let turn = RigidTransform {
+        angle: -a,
+        ..RigidTransform::default()
+    };
     for p in path.iter_mut() {
-        let (dx, dy) = (p[0] - x0, p[1] - y0);
-        p[0] = x0 + cos * dx + sin * dy;
-        p[1] = y0 - sin * dx + cos * dy;
+        let (x, y) = turn.apply((p[0] - x0, p[1] - y0));
+        (p[0], p[1]) = (x0 + x, y0 + y);
     }
 }
 
