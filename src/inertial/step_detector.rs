@@ -166,6 +166,14 @@ impl StepDetector {
         self.stage[0] += alpha * (magnitude - self.stage[0]);
         self.stage[1] += alpha * (self.stage[0] - self.stage[1]);
         let y = self.stage[1];
+        // A pause ends the bout: its swing must not hold the threshold up for the next one
+        // (a phone handled vigorously, then carried gently, would otherwise stay silent).
+        if self
+            .last_step_t
+            .is_some_and(|last| t - last > self.config.max_step_period_s)
+        {
+            self.mean_swing = 0.0;
+        }
         let threshold = self.threshold();
         let hysteresis = 0.5 * threshold;
         match self.phase {
@@ -241,9 +249,6 @@ impl StepDetector {
                 self.too_soon += 1;
                 return None;
             }
-            if t - last > self.config.max_step_period_s {
-                self.mean_swing = 0.0; // a new bout: forget the old gait's swing
-            }
         }
         // Running mean over about the last four steps.
         self.mean_swing = if self.mean_swing == 0.0 {
@@ -259,6 +264,32 @@ impl StepDetector {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_gentle_bout_after_a_vigorous_one_and_a_pause_is_detected() {
+        // 20 s of a phone swung hard (±8 m/s², 2 Hz), 10 s still, 20 s of gentle walking
+        // (±1.5 m/s²): the hard swing's threshold must not outlive the pause.
+        let mut d = StepDetector::new(&StepDetectorConfig::default());
+        let rate = 50.0;
+        let mut gentle = 0;
+        for i in 0..(50 * 50) {
+            let t = f64::from(i) / rate;
+            let amp = match t {
+                t if t < 20.0 => 8.0,
+                t if t < 30.0 => 0.0,
+                _ => 1.5,
+            };
+            let m = 9.81 + amp * (2.0 * PI * 2.0 * t).sin();
+            if i == 0 {
+                d.restart(t, m);
+                continue;
+            }
+            if d.update(t, 1.0 / rate, m).is_some_and(|s| s.t > 30.0) {
+                gentle += 1;
+            }
+        }
+        assert!((36..=41).contains(&gentle), "{gentle} steps in 20 s at 2 Hz");
+    }
 
     /// Walking (a 2 Hz, ±`amp` vertical oscillation) for `walk_s`, then still for `still_s`.
     fn count(rate_hz: f64, amp: f64, walk_s: f64, still_s: f64) -> (usize, usize) {
