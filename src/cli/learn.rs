@@ -6,7 +6,7 @@
 //! the merged maps and the radio map of their WiFi logs ([`super::learn_radio`]), and the
 //! run's summary.
 
-use super::common::{bundled, output_dir, peak_memory_bytes, read_config, walk_prefix};
+use super::common::{bundled, output_dir, peak_memory_bytes, read_config, walk_prefix, warn};
 use super::learn_args::Args;
 use super::learn_inputs::{WalkArgs, WalkFiles, read_anchors, read_walks};
 use super::learn_outputs::{Summary, write_learned_plan, write_walk};
@@ -18,6 +18,7 @@ use footslam::geometry::LocalFrame;
 use footslam::io::RunFolder;
 use footslam::io::map_geojson::{StoredMap, write_walks_map_geojson};
 use footslam::map::CellConfig;
+use footslam::model::ScanPairsUnused;
 use footslam::pipeline::{LearnInput, Learned, default_frame, learn};
 use serde::Serialize;
 use std::time::Instant;
@@ -159,6 +160,12 @@ fn write_outputs(
     for (i, (walk, run)) in input.walks.iter().zip(&learned.walks).enumerate() {
         let prefix = walk_prefix(folder, i, batch)?;
         summaries.push(write_walk(folder, &prefix, &files[i], walk, run, frame)?);
+        if let Some(Err(why)) = &run.wifi
+            && *why != ScanPairsUnused::Disabled
+        {
+            let name = files[i].steps_path.display();
+            warn(&format!("{name}: its WiFi scans did not weigh inside the filter: {why}"));
+        }
         if let (Some(stored), Some(merged)) =
             (input.prior_map, learned.combined.merged_with_prior.get(i))
         {

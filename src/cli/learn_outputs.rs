@@ -11,6 +11,7 @@ use footslam::io::map_geojson::write_map_geojson;
 use footslam::io::track_geojson::write_track_geojson;
 use footslam::io::{TimedPoint, TrackPoint, write_trajectory};
 use footslam::map::{HexMapSnapshot, PlanConfig, walkable_plan};
+use footslam::model::PairLikelihood;
 use footslam::pipeline::{LearnWalk, WalkRun};
 use footslam::render::map_png::{MapPicture, PictureConfig, write_map_png};
 use serde::Serialize;
@@ -49,6 +50,46 @@ pub(super) struct Summary {
     /// Walkable area of `plan.geojson`, m² (`None`: the map had too little to make a plan
     /// of, and no file was written).
     walkable_plan_m2: Option<f64>,
+    /// With WiFi: how the scans weighed inside the filter (`None` without scans).
+    wifi_in_filter: Option<WifiSummary>,
+}
+
+/// How a walk's WiFi scans weighed inside the filter ([`footslam::model::scan_pairs`]).
+#[derive(Debug, Serialize)]
+struct WifiSummary {
+    /// Scans in the walk's WiFi log.
+    scans: usize,
+    /// Scans that weighted the particles.
+    scans_used: usize,
+    /// Scan pairs close enough in time to calibrate the model on dead reckoning.
+    calibration_pairs: usize,
+    /// Pairs of a scan and an earlier one that weighed in.
+    informative_pairs: usize,
+    /// How long before its time stamp a scan was heard, as calibrated, seconds.
+    latency_s: Option<f64>,
+    /// The calibrated model: per distance bin the median dissimilarity and its spread, dB.
+    model: Option<PairLikelihood>,
+    /// The part of `best_path_log_likelihood` the scans gave.
+    best_path_wifi_log_likelihood: f64,
+    /// Why the scans did not weigh (`None` when they did).
+    unused: Option<String>,
+}
+
+impl WifiSummary {
+    fn of(walk: &LearnWalk, run: &WalkRun) -> Option<Self> {
+        let outcome = run.wifi.as_ref()?;
+        let evidence = outcome.as_ref().ok();
+        Some(Self {
+            scans: walk.scans.len(),
+            scans_used: run.filter.scans_used(),
+            calibration_pairs: evidence.map_or(0, |e| e.calibration_pairs),
+            informative_pairs: evidence.map_or(0, |e| e.pairs()),
+            latency_s: evidence.map(|e| e.latency_s),
+            model: evidence.map(|e| e.likelihood.clone()),
+            best_path_wifi_log_likelihood: run.estimate.wifi_log_likelihood,
+            unused: outcome.as_ref().err().map(ToString::to_string),
+        })
+    }
 }
 
 /// Where a walk's start heading came from and how uncertain the map's orientation is.
@@ -175,6 +216,7 @@ pub(super) fn write_walk(
         gps_fixes_used: filter.gps_fixes_used(),
         prior_offset_m: estimate.prior_offset,
         walkable_plan_m2,
+        wifi_in_filter: WifiSummary::of(walk, run),
         heading: HeadingSummary {
             start_source: run.start_source,
             start_deg: config.start.heading.to_degrees(),

@@ -28,10 +28,13 @@ pub use super::footslam_config::FootSlamConfig;
 use super::lineage::Lineage;
 use super::outline_fit::{OUTAGE, OutlineZone, fit_outline_shift, in_outage, unseen_seconds};
 use super::resample::{self, ResampleMethod};
+use super::scan_trail::ScanTrail;
 use crate::error::Result;
 use crate::geometry::{Hex, HexGrid, Pose2};
 use crate::map::{EdgePrior, HexMapSnapshot, HexTransitionMap, level_key};
-use crate::model::{GpsLikelihood, HeadingLikelihood, LevelTracker, StepErrorState, StepMotion};
+use crate::model::{
+    GpsLikelihood, HeadingLikelihood, LevelTracker, ScanEvidence, StepErrorState, StepMotion,
+};
 use crate::random::{filter_stream, stream};
 use crate::sensor::Step;
 use rand::RngExt;
@@ -49,6 +52,41 @@ struct Particle {
     /// included): the unnormalised posterior of the path under the likelihood proposal,
     /// never reset by resampling.
     path_log_likelihood: f64,
+    /// The share of `path_log_likelihood` that came from WiFi scans (eq. 3 of
+    /// [`crate::model::scan_pairs`]).
+    wifi_log_likelihood: f32,
+    /// Its positions at the walk's WiFi scans so far.
+    trail: ScanTrail,
+}
+
+/// A walk's WiFi scans waiting to be applied, and where each applied one was taken.
+#[derive(Debug)]
+struct ScanQueue {
+    evidence: Arc<ScanEvidence>,
+    /// Index of the next scan to apply.
+    next: usize,
+    /// The level of each scan applied.
+    levels: Vec<i32>,
+    /// Scans applied at the current step and the fraction of the step walked at each.
+    step_scans: Vec<(usize, f32)>,
+}
+
+impl ScanQueue {
+    /// Moves the scans taken after `previous` and up to `t` (those before the first step
+    /// apply at the start pose) into `step_scans`, on `level`.
+    fn take_step(&mut self, previous: Option<f64>, t: f64, level: i32) {
+        self.step_scans.clear();
+        let times = self.evidence.times();
+        while let Some(&ts) = times.get(self.next).filter(|&&ts| ts <= t) {
+            let along = match previous {
+                Some(t0) if t > t0 => ((ts - t0) / (t - t0)).clamp(0.0, 1.0),
+                _ => 0.0,
+            };
+            self.step_scans.push((self.next, along as f32));
+            self.levels.push(level);
+            self.next += 1;
+        }
+    }
 }
 
 /// The filter's answer: the most probable particle's map and whole path.
@@ -60,6 +98,8 @@ pub struct FootSlamEstimate {
     pub weight: f64,
     /// `ln` of the product of eq. (6)'s factors over its whole path.
     pub path_log_likelihood: f64,
+    /// The part of `path_log_likelihood` WiFi scans gave (0 without scans).
+    pub wifi_log_likelihood: f64,
     /// Its pose after each step (one per step processed).
     pub path: Vec<Pose2>,
     /// The level of each step of `path` (all 0 on one floor).
@@ -98,6 +138,8 @@ pub struct FootSlam {
     gps: Option<GpsQueue>,
     /// Fixes applied at the current step (scratch).
     step_fixes: Vec<StepFix>,
+    /// WiFi scans as evidence of revisits (`None` without scans).
+    wifi: Option<ScanQueue>,
     /// The absolute-heading model (`None` when disabled).
     heading: Option<HeadingLikelihood>,
     /// Steps whose absolute heading weighted the particles.
@@ -197,6 +239,8 @@ impl FootSlam {
                     map: HexTransitionMap::new(),
                     lineage: Lineage::root(i as u32),
                     path_log_likelihood: 0.0,
+                    wifi_log_likelihood: 0.0,
+                    trail: ScanTrail::default(),
                 }
             })
             .collect();
@@ -223,6 +267,12 @@ impl FootSlam {
             prior,
             gps,
             step_fixes: Vec::new(),
+            wifi: anchors.wifi.map(|evidence| ScanQueue {
+                evidence,
+                next: 0,
+                levels: Vec::new(),
+                step_scans: Vec::new(),
+            }),
             heading: config
                 .heading
                 .enabled
@@ -300,6 +350,11 @@ impl FootSlam {
         self.headings_used
     }
 
+    /// WiFi scans that weighted the particles so far.
+    pub fn scans_used(&self) -> usize {
+        self.wifi.as_ref().map_or(0, |w| w.next)
+    }
+
     /// Current positions and normalised weights of all particles.
     pub fn particle_positions(&self) -> impl Iterator<Item = ((f64, f64), f64)> + '_ {
         self.particles
@@ -329,6 +384,9 @@ impl FootSlam {
         let level = self.level_tracker.step(z);
         self.step_levels.push(level);
         let k = self.steps.len() as u64;
+        if let Some(wifi) = &mut self.wifi {
+            wifi.take_step(self.last_t, z.t, level);
+        }
         self.collect_step_fixes(z.t);
         let (seed, motion, grid) = (self.config.seed, self.motion, self.grid);
         let (alpha, correct) = (self.config.alpha, self.config.direction_correction);
@@ -338,6 +396,7 @@ impl FootSlam {
         let compass = self.heading.zip(z.heading);
         self.headings_used += usize::from(compass.is_some());
         let zone = self.outage_check.as_ref().map(|c| &c.zone);
+        let wifi = self.wifi.as_ref();
         self.particles
             .par_iter_mut()
             .zip(self.log_weights.par_iter_mut())
@@ -369,6 +428,13 @@ impl FootSlam {
                 // Tempered by the disturbance's correlation length (heading_likelihood eq. 3).
                 if let Some((model, h)) = compass {
                     log_factor += model.temper(z.length) * model.log_likelihood(h, pose.heading);
+                }
+                // WiFi scans taken during the step, at the point walked by then, against
+                // the particle's own positions at the earlier scans (scan_pairs eq. 3).
+                if let Some(wifi) = wifi {
+                    let log_wifi = log_scan_factor(wifi, p, pose);
+                    p.wifi_log_likelihood += log_wifi as f32;
+                    log_factor += log_wifi;
                 }
                 *log_w += log_factor;
                 p.path_log_likelihood += log_factor;
@@ -441,6 +507,8 @@ impl FootSlam {
                     map: p.map.clone(),
                     lineage,
                     path_log_likelihood: p.path_log_likelihood,
+                    wifi_log_likelihood: p.wifi_log_likelihood,
+                    trail: p.trail.clone(),
                 }
             })
             .collect_into_vec(&mut self.next);
@@ -511,6 +579,7 @@ impl FootSlam {
             index,
             weight: self.weights.get(index).copied().unwrap_or(0.0),
             path_log_likelihood: self.particles[index].path_log_likelihood,
+            wifi_log_likelihood: f64::from(self.particles[index].wifi_log_likelihood),
             path,
             levels: self.step_levels.clone(),
             map,
@@ -542,6 +611,30 @@ impl FootSlam {
             })
             .collect()
     }
+}
+
+/// The WiFi scans taken during a step that moved particle `p` to `to`: for each, eq. (3)
+/// of [`crate::model::scan_pairs`] at the point walked by then, which then joins the
+/// particle's trail. Returns the log of the product.
+fn log_scan_factor(wifi: &ScanQueue, p: &mut Particle, to: Pose2) -> f64 {
+    let mut log_factor = 0.0;
+    for &(k, along) in &wifi.step_scans {
+        let along = f64::from(along);
+        let at = (
+            (p.pose.x + along * (to.x - p.pose.x)) as f32,
+            (p.pose.y + along * (to.y - p.pose.y)) as f32,
+        );
+        let trail = &p.trail;
+        let level = wifi.levels[k];
+        log_factor += wifi.evidence.log_factor(
+            k,
+            at,
+            |j| trail.get(j),
+            |j| wifi.levels[j] == level,
+        );
+        p.trail.push(at);
+    }
+    log_factor
 }
 
 /// The Dirichlet prior of eq. (6): `α` on every edge, or per-edge values.

@@ -5,7 +5,8 @@
 use super::footslam_config::FootSlamConfig;
 use crate::geometry::{Hex, Pose2};
 use crate::map::{EdgePrior, FloorLevel};
-use crate::model::{GpsLikelihood, GpsObservation};
+use crate::model::{GpsLikelihood, GpsObservation, ScanEvidence};
+use std::sync::Arc;
 use rand::RngExt;
 use rand_distr::StandardNormal;
 
@@ -25,6 +26,9 @@ pub struct Anchors {
     /// steps): every step goes to the nearest from the first. Empty: found as the steps
     /// come.
     pub levels: Vec<FloorLevel>,
+    /// The walk's WiFi scans as evidence of revisits ([`crate::model::scan_pairs`]), on the
+    /// steps' clock. `None`: no scans, or not used.
+    pub wifi: Option<Arc<ScanEvidence>>,
 }
 
 /// GPS fixes waiting to be applied.

@@ -3,7 +3,7 @@
 use super::resample::ResampleConfig;
 use crate::error::Result;
 use crate::geometry::Pose2;
-use crate::model::{GpsConfig, HeadingConfig, LevelConfig, StepMotionConfig};
+use crate::model::{GpsConfig, HeadingConfig, LevelConfig, ScanPairConfig, StepMotionConfig};
 use serde::{Deserialize, Serialize};
 
 /// FootSLAM's disturbance correlation length for compass readings, metres
@@ -70,6 +70,9 @@ pub struct FootSlamConfig {
     /// Floors from the steps' height changes: one hexagon map per floor
     /// ([`crate::model::floor_levels`]). Default: see [`LevelConfig`].
     pub levels: LevelConfig,
+    /// WiFi scans as evidence of revisits (used for walks with scans, unless
+    /// `wifi.enabled` is false). Default: see [`ScanPairConfig`].
+    pub wifi: ScanPairConfig,
 }
 
 /// The most FeetSLAM iterations a configuration may ask for.
@@ -99,6 +102,7 @@ impl Default for FootSlamConfig {
                 ..HeadingConfig::default()
             },
             levels: LevelConfig::default(),
+            wifi: ScanPairConfig::default(),
         }
     }
 }
@@ -169,6 +173,7 @@ impl FootSlamConfig {
         self.gps.validate()?;
         self.heading.validate()?;
         self.levels.validate()?;
+        self.wifi.validate()?;
         let t = self.resample.ess_threshold;
         if !(t.is_finite() && (0.0..=1.0).contains(&t)) {
             return Err(crate::error::Error::config(

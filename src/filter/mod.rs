@@ -5,6 +5,7 @@
 //! * [`kld`] — KLD-sampling (Fox 2003): how many particles a belief needs
 //! * [`cluster`] — mean-shift clusters of a belief, its estimate and hypotheses
 //! * [`lineage`] — FootSLAM's particle ancestry (the answer's path)
+//! * [`scan_trail`] — a FootSLAM particle's positions at the walk's WiFi scans
 //! * [`path_tree`] — the tracker's pruned ancestry and its whole-walk (smoothed) answer
 //! * [`recovery`] — what to do when every particle dies
 //!
@@ -34,6 +35,7 @@ pub mod outline_fit;
 pub mod path_tree;
 pub mod recovery;
 pub mod resample;
+pub mod scan_trail;
 pub mod rf_assist;
 pub mod rf_tracker;
 pub mod survey;

@@ -9,9 +9,10 @@ use crate::filter::gps_start::heading_from_fixes;
 use crate::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
 use crate::geometry::{Hex, LocalFrame};
 use crate::map::{EdgePrior, HexMapSnapshot, merge_maps, register_maps};
-use crate::model::{GpsObservation, HeadingLikelihood, find_levels};
+use crate::model::{GpsObservation, HeadingLikelihood, ScanEvidence, ScanPairsUnused, find_levels};
 use crate::sensor::{GpsFix, StepTrace, WifiScan};
 use rayon::prelude::*;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// The widest shift searched when registering a walk's map onto a prior map, metres.
@@ -161,6 +162,8 @@ pub struct WalkRun {
     pub estimate: FootSlamEstimate,
     /// Seconds spent in the filter.
     pub runtime_s: f64,
+    /// With scans: the WiFi evidence the filter weighed, or why it weighed none.
+    pub wifi: Option<std::result::Result<Arc<ScanEvidence>, ScanPairsUnused>>,
 }
 
 /// Learns one walk: with GPS it starts at the first fix (spread by its accuracy), heading
@@ -239,6 +242,10 @@ fn learn_walk(
     // The walk's floors from its height changes, known before the first step so that a
     // stair climbed the first time already splits at half height.
     let levels = find_levels(walk.trace.steps(), config.levels, config.start_level)?;
+    // The walk's scans against one another, calibrated on the walk itself.
+    let wifi = (!walk.scans.is_empty())
+        .then(|| ScanEvidence::new(&walk.scans, walk.trace.steps(), &config.wifi).map(Arc::new));
+    let wifi_evidence = wifi.as_ref().and_then(|w| w.as_ref().ok()).cloned();
     // With GPS and a prior map: first learn the walk alone, in its own GPS frame, and
     // register its map onto the prior to find where the two frames meet.
     let mut prior_offset = Hex::ZERO;
@@ -246,6 +253,7 @@ fn learn_walk(
         let alone = Anchors {
             gps: gps.clone(),
             levels: levels.clone(),
+            wifi: wifi_evidence.clone(),
             ..Default::default()
         };
         let mut first = FootSlam::with_anchors(config.clone(), alone)?;
@@ -262,6 +270,7 @@ fn learn_walk(
         prior_walks,
         prior_offset,
         levels,
+        wifi: wifi_evidence,
     };
     let mut filter = FootSlam::with_anchors(config.clone(), anchors)?;
     if let Some(p) = progress {
@@ -284,5 +293,6 @@ fn learn_walk(
         filter,
         estimate,
         runtime_s,
+        wifi,
     })
 }

@@ -1,6 +1,7 @@
 //! Tests of the FootSLAM filter.
 use super::*;
 use crate::model::GpsObservation;
+use crate::sensor::WifiScan;
 
 fn square_walk(laps: usize) -> Vec<Step> {
     let mut steps = Vec::new();
@@ -328,4 +329,96 @@ fn each_floor_has_its_own_map() {
     }
     assert_eq!(flat.estimate().map.cell_levels(), vec![0]);
     assert!(flat.estimate().map.levels.is_empty());
+}
+
+/// Three laps of a 7 m square (10 steps a side, 0.5 s apart) whose measured heading
+/// changes drift by `drift` radians a step, its true positions, and a WiFi scan every
+/// second step from four access points at the corners (log-distance path loss, ±1.5 dB of
+/// deterministic noise).
+fn drifting_square_with_scans(drift: f64) -> (Vec<Step>, Vec<(f64, f64)>, Vec<WifiScan>) {
+    let truth_steps = square_walk(3);
+    let mut pose = Pose2::default();
+    let mut truth = Vec::new();
+    let steps: Vec<Step> = truth_steps
+        .iter()
+        .map(|s| {
+            pose = pose.step(s.length, s.dheading);
+            truth.push((pose.x, pose.y));
+            Step {
+                dheading: s.dheading + drift,
+                ..*s
+            }
+        })
+        .collect();
+    let corners = [(-1.0, -1.0), (8.0, -1.0), (8.0, 8.0), (-1.0, 8.0)];
+    let names = ["ap0", "ap1", "ap2", "ap3"];
+    let scans = steps
+        .iter()
+        .zip(&truth)
+        .enumerate()
+        .filter(|(i, _)| i % 2 == 1)
+        .map(|(i, (s, &(x, y)))| {
+            let readings: Vec<(&str, f64)> = corners
+                .iter()
+                .zip(names)
+                .enumerate()
+                .map(|(a, (&(ax, ay), name))| {
+                    let d = (x - ax).hypot(y - ay).max(1.0);
+                    let noise = 0.75 * ((i * 7 + a * 13) % 5) as f64 - 1.5;
+                    (name, -30.0 - 30.0 * d.log10() + noise)
+                })
+                .collect();
+            WifiScan::from_readings(s.t, &readings)
+        })
+        .collect();
+    (steps, truth, scans)
+}
+
+/// Mean distance of the answer's path from the truth.
+fn mean_error(f: &FootSlam, truth: &[(f64, f64)]) -> f64 {
+    let e = f.estimate();
+    e.path
+        .iter()
+        .zip(truth)
+        .map(|(p, t)| (p.x - t.0).hypot(p.y - t.1))
+        .sum::<f64>()
+        / truth.len() as f64
+}
+
+#[test]
+fn wifi_scans_correct_a_drift_the_map_does_not_see() {
+    // α so large that eq. (6) is flat: only the scans can tell the laps apart.
+    let (steps, truth, scans) = drifting_square_with_scans(0.02);
+    let config = FootSlamConfig {
+        particles: 2000,
+        seed: 3,
+        alpha: 1000.0,
+        motion: crate::model::StepMotionConfig {
+            drift_rate_sigma0: 0.02,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let evidence = ScanEvidence::new(&scans, &steps, &config.wifi).expect("calibrates");
+    let run = |wifi: Option<Arc<ScanEvidence>>| {
+        let anchors = Anchors {
+            wifi,
+            ..Default::default()
+        };
+        let mut f = FootSlam::with_anchors(config.clone(), anchors).expect("valid");
+        for s in &steps {
+            f.update(s);
+        }
+        f
+    };
+    let without = run(None);
+    let with = run(Some(Arc::new(evidence)));
+    assert_eq!(with.scans_used(), scans.len());
+    assert_eq!(without.scans_used(), 0);
+    let (e_with, e_without) = (mean_error(&with, &truth), mean_error(&without, &truth));
+    assert!(
+        e_with < 0.6 * e_without,
+        "mean error with scans {e_with:.2} m, without {e_without:.2} m"
+    );
+    assert!(with.estimate().wifi_log_likelihood > 0.0);
 }
