@@ -14,6 +14,7 @@ use super::learn_radio::{RadioSummary, write_learned_radio_map};
 use super::progress_bars::Bars;
 use anyhow::Result;
 use footslam::filter::FootSlamConfig;
+use footslam::filter::departure::Trust;
 use footslam::geometry::LocalFrame;
 use footslam::io::RunFolder;
 use footslam::io::map_geojson::{StoredMap, write_walks_map_geojson};
@@ -164,7 +165,25 @@ fn write_outputs(
             && *why != ScanPairsUnused::Disabled
         {
             let name = files[i].steps_path.display();
-            warn(&format!("{name}: its WiFi scans did not weigh inside the filter: {why}"));
+            warn(&format!(
+                "{name}: its WiFi scans did not weigh inside the filter: {why}"
+            ));
+        }
+        let d = &run.departure;
+        if d.trust == Trust::DeadReckoning {
+            let name = files[i].steps_path.display();
+            let answer = if run.config.departure.fall_back {
+                "track.csv and map.geojson hold the dead-reckoned steps"
+            } else {
+                "trust dead_reckoning.csv over track.csv"
+            };
+            warn(&format!(
+                "{name}: the learned path departs {:.1} m (p95) from dead reckoning, and {:.0} % \
+                 of its revisits are further apart in dead reckoning than it drifts, with no \
+                 other evidence: folded by the map alone; {answer}",
+                d.p95_m,
+                100.0 * d.implausible_share()
+            ));
         }
         if let (Some(stored), Some(merged)) =
             (input.prior_map, learned.combined.merged_with_prior.get(i))

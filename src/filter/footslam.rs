@@ -626,12 +626,9 @@ fn log_scan_factor(wifi: &ScanQueue, p: &mut Particle, to: Pose2) -> f64 {
         );
         let trail = &p.trail;
         let level = wifi.levels[k];
-        log_factor += wifi.evidence.log_factor(
-            k,
-            at,
-            |j| trail.get(j),
-            |j| wifi.levels[j] == level,
-        );
+        log_factor +=
+            wifi.evidence
+                .log_factor(k, at, |j| trail.get(j), |j| wifi.levels[j] == level);
         p.trail.push(at);
     }
     log_factor

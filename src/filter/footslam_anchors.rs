@@ -6,9 +6,9 @@ use super::footslam_config::FootSlamConfig;
 use crate::geometry::{Hex, Pose2};
 use crate::map::{EdgePrior, FloorLevel};
 use crate::model::{GpsLikelihood, GpsObservation, ScanEvidence};
-use std::sync::Arc;
 use rand::RngExt;
 use rand_distr::StandardNormal;
+use std::sync::Arc;
 
 /// What anchors a walk to the world, beyond its steps (all optional).
 #[derive(Debug, Clone, Default)]

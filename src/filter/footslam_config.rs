@@ -1,5 +1,6 @@
 //! The configuration of [`super::FootSlam`]: every parameter, its unit and default.
 
+use super::departure::DepartureConfig;
 use super::resample::ResampleConfig;
 use crate::error::Result;
 use crate::geometry::Pose2;
@@ -73,6 +74,9 @@ pub struct FootSlamConfig {
     /// WiFi scans as evidence of revisits (used for walks with scans, unless
     /// `wifi.enabled` is false). Default: see [`ScanPairConfig`].
     pub wifi: ScanPairConfig,
+    /// The answer against dead reckoning, and when to trust dead reckoning instead
+    /// ([`super::departure`]). Default: see [`DepartureConfig`].
+    pub departure: DepartureConfig,
 }
 
 /// The most FeetSLAM iterations a configuration may ask for.
@@ -103,6 +107,7 @@ impl Default for FootSlamConfig {
             },
             levels: LevelConfig::default(),
             wifi: ScanPairConfig::default(),
+            departure: DepartureConfig::default(),
         }
     }
 }
@@ -174,6 +179,7 @@ impl FootSlamConfig {
         self.heading.validate()?;
         self.levels.validate()?;
         self.wifi.validate()?;
+        self.departure.validate()?;
         let t = self.resample.ess_threshold;
         if !(t.is_finite() && (0.0..=1.0).contains(&t)) {
             return Err(crate::error::Error::config(

@@ -13,6 +13,7 @@
 //! * [`footslam`] — the Rao-Blackwellised particle filter
 //! * [`footslam_config`], [`footslam_anchors`] — its settings, and what ties a walk to the
 //!   world (GPS, an outline, earlier maps)
+//! * [`departure`] — the learned path against dead reckoning: which to trust
 //! * [`gps_start`], [`outline_fit`] — a walk's start from GPS fixes; a learned walk against
 //!   a building outline
 //!
@@ -24,6 +25,7 @@
 //! * [`nearest_fingerprint`] — the radio map alone: weighted k-nearest-neighbour fingerprints
 
 pub mod cluster;
+pub mod departure;
 pub mod footslam;
 pub mod footslam_anchors;
 pub mod footslam_config;
@@ -35,9 +37,9 @@ pub mod outline_fit;
 pub mod path_tree;
 pub mod recovery;
 pub mod resample;
-pub mod scan_trail;
 pub mod rf_assist;
 pub mod rf_tracker;
+pub mod scan_trail;
 pub mod survey;
 pub mod tracker;
 pub mod tracker_config;

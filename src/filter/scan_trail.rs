@@ -51,8 +51,7 @@ impl ScanTrail {
         let node = Arc::make_mut(&mut self.node);
         node.tail.push(at);
         if node.tail.len() == CHUNK {
-            let chunk: [(f32, f32); CHUNK] =
-                std::array::from_fn(|i| node.tail[i]);
+            let chunk: [(f32, f32); CHUNK] = std::array::from_fn(|i| node.tail[i]);
             node.full.push(Arc::new(chunk));
             node.tail.clear();
         }

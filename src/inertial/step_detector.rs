@@ -244,11 +244,11 @@ impl StepDetector {
         if swing < threshold {
             return None;
         }
-        if let Some(last) = self.last_step_t {
-            if t - last < self.config.min_step_period_s {
-                self.too_soon += 1;
-                return None;
-            }
+        if let Some(last) = self.last_step_t
+            && t - last < self.config.min_step_period_s
+        {
+            self.too_soon += 1;
+            return None;
         }
         // Running mean over about the last four steps.
         self.mean_swing = if self.mean_swing == 0.0 {
@@ -288,7 +288,10 @@ mod tests {
                 gentle += 1;
             }
         }
-        assert!((36..=41).contains(&gentle), "{gentle} steps in 20 s at 2 Hz");
+        assert!(
+            (36..=41).contains(&gentle),
+            "{gentle} steps in 20 s at 2 Hz"
+        );
     }
 
     /// Walking (a 2 Hz, ±`amp` vertical oscillation) for `walk_s`, then still for `still_s`.

@@ -397,8 +397,7 @@ impl ScanEvidence {
                 if times[k] - times[j] < config.min_gap_s {
                     break;
                 }
-                let Some(big_d) = dissimilarity(&compact[k], &compact[j], config.floor_rssi)
-                else {
+                let Some(big_d) = dissimilarity(&compact[k], &compact[j], config.floor_rssi) else {
                     continue;
                 };
                 let row = ((big_d / DB_STEP).round() as usize).min(informative.len() - 1);
@@ -489,7 +488,10 @@ fn calibrate_latency(
         let Some(model) = PairLikelihood::calibrate(&pairs, config.outlier_share) else {
             continue;
         };
-        let score: f64 = pairs.iter().map(|&(d, big_d)| model.log_density(big_d, d)).sum();
+        let score: f64 = pairs
+            .iter()
+            .map(|&(d, big_d)| model.log_density(big_d, d))
+            .sum();
         if best.as_ref().is_none_or(|b| score > b.1 + 1e-9) {
             best = Some((lag, score, model));
         }

@@ -5,6 +5,7 @@
 use super::Progress;
 use crate::Result;
 use crate::filter::StartPose;
+use crate::filter::departure::{Departure, Trust, map_of_path};
 use crate::filter::gps_start::heading_from_fixes;
 use crate::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
 use crate::geometry::{Hex, LocalFrame};
@@ -162,6 +163,9 @@ pub struct WalkRun {
     pub estimate: FootSlamEstimate,
     /// Seconds spent in the filter.
     pub runtime_s: f64,
+    /// The learned path against dead reckoning; with [`Trust::DeadReckoning`] and
+    /// `departure.fall_back`, `estimate` holds the dead-reckoned path and its map.
+    pub departure: Departure,
     /// With scans: the WiFi evidence the filter weighed, or why it weighed none.
     pub wifi: Option<std::result::Result<Arc<ScanEvidence>, ScanPairsUnused>>,
 }
@@ -286,13 +290,62 @@ fn learn_walk(
         p.finish();
     }
     let runtime_s = started.elapsed().as_secs_f64();
-    let estimate = filter.estimate();
+    let mut estimate = filter.estimate();
+    let departure = check_departure(walk, &config, &filter, &mut estimate, !prior.is_empty());
     Ok(WalkRun {
         config,
         start_source,
         filter,
         estimate,
         runtime_s,
+        departure,
         wifi,
     })
+}
+
+/// The learned path against the dead-reckoned steps from the same start
+/// ([`Departure::check`]); when dead reckoning is to be trusted and the configuration falls
+/// back, `estimate` becomes the dead-reckoned path and its map.
+fn check_departure(
+    walk: &LearnWalk,
+    config: &FootSlamConfig,
+    filter: &FootSlam,
+    estimate: &mut FootSlamEstimate,
+    prior_map: bool,
+) -> Departure {
+    let mut evidence = Vec::new();
+    if filter.scans_used() > 0 {
+        evidence.push("wifi");
+    }
+    if filter.headings_used() > 0 {
+        evidence.push("compass");
+    }
+    if filter.gps_fixes_used() > 0 {
+        evidence.push("gps");
+    }
+    if prior_map {
+        evidence.push("prior map or outline");
+    }
+    let steps = walk.trace.steps();
+    let dead_reckoned = walk.trace.dead_reckon(config.start);
+    let departure = Departure::check(
+        steps,
+        &estimate.path,
+        &dead_reckoned,
+        evidence,
+        &config.departure,
+    );
+    if departure.trust == Trust::DeadReckoning && config.departure.fall_back {
+        let levels = estimate.map.levels.clone();
+        estimate.map = map_of_path(
+            config.start,
+            &dead_reckoned,
+            &estimate.levels,
+            config.hex_radius,
+            config.alpha,
+        );
+        estimate.map.levels = levels;
+        estimate.path = dead_reckoned;
+    }
+    departure
 }

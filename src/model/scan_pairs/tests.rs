@@ -37,8 +37,9 @@ fn out_and_back() -> (Vec<Step>, Vec<WifiScan>, Vec<(f64, f64)>) {
             let t = 2.0 * f64::from(s);
             let (x, y) = truth[t as usize];
             let noise = |a: usize| 3.0 * ((s as usize * 7 + a * 13) % 5) as f64 / 4.0 - 1.5;
-            let readings: Vec<(&str, f64)> =
-                (0..4).map(|a| (names[a], field(a, x, y) + noise(a))).collect();
+            let readings: Vec<(&str, f64)> = (0..4)
+                .map(|a| (names[a], field(a, x, y) + noise(a)))
+                .collect();
             scan(t, &readings)
         })
         .collect();
