@@ -65,43 +65,32 @@ impl Default for DepartureConfig {
 impl DepartureConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> crate::error::Result<()> {
-        let fields = [
-            (
-                "departure.revisit_radius_m",
-                self.revisit_radius_m,
-                0.05,
-                100.0,
-            ),
-            (
-                "departure.revisit_min_walked_m",
-                self.revisit_min_walked_m,
-                0.0,
-                10_000.0,
-            ),
-            ("departure.drift", self.drift, 0.0, 1.0),
-            (
-                "departure.max_implausible_share",
-                self.max_implausible_share,
-                0.0,
-                1.0,
-            ),
-            (
-                "departure.min_departure_m",
-                self.min_departure_m,
-                0.0,
-                10_000.0,
-            ),
-        ];
-        for (name, v, lo, hi) in fields {
-            if !(v.is_finite() && (lo..=hi).contains(&v)) {
-                return Err(crate::error::Error::config(
-                    name,
-                    v,
-                    format!("must be in [{lo}, {hi}]"),
-                ));
-            }
-        }
-        Ok(())
+        use crate::error::check_range;
+        check_range(
+            "departure.revisit_radius_m",
+            self.revisit_radius_m,
+            0.05..=100.0,
+            "m",
+        )?;
+        check_range(
+            "departure.revisit_min_walked_m",
+            self.revisit_min_walked_m,
+            0.0..=10_000.0,
+            "m",
+        )?;
+        check_range("departure.drift", self.drift, 0.0..=1.0, "")?;
+        check_range(
+            "departure.max_implausible_share",
+            self.max_implausible_share,
+            0.0..=1.0,
+            "",
+        )?;
+        check_range(
+            "departure.min_departure_m",
+            self.min_departure_m,
+            0.0..=10_000.0,
+            "m",
+        )
     }
 }
 

@@ -107,29 +107,18 @@ impl Default for ScanPairConfig {
 impl ScanPairConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> crate::error::Result<()> {
-        let fields = [
-            ("wifi.min_gap_s", self.min_gap_s, 0.0, 3600.0),
-            (
-                "wifi.calibration_window_s",
-                self.calibration_window_s,
-                1.0,
-                3600.0,
-            ),
-            ("wifi.floor_rssi", self.floor_rssi, -150.0, -30.0),
-            ("wifi.outlier_share", self.outlier_share, 1e-6, 0.9),
-            ("wifi.pair_tempering", self.pair_tempering, 0.0, 1.0),
-            ("wifi.latency_max_s", self.latency_max_s, 0.0, 30.0),
-        ];
-        for (name, v, lo, hi) in fields {
-            if !(v.is_finite() && (lo..=hi).contains(&v)) {
-                return Err(crate::error::Error::config(
-                    name,
-                    v,
-                    format!("must be in [{lo}, {hi}]"),
-                ));
-            }
-        }
-        Ok(())
+        use crate::error::check_range;
+        check_range("wifi.min_gap_s", self.min_gap_s, 0.0..=3600.0, "s")?;
+        check_range(
+            "wifi.calibration_window_s",
+            self.calibration_window_s,
+            1.0..=3600.0,
+            "s",
+        )?;
+        check_range("wifi.floor_rssi", self.floor_rssi, -150.0..=-30.0, "dBm")?;
+        check_range("wifi.outlier_share", self.outlier_share, 1e-6..=0.9, "")?;
+        check_range("wifi.pair_tempering", self.pair_tempering, 0.0..=1.0, "")?;
+        check_range("wifi.latency_max_s", self.latency_max_s, 0.0..=30.0, "s")
     }
 }
 
