@@ -25,6 +25,7 @@
 pub use super::footslam_anchors::Anchors;
 use super::footslam_anchors::{GpsQueue, StepFix, log_gps_factor, sample_start};
 pub use super::footslam_config::FootSlamConfig;
+use super::footslam_scans::ScanQueue;
 use super::lineage::Lineage;
 use super::outline_fit::{OUTAGE, OutlineZone, fit_outline_shift, in_outage, unseen_seconds};
 use super::resample::{self, ResampleMethod};
@@ -32,9 +33,7 @@ use super::scan_trail::ScanTrail;
 use crate::error::Result;
 use crate::geometry::{Hex, HexGrid, Pose2};
 use crate::map::{EdgePrior, HexMapSnapshot, HexTransitionMap, level_key};
-use crate::model::{
-    GpsLikelihood, HeadingLikelihood, LevelTracker, ScanEvidence, StepErrorState, StepMotion,
-};
+use crate::model::{GpsLikelihood, HeadingLikelihood, LevelTracker, StepErrorState, StepMotion};
 use crate::random::{filter_stream, stream};
 use crate::sensor::Step;
 use rand::RngExt;
@@ -57,36 +56,6 @@ struct Particle {
     wifi_log_likelihood: f32,
     /// Its positions at the walk's WiFi scans so far.
     trail: ScanTrail,
-}
-
-/// A walk's WiFi scans waiting to be applied, and where each applied one was taken.
-#[derive(Debug)]
-struct ScanQueue {
-    evidence: Arc<ScanEvidence>,
-    /// Index of the next scan to apply.
-    next: usize,
-    /// The level of each scan applied.
-    levels: Vec<i32>,
-    /// Scans applied at the current step and the fraction of the step walked at each.
-    step_scans: Vec<(usize, f32)>,
-}
-
-impl ScanQueue {
-    /// Moves the scans taken after `previous` and up to `t` (those before the first step
-    /// apply at the start pose) into `step_scans`, on `level`.
-    fn take_step(&mut self, previous: Option<f64>, t: f64, level: i32) {
-        self.step_scans.clear();
-        let times = self.evidence.times();
-        while let Some(&ts) = times.get(self.next).filter(|&&ts| ts <= t) {
-            let along = match previous {
-                Some(t0) if t > t0 => ((ts - t0) / (t - t0)).clamp(0.0, 1.0),
-                _ => 0.0,
-            };
-            self.step_scans.push((self.next, along as f32));
-            self.levels.push(level);
-            self.next += 1;
-        }
-    }
 }
 
 /// The filter's answer: the most probable particle's map and whole path.
@@ -267,12 +236,7 @@ impl FootSlam {
             prior,
             gps,
             step_fixes: Vec::new(),
-            wifi: anchors.wifi.map(|evidence| ScanQueue {
-                evidence,
-                next: 0,
-                levels: Vec::new(),
-                step_scans: Vec::new(),
-            }),
+            wifi: anchors.wifi.map(ScanQueue::new),
             heading: config
                 .heading
                 .enabled
@@ -432,7 +396,7 @@ impl FootSlam {
                 // WiFi scans taken during the step, at the point walked by then, against
                 // the particle's own positions at the earlier scans (scan_pairs eq. 3).
                 if let Some(wifi) = wifi {
-                    let log_wifi = log_scan_factor(wifi, p, pose);
+                    let log_wifi = wifi.log_factor(p.pose, pose, &mut p.trail);
                     p.wifi_log_likelihood += log_wifi as f32;
                     log_factor += log_wifi;
                 }
@@ -611,27 +575,6 @@ impl FootSlam {
             })
             .collect()
     }
-}
-
-/// The WiFi scans taken during a step that moved particle `p` to `to`: for each, eq. (3)
-/// of [`crate::model::scan_pairs`] at the point walked by then, which then joins the
-/// particle's trail. Returns the log of the product.
-fn log_scan_factor(wifi: &ScanQueue, p: &mut Particle, to: Pose2) -> f64 {
-    let mut log_factor = 0.0;
-    for &(k, along) in &wifi.step_scans {
-        let along = f64::from(along);
-        let at = (
-            (p.pose.x + along * (to.x - p.pose.x)) as f32,
-            (p.pose.y + along * (to.y - p.pose.y)) as f32,
-        );
-        let trail = &p.trail;
-        let level = wifi.levels[k];
-        log_factor +=
-            wifi.evidence
-                .log_factor(k, at, |j| trail.get(j), |j| wifi.levels[j] == level);
-        p.trail.push(at);
-    }
-    log_factor
 }
 
 /// The Dirichlet prior of eq. (6): `α` on every edge, or per-edge values.
