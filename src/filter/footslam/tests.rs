@@ -1,6 +1,7 @@
 //! Tests of the FootSLAM filter.
 use super::*;
 use crate::model::GpsObservation;
+use crate::model::ScanEvidence;
 use crate::sensor::WifiScan;
 
 fn square_walk(laps: usize) -> Vec<Step> {
