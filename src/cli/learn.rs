@@ -172,7 +172,7 @@ fn write_outputs(
         let d = &run.departure;
         if d.trust == Trust::DeadReckoning {
             let name = files[i].steps_path.display();
-            let answer = if run.config.departure.fall_back {
+            let answer = if d.answer == Trust::DeadReckoning {
                 "track.csv and map.geojson hold the dead-reckoned steps"
             } else {
                 "trust dead_reckoning.csv over track.csv"
@@ -182,7 +182,7 @@ fn write_outputs(
                  of its revisits are further apart in dead reckoning than it drifts, with no \
                  other evidence: folded by the map alone; {answer}",
                 d.p95_m,
-                100.0 * d.implausible_share()
+                100.0 * d.implausible_share
             ));
         }
         if let (Some(stored), Some(merged)) =

@@ -3,7 +3,7 @@
 
 use super::learn_inputs::WalkFiles;
 use anyhow::Result;
-use footslam::filter::departure::{Departure, Trust};
+use footslam::filter::departure::Departure;
 use footslam::geometry::path_length;
 use footslam::geometry::{HexGrid, LocalFrame};
 use footslam::io::RunFolder;
@@ -54,20 +54,8 @@ pub(super) struct Summary {
     /// With WiFi: how the scans weighed inside the filter (`None` without scans).
     wifi_in_filter: Option<WifiSummary>,
     /// How far the learned path departs from the dead-reckoned steps (`dead_reckoning.csv`),
-    /// what supports it, and which path `track.csv` holds.
-    departure_from_dead_reckoning: DepartureSummary,
-}
-
-/// [`Departure`] with the path the run answers with.
-#[derive(Debug, Serialize)]
-struct DepartureSummary {
-    #[serde(flatten)]
-    departure: Departure,
-    /// Share of the learned path's revisits dead reckoning could not have missed.
-    implausible_share: f64,
-    /// The path `track.csv` and `map.geojson` hold: `learned`, or `dead_reckoning` when the
-    /// check trusted it and `departure.fall_back` is on.
-    answer: Trust,
+    /// what supports it, and which path `track.csv` holds (`answer`).
+    departure_from_dead_reckoning: Departure,
 }
 
 /// How a walk's WiFi scans weighed inside the filter ([`footslam::model::scan_pairs`]).
@@ -206,21 +194,18 @@ pub(super) fn write_walk(
     if !prefix.is_empty() {
         folder.write_json(&format!("{prefix}config.json"), config)?;
     }
-    let dead_reckoned = walk.trace.dead_reckon(config.start);
     write_trajectory(
         &at("dead_reckoning.csv"),
         walk.trace
             .steps()
             .iter()
-            .zip(&dead_reckoned)
+            .zip(&run.dead_reckoned)
             .map(|(s, p)| TimedPoint {
                 t: s.t,
                 x: p.x,
                 y: p.y,
             }),
     )?;
-    let departure = &run.departure;
-    let fell_back = departure.trust == Trust::DeadReckoning && config.departure.fall_back;
     let ess = filter.ess_history();
     let steps = walk.trace.len();
     Ok(Summary {
@@ -248,15 +233,7 @@ pub(super) fn write_walk(
         prior_offset_m: estimate.prior_offset,
         walkable_plan_m2,
         wifi_in_filter: WifiSummary::of(walk, run),
-        departure_from_dead_reckoning: DepartureSummary {
-            departure: departure.clone(),
-            implausible_share: departure.implausible_share(),
-            answer: if fell_back {
-                Trust::DeadReckoning
-            } else {
-                Trust::Learned
-            },
-        },
+        departure_from_dead_reckoning: run.departure.clone(),
         heading: HeadingSummary {
             start_source: run.start_source,
             start_deg: config.start.heading.to_degrees(),

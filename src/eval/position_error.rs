@@ -10,7 +10,7 @@
 //! percentile is the one of rank `⌈P·n/100⌉` (1-based), an actual error, never interpolated.
 
 use crate::error::{Error, Result};
-use crate::geometry::RigidTransform;
+use crate::geometry::{RigidTransform, nearest_rank};
 use crate::io::TimedPoint;
 use serde::{Deserialize, Serialize, Serializer};
 
@@ -120,12 +120,6 @@ pub fn position_errors(
     })
 }
 
-/// The `percent`-th percentile of ascending, non-empty `sorted` by the nearest-rank method.
-fn nearest_rank(sorted: &[f64], percent: usize) -> f64 {
-    let rank = (percent * sorted.len()).div_ceil(100).max(1);
-    sorted[rank.min(sorted.len()) - 1]
-}
-
 /// The position of a series (time order) at time `t`, linearly interpolated; `None` outside
 /// its time span.
 pub fn interpolate_at(truth: &[TimedPoint], t: f64) -> Option<(f64, f64)> {
@@ -203,16 +197,6 @@ mod tests {
         assert!((r.mean - 1.0).abs() < 1e-12);
         assert!((r.rmse - (5.0f64 / 3.0).sqrt()).abs() < 1e-12);
         assert!(r.transform.is_none());
-    }
-
-    #[test]
-    fn nearest_rank_percentiles_of_one_to_ten() {
-        let e: Vec<f64> = (1..=10).map(f64::from).collect();
-        // Ranks ⌈0.5·10⌉ = 5, ⌈0.75·10⌉ = 8, ⌈0.95·10⌉ = 10.
-        assert_eq!(nearest_rank(&e, 50), 5.0);
-        assert_eq!(nearest_rank(&e, 75), 8.0);
-        assert_eq!(nearest_rank(&e, 95), 10.0);
-        assert_eq!(nearest_rank(&[3.0], 50), 3.0);
     }
 
     #[test]

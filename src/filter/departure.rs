@@ -20,8 +20,7 @@
 //! (WiFi scans, compass headings, GPS fixes, a prior map or outline), has been folded by the
 //! map term alone: the dead-reckoned path is then the one to trust.
 
-use crate::geometry::{HexGrid, Pose2, RigidTransform};
-use crate::map::{HexMapSnapshot, HexTransitionMap, level_key};
+use crate::geometry::{Pose2, RigidTransform, nearest_rank};
 use crate::sensor::Step;
 use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
@@ -119,20 +118,15 @@ pub struct Departure {
     /// Evidence beside the steps that weighed in: `wifi`, `compass`, `gps`, `prior map or
     /// outline`.
     pub other_evidence: Vec<&'static str>,
+    /// The share of revisits dead reckoning could not have missed (0 without revisits).
+    pub implausible_share: f64,
     /// The path to trust.
     pub trust: Trust,
+    /// The path the run answers with: `trust`, or the learned path when `fall_back` is off.
+    pub answer: Trust,
 }
 
 impl Departure {
-    /// The share of revisits dead reckoning could not have missed (0 without revisits).
-    pub fn implausible_share(&self) -> f64 {
-        if self.revisits == 0 {
-            0.0
-        } else {
-            1.0 - self.plausible_revisits as f64 / self.revisits as f64
-        }
-    }
-
     /// Checks `learned` (one pose per step) against `dead_reckoned` (the same steps from the
     /// same start) with the walk's `steps` (their lengths give the distance walked);
     /// `other_evidence` names what beside the steps weighed the particles.
@@ -161,48 +155,41 @@ impl Departure {
                 })
                 .collect();
             d.sort_unstable_by(f64::total_cmp);
-            d.get(((0.95 * d.len() as f64).ceil() as usize).saturating_sub(1))
-                .copied()
-                .unwrap_or(0.0)
+            if d.is_empty() {
+                0.0
+            } else {
+                nearest_rank(&d, 95)
+            }
         });
         let (revisits, plausible_revisits) = revisits(&a, &b, &walked, config);
-        let mut departure = Self {
+        let implausible_share = if revisits == 0 {
+            0.0
+        } else {
+            1.0 - plausible_revisits as f64 / revisits as f64
+        };
+        let folded = other_evidence.is_empty()
+            && p95_m > config.min_departure_m
+            && implausible_share > config.max_implausible_share;
+        let trust = if folded {
+            Trust::DeadReckoning
+        } else {
+            Trust::Learned
+        };
+        Self {
             p95_m,
             share_of_length: if total > 0.0 { p95_m / total } else { 0.0 },
             revisits,
             plausible_revisits,
             other_evidence,
-            trust: Trust::Learned,
-        };
-        if departure.other_evidence.is_empty()
-            && departure.p95_m > config.min_departure_m
-            && departure.implausible_share() > config.max_implausible_share
-        {
-            departure.trust = Trust::DeadReckoning;
+            implausible_share,
+            trust,
+            answer: if config.fall_back {
+                trust
+            } else {
+                Trust::Learned
+            },
         }
-        departure
     }
-}
-
-/// The hexagon map a path walks (every edge crossing counted, one map per level): the map
-/// of a dead-reckoned answer.
-pub fn map_of_path(
-    start: Pose2,
-    path: &[Pose2],
-    levels: &[i32],
-    radius: f64,
-    alpha: f64,
-) -> HexMapSnapshot {
-    let grid = HexGrid::new(radius);
-    let mut map = HexTransitionMap::new();
-    let mut from = start;
-    for (to, &level) in path.iter().zip(levels) {
-        grid.for_each_crossing((from.x, from.y), (to.x, to.y), |c| {
-            map.record_crossing(level_key(level, c.from), c.edge);
-        });
-        from = *to;
-    }
-    map.snapshot(radius, alpha)
 }
 
 /// Steps of `learned` that revisit an earlier one, and how many of those are plausible
@@ -317,7 +304,7 @@ mod tests {
         };
         let d = Departure::check(&steps, &folded(&dr), &dr, Vec::new(), &config);
         assert!(d.revisits > 10, "{d:?}");
-        assert!(d.implausible_share() < 0.5, "{d:?}");
+        assert!(d.implausible_share < 0.5, "{d:?}");
         assert_eq!(d.trust, Trust::Learned);
         // The dead-reckoned path itself departs by nothing.
         let same = Departure::check(&steps, &dr, &dr, Vec::new(), &config);

@@ -56,10 +56,7 @@ impl GpsQueue {
     pub(super) fn take_step(&mut self, previous: Option<f64>, t: f64, out: &mut Vec<StepFix>) {
         while let Some(&fix) = self.fixes.get(self.next).filter(|f| f.t <= t) {
             let dt = self.next.checked_sub(1).map(|j| fix.t - self.fixes[j].t);
-            let along = match previous {
-                Some(t0) if t > t0 => ((fix.t - t0) / (t - t0)).clamp(0.0, 1.0),
-                _ => 0.0,
-            };
+            let along = share_of_step(previous, t, fix.t);
             out.push(StepFix {
                 fix,
                 along,
@@ -67,6 +64,16 @@ impl GpsQueue {
             });
             self.next += 1;
         }
+    }
+}
+
+/// The share of the step from the step event at `previous` to the one at `t` walked at
+/// `at` (clamped to [0, 1]); 0 for the first step, whose measurements apply at the start
+/// pose.
+pub(super) fn share_of_step(previous: Option<f64>, t: f64, at: f64) -> f64 {
+    match previous {
+        Some(t0) if t > t0 => ((at - t0) / (t - t0)).clamp(0.0, 1.0),
+        _ => 0.0,
     }
 }
 

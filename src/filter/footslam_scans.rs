@@ -2,6 +2,7 @@
 //! weight for one particle ([`crate::model::scan_pairs`] eq. 3) at the point of the step
 //! walked by then.
 
+use super::footslam_anchors::share_of_step;
 use super::scan_trail::ScanTrail;
 use crate::geometry::Pose2;
 use crate::model::ScanEvidence;
@@ -36,10 +37,7 @@ impl ScanQueue {
         self.step_scans.clear();
         let times = self.evidence.times();
         while let Some(&ts) = times.get(self.next).filter(|&&ts| ts <= t) {
-            let along = match previous {
-                Some(t0) if t > t0 => ((ts - t0) / (t - t0)).clamp(0.0, 1.0),
-                _ => 0.0,
-            };
+            let along = share_of_step(previous, t, ts);
             self.step_scans.push((self.next, along as f32));
             self.levels.push(level);
             self.next += 1;

@@ -6,12 +6,14 @@
 //!   `hexx`)
 //! * [`local_frame`] — the local east-north frame placed on the WGS84 globe
 //! * [`alignment`] — rigid alignment of matched point sets (trajectories)
+//! * [`path_length`], [`percentile`] — a path's length; nearest-rank percentiles
 
 pub mod alignment;
 pub mod angle;
 pub mod hex_grid;
 pub mod local_frame;
 pub mod path_length;
+pub mod percentile;
 pub mod pose;
 
 pub use alignment::RigidTransform;
@@ -19,4 +21,5 @@ pub use angle::{wrap_angle, wrap_turn};
 pub use hex_grid::{Crossing, Hex, HexGrid};
 pub use local_frame::LocalFrame;
 pub use path_length::path_length;
+pub use percentile::nearest_rank;
 pub use pose::Pose2;

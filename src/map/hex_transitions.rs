@@ -21,7 +21,7 @@
 //! ±2¹⁹ hexagon rows (±390 km at 0.5 m), far beyond any building.
 
 use super::floor_plan::FloorLevel;
-use crate::geometry::HexGrid;
+use crate::geometry::{HexGrid, Pose2};
 use hexx::Hex;
 use rustc_hash::FxHashMap;
 use std::sync::Arc;
@@ -378,6 +378,27 @@ impl HexTransitionMap {
         }
         self.root.as_ref().map_or(0, walk)
     }
+}
+
+/// The hexagon map a path walks from `start` (every edge crossing counted, each step on its
+/// level of `levels`), with Dirichlet prior `alpha`: e.g. the map of a dead-reckoned path.
+pub fn map_of_path(
+    start: Pose2,
+    path: &[Pose2],
+    levels: &[i32],
+    radius: f64,
+    alpha: f64,
+) -> HexMapSnapshot {
+    let grid = HexGrid::new(radius);
+    let mut map = HexTransitionMap::new();
+    let mut from = start;
+    for (to, &level) in path.iter().zip(levels) {
+        grid.for_each_crossing((from.x, from.y), (to.x, to.y), |c| {
+            map.record_crossing(level_key(level, c.from), c.edge);
+        });
+        from = *to;
+    }
+    map.snapshot(radius, alpha)
 }
 
 #[cfg(test)]

@@ -34,7 +34,8 @@ pub use edge_prior::EdgePrior;
 pub use floor_plan::{Barrier, FloorLevel, FloorPlan, FloorPolygon};
 pub use floor_topology::{FloorTopology, Segment, SegmentKind, TopologyConfig};
 pub use hex_transitions::{
-    HexCell, HexMapSnapshot, HexTransitionMap, LEVEL_STRIDE, level_key, split_level_key,
+    HexCell, HexMapSnapshot, HexTransitionMap, LEVEL_STRIDE, level_key, map_of_path,
+    split_level_key,
 };
 pub use learned_plan::{LearnedPlan, PlanConfig, grow_plan, walkable_plan};
 pub use map_merge::{merge_maps, shift_map};

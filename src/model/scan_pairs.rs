@@ -188,7 +188,8 @@ pub struct PairLikelihood {
     pub mu: Vec<f64>,
     /// Each bin's spread `σ` (scaled median absolute deviation), dB.
     pub sigma: Vec<f64>,
-    /// Calibration pairs in each bin.
+    /// Calibration pairs in each distance bin (all seven, populated or not; `distance`, `mu`
+    /// and `sigma` list the populated ones and, first, one extrapolated to near places).
     pub pairs: Vec<usize>,
     /// `η`.
     pub outlier_share: f64,

@@ -5,11 +5,11 @@
 use super::Progress;
 use crate::Result;
 use crate::filter::StartPose;
-use crate::filter::departure::{Departure, Trust, map_of_path};
+use crate::filter::departure::{Departure, Trust};
 use crate::filter::gps_start::heading_from_fixes;
 use crate::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
-use crate::geometry::{Hex, LocalFrame};
-use crate::map::{EdgePrior, HexMapSnapshot, merge_maps, register_maps};
+use crate::geometry::{Hex, LocalFrame, Pose2};
+use crate::map::{EdgePrior, HexMapSnapshot, map_of_path, merge_maps, register_maps};
 use crate::model::{GpsObservation, HeadingLikelihood, ScanEvidence, ScanPairsUnused, find_levels};
 use crate::sensor::{GpsFix, StepTrace, WifiScan};
 use rayon::prelude::*;
@@ -163,8 +163,10 @@ pub struct WalkRun {
     pub estimate: FootSlamEstimate,
     /// Seconds spent in the filter.
     pub runtime_s: f64,
-    /// The learned path against dead reckoning; with [`Trust::DeadReckoning`] and
-    /// `departure.fall_back`, `estimate` holds the dead-reckoned path and its map.
+    /// The walk's steps dead-reckoned from its start, one pose per step.
+    pub dead_reckoned: Vec<Pose2>,
+    /// The learned path against `dead_reckoned`; when it answers with
+    /// [`Trust::DeadReckoning`], `estimate` holds the dead-reckoned path and its map.
     pub departure: Departure,
     /// With scans: the WiFi evidence the filter weighed, or why it weighed none.
     pub wifi: Option<std::result::Result<Arc<ScanEvidence>, ScanPairsUnused>>,
@@ -291,61 +293,63 @@ fn learn_walk(
     }
     let runtime_s = started.elapsed().as_secs_f64();
     let mut estimate = filter.estimate();
-    let departure = check_departure(walk, &config, &filter, &mut estimate, !prior.is_empty());
+    let dead_reckoned = walk.trace.dead_reckon(config.start);
+    let departure = check_departure(
+        walk,
+        &config,
+        &filter,
+        &dead_reckoned,
+        &mut estimate,
+        !prior.is_empty(),
+    );
     Ok(WalkRun {
         config,
         start_source,
         filter,
         estimate,
         runtime_s,
+        dead_reckoned,
         departure,
         wifi,
     })
 }
 
-/// The learned path against the dead-reckoned steps from the same start
-/// ([`Departure::check`]); when dead reckoning is to be trusted and the configuration falls
-/// back, `estimate` becomes the dead-reckoned path and its map.
+/// The learned path against `dead_reckoned`, the walk's steps from the same start
+/// ([`Departure::check`]); when the run is to answer with dead reckoning, `estimate`
+/// becomes the dead-reckoned path and its map.
 fn check_departure(
     walk: &LearnWalk,
     config: &FootSlamConfig,
     filter: &FootSlam,
+    dead_reckoned: &[Pose2],
     estimate: &mut FootSlamEstimate,
     prior_map: bool,
 ) -> Departure {
-    let mut evidence = Vec::new();
-    if filter.scans_used() > 0 {
-        evidence.push("wifi");
-    }
-    if filter.headings_used() > 0 {
-        evidence.push("compass");
-    }
-    if filter.gps_fixes_used() > 0 {
-        evidence.push("gps");
-    }
-    if prior_map {
-        evidence.push("prior map or outline");
-    }
-    let steps = walk.trace.steps();
-    let dead_reckoned = walk.trace.dead_reckon(config.start);
+    let evidence = [
+        (filter.scans_used() > 0, "wifi"),
+        (filter.headings_used() > 0, "compass"),
+        (filter.gps_fixes_used() > 0, "gps"),
+        (prior_map, "prior map or outline"),
+    ];
+    let evidence = evidence.iter().filter(|e| e.0).map(|e| e.1).collect();
     let departure = Departure::check(
-        steps,
+        walk.trace.steps(),
         &estimate.path,
-        &dead_reckoned,
+        dead_reckoned,
         evidence,
         &config.departure,
     );
-    if departure.trust == Trust::DeadReckoning && config.departure.fall_back {
-        let levels = estimate.map.levels.clone();
+    if departure.answer == Trust::DeadReckoning {
+        let levels = std::mem::take(&mut estimate.map.levels);
         estimate.map = map_of_path(
             config.start,
-            &dead_reckoned,
+            dead_reckoned,
             &estimate.levels,
             config.hex_radius,
             config.alpha,
         );
         estimate.map.levels = levels;
-        estimate.path = dead_reckoned;
+        estimate.path = dead_reckoned.to_vec();
     }
     departure
 }
