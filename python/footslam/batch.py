@@ -141,6 +141,7 @@ def learn_task(steps: Any, walk: Walk, previous: list[dict] | None, learn_args: 
         others=others,
         start=_start_arg(walk.start),
         gps=walk.gps,
+        wifi=walk.wifi,
         **learn_args,
     )
 

@@ -21,8 +21,9 @@ use pyo3::types::PyDict;
 ///         walks with known starts share one frame and run FeetSLAM passes).
 ///     gps: GPS fixes (``t,lat,lon[,accuracy]`` on the steps' clock, or a GPX file); for a
 ///         batch a list with one entry (or None) per walk.
-///     wifi: the walk's WiFi log (``t,bssid,rssi[,ssid,freq]``; its scans make a radio map
-///         on the plan learned from the run's map); for a batch one per walk.
+///     wifi: the walk's WiFi log (``t,bssid,rssi[,ssid,freq]``; its scans weigh the
+///         particles inside the filter and make a radio map on the plan learned from the
+///         run's map); for a batch one per walk.
 ///     start: the known start: ``"X,Y[,HEADING[,LEVEL]]"``, ``(x, y[, heading[, level]])``
 ///         or a dict (metres in the local frame, radians from east); for a batch one per
 ///         walk.
