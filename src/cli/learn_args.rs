@@ -26,9 +26,10 @@ pub struct Args {
     #[arg(long, value_parser = parse_utc_time)]
     pub(super) gps_t0: Option<f64>,
     /// WiFi log CSV (`t,bssid,rssi[,ssid,freq]`) of a walk, on the steps' clock: its scans
-    /// are placed on the learned path and make a radio map on the plan learned from the
-    /// run's map (`radiomap.geojson`, `radiomap.csv`, heatmaps and ε, as `footslam survey`
-    /// writes them). Repeat once per walk, in the order of the walks; a walk folder's
+    /// weigh the particles (each against the walker's earlier scans, `[wifi]` in the
+    /// config), then are placed on the learned path and make a radio map on the plan
+    /// learned from the run's map (`radiomap.geojson`, `radiomap.csv`, heatmaps and ε, as
+    /// `footslam survey` writes them). Repeat once per walk, in the order of the walks; a walk folder's
     /// `wifi.csv` is found without it.
     #[arg(long)]
     pub(super) wifi: Vec<PathBuf>,
