@@ -15,7 +15,7 @@ Runs footslam end to end on a folder of imported walks, as `footslam import ilc`
 
 Prints a table and writes figures.json into OUT.
 
-    scripts/feetslam_figures.py IMPORTED_DIR OUT [--particles N] [--seed N] [--config FILE]
+    scripts/feetslam_figures.py IMPORTED_DIR OUT [--particles N] [--seed N] [--config FILE] [--wifi]
 """
 import argparse
 import json
@@ -40,6 +40,8 @@ def main():
     ap.add_argument("--particles", default="5000")
     ap.add_argument("--seed", default="0")
     ap.add_argument("--config", help="FootSLAM configuration for learn (TOML)")
+    ap.add_argument("--wifi", action="store_true",
+                    help="give learn each walk's wifi.csv (its scans weigh inside the filter)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     plan = os.path.join(a.imported, "floor.geojson")
@@ -52,14 +54,16 @@ def main():
         sys.exit(f"no walks (folders with imu.csv and waypoints.csv) under {a.imported}")
     manifest = os.path.join(a.out, "walks.csv")
     with open(manifest, "w") as m:
-        m.write("steps,start\n")
+        m.write("steps,wifi,start\n" if a.wifi else "steps,start\n")
         for w in walks:
             steps = os.path.join(a.out, w, "steps", "steps.csv")
             if not os.path.isfile(steps):
                 footslam(a.binary, "steps", "--imu", os.path.join(a.imported, w, "imu.csv"),
                          "--mount", "phone", "--out", os.path.dirname(steps))
             _, x0, y0 = first_waypoint(os.path.join(a.imported, w, "waypoints.csv"))
-            m.write(f"{os.path.abspath(steps)},\"{x0},{y0}\"\n")
+            wifi = os.path.abspath(os.path.join(a.imported, w, "wifi.csv"))
+            wifi = (f"{wifi}," if os.path.isfile(wifi) else ",") if a.wifi else ""
+            m.write(f"{os.path.abspath(steps)},{wifi}\"{x0},{y0}\"\n")
     learned = os.path.join(a.out, "learn")
     cfg = ["--config", a.config] if a.config else []
     footslam(a.binary, "learn", "--walks", manifest, "--particles", a.particles, "--seed", a.seed,
