@@ -53,6 +53,9 @@ pub(super) struct Summary {
     walkable_plan_m2: Option<f64>,
     /// With WiFi: how the scans weighed inside the filter (`None` without scans).
     wifi_in_filter: Option<WifiSummary>,
+    /// Whether the walk's turns showed the building's dominant directions, and how many
+    /// straight steps they weighed.
+    building_axes: AxesSummary,
     /// How far the learned path departs from the dead-reckoned steps (`dead_reckoning.csv`),
     /// what supports it, and which path `track.csv` holds (`answer`).
     departure_from_dead_reckoning: Departure,
@@ -93,6 +96,41 @@ impl WifiSummary {
             best_path_wifi_log_likelihood: run.estimate.wifi_log_likelihood,
             unused: outcome.as_ref().err().map(ToString::to_string),
         })
+    }
+}
+
+/// What the walk's turns said of the building's axes ([`footslam::model::building_axes`]).
+#[derive(Debug, Serialize)]
+struct AxesSummary {
+    /// Whether the prior weighed the straight steps.
+    used: bool,
+    /// Turns between successive straight stretches that were tested.
+    turns: usize,
+    /// Their mean `cos 4Δ`: 1 when every turn is a multiple of 90°, about 0 for turns at
+    /// any angle.
+    alignment: f64,
+    /// Their mean `cos 8Δ`, for walls that also run at 45°.
+    diagonal_alignment: f64,
+    /// The dominant directions the prior used: 4, 8 (with the diagonals) or 0 (none).
+    directions: u8,
+    /// Metres walked in straight stretches.
+    straight_m: f64,
+    /// Straight steps the axes weighed.
+    steps_weighed: usize,
+}
+
+impl AxesSummary {
+    fn of(run: &WalkRun) -> Self {
+        let e = &run.axes;
+        Self {
+            used: run.filter.axis_steps() > 0,
+            turns: e.turns,
+            alignment: e.alignment,
+            diagonal_alignment: e.diagonal_alignment,
+            directions: e.directions,
+            straight_m: e.straight_m,
+            steps_weighed: run.filter.axis_steps(),
+        }
     }
 }
 
@@ -233,6 +271,7 @@ pub(super) fn write_walk(
         prior_offset_m: estimate.prior_offset,
         walkable_plan_m2,
         wifi_in_filter: WifiSummary::of(walk, run),
+        building_axes: AxesSummary::of(run),
         departure_from_dead_reckoning: run.departure.clone(),
         heading: HeadingSummary {
             start_source: run.start_source,

@@ -20,11 +20,12 @@
 //!
 //! Floors (sec. 5, 2.5D): each step is on a level found from the steps' height changes
 //! ([`LevelTracker`], the same for every particle), and each level has its own hexagon map
-//! (stacked keys, [`level_key`]); a walk on one floor has level 0 only.
+//! (stacked keys, [`crate::map::level_key`]); a walk on one floor has level 0 only.
 
 pub use super::footslam_anchors::Anchors;
 use super::footslam_anchors::{GpsQueue, StepFix, log_gps_factor, sample_start};
 pub use super::footslam_config::FootSlamConfig;
+use super::footslam_map_term::{MapPrior, log_map_factor};
 use super::footslam_scans::ScanQueue;
 use super::lineage::Lineage;
 use super::outline_fit::{OUTAGE, OutlineZone, fit_outline_shift, in_outage, unseen_seconds};
@@ -32,8 +33,11 @@ use super::resample::{self, ResampleMethod};
 use super::scan_trail::ScanTrail;
 use crate::error::Result;
 use crate::geometry::{Hex, HexGrid, Pose2};
-use crate::map::{EdgePrior, HexMapSnapshot, HexTransitionMap, level_key};
-use crate::model::{GpsLikelihood, HeadingLikelihood, LevelTracker, StepErrorState, StepMotion};
+use crate::map::{EdgePrior, HexMapSnapshot, HexTransitionMap};
+use crate::model::{
+    AxisEvidence, AxisLikelihood, AxisState, GpsLikelihood, HeadingLikelihood, LevelTracker,
+    StepErrorState, StepMotion,
+};
 use crate::random::{filter_stream, stream};
 use crate::sensor::Step;
 use rand::RngExt;
@@ -56,6 +60,8 @@ struct Particle {
     wifi_log_likelihood: f32,
     /// Its positions at the walk's WiFi scans so far.
     trail: ScanTrail,
+    /// The building's axes it learned from its straight steps so far.
+    axes: AxisState,
 }
 
 /// The filter's answer: the most probable particle's map and whole path.
@@ -109,6 +115,11 @@ pub struct FootSlam {
     step_fixes: Vec<StepFix>,
     /// WiFi scans as evidence of revisits (`None` without scans).
     wifi: Option<ScanQueue>,
+    /// The axes prior and which steps are straight (`None` when the walk shows no
+    /// dominant directions, or without evidence).
+    axes: Option<(AxisLikelihood, Arc<AxisEvidence>)>,
+    /// Straight steps that the axes prior weighed.
+    axis_steps: usize,
     /// The absolute-heading model (`None` when disabled).
     heading: Option<HeadingLikelihood>,
     /// Steps whose absolute heading weighted the particles.
@@ -210,6 +221,7 @@ impl FootSlam {
                     path_log_likelihood: 0.0,
                     wifi_log_likelihood: 0.0,
                     trail: ScanTrail::default(),
+                    axes: AxisState::default(),
                 }
             })
             .collect();
@@ -237,6 +249,11 @@ impl FootSlam {
             gps,
             step_fixes: Vec::new(),
             wifi: anchors.wifi.map(ScanQueue::new),
+            axes: anchors
+                .axes
+                .filter(|e| e.active && config.axes.enabled)
+                .map(|e| (AxisLikelihood::new(config.axes, e.directions), e)),
+            axis_steps: 0,
             heading: config
                 .heading
                 .enabled
@@ -319,6 +336,12 @@ impl FootSlam {
         self.wifi.as_ref().map_or(0, |w| w.next)
     }
 
+    /// Straight steps that the building's axes weighed so far (0 when the walk showed no
+    /// dominant directions).
+    pub fn axis_steps(&self) -> usize {
+        self.axis_steps
+    }
+
     /// Current positions and normalised weights of all particles.
     pub fn particle_positions(&self) -> impl Iterator<Item = ((f64, f64), f64)> + '_ {
         self.particles
@@ -361,6 +384,12 @@ impl FootSlam {
         self.headings_used += usize::from(compass.is_some());
         let zone = self.outage_check.as_ref().map(|c| &c.zone);
         let wifi = self.wifi.as_ref();
+        let axes = self
+            .axes
+            .as_ref()
+            .filter(|(_, e)| e.is_straight(self.steps.len() - 1))
+            .map(|(m, _)| m);
+        self.axis_steps += usize::from(axes.is_some());
         self.particles
             .par_iter_mut()
             .zip(self.log_weights.par_iter_mut())
@@ -399,6 +428,13 @@ impl FootSlam {
                     let log_wifi = wifi.log_factor(p.pose, pose, &mut p.trail);
                     p.wifi_log_likelihood += log_wifi as f32;
                     log_factor += log_wifi;
+                }
+                // A straight step against the axes the particle learned so far
+                // (building_axes eq. 3), then learned from (eq. 1).
+                if let Some(model) = axes {
+                    log_factor +=
+                        p.axes
+                            .weigh_and_learn(model, pose.x - p.pose.x, pose.y - p.pose.y);
                 }
                 *log_w += log_factor;
                 p.path_log_likelihood += log_factor;
@@ -473,6 +509,7 @@ impl FootSlam {
                     path_log_likelihood: p.path_log_likelihood,
                     wifi_log_likelihood: p.wifi_log_likelihood,
                     trail: p.trail.clone(),
+                    axes: p.axes,
                 }
             })
             .collect_into_vec(&mut self.next);
@@ -575,53 +612,6 @@ impl FootSlam {
             })
             .collect()
     }
-}
-
-/// The Dirichlet prior of eq. (6): `α` on every edge, or per-edge values.
-#[derive(Debug, Clone, Copy)]
-struct MapPrior<'a> {
-    alpha: f64,
-    prior: Option<&'a EdgePrior>,
-    /// Where the particles read the prior, relative to their own grid.
-    offset: Hex,
-    /// The step's level: its map's keys are [`level_key`]`(level, h)`.
-    level: i32,
-}
-
-impl MapPrior<'_> {
-    /// `(α^e_h, Σ_e α^e_h)`.
-    fn alpha_and_total(&self, h: Hex, edge: u8) -> (f64, f64) {
-        match self.prior {
-            Some(p) => p.alpha_and_total(h + self.offset, edge),
-            None => (self.alpha, 6.0 * self.alpha),
-        }
-    }
-}
-
-/// Eq. (6) for one step: the product over every edge crossed between `from` and `to` of
-/// `(N^ẽ_h̃ + α^ẽ_h̃) / (N_h̃ + Σ_e α^e_h̃)` with the counts so far, raised to the direction
-/// correction (sec. 3); each crossing is counted in `map` right after it is weighed (step
-/// 2e), so a step over several edges multiplies one factor per edge. Returns the log of the
-/// product.
-fn log_map_factor(
-    grid: &HexGrid,
-    map: &mut HexTransitionMap,
-    prior: MapPrior<'_>,
-    correct: bool,
-    from: Pose2,
-    to: Pose2,
-) -> f64 {
-    let mut log_factor = 0.0;
-    grid.for_each_crossing((from.x, from.y), (to.x, to.y), |c| {
-        let h = level_key(prior.level, c.from);
-        let (n_e, n_h) = map.record_crossing(h, c.edge); // step (e), counts before it
-        let (alpha_e, alpha_h) = prior.alpha_and_total(h, c.edge);
-        log_factor += ((f64::from(n_e) + alpha_e) / (f64::from(n_h) + alpha_h)).ln(); // eq. (6)
-    });
-    if correct && log_factor != 0.0 {
-        log_factor *= HexGrid::direction_exponent_of(to.x - from.x, to.y - from.y);
-    }
-    log_factor
 }
 
 #[cfg(test)]

@@ -4,7 +4,9 @@ use super::departure::DepartureConfig;
 use super::resample::ResampleConfig;
 use crate::error::Result;
 use crate::geometry::Pose2;
-use crate::model::{GpsConfig, HeadingConfig, LevelConfig, ScanPairConfig, StepMotionConfig};
+use crate::model::{
+    AxesConfig, GpsConfig, HeadingConfig, LevelConfig, ScanPairConfig, StepMotionConfig,
+};
 use serde::{Deserialize, Serialize};
 
 /// FootSLAM's disturbance correlation length for compass readings, metres
@@ -74,6 +76,9 @@ pub struct FootSlamConfig {
     /// WiFi scans as evidence of revisits (used for walks with scans, unless
     /// `wifi.enabled` is false). Default: see [`ScanPairConfig`].
     pub wifi: ScanPairConfig,
+    /// The building's dominant directions as a soft prior on straight walking, learned
+    /// per particle from the walk itself. Default: see [`AxesConfig`].
+    pub axes: AxesConfig,
     /// The answer against dead reckoning, and when to trust dead reckoning instead
     /// ([`super::departure`]). Default: see [`DepartureConfig`].
     pub departure: DepartureConfig,
@@ -107,6 +112,7 @@ impl Default for FootSlamConfig {
             },
             levels: LevelConfig::default(),
             wifi: ScanPairConfig::default(),
+            axes: AxesConfig::default(),
             departure: DepartureConfig::default(),
         }
     }
@@ -179,6 +185,7 @@ impl FootSlamConfig {
         self.heading.validate()?;
         self.levels.validate()?;
         self.wifi.validate()?;
+        self.axes.validate()?;
         self.departure.validate()?;
         let t = self.resample.ess_threshold;
         if !(t.is_finite() && (0.0..=1.0).contains(&t)) {

@@ -29,6 +29,7 @@ pub mod departure;
 pub mod footslam;
 pub mod footslam_anchors;
 pub mod footslam_config;
+mod footslam_map_term;
 mod footslam_scans;
 pub mod gps_start;
 pub mod kld;

@@ -1,6 +1,7 @@
 //! Layer 2: probabilistic models, apart from the filter machinery.
 //!
 //! * [`step_motion`] — the step measurement model of FootSLAM (the proposal)
+//! * [`building_axes`] — the building's dominant directions as a prior on straight walking
 //! * [`floor_levels`] — floors from height changes
 //! * [`transition_prior`] — a learned hexagon map as a motion prior for tracking
 //! * [`gps_likelihood`] — the GPS fix likelihood, robust and tempered
@@ -10,6 +11,7 @@
 //! * [`wifi_likelihood`] — the probabilistic WiFi measurement (eq. 14)
 //! * [`derived_epsilon`] — a radio map's region threshold derived from the map itself
 
+pub mod building_axes;
 pub mod derived_epsilon;
 pub mod floor_levels;
 pub mod gps_likelihood;
@@ -20,6 +22,7 @@ pub mod transition_prior;
 pub mod wifi_distance;
 pub mod wifi_likelihood;
 
+pub use building_axes::{AxesConfig, AxisEvidence, AxisLikelihood, AxisState};
 pub use floor_levels::{FloorLevel, LevelConfig, LevelTracker, find_levels};
 pub use gps_likelihood::{GpsConfig, GpsLikelihood, GpsObservation};
 pub use heading_likelihood::{HeadingConfig, HeadingConstants, HeadingLikelihood};

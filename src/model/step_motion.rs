@@ -14,6 +14,7 @@
 
 use crate::geometry::Pose2;
 use crate::random::gauss;
+use rand::RngExt;
 use serde::{Deserialize, Serialize};
 
 /// Noise parameters of the step model; every default in one place.
@@ -24,6 +25,16 @@ pub struct StepMotionConfig {
     pub length_sigma: f64,
     /// White noise on each heading change, radians (1σ). Default 1.0° (0.01745 rad).
     pub dheading_sigma: f64,
+    /// Extra white noise on a heading change per radian turned (1σ = `dheading_sigma +
+    /// dheading_sigma_per_turn · |Δψ|`): real heading errors sit in the turns and grow
+    /// with their size (foot walks with per-stride truth: median error 0.5° straight,
+    /// 1.8° in 20–60° turns, 3° beyond). Default 0.
+    pub dheading_sigma_per_turn: f64,
+    /// Share of heading changes drawn from a wider normal (`dheading_tail_factor` times
+    /// the σ above): the heavy tail of real turn errors. Default 0.
+    pub dheading_tail_share: f64,
+    /// How much wider the tail's normal is. Default 5.
+    pub dheading_tail_factor: f64,
     /// Initial spread of the heading-drift rate, radians per step (1σ). Default 0.05°/step,
     /// i.e. 30° over a 600-step walk.
     pub drift_rate_sigma0: f64,
@@ -45,6 +56,9 @@ impl Default for StepMotionConfig {
         Self {
             length_sigma: 0.03,
             dheading_sigma: 1.0_f64.to_radians(),
+            dheading_sigma_per_turn: 0.0,
+            dheading_tail_share: 0.0,
+            dheading_tail_factor: 5.0,
             drift_rate_sigma0: 0.05_f64.to_radians(),
             drift_rate_walk_sigma: 0.002_f64.to_radians(),
             duck_walk_sigma: 0.1_f64.to_radians(),
@@ -89,6 +103,24 @@ impl StepMotionConfig {
                 self.duck_walk_sigma,
                 0.5,
                 "must be in [0, 0.5] radians per step",
+            ),
+            (
+                "motion.dheading_sigma_per_turn",
+                self.dheading_sigma_per_turn,
+                1.0,
+                "must be in [0, 1] radians per radian turned",
+            ),
+            (
+                "motion.dheading_tail_share",
+                self.dheading_tail_share,
+                1.0,
+                "must be in [0, 1]",
+            ),
+            (
+                "motion.dheading_tail_factor",
+                self.dheading_tail_factor,
+                100.0,
+                "must be in [0, 100]",
             ),
             (
                 "motion.length_scale_sigma0",
@@ -182,8 +214,13 @@ impl StepMotion {
         rng: &mut impl rand::Rng,
     ) -> Pose2 {
         let c = &self.config;
-        let heading =
-            pose.heading + dheading - f64::from(e.drift_rate) + c.dheading_sigma * gauss(rng);
+        let mut sigma = c.dheading_sigma + c.dheading_sigma_per_turn * dheading.abs();
+        // The tail's draw only where there is a tail, so that streams without one are
+        // unchanged.
+        if c.dheading_tail_share > 0.0 && rng.random::<f64>() < c.dheading_tail_share {
+            sigma *= c.dheading_tail_factor;
+        }
+        let heading = pose.heading + dheading - f64::from(e.drift_rate) + sigma * gauss(rng);
         let stride = (length * f64::from(e.length_scale) + c.length_sigma * gauss(rng)).max(0.0);
         let direction = heading + f64::from(e.duck);
         Pose2 {
@@ -259,5 +296,53 @@ mod tests {
         };
         let p = m.sample_step(Pose2::default(), e, 1.0, 0.1, &mut rng);
         assert!(p.heading.abs() < 1e-6 && (p.x - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn turns_draw_wider_heading_noise_than_straight_steps() {
+        let config = StepMotionConfig {
+            dheading_sigma_per_turn: 0.1,
+            dheading_tail_share: 0.1,
+            ..Default::default()
+        };
+        let m = StepMotion::new(config);
+        let e = StepErrorState {
+            length_scale: 1.0,
+            ..Default::default()
+        };
+        let spread = |dheading: f64| {
+            let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(7);
+            let errors: Vec<f64> = (0..4000)
+                .map(|_| {
+                    m.sample_step(Pose2::default(), e, 0.7, dheading, &mut rng)
+                        .heading
+                        - dheading
+                })
+                .collect();
+            let mean = errors.iter().sum::<f64>() / errors.len() as f64;
+            (errors.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / errors.len() as f64).sqrt()
+        };
+        let (straight, turn) = (spread(0.0), spread(std::f64::consts::FRAC_PI_2));
+        // σ = 1° straight and 1° + 0.1·90° = 10° in the turn, the tail widening both.
+        assert!(turn > 5.0 * straight, "straight {straight}, turn {turn}");
+        assert!(
+            turn.to_degrees() > 10.0 && turn.to_degrees() < 25.0,
+            "{}",
+            turn.to_degrees()
+        );
+    }
+
+    #[test]
+    fn without_a_tail_the_random_stream_is_unchanged() {
+        let m = StepMotion::new(StepMotionConfig::default());
+        let e = StepErrorState {
+            length_scale: 1.0,
+            ..Default::default()
+        };
+        let mut a = rand_pcg::Pcg64Mcg::seed_from_u64(3);
+        let mut b = rand_pcg::Pcg64Mcg::seed_from_u64(3);
+        let p = m.sample_step(Pose2::default(), e, 0.7, 0.2, &mut a);
+        let want = 0.2 + 1.0_f64.to_radians() * gauss(&mut b);
+        assert!((p.heading - want).abs() < 1e-12);
     }
 }

@@ -10,7 +10,9 @@ use crate::filter::gps_start::heading_from_fixes;
 use crate::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
 use crate::geometry::{Hex, LocalFrame, Pose2};
 use crate::map::{EdgePrior, HexMapSnapshot, map_of_path, merge_maps, register_maps};
-use crate::model::{GpsObservation, HeadingLikelihood, ScanEvidence, ScanPairsUnused, find_levels};
+use crate::model::{
+    AxisEvidence, GpsObservation, HeadingLikelihood, ScanEvidence, ScanPairsUnused, find_levels,
+};
 use crate::sensor::{GpsFix, StepTrace, WifiScan};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -170,6 +172,9 @@ pub struct WalkRun {
     pub departure: Departure,
     /// With scans: the WiFi evidence the filter weighed, or why it weighed none.
     pub wifi: Option<std::result::Result<Arc<ScanEvidence>, ScanPairsUnused>>,
+    /// What the walk's dead-reckoned turns say of the building's axes; the filter weighed
+    /// its straight steps by them when `axes.active`.
+    pub axes: Arc<AxisEvidence>,
 }
 
 /// Learns one walk: with GPS it starts at the first fix (spread by its accuracy), heading
@@ -252,6 +257,8 @@ fn learn_walk(
     let wifi = (!walk.scans.is_empty())
         .then(|| ScanEvidence::new(&walk.scans, walk.trace.steps(), &config.wifi).map(Arc::new));
     let wifi_evidence = wifi.as_ref().and_then(|w| w.as_ref().ok()).cloned();
+    // Which steps are straight, and whether the walk's turns show dominant directions.
+    let axes = Arc::new(AxisEvidence::new(walk.trace.steps(), &config.axes));
     // With GPS and a prior map: first learn the walk alone, in its own GPS frame, and
     // register its map onto the prior to find where the two frames meet.
     let mut prior_offset = Hex::ZERO;
@@ -260,6 +267,7 @@ fn learn_walk(
             gps: gps.clone(),
             levels: levels.clone(),
             wifi: wifi_evidence.clone(),
+            axes: Some(Arc::clone(&axes)),
             ..Default::default()
         };
         let mut first = FootSlam::with_anchors(config.clone(), alone)?;
@@ -277,6 +285,7 @@ fn learn_walk(
         prior_offset,
         levels,
         wifi: wifi_evidence,
+        axes: Some(Arc::clone(&axes)),
     };
     let mut filter = FootSlam::with_anchors(config.clone(), anchors)?;
     if let Some(p) = progress {
@@ -311,6 +320,7 @@ fn learn_walk(
         dead_reckoned,
         departure,
         wifi,
+        axes,
     })
 }
 

@@ -423,3 +423,73 @@ fn wifi_scans_correct_a_drift_the_map_does_not_see() {
     );
     assert!(with.estimate().wifi_log_likelihood > 0.0);
 }
+
+#[test]
+fn building_axes_correct_a_drift_the_map_does_not_see() {
+    // A staircase of 14 m legs turning left and right in turn (it never comes back, so
+    // eq. 6 has nothing to say), its heading drifting 0.6° a step.
+    let mut pose = Pose2::default();
+    let (mut steps, mut truth) = (Vec::new(), Vec::new());
+    for k in 0..160 {
+        let turn = match (k % 20, k / 20 % 2) {
+            (0, _) if k == 0 => 0.0,
+            (0, 1) => std::f64::consts::FRAC_PI_2,
+            (0, _) => -std::f64::consts::FRAC_PI_2,
+            _ => 0.0,
+        };
+        pose = pose.step(0.7, turn);
+        truth.push((pose.x, pose.y));
+        steps.push(Step {
+            t: 1.7e9 + 0.5 * f64::from(k),
+            length: 0.7,
+            dheading: turn + 0.01,
+            dz: 0.0,
+            heading: None,
+        });
+    }
+    let config = FootSlamConfig {
+        particles: 2000,
+        seed: 5,
+        alpha: 1000.0,
+        hex_radius: 10.0,
+        motion: crate::model::StepMotionConfig {
+            drift_rate_sigma0: 0.02,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let evidence = Arc::new(crate::model::AxisEvidence::new(&steps, &config.axes));
+    assert!(evidence.active && evidence.directions == 4, "{evidence:?}");
+    let run = |config: &FootSlamConfig| {
+        let anchors = Anchors {
+            axes: Some(Arc::clone(&evidence)),
+            ..Default::default()
+        };
+        let mut f = FootSlam::with_anchors(config.clone(), anchors).expect("valid");
+        for s in &steps {
+            f.update(s);
+        }
+        f
+    };
+    let with = run(&config);
+    let mut off = config.clone();
+    off.axes.enabled = false;
+    let without = run(&off);
+    assert!(with.axis_steps() > steps.len() / 3, "{}", with.axis_steps());
+    assert_eq!(without.axis_steps(), 0);
+    let (e_with, e_without) = (mean_error(&with, &truth), mean_error(&without, &truth));
+    let mut dr = Pose2::default();
+    let e_dr = steps
+        .iter()
+        .zip(&truth)
+        .map(|(s, t)| {
+            dr = dr.step(s.length, s.dheading);
+            (dr.x - t.0).hypot(dr.y - t.1)
+        })
+        .sum::<f64>()
+        / truth.len() as f64;
+    assert!(
+        e_with < 0.2 * e_dr && e_with < 0.6 * e_without,
+        "mean error with axes {e_with:.2} m, dead reckoning {e_dr:.2} m, without {e_without:.2} m"
+    );
+}
