@@ -10,7 +10,7 @@ use footslam::io::RunFolder;
 use footslam::io::floor_plan_geojson::write_floor_plan;
 use footslam::io::map_geojson::write_map_geojson;
 use footslam::io::track_geojson::write_track_geojson;
-use footslam::io::{TimedPoint, TrackPoint, write_trajectory};
+use footslam::io::{TimedPoint, TrackPoint, write_trajectory, write_trajectory_with};
 use footslam::map::{HexMapSnapshot, PlanConfig, walkable_plan};
 use footslam::model::PairLikelihood;
 use footslam::pipeline::{LearnWalk, WalkRun};
@@ -56,6 +56,9 @@ pub(super) struct Summary {
     /// Whether the walk's turns showed the building's dominant directions, and how many
     /// straight steps they weighed.
     building_axes: AxesSummary,
+    /// The whole-walk answer in `track.csv`: how many final paths it averages and how far
+    /// they spread.
+    smoothing: SmoothingSummary,
     /// How far the learned path departs from the dead-reckoned steps (`dead_reckoning.csv`),
     /// what supports it, and which path `track.csv` holds (`answer`).
     departure_from_dead_reckoning: Departure,
@@ -99,11 +102,40 @@ impl WifiSummary {
     }
 }
 
+/// The whole-walk answer ([`footslam::filter::SmoothingConfig`]).
+#[derive(Debug, Serialize)]
+struct SmoothingSummary {
+    /// Distinct final paths drawn.
+    distinct_paths: usize,
+    /// Those near the most probable path, averaged into `track.csv`.
+    averaged_paths: usize,
+    /// Median and largest per-step spread of the averaged paths about their mean, metres
+    /// (`track.csv`'s `spread_m`; 0 where the answer is dead reckoning).
+    spread_median_m: f64,
+    spread_max_m: f64,
+}
+
+impl SmoothingSummary {
+    fn of(run: &WalkRun) -> Self {
+        let mut spread = run.estimate.spread_m.clone();
+        spread.sort_by(f64::total_cmp);
+        Self {
+            distinct_paths: run.estimate.smoothed_paths.0,
+            averaged_paths: run.estimate.smoothed_paths.1,
+            spread_median_m: spread.get(spread.len() / 2).copied().unwrap_or(0.0),
+            spread_max_m: spread.last().copied().unwrap_or(0.0),
+        }
+    }
+}
+
 /// What the walk's turns said of the building's axes ([`footslam::model::building_axes`]).
 #[derive(Debug, Serialize)]
 struct AxesSummary {
-    /// Whether the prior weighed the straight steps.
+    /// Whether the prior weighed the straight steps (`[axes] enabled = true` and the turns
+    /// show axes).
     used: bool,
+    /// Whether the walk's turns show dominant directions (eq. 4 of the model), used or not.
+    shows_axes: bool,
     /// Turns between successive straight stretches that were tested.
     turns: usize,
     /// Their mean `cos 4Δ`: 1 when every turn is a multiple of 90°, about 0 for turns at
@@ -124,6 +156,7 @@ impl AxesSummary {
         let e = &run.axes;
         Self {
             used: run.filter.axis_steps() > 0,
+            shows_axes: e.shows_axes,
             turns: e.turns,
             alignment: e.alignment,
             diagonal_alignment: e.diagonal_alignment,
@@ -164,13 +197,19 @@ pub(super) fn write_walk(
     // Built one at a time from the trace and the path (a long walk's per-step outputs are
     // the largest things a run holds).
     let steps_and_path = || walk.trace.steps().iter().zip(&estimate.path);
-    write_trajectory(
+    write_trajectory_with(
         &at("track.csv"),
-        steps_and_path().map(|(s, p)| TimedPoint {
-            t: s.t,
-            x: p.x,
-            y: p.y,
-        }),
+        "spread_m",
+        steps_and_path()
+            .zip(&estimate.spread_m)
+            .map(|((s, p), &spread)| {
+                let point = TimedPoint {
+                    t: s.t,
+                    x: p.x,
+                    y: p.y,
+                };
+                (point, spread)
+            }),
     )?;
     let points: Vec<TrackPoint> = steps_and_path()
         .zip(&estimate.levels)
@@ -272,6 +311,7 @@ pub(super) fn write_walk(
         walkable_plan_m2,
         wifi_in_filter: WifiSummary::of(walk, run),
         building_axes: AxesSummary::of(run),
+        smoothing: SmoothingSummary::of(run),
         departure_from_dead_reckoning: run.departure.clone(),
         heading: HeadingSummary {
             start_source: run.start_source,

@@ -42,6 +42,7 @@ use crate::random::{filter_stream, stream};
 use crate::sensor::Step;
 use rand::RngExt;
 use rayon::prelude::*;
+pub use smoothing::SmoothingConfig;
 use std::sync::Arc;
 
 /// One particle: pose, error state, its own map and its ancestry.
@@ -75,8 +76,15 @@ pub struct FootSlamEstimate {
     pub path_log_likelihood: f64,
     /// The part of `path_log_likelihood` WiFi scans gave (0 without scans).
     pub wifi_log_likelihood: f64,
-    /// Its pose after each step (one per step processed).
+    /// The whole-walk answer, one pose per step processed: the mean of the final
+    /// particles' ancestral paths near its path ([`SmoothingConfig`]; its own path with
+    /// `smoothing.draws = 0`).
     pub path: Vec<Pose2>,
+    /// Per step, how far the averaged paths spread about `path` (RMS, metres).
+    pub spread_m: Vec<f64>,
+    /// Distinct final paths drawn for `path`, and how many of them it averages (the
+    /// others lay in another mode).
+    pub smoothed_paths: (usize, usize),
     /// The level of each step of `path` (all 0 on one floor).
     pub levels: Vec<i32>,
     /// Its map.
@@ -544,7 +552,9 @@ impl FootSlam {
             .0;
         let (dx, dy) = self.grid.center(self.offset);
         let (mut dx, mut dy) = (self.offset_pull * dx, self.offset_pull * dy);
-        let replayed = self.replay_path(index);
+        let best = self.replay_path(index);
+        let smoothed = self.smoothed_path(&best);
+        let replayed = smoothed.path;
         if let Some(check) = &self.outage_check
             && self.outline_fit_sigma > 0.0
         {
@@ -582,6 +592,8 @@ impl FootSlam {
             path_log_likelihood: self.particles[index].path_log_likelihood,
             wifi_log_likelihood: f64::from(self.particles[index].wifi_log_likelihood),
             path,
+            spread_m: smoothed.spread_m,
+            smoothed_paths: (smoothed.distinct, smoothed.averaged),
             levels: self.step_levels.clone(),
             map,
             prior_offset: (dx, dy),
@@ -614,5 +626,6 @@ impl FootSlam {
     }
 }
 
+mod smoothing;
 #[cfg(test)]
 mod tests;

@@ -1,6 +1,7 @@
 //! The configuration of [`super::FootSlam`]: every parameter, its unit and default.
 
 use super::departure::DepartureConfig;
+use super::footslam::SmoothingConfig;
 use super::resample::ResampleConfig;
 use crate::error::Result;
 use crate::geometry::Pose2;
@@ -79,6 +80,9 @@ pub struct FootSlamConfig {
     /// The building's dominant directions as a soft prior on straight walking, learned
     /// per particle from the walk itself. Default: see [`AxesConfig`].
     pub axes: AxesConfig,
+    /// The whole-walk answer: how many final paths are averaged, and which. Default: see
+    /// [`SmoothingConfig`].
+    pub smoothing: SmoothingConfig,
     /// The answer against dead reckoning, and when to trust dead reckoning instead
     /// ([`super::departure`]). Default: see [`DepartureConfig`].
     pub departure: DepartureConfig,
@@ -113,6 +117,7 @@ impl Default for FootSlamConfig {
             levels: LevelConfig::default(),
             wifi: ScanPairConfig::default(),
             axes: AxesConfig::default(),
+            smoothing: SmoothingConfig::default(),
             departure: DepartureConfig::default(),
         }
     }
@@ -186,6 +191,7 @@ impl FootSlamConfig {
         self.levels.validate()?;
         self.wifi.validate()?;
         self.axes.validate()?;
+        self.smoothing.validate()?;
         self.departure.validate()?;
         let t = self.resample.ess_threshold;
         if !(t.is_finite() && (0.0..=1.0).contains(&t)) {

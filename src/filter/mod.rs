@@ -47,7 +47,7 @@ pub mod tracker;
 pub mod tracker_config;
 
 pub use cluster::{Cluster, ClusterConfig};
-pub use footslam::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
+pub use footslam::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate, SmoothingConfig};
 pub use footslam_config::FOOTSLAM_HEADING_CORRELATION;
 pub use kld::KldConfig;
 pub use lineage::Lineage;

@@ -63,7 +63,9 @@ pub use ros_map::write_ros_map;
 pub use run_folder::RunFolder;
 pub use steps_csv::read_steps;
 pub use track_csv::{SmoothedPoint, TrackPoint, read_track, write_smoothed_track, write_track};
-pub use trajectory_csv::{TimedPoint, read_certain_trajectory, read_trajectory, write_trajectory};
+pub use trajectory_csv::{
+    TimedPoint, read_certain_trajectory, read_trajectory, write_trajectory, write_trajectory_with,
+};
 pub use walk_manifest::{ManifestWalk, read_walk_manifest};
 pub use waypoints_csv::{Waypoint, read_waypoints, write_waypoints};
 pub use wifi_csv::{read_wifi, write_wifi};

@@ -73,6 +73,22 @@ fn read_rows(path: &Path, certain_only: bool) -> Result<(Vec<TimedPoint>, usize)
     Ok((points, dropped))
 }
 
+/// Writes `t,x,y,<extra>` rows (millimetre precision): a trajectory with one more value per
+/// row, e.g. learn's `spread_m`.
+pub fn write_trajectory_with(
+    path: &Path,
+    extra: &str,
+    rows: impl IntoIterator<Item = (TimedPoint, f64)>,
+) -> Result<()> {
+    crate::io::write_atomically_with(path, |w| {
+        writeln!(w, "t,x,y,{extra}")?;
+        for (p, v) in rows {
+            writeln!(w, "{:.3},{:.3},{:.3},{:.3}", p.t, p.x, p.y, v)?;
+        }
+        Ok(())
+    })
+}
+
 /// Writes `t,x,y` rows (millimetre precision).
 pub fn write_trajectory(path: &Path, points: impl IntoIterator<Item = TimedPoint>) -> Result<()> {
     crate::io::write_atomically_with(path, |w| {

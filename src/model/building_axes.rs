@@ -58,7 +58,11 @@ const MIN_TURN: f64 = 20.0 * PI / 180.0;
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct AxesConfig {
-    /// Use the prior where the walk shows dominant directions (eq. 4). Default true.
+    /// Use the prior where the walk shows dominant directions (eq. 4). Default false: on
+    /// the shared real walks (museum, mall, foot hallways), whose headings drift little,
+    /// it changed the answers by a few per cent and more often for the worse
+    /// (docs/footslam.md); it is for long walks with drifting gyros in buildings drawn on
+    /// a grid. The walk's turns are tested and reported either way.
     pub enabled: bool,
     /// Where the turns show no right-angled axes, test for eight directions (walls also at
     /// 45°, eq. 4 with `cos 8Δ`) and use them. Default true.
@@ -101,7 +105,7 @@ pub struct AxesConfig {
 impl Default for AxesConfig {
     fn default() -> Self {
         Self {
-            enabled: true,
+            enabled: false,
             diagonals: true,
             sigma: 5.0_f64.to_radians(),
             outlier_share: 0.3,
@@ -228,6 +232,8 @@ pub struct AxisEvidence {
     pub directions: u8,
     /// Whether the prior acts (eq. 4 holds and the configuration enables it).
     pub active: bool,
+    /// Whether eq. (4) holds, enabled or not.
+    pub shows_axes: bool,
     /// Metres of the walk in straight stretches.
     pub straight_m: f64,
 }
@@ -272,8 +278,7 @@ impl AxisEvidence {
             turns.iter().map(|d| (8.0 * d).cos()).sum::<f64>() / n as f64
         };
         let passes = |a: f64| {
-            config.enabled
-                && n >= config.min_turns
+            n >= config.min_turns
                 && a >= config.min_alignment
                 && a * (2.0 * n as f64).sqrt() >= config.min_significance
         };
@@ -284,7 +289,8 @@ impl AxisEvidence {
         } else {
             0
         };
-        let active = directions > 0;
+        let shows_axes = directions > 0;
+        let active = shows_axes && config.enabled;
         let straight_m = steps
             .iter()
             .zip(&straight)
@@ -298,6 +304,7 @@ impl AxisEvidence {
             diagonal_alignment,
             directions,
             active,
+            shows_axes,
             straight_m,
         }
     }

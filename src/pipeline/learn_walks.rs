@@ -360,6 +360,7 @@ fn check_departure(
         );
         estimate.map.levels = levels;
         estimate.path = dead_reckoned.to_vec();
+        estimate.spread_m = vec![0.0; dead_reckoned.len()];
     }
     departure
 }

@@ -456,6 +456,10 @@ fn building_axes_correct_a_drift_the_map_does_not_see() {
             drift_rate_sigma0: 0.02,
             ..Default::default()
         },
+        axes: crate::model::AxesConfig {
+            enabled: true,
+            ..Default::default()
+        },
         ..Default::default()
     };
     let evidence = Arc::new(crate::model::AxisEvidence::new(&steps, &config.axes));
@@ -491,5 +495,48 @@ fn building_axes_correct_a_drift_the_map_does_not_see() {
     assert!(
         e_with < 0.2 * e_dr && e_with < 0.6 * e_without,
         "mean error with axes {e_with:.2} m, dead reckoning {e_dr:.2} m, without {e_without:.2} m"
+    );
+}
+
+#[test]
+fn smoothing_averages_the_final_paths_near_the_best() {
+    let steps = square_walk(2);
+    let mut truth = Vec::new();
+    let mut pose = Pose2::default();
+    for s in &steps {
+        pose = pose.step(s.length, s.dheading);
+        truth.push((pose.x, pose.y));
+    }
+    let run = |draws: usize| {
+        let mut config = FootSlamConfig {
+            particles: 3000,
+            seed: 11,
+            ..Default::default()
+        };
+        config.smoothing.draws = draws;
+        let mut f = FootSlam::new(config).expect("valid");
+        for s in &steps {
+            f.update(s);
+        }
+        f
+    };
+    let alone = run(0);
+    let e = alone.estimate();
+    assert_eq!(e.smoothed_paths, (1, 1));
+    assert!(e.spread_m.iter().all(|&s| s == 0.0));
+    let replayed = alone.replay_path(e.index);
+    assert!(e.path.iter().zip(&replayed).all(|(a, b)| a == b));
+    let smoothed = run(256);
+    let s = smoothed.estimate();
+    assert_eq!(s.path.len(), steps.len());
+    assert_eq!(s.spread_m.len(), steps.len());
+    assert!(s.smoothed_paths.1 >= 1 && s.smoothed_paths.1 <= s.smoothed_paths.0);
+    assert!(s.spread_m.iter().any(|&v| v > 0.0));
+    // The spread grows towards the end, where the final particles' ancestries part.
+    assert!(s.spread_m[s.spread_m.len() - 1] >= s.spread_m[0]);
+    let (e_mean, e_best) = (mean_error(&smoothed, &truth), mean_error(&alone, &truth));
+    assert!(
+        e_mean <= 1.05 * e_best + 0.02,
+        "smoothed {e_mean:.3} m, best {e_best:.3} m"
     );
 }

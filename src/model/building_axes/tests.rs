@@ -1,5 +1,13 @@
 use super::*;
 
+/// The default configuration with the prior switched on.
+fn on() -> AxesConfig {
+    AxesConfig {
+        enabled: true,
+        ..Default::default()
+    }
+}
+
 /// A walk of straight legs of `leg` steps (0.7 m, 0.6 s apart), turning by each of `turns`
 /// in one step between legs.
 fn walk(turns: &[f64], leg: usize) -> Vec<Step> {
@@ -30,7 +38,7 @@ fn walk(turns: &[f64], leg: usize) -> Vec<Step> {
 #[test]
 fn right_angled_walk_shows_axes() {
     let turns = [90.0, 90.0, -90.0, 180.0, 90.0, -90.0, 90.0, 90.0];
-    let e = AxisEvidence::new(&walk(&turns, 12), &AxesConfig::default());
+    let e = AxisEvidence::new(&walk(&turns, 12), &on());
     assert_eq!(e.turns, 8);
     assert!(e.alignment > 0.99, "{}", e.alignment);
     assert!(e.active);
@@ -42,7 +50,7 @@ fn turns_at_any_angle_show_none() {
     let turns = [
         37.0, 113.0, -71.0, 52.0, -128.0, 66.0, -23.0, 101.0, -49.0, 144.0,
     ];
-    let e = AxisEvidence::new(&walk(&turns, 12), &AxesConfig::default());
+    let e = AxisEvidence::new(&walk(&turns, 12), &on());
     assert_eq!(e.turns, 10);
     assert!(
         !e.active,
@@ -55,16 +63,13 @@ fn turns_at_any_angle_show_none() {
 #[test]
 fn turns_by_multiples_of_45_degrees_show_eight_directions() {
     let turns = [45.0, 90.0, -135.0, 45.0, -45.0, 135.0, 90.0, -45.0, 45.0];
-    let e = AxisEvidence::new(&walk(&turns, 12), &AxesConfig::default());
+    let e = AxisEvidence::new(&walk(&turns, 12), &on());
     assert!(e.active && e.directions == 8, "{e:?}");
-    let right = AxisEvidence::new(
-        &walk(&[90.0, -90.0, 90.0, 180.0], 12),
-        &AxesConfig::default(),
-    );
+    let right = AxisEvidence::new(&walk(&[90.0, -90.0, 90.0, 180.0], 12), &on());
     assert_eq!(right.directions, 4);
     let no_diagonals = AxesConfig {
         diagonals: false,
-        ..Default::default()
+        ..on()
     };
     assert!(!AxisEvidence::new(&walk(&turns, 12), &no_diagonals).active);
 }
@@ -86,10 +91,7 @@ fn eight_directions_fold_at_45_degrees() {
 
 #[test]
 fn there_and_back_along_one_corridor_is_one_axis() {
-    let e = AxisEvidence::new(
-        &walk(&[180.0, -180.0, 180.0, -180.0], 14),
-        &AxesConfig::default(),
-    );
+    let e = AxisEvidence::new(&walk(&[180.0, -180.0, 180.0, -180.0], 14), &on());
     assert_eq!(e.turns, 4);
     assert!(e.active, "alignment {}", e.alignment);
 }
@@ -97,7 +99,7 @@ fn there_and_back_along_one_corridor_is_one_axis() {
 #[test]
 fn a_few_right_angles_are_not_enough() {
     // Two turns cannot tell a rectangular building from chance.
-    let e = AxisEvidence::new(&walk(&[90.0, -90.0], 12), &AxesConfig::default());
+    let e = AxisEvidence::new(&walk(&[90.0, -90.0], 12), &on());
     assert_eq!(e.turns, 2);
     assert!(!e.active);
 }
@@ -113,19 +115,15 @@ fn a_round_walk_has_no_straight_stretches() {
             heading: None,
         })
         .collect();
-    let e = AxisEvidence::new(&steps, &AxesConfig::default());
+    let e = AxisEvidence::new(&steps, &on());
     assert_eq!(e.straight_m, 0.0);
     assert!(!e.active);
 }
 
 #[test]
 fn disabled_prior_never_acts() {
-    let config = AxesConfig {
-        enabled: false,
-        ..Default::default()
-    };
-    let e = AxisEvidence::new(&walk(&[90.0; 8], 12), &config);
-    assert!(e.alignment > 0.99 && !e.active);
+    let e = AxisEvidence::new(&walk(&[90.0; 8], 12), &AxesConfig::default());
+    assert!(e.alignment > 0.99 && e.shows_axes && !e.active);
 }
 
 #[test]
