@@ -103,7 +103,7 @@ fn learn_writes_every_output_in_the_documented_formats() {
         .count()
         - 1;
     let track = std::fs::read_to_string(out.join("track.csv")).expect("track");
-    assert!(track.starts_with("t,x,y\n"));
+    assert!(track.starts_with("t,x,y,spread_m\n"));
     assert_eq!(track.lines().count() - 1, steps, "one track row per step");
 
     let map: serde_json::Value =

@@ -242,3 +242,61 @@ fn the_cli_writes_what_the_pipelines_compute() {
     write_steps(&written, &events.trace).expect("write");
     assert_eq!(read(&written), read(&d.join("steps/steps.csv")), "steps");
 }
+
+#[test]
+fn cross_walk_scans_weigh_in_the_feetslam_passes_when_asked() {
+    use footslam::sim::{TowerSimConfig, simulate_tower};
+    // Two 3-minute tower walks with their WiFi, each from its true start.
+    let walks: Vec<LearnWalk> = [7u64, 8]
+        .iter()
+        .map(|&seed| {
+            let mut config = TowerSimConfig {
+                seed,
+                ..Default::default()
+            };
+            config.walk.minutes = 3.0;
+            let sim = simulate_tower(&config).expect("simulate");
+            LearnWalk {
+                trace: sim.steps,
+                scans: sim.wifi,
+                start: Some(StartPose {
+                    x: sim.start.x,
+                    y: sim.start.y,
+                    heading: Some(sim.start.heading),
+                    level: Some(sim.start.level),
+                }),
+                ..Default::default()
+            }
+        })
+        .collect();
+    let input = LearnInput {
+        walks: &walks,
+        frame: LocalFrame::default(),
+        outline: None,
+        prior_map: None,
+        cells: CellConfig::default(),
+    };
+    let mut config = FootSlamConfig {
+        particles: 300,
+        iterations: 1,
+        ..Default::default()
+    };
+    let without = learn(&input, &config, &Silent).expect("learn");
+    assert!(without.walks.iter().all(|r| r.wifi_references.is_none()));
+    config.wifi.cross_walk = true;
+    let with = learn(&input, &config, &Silent).expect("learn");
+    for (i, run) in with.walks.iter().enumerate() {
+        let refs = run
+            .wifi_references
+            .as_ref()
+            .expect("references in the pass");
+        assert!(
+            refs.references() > 0 && refs.calibration_pairs > 0,
+            "walk {i}"
+        );
+    }
+    assert_ne!(
+        with.walks[0].estimate.path, without.walks[0].estimate.path,
+        "the other walk's scans weigh"
+    );
+}

@@ -22,6 +22,8 @@ use serde_json::json;
 /// One learned walk, ready for Python.
 pub(crate) struct WalkOut {
     track: Vec<(f64, f64, f64, f64, i32)>,
+    /// Per step, the spread of the averaged final paths (learn's `spread_m`).
+    spread_m: Vec<f64>,
     map: FeatureCollection,
     plan: Option<FeatureCollection>,
     merged_with_prior: Option<FeatureCollection>,
@@ -78,9 +80,25 @@ pub(crate) fn walk_out(
             "final_sigma_deg": filter.heading_spread().to_degrees(),
         },
         "walkable_plan_m2": learned.as_ref().map(|l| l.area_m2),
+        "smoothing": {
+            "distinct_paths": estimate.smoothed_paths.0,
+            "averaged_paths": estimate.smoothed_paths.1,
+            "spread_max_m": estimate.spread_m.iter().copied().fold(0.0, f64::max),
+        },
+        "building_axes": {
+            "used": filter.axis_steps() > 0,
+            "shows_axes": run.axes.shows_axes,
+            "turns": run.axes.turns,
+            "alignment": run.axes.alignment,
+            "diagonal_alignment": run.axes.diagonal_alignment,
+            "directions": run.axes.directions,
+            "straight_m": run.axes.straight_m,
+            "steps_weighed": filter.axis_steps(),
+        },
     });
     WalkOut {
         track,
+        spread_m: estimate.spread_m.clone(),
         map: walks_map_to_geojson(&estimate.map, frame, 1),
         plan: learned.map(|l| floor_plan_to_geojson(&l.plan, frame)),
         merged_with_prior: None,
@@ -106,6 +124,7 @@ impl WalkOut {
                         "level",
                         Column::I64(t.iter().map(|p| i64::from(p.4)).collect()),
                     ),
+                    ("spread_m", Column::F64(self.spread_m.clone())),
                 ],
             )?,
         )?;

@@ -79,6 +79,11 @@ struct WifiSummary {
     latency_s: Option<f64>,
     /// The calibrated model: per distance bin the median dissimilarity and its spread, dB.
     model: Option<PairLikelihood>,
+    /// In a FeetSLAM pass: the other walks' scans (where the pass before placed them) the
+    /// scans were weighed against, and the pairs that calibrated that model (`None`: not
+    /// in this run).
+    cross_walk_references: Option<usize>,
+    cross_walk_calibration_pairs: Option<usize>,
     /// The part of `best_path_log_likelihood` the scans gave.
     best_path_wifi_log_likelihood: f64,
     /// Why the scans did not weigh (`None` when they did).
@@ -96,6 +101,8 @@ impl WifiSummary {
             informative_pairs: evidence.map_or(0, |e| e.pairs()),
             latency_s: evidence.map(|e| e.latency_s),
             model: evidence.map(|e| e.likelihood.clone()),
+            cross_walk_references: run.wifi_references.as_ref().map(|r| r.references()),
+            cross_walk_calibration_pairs: run.wifi_references.as_ref().map(|r| r.calibration_pairs),
             best_path_wifi_log_likelihood: run.estimate.wifi_log_likelihood,
             unused: outcome.as_ref().err().map(ToString::to_string),
         })

@@ -25,6 +25,7 @@
 pub use super::footslam_anchors::Anchors;
 use super::footslam_anchors::{GpsQueue, StepFix, log_gps_factor, sample_start};
 pub use super::footslam_config::FootSlamConfig;
+pub use super::footslam_config::SmoothingConfig;
 use super::footslam_map_term::{MapPrior, log_map_factor};
 use super::footslam_scans::ScanQueue;
 use super::lineage::Lineage;
@@ -42,7 +43,6 @@ use crate::random::{filter_stream, stream};
 use crate::sensor::Step;
 use rand::RngExt;
 use rayon::prelude::*;
-pub use smoothing::SmoothingConfig;
 use std::sync::Arc;
 
 /// One particle: pose, error state, its own map and its ancestry.
@@ -256,7 +256,12 @@ impl FootSlam {
             prior,
             gps,
             step_fixes: Vec::new(),
-            wifi: anchors.wifi.map(ScanQueue::new),
+            wifi: anchors.wifi.map(|e| {
+                ScanQueue::new(
+                    e,
+                    anchors.wifi_references.filter(|_| config.wifi.cross_walk),
+                )
+            }),
             axes: anchors
                 .axes
                 .filter(|e| e.active && config.axes.enabled)
@@ -348,6 +353,11 @@ impl FootSlam {
     /// dominant directions).
     pub fn axis_steps(&self) -> usize {
         self.axis_steps
+    }
+
+    /// Whether the scans are weighed against other walks' scans too (a FeetSLAM pass).
+    pub fn scans_cross_walk(&self) -> bool {
+        self.wifi.as_ref().is_some_and(ScanQueue::has_references)
     }
 
     /// Current positions and normalised weights of all particles.

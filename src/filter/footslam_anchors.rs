@@ -5,7 +5,7 @@
 use super::footslam_config::FootSlamConfig;
 use crate::geometry::{Hex, Pose2};
 use crate::map::{EdgePrior, FloorLevel};
-use crate::model::{AxisEvidence, GpsLikelihood, GpsObservation, ScanEvidence};
+use crate::model::{AxisEvidence, GpsLikelihood, GpsObservation, ReferenceScans, ScanEvidence};
 use rand::RngExt;
 use rand_distr::StandardNormal;
 use std::sync::Arc;
@@ -29,6 +29,10 @@ pub struct Anchors {
     /// The walk's WiFi scans as evidence of revisits ([`crate::model::scan_pairs`]), on the
     /// steps' clock. `None`: no scans, or not used.
     pub wifi: Option<Arc<ScanEvidence>>,
+    /// In a FeetSLAM batch's later passes: the other walks' scans where their previous
+    /// pass placed them, for the scans of `wifi` ([`crate::model::scan_references`]).
+    /// Used only with `wifi`.
+    pub wifi_references: Option<Arc<ReferenceScans>>,
     /// Which steps are straight and whether the walk shows dominant directions
     /// ([`crate::model::building_axes`]). `None`, or evidence that is not active: no axes
     /// prior.

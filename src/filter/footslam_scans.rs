@@ -5,13 +5,15 @@
 use super::footslam_anchors::share_of_step;
 use super::scan_trail::ScanTrail;
 use crate::geometry::Pose2;
-use crate::model::ScanEvidence;
+use crate::model::{ReferenceScans, ScanEvidence};
 use std::sync::Arc;
 
 /// A walk's WiFi scans waiting to be applied, and where each applied one was taken.
 #[derive(Debug)]
 pub(super) struct ScanQueue {
     evidence: Arc<ScanEvidence>,
+    /// The other walks' placed scans, in a FeetSLAM batch's later passes.
+    references: Option<Arc<ReferenceScans>>,
     /// Index of the next scan to apply.
     pub(super) next: usize,
     /// The level of each scan applied.
@@ -21,10 +23,14 @@ pub(super) struct ScanQueue {
 }
 
 impl ScanQueue {
-    /// The queue of `evidence`'s scans, none applied.
-    pub(super) fn new(evidence: Arc<ScanEvidence>) -> Self {
+    /// The queue of `evidence`'s scans, none applied, weighed also against `references`.
+    pub(super) fn new(
+        evidence: Arc<ScanEvidence>,
+        references: Option<Arc<ReferenceScans>>,
+    ) -> Self {
         Self {
             evidence,
+            references,
             next: 0,
             levels: Vec::new(),
             step_scans: Vec::new(),
@@ -44,6 +50,11 @@ impl ScanQueue {
         }
     }
 
+    /// Whether the other walks' scans weigh in too.
+    pub(super) fn has_references(&self) -> bool {
+        self.references.is_some()
+    }
+
     /// The step's scans for a particle that moved from `from` to `to` with `trail`: for
     /// each, eq. (3) at the point walked by then, which then joins the trail. Returns the
     /// log of the product.
@@ -60,6 +71,9 @@ impl ScanQueue {
             log_factor +=
                 self.evidence
                     .log_factor(k, at, |j| earlier.get(j), |j| self.levels[j] == level);
+            if let Some(references) = &self.references {
+                log_factor += references.log_factor(k, at, level);
+            }
             trail.push(at);
         }
         log_factor

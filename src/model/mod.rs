@@ -7,6 +7,7 @@
 //! * [`gps_likelihood`] — the GPS fix likelihood, robust and tempered
 //! * [`heading_likelihood`] — the compass heading likelihood, robust to disturbances
 //! * [`scan_pairs`] — WiFi scans as evidence of revisits inside FootSLAM (scan to scan)
+//! * [`scan_references`] — other walks' scans as evidence in a FeetSLAM batch's later passes
 //! * [`wifi_distance`] — the normalised RSSI distance between a scan and a radio-map cell
 //! * [`wifi_likelihood`] — the probabilistic WiFi measurement (eq. 14)
 //! * [`derived_epsilon`] — a radio map's region threshold derived from the map itself
@@ -17,6 +18,7 @@ pub mod floor_levels;
 pub mod gps_likelihood;
 pub mod heading_likelihood;
 pub mod scan_pairs;
+pub mod scan_references;
 pub mod step_motion;
 pub mod transition_prior;
 pub mod wifi_distance;
@@ -27,5 +29,6 @@ pub use floor_levels::{FloorLevel, LevelConfig, LevelTracker, find_levels};
 pub use gps_likelihood::{GpsConfig, GpsLikelihood, GpsObservation};
 pub use heading_likelihood::{HeadingConfig, HeadingConstants, HeadingLikelihood};
 pub use scan_pairs::{PairLikelihood, ScanEvidence, ScanPairConfig, ScanPairsUnused};
+pub use scan_references::{PlacedScan, ReferenceScans};
 pub use step_motion::{StepErrorState, StepMotion, StepMotionConfig};
 pub use transition_prior::{TransitionPrior, TransitionPriorConfig};

@@ -45,13 +45,13 @@ use serde::{Deserialize, Serialize};
 /// A pair whose log ratio (eq. 3's bracket) moves less than this over distance is left out.
 pub const INFORMATIVE: f64 = 0.05;
 /// Distance resolution of the pair tables, metres.
-const D_STEP: f64 = 0.25;
+pub(super) const D_STEP: f64 = 0.25;
 /// Distance beyond which a pair tells nothing more (the last table entry), metres.
 const D_FAR: f64 = 24.0;
 /// Entries per table row.
-const ROW: usize = (D_FAR / D_STEP) as usize + 1;
+pub(super) const ROW: usize = (D_FAR / D_STEP) as usize + 1;
 /// Dissimilarity resolution of the pair tables, dB.
-const DB_STEP: f64 = 0.25;
+pub(super) const DB_STEP: f64 = 0.25;
 /// The largest dissimilarity tabulated, dB (larger ones read the last row).
 const DB_MAX: f64 = 80.0;
 /// Upper edges of the calibration's distance bins, metres.
@@ -69,6 +69,14 @@ const MIN_SIGMA: f64 = 1.0;
 pub struct ScanPairConfig {
     /// Weight particles by the walk's WiFi scans (when it has them). Default true.
     pub enabled: bool,
+    /// In a FeetSLAM batch's later passes, weigh each scan also against the other walks'
+    /// scans placed where their previous pass put them ([`super::scan_references`]).
+    /// Default false: on the 106 walks of ILC F1 it moved the waypoint errors by less than
+    /// 2 % (docs/footslam.md). Only `learn` of a whole batch in one process applies it;
+    /// a batch run walk by walk (`--shard`, the Python batch runner) does not.
+    pub cross_walk: bool,
+    /// The most similar of the other walks' scans a scan is weighed against. Default 32.
+    pub references_per_scan: usize,
     /// Earlier scans closer in time than this are left to the steps, seconds. Default 15.
     pub min_gap_s: f64,
     /// Scan pairs at most this far apart in time calibrate the model (their distance from
@@ -93,6 +101,8 @@ impl Default for ScanPairConfig {
     fn default() -> Self {
         Self {
             enabled: true,
+            cross_walk: false,
+            references_per_scan: 32,
             min_gap_s: 15.0,
             calibration_window_s: 60.0,
             floor_rssi: -100.0,
@@ -118,18 +128,24 @@ impl ScanPairConfig {
         check_range("wifi.floor_rssi", self.floor_rssi, -150.0..=-30.0, "dBm")?;
         check_range("wifi.outlier_share", self.outlier_share, 1e-6..=0.9, "")?;
         check_range("wifi.pair_tempering", self.pair_tempering, 0.0..=1.0, "")?;
+        check_range(
+            "wifi.references_per_scan",
+            self.references_per_scan as f64,
+            0.0..=10_000.0,
+            "",
+        )?;
         check_range("wifi.latency_max_s", self.latency_max_s, 0.0..=30.0, "s")
     }
 }
 
 /// A scan as its access points' ids (sorted) and RSSI.
 #[derive(Debug, Clone)]
-struct CompactScan {
+pub(super) struct CompactScan {
     readings: Vec<(u32, f32)>,
 }
 
 impl CompactScan {
-    fn new(scan: &WifiScan, ids: &mut FxHashMap<String, u32>, floor: f64) -> Self {
+    pub(super) fn new(scan: &WifiScan, ids: &mut FxHashMap<String, u32>, floor: f64) -> Self {
         let mut readings: Vec<(u32, f32)> = scan
             .readings
             .iter()
@@ -147,7 +163,7 @@ impl CompactScan {
 
 /// Eq. (1): the RMS RSSI difference of two scans over the access points either heard, a
 /// missing reading taken as `floor`; `None` when neither heard any.
-fn dissimilarity(a: &CompactScan, b: &CompactScan, floor: f64) -> Option<f64> {
+pub(super) fn dissimilarity(a: &CompactScan, b: &CompactScan, floor: f64) -> Option<f64> {
     let (a, b) = (&a.readings, &b.readings);
     let floor = floor as f32;
     let (mut i, mut j, mut sum, mut n) = (0, 0, 0.0f64, 0u32);
@@ -491,7 +507,7 @@ fn calibrate_latency(
 
 /// Eq. (3)'s bracket for every tabulated dissimilarity and distance, and whether each row
 /// is informative.
-fn tabulate(likelihood: &PairLikelihood) -> (Vec<f32>, Vec<bool>) {
+pub(super) fn tabulate(likelihood: &PairLikelihood) -> (Vec<f32>, Vec<bool>) {
     let rows = (DB_MAX / DB_STEP) as usize + 1;
     let mut table = vec![0.0f32; rows * ROW];
     let mut informative = vec![false; rows];

@@ -237,7 +237,7 @@ pub fn learn_one(
     let shared = base.shared(input, config);
     let prior = walk_prior(&base.prior, others, config.prior_weight);
     // A walk alone reports its steps in `learn`; a task of a batch does not.
-    learn_walk_at(walk, index, &shared, &prior, None)
+    learn_walk_at(walk, index, &shared, &prior, None, None)
 }
 
 /// Stage 4: the walks' scans on the plan learned from `map`, each walk's placed by its

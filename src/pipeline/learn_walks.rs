@@ -11,7 +11,8 @@ use crate::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
 use crate::geometry::{Hex, LocalFrame, Pose2};
 use crate::map::{EdgePrior, HexMapSnapshot, map_of_path, merge_maps, register_maps};
 use crate::model::{
-    AxisEvidence, GpsObservation, HeadingLikelihood, ScanEvidence, ScanPairsUnused, find_levels,
+    AxisEvidence, GpsObservation, HeadingLikelihood, PlacedScan, ReferenceScans, ScanEvidence,
+    ScanPairsUnused, find_levels,
 };
 use crate::sensor::{GpsFix, StepTrace, WifiScan};
 use rayon::prelude::*;
@@ -91,10 +92,90 @@ pub(super) fn learn_walk_at(
     shared: &Shared,
     prior: &EdgePrior,
     steps: Option<&dyn Progress>,
+    references: Option<Arc<ReferenceScans>>,
 ) -> Result<WalkRun> {
     let mut config = shared.config.clone();
     config.seed = config.seed.wrapping_add(i as u64);
-    learn_walk(walk, config, shared, prior, steps)
+    learn_walk(walk, config, shared, prior, steps, references)
+}
+
+/// Where a pass placed each of a walk's scans: its answer's position and level at the
+/// scan's time less the walk's calibrated latency (interpolated within the step; before the
+/// first step, the start).
+pub fn placed_scans(walk: &LearnWalk, run: &WalkRun) -> Vec<(f64, f64, i32)> {
+    let latency = match &run.wifi {
+        Some(Ok(e)) => e.latency_s,
+        _ => 0.0,
+    };
+    let steps = walk.trace.steps();
+    let path = &run.estimate.path;
+    let levels = &run.estimate.levels;
+    let start = (
+        run.config.start.x,
+        run.config.start.y,
+        run.config.start_level,
+    );
+    walk.scans
+        .iter()
+        .map(|scan| {
+            let t = scan.t - latency;
+            let k = steps.partition_point(|s| s.t < t);
+            let before = k
+                .checked_sub(1)
+                .map_or(start, |j| (path[j].x, path[j].y, levels[j]));
+            let Some(step) = steps.get(k) else {
+                return before;
+            };
+            let t0 = k.checked_sub(1).map(|j| steps[j].t);
+            let along = match t0 {
+                Some(t0) if step.t > t0 => ((t - t0) / (step.t - t0)).clamp(0.0, 1.0),
+                _ => 0.0,
+            };
+            (
+                before.0 + along * (path[k].x - before.0),
+                before.1 + along * (path[k].y - before.1),
+                if along < 0.5 { before.2 } else { levels[k] },
+            )
+        })
+        .collect()
+}
+
+/// For each walk of a pass, its scans against the other walks' scans where `runs` placed
+/// them ([`ReferenceScans`]); `None` for a walk without scans, or whose pairs do not
+/// calibrate.
+pub(super) fn cross_walk_references(
+    walks: &[LearnWalk],
+    runs: &[WalkRun],
+    config: &FootSlamConfig,
+) -> Vec<Option<Arc<ReferenceScans>>> {
+    if !config.wifi.enabled || !config.wifi.cross_walk {
+        return vec![None; walks.len()];
+    }
+    let places: Vec<Vec<(f64, f64, i32)>> = walks
+        .iter()
+        .zip(runs)
+        .map(|(w, r)| placed_scans(w, r))
+        .collect();
+    (0..walks.len())
+        .into_par_iter()
+        .map(|i| {
+            let usable = matches!(runs[i].wifi, Some(Ok(_)));
+            if !usable {
+                return None;
+            }
+            let others: Vec<PlacedScan> = (0..walks.len())
+                .filter(|&j| j != i)
+                .flat_map(|j| {
+                    walks[j]
+                        .scans
+                        .iter()
+                        .zip(&places[j])
+                        .map(|(scan, &(x, y, level))| PlacedScan { scan, x, y, level })
+                })
+                .collect();
+            ReferenceScans::new(&walks[i].scans, &places[i], &others, &config.wifi).map(Arc::new)
+        })
+        .collect()
 }
 
 /// Learns the walks, each with seed `seed + i`: alone, then — for a batch in one frame —
@@ -114,14 +195,15 @@ pub(super) fn learn_batch(
         let passes = u64::from(iterations) + 1;
         progress.start("learning walks", passes * walks.len() as u64);
     }
-    let pass = |priors: Option<&[EdgePrior]>| {
+    let pass = |priors: Option<&[EdgePrior]>, references: &[Option<Arc<ReferenceScans>>]| {
         walks
             .par_iter()
             .enumerate()
             .map(|(i, walk)| {
                 let prior = priors.map_or(shared.prior, |p| &p[i]);
                 let steps = (!batch).then_some(progress);
-                let run = learn_walk_at(walk, i, shared, prior, steps);
+                let refs = references.get(i).cloned().flatten();
+                let run = learn_walk_at(walk, i, shared, prior, steps, refs);
                 if bar {
                     progress.advance(1);
                 }
@@ -129,7 +211,7 @@ pub(super) fn learn_batch(
             })
             .collect::<Result<Vec<_>>>()
     };
-    let mut runs = pass(None)?;
+    let mut runs = pass(None, &[])?;
     for _ in 0..iterations {
         let maps: Vec<&HexMapSnapshot> = runs.iter().map(|r| &r.estimate.map).collect();
         let priors = (0..runs.len())
@@ -142,7 +224,8 @@ pub(super) fn learn_batch(
                 ))
             })
             .collect::<Result<Vec<_>>>()?;
-        runs = pass(Some(&priors))?;
+        let references = cross_walk_references(walks, &runs, shared.config);
+        runs = pass(Some(&priors), &references)?;
     }
     if bar {
         progress.finish();
@@ -175,6 +258,8 @@ pub struct WalkRun {
     /// What the walk's dead-reckoned turns say of the building's axes; the filter weighed
     /// its straight steps by them when `axes.active`.
     pub axes: Arc<AxisEvidence>,
+    /// In a FeetSLAM pass: the other walks' scans this walk's scans were weighed against.
+    pub wifi_references: Option<Arc<ReferenceScans>>,
 }
 
 /// Learns one walk: with GPS it starts at the first fix (spread by its accuracy), heading
@@ -189,6 +274,7 @@ fn learn_walk(
     shared: &Shared,
     prior: &EdgePrior,
     progress: Option<&dyn Progress>,
+    references: Option<Arc<ReferenceScans>>,
 ) -> Result<WalkRun> {
     let (frame, prior_map, prior_walks) = (shared.frame, shared.prior_map, shared.prior_walks);
     let gps: Vec<GpsObservation> = walk
@@ -285,6 +371,7 @@ fn learn_walk(
         prior_offset,
         levels,
         wifi: wifi_evidence,
+        wifi_references: references.clone(),
         axes: Some(Arc::clone(&axes)),
     };
     let mut filter = FootSlam::with_anchors(config.clone(), anchors)?;
@@ -301,6 +388,7 @@ fn learn_walk(
         p.finish();
     }
     let runtime_s = started.elapsed().as_secs_f64();
+    let wifi_references = references.filter(|_| filter.scans_cross_walk());
     let mut estimate = filter.estimate();
     let dead_reckoned = walk.trace.dead_reckon(config.start);
     let departure = check_departure(
@@ -321,6 +409,7 @@ fn learn_walk(
         departure,
         wifi,
         axes,
+        wifi_references,
     })
 }
 

@@ -12,55 +12,12 @@
 //! mean of two modes is a path nobody walked: only the paths within `mode_radius_m` (RMS
 //! over the walk) of the most probable path are averaged, per step, and their RMS distance
 //! from that mean is the step's spread — how firmly the particles agree on where it was.
+//! The configuration is [`super::SmoothingConfig`].
 
 use super::{FootSlam, Pose2, resample};
 use crate::random::filter_stream;
 use rand::RngExt;
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
-
-/// How the whole-walk answer is made; every default in one place.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct SmoothingConfig {
-    /// Paths drawn from the final weights (at most the number of particles). 0: answer
-    /// with the most probable particle's path alone. Default 256.
-    pub draws: usize,
-    /// Paths further than this from the most probable one (RMS over the walk, metres)
-    /// belong to another mode and are left out of the mean. Default 2 m.
-    pub mode_radius_m: f64,
-}
-
-impl Default for SmoothingConfig {
-    fn default() -> Self {
-        Self {
-            draws: 256,
-            mode_radius_m: 2.0,
-        }
-    }
-}
-
-impl SmoothingConfig {
-    /// Checks every field; names the offending one.
-    pub fn validate(&self) -> crate::error::Result<()> {
-        if self.draws > 100_000 {
-            return Err(crate::error::Error::config(
-                "smoothing.draws",
-                self.draws,
-                "must be at most 100000",
-            ));
-        }
-        let r = self.mode_radius_m;
-        if !(r.is_finite() && r > 0.0 && r <= 1e4) {
-            return Err(crate::error::Error::config(
-                "smoothing.mode_radius_m",
-                r,
-                "must be in (0, 10000] metres",
-            ));
-        }
-        Ok(())
-    }
-}
 
 /// The mean of the drawn paths near the most probable one, per step.
 #[derive(Debug, Clone, PartialEq)]
