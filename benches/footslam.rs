@@ -1,7 +1,8 @@
 //! FootSLAM filter throughput: how time grows with particles and with walk length, and the
 //! headline size (100,000 particles over a 700-step walk).
 //!
-//! `cargo bench --bench footslam` (the headline group alone: `-- headline`).
+//! `cargo bench --bench footslam` (the headline group alone: `-- headline`; the answer's
+//! cost, one path or the whole-walk mean: `-- answer`).
 //! Memory is measured by `examples/scaling.rs` (criterion measures time only).
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
@@ -64,5 +65,30 @@ fn headline(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, particles, walk_length, headline);
+/// The answer after the walk: the most probable particle's path replayed alone
+/// (`smoothing.draws = 0`) against the whole-walk answer (256 final paths replayed and
+/// averaged), 10,000 particles after 700 steps.
+fn answer(c: &mut Criterion) {
+    let steps = office_walk_steps(700, 1).expect("walk");
+    let mut g = c.benchmark_group("answer");
+    g.sample_size(10);
+    for draws in [0usize, 256] {
+        let mut config = FootSlamConfig {
+            particles: 10_000,
+            seed: 1,
+            ..Default::default()
+        };
+        config.smoothing.draws = draws;
+        let mut f = FootSlam::new(config).expect("config");
+        for s in &steps {
+            f.update(s);
+        }
+        g.bench_with_input(BenchmarkId::new("draws", draws), &draws, |b, _| {
+            b.iter(|| black_box(f.estimate().path.len()))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, particles, walk_length, headline, answer);
 criterion_main!(benches);
