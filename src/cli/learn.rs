@@ -254,6 +254,15 @@ impl RunSummary {
                 s.particle_steps_per_s,
                 s.final_effective_sample_size
             );
+            let m = &s.smoothing;
+            if m.averaged_paths > 1 {
+                outln!(
+                    "{walk}track.csv: the mean of {} final paths; they spread {:.2} m about it (median over the steps), {:.2} m at most",
+                    m.averaged_paths,
+                    m.spread_median_m,
+                    m.spread_max_m
+                );
+            }
         }
         outln!("outputs: {}", out.display());
     }

@@ -58,7 +58,7 @@ pub(super) struct Summary {
     building_axes: AxesSummary,
     /// The whole-walk answer in `track.csv`: how many final paths it averages and how far
     /// they spread.
-    smoothing: SmoothingSummary,
+    pub(super) smoothing: SmoothingSummary,
     /// How far the learned path departs from the dead-reckoned steps (`dead_reckoning.csv`),
     /// what supports it, and which path `track.csv` holds (`answer`).
     departure_from_dead_reckoning: Departure,
@@ -111,15 +111,15 @@ impl WifiSummary {
 
 /// The whole-walk answer ([`footslam::filter::SmoothingConfig`]).
 #[derive(Debug, Serialize)]
-struct SmoothingSummary {
+pub(super) struct SmoothingSummary {
     /// Distinct final paths drawn.
     distinct_paths: usize,
     /// Those near the most probable path, averaged into `track.csv`.
-    averaged_paths: usize,
+    pub(super) averaged_paths: usize,
     /// Median and largest per-step spread of the averaged paths about their mean, metres
     /// (`track.csv`'s `spread_m`; 0 where the answer is dead reckoning).
-    spread_median_m: f64,
-    spread_max_m: f64,
+    pub(super) spread_median_m: f64,
+    pub(super) spread_max_m: f64,
 }
 
 impl SmoothingSummary {
