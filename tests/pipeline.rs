@@ -31,6 +31,17 @@ fn read(path: &Path) -> Vec<u8> {
     std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
+/// `walks` to learn in the local frame, with no outline or prior map.
+fn in_local_frame(walks: &[LearnWalk]) -> LearnInput<'_> {
+    LearnInput {
+        walks,
+        frame: LocalFrame::default(),
+        outline: None,
+        prior_map: None,
+        cells: CellConfig::default(),
+    }
+}
+
 #[test]
 fn a_batch_fanned_out_walk_by_walk_learns_what_learn_does() {
     // Three one-lap office walks from the known start (the origin, facing east).
@@ -58,13 +69,7 @@ fn a_batch_fanned_out_walk_by_walk_learns_what_learn_does() {
         particles: 300,
         ..Default::default()
     };
-    let input = LearnInput {
-        walks: &walks,
-        frame: LocalFrame::default(),
-        outline: None,
-        prior_map: None,
-        cells: CellConfig::default(),
-    };
+    let input = in_local_frame(&walks);
     let together = learn(&input, &config, &Silent).expect("learn");
     assert_eq!(together.iterations, config.iterations);
     assert!(together.iterations > 0);
@@ -152,13 +157,7 @@ fn the_cli_writes_what_the_pipelines_compute() {
         trace: trace.clone(),
         ..Default::default()
     }];
-    let input = LearnInput {
-        walks: &walks,
-        frame: LocalFrame::default(),
-        outline: None,
-        prior_map: None,
-        cells: CellConfig::default(),
-    };
+    let input = in_local_frame(&walks);
     let learned = learn(&input, &config, &Silent).expect("learn");
     let map = d.join("lib-map.geojson");
     write_map_geojson(&map, &learned.walks[0].estimate.map, &input.frame).expect("write");
@@ -269,13 +268,7 @@ fn cross_walk_scans_weigh_in_the_feetslam_passes_when_asked() {
             }
         })
         .collect();
-    let input = LearnInput {
-        walks: &walks,
-        frame: LocalFrame::default(),
-        outline: None,
-        prior_map: None,
-        cells: CellConfig::default(),
-    };
+    let input = in_local_frame(&walks);
     let mut config = FootSlamConfig {
         particles: 300,
         iterations: 1,
