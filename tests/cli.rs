@@ -402,3 +402,48 @@ fn eval_moves_a_track_into_the_truths_frame() {
         "batch walk: p95 {p95} m, the frames were not reconciled"
     );
 }
+
+#[test]
+fn a_wifi_log_that_repeats_an_access_point_in_a_scan_is_read_and_counted() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = dir.path();
+    footslam()
+        .args([
+            "simulate",
+            "--building",
+            "tower",
+            "--minutes",
+            "2",
+            "--seed",
+            "3",
+            "--out",
+        ])
+        .arg(d.join("sim"))
+        .assert()
+        .success();
+    // Real logs list an access point twice in a scan now and then: repeat the first row.
+    let wifi = std::fs::read_to_string(d.join("sim/wifi.csv")).expect("wifi");
+    let mut lines: Vec<&str> = wifi.lines().collect();
+    let first = lines[1];
+    lines.insert(2, first);
+    std::fs::write(d.join("twice.csv"), lines.join("\n") + "\n").expect("write");
+    let assert = footslam()
+        .args(["learn", "--particles", "300", "--steps"])
+        .arg(d.join("sim/steps.csv"))
+        .arg("--wifi")
+        .arg(d.join("twice.csv"))
+        .arg("--out")
+        .arg(d.join("out"))
+        .assert()
+        .success();
+    let stderr = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
+    assert!(
+        stderr.contains("1 row(s) repeated an access point"),
+        "{stderr}"
+    );
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(d.join("out/summary.json")).expect("summary"),
+    )
+    .expect("json");
+    assert_eq!(summary["wifi_in_filter"]["duplicate_readings"], 1);
+}

@@ -2,8 +2,8 @@
 
 use anyhow::{Context, Result, bail};
 use footslam::geometry::LocalFrame;
-use footslam::io::read_wifi;
 use footslam::io::steps_csv::has_dz_column;
+use footslam::io::{WifiLog, read_wifi_log};
 use footslam::map::FloorPlan;
 use footslam::map::RadioMap;
 use footslam::pipeline::{ScanMatch, missing_height_changes, scans_off_clock};
@@ -219,18 +219,33 @@ pub fn check_height_changes(
     Ok(())
 }
 
+/// A WiFi log, with a warning when rows repeated an access point within a scan.
+pub fn read_wifi_warned(path: &Path) -> Result<WifiLog> {
+    let log = read_wifi_log(path)?;
+    if log.duplicate_readings > 0 {
+        warn(&format!(
+            "{}: {} row(s) repeated an access point already in their scan; kept the later \
+             reading of each",
+            path.display(),
+            log.duplicate_readings
+        ));
+    }
+    Ok(log)
+}
+
 /// WiFi scans, checked to overlap the walk in time: a log on another clock would place no
-/// scan (or every scan at one end of the walk).
-pub fn read_scans(path: &Path, trace: &StepTrace) -> Result<Vec<WifiScan>> {
-    let scans = read_wifi(path)?;
+/// scan (or every scan at one end of the walk). Returns the scans and how many rows
+/// repeated an access point within a scan (the later kept; a warning says so).
+pub fn read_scans(path: &Path, trace: &StepTrace) -> Result<(Vec<WifiScan>, usize)> {
+    let log = read_wifi_warned(path)?;
     let steps = trace.steps();
     let (Some(first), Some(last)) = (steps.first(), steps.last()) else {
-        return Ok(scans);
+        return Ok((log.scans, log.duplicate_readings));
     };
-    if let Some(problem) = scans_off_clock(&scans, first.t, last.t) {
+    if let Some(problem) = scans_off_clock(&log.scans, first.t, last.t) {
         bail!("{}: {problem}", path.display());
     }
-    Ok(scans)
+    Ok((log.scans, log.duplicate_readings))
 }
 
 #[cfg(test)]

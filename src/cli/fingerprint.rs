@@ -1,12 +1,12 @@
 //! `footslam fingerprint`: each WiFi scan placed by the radio map alone (weighted k-nearest
 //! fingerprints) — the baseline that tracking with the radio map should beat.
 
-use super::common::{check_scans_match, output_dir, read_config, require_file};
+use super::common::{check_scans_match, output_dir, read_config, read_wifi_warned, require_file};
 use anyhow::{Result, bail};
 use footslam::filter::{FingerprintConfig, NearestFingerprint};
 use footslam::io::RunFolder;
 use footslam::io::radio_map_geojson::read_radio_map_geojson;
-use footslam::io::{TrackPoint, read_wifi, write_track};
+use footslam::io::{TrackPoint, write_track};
 use serde::Serialize;
 use std::path::PathBuf;
 
@@ -36,6 +36,8 @@ struct Summary {
     radiomap_file: String,
     wifi_file: String,
     scans: usize,
+    /// Rows of the WiFi log that repeated an access point within a scan (the later kept).
+    duplicate_readings: usize,
     placed: usize,
     /// Scans that share no access point with the map.
     unplaced: usize,
@@ -55,7 +57,8 @@ pub fn run(args: Args) -> Result<()> {
     }
     let (map, _) = read_radio_map_geojson(&args.radiomap, None)?;
     let localiser = NearestFingerprint::new(&map, &config)?;
-    let scans = read_wifi(&args.wifi)?;
+    let log = read_wifi_warned(&args.wifi)?;
+    let scans = log.scans;
     check_scans_match(&map, &scans, &args.radiomap, &args.wifi)?;
     let fixes: Vec<_> = scans.iter().filter_map(|s| localiser.locate(s)).collect();
     if fixes.is_empty() {
@@ -87,6 +90,7 @@ pub fn run(args: Args) -> Result<()> {
             radiomap_file: args.radiomap.display().to_string(),
             wifi_file: args.wifi.display().to_string(),
             scans: scans.len(),
+            duplicate_readings: log.duplicate_readings,
             placed: fixes.len(),
             unplaced: scans.len() - fixes.len(),
             version: env!("CARGO_PKG_VERSION"),

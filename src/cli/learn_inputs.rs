@@ -21,6 +21,8 @@ pub(super) struct WalkFiles {
     pub(super) steps_path: PathBuf,
     pub(super) gps_path: Option<PathBuf>,
     pub(super) wifi_path: Option<PathBuf>,
+    /// Rows of the WiFi log that repeated an access point within a scan (left out).
+    pub(super) wifi_duplicate_readings: usize,
 }
 
 /// One walk found from the flags, a manifest or a folder (the manifest's own record).
@@ -121,14 +123,15 @@ pub(super) fn read_found(
                 Some(p) => read_fixes(p, gps_t0, &trace)?,
                 None => Vec::new(),
             };
-            let scans = match &f.wifi {
+            let (scans, wifi_duplicate_readings) = match &f.wifi {
                 Some(p) => read_scans(p, &trace)?,
-                None => Vec::new(),
+                None => (Vec::new(), 0),
             };
             let files = WalkFiles {
                 steps_path: f.steps,
                 gps_path: f.gps,
                 wifi_path: f.wifi,
+                wifi_duplicate_readings,
             };
             let walk = LearnWalk {
                 trace,

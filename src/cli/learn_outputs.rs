@@ -69,6 +69,8 @@ pub(super) struct Summary {
 struct WifiSummary {
     /// Scans in the walk's WiFi log.
     scans: usize,
+    /// Rows of the log that repeated an access point within a scan (the later kept).
+    duplicate_readings: usize,
     /// Scans that weighted the particles.
     scans_used: usize,
     /// Scan pairs close enough in time to calibrate the model on dead reckoning.
@@ -91,11 +93,12 @@ struct WifiSummary {
 }
 
 impl WifiSummary {
-    fn of(walk: &LearnWalk, run: &WalkRun) -> Option<Self> {
+    fn of(walk: &LearnWalk, run: &WalkRun, duplicate_readings: usize) -> Option<Self> {
         let outcome = run.wifi.as_ref()?;
         let evidence = outcome.as_ref().ok();
         Some(Self {
             scans: walk.scans.len(),
+            duplicate_readings,
             scans_used: run.filter.scans_used(),
             calibration_pairs: evidence.map_or(0, |e| e.calibration_pairs),
             informative_pairs: evidence.map_or(0, |e| e.pairs()),
@@ -316,7 +319,7 @@ pub(super) fn write_walk(
         gps_fixes_used: filter.gps_fixes_used(),
         prior_offset_m: estimate.prior_offset,
         walkable_plan_m2,
-        wifi_in_filter: WifiSummary::of(walk, run),
+        wifi_in_filter: WifiSummary::of(walk, run, files.wifi_duplicate_readings),
         building_axes: AxesSummary::of(run),
         smoothing: SmoothingSummary::of(run),
         departure_from_dead_reckoning: run.departure.clone(),

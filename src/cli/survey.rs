@@ -81,6 +81,8 @@ struct WalkSummary {
     start: Option<StartPose>,
     steps: usize,
     scans: usize,
+    /// Rows of the WiFi log that repeated an access point within a scan (the later kept).
+    duplicate_readings: usize,
     steps_to_localise: Option<usize>,
     /// Steps whose place the survey knew (the whole-walk answer's certain steps, or the
     /// filtered estimates from localisation on with `tracker.smoothing = false`).
@@ -201,6 +203,7 @@ fn read_walks(args: &Args, plan: &FloorPlan) -> Result<(Vec<WalkFiles>, Vec<Surv
             steps,
             wifi,
             start: None,
+            duplicate_readings: 0,
         })
         .collect();
     if let Some(manifest) = &args.walks {
@@ -210,12 +213,13 @@ fn read_walks(args: &Args, plan: &FloorPlan) -> Result<(Vec<WalkFiles>, Vec<Surv
         bail!("nothing to survey: give --steps/--wifi pairs, --walks or --merge");
     }
     let mut walks = Vec::with_capacity(files.len());
-    for w in &files {
+    for w in &mut files {
         require_file(&w.steps, "step trace")?;
         require_file(&w.wifi, "WiFi log")?;
         let trace = read_steps(&w.steps)?;
         check_height_changes(&w.steps, &args.plan, plan, args.one_floor)?;
-        let scans = read_scans(&w.wifi, &trace)?;
+        let (scans, duplicate_readings) = read_scans(&w.wifi, &trace)?;
+        w.duplicate_readings = duplicate_readings;
         walks.push(SurveyWalk {
             trace,
             scans,
@@ -255,6 +259,7 @@ impl Summary {
                     start: done.start,
                     steps: walk.trace.len(),
                     scans: walk.scans.len(),
+                    duplicate_readings: files.duplicate_readings,
                     steps_to_localise: done.steps_to_localise,
                     steps_placed: done.steps_placed,
                     scans_added: done.scans_added,
@@ -302,6 +307,8 @@ struct WalkFiles {
     steps: PathBuf,
     wifi: PathBuf,
     start: Option<StartPose>,
+    /// Rows of the WiFi log that repeated an access point within a scan (known once read).
+    duplicate_readings: usize,
 }
 
 /// The walks of a manifest CSV ([`read_walk_manifest`] with a WiFi log each).
@@ -313,6 +320,7 @@ fn read_manifest(path: &std::path::Path) -> Result<Vec<WalkFiles>> {
             steps: w.steps,
             wifi: w.wifi.unwrap_or_default(),
             start: w.start,
+            duplicate_readings: 0,
         })
         .collect())
 }

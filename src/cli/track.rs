@@ -221,6 +221,8 @@ struct RadioFiles {
     scans: Vec<WifiScan>,
     /// Scans that hear an access point of the map.
     matched: usize,
+    /// Rows of the log that repeated an access point within a scan (the later kept).
+    duplicate_readings: usize,
 }
 
 /// Reads and checks `track`'s inputs.
@@ -268,7 +270,7 @@ fn read_inputs(args: &Args, config: &TrackerConfig) -> Result<Inputs> {
             require_file(map_path, "radio map")?;
             require_file(wifi_path, "WiFi log")?;
             let (map, _) = read_radio_map_geojson(map_path, Some(frame))?;
-            let scans = read_scans(wifi_path, &trace)?;
+            let (scans, duplicate_readings) = read_scans(wifi_path, &trace)?;
             let matched = check_scans_match(&map, &scans, map_path, wifi_path)?;
             let localiser = RfLocaliser::new(&map, &topology, &config.rf).with_context(|| {
                 format!(
@@ -282,6 +284,7 @@ fn read_inputs(args: &Args, config: &TrackerConfig) -> Result<Inputs> {
                 localiser,
                 scans,
                 matched,
+                duplicate_readings,
             })
         }
         _ => None,
@@ -318,6 +321,7 @@ fn summary<'r>(
             wifi_file: r.wifi_path.display().to_string(),
             scans: r.scans.len(),
             scans_matched: r.matched,
+            duplicate_readings: r.duplicate_readings,
             mode: r.localiser.config().mode,
             distance: r.localiser.distance(),
             epsilon_dbm: r.localiser.epsilon(),

@@ -58,6 +58,8 @@ pub(super) struct RfSummary {
     pub(super) scans: usize,
     /// Scans that hear at least one access point of the radio map (a warning below half).
     pub(super) scans_matched: usize,
+    /// Rows of the WiFi log that repeated an access point within a scan (the later kept).
+    pub(super) duplicate_readings: usize,
     pub(super) mode: RfMode,
     /// The distance's divisor used: `paper` (k) or `sqrt` (√k).
     pub(super) distance: Normalisation,

@@ -68,4 +68,4 @@ pub use trajectory_csv::{
 };
 pub use walk_manifest::{ManifestWalk, read_walk_manifest};
 pub use waypoints_csv::{Waypoint, read_waypoints, write_waypoints};
-pub use wifi_csv::{read_wifi, write_wifi};
+pub use wifi_csv::{WifiLog, read_wifi, read_wifi_log, write_wifi};

@@ -1,25 +1,45 @@
 //! WiFi logs as CSV: header `t,bssid,rssi[,ssid,freq]` (seconds on the step trace's clock,
 //! access point id, dBm, network name, MHz), one row per sighting; rows sharing `t` are one
-//! scan. Times must not decrease; a BSSID appears at most once per scan; extra columns are
-//! ignored. Errors name the file and line.
+//! scan. Times must not decrease; extra columns are ignored. Errors name the file and line.
+//!
+//! Real logs sometimes list one access point twice in a scan (a phone that reports a
+//! network twice, or a converter that merged two sweeps under one time stamp): the later row
+//! is kept, as the importers keep the freshest reading, and [`WifiLog::duplicate_readings`]
+//! counts the rows dropped.
 
 use super::csv_table::CsvTable;
 use crate::error::{Error, Result};
 use crate::sensor::wifi::{WifiReading, WifiScan, check_reading, normalise_bssid};
 use std::path::Path;
 
-/// Reads a WiFi log into scans, in time order.
+/// A WiFi log as read: its scans in time order, and the repeated readings left out.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WifiLog {
+    /// The scans, in time order, one reading per access point each.
+    pub scans: Vec<WifiScan>,
+    /// Rows that repeated an access point already in their scan (the earlier of each pair
+    /// was replaced by the later).
+    pub duplicate_readings: usize,
+}
+
+/// Reads a WiFi log into scans, in time order (see [`read_wifi_log`] for the count of
+/// repeated readings).
 pub fn read_wifi(path: &Path) -> Result<Vec<WifiScan>> {
+    Ok(read_wifi_log(path)?.scans)
+}
+
+/// Reads a WiFi log: its scans and how many repeated readings were left out.
+pub fn read_wifi_log(path: &Path) -> Result<WifiLog> {
     wifi_from_table(CsvTable::open(path)?)
 }
 
 /// Reads a WiFi log from CSV `text` (the file format's header and rows), as [`read_wifi`]
 /// reads a file; errors name the table `name` and the 0-based data row.
 pub fn wifi_from_str(text: &str, name: &str) -> Result<Vec<WifiScan>> {
-    wifi_from_table(CsvTable::from_text(text, name)?)
+    Ok(wifi_from_table(CsvTable::from_text(text, name)?)?.scans)
 }
 
-fn wifi_from_table(mut table: CsvTable) -> Result<Vec<WifiScan>> {
+fn wifi_from_table(mut table: CsvTable) -> Result<WifiLog> {
     let (t, bssid, rssi) = (
         table.column("t")?,
         table.column("bssid")?,
@@ -27,6 +47,7 @@ fn wifi_from_table(mut table: CsvTable) -> Result<Vec<WifiScan>> {
     );
     let (ssid, freq) = (table.optional_column("ssid"), table.optional_column("freq"));
     let mut scans: Vec<WifiScan> = Vec::new();
+    let mut duplicate_readings = 0;
     table.for_each_row(|row| {
         let time = row.number(t, "t")?;
         let id = normalise_bssid(row.text(bssid)).ok_or_else(|| {
@@ -46,13 +67,13 @@ fn wifi_from_table(mut table: CsvTable) -> Result<Vec<WifiScan>> {
         check_reading(&reading).map_err(|m| row.error(m))?;
         match scans.last_mut() {
             Some(scan) if scan.t == time => {
-                if scan.rssi(&reading.bssid).is_some() {
-                    return Err(row.error(format!(
-                        "bssid {} appears twice in the scan at t = {time} s",
-                        reading.bssid
-                    )));
+                match scan.readings.iter_mut().find(|r| r.bssid == reading.bssid) {
+                    Some(earlier) => {
+                        *earlier = reading;
+                        duplicate_readings += 1;
+                    }
+                    None => scan.readings.push(reading),
                 }
-                scan.readings.push(reading);
             }
             last => {
                 if let Some(scan) = last
@@ -74,7 +95,10 @@ fn wifi_from_table(mut table: CsvTable) -> Result<Vec<WifiScan>> {
     if scans.is_empty() {
         return Err(table.error(0, "no sightings: the file has a header but no data rows"));
     }
-    Ok(scans)
+    Ok(WifiLog {
+        scans,
+        duplicate_readings,
+    })
 }
 
 /// Writes scans as CSV (`t,bssid,rssi,ssid,freq`; empty ssid/freq when unknown), one row per
@@ -135,15 +159,23 @@ mod tests {
     }
 
     #[test]
+    fn a_repeated_access_point_keeps_the_later_reading_and_is_counted() {
+        let (_d, p) = file("t,bssid,rssi\n1,a,-60\n1,b,-70\n1,a,-61\n2,a,-65\n2,a,-66\n");
+        let log = read_wifi_log(&p).expect("read");
+        assert_eq!(log.duplicate_readings, 2);
+        assert_eq!(log.scans.len(), 2);
+        assert_eq!(log.scans[0].readings.len(), 2);
+        assert_eq!(log.scans[0].rssi("a"), Some(-61.0));
+        assert_eq!(log.scans[1].rssi("a"), Some(-66.0));
+        assert_eq!(read_wifi(&p).expect("read"), log.scans);
+    }
+
+    #[test]
     fn bad_rows_are_named() {
         for (text, expected) in [
             (
                 "t,bssid,rssi\n2,a,-60\n1,b,-60\n",
                 "wifi.csv:3: time 1 s is before",
-            ),
-            (
-                "t,bssid,rssi\n1,a,-60\n1,a,-61\n",
-                "wifi.csv:3: bssid a appears twice",
             ),
             ("t,bssid,rssi\n1,a,12\n", "wifi.csv:2: rssi 12 dBm"),
             ("t,bssid,rssi\n1,a,NaN\n", "wifi.csv:2:"),
