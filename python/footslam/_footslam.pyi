@@ -74,9 +74,14 @@ class SmoothedColumns(PathColumns, total=False):
     """One hypothesis, no wider than the localisation spread, remains at this step."""
     hypotheses: Ints
 
+class LearnedColumns(PathColumns):
+    spread_m: Floats
+    """How far the averaged final paths spread about the answer at this step, metres."""
+
 class LearnedWalk(TypedDict, total=False):
-    track: PathColumns
-    """The most probable particle's path, one row per step."""
+    track: LearnedColumns
+    """The whole-walk answer (the mean of the final paths near the most probable one), one
+    row per step."""
     map: FeatureCollection
     """The learned hexagon map, as ``map.geojson``."""
     plan: Optional[FeatureCollection]

@@ -46,8 +46,9 @@ use pyo3::types::PyDict;
 ///         raises is raised when the run is over.
 ///
 /// Returns:
-///     dict: ``walks`` — per walk a dict with ``track`` (columns ``t, x, y, z, level``: the
-///     most probable path, metres in the local frame), ``map`` (GeoJSON as ``map.geojson``),
+///     dict: ``walks`` — per walk a dict with ``track`` (columns ``t, x, y, z, level,
+///     spread_m``: the whole-walk answer, metres in the local frame, and how far the final
+///     paths spread about it), ``map`` (GeoJSON as ``map.geojson``),
 ///     ``plan`` (its walkable plan as ``plan.geojson``, or None when too small),
 ///     ``merged_with_prior`` (with a prior map), ``summary`` and ``config``; ``merged`` —
 ///     a batch's merged map (GeoJSON, or None); ``radio_map`` and ``radio_plan`` — with
