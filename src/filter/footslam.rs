@@ -21,6 +21,14 @@
 //! Floors (sec. 5, 2.5D): each step is on a level found from the steps' height changes
 //! ([`LevelTracker`], the same for every particle), and each level has its own hexagon map
 //! (stacked keys, [`crate::map::level_key`]); a walk on one floor has level 0 only.
+//!
+//! Evidence beside eq. (6), also optional: the walk's WiFi scans against each particle's
+//! own positions at earlier scans ([`crate::model::scan_pairs`]) and, in a FeetSLAM pass,
+//! against other walks' placed scans ([`crate::model::scan_references`]); and the building's
+//! dominant directions on straight steps ([`crate::model::building_axes`]).
+//!
+//! The answer ([`FootSlam::estimate`]): the most probable particle's map, and the whole-walk
+//! path — the final particles' ancestral paths near its own, averaged (`smoothing`).
 
 pub use super::footslam_anchors::Anchors;
 use super::footslam_anchors::{GpsQueue, StepFix, log_gps_factor, sample_start};

@@ -6,7 +6,7 @@
 //!   `hexx`)
 //! * [`local_frame`] — the local east-north frame placed on the WGS84 globe
 //! * [`alignment`] — rigid alignment of matched point sets (trajectories)
-//! * [`path_length`], [`percentile`] — a path's length; nearest-rank percentiles
+//! * [`path_length`](mod@path_length), [`percentile`] — a path's length; nearest-rank percentiles
 
 pub mod alignment;
 pub mod angle;
