@@ -54,6 +54,8 @@ import subprocess
 import sys
 import time
 
+from real_data_figures import percentile
+
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_LOGS = "/work/shared/data/ipin2023-museum/logs"
 LOG_NAME = re.compile(r"Trial(\d+)_repetition(\d+)\.txt$")
@@ -75,15 +77,6 @@ def footslam(binary, *args, warnings=None):
             if warnings is not None:
                 warnings.append(line)
     return r.stdout
-
-
-def percentile(values, p):
-    """Nearest-rank percentile, as footslam eval computes it."""
-    if not values:
-        return float("nan")
-    s = sorted(values)
-    rank = max(1, -(-p * len(s) // 100))
-    return s[min(rank, len(s)) - 1]
 
 
 def wrap(a):

@@ -80,21 +80,8 @@ pub(crate) fn walk_out(
             "final_sigma_deg": filter.heading_spread().to_degrees(),
         },
         "walkable_plan_m2": learned.as_ref().map(|l| l.area_m2),
-        "smoothing": {
-            "distinct_paths": estimate.smoothed_paths.0,
-            "averaged_paths": estimate.smoothed_paths.1,
-            "spread_max_m": estimate.spread_m.iter().copied().fold(0.0, f64::max),
-        },
-        "building_axes": {
-            "used": filter.axis_steps() > 0,
-            "shows_axes": run.axes.shows_axes,
-            "turns": run.axes.turns,
-            "alignment": run.axes.alignment,
-            "diagonal_alignment": run.axes.diagonal_alignment,
-            "directions": run.axes.directions,
-            "straight_m": run.axes.straight_m,
-            "steps_weighed": filter.axis_steps(),
-        },
+        "smoothing": run.smoothing_report(),
+        "building_axes": run.axes_report(),
     });
     WalkOut {
         track,

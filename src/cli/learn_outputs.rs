@@ -13,7 +13,7 @@ use footslam::io::track_geojson::write_track_geojson;
 use footslam::io::{TimedPoint, TrackPoint, write_trajectory, write_trajectory_with};
 use footslam::map::{HexMapSnapshot, PlanConfig, walkable_plan};
 use footslam::model::PairLikelihood;
-use footslam::pipeline::{LearnWalk, WalkRun};
+use footslam::pipeline::{AxesReport, LearnWalk, SmoothingReport, WalkRun};
 use footslam::render::map_png::{MapPicture, PictureConfig, write_map_png};
 use serde::Serialize;
 
@@ -55,10 +55,10 @@ pub(super) struct Summary {
     wifi_in_filter: Option<WifiSummary>,
     /// Whether the walk's turns showed the building's dominant directions, and how many
     /// straight steps they weighed.
-    building_axes: AxesSummary,
+    building_axes: AxesReport,
     /// The whole-walk answer in `track.csv`: how many final paths it averages and how far
     /// they spread.
-    pub(super) smoothing: SmoothingSummary,
+    pub(super) smoothing: SmoothingReport,
     /// How far the learned path departs from the dead-reckoned steps (`dead_reckoning.csv`),
     /// what supports it, and which path `track.csv` holds (`answer`).
     departure_from_dead_reckoning: Departure,
@@ -109,71 +109,6 @@ impl WifiSummary {
             best_path_wifi_log_likelihood: run.estimate.wifi_log_likelihood,
             unused: outcome.as_ref().err().map(ToString::to_string),
         })
-    }
-}
-
-/// The whole-walk answer ([`footslam::filter::SmoothingConfig`]).
-#[derive(Debug, Serialize)]
-pub(super) struct SmoothingSummary {
-    /// Distinct final paths drawn.
-    distinct_paths: usize,
-    /// Those near the most probable path, averaged into `track.csv`.
-    pub(super) averaged_paths: usize,
-    /// Median and largest per-step spread of the averaged paths about their mean, metres
-    /// (`track.csv`'s `spread_m`; 0 where the answer is dead reckoning).
-    pub(super) spread_median_m: f64,
-    pub(super) spread_max_m: f64,
-}
-
-impl SmoothingSummary {
-    fn of(run: &WalkRun) -> Self {
-        let mut spread = run.estimate.spread_m.clone();
-        spread.sort_by(f64::total_cmp);
-        Self {
-            distinct_paths: run.estimate.smoothed_paths.0,
-            averaged_paths: run.estimate.smoothed_paths.1,
-            spread_median_m: spread.get(spread.len() / 2).copied().unwrap_or(0.0),
-            spread_max_m: spread.last().copied().unwrap_or(0.0),
-        }
-    }
-}
-
-/// What the walk's turns said of the building's axes ([`footslam::model::building_axes`]).
-#[derive(Debug, Serialize)]
-struct AxesSummary {
-    /// Whether the prior weighed the straight steps (`[axes] enabled = true` and the turns
-    /// show axes).
-    used: bool,
-    /// Whether the walk's turns show dominant directions (eq. 4 of the model), used or not.
-    shows_axes: bool,
-    /// Turns between successive straight stretches that were tested.
-    turns: usize,
-    /// Their mean `cos 4Δ`: 1 when every turn is a multiple of 90°, about 0 for turns at
-    /// any angle.
-    alignment: f64,
-    /// Their mean `cos 8Δ`, for walls that also run at 45°.
-    diagonal_alignment: f64,
-    /// The dominant directions the prior used: 4, 8 (with the diagonals) or 0 (none).
-    directions: u8,
-    /// Metres walked in straight stretches.
-    straight_m: f64,
-    /// Straight steps the axes weighed.
-    steps_weighed: usize,
-}
-
-impl AxesSummary {
-    fn of(run: &WalkRun) -> Self {
-        let e = &run.axes;
-        Self {
-            used: run.filter.axis_steps() > 0,
-            shows_axes: e.shows_axes,
-            turns: e.turns,
-            alignment: e.alignment,
-            diagonal_alignment: e.diagonal_alignment,
-            directions: e.directions,
-            straight_m: e.straight_m,
-            steps_weighed: run.filter.axis_steps(),
-        }
     }
 }
 
@@ -320,8 +255,8 @@ pub(super) fn write_walk(
         prior_offset_m: estimate.prior_offset,
         walkable_plan_m2,
         wifi_in_filter: WifiSummary::of(walk, run, files.wifi_duplicate_readings),
-        building_axes: AxesSummary::of(run),
-        smoothing: SmoothingSummary::of(run),
+        building_axes: run.axes_report(),
+        smoothing: run.smoothing_report(),
         departure_from_dead_reckoning: run.departure.clone(),
         heading: HeadingSummary {
             start_source: run.start_source,

@@ -6,6 +6,7 @@ use super::footslam_config::FootSlamConfig;
 use crate::geometry::{Hex, Pose2};
 use crate::map::{EdgePrior, FloorLevel};
 use crate::model::{AxisEvidence, GpsLikelihood, GpsObservation, ReferenceScans, ScanEvidence};
+use crate::sensor::step::share_of_step;
 use rand::RngExt;
 use rand_distr::StandardNormal;
 use std::sync::Arc;
@@ -72,16 +73,6 @@ impl GpsQueue {
             });
             self.next += 1;
         }
-    }
-}
-
-/// The share of the step from the step event at `previous` to the one at `t` walked at
-/// `at` (clamped to [0, 1]); 0 for the first step, whose measurements apply at the start
-/// pose.
-pub(super) fn share_of_step(previous: Option<f64>, t: f64, at: f64) -> f64 {
-    match previous {
-        Some(t0) if t > t0 => ((at - t0) / (t - t0)).clamp(0.0, 1.0),
-        _ => 0.0,
     }
 }
 

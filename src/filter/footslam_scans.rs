@@ -2,10 +2,10 @@
 //! weight for one particle ([`crate::model::scan_pairs`] eq. 3) at the point of the step
 //! walked by then.
 
-use super::footslam_anchors::share_of_step;
 use super::scan_trail::ScanTrail;
 use crate::geometry::Pose2;
 use crate::model::{ReferenceScans, ScanEvidence};
+use crate::sensor::step::share_of_step;
 use std::sync::Arc;
 
 /// A walk's WiFi scans waiting to be applied, and where each applied one was taken.

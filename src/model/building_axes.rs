@@ -232,8 +232,6 @@ pub struct AxisEvidence {
     pub directions: u8,
     /// Whether the prior acts (eq. 4 holds and the configuration enables it).
     pub active: bool,
-    /// Whether eq. (4) holds, enabled or not.
-    pub shows_axes: bool,
     /// Metres of the walk in straight stretches.
     pub straight_m: f64,
 }
@@ -289,8 +287,7 @@ impl AxisEvidence {
         } else {
             0
         };
-        let shows_axes = directions > 0;
-        let active = shows_axes && config.enabled;
+        let active = directions > 0 && config.enabled;
         let straight_m = steps
             .iter()
             .zip(&straight)
@@ -304,9 +301,14 @@ impl AxisEvidence {
             diagonal_alignment,
             directions,
             active,
-            shows_axes,
             straight_m,
         }
+    }
+
+    /// Whether eq. (4) holds: the turns show 4 or 8 dominant directions, whether the prior
+    /// is enabled or not.
+    pub fn shows_axes(&self) -> bool {
+        self.directions > 0
     }
 
     /// Whether step `index` (0-based) lies in a straight stretch; false past the walk.

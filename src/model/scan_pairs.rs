@@ -38,6 +38,7 @@
 //! sensitivity and the access points' density all enter through the measured spread.
 
 use crate::geometry::Pose2;
+use crate::sensor::step::step_at_time;
 use crate::sensor::{Step, WifiScan};
 use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
@@ -532,33 +533,27 @@ pub(super) fn tabulate(likelihood: &PairLikelihood) -> (Vec<f32>, Vec<bool>) {
 /// last: its end).
 fn dead_reckoned_at(steps: &[Step], times: &[f64]) -> Vec<(f64, f64)> {
     let mut pose = Pose2::default();
-    let mut out = Vec::with_capacity(times.len());
-    let (mut s, mut previous_t) = (0usize, None::<f64>);
-    for &t in times {
-        loop {
-            let Some(step) = steps.get(s) else {
-                out.push((pose.x, pose.y));
-                break;
-            };
-            if step.t < t {
-                pose = pose.step(step.length, step.dheading);
-                previous_t = Some(step.t);
-                s += 1;
-                continue;
+    let poses: Vec<Pose2> = steps
+        .iter()
+        .map(|s| {
+            pose = pose.step(s.length, s.dheading);
+            pose
+        })
+        .collect();
+    times
+        .iter()
+        .map(|&t| {
+            let (k, along) = step_at_time(steps, t);
+            let before = k.checked_sub(1).map_or(Pose2::default(), |j| poses[j]);
+            match poses.get(k) {
+                Some(next) => (
+                    before.x + along * (next.x - before.x),
+                    before.y + along * (next.y - before.y),
+                ),
+                None => (before.x, before.y),
             }
-            let next = pose.step(step.length, step.dheading);
-            let along = match previous_t {
-                Some(t0) if step.t > t0 => ((t - t0) / (step.t - t0)).clamp(0.0, 1.0),
-                _ => 0.0,
-            };
-            out.push((
-                pose.x + along * (next.x - pose.x),
-                pose.y + along * (next.y - pose.y),
-            ));
-            break;
-        }
-    }
-    out
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -14,6 +14,7 @@ use crate::model::{
     AxisEvidence, GpsObservation, HeadingLikelihood, PlacedScan, ReferenceScans, ScanEvidence,
     ScanPairsUnused, find_levels,
 };
+use crate::sensor::step::step_at_time;
 use crate::sensor::{GpsFix, StepTrace, WifiScan};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -118,19 +119,13 @@ pub fn placed_scans(walk: &LearnWalk, run: &WalkRun) -> Vec<(f64, f64, i32)> {
     walk.scans
         .iter()
         .map(|scan| {
-            let t = scan.t - latency;
-            let k = steps.partition_point(|s| s.t < t);
+            let (k, along) = step_at_time(steps, scan.t - latency);
             let before = k
                 .checked_sub(1)
                 .map_or(start, |j| (path[j].x, path[j].y, levels[j]));
-            let Some(step) = steps.get(k) else {
+            if k == steps.len() {
                 return before;
-            };
-            let t0 = k.checked_sub(1).map(|j| steps[j].t);
-            let along = match t0 {
-                Some(t0) if step.t > t0 => ((t - t0) / (step.t - t0)).clamp(0.0, 1.0),
-                _ => 0.0,
-            };
+            }
             (
                 before.0 + along * (path[k].x - before.0),
                 before.1 + along * (path[k].y - before.1),

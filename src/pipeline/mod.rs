@@ -15,6 +15,7 @@
 
 pub mod input_checks;
 pub mod learn;
+mod learn_reports;
 mod learn_walks;
 pub mod merge;
 pub mod plan;
@@ -32,6 +33,7 @@ pub use learn::{
     Combined, LearnInput, LearnWalk, Learned, LearnedRadio, WalkRun, combine, default_frame,
     feetslam_passes, learn, learn_one, learned_radio_map, others_map,
 };
+pub use learn_reports::{AxesReport, SmoothingReport};
 pub use merge::merge;
 pub use plan::{PlanRunConfig, Planned, plan};
 pub use progress::{Progress, Silent};

@@ -110,6 +110,28 @@ impl StepTrace {
     }
 }
 
+/// The share of the step from the step event at `previous` to the one at `t` walked at
+/// `at` (clamped to [0, 1]); 0 for the first step, whose measurements apply at the start
+/// pose.
+pub fn share_of_step(previous: Option<f64>, t: f64, at: f64) -> f64 {
+    match previous {
+        Some(t0) if t > t0 => ((at - t0) / (t - t0)).clamp(0.0, 1.0),
+        _ => 0.0,
+    }
+}
+
+/// Where time `at` falls along `steps` (in time order): the index of the first step at or
+/// after it (`steps.len()` past the last) and the share of that step walked by then
+/// ([`share_of_step`]; 0 before the first step).
+pub fn step_at_time(steps: &[Step], at: f64) -> (usize, f64) {
+    let k = steps.partition_point(|s| s.t < at);
+    let along = match steps.get(k) {
+        Some(step) => share_of_step(k.checked_sub(1).map(|j| steps[j].t), step.t, at),
+        None => 0.0,
+    };
+    (k, along)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -146,5 +168,22 @@ mod tests {
             .expect("valid")
             .dead_reckon(Default::default());
         assert!((poses[1].x - 1.0).abs() < 1e-12 && (poses[1].y - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_time_falls_in_the_step_that_ends_at_or_after_it() {
+        let step = |t: f64| Step {
+            t,
+            length: 0.7,
+            dheading: 0.0,
+            dz: 0.0,
+            heading: None,
+        };
+        let steps = [step(1.0), step(2.0), step(3.0)];
+        assert_eq!(step_at_time(&steps, 0.5), (0, 0.0));
+        assert_eq!(step_at_time(&steps, 1.0), (0, 0.0));
+        assert_eq!(step_at_time(&steps, 1.25), (1, 0.25));
+        assert_eq!(step_at_time(&steps, 3.0), (2, 1.0));
+        assert_eq!(step_at_time(&steps, 9.0), (3, 0.0));
     }
 }

@@ -123,7 +123,7 @@ fn a_round_walk_has_no_straight_stretches() {
 #[test]
 fn disabled_prior_never_acts() {
     let e = AxisEvidence::new(&walk(&[90.0; 8], 12), &AxesConfig::default());
-    assert!(e.alignment > 0.99 && e.shows_axes && !e.active);
+    assert!(e.alignment > 0.99 && e.shows_axes() && !e.active);
 }
 
 #[test]
