@@ -142,7 +142,7 @@ impl WalkTables {
             .zip(&self.wifi)
             .zip(self.starts)
         {
-            let trace = steps.steps().map_err(py_error)?;
+            let (trace, field) = steps.steps_with_field().map_err(py_error)?;
             let fixes = match gps {
                 Some(t) => read_fixes(t, gps_t0, &trace)?,
                 None => Vec::new(),
@@ -157,6 +157,7 @@ impl WalkTables {
                 fixes,
                 scans,
                 start,
+                field,
             });
         }
         Ok((walks, labels))

@@ -82,6 +82,7 @@ pub(crate) fn walk_out(
         "walkable_plan_m2": learned.as_ref().map(|l| l.area_m2),
         "smoothing": run.smoothing_report(),
         "building_axes": run.axes_report(),
+        "magnetic_field": run.field_report(),
     });
     WalkOut {
         track,

@@ -119,33 +119,46 @@ pub(crate) fn steps<'py>(
     }
     let result = PyDict::new(py);
     let steps = run.trace.steps();
-    result.set_item(
-        "steps",
-        columns(
-            py,
-            vec![
-                ("t", Column::F64(steps.iter().map(|s| s.t).collect())),
-                (
-                    "length",
-                    Column::F64(steps.iter().map(|s| s.length).collect()),
+    let mut step_columns = vec![
+        ("t", Column::F64(steps.iter().map(|s| s.t).collect())),
+        (
+            "length",
+            Column::F64(steps.iter().map(|s| s.length).collect()),
+        ),
+        (
+            "dheading",
+            Column::F64(steps.iter().map(|s| s.dheading).collect()),
+        ),
+        ("dz", Column::F64(steps.iter().map(|s| s.dz).collect())),
+        (
+            "heading",
+            Column::F64(
+                steps
+                    .iter()
+                    .map(|s| s.heading.unwrap_or(f64::NAN))
+                    .collect(),
+            ),
+        ),
+    ];
+    // The magnetic field over each step, as `steps.csv`'s `field` and `field_up` (NaN: none).
+    if let Some(field) = run.field.as_ref().filter(|f| f.observed() > 0) {
+        let value = |i: usize, up: bool| {
+            field
+                .get(i)
+                .and_then(|f| if up { f.vertical } else { Some(f.magnitude) })
+        };
+        for (name, up) in [("field", false), ("field_up", true)] {
+            step_columns.push((
+                name,
+                Column::F64(
+                    (0..steps.len())
+                        .map(|i| value(i, up).unwrap_or(f64::NAN))
+                        .collect(),
                 ),
-                (
-                    "dheading",
-                    Column::F64(steps.iter().map(|s| s.dheading).collect()),
-                ),
-                ("dz", Column::F64(steps.iter().map(|s| s.dz).collect())),
-                (
-                    "heading",
-                    Column::F64(
-                        steps
-                            .iter()
-                            .map(|s| s.heading.unwrap_or(f64::NAN))
-                            .collect(),
-                    ),
-                ),
-            ],
-        )?,
-    )?;
+            ));
+        }
+    }
+    result.set_item("steps", columns(py, step_columns)?)?;
     result.set_item("path", points3(py, &run.path)?)?;
     let report = Reporter::default();
     for w in &list {
@@ -193,6 +206,8 @@ fn summary(
         "net_height_change_m": steps.iter().map(|s| s.dz).sum::<f64>(),
         "heading_source": run.heading_source,
         "steps_with_heading": run.trace.with_heading(),
+        "steps_with_field": run.field.as_ref().map_or(0, |f| f.observed()),
+        "steps_with_field_up": run.field.as_ref().map_or(0, |f| f.with_vertical()),
         "warnings": warnings,
         "sampling": sampling,
         "detector": run.figures,

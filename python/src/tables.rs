@@ -10,7 +10,7 @@ use crate::fail;
 use crate::inputs::{as_path, require_file, type_name};
 use footslam::io::ImuUnits;
 use footslam::io::{gps_csv, imu_csv, steps_csv, wifi_csv};
-use footslam::sensor::{GpsFix, ImuRecording, StepTrace, WifiScan};
+use footslam::sensor::{GpsFix, ImuRecording, StepFields, StepTrace, WifiScan};
 use numpy::PyReadonlyArray1;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -33,8 +33,10 @@ pub(crate) struct TableKind {
 /// Step traces: `t,length,dheading[,dz][,heading]`.
 pub(crate) const STEPS: TableKind = TableKind {
     what: "step trace",
-    numbers: &["t", "length", "dheading", "dz", "heading"],
-    optional: &["dz", "heading"],
+    numbers: &[
+        "t", "length", "dheading", "dz", "heading", "field", "field_up",
+    ],
+    optional: &["dz", "heading", "field", "field_up"],
     texts: &[],
 };
 
@@ -109,6 +111,14 @@ impl Table {
         match self {
             Table::File(path) => steps_csv::read_steps(path),
             Table::Text { text, name, .. } => steps_csv::steps_from_str(text, name),
+        }
+    }
+
+    /// The step trace it holds and, with a `field` column, the magnetic field over each step.
+    pub(crate) fn steps_with_field(&self) -> footslam::Result<(StepTrace, Option<StepFields>)> {
+        match self {
+            Table::File(path) => steps_csv::read_steps_with_field(path),
+            Table::Text { text, name, .. } => steps_csv::steps_with_field_from_str(text, name),
         }
     }
 

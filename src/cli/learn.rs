@@ -19,8 +19,8 @@ use footslam::geometry::LocalFrame;
 use footslam::io::RunFolder;
 use footslam::io::map_geojson::{StoredMap, write_walks_map_geojson};
 use footslam::map::CellConfig;
-use footslam::model::ScanPairsUnused;
-use footslam::pipeline::{LearnInput, Learned, default_frame, learn};
+use footslam::model::{FieldUnused, ScanPairsUnused};
+use footslam::pipeline::{FieldReport, LearnInput, Learned, default_frame, learn};
 use serde::Serialize;
 use std::time::Instant;
 
@@ -230,6 +230,27 @@ fn write_outputs(
     })
 }
 
+/// The magnetic field's part in one line: what it weighed, or why nothing.
+fn field_line(f: &FieldReport) -> String {
+    let spreads = f.calibration.as_ref().map_or(String::new(), |c| {
+        format!(
+            " (readings one cell apart differ by {:.1} µT, unrelated places by {:.1} µT)",
+            c.near_sd_ut[0], c.far_sd_ut[0]
+        )
+    });
+    match f.unused {
+        None => format!("{} steps weighed{spreads}", f.steps_weighed),
+        Some(FieldUnused::Disabled) => "not used ([field] enabled = false)".into(),
+        Some(FieldUnused::TooFewReadings) => format!(
+            "not used: {} readings are too few to calibrate",
+            f.steps_with_field
+        ),
+        Some(FieldUnused::NoContrast) => {
+            format!("not used: it hardly varies between places{spreads}")
+        }
+    }
+}
+
 impl RunSummary {
     /// Prints each walk's figures and the output folder.
     fn print(&self, out: &std::path::Path) {
@@ -262,6 +283,9 @@ impl RunSummary {
                     m.spread_median_m,
                     m.spread_max_m
                 );
+            }
+            if let Some(f) = &s.magnetic_field {
+                outln!("{walk}magnetic field: {}", field_line(f));
             }
         }
         outln!("outputs: {}", out.display());

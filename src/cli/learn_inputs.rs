@@ -8,7 +8,7 @@ use footslam::filter::{FootSlamConfig, StartPose};
 use footslam::geometry::LocalFrame;
 use footslam::io::map_geojson::{StoredMap, read_stored_map};
 use footslam::io::{
-    ManifestWalk, read_gps_csv, read_gpx, read_outline, read_steps, read_walk_manifest,
+    ManifestWalk, read_gps_csv, read_gpx, read_outline, read_steps_with_field, read_walk_manifest,
 };
 use footslam::pipeline::{GridMismatch, LearnWalk, fixes_off_clock, grid_mismatch};
 use footslam::sensor::{GpsFix, StepTrace};
@@ -118,7 +118,7 @@ pub(super) fn read_found(
     found
         .into_iter()
         .map(|f| {
-            let trace = read_steps(&f.steps)?;
+            let (trace, field) = read_steps_with_field(&f.steps)?;
             let fixes = match &f.gps {
                 Some(p) => read_fixes(p, gps_t0, &trace)?,
                 None => Vec::new(),
@@ -138,6 +138,7 @@ pub(super) fn read_found(
                 fixes,
                 scans,
                 start: f.start,
+                field,
             };
             Ok((files, walk))
         })

@@ -13,7 +13,7 @@ use footslam::io::track_geojson::write_track_geojson;
 use footslam::io::{TimedPoint, TrackPoint, write_trajectory, write_trajectory_with};
 use footslam::map::{HexMapSnapshot, PlanConfig, walkable_plan};
 use footslam::model::PairLikelihood;
-use footslam::pipeline::{AxesReport, LearnWalk, SmoothingReport, WalkRun};
+use footslam::pipeline::{AxesReport, FieldReport, LearnWalk, SmoothingReport, WalkRun};
 use footslam::render::map_png::{MapPicture, PictureConfig, write_map_png};
 use serde::Serialize;
 
@@ -56,6 +56,8 @@ pub(super) struct Summary {
     /// Whether the walk's turns showed the building's dominant directions, and how many
     /// straight steps they weighed.
     building_axes: AxesReport,
+    /// With the steps' magnetic field (`field` column): how it weighed inside the filter.
+    pub(super) magnetic_field: Option<FieldReport>,
     /// The whole-walk answer in `track.csv`: how many final paths it averages and how far
     /// they spread.
     pub(super) smoothing: SmoothingReport,
@@ -256,6 +258,7 @@ pub(super) fn write_walk(
         walkable_plan_m2,
         wifi_in_filter: WifiSummary::of(walk, run, files.wifi_duplicate_readings),
         building_axes: run.axes_report(),
+        magnetic_field: run.field_report(),
         smoothing: run.smoothing_report(),
         departure_from_dead_reckoning: run.departure.clone(),
         heading: HeadingSummary {

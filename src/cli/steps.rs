@@ -6,7 +6,7 @@ use anyhow::{Context, Result};
 use footslam::inertial::frame_check::axes_flag;
 use footslam::inertial::{HeadingSource, Mount, StepsConfig};
 use footslam::io::RunFolder;
-use footslam::io::{ImuUnits, read_imu_in, steps_csv::write_steps};
+use footslam::io::{ImuUnits, read_imu_in, steps_csv::write_steps_with_field};
 use footslam::map::hex_transitions::HexMapSnapshot;
 use footslam::pipeline::{DetectorFigures, FrameVerdict, StepsRun, steps};
 use footslam::render::map_png::{MapPicture, PictureConfig, write_map_png};
@@ -78,6 +78,10 @@ struct Summary<'r> {
     net_height_change_m: f64,
     heading_source: HeadingSource,
     steps_with_heading: usize,
+    /// Steps with a magnetic field reading (`field` column), and of them with its vertical
+    /// part (`field_up`).
+    steps_with_field: usize,
+    steps_with_field_up: usize,
     /// Why the output may be wrong (e.g. the recording does not look like the mount).
     warnings: Vec<String>,
     sampling: SamplingReport,
@@ -171,7 +175,7 @@ fn write_outputs(
             sampling.duration_s
         );
     }
-    write_steps(&folder.path("steps.csv"), &run.trace)?;
+    write_steps_with_field(&folder.path("steps.csv"), &run.trace, run.field.as_ref())?;
     for w in &warnings {
         #[allow(clippy::print_stderr)]
         {
@@ -200,6 +204,8 @@ fn write_outputs(
         net_height_change_m: steps.iter().map(|s| s.dz).sum(),
         heading_source: run.heading_source,
         steps_with_heading: run.trace.with_heading(),
+        steps_with_field: run.field.as_ref().map_or(0, |f| f.observed()),
+        steps_with_field_up: run.field.as_ref().map_or(0, |f| f.with_vertical()),
         warnings,
         sampling,
         detector: &run.figures,

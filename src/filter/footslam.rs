@@ -25,7 +25,9 @@
 //! Evidence beside eq. (6), also optional: the walk's WiFi scans against each particle's
 //! own positions at earlier scans ([`crate::model::scan_pairs`]) and, in a FeetSLAM pass,
 //! against other walks' placed scans ([`crate::model::scan_references`]); and the building's
-//! dominant directions on straight steps ([`crate::model::building_axes`]).
+//! dominant directions on straight steps ([`crate::model::building_axes`]); and the magnetic
+//! field over each step against each particle's own field map
+//! ([`crate::model::magnetic_field`], MagSLAM).
 //!
 //! The answer ([`FootSlam::estimate`]): the most probable particle's map, and the whole-walk
 //! path — the final particles' ancestral paths near its own, averaged (`smoothing`).
@@ -37,15 +39,15 @@ pub use super::footslam_config::SmoothingConfig;
 use super::footslam_map_term::{MapPrior, log_map_factor};
 use super::footslam_scans::ScanQueue;
 use super::lineage::Lineage;
-use super::outline_fit::{OUTAGE, OutlineZone, fit_outline_shift, in_outage, unseen_seconds};
+use super::outline_fit::{OUTAGE, OutlineZone, in_outage};
 use super::resample::{self, ResampleMethod};
 use super::scan_trail::ScanTrail;
 use crate::error::Result;
 use crate::geometry::{Hex, HexGrid, Pose2};
-use crate::map::{EdgePrior, HexMapSnapshot, HexTransitionMap};
+use crate::map::{EdgePrior, FieldMap, HexMapSnapshot, HexTransitionMap};
 use crate::model::{
-    AxisEvidence, AxisLikelihood, AxisState, GpsLikelihood, HeadingLikelihood, LevelTracker,
-    StepErrorState, StepMotion,
+    AxisEvidence, AxisLikelihood, AxisState, FieldEvidence, GpsLikelihood, HeadingLikelihood,
+    LevelTracker, StepErrorState, StepMotion,
 };
 use crate::random::{filter_stream, stream};
 use crate::sensor::Step;
@@ -71,6 +73,8 @@ struct Particle {
     trail: ScanTrail,
     /// The building's axes it learned from its straight steps so far.
     axes: AxisState,
+    /// Its map of the magnetic field.
+    field: FieldMap,
 }
 
 /// The filter's answer: the most probable particle's map and whole path.
@@ -136,6 +140,11 @@ pub struct FootSlam {
     axes: Option<(AxisLikelihood, Arc<AxisEvidence>)>,
     /// Straight steps that the axes prior weighed.
     axis_steps: usize,
+    /// The magnetic field over each step (`None` without readings, or when they do not
+    /// tell places apart).
+    field: Option<Arc<FieldEvidence>>,
+    /// Steps whose field reading weighted the particles.
+    field_steps: usize,
     /// The absolute-heading model (`None` when disabled).
     heading: Option<HeadingLikelihood>,
     /// Steps whose absolute heading weighted the particles.
@@ -238,6 +247,7 @@ impl FootSlam {
                     wifi_log_likelihood: 0.0,
                     trail: ScanTrail::default(),
                     axes: AxisState::default(),
+                    field: FieldMap::new(),
                 }
             })
             .collect();
@@ -275,6 +285,8 @@ impl FootSlam {
                 .filter(|e| e.active && config.axes.enabled)
                 .map(|e| (AxisLikelihood::new(config.axes, e.directions), e)),
             axis_steps: 0,
+            field: anchors.field.filter(|e| e.active()),
+            field_steps: 0,
             heading: config
                 .heading
                 .enabled
@@ -363,6 +375,12 @@ impl FootSlam {
         self.axis_steps
     }
 
+    /// Steps whose magnetic field reading weighed the particles so far (0 without readings
+    /// or when they do not tell places apart).
+    pub fn field_steps(&self) -> usize {
+        self.field_steps
+    }
+
     /// Whether the scans are weighed against other walks' scans too (a FeetSLAM pass).
     pub fn scans_cross_walk(&self) -> bool {
         self.wifi.as_ref().is_some_and(ScanQueue::has_references)
@@ -416,6 +434,11 @@ impl FootSlam {
             .filter(|(_, e)| e.is_straight(self.steps.len() - 1))
             .map(|(m, _)| m);
         self.axis_steps += usize::from(axes.is_some());
+        let field = self
+            .field
+            .as_ref()
+            .and_then(|e| e.reading(self.steps.len() - 1));
+        self.field_steps += usize::from(field.is_some());
         self.particles
             .par_iter_mut()
             .zip(self.log_weights.par_iter_mut())
@@ -461,6 +484,11 @@ impl FootSlam {
                     log_factor +=
                         p.axes
                             .weigh_and_learn(model, pose.x - p.pose.x, pose.y - p.pose.y);
+                }
+                // The step's field reading against the particle's own field map
+                // (magnetic_field eq. 3), then added to it.
+                if let Some((model, y)) = field {
+                    log_factor += model.weigh_and_learn(&mut p.field, &pose, level, k as u32, y);
                 }
                 *log_w += log_factor;
                 p.path_log_likelihood += log_factor;
@@ -536,6 +564,7 @@ impl FootSlam {
                     wifi_log_likelihood: p.wifi_log_likelihood,
                     trail: p.trail.clone(),
                     axes: p.axes,
+                    field: p.field.clone(),
                 }
             })
             .collect_into_vec(&mut self.next);
@@ -546,104 +575,9 @@ impl FootSlam {
         self.weights.fill(1.0 / n as f64);
         self.resamplings += 1;
     }
-
-    /// The most probable particle's map and whole path (replayed from its ancestry).
-    ///
-    /// "Most probable" is judged on the whole path: the particle whose path has the
-    /// largest product of eq. (6)'s factors since the first step, rather than the largest
-    /// current weight, which only reflects the steps since the last resampling.
-    ///
-    /// With GPS and a prior map, the path and map are moved `κ·δ` towards the prior's frame
-    /// (see [`FootSlam::with_anchors`]).
-    pub fn estimate(&self) -> FootSlamEstimate {
-        let index = self
-            .particles
-            .iter()
-            .enumerate()
-            .fold((0, f64::NEG_INFINITY), |best, (i, p)| {
-                if p.path_log_likelihood > best.1 {
-                    (i, p.path_log_likelihood)
-                } else {
-                    best
-                }
-            })
-            .0;
-        let (dx, dy) = self.grid.center(self.offset);
-        let (mut dx, mut dy) = (self.offset_pull * dx, self.offset_pull * dy);
-        let best = self.replay_path(index);
-        let smoothed = self.smoothed_path(&best);
-        let replayed = smoothed.path;
-        if let Some(check) = &self.outage_check
-            && self.outline_fit_sigma > 0.0
-        {
-            let points: Vec<(f64, f64)> = replayed.iter().map(|p| (p.x + dx, p.y + dy)).collect();
-            let unseen = unseen_seconds(&check.times, &check.fix_times);
-            let (sx, sy) = fit_outline_shift(
-                &points,
-                &unseen,
-                &check.zone,
-                check.crossing_cost,
-                self.outline_fit_sigma,
-            );
-            dx += sx;
-            dy += sy;
-        }
-        let shift = self.grid.hex_at(dx, dy);
-        let prior_shift = shift - self.offset;
-        let mut map = self.particles[index]
-            .map
-            .snapshot(self.config.hex_radius, self.config.alpha);
-        let levels = self.level_tracker.levels();
-        if levels.len() > 1 || self.config.start_level != 0 {
-            map.levels = levels;
-        }
-        for c in &mut map.cells {
-            c.hex += shift;
-        }
-        let path = replayed
-            .into_iter()
-            .map(|p| Pose2::new(p.x + dx, p.y + dy, p.heading))
-            .collect();
-        FootSlamEstimate {
-            index,
-            weight: self.weights.get(index).copied().unwrap_or(0.0),
-            path_log_likelihood: self.particles[index].path_log_likelihood,
-            wifi_log_likelihood: f64::from(self.particles[index].wifi_log_likelihood),
-            path,
-            spread_m: smoothed.spread_m,
-            smoothed_paths: (smoothed.distinct, smoothed.averaged),
-            levels: self.step_levels.clone(),
-            map,
-            prior_offset: (dx, dy),
-            prior_shift,
-        }
-    }
-
-    /// Re-draws particle `index`'s whole path from the random streams its ancestors used;
-    /// the motion does not depend on the map (eq. 5), so this reproduces it exactly (in the
-    /// particle's own frame, before any move towards a prior map).
-    pub fn replay_path(&self, index: usize) -> Vec<Pose2> {
-        let seed = self.config.seed;
-        let indices = self.particles[index].lineage.indices(self.steps.len() + 1);
-        let mut rng = stream(seed, 0, u64::from(indices[0]));
-        let mut error = self.motion.sample_initial(&mut rng);
-        let mut pose = sample_start(&self.config, &mut rng);
-        self.steps
-            .iter()
-            .enumerate()
-            .map(|(s, &(length, dheading))| {
-                let k = s as u64 + 1;
-                let mut rng = stream(seed, k, u64::from(indices[s + 1]));
-                error = self.motion.sample_error(error, &mut rng);
-                pose = self
-                    .motion
-                    .sample_step(pose, error, length, dheading, &mut rng);
-                pose
-            })
-            .collect()
-    }
 }
 
+mod estimate;
 mod smoothing;
 #[cfg(test)]
 mod tests;

@@ -5,7 +5,9 @@
 use super::footslam_config::FootSlamConfig;
 use crate::geometry::{Hex, Pose2};
 use crate::map::{EdgePrior, FloorLevel};
-use crate::model::{AxisEvidence, GpsLikelihood, GpsObservation, ReferenceScans, ScanEvidence};
+use crate::model::{
+    AxisEvidence, FieldEvidence, GpsLikelihood, GpsObservation, ReferenceScans, ScanEvidence,
+};
 use crate::sensor::step::share_of_step;
 use rand::RngExt;
 use rand_distr::StandardNormal;
@@ -38,6 +40,10 @@ pub struct Anchors {
     /// ([`crate::model::building_axes`]). `None`, or evidence that is not active: no axes
     /// prior.
     pub axes: Option<Arc<AxisEvidence>>,
+    /// The magnetic field over each step, calibrated on the walk
+    /// ([`crate::model::magnetic_field`]); `None`, or evidence that is not active: no field
+    /// term.
+    pub field: Option<Arc<FieldEvidence>>,
 }
 
 /// GPS fixes waiting to be applied.

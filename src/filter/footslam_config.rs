@@ -5,7 +5,8 @@ use super::resample::ResampleConfig;
 use crate::error::Result;
 use crate::geometry::Pose2;
 use crate::model::{
-    AxesConfig, GpsConfig, HeadingConfig, LevelConfig, ScanPairConfig, StepMotionConfig,
+    AxesConfig, FieldConfig, GpsConfig, HeadingConfig, LevelConfig, ScanPairConfig,
+    StepMotionConfig,
 };
 use serde::{Deserialize, Serialize};
 
@@ -79,6 +80,9 @@ pub struct FootSlamConfig {
     /// The building's dominant directions as a soft prior on straight walking, learned
     /// per particle from the walk itself. Default: see [`AxesConfig`].
     pub axes: AxesConfig,
+    /// The magnetic field over each step against each particle's own field map
+    /// (MagSLAM), used when the steps carry the field. Default: see [`FieldConfig`].
+    pub field: FieldConfig,
     /// The whole-walk answer: how many final paths are averaged, and which. Default: see
     /// [`SmoothingConfig`].
     pub smoothing: SmoothingConfig,
@@ -116,6 +120,7 @@ impl Default for FootSlamConfig {
             levels: LevelConfig::default(),
             wifi: ScanPairConfig::default(),
             axes: AxesConfig::default(),
+            field: FieldConfig::default(),
             smoothing: SmoothingConfig::default(),
             departure: DepartureConfig::default(),
         }
@@ -190,6 +195,7 @@ impl FootSlamConfig {
         self.levels.validate()?;
         self.wifi.validate()?;
         self.axes.validate()?;
+        self.field.validate()?;
         self.smoothing.validate()?;
         self.departure.validate()?;
         let t = self.resample.ess_threshold;

@@ -21,6 +21,9 @@
 //! * [`heading_fusion`] — walking direction from rotation vector, gyroscope and magnetometer
 //! * [`barometer`] — height changes from air pressure
 //!
+//! Beside the steps:
+//! * [`step_field`] — the magnetic field over each step (magnitude, vertical part)
+//!
 //! Checks of a recording:
 //! * [`frame_check`] — gyroscope in the accelerometer's frame, timestamps in seconds
 //! * [`mount_check`] — the mount the user named (foot or phone)
@@ -34,6 +37,7 @@ pub mod mount_check;
 pub mod phone;
 pub mod stance;
 pub mod step_detector;
+pub mod step_field;
 pub mod strapdown;
 pub mod stride_model;
 pub mod zupt;
@@ -46,6 +50,7 @@ pub use heading_fusion::HeadingFusionConfig;
 pub use mount_check::check_mount;
 pub use phone::{HeadingFigures, PhoneConfig, PhoneFigures, detect_steps};
 pub use step_detector::StepDetectorConfig;
+pub use step_field::field_per_step;
 pub use stride_model::{StrideModelConfig, calibrate_constant};
 
 use crate::sensor::StepTrace;

@@ -61,7 +61,7 @@ pub use imu_csv::{ImuUnits, read_imu, read_imu_in, write_imu};
 pub use outline_geojson::{read_outline, write_outline};
 pub use ros_map::write_ros_map;
 pub use run_folder::RunFolder;
-pub use steps_csv::read_steps;
+pub use steps_csv::{read_steps, read_steps_with_field};
 pub use track_csv::{SmoothedPoint, TrackPoint, read_track, write_smoothed_track, write_track};
 pub use trajectory_csv::{
     TimedPoint, read_certain_trajectory, read_trajectory, write_trajectory, write_trajectory_with,

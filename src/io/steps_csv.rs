@@ -1,29 +1,55 @@
-//! Step traces as CSV: header `t,length,dheading[,dz][,heading]` (seconds, metres, radians
-//! counter-clockwise, metres, radians from east); extra columns are ignored.
+//! Step traces as CSV: header `t,length,dheading[,dz][,heading][,field[,field_up]]`
+//! (seconds, metres, radians counter-clockwise, metres, radians from east, and the magnetic
+//! field over the step: magnitude and upward component, µT); extra columns are ignored.
 
 use super::csv_table::CsvTable;
 use crate::error::Result;
+use crate::sensor::field::{StepField, StepFields, check_field};
 use crate::sensor::step::{Step, StepTrace, check_step};
 use std::path::Path;
 
 /// Reads and validates a step trace; errors name the file and line.
 pub fn read_steps(path: &Path) -> Result<StepTrace> {
+    Ok(steps_from_table(CsvTable::open(path)?)?.0)
+}
+
+/// Reads and validates a step trace and, when the file has a `field` column, the magnetic
+/// field over each step (an empty cell: no reading); errors name the file and line.
+pub fn read_steps_with_field(path: &Path) -> Result<(StepTrace, Option<StepFields>)> {
     steps_from_table(CsvTable::open(path)?)
 }
 
 /// Reads and validates a step trace from CSV `text` (the file format's header and rows),
 /// as [`read_steps`] reads a file; errors name the table `name` and the 0-based data row.
 pub fn steps_from_str(text: &str, name: &str) -> Result<StepTrace> {
+    Ok(steps_from_table(CsvTable::from_text(text, name)?)?.0)
+}
+
+/// Reads a step trace and its magnetic field from CSV `text`, as [`read_steps_with_field`]
+/// reads a file.
+pub fn steps_with_field_from_str(
+    text: &str,
+    name: &str,
+) -> Result<(StepTrace, Option<StepFields>)> {
     steps_from_table(CsvTable::from_text(text, name)?)
 }
 
-fn steps_from_table(mut table: CsvTable) -> Result<StepTrace> {
+fn steps_from_table(mut table: CsvTable) -> Result<(StepTrace, Option<StepFields>)> {
     let t = table.column("t")?;
     let length = table.column("length")?;
     let dheading = table.column("dheading")?;
     let dz = table.optional_column("dz");
     let heading = table.optional_column("heading");
+    let field = table.optional_column("field");
+    let field_up = table.optional_column("field_up");
+    if field.is_none() && field_up.is_some() {
+        return Err(table.error(
+            1,
+            "a `field_up` column needs a `field` column (the field's magnitude) beside it",
+        ));
+    }
     let mut steps = Vec::new();
+    let mut fields = Vec::new();
     let mut previous = None;
     table.for_each_row(|row| {
         let step = Step {
@@ -34,14 +60,35 @@ fn steps_from_table(mut table: CsvTable) -> Result<StepTrace> {
             heading: row.optional_number(heading, "heading")?,
         };
         check_step(&step, previous).map_err(|m| row.error(m))?;
+        let up = row.optional_number(field_up, "field_up")?;
+        let reading = match row.optional_number(field, "field")? {
+            Some(magnitude) => {
+                let f = StepField {
+                    magnitude,
+                    vertical: up,
+                };
+                check_field(&f).map_err(|m| row.error(m))?;
+                Some(f)
+            }
+            None if up.is_some() => {
+                return Err(row.error("`field_up` is given but `field` is empty"));
+            }
+            None => None,
+        };
         previous = Some(step.t);
         steps.push(step);
+        fields.push(reading);
         Ok(())
     })?;
     if steps.is_empty() {
         return Err(table.error(0, "no steps: the file has a header but no data rows"));
     }
-    StepTrace::new(steps).map_err(|(i, m)| table.error(i + 2, m))
+    let trace = StepTrace::new(steps).map_err(|(i, m)| table.error(i + 2, m))?;
+    let fields = match field {
+        Some(_) => Some(StepFields::new(fields).map_err(|(i, m)| table.error(i + 2, m))?),
+        None => None,
+    };
+    Ok((trace, fields))
 }
 
 /// Whether a step trace's header has a `dz` column (without one every step reads `dz = 0`,
@@ -52,14 +99,34 @@ pub fn has_dz_column(path: &Path) -> Result<bool> {
 
 /// Writes a step trace as CSV (`t,length,dheading,dz` and `heading` when any step has one).
 pub fn write_steps(path: &Path, trace: &StepTrace) -> Result<()> {
+    write_steps_with_field(path, trace, None)
+}
+
+/// Writes a step trace as [`write_steps`] does, with the magnetic field over each step
+/// (`field`, and `field_up` when any reading has one) when `field` is given; `field` must
+/// hold one entry per step.
+pub fn write_steps_with_field(
+    path: &Path,
+    trace: &StepTrace,
+    field: Option<&StepFields>,
+) -> Result<()> {
     let with_heading = trace.steps().iter().any(|s| s.heading.is_some());
+    let field = field.filter(|f| f.len() == trace.len() && f.observed() > 0);
+    let with_up = field.is_some_and(|f| f.with_vertical() > 0);
     crate::io::write_atomically_with(path, |w| {
-        w.write_all(if with_heading {
-            b"t,length,dheading,dz,heading\n"
-        } else {
-            b"t,length,dheading,dz\n"
-        })?;
-        for s in trace.steps() {
+        w.write_all(b"t,length,dheading,dz")?;
+        if with_heading {
+            w.write_all(b",heading")?;
+        }
+        if field.is_some() {
+            w.write_all(if with_up {
+                b",field,field_up"
+            } else {
+                b",field"
+            })?;
+        }
+        w.write_all(b"\n")?;
+        for (i, s) in trace.steps().iter().enumerate() {
             write!(
                 w,
                 "{:.3},{:.4},{:.6},{:.4}",
@@ -69,6 +136,18 @@ pub fn write_steps(path: &Path, trace: &StepTrace) -> Result<()> {
                 (true, Some(h)) => write!(w, ",{h:.6}")?,
                 (true, None) => w.write_all(b",")?,
                 (false, _) => {}
+            }
+            if let Some(f) = field {
+                match f.get(i) {
+                    Some(r) => write!(w, ",{:.3}", r.magnitude)?,
+                    None => w.write_all(b",")?,
+                }
+                if with_up {
+                    match f.get(i).and_then(|r| r.vertical) {
+                        Some(v) => write!(w, ",{v:.3}")?,
+                        None => w.write_all(b",")?,
+                    }
+                }
             }
             w.write_all(b"\n")?;
         }
@@ -94,6 +173,51 @@ mod tests {
         assert_eq!(tr.len(), 2);
         assert_eq!(tr.steps()[1].dz, 0.2);
         assert!(tr.steps()[0].heading.is_none());
+    }
+
+    #[test]
+    fn field_columns_round_trip_and_bad_readings_are_named() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let p = dir.path().join("steps.csv");
+        std::fs::write(
+            &p,
+            "t,length,dheading,dz,field,field_up\n0,0.7,0.1,0,45.5,-38.25\n1,0.8,0,0,,\n2,0.8,0,0,44,\n",
+        )
+        .unwrap();
+        let (trace, field) = read_steps_with_field(&p).expect("ok");
+        let field = field.expect("has a field column");
+        assert_eq!(
+            (field.len(), field.observed(), field.with_vertical()),
+            (3, 2, 1)
+        );
+        assert_eq!(field.get(0).unwrap().vertical, Some(-38.25));
+        let out = dir.path().join("out.csv");
+        write_steps_with_field(&out, &trace, Some(&field)).unwrap();
+        let (again, f2) = read_steps_with_field(&out).unwrap();
+        assert_eq!((again, f2), (trace.clone(), Some(field)));
+        assert!(read_steps_with_field(&dir.path().join("none.csv")).is_err());
+        write_steps(&out, &trace).unwrap();
+        assert_eq!(read_steps_with_field(&out).unwrap().1, None);
+        for (text, needle) in [
+            ("t,length,dheading,field\n0,0.7,0,NaN\n", "finite"),
+            ("t,length,dheading,field\n0,0.7,0,-3\n", "outside"),
+            (
+                "t,length,dheading,field,field_up\n0,0.7,0,40,-50\n",
+                "exceeds",
+            ),
+            (
+                "t,length,dheading,field,field_up\n0,0.7,0,,-30\n",
+                "`field` is empty",
+            ),
+            (
+                "t,length,dheading,field_up\n0,0.7,0,-30\n",
+                "needs a `field` column",
+            ),
+        ] {
+            std::fs::write(&p, text).unwrap();
+            let e = read_steps_with_field(&p).unwrap_err().to_string();
+            assert!(e.contains("steps.csv") && e.contains(needle), "{text}: {e}");
+        }
     }
 
     #[test]

@@ -9,11 +9,9 @@
 //! 0..2 of its neighbour), together with the hexagon's total `N_h`. That is four `u16`
 //! per hexagon, 8 bytes.
 //!
-//! **Sharing.** Hexagons live in leaves of 4×4 hexagons (128 bytes) under a persistent
-//! quadtree of 4×4-way branch nodes, every node an [`Arc`]. Cloning a map (resampling) is
-//! one reference-count increment; a write copies only the nodes on the path to the leaf
-//! that are still shared ([`Arc::make_mut`]), as GMapping shares map patches between
-//! particles. The tree grows upwards as the walk leaves its extent, so no size is fixed.
+//! **Sharing.** The counters live in a [`HexTree`]: leaves of 4×4 hexagons (128 bytes)
+//! under a persistent quadtree, copied on write, so that cloning a map (resampling) is one
+//! reference-count increment and a write copies only the path to its leaf.
 //!
 //! **Levels.** A walk over several floors has one map per floor (the paper's 2.5D remark,
 //! sec. 5), stacked in one key space: hexagon `(q, r)` of level `l` is stored at
@@ -21,10 +19,10 @@
 //! ±2¹⁹ hexagon rows (±390 km at 0.5 m), far beyond any building.
 
 use super::floor_plan::FloorLevel;
+use super::hex_tree::{HexTree, LEAF, LeafKey, locate};
 use crate::geometry::{HexGrid, Pose2};
 use hexx::Hex;
 use rustc_hash::FxHashMap;
-use std::sync::Arc;
 
 /// Rows of the axial grid between two stacked levels (see the module documentation).
 pub const LEVEL_STRIDE: i32 = 1 << 20;
@@ -43,18 +41,6 @@ pub fn split_level_key(key: Hex) -> (i32, Hex) {
 /// Per-hexagon counters: crossings of owned edges 0, 1, 2 and the total over all six.
 type Counters = [u16; 4];
 const TOTAL: usize = 3;
-
-/// Bias that puts the axial origin at two thirds of a block at every tree level, so that
-/// walks around the origin need a shallow tree.
-const KEY_OFFSET: u32 = 0xAAAA_AAAA;
-/// The deepest tree: 4^15 leaves of 4 hexagons cover the whole `u32` key range.
-const MAX_LEVEL: u8 = 15;
-
-#[derive(Debug, Clone)]
-enum Node {
-    Branch([Option<Arc<Node>>; 16]),
-    Leaf([Counters; 16]),
-}
 
 /// One hexagon of a learned map, as exported.
 #[derive(Debug, Clone, PartialEq)]
@@ -130,36 +116,11 @@ impl HexMapSnapshot {
 /// A particle's transition map: shared, copy-on-write edge-crossing counts.
 #[derive(Debug, Clone, Default)]
 pub struct HexTransitionMap {
-    root: Option<Arc<Node>>,
-    /// Height of the root above the leaves (0: the root is a leaf).
-    level: u8,
-    /// Block coordinates of the root at its level.
-    base: (u32, u32),
-}
-
-/// Leaf-block coordinates and the index within the leaf of a hexagon.
-fn locate(h: Hex) -> ((u32, u32), usize) {
-    let u = (h.x as u32).wrapping_add(KEY_OFFSET);
-    let v = (h.y as u32).wrapping_add(KEY_OFFSET);
-    ((u >> 2, v >> 2), ((u & 3) + 4 * (v & 3)) as usize)
+    counts: HexTree<Counters>,
 }
 
 fn bump(c: &mut u16) {
     *c = c.saturating_add(1);
-}
-
-fn child_index((lx, ly): (u32, u32), level: u8) -> usize {
-    let shift = 2 * (u32::from(level) - 1);
-    (((lx >> shift) & 3) + 4 * ((ly >> shift) & 3)) as usize
-}
-
-fn block_at((lx, ly): (u32, u32), level: u8) -> (u32, u32) {
-    let shift = 2 * u32::from(level);
-    if shift >= 32 {
-        (0, 0)
-    } else {
-        (lx >> shift, ly >> shift)
-    }
 }
 
 impl HexTransitionMap {
@@ -169,27 +130,7 @@ impl HexTransitionMap {
     }
 
     fn counters(&self, h: Hex) -> Counters {
-        let (leaf, slot) = locate(h);
-        if block_at(leaf, self.level) != self.base {
-            return [0; 4];
-        }
-        let mut node = match &self.root {
-            Some(n) => n.as_ref(),
-            None => return [0; 4],
-        };
-        let mut level = self.level;
-        loop {
-            match node {
-                Node::Leaf(cells) => return cells[slot],
-                Node::Branch(children) => match &children[child_index(leaf, level)] {
-                    Some(c) => {
-                        node = c.as_ref();
-                        level -= 1;
-                    }
-                    None => return [0; 4],
-                },
-            }
-        }
+        self.counts.get(h)
     }
 
     /// `N^e_h`: crossings of edge `edge` of hexagon `h`, both directions.
@@ -211,45 +152,8 @@ impl HexTransitionMap {
         std::array::from_fn(|e| self.edge_count(h, e as u8))
     }
 
-    /// Grows the tree upwards until its root block covers `leaf`.
-    fn cover(&mut self, leaf: (u32, u32)) {
-        if self.root.is_none() {
-            self.level = 0;
-            self.base = leaf;
-            return;
-        }
-        while block_at(leaf, self.level) != self.base && self.level < MAX_LEVEL {
-            let mut children: [Option<Arc<Node>>; 16] = Default::default();
-            let (bx, by) = self.base;
-            children[((bx & 3) + 4 * (by & 3)) as usize] = self.root.take();
-            self.root = Some(Arc::new(Node::Branch(children)));
-            self.level += 1;
-            self.base = (bx >> 2, by >> 2);
-        }
-    }
-
-    /// The mutable leaf of leaf-block `leaf`, copying shared nodes on the way down.
-    fn leaf_mut(&mut self, leaf: (u32, u32)) -> &mut [Counters; 16] {
-        self.cover(leaf);
-        let mut level = self.level;
-        let new_node = |level: u8| {
-            Arc::new(if level == 0 {
-                Node::Leaf([[0; 4]; 16])
-            } else {
-                Node::Branch(Default::default())
-            })
-        };
-        let mut node = self.root.get_or_insert_with(|| new_node(level));
-        loop {
-            match Arc::make_mut(node) {
-                Node::Leaf(cells) => return cells,
-                Node::Branch(children) => {
-                    let child = &mut children[child_index(leaf, level)];
-                    level -= 1;
-                    node = child.get_or_insert_with(|| new_node(level));
-                }
-            }
-        }
+    fn leaf_mut(&mut self, leaf: LeafKey) -> &mut [Counters; LEAF] {
+        self.counts.leaf_mut(leaf)
     }
 
     /// Counts one crossing of edge `edge` out of `from` (sec. 3: for the outgoing and the
@@ -312,32 +216,11 @@ impl HexTransitionMap {
     /// counts (levels decoded from the stacked keys; `levels` left empty for the caller).
     pub fn snapshot(&self, radius: f64, alpha: f64) -> HexMapSnapshot {
         let mut stored: FxHashMap<Hex, Counters> = FxHashMap::default();
-        if let Some(root) = &self.root {
-            let mut stack = vec![(root.as_ref(), self.level, self.base)];
-            while let Some((node, level, (bx, by))) = stack.pop() {
-                match node {
-                    Node::Branch(children) => {
-                        for (i, c) in children.iter().enumerate() {
-                            if let Some(c) = c {
-                                let (cx, cy) = (bx * 4 + (i as u32 & 3), by * 4 + (i as u32 >> 2));
-                                stack.push((c.as_ref(), level - 1, (cx, cy)));
-                            }
-                        }
-                    }
-                    Node::Leaf(cells) => {
-                        for (slot, c) in cells.iter().enumerate() {
-                            if c[TOTAL] > 0 {
-                                let u = bx * 4 + (slot as u32 & 3);
-                                let v = by * 4 + (slot as u32 >> 2);
-                                let q = u.wrapping_sub(KEY_OFFSET) as i32;
-                                let r = v.wrapping_sub(KEY_OFFSET) as i32;
-                                stored.insert(Hex::new(q, r), *c);
-                            }
-                        }
-                    }
-                }
+        self.counts.for_each(|h, c| {
+            if c[TOTAL] > 0 {
+                stored.insert(h, *c);
             }
-        }
+        });
         let get = |h: Hex| stored.get(&h).copied().unwrap_or([0; 4]);
         let mut cells: Vec<HexCell> = stored
             .keys()
@@ -366,17 +249,7 @@ impl HexTransitionMap {
     /// Bytes held by nodes not shared with any other map (a lower bound on what this
     /// map alone keeps alive); shared nodes are not counted.
     pub fn unshared_bytes(&self) -> usize {
-        fn walk(node: &Arc<Node>) -> usize {
-            if Arc::strong_count(node) > 1 {
-                return 0;
-            }
-            let own = std::mem::size_of::<Node>() + 2 * std::mem::size_of::<usize>();
-            match node.as_ref() {
-                Node::Leaf(_) => own,
-                Node::Branch(children) => own + children.iter().flatten().map(walk).sum::<usize>(),
-            }
-        }
-        self.root.as_ref().map_or(0, walk)
+        self.counts.unshared_bytes()
     }
 }
 

@@ -6,7 +6,9 @@
 //! * [`occupancy_grid`] — a plan as free, occupied and unknown squares (a ROS map)
 //!
 //! Learned hexagon maps (FootSLAM):
-//! * [`hex_transitions`] — the per-particle hexagon transition map, shared copy-on-write
+//! * [`hex_tree`] — one record per hexagon in a persistent quadtree, shared copy-on-write
+//! * [`hex_transitions`] — the per-particle hexagon transition map
+//! * [`field_map`] — the per-particle magnetic field map (MagSLAM), shared copy-on-write
 //! * [`edge_prior`] — the Dirichlet prior of every hexagon edge (outline, earlier maps)
 //! * [`map_merge`] — maps of several walks combined
 //! * [`map_registration`] — a map registered onto another of the same building
@@ -19,9 +21,11 @@
 
 pub mod cell_raster;
 pub mod edge_prior;
+pub mod field_map;
 pub mod floor_plan;
 pub mod floor_topology;
 pub mod hex_transitions;
+pub mod hex_tree;
 pub mod learned_plan;
 pub mod map_merge;
 pub mod map_registration;
@@ -31,6 +35,7 @@ pub mod radio_map;
 
 pub use cell_raster::{CellField, CellRaster};
 pub use edge_prior::EdgePrior;
+pub use field_map::{FieldCell, FieldMap, FieldMapCell};
 pub use floor_plan::{Barrier, FloorLevel, FloorPlan, FloorPolygon};
 pub use floor_topology::{FloorTopology, Segment, SegmentKind, TopologyConfig};
 pub use hex_transitions::{

@@ -6,6 +6,7 @@
 //! * [`transition_prior`] — a learned hexagon map as a motion prior for tracking
 //! * [`gps_likelihood`] — the GPS fix likelihood, robust and tempered
 //! * [`heading_likelihood`] — the compass heading likelihood, robust to disturbances
+//! * [`magnetic_field`] — the magnetic field against each particle's own field map (MagSLAM)
 //! * [`scan_pairs`] — WiFi scans as evidence of revisits inside FootSLAM (scan to scan)
 //! * [`scan_references`] — other walks' scans as evidence in a FeetSLAM batch's later passes
 //! * [`wifi_distance`] — the normalised RSSI distance between a scan and a radio-map cell
@@ -17,6 +18,7 @@ pub mod derived_epsilon;
 pub mod floor_levels;
 pub mod gps_likelihood;
 pub mod heading_likelihood;
+pub mod magnetic_field;
 pub mod scan_pairs;
 pub mod scan_references;
 pub mod step_motion;
@@ -28,6 +30,9 @@ pub use building_axes::{AxesConfig, AxisEvidence, AxisLikelihood, AxisState};
 pub use floor_levels::{FloorLevel, LevelConfig, LevelTracker, find_levels};
 pub use gps_likelihood::{GpsConfig, GpsLikelihood, GpsObservation};
 pub use heading_likelihood::{HeadingConfig, HeadingConstants, HeadingLikelihood};
+pub use magnetic_field::{
+    FieldCalibration, FieldConfig, FieldEvidence, FieldLikelihood, FieldUnused,
+};
 pub use scan_pairs::{PairLikelihood, ScanEvidence, ScanPairConfig, ScanPairsUnused};
 pub use scan_references::{PlacedScan, ReferenceScans};
 pub use step_motion::{StepErrorState, StepMotion, StepMotionConfig};

@@ -1,8 +1,10 @@
-//! What one learned walk reports of its whole-walk answer and of the building's axes: one
+//! What one learned walk reports of its whole-walk answer, the building's axes and the
+//! magnetic field: one
 //! typed report each, which `summary.json` (the command line) and the Python package's
 //! summary both serialise, so the two faces cannot drift apart.
 
 use super::learn_walks::WalkRun;
+use crate::model::{FieldCalibration, FieldUnused};
 use serde::Serialize;
 
 /// The whole-walk answer ([`crate::filter::SmoothingConfig`]): how many final paths it
@@ -43,7 +45,31 @@ pub struct AxesReport {
     pub steps_weighed: usize,
 }
 
+/// What the steps' magnetic field readings did ([`crate::model::magnetic_field`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FieldReport {
+    /// Steps with a reading.
+    pub steps_with_field: usize,
+    /// Steps whose reading weighed the particles (0 when unused).
+    pub steps_weighed: usize,
+    /// What the walk's own readings said of the field, when there were enough of them.
+    pub calibration: Option<FieldCalibration>,
+    /// Why the readings weighed nothing, when they did not.
+    pub unused: Option<FieldUnused>,
+}
+
 impl WalkRun {
+    /// The report of the magnetic field, when the steps carried it.
+    pub fn field_report(&self) -> Option<FieldReport> {
+        let e = self.field.as_ref()?;
+        Some(FieldReport {
+            steps_with_field: e.observed,
+            steps_weighed: self.filter.field_steps(),
+            calibration: e.calibration.clone(),
+            unused: e.model.as_ref().err().copied(),
+        })
+    }
+
     /// The report of the whole-walk answer.
     pub fn smoothing_report(&self) -> SmoothingReport {
         let mut spread = self.estimate.spread_m.clone();

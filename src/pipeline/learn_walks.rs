@@ -11,11 +11,11 @@ use crate::filter::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate};
 use crate::geometry::{Hex, LocalFrame, Pose2};
 use crate::map::{EdgePrior, HexMapSnapshot, map_of_path, merge_maps, register_maps};
 use crate::model::{
-    AxisEvidence, GpsObservation, HeadingLikelihood, PlacedScan, ReferenceScans, ScanEvidence,
-    ScanPairsUnused, find_levels,
+    AxisEvidence, FieldEvidence, GpsObservation, HeadingLikelihood, PlacedScan, ReferenceScans,
+    ScanEvidence, ScanPairsUnused, find_levels,
 };
 use crate::sensor::step::step_at_time;
-use crate::sensor::{GpsFix, StepTrace, WifiScan};
+use crate::sensor::{GpsFix, StepFields, StepTrace, WifiScan};
 use rayon::prelude::*;
 use std::sync::Arc;
 use std::time::Instant;
@@ -37,6 +37,8 @@ pub struct LearnWalk {
     pub scans: Vec<WifiScan>,
     /// Its known start.
     pub start: Option<StartPose>,
+    /// The magnetic field over each of its steps, when recorded (`steps.csv`'s `field`).
+    pub field: Option<StepFields>,
 }
 
 /// What every walk of a run shares.
@@ -255,6 +257,8 @@ pub struct WalkRun {
     pub axes: Arc<AxisEvidence>,
     /// In a FeetSLAM pass: the other walks' scans this walk's scans were weighed against.
     pub wifi_references: Option<Arc<ReferenceScans>>,
+    /// With field readings: their calibration, and whether the filter weighed them.
+    pub field: Option<Arc<FieldEvidence>>,
 }
 
 /// Learns one walk: with GPS it starts at the first fix (spread by its accuracy), heading
@@ -340,6 +344,11 @@ fn learn_walk(
     let wifi_evidence = wifi.as_ref().and_then(|w| w.as_ref().ok()).cloned();
     // Which steps are straight, and whether the walk's turns show dominant directions.
     let axes = Arc::new(AxisEvidence::new(walk.trace.steps(), &config.axes));
+    // The magnetic field against each particle's field map, calibrated on the walk itself.
+    let field = walk
+        .field
+        .as_ref()
+        .map(|f| Arc::new(FieldEvidence::new(&config.field, walk.trace.steps(), f)));
     // With GPS and a prior map: first learn the walk alone, in its own GPS frame, and
     // register its map onto the prior to find where the two frames meet.
     let mut prior_offset = Hex::ZERO;
@@ -349,6 +358,7 @@ fn learn_walk(
             levels: levels.clone(),
             wifi: wifi_evidence.clone(),
             axes: Some(Arc::clone(&axes)),
+            field: field.clone(),
             ..Default::default()
         };
         let mut first = FootSlam::with_anchors(config.clone(), alone)?;
@@ -368,6 +378,7 @@ fn learn_walk(
         wifi: wifi_evidence,
         wifi_references: references.clone(),
         axes: Some(Arc::clone(&axes)),
+        field: field.clone(),
     };
     let mut filter = FootSlam::with_anchors(config.clone(), anchors)?;
     if let Some(p) = progress {
@@ -405,6 +416,7 @@ fn learn_walk(
         wifi,
         axes,
         wifi_references,
+        field,
     })
 }
 

@@ -33,7 +33,7 @@ pub use learn::{
     Combined, LearnInput, LearnWalk, Learned, LearnedRadio, WalkRun, combine, default_frame,
     feetslam_passes, learn, learn_one, learned_radio_map, others_map,
 };
-pub use learn_reports::{AxesReport, SmoothingReport};
+pub use learn_reports::{AxesReport, FieldReport, SmoothingReport};
 pub use merge::merge;
 pub use plan::{PlanRunConfig, Planned, plan};
 pub use progress::{Progress, Silent};

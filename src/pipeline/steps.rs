@@ -3,15 +3,16 @@
 //! 1. **detect** — a foot-mounted recording through the zero-velocity-aided INS (one event
 //!    per stride, [`detect_strides`]), a phone's through the step-and-heading system (one per
 //!    step, [`detect_steps`]);
+//!    The magnetic field over each event comes beside them ([`field_per_step`]);
 //! 2. **check** — whether the recording looks like the mount ([`check_mount`]), and whether
 //!    its axes agree with each other ([`check_foot_frame`], [`check_phone_frame`]).
 
 use crate::Result;
 use crate::inertial::{
     FootFigures, FrameFinding, HeadingSource, Mount, PhoneFigures, StepsConfig, check_foot_frame,
-    check_mount, check_phone_frame, detect_steps, detect_strides,
+    check_mount, check_phone_frame, detect_steps, detect_strides, field_per_step,
 };
-use crate::sensor::{ImuRecording, StepTrace};
+use crate::sensor::{ImuRecording, StepFields, StepTrace};
 use serde::Serialize;
 
 /// The detector's figures, per mount.
@@ -44,6 +45,9 @@ pub struct StepsRun {
     pub frame: Option<FrameFinding>,
     /// Whether the gyroscope set the headings (a mirrored one then makes them wrong).
     pub gyro_used: bool,
+    /// The magnetic field over each event, when the recording has a magnetometer
+    /// ([`field_per_step`]).
+    pub field: Option<StepFields>,
 }
 
 /// Whether a [`StepsRun`]'s frame finding makes its output wrong.
@@ -107,6 +111,7 @@ pub fn steps(recording: &ImuRecording, mount: Mount, config: &StepsConfig) -> Re
                 .flatten();
             StepsRun {
                 mount,
+                field: field_per_step(recording, &events.trace),
                 trace: events.trace,
                 path: events.path,
                 heading_source: events.heading_source,
@@ -121,6 +126,7 @@ pub fn steps(recording: &ImuRecording, mount: Mount, config: &StepsConfig) -> Re
             let mount_warning = check_mount(recording, Mount::Phone, events.trace.len());
             StepsRun {
                 mount,
+                field: field_per_step(recording, &events.trace),
                 trace: events.trace,
                 path: events.path,
                 // With the quaternion giving the heading, a mirrored gyroscope does no harm.

@@ -17,6 +17,7 @@
 //! * [`walker`] — the walker striding along the planned route, and its true poses
 //! * [`step_sensor`] — step measurements with foot-mounted-grade errors and heading drift
 //! * [`wifi`] — access points, path loss, shadowing and the scans a walker records
+//! * [`magnetic`] — the Earth's field bent by steel, and each step's magnetometer reading
 //! * [`campus`], [`campus_walk`], [`gps_receiver`], [`compass`] — the office in a yard with a
 //!   front door, outdoor–indoor–outdoor walks, the GPS fixes taken outdoors and a compass's
 //!   disturbed headings ([`simulate_campus`])
@@ -29,6 +30,7 @@ pub mod campus;
 pub mod campus_walk;
 pub mod compass;
 pub mod gps_receiver;
+pub mod magnetic;
 pub mod office;
 pub mod office_config;
 pub mod rooms;
