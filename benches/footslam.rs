@@ -2,14 +2,18 @@
 //! headline size (100,000 particles over a 700-step walk).
 //!
 //! `cargo bench --bench footslam` (the headline group alone: `-- headline`; the answer's
-//! cost, one path or the whole-walk mean: `-- answer`).
+//! cost, one path or the whole-walk mean: `-- answer`; the magnetic field's cost per step:
+//! `-- signals`).
 //! Memory is measured by `examples/scaling.rs` (criterion measures time only).
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use footslam::filter::{FootSlam, FootSlamConfig};
-use footslam::sensor::Step;
+use footslam::filter::{Anchors, FootSlam, FootSlamConfig};
+use footslam::model::FieldEvidence;
+use footslam::sensor::{Step, StepTrace, TruePath, TruePose};
+use footslam::sim::magnetic::{FieldSimConfig, MagneticWorld};
 use footslam::sim::office_walk_steps;
 use std::hint::black_box;
+use std::sync::Arc;
 
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
@@ -90,5 +94,58 @@ fn answer(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, particles, walk_length, headline, answer);
+/// The steps alone against the steps with each one's magnetic field reading (a simulated
+/// field along the dead-reckoned walk), 10,000 particles over 700 steps.
+fn signals(c: &mut Criterion) {
+    let steps = office_walk_steps(700, 1).expect("walk");
+    let trace = StepTrace::new(steps.clone()).expect("valid");
+    let poses = steps
+        .iter()
+        .zip(trace.dead_reckon(Default::default()))
+        .map(|(s, p)| TruePose {
+            t: s.t,
+            x: p.x,
+            y: p.y,
+            z: 0.0,
+            level: 0,
+            heading: p.heading,
+        })
+        .collect();
+    let truth = TruePath { poses };
+    let world = MagneticWorld::around(&truth, FieldSimConfig::default(), 1);
+    let config = FootSlamConfig {
+        particles: 10_000,
+        seed: 1,
+        ..Default::default()
+    };
+    let field = Arc::new(FieldEvidence::new(
+        &config.field,
+        &steps,
+        &world.readings_along(&truth, 2),
+    ));
+    assert!(field.active(), "the simulated field tells places apart");
+    let mut g = c.benchmark_group("signals");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(
+        (config.particles * steps.len()) as u64,
+    ));
+    for (name, evidence) in [("steps", None), ("field", Some(field))] {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                let anchors = Anchors {
+                    field: evidence.clone(),
+                    ..Default::default()
+                };
+                let mut f = FootSlam::with_anchors(config.clone(), anchors).expect("config");
+                for s in &steps {
+                    f.update(s);
+                }
+                black_box(f.field_steps())
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, particles, walk_length, headline, answer, signals);
 criterion_main!(benches);

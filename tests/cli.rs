@@ -309,6 +309,14 @@ fn bad_step_traces_get_clear_errors() {
         ("t,length\n0,0.7\n", "dheading"),
         ("t,length,dheading\n0,70,0\n", "bad_steps.csv:2"),
         ("t,length,dheading\n0,0.7,0,9\n", "bad_steps.csv:2"),
+        (
+            "t,length,dheading,field\n0,0.7,0,45\n1,0.7,0,NaN\n",
+            "bad_steps.csv:3",
+        ),
+        (
+            "t,length,dheading,field,field_up\n0,0.7,0,45,-60\n",
+            "exceeds the magnitude",
+        ),
     ];
     for (content, expect) in cases {
         let err = learn_error(content);
@@ -446,4 +454,41 @@ fn a_wifi_log_that_repeats_an_access_point_in_a_scan_is_read_and_counted() {
     )
     .expect("json");
     assert_eq!(summary["wifi_in_filter"]["duplicate_readings"], 1);
+}
+
+#[test]
+fn learn_weighs_the_magnetic_field_when_the_steps_carry_it() {
+    use footslam::io::steps_csv::{read_steps, write_steps_with_field};
+    use footslam::io::truth_csv::read_truth;
+    use footslam::sim::magnetic::{FieldSimConfig, MagneticWorld};
+    let dir = tempfile::tempdir().expect("tempdir");
+    let sim = simulate_into(dir.path(), "8");
+    let trace = read_steps(&sim.join("steps.csv")).expect("steps");
+    let truth = read_truth(&sim.join("truth.csv")).expect("truth");
+    let field =
+        MagneticWorld::around(&truth, FieldSimConfig::default(), 3).readings_along(&truth, 4);
+    let steps = dir.path().join("steps_with_field.csv");
+    write_steps_with_field(&steps, &trace, Some(&field)).expect("write");
+    let out = dir.path().join("learned");
+    learn(&steps, &out, &[])
+        .success()
+        .stdout(predicates::str::contains("magnetic field: "));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("read"))
+            .expect("json");
+    let m = &summary["magnetic_field"];
+    assert_eq!(m["steps_with_field"], trace.len());
+    assert_eq!(m["steps_weighed"], trace.len(), "{m}");
+    assert!(m["unused"].is_null());
+    assert_eq!(m["calibration"]["components"], 2);
+    // Switched off, the readings are counted and said unused.
+    let config = dir.path().join("off.toml");
+    std::fs::write(&config, "[field]\nenabled = false\n").expect("write");
+    let off = dir.path().join("off");
+    learn(&steps, &off, &["--config", config.to_str().expect("utf-8")]).success();
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(off.join("summary.json")).expect("read"))
+            .expect("json");
+    assert_eq!(summary["magnetic_field"]["unused"], "disabled");
+    assert_eq!(summary["magnetic_field"]["steps_weighed"], 0);
 }

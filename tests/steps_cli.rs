@@ -112,12 +112,24 @@ fn a_phone_excerpt_gives_steps_with_absolute_heading_a_summary_and_a_picture() {
     // 28 steps by hand count (tests/data/README.md).
     assert!((25..=31).contains(&steps.len()), "{}", steps.len());
     assert!(steps.steps().iter().all(|s| s.heading.is_some()));
+    // The magnetometer gives each step's field: an Earth-like magnitude, dipping down in the
+    // northern hemisphere (the excerpt is from Europe).
+    let (_, field) =
+        footslam::io::read_steps_with_field(&out.join("steps.csv")).expect("steps.csv");
+    let field = field.expect("a field column");
+    assert_eq!(field.observed(), steps.len());
+    assert_eq!(field.with_vertical(), steps.len());
+    for f in field.fields().iter().flatten() {
+        assert!((20.0..80.0).contains(&f.magnitude), "{f:?}");
+        assert!(f.vertical.is_some_and(|v| v < 0.0), "{f:?}");
+    }
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("read"))
             .expect("json");
     assert_eq!(summary["heading_source"], "rotation_vector");
     assert_eq!(summary["mount"], "phone");
     assert_eq!(summary["steps"], steps.len());
+    assert_eq!(summary["steps_with_field"], steps.len());
     assert!(summary["sampling"]["rate_hz"].as_f64().expect("rate") > 40.0);
     // The config written beside the outputs repeats the run.
     let again = dir.path().join("again");

@@ -6,8 +6,9 @@ import pytest
 import footslam
 from conftest import DATA, read_csv, read_json
 
-# steps.csv's precision: t 3 decimals, length and dz 4, dheading and heading 6.
-TOLERANCE = {"t": 6e-4, "length": 6e-5, "dheading": 6e-7, "dz": 6e-5, "heading": 6e-7}
+# steps.csv's precision: t, field and field_up 3 decimals, length and dz 4, dheading and heading 6.
+TOLERANCE = {"t": 6e-4, "length": 6e-5, "dheading": 6e-7, "dz": 6e-5, "heading": 6e-7,
+             "field": 6e-4, "field_up": 6e-4}
 
 
 @pytest.mark.parametrize("mount", ["phone", "foot"])
@@ -23,7 +24,9 @@ def test_steps_match_the_cli(cli, tmp_path, mount):
             np.testing.assert_allclose(steps[column], expected[column], rtol=0, atol=tolerance)
     assert got["path"].shape == (len(steps["t"]) + 1, 3)
     summary = read_json(tmp_path / "summary.json")
-    for key in ["mount", "steps", "heading_source", "steps_with_heading", "warnings"]:
+    assert ("field" in steps) == (mount == "phone"), "the phone excerpt has a magnetometer"
+    for key in ["mount", "steps", "heading_source", "steps_with_heading", "steps_with_field",
+                "steps_with_field_up", "warnings"]:
         assert got["summary"][key] == summary[key], key
     assert got["summary"]["mean_stride_m"] == pytest.approx(summary["mean_stride_m"])
 
@@ -53,3 +56,16 @@ def test_units_and_flips_are_the_cli_flags(cli, tmp_path):
     expected = read_csv(tmp_path / "out" / "steps.csv")
     got = footslam.steps(in_g, "foot", accel_unit="g")
     np.testing.assert_allclose(got["steps"]["length"], expected["length"], atol=6e-5)
+
+
+def test_learn_takes_the_field_of_the_steps():
+    got = footslam.steps(DATA / "phone_excerpt.csv", "phone")["steps"]
+    n = len(got["t"])
+    walk = footslam.learn(got, particles=100, seed=1)["walks"][0]["summary"]
+    field = walk["magnetic_field"]
+    assert field["steps_with_field"] == n
+    # A few dozen steps are too few to calibrate the field on.
+    assert field["unused"] == "too_few_readings" and field["steps_weighed"] == 0
+    without = footslam.learn({k: v for k, v in got.items() if not k.startswith("field")},
+                             particles=100, seed=1)["walks"][0]["summary"]
+    assert without["magnetic_field"] is None

@@ -39,10 +39,26 @@ pub struct FieldMapCell {
     pub mean: [f64; 2],
 }
 
+/// The readings of the hexagon a particle is in, not yet written to its map.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Pending {
+    key: Hex,
+    /// The step of the last reading.
+    k: u32,
+    /// Sum of the readings' components.
+    sum: [f32; 2],
+    n: u16,
+}
+
 /// A particle's field map.
+///
+/// The readings of the hexagon the particle is in are held aside and written to the shared
+/// tree when it leaves (one copy-on-write descent per hexagon passed, not per step); they
+/// belong to this pass and are never compared with it anyway.
 #[derive(Debug, Clone, Default)]
 pub struct FieldMap {
     cells: HexTree<FieldCell>,
+    pending: Option<Pending>,
 }
 
 impl FieldMap {
@@ -51,33 +67,60 @@ impl FieldMap {
         Self::default()
     }
 
-    /// The readings at hexagon `key` (empty where none).
+    /// The readings at hexagon `key` written so far (empty where none; the readings of the
+    /// hexagon the particle is in are written when it leaves).
     pub fn cell(&self, key: Hex) -> FieldCell {
         self.cells.get(key)
     }
 
-    /// Adds the reading `y` (its first `dims` components) taken at step `k` to hexagon
-    /// `key`'s running mean; returns the hexagon's readings before it (one descent of the
-    /// tree for both).
-    pub fn record(&mut self, key: Hex, k: u32, y: [f32; 2], dims: usize) -> FieldCell {
-        let c = self.cells.get_mut(key);
-        let before = *c;
-        let n = c.n.saturating_add(1);
-        if n > c.n {
+    /// Takes the reading `y` (its first `dims` components) at step `k` in hexagon `key`;
+    /// returns the hexagon's readings written before (from earlier passes). Leaving a
+    /// hexagon writes its readings of this pass into its running mean.
+    pub fn observe(&mut self, key: Hex, k: u32, y: [f32; 2], dims: usize) -> FieldCell {
+        match &mut self.pending {
+            Some(p) if p.key == key => {
+                for (sum, &y) in p.sum.iter_mut().zip(&y).take(dims) {
+                    *sum += y;
+                }
+                p.n = p.n.saturating_add(1);
+                p.k = k;
+            }
+            _ => {
+                self.flush();
+                self.pending = Some(Pending {
+                    key,
+                    k,
+                    sum: y,
+                    n: 1,
+                });
+            }
+        }
+        self.cells.get(key)
+    }
+
+    /// Writes the held readings into the tree.
+    fn flush(&mut self) {
+        let Some(p) = self.pending.take() else { return };
+        let c = self.cells.get_mut(p.key);
+        let n = c.n.saturating_add(p.n);
+        let added = f32::from(n - c.n);
+        if added > 0.0 {
             let share = 1.0 / f32::from(n);
-            for d in 0..dims.min(2) {
-                c.mean[d] += (y[d] - c.mean[d]) * share;
+            let mean_of_pass = p.sum.map(|v| v / f32::from(p.n));
+            for (mean, &y) in c.mean.iter_mut().zip(&mean_of_pass) {
+                *mean += (y - *mean) * added * share;
             }
             c.n = n;
         }
-        c.last_step = k as u16;
-        before
+        c.last_step = p.k as u16;
     }
 
-    /// Every hexagon with readings, sorted by key.
+    /// Every hexagon with readings (those held aside included), sorted by key.
     pub fn snapshot(&self) -> Vec<FieldMapCell> {
+        let mut all = self.clone();
+        all.flush();
         let mut cells = Vec::new();
-        self.cells.for_each(|key, c| {
+        all.cells.for_each(|key, c| {
             if c.n > 0 {
                 cells.push(FieldMapCell {
                     key,
@@ -103,20 +146,31 @@ mod tests {
     #[test]
     fn running_means_and_recency() {
         let mut m = FieldMap::new();
-        let h = Hex::new(2, -1);
-        assert_eq!(m.record(h, 10, [40.0, -30.0], 2), FieldCell::default());
-        assert_eq!(m.record(h, 40, [42.0, -34.0], 2).n, 1);
+        let (h, g) = (Hex::new(2, -1), Hex::new(3, -1));
+        assert_eq!(m.observe(h, 10, [40.0, -30.0], 2), FieldCell::default());
+        assert_eq!(
+            m.observe(h, 11, [42.0, -34.0], 2),
+            FieldCell::default(),
+            "this pass"
+        );
+        assert_eq!(
+            m.cell(h),
+            FieldCell::default(),
+            "held until the hexagon is left"
+        );
+        m.observe(g, 12, [50.0, -20.0], 2);
         let c = m.cell(h);
-        assert_eq!((c.n, c.last_step), (2, 40));
+        assert_eq!((c.n, c.last_step), (2, 11));
         assert_eq!(c.mean, [41.0, -32.0]);
-        assert_eq!(c.steps_since(45), 5);
-        assert_eq!(m.cell(Hex::new(0, 0)), FieldCell::default());
+        assert_eq!(c.steps_since(15), 4);
         let shared = m.clone();
-        m.record(h, 50, [44.0, 0.0], 1);
-        assert_eq!(m.cell(h).mean, [41.0 + 3.0 / 3.0, -32.0]);
+        assert_eq!(m.observe(h, 50, [44.0, 0.0], 1).n, 2, "an earlier pass");
+        m.observe(g, 51, [50.0, -20.0], 2);
+        assert_eq!(m.cell(h).mean, [41.0 + 3.0 / 3.0, -32.0 + 32.0 / 3.0]);
         assert_eq!(shared.cell(h).n, 2, "a clone keeps its own readings");
         let s = m.snapshot();
-        assert_eq!(s.len(), 1);
+        assert_eq!(s.len(), 2);
         assert_eq!((s[0].key, s[0].n), (h, 3));
+        assert_eq!(s[1].n, 2, "the held readings of g are in the snapshot");
     }
 }

@@ -45,7 +45,8 @@ fn a_varied_field_calibrates_and_weighs_revisits() {
     let c = e.calibration.clone().expect("calibrated");
     assert!(e.active(), "{c:?}");
     assert_eq!(c.components, 2);
-    assert!(c.near_sd_ut[0] < c.far_sd_ut[0] / 2.0, "{c:?}");
+    assert!(c.passing_sd_ut[0] < c.far_sd_ut[0] / 2.0, "{c:?}");
+    assert_eq!(c.near_sd_ut, c.passing_sd_ut, "revisit_factor = 1");
     let (model, y) = e.reading(40).expect("a reading");
     // The same place agrees, another place does not, an empty hexagon says nothing.
     assert!(model.log_ratio(y, 3, y) > 0.3);
@@ -55,8 +56,11 @@ fn a_varied_field_calibrates_and_weighs_revisits() {
     assert_eq!(model.weigh_and_learn(&mut map, &here, 0, 100, y), 0.0);
     // Its own reading of a moment ago is no revisit.
     assert_eq!(model.weigh_and_learn(&mut map, &here, 0, 101, y), 0.0);
+    let away = Pose2::new(20.0, 0.0, 0.0);
+    assert_eq!(model.weigh_and_learn(&mut map, &away, 0, 150, y), 0.0);
     let revisit = model.weigh_and_learn(&mut map, &here, 0, 200, y);
     assert!(revisit > 0.3, "{revisit}");
+    model.weigh_and_learn(&mut map, &away, 0, 250, y);
     let elsewhere = model.weigh_and_learn(&mut map, &here, 0, 300, [y[0] + 12.0, y[1]]);
     assert!(elsewhere < -0.3, "{elsewhere}");
     // Another level is another map.
