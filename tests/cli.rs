@@ -458,17 +458,31 @@ fn a_wifi_log_that_repeats_an_access_point_in_a_scan_is_read_and_counted() {
 
 #[test]
 fn learn_weighs_the_magnetic_field_when_the_steps_carry_it() {
-    use footslam::io::steps_csv::{read_steps, write_steps_with_field};
-    use footslam::io::truth_csv::read_truth;
-    use footslam::sim::magnetic::{FieldSimConfig, MagneticWorld};
+    use footslam::io::read_steps_with_field;
     let dir = tempfile::tempdir().expect("tempdir");
-    let sim = simulate_into(dir.path(), "8");
-    let trace = read_steps(&sim.join("steps.csv")).expect("steps");
-    let truth = read_truth(&sim.join("truth.csv")).expect("truth");
-    let field =
-        MagneticWorld::around(&truth, FieldSimConfig::default(), 3).readings_along(&truth, 4);
-    let steps = dir.path().join("steps_with_field.csv");
-    write_steps_with_field(&steps, &trace, Some(&field)).expect("write");
+    let sim = dir.path().join("sim");
+    footslam()
+        .args([
+            "simulate",
+            "--laps",
+            "1",
+            "--seed",
+            "8",
+            "--magnetometer",
+            "--out",
+        ])
+        .arg(&sim)
+        .assert()
+        .success();
+    let steps = sim.join("steps.csv");
+    let (trace, field) = read_steps_with_field(&steps).expect("steps");
+    assert_eq!(field.expect("field columns").with_vertical(), trace.len());
+    footslam()
+        .args(["simulate", "--building", "tower", "--magnetometer", "--out"])
+        .arg(dir.path().join("tower"))
+        .assert()
+        .failure()
+        .stderr(predicates::str::contains("office"));
     let out = dir.path().join("learned");
     learn(&steps, &out, &[])
         .success()

@@ -9,7 +9,7 @@ use footslam::geometry::path_length;
 use footslam::io::RunFolder;
 use footslam::io::floor_plan_geojson::write_floor_plan;
 use footslam::io::radio_truth_csv::{write_access_points, write_radio_field};
-use footslam::io::steps_csv::write_steps;
+use footslam::io::steps_csv::{write_steps, write_steps_with_field};
 use footslam::io::truth_csv::write_truth;
 use footslam::io::write_wifi;
 use footslam::render::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, write_plan_png};
@@ -57,6 +57,9 @@ struct TowerSummary {
 
 /// Runs `footslam simulate`.
 pub fn run(args: Args) -> Result<()> {
+    if args.magnetometer && args.building != Building::Office {
+        anyhow::bail!("--magnetometer simulates the office's field only (use --building office)");
+    }
     match args.building {
         Building::Office => run_office(args),
         Building::Tower => run_tower(args),
@@ -203,11 +206,14 @@ fn run_office(args: Args) -> Result<()> {
     if let Some(l) = args.laps {
         config.walk.laps = l;
     }
+    if args.magnetometer {
+        config.field.enabled = true;
+    }
     let origin = args.origin.unwrap_or_default();
     let sim = simulate(&config)?;
     let folder = RunFolder::create(&output_dir(args.out, "simulate"))?;
     write_floor_plan(&folder.path("floor.geojson"), &sim.plan, &origin)?;
-    write_steps(&folder.path("steps.csv"), &sim.steps)?;
+    write_steps_with_field(&folder.path("steps.csv"), &sim.steps, sim.field.as_ref())?;
     write_truth(&folder.path("truth.csv"), &sim.truth)?;
     let truth: Vec<(f64, f64)> = sim.truth.poses.iter().map(|p| (p.x, p.y)).collect();
     write_truth_png(&folder.path("truth.png"), &sim.plan, &truth)?;

@@ -62,6 +62,10 @@ pub struct Args {
     /// (overrides the config file's `walk_out`).
     #[arg(long)]
     pub(super) entrance_only: bool,
+    /// Office: the steps carry a magnetometer's reading of the building's field (`field`,
+    /// `field_up`; overrides the config file's `field.enabled`).
+    #[arg(long)]
+    pub(super) magnetometer: bool,
     /// Campus: the steps carry a compass's absolute `heading` (overrides the config file's
     /// `compass.enabled`).
     #[arg(long)]

@@ -43,6 +43,8 @@ pub struct FieldMapCell {
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Pending {
     key: Hex,
+    /// The hexagon's readings written before the particle entered it.
+    before: FieldCell,
     /// The step of the last reading.
     k: u32,
     /// Sum of the readings' components.
@@ -84,18 +86,21 @@ impl FieldMap {
                 }
                 p.n = p.n.saturating_add(1);
                 p.k = k;
+                p.before
             }
             _ => {
                 self.flush();
+                let before = self.cells.get(key);
                 self.pending = Some(Pending {
                     key,
+                    before,
                     k,
                     sum: y,
                     n: 1,
                 });
+                before
             }
         }
-        self.cells.get(key)
     }
 
     /// Writes the held readings into the tree.

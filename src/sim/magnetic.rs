@@ -18,6 +18,8 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct FieldSimConfig {
+    /// Give each step a field reading (`steps.csv`'s `field`, `field_up`). Default false.
+    pub enabled: bool,
     /// The Earth's field strength, µT. Default 48.
     pub earth_ut: f64,
     /// Its inclination below the horizon, radians. Default 65°.
@@ -35,6 +37,7 @@ pub struct FieldSimConfig {
 impl Default for FieldSimConfig {
     fn default() -> Self {
         Self {
+            enabled: false,
             earth_ut: 48.0,
             inclination: 65f64.to_radians(),
             anomaly_ut: 8.0,
@@ -42,6 +45,29 @@ impl Default for FieldSimConfig {
             anomaly_spacing_m: 2.5,
             noise_ut: 0.4,
         }
+    }
+}
+
+impl FieldSimConfig {
+    /// Checks every field against its documented range.
+    pub fn validate(&self) -> crate::error::Result<()> {
+        use crate::error::check_range;
+        check_range("field.earth_ut", self.earth_ut, 0.0..=200.0, "µT")?;
+        check_range("field.inclination", self.inclination, -1.6..=1.6, "rad")?;
+        check_range("field.anomaly_ut", self.anomaly_ut, 0.0..=500.0, "µT")?;
+        check_range(
+            "field.anomaly_length_m",
+            self.anomaly_length_m,
+            0.05..=100.0,
+            "m",
+        )?;
+        check_range(
+            "field.anomaly_spacing_m",
+            self.anomaly_spacing_m,
+            0.5..=1000.0,
+            "m",
+        )?;
+        check_range("field.noise_ut", self.noise_ut, 0.0..=50.0, "µT")
     }
 }
 

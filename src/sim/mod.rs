@@ -50,6 +50,7 @@ pub use campus::{Campus, CampusConfig};
 pub use campus_walk::{CampusSimConfig, CampusSimulation, CampusWalk, simulate_campus};
 pub use compass::CompassSimConfig;
 pub use gps_receiver::{GpsErrorSummary, GpsRecord, GpsSimConfig, receive_fixes};
+pub use magnetic::{FieldSimConfig, MagneticWorld};
 pub use office::{Office, Room, office_floor};
 pub use office_config::OfficeConfig;
 pub use step_sensor::{StepNoiseConfig, measure_steps, measure_steps_from};
@@ -65,7 +66,7 @@ pub use wifi::{FieldPoint, RadioWorld, WifiSimConfig, expected_field};
 use crate::error::Result;
 use crate::map::FloorPlan;
 use crate::sensor::step::StepTrace;
-use crate::sensor::{TruePath, TruePose};
+use crate::sensor::{StepFields, TruePath, TruePose};
 use serde::{Deserialize, Serialize};
 
 /// Stream number of the walker's generator.
@@ -76,6 +77,10 @@ const NOISE_STREAM: u64 = 2;
 const RADIO_STREAM: u64 = 3;
 /// Stream number of the WiFi scans' noise and timing.
 const SCAN_STREAM: u64 = 4;
+/// Stream number of the magnetic field's anomalies.
+const FIELD_STREAM: u64 = 5;
+/// Stream number of the magnetometer's noise.
+const MAGNETOMETER_STREAM: u64 = 6;
 
 /// Everything a simulation needs; every default in one place:
 ///
@@ -85,6 +90,7 @@ const SCAN_STREAM: u64 = 4;
 /// | `office` | 30 m × 18 m corridor loop, 1.8 m wide; 16 rooms 4 m × 4 m; 0.9 m doors; 0.2 m walls ([`OfficeConfig`]) |
 /// | `walk`   | 3 laps, 2–4 rooms per lap (half revisits after the first), 0.7 ± 0.05 m strides at 1.8 Hz ([`WalkConfig`]) |
 /// | `noise`  | 0.02 m stride noise, 0.5° heading-change noise, 15° total drift, 0.02 m height noise ([`StepNoiseConfig`]) |
+/// | `field`  | off; when on, a 48 µT field dipping 65° with a steel anomaly per 2.5 m square, read at 0.4 µT ([`FieldSimConfig`]) |
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SimConfig {
@@ -97,6 +103,8 @@ pub struct SimConfig {
     pub walk: WalkConfig,
     /// The step sensor's errors.
     pub noise: StepNoiseConfig,
+    /// The building's magnetic field and the magnetometer's readings of it.
+    pub field: FieldSimConfig,
 }
 
 impl SimConfig {
@@ -104,7 +112,8 @@ impl SimConfig {
     pub fn validate(&self) -> crate::error::Result<()> {
         self.office.validate()?;
         self.walk.validate()?;
-        self.noise.validate()
+        self.noise.validate()?;
+        self.field.validate()
     }
 }
 
@@ -117,6 +126,8 @@ pub struct Simulation {
     pub truth: TruePath,
     /// Measured steps, one per true pose.
     pub steps: StepTrace,
+    /// The magnetometer's reading at each step, when `field.enabled`.
+    pub field: Option<StepFields>,
 }
 
 /// Runs the simulation described by `config`; equal configurations give equal results.
@@ -129,10 +140,15 @@ pub fn simulate(config: &SimConfig) -> Result<Simulation> {
         &config.noise,
         stream_seed(config.seed, NOISE_STREAM),
     )?;
+    let field = config.field.enabled.then(|| {
+        MagneticWorld::around(&truth, config.field, stream_seed(config.seed, FIELD_STREAM))
+            .readings_along(&truth, stream_seed(config.seed, MAGNETOMETER_STREAM))
+    });
     Ok(Simulation {
         plan: office.plan,
         truth,
         steps,
+        field,
     })
 }
 
