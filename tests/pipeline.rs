@@ -13,7 +13,7 @@ use footslam::inertial::{Mount, StepsConfig};
 use footslam::io::floor_plan_geojson::read_floor_plan;
 use footslam::io::map_geojson::write_map_geojson;
 use footslam::io::radio_map_geojson::write_radio_map_geojson;
-use footslam::io::steps_csv::write_steps;
+use footslam::io::steps_csv::write_steps_with_field;
 use footslam::io::{read_imu, read_steps, read_wifi, write_track};
 use footslam::map::{CellConfig, FloorTopology};
 use footslam::pipeline::{
@@ -238,7 +238,7 @@ fn the_cli_writes_what_the_pipelines_compute() {
     let recording = read_imu(&imu).expect("imu");
     let events = steps(&recording, Mount::Phone, &StepsConfig::default()).expect("steps");
     let written = d.join("lib-steps.csv");
-    write_steps(&written, &events.trace).expect("write");
+    write_steps_with_field(&written, &events.trace, events.field.as_ref()).expect("write");
     assert_eq!(read(&written), read(&d.join("steps/steps.csv")), "steps");
 }
 
