@@ -495,6 +495,19 @@ fn learn_weighs_the_magnetic_field_when_the_steps_carry_it() {
     assert_eq!(m["steps_weighed"], trace.len(), "{m}");
     assert!(m["unused"].is_null());
     assert_eq!(m["calibration"]["components"], 2);
+    // The learned field map: hexagons with readings and an Earth-like field.
+    let fieldmap: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("fieldmap.geojson")).expect("read"))
+            .expect("json");
+    assert_eq!(fieldmap["quantity"], "magnetic field");
+    let cells = fieldmap["features"].as_array().expect("features");
+    assert!(cells.len() > 20, "{}", cells.len());
+    for c in cells {
+        let p = &c["properties"];
+        assert!(p["readings"].as_u64().expect("readings") >= 1);
+        assert!((20.0..90.0).contains(&p["magnitude_ut"].as_f64().expect("magnitude")));
+        assert!(p["vertical_ut"].as_f64().expect("vertical") < 0.0);
+    }
     // Switched off, the readings are counted and said unused.
     let config = dir.path().join("off.toml");
     std::fs::write(&config, "[field]\nenabled = false\n").expect("write");
@@ -505,4 +518,5 @@ fn learn_weighs_the_magnetic_field_when_the_steps_carry_it() {
             .expect("json");
     assert_eq!(summary["magnetic_field"]["unused"], "disabled");
     assert_eq!(summary["magnetic_field"]["steps_weighed"], 0);
+    assert!(!off.join("fieldmap.geojson").exists());
 }

@@ -8,6 +8,7 @@ use crate::outputs::{Column, columns, json_object};
 use footslam::filter::FootSlamConfig;
 use footslam::geometry::path_length;
 use footslam::geometry::{HexGrid, LocalFrame};
+use footslam::io::field_map_geojson::field_map_to_geojson;
 use footslam::io::floor_plan_geojson::floor_plan_to_geojson;
 use footslam::io::map_geojson::walks_map_to_geojson;
 use footslam::io::radio_map_geojson::radio_map_to_geojson;
@@ -26,6 +27,8 @@ pub(crate) struct WalkOut {
     spread_m: Vec<f64>,
     map: FeatureCollection,
     plan: Option<FeatureCollection>,
+    /// `fieldmap.geojson`: the learned magnetic field, when it weighed the particles.
+    field_map: Option<FeatureCollection>,
     merged_with_prior: Option<FeatureCollection>,
     summary: serde_json::Value,
     config: FootSlamConfig,
@@ -89,6 +92,11 @@ pub(crate) fn walk_out(
         spread_m: estimate.spread_m.clone(),
         map: walks_map_to_geojson(&estimate.map, frame, 1),
         plan: learned.map(|l| floor_plan_to_geojson(&l.plan, frame)),
+        field_map: estimate
+            .field_map
+            .as_ref()
+            .filter(|f| !f.cells.is_empty())
+            .map(|f| field_map_to_geojson(f, frame)),
         merged_with_prior: None,
         summary,
         config: config.clone(),
@@ -118,6 +126,7 @@ impl WalkOut {
         )?;
         d.set_item("map", json_object(py, &self.map)?)?;
         d.set_item("plan", json_object(py, &self.plan)?)?;
+        d.set_item("field_map", json_object(py, &self.field_map)?)?;
         if let Some(m) = &self.merged_with_prior {
             d.set_item("merged_with_prior", json_object(py, m)?)?;
         }

@@ -66,6 +66,7 @@ def test_learn_takes_the_field_of_the_steps():
     assert field["steps_with_field"] == n
     # A few dozen steps are too few to calibrate the field on.
     assert field["unused"] == "too_few_readings" and field["steps_weighed"] == 0
+    assert footslam.learn(got, particles=100, seed=1)["walks"][0]["field_map"] is None
     without = footslam.learn({k: v for k, v in got.items() if not k.startswith("field")},
                              particles=100, seed=1)["walks"][0]["summary"]
     assert without["magnetic_field"] is None

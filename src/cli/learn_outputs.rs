@@ -7,6 +7,7 @@ use footslam::filter::departure::Departure;
 use footslam::geometry::path_length;
 use footslam::geometry::{HexGrid, LocalFrame};
 use footslam::io::RunFolder;
+use footslam::io::field_map_geojson::write_field_map_geojson;
 use footslam::io::floor_plan_geojson::write_floor_plan;
 use footslam::io::map_geojson::write_map_geojson;
 use footslam::io::track_geojson::write_track_geojson;
@@ -171,6 +172,9 @@ pub(super) fn write_walk(
     write_track_geojson(&at("track.geojson"), &points, frame)?;
     drop(points);
     write_map_geojson(&at("map.geojson"), &estimate.map, frame)?;
+    if let Some(field) = estimate.field_map.as_ref().filter(|f| !f.cells.is_empty()) {
+        write_field_map_geojson(&at("fieldmap.geojson"), field, frame)?;
+    }
     let walkable_plan_m2 = write_learned_plan(&at("plan.geojson"), &estimate.map, frame)?;
     let path: Vec<(f64, f64)> = estimate.path.iter().map(|p| (p.x, p.y)).collect();
     // One picture per floor: `map.png` the first (level 0), `map-level+N.png` the others.

@@ -44,7 +44,7 @@ use super::resample::{self, ResampleMethod};
 use super::scan_trail::ScanTrail;
 use crate::error::Result;
 use crate::geometry::{Hex, HexGrid, Pose2};
-use crate::map::{EdgePrior, FieldMap, HexMapSnapshot, HexTransitionMap};
+use crate::map::{EdgePrior, FieldMap, FieldMapSnapshot, HexMapSnapshot, HexTransitionMap};
 use crate::model::{
     AxisEvidence, AxisLikelihood, AxisState, FieldEvidence, GpsLikelihood, HeadingLikelihood,
     LevelTracker, StepErrorState, StepMotion,
@@ -101,6 +101,8 @@ pub struct FootSlamEstimate {
     pub levels: Vec<i32>,
     /// Its map.
     pub map: HexMapSnapshot,
+    /// Its map of the magnetic field, when the field weighed the particles.
+    pub field_map: Option<FieldMapSnapshot>,
     /// How far path and map were moved: `κ·δ` towards a prior map's frame plus the
     /// outline fit ([`super::outline_fit`]), metres.
     pub prior_offset: (f64, f64),

@@ -2,7 +2,7 @@
 //! file, line and problem in its errors, and every file is written completely or not at all.
 //!
 //! Recordings (the inputs of a run):
-//! * [`steps_csv`] — step traces, `t,length,dheading[,dz][,heading]`
+//! * [`steps_csv`] — step traces, `t,length,dheading[,dz][,heading][,field[,field_up]]`
 //! * [`imu_csv`] — raw IMU recordings, `t,ax,ay,az,gx,gy,gz[,mx,my,mz][,qx,qy,qz,qw][,pressure]`
 //! * [`wifi_csv`] — WiFi logs, `t,bssid,rssi[,ssid,freq]`
 //! * [`gps_csv`], [`gpx_file`] — GPS fixes as CSV or GPX 1.1
@@ -13,6 +13,7 @@
 //! * [`floor_plan_geojson`] — 2.5D floor plans as GeoJSON
 //! * [`outline_geojson`] — a building's rough outline as GeoJSON
 //! * [`map_geojson`] — learned hexagon transition maps as GeoJSON
+//! * [`field_map_geojson`] — learned magnetic field maps as GeoJSON
 //! * [`radio_map_geojson`] — radio maps as GeoJSON (and CSV)
 //! * [`ros_map`] — occupancy grids as ROS maps (`map.pgm` + `map.yaml`)
 //!
@@ -32,6 +33,7 @@
 
 pub mod atomic_file;
 pub mod csv_table;
+pub mod field_map_geojson;
 pub mod floor_plan_geojson;
 pub mod geojson_file;
 pub mod gps_csv;

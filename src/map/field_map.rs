@@ -52,6 +52,20 @@ struct Pending {
     n: u16,
 }
 
+/// A learned field map for export: its hexagons, their size, and how far the answer moved
+/// them (the path's shift towards a prior map's frame, [`crate::filter::FootSlamEstimate`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FieldMapSnapshot {
+    /// Circumradius of the hexagons, metres.
+    pub radius: f64,
+    /// Components the means hold: 1 (magnitude) or 2 (magnitude, vertical part).
+    pub components: usize,
+    /// Add this to every hexagon's centre and corners, metres.
+    pub offset: (f64, f64),
+    /// Hexagons with readings, sorted by key.
+    pub cells: Vec<FieldMapCell>,
+}
+
 /// A particle's field map.
 ///
 /// The readings of the hexagon the particle is in are held aside and written to the shared

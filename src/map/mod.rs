@@ -35,7 +35,7 @@ pub mod radio_map;
 
 pub use cell_raster::{CellField, CellRaster};
 pub use edge_prior::EdgePrior;
-pub use field_map::{FieldCell, FieldMap, FieldMapCell};
+pub use field_map::{FieldCell, FieldMap, FieldMapCell, FieldMapSnapshot};
 pub use floor_plan::{Barrier, FloorLevel, FloorPlan, FloorPolygon};
 pub use floor_topology::{FloorTopology, Segment, SegmentKind, TopologyConfig};
 pub use hex_transitions::{

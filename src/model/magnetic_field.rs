@@ -242,6 +242,16 @@ impl FieldLikelihood {
         }
     }
 
+    /// Components weighed: 1 (magnitude) or 2 (magnitude and vertical part).
+    pub fn components(&self) -> usize {
+        self.dims
+    }
+
+    /// Circumradius of the field map's hexagons, metres.
+    pub fn cell_radius(&self) -> f64 {
+        self.grid.radius()
+    }
+
     /// Eq. (3) for reading `y` against a hexagon's `n ≥ 1` readings of mean `mean`.
     pub fn log_ratio(&self, y: [f32; 2], n: u16, mean: [f32; 2]) -> f64 {
         let (a, la, b, lb) = &self.table[usize::from(n.max(1)).min(N_TABLE) - 1];
@@ -380,6 +390,11 @@ impl FieldEvidence {
             calibration: Some(calibration),
             model: Ok(FieldLikelihood::new(config, dims, near_cov, far_cov)),
         }
+    }
+
+    /// The likelihood, when the readings are used.
+    pub fn reading_model(&self) -> Option<&FieldLikelihood> {
+        self.model.as_ref().ok()
     }
 
     /// Whether the filter weighs the readings.

@@ -435,6 +435,8 @@ fn check_departure(
         (filter.scans_used() > 0, "wifi"),
         (filter.headings_used() > 0, "compass"),
         (filter.gps_fixes_used() > 0, "gps"),
+        (filter.field_steps() > 0, "magnetic field"),
+        (filter.axis_steps() > 0, "building axes"),
         (prior_map, "prior map or outline"),
     ];
     let evidence = evidence.iter().filter(|e| e.0).map(|e| e.1).collect();
@@ -456,6 +458,8 @@ fn check_departure(
         );
         estimate.map.levels = levels;
         estimate.path = dead_reckoned.to_vec();
+        // The learned field map belongs to the learned path, not to this one.
+        estimate.field_map = None;
         estimate.spread_m = vec![0.0; dead_reckoned.len()];
     }
     departure

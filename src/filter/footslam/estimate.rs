@@ -3,6 +3,7 @@
 use super::{FootSlam, FootSlamEstimate, sample_start};
 use crate::filter::outline_fit::{fit_outline_shift, unseen_seconds};
 use crate::geometry::Pose2;
+use crate::map::FieldMapSnapshot;
 use crate::random::stream;
 
 impl FootSlam {
@@ -75,6 +76,16 @@ impl FootSlam {
             map,
             prior_offset: (dx, dy),
             prior_shift,
+            field_map: self
+                .field
+                .as_ref()
+                .and_then(|e| e.reading_model())
+                .map(|model| FieldMapSnapshot {
+                    radius: model.cell_radius(),
+                    components: model.components(),
+                    offset: (dx, dy),
+                    cells: self.particles[index].field.snapshot(),
+                }),
         }
     }
 

@@ -1,0 +1,144 @@
+//! A learned magnetic field map ([`FieldMapSnapshot`]) as RFC 7946 GeoJSON: one `Polygon`
+//! feature per hexagon with readings, in WGS84 `[lon, lat]` degrees rounded to 1e-8°, each
+//! ring counter-clockwise and closed, so that a magnetic localiser (or QGIS) can read the
+//! field a FootSLAM run learned with no survey.
+//!
+//! Feature properties:
+//!
+//! | key            | value                                                            |
+//! |----------------|------------------------------------------------------------------|
+//! | `q`, `r`       | axial coordinates of the hexagon within its level                |
+//! | `level`        | the floor (0: the walk's first)                                  |
+//! | `readings`     | step readings averaged                                           |
+//! | `magnitude_ut` | mean field magnitude, µT, 3 decimals                             |
+//! | `vertical_ut`  | mean upward component, µT (only when the walk's readings had it) |
+//!
+//! Foreign members: `origin` (`{"lat", "lon"}` of the local frame), `cell_radius`
+//! (metres), `offset` (`[x, y]` metres the hexagons were moved by, already applied to the
+//! geometry) and `quantity` (`"magnetic field"`).
+
+use crate::error::Result;
+use crate::geometry::{HexGrid, LocalFrame};
+use crate::map::{FieldMapSnapshot, split_level_key};
+use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject};
+use serde_json::json;
+use std::path::Path;
+
+fn round_to(v: f64, decimals: i32) -> f64 {
+    let scale = 10f64.powi(decimals);
+    (v * scale).round() / scale
+}
+
+/// The field map as a GeoJSON feature collection placed on the globe by `frame`.
+pub fn field_map_to_geojson(map: &FieldMapSnapshot, frame: &LocalFrame) -> FeatureCollection {
+    let grid = HexGrid::new(map.radius);
+    let (ox, oy) = map.offset;
+    let features = map
+        .cells
+        .iter()
+        .map(|cell| {
+            let (level, hex) = split_level_key(cell.key);
+            let mut ring: Vec<Vec<f64>> = grid
+                .corners(cell.key)
+                .iter()
+                .map(|&(x, y)| {
+                    let (lon, lat) = frame.to_lon_lat(x + ox, y + oy);
+                    vec![round_to(lon, 8), round_to(lat, 8)]
+                })
+                .collect();
+            if let Some(first) = ring.first().cloned() {
+                ring.push(first);
+            }
+            let mut properties = JsonObject::new();
+            properties.insert("q".into(), json!(hex.x));
+            properties.insert("r".into(), json!(hex.y));
+            properties.insert("level".into(), json!(level));
+            properties.insert("readings".into(), json!(cell.n));
+            properties.insert("magnitude_ut".into(), json!(round_to(cell.mean[0], 3)));
+            if map.components == 2 {
+                properties.insert("vertical_ut".into(), json!(round_to(cell.mean[1], 3)));
+            }
+            Feature {
+                bbox: None,
+                geometry: Some(Geometry::new(GeometryValue::new_polygon([ring]))),
+                id: None,
+                properties: Some(properties),
+                foreign_members: None,
+            }
+        })
+        .collect();
+    let mut members = JsonObject::new();
+    members.insert(
+        "origin".into(),
+        json!({ "lat": frame.lat, "lon": frame.lon }),
+    );
+    members.insert("cell_radius".into(), json!(map.radius));
+    members.insert("offset".into(), json!([map.offset.0, map.offset.1]));
+    members.insert("quantity".into(), json!("magnetic field"));
+    FeatureCollection {
+        bbox: None,
+        features,
+        foreign_members: Some(members),
+    }
+}
+
+/// Writes [`field_map_to_geojson`] to `path` atomically.
+pub fn write_field_map_geojson(
+    path: &Path,
+    map: &FieldMapSnapshot,
+    frame: &LocalFrame,
+) -> Result<()> {
+    super::write_geojson(path, &field_map_to_geojson(map, frame))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::{FieldMapCell, level_key};
+    use hexx::Hex;
+
+    #[test]
+    fn hexagons_with_levels_and_components() {
+        let frame = LocalFrame::new(48.15, 11.57).unwrap();
+        let map = FieldMapSnapshot {
+            radius: 1.0,
+            components: 2,
+            offset: (0.0, 0.0),
+            cells: vec![
+                FieldMapCell {
+                    key: Hex::new(0, 0),
+                    n: 3,
+                    mean: [45.1234, -38.5],
+                },
+                FieldMapCell {
+                    key: level_key(1, Hex::new(2, -1)),
+                    n: 1,
+                    mean: [50.0, -40.0],
+                },
+            ],
+        };
+        let fc = field_map_to_geojson(&map, &frame);
+        assert_eq!(fc.features.len(), 2);
+        let p = fc.features[1].properties.as_ref().unwrap();
+        assert_eq!((p["q"].as_i64(), p["r"].as_i64()), (Some(2), Some(-1)));
+        assert_eq!(p["level"].as_i64(), Some(1));
+        assert_eq!(p["vertical_ut"].as_f64(), Some(-40.0));
+        let p = fc.features[0].properties.as_ref().unwrap();
+        assert_eq!(p["magnitude_ut"].as_f64(), Some(45.123));
+        assert_eq!(p["readings"].as_u64(), Some(3));
+        let one = FieldMapSnapshot {
+            components: 1,
+            ..map
+        };
+        let fc = field_map_to_geojson(&one, &frame);
+        assert!(
+            !fc.features[0]
+                .properties
+                .as_ref()
+                .unwrap()
+                .contains_key("vertical_ut")
+        );
+        let text = fc.to_string();
+        assert!(text.contains("\"quantity\":\"magnetic field\""), "{text}");
+    }
+}
