@@ -500,6 +500,7 @@ fn learn_weighs_the_magnetic_field_when_the_steps_carry_it() {
         serde_json::from_str(&std::fs::read_to_string(out.join("fieldmap.geojson")).expect("read"))
             .expect("json");
     assert_eq!(fieldmap["quantity"], "magnetic field");
+    assert!(out.join("fieldmap.png").is_file());
     let cells = fieldmap["features"].as_array().expect("features");
     assert!(cells.len() > 20, "{}", cells.len());
     for c in cells {

@@ -1,6 +1,7 @@
 //! The outputs of one learned walk: its track (CSV and GeoJSON), map (GeoJSON and one picture
 //! per floor), walkable plan and configuration, and its figures for `summary.json`.
 
+use super::field_outputs::write_field_map_png;
 use super::learn_inputs::WalkFiles;
 use anyhow::Result;
 use footslam::filter::departure::Departure;
@@ -174,6 +175,13 @@ pub(super) fn write_walk(
     write_map_geojson(&at("map.geojson"), &estimate.map, frame)?;
     if let Some(field) = estimate.field_map.as_ref().filter(|f| !f.cells.is_empty()) {
         write_field_map_geojson(&at("fieldmap.geojson"), field, frame)?;
+        let path: Vec<(f64, f64, i32)> = estimate
+            .path
+            .iter()
+            .zip(&estimate.levels)
+            .map(|(p, &l)| (p.x, p.y, l))
+            .collect();
+        write_field_map_png(&at("fieldmap.png"), field, &path)?;
     }
     let walkable_plan_m2 = write_learned_plan(&at("plan.geojson"), &estimate.map, frame)?;
     let path: Vec<(f64, f64)> = estimate.path.iter().map(|p| (p.x, p.y)).collect();

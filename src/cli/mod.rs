@@ -10,6 +10,7 @@ macro_rules! outln {
 
 mod common;
 mod eval;
+mod field_outputs;
 mod fingerprint;
 mod import;
 mod learn;
