@@ -9,6 +9,11 @@ fn footslam() -> Command {
 
 /// Simulates a short walk (1 lap) into `dir` and returns the folder.
 fn simulate_into(dir: &Path, seed: &str) -> PathBuf {
+    simulate_with(dir, seed, &[])
+}
+
+/// As [`simulate_into`], with `extra` flags.
+fn simulate_with(dir: &Path, seed: &str, extra: &[&str]) -> PathBuf {
     let out = dir.join(format!("sim-{seed}"));
     footslam()
         .args([
@@ -19,8 +24,9 @@ fn simulate_into(dir: &Path, seed: &str) -> PathBuf {
             seed,
             "--origin",
             "48.15,11.57",
-            "--out",
         ])
+        .args(extra)
+        .arg("--out")
         .arg(&out)
         .assert()
         .success();
@@ -460,20 +466,7 @@ fn a_wifi_log_that_repeats_an_access_point_in_a_scan_is_read_and_counted() {
 fn learn_weighs_the_magnetic_field_when_the_steps_carry_it() {
     use footslam::io::read_steps_with_field;
     let dir = tempfile::tempdir().expect("tempdir");
-    let sim = dir.path().join("sim");
-    footslam()
-        .args([
-            "simulate",
-            "--laps",
-            "1",
-            "--seed",
-            "8",
-            "--magnetometer",
-            "--out",
-        ])
-        .arg(&sim)
-        .assert()
-        .success();
+    let sim = simulate_with(dir.path(), "8", &["--magnetometer"]);
     let steps = sim.join("steps.csv");
     let (trace, field) = read_steps_with_field(&steps).expect("steps");
     assert_eq!(field.expect("field columns").with_vertical(), trace.len());

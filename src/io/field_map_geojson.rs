@@ -17,38 +17,23 @@
 //! (metres), `offset` (`[x, y]` metres the hexagons were moved by, already applied to the
 //! geometry) and `quantity` (`"magnetic field"`).
 
+use super::geojson_file::{hexagon_ring, origin_member, polygon_feature, round_to};
 use crate::error::Result;
 use crate::geometry::{HexGrid, LocalFrame};
 use crate::map::{FieldMapSnapshot, split_level_key};
-use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject};
+use geojson::{FeatureCollection, JsonObject};
 use serde_json::json;
 use std::path::Path;
-
-fn round_to(v: f64, decimals: i32) -> f64 {
-    let scale = 10f64.powi(decimals);
-    (v * scale).round() / scale
-}
 
 /// The field map as a GeoJSON feature collection placed on the globe by `frame`.
 pub fn field_map_to_geojson(map: &FieldMapSnapshot, frame: &LocalFrame) -> FeatureCollection {
     let grid = HexGrid::new(map.radius);
-    let (ox, oy) = map.offset;
     let features = map
         .cells
         .iter()
         .map(|cell| {
             let (level, hex) = split_level_key(cell.key);
-            let mut ring: Vec<Vec<f64>> = grid
-                .corners(cell.key)
-                .iter()
-                .map(|&(x, y)| {
-                    let (lon, lat) = frame.to_lon_lat(x + ox, y + oy);
-                    vec![round_to(lon, 8), round_to(lat, 8)]
-                })
-                .collect();
-            if let Some(first) = ring.first().cloned() {
-                ring.push(first);
-            }
+            let ring = hexagon_ring(&grid, cell.key, map.offset, frame);
             let mut properties = JsonObject::new();
             properties.insert("q".into(), json!(hex.x));
             properties.insert("r".into(), json!(hex.y));
@@ -58,20 +43,10 @@ pub fn field_map_to_geojson(map: &FieldMapSnapshot, frame: &LocalFrame) -> Featu
             if map.components == 2 {
                 properties.insert("vertical_ut".into(), json!(round_to(cell.mean[1], 3)));
             }
-            Feature {
-                bbox: None,
-                geometry: Some(Geometry::new(GeometryValue::new_polygon([ring]))),
-                id: None,
-                properties: Some(properties),
-                foreign_members: None,
-            }
+            polygon_feature(ring, properties)
         })
         .collect();
-    let mut members = JsonObject::new();
-    members.insert(
-        "origin".into(),
-        json!({ "lat": frame.lat, "lon": frame.lon }),
-    );
+    let mut members = origin_member(frame);
     members.insert("cell_radius".into(), json!(map.radius));
     members.insert("offset".into(), json!([map.offset.0, map.offset.1]));
     members.insert("quantity".into(), json!("magnetic field"));

@@ -31,8 +31,8 @@ use geojson::{
 use serde_json::json;
 use std::path::Path;
 
-/// Degrees are rounded to this many decimals (1e-8° is about 1.1 mm of latitude).
-pub const DEGREE_DECIMALS: i32 = 8;
+pub use super::geojson_file::DEGREE_DECIMALS;
+use super::geojson_file::round_to;
 
 /// The plan as a GeoJSON feature collection placed on the globe by `frame`.
 pub fn floor_plan_to_geojson(plan: &FloorPlan, frame: &LocalFrame) -> FeatureCollection {
@@ -164,11 +164,6 @@ pub fn written_degrees(x: f64, y: f64, frame: &LocalFrame) -> (f64, f64) {
         round_to(lon, DEGREE_DECIMALS),
         round_to(lat, DEGREE_DECIMALS),
     )
-}
-
-fn round_to(v: f64, decimals: i32) -> f64 {
-    let scale = 10f64.powi(decimals);
-    (v * scale).round() / scale
 }
 
 /// Appends the surfaces or barriers of `feature` to `out`.

@@ -19,6 +19,55 @@ pub fn origin_member(frame: &LocalFrame) -> JsonObject {
     members
 }
 
+/// `v` rounded to `decimals` decimal places (dividing by the exact power of ten keeps the
+/// printed form short).
+pub fn round_to(v: f64, decimals: i32) -> f64 {
+    let scale = 10f64.powi(decimals);
+    (v * scale).round() / scale
+}
+
+/// Degrees of a written coordinate are rounded to this many decimals (1e-8° is about
+/// 1.1 mm of latitude).
+pub const DEGREE_DECIMALS: i32 = 8;
+
+/// The closed, counter-clockwise `[lon, lat]` ring of hexagon `hex` of `grid`, moved by
+/// `offset` metres, placed on the globe by `frame`.
+pub fn hexagon_ring(
+    grid: &crate::geometry::HexGrid,
+    hex: hexx::Hex,
+    offset: (f64, f64),
+    frame: &LocalFrame,
+) -> Vec<Vec<f64>> {
+    let mut ring: Vec<Vec<f64>> = grid
+        .corners(hex)
+        .iter()
+        .map(|&(x, y)| {
+            let (lon, lat) = frame.to_lon_lat(x + offset.0, y + offset.1);
+            vec![
+                round_to(lon, DEGREE_DECIMALS),
+                round_to(lat, DEGREE_DECIMALS),
+            ]
+        })
+        .collect();
+    if let Some(first) = ring.first().cloned() {
+        ring.push(first);
+    }
+    ring
+}
+
+/// A feature of one polygon with the exterior `ring` (`[lon, lat]` pairs) and `properties`.
+pub fn polygon_feature(ring: Vec<Vec<f64>>, properties: JsonObject) -> geojson::Feature {
+    geojson::Feature {
+        bbox: None,
+        geometry: Some(geojson::Geometry::new(geojson::GeometryValue::new_polygon(
+            [ring],
+        ))),
+        id: None,
+        properties: Some(properties),
+        foreign_members: None,
+    }
+}
+
 /// The frame of a collection read from `path`: `given` when there is one (it overrides the
 /// file's), else the collection's `origin` member, else an error saying what to pass.
 pub fn collection_frame(

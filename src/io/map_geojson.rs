@@ -24,20 +24,18 @@
 //! a learned map, the sum for a merge; read as 1 when absent) and, for maps of several
 //! floors, `levels` (`[{"level", "z"}]`, each floor's height in metres above the first).
 
+use super::geojson_file::{hexagon_ring, origin_member, polygon_feature, round_to};
 use crate::error::{Error, Result};
 use crate::geometry::{HexGrid, LocalFrame};
 use crate::map::hex_transitions::{transition_probabilities, visits};
 use crate::map::{FloorLevel, HexCell, HexMapSnapshot};
-use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject, JsonValue};
+use geojson::{Feature, FeatureCollection, GeometryValue, JsonObject, JsonValue};
 use hexx::Hex;
 use serde_json::json;
 use std::path::Path;
 
 /// Names of the six edges in storage order, as written to the `edge_order` member.
 pub const EDGE_ORDER: [&str; 6] = ["E", "NE", "NW", "W", "SW", "SE"];
-
-/// Degrees are rounded to this many decimals (1e-8° is about 1.1 mm of latitude).
-const DEGREE_DECIMALS: i32 = 8;
 
 /// Level numbers a map file may hold, ±.
 const MAX_LEVEL: i64 = 1000;
@@ -62,11 +60,7 @@ pub fn walks_map_to_geojson(
         .iter()
         .map(|cell| cell_feature(&grid, frame, map.alpha, cell))
         .collect();
-    let mut members = JsonObject::new();
-    members.insert(
-        "origin".into(),
-        json!({ "lat": frame.lat, "lon": frame.lon }),
-    );
+    let mut members = origin_member(frame);
     members.insert("hex_radius".into(), json!(map.radius));
     members.insert("alpha".into(), json!(map.alpha));
     members.insert("edge_order".into(), json!(EDGE_ORDER));
@@ -185,20 +179,7 @@ fn map_and_members(
 }
 
 fn cell_feature(grid: &HexGrid, frame: &LocalFrame, alpha: f64, cell: &HexCell) -> Feature {
-    let mut ring: Vec<Vec<f64>> = grid
-        .corners(cell.hex)
-        .iter()
-        .map(|&(x, y)| {
-            let (lon, lat) = frame.to_lon_lat(x, y);
-            vec![
-                round_to(lon, DEGREE_DECIMALS),
-                round_to(lat, DEGREE_DECIMALS),
-            ]
-        })
-        .collect();
-    if let Some(first) = ring.first().cloned() {
-        ring.push(first);
-    }
+    let ring = hexagon_ring(grid, cell.hex, (0.0, 0.0), frame);
     let p = transition_probabilities(&cell.counts, alpha).map(|p| round_to(p, 4));
     let mut properties = JsonObject::new();
     properties.insert("q".into(), json!(cell.hex.x));
@@ -207,20 +188,7 @@ fn cell_feature(grid: &HexGrid, frame: &LocalFrame, alpha: f64, cell: &HexCell) 
     properties.insert("p".into(), json!(p));
     properties.insert("visits".into(), json!(visits(&cell.counts)));
     properties.insert("level".into(), json!(cell.level));
-    Feature {
-        bbox: None,
-        geometry: Some(Geometry::new(GeometryValue::new_polygon([ring]))),
-        id: None,
-        properties: Some(properties),
-        foreign_members: None,
-    }
-}
-
-/// `v` rounded to `decimals` decimal places (dividing by the exact power of ten keeps the
-/// printed form short).
-fn round_to(v: f64, decimals: i32) -> f64 {
-    let scale = 10f64.powi(decimals);
-    (v * scale).round() / scale
+    polygon_feature(ring, properties)
 }
 
 /// `(frame, hex_radius, alpha)` from the collection's foreign members.
