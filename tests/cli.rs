@@ -471,11 +471,38 @@ fn learn_weighs_the_magnetic_field_when_the_steps_carry_it() {
     let (trace, field) = read_steps_with_field(&steps).expect("steps");
     assert_eq!(field.expect("field columns").with_vertical(), trace.len());
     footslam()
-        .args(["simulate", "--building", "tower", "--magnetometer", "--out"])
-        .arg(dir.path().join("tower"))
+        .args([
+            "simulate",
+            "--building",
+            "campus",
+            "--magnetometer",
+            "--out",
+        ])
+        .arg(dir.path().join("campus"))
         .assert()
         .failure()
-        .stderr(predicates::str::contains("office"));
+        .stderr(predicates::str::contains("campus"));
+    // The tower's field has one map per floor; its walks read it on every floor.
+    let tower = dir.path().join("tower");
+    footslam()
+        .args([
+            "simulate",
+            "--building",
+            "tower",
+            "--minutes",
+            "3",
+            "--magnetometer",
+        ])
+        .args(["--seed", "2", "--out"])
+        .arg(&tower)
+        .assert()
+        .success();
+    let (tower_steps, tower_field) =
+        read_steps_with_field(&tower.join("steps.csv")).expect("steps");
+    assert_eq!(
+        tower_field.expect("field columns").observed(),
+        tower_steps.len()
+    );
     let out = dir.path().join("learned");
     learn(&steps, &out, &[])
         .success()

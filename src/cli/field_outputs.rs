@@ -23,9 +23,9 @@ pub(super) fn write_field_map_png(
         .cells
         .iter()
         .map(|c| {
-            let (level, _) = split_level_key(c.key);
+            let (level, hex) = split_level_key(c.key);
             let ring: Vec<(f64, f64)> = grid
-                .corners(c.key)
+                .corners(hex)
                 .iter()
                 .map(|&(x, y)| (x + ox, y + oy))
                 .collect();

@@ -9,7 +9,7 @@ use footslam::geometry::path_length;
 use footslam::io::RunFolder;
 use footslam::io::floor_plan_geojson::write_floor_plan;
 use footslam::io::radio_truth_csv::{write_access_points, write_radio_field};
-use footslam::io::steps_csv::{write_steps, write_steps_with_field};
+use footslam::io::steps_csv::write_steps_with_field;
 use footslam::io::truth_csv::write_truth;
 use footslam::io::write_wifi;
 use footslam::render::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, write_plan_png};
@@ -57,8 +57,10 @@ struct TowerSummary {
 
 /// Runs `footslam simulate`.
 pub fn run(args: Args) -> Result<()> {
-    if args.magnetometer && args.building != Building::Office {
-        anyhow::bail!("--magnetometer simulates the office's field only (use --building office)");
+    if args.magnetometer && args.building == Building::Campus {
+        anyhow::bail!(
+            "--magnetometer simulates the office's and the tower's field, not the campus's"
+        );
     }
     match args.building {
         Building::Office => run_office(args),
@@ -101,6 +103,9 @@ fn tower_config(args: &Args) -> Result<TowerSimConfig> {
     if let Some(sensor) = args.sensor {
         config.noise = sensor.noise();
     }
+    if args.magnetometer {
+        config.field.enabled = true;
+    }
     if let Some(s) = args.seed {
         config.seed = s;
     }
@@ -135,7 +140,7 @@ fn write_tower_files(
     origin: &LocalFrame,
 ) -> Result<Vec<(f64, f64, i32)>> {
     write_floor_plan(&folder.path("floor.geojson"), &sim.plan, origin)?;
-    write_steps(&folder.path("steps.csv"), &sim.steps)?;
+    write_steps_with_field(&folder.path("steps.csv"), &sim.steps, sim.field.as_ref())?;
     write_truth(&folder.path("truth.csv"), &sim.truth)?;
     write_wifi(&folder.path("wifi.csv"), &sim.wifi)?;
     let aps = sim.radio.access_points();

@@ -62,8 +62,8 @@ pub struct Args {
     /// (overrides the config file's `walk_out`).
     #[arg(long)]
     pub(super) entrance_only: bool,
-    /// Office: the steps carry a magnetometer's reading of the building's field (`field`,
-    /// `field_up`; overrides the config file's `field.enabled`).
+    /// Office, tower: the steps carry a magnetometer's reading of the building's field
+    /// (`field`, `field_up`; overrides the config file's `field.enabled`).
     #[arg(long)]
     pub(super) magnetometer: bool,
     /// Campus: the steps carry a compass's absolute `heading` (overrides the config file's

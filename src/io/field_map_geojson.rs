@@ -33,7 +33,7 @@ pub fn field_map_to_geojson(map: &FieldMapSnapshot, frame: &LocalFrame) -> Featu
         .iter()
         .map(|cell| {
             let (level, hex) = split_level_key(cell.key);
-            let ring = hexagon_ring(&grid, cell.key, map.offset, frame);
+            let ring = hexagon_ring(&grid, hex, map.offset, frame);
             let mut properties = JsonObject::new();
             properties.insert("q".into(), json!(hex.x));
             properties.insert("r".into(), json!(hex.y));
@@ -94,6 +94,14 @@ mod tests {
         };
         let fc = field_map_to_geojson(&map, &frame);
         assert_eq!(fc.features.len(), 2);
+        // Each level's hexagons lie where that floor's are, not at their stacked key.
+        let ring = |i: usize| match &fc.features[i].geometry.as_ref().unwrap().value {
+            geojson::GeometryValue::Polygon { coordinates } => coordinates[0].clone(),
+            other => panic!("{other:?}"),
+        };
+        for corner in ring(1) {
+            assert!((corner[0] - 11.57).abs() < 1e-3 && (corner[1] - 48.15).abs() < 1e-3);
+        }
         let p = fc.features[1].properties.as_ref().unwrap();
         assert_eq!((p["q"].as_i64(), p["r"].as_i64()), (Some(2), Some(-1)));
         assert_eq!(p["level"].as_i64(), Some(1));

@@ -1,5 +1,7 @@
 //! A building's magnetic field for simulated walks: the Earth's field bent by steel, and a
-//! magnetometer that reads it over each step ([`crate::sensor::StepField`]).
+//! magnetometer that reads it over each step ([`crate::sensor::StepField`]). The
+//! simulators draw it over the building's plan from `field.seed`, so that walks of one
+//! building read one field ([`MagneticWorld::of_plan`]).
 //!
 //! The field at a point is the Earth's (`earth_ut`, dipping `inclination` below the
 //! horizon, pointing north) plus one anomaly per `anomaly_spacing_m`² of floor: a random
@@ -8,6 +10,7 @@
 //! place and the level only, as indoor fields do over the minutes of a walk. Each step's
 //! reading is the field at its end point plus white noise `noise_ut` (per component).
 
+use crate::map::FloorPlan;
 use crate::random::gauss;
 use crate::sensor::{StepField, StepFields, TruePath};
 use rand::{RngExt, SeedableRng};
@@ -20,6 +23,9 @@ use serde::{Deserialize, Serialize};
 pub struct FieldSimConfig {
     /// Give each step a field reading (`steps.csv`'s `field`, `field_up`). Default false.
     pub enabled: bool,
+    /// Seed of the anomalies: walks of one building with the same seed read one field.
+    /// Default 0.
+    pub seed: u64,
     /// The Earth's field strength, µT. Default 48.
     pub earth_ut: f64,
     /// Its inclination below the horizon, radians. Default 65°.
@@ -38,6 +44,7 @@ impl Default for FieldSimConfig {
     fn default() -> Self {
         Self {
             enabled: false,
+            seed: 0,
             earth_ut: 48.0,
             inclination: 65f64.to_radians(),
             anomaly_ut: 8.0,
@@ -83,8 +90,6 @@ impl MagneticWorld {
     /// Anomalies over the area of `truth` (with a margin of three fading lengths), on each
     /// level it visits, drawn from `seed`.
     pub fn around(truth: &TruePath, config: FieldSimConfig, seed: u64) -> Self {
-        let mut rng = Pcg64Mcg::seed_from_u64(seed);
-        let margin = 3.0 * config.anomaly_length_m;
         let mut levels: Vec<i32> = truth.poses.iter().map(|p| p.level).collect();
         levels.sort_unstable();
         levels.dedup();
@@ -92,17 +97,45 @@ impl MagneticWorld {
         for p in &truth.poses {
             (x0, y0, x1, y1) = (x0.min(p.x), y0.min(p.y), x1.max(p.x), y1.max(p.y));
         }
-        let mut anomalies = Vec::new();
-        if !truth.poses.is_empty() {
-            let area = (x1 - x0 + 2.0 * margin) * (y1 - y0 + 2.0 * margin);
-            let count = (area / config.anomaly_spacing_m.powi(2)).ceil() as usize;
-            for &level in &levels {
-                for _ in 0..count {
-                    let x = rng.random_range(x0 - margin..=x1 + margin);
-                    let y = rng.random_range(y0 - margin..=y1 + margin);
-                    let v = [0; 3].map(|_| config.anomaly_ut * gauss(&mut rng));
-                    anomalies.push((x, y, level, v));
-                }
+        if truth.poses.is_empty() {
+            return Self {
+                config,
+                anomalies: Vec::new(),
+            };
+        }
+        Self::over((x0, y0, x1, y1), &levels, config, seed)
+    }
+
+    /// A building's field: anomalies over the plan's extent (with the margin) on each of its
+    /// levels, drawn from `config.seed`, so that every walk of the building reads the same.
+    pub fn of_plan(plan: &FloorPlan, config: FieldSimConfig) -> Self {
+        match plan.bounds() {
+            Some(b) => Self::over(b, &plan.levels(), config, config.seed),
+            None => Self {
+                config,
+                anomalies: Vec::new(),
+            },
+        }
+    }
+
+    /// Anomalies over `(x0, y0, x1, y1)` with a margin of three fading lengths, on `levels`.
+    fn over(
+        (x0, y0, x1, y1): (f64, f64, f64, f64),
+        levels: &[i32],
+        config: FieldSimConfig,
+        seed: u64,
+    ) -> Self {
+        let mut rng = Pcg64Mcg::seed_from_u64(seed);
+        let margin = 3.0 * config.anomaly_length_m;
+        let area = (x1 - x0 + 2.0 * margin) * (y1 - y0 + 2.0 * margin);
+        let count = (area / config.anomaly_spacing_m.powi(2)).ceil() as usize;
+        let mut anomalies = Vec::with_capacity(count * levels.len());
+        for &level in levels {
+            for _ in 0..count {
+                let x = rng.random_range(x0 - margin..=x1 + margin);
+                let y = rng.random_range(y0 - margin..=y1 + margin);
+                let v = [0; 3].map(|_| config.anomaly_ut * gauss(&mut rng));
+                anomalies.push((x, y, level, v));
             }
         }
         Self { config, anomalies }

@@ -77,10 +77,8 @@ const NOISE_STREAM: u64 = 2;
 const RADIO_STREAM: u64 = 3;
 /// Stream number of the WiFi scans' noise and timing.
 const SCAN_STREAM: u64 = 4;
-/// Stream number of the magnetic field's anomalies.
-const FIELD_STREAM: u64 = 5;
 /// Stream number of the magnetometer's noise.
-const MAGNETOMETER_STREAM: u64 = 6;
+const MAGNETOMETER_STREAM: u64 = 5;
 
 /// Everything a simulation needs; every default in one place:
 ///
@@ -90,7 +88,7 @@ const MAGNETOMETER_STREAM: u64 = 6;
 /// | `office` | 30 m × 18 m corridor loop, 1.8 m wide; 16 rooms 4 m × 4 m; 0.9 m doors; 0.2 m walls ([`OfficeConfig`]) |
 /// | `walk`   | 3 laps, 2–4 rooms per lap (half revisits after the first), 0.7 ± 0.05 m strides at 1.8 Hz ([`WalkConfig`]) |
 /// | `noise`  | 0.02 m stride noise, 0.5° heading-change noise, 15° total drift, 0.02 m height noise ([`StepNoiseConfig`]) |
-/// | `field`  | off; when on, a 48 µT field dipping 65° with a steel anomaly per 2.5 m square, read at 0.4 µT ([`FieldSimConfig`]) |
+/// | `field`  | off; when on, a 48 µT field dipping 65° with a steel anomaly per 2.5 m square over the plan (from `field.seed`), read at 0.4 µT ([`FieldSimConfig`]) |
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SimConfig {
@@ -141,7 +139,7 @@ pub fn simulate(config: &SimConfig) -> Result<Simulation> {
         stream_seed(config.seed, NOISE_STREAM),
     )?;
     let field = config.field.enabled.then(|| {
-        MagneticWorld::around(&truth, config.field, stream_seed(config.seed, FIELD_STREAM))
+        MagneticWorld::of_plan(&office.plan, config.field)
             .readings_along(&truth, stream_seed(config.seed, MAGNETOMETER_STREAM))
     });
     Ok(Simulation {
@@ -161,6 +159,7 @@ pub fn simulate(config: &SimConfig) -> Result<Simulation> {
 /// | `walk`     | 12 minutes from a random start, 35 % of legs to another floor ([`TowerWalkConfig`]) |
 /// | `noise`    | foot-mounted-grade step errors ([`StepNoiseConfig`])                  |
 /// | `wifi`     | 8 access points a floor, scans every 2 s ([`WifiSimConfig`]); the access points and shadowing come from `wifi.radio_seed`, so walks of one building share them |
+/// | `field`    | off; as the office's ([`FieldSimConfig`]), one field per floor from `field.seed` |
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TowerSimConfig {
@@ -174,6 +173,8 @@ pub struct TowerSimConfig {
     pub noise: StepNoiseConfig,
     /// The access points and the receiver's scans.
     pub wifi: WifiSimConfig,
+    /// The building's magnetic field and the magnetometer's readings of it.
+    pub field: FieldSimConfig,
 }
 
 /// A simulated multi-floor walk.
@@ -191,6 +192,8 @@ pub struct TowerSimulation {
     pub radio: RadioWorld,
     /// The WiFi scans recorded along the walk.
     pub wifi: Vec<crate::sensor::WifiScan>,
+    /// The magnetometer's reading at each step, when `field.enabled`.
+    pub field: Option<StepFields>,
 }
 
 impl TowerSimulation {
@@ -219,6 +222,7 @@ pub fn simulate_tower(config: &TowerSimConfig) -> Result<TowerSimulation> {
     config.walk.validate()?;
     config.noise.validate()?;
     config.wifi.validate()?;
+    config.field.validate()?;
     let tower = Tower::new(&config.building)?;
     let topology =
         crate::map::FloorTopology::build(&tower.plan, &crate::map::TopologyConfig::default())?;
@@ -240,6 +244,10 @@ pub fn simulate_tower(config: &TowerSimConfig) -> Result<TowerSimulation> {
         stream_seed(config.wifi.radio_seed, RADIO_STREAM),
     )?;
     let wifi = radio.scans_along(&start, &truth, stream_seed(config.seed, SCAN_STREAM));
+    let field = config.field.enabled.then(|| {
+        MagneticWorld::of_plan(&tower.plan, config.field)
+            .readings_along(&truth, stream_seed(config.seed, MAGNETOMETER_STREAM))
+    });
     Ok(TowerSimulation {
         plan: tower.plan,
         start,
@@ -247,6 +255,7 @@ pub fn simulate_tower(config: &TowerSimConfig) -> Result<TowerSimulation> {
         steps,
         radio,
         wifi,
+        field,
     })
 }
 
