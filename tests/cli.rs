@@ -33,6 +33,18 @@ fn simulate_with(dir: &Path, seed: &str, extra: &[&str]) -> PathBuf {
     out
 }
 
+/// Simulates a tower walk of `minutes` into `out`, with `extra` flags.
+fn simulate_tower(out: &Path, minutes: &str, seed: &str, extra: &[&str]) {
+    footslam()
+        .args(["simulate", "--building", "tower", "--minutes", minutes])
+        .args(["--seed", seed])
+        .args(extra)
+        .arg("--out")
+        .arg(out)
+        .assert()
+        .success();
+}
+
 fn learn(steps: &Path, out: &Path, extra: &[&str]) -> assert_cmd::assert::Assert {
     let seed = if extra.contains(&"--seed") {
         &[][..]
@@ -421,20 +433,7 @@ fn eval_moves_a_track_into_the_truths_frame() {
 fn a_wifi_log_that_repeats_an_access_point_in_a_scan_is_read_and_counted() {
     let dir = tempfile::tempdir().expect("tempdir");
     let d = dir.path();
-    footslam()
-        .args([
-            "simulate",
-            "--building",
-            "tower",
-            "--minutes",
-            "2",
-            "--seed",
-            "3",
-            "--out",
-        ])
-        .arg(d.join("sim"))
-        .assert()
-        .success();
+    simulate_tower(&d.join("sim"), "2", "3", &[]);
     // Real logs list an access point twice in a scan now and then: repeat the first row.
     let wifi = std::fs::read_to_string(d.join("sim/wifi.csv")).expect("wifi");
     let mut lines: Vec<&str> = wifi.lines().collect();
@@ -484,19 +483,7 @@ fn learn_weighs_the_magnetic_field_when_the_steps_carry_it() {
         .stderr(predicates::str::contains("campus"));
     // The tower's field has one map per floor; its walks read it on every floor.
     let tower = dir.path().join("tower");
-    footslam()
-        .args([
-            "simulate",
-            "--building",
-            "tower",
-            "--minutes",
-            "3",
-            "--magnetometer",
-        ])
-        .args(["--seed", "2", "--out"])
-        .arg(&tower)
-        .assert()
-        .success();
+    simulate_tower(&tower, "3", "2", &["--magnetometer"]);
     let (tower_steps, tower_field) =
         read_steps_with_field(&tower.join("steps.csv")).expect("steps");
     assert_eq!(

@@ -2,7 +2,7 @@
 //! coloured by the mean field magnitude, the learned path over them, and a colour bar.
 
 use anyhow::Result;
-use footslam::geometry::HexGrid;
+use footslam::geometry::{HexGrid, nearest_rank};
 use footslam::map::{FieldMapSnapshot, FloorPlan, FloorPolygon, split_level_key};
 use footslam::render::plan_png::{
     ColourBar, PlanCell, PlanPath, PlanPicture, PlanPictureConfig, viridis_rgb, write_plan_png,
@@ -35,8 +35,7 @@ pub(super) fn write_field_map_png(
         .collect();
     let mut sorted: Vec<f64> = hexagons.iter().map(|h| h.2).collect();
     sorted.sort_by(f64::total_cmp);
-    let at = |q: f64| sorted[((sorted.len() - 1) as f64 * q).round() as usize];
-    let (low, high) = (at(0.02), at(0.98));
+    let (low, high) = (nearest_rank(&sorted, 2), nearest_rank(&sorted, 98));
     let span = (high - low).max(1e-9);
     // The hexagons themselves are the plan: the learned field's extent.
     let plan = FloorPlan {

@@ -9,6 +9,7 @@
 //! A step whose mean specific force is far from 1 g (a swinging or falling sensor) has no
 //! vertical part.
 
+use super::heading_fusion::dot;
 use crate::sensor::{ImuRecording, StepField, StepFields, StepTrace};
 
 /// Standard gravity, m/s².
@@ -16,10 +17,6 @@ const G: f64 = 9.806_65;
 /// The mean specific force over a step must be within this share of 1 g for it to stand
 /// for gravity's direction.
 const GRAVITY_TOLERANCE: f64 = 0.15;
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
 
 /// The upward (east-north-up z) component of sensor-frame vector `v` under orientation
 /// `q = [x, y, z, w]` (sensor → ENU): the third row of the rotation matrix times `v`.

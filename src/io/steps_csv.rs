@@ -10,7 +10,7 @@ use std::path::Path;
 
 /// Reads and validates a step trace; errors name the file and line.
 pub fn read_steps(path: &Path) -> Result<StepTrace> {
-    Ok(steps_from_table(CsvTable::open(path)?)?.0)
+    Ok(read_steps_with_field(path)?.0)
 }
 
 /// Reads and validates a step trace and, when the file has a `field` column, the magnetic
@@ -22,7 +22,7 @@ pub fn read_steps_with_field(path: &Path) -> Result<(StepTrace, Option<StepField
 /// Reads and validates a step trace from CSV `text` (the file format's header and rows),
 /// as [`read_steps`] reads a file; errors name the table `name` and the 0-based data row.
 pub fn steps_from_str(text: &str, name: &str) -> Result<StepTrace> {
-    Ok(steps_from_table(CsvTable::from_text(text, name)?)?.0)
+    Ok(steps_with_field_from_str(text, name)?.0)
 }
 
 /// Reads a step trace and its magnetic field from CSV `text`, as [`read_steps_with_field`]

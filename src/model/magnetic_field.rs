@@ -37,6 +37,7 @@
 
 use crate::geometry::{HexGrid, Pose2};
 use crate::map::{FieldMap, level_key};
+use crate::sensor::step::dead_reckon;
 use crate::sensor::{Step, StepFields};
 use serde::{Deserialize, Serialize};
 
@@ -322,14 +323,12 @@ impl FieldEvidence {
         if !config.enabled {
             return unused(FieldUnused::Disabled, None);
         }
-        let path = crate::sensor::StepTrace::new(steps.to_vec())
-            .map(|t| t.dead_reckon(Pose2::default()))
-            .unwrap_or_default();
+        let path = dead_reckon(steps, Pose2::default());
         let r = config.cell_radius_m;
         let mut near = Vec::new();
-        for i in 0..readings.len().min(path.len()) {
+        for i in 0..readings.len() {
             let Some(a) = readings[i] else { continue };
-            for j in i + 1..readings.len().min(path.len()) {
+            for j in i + 1..readings.len() {
                 if steps[j].t - steps[i].t > NEAR_WINDOW_S {
                     break;
                 }

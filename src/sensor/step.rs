@@ -97,17 +97,23 @@ impl StepTrace {
     }
 
     /// Dead-reckoned poses from `start`, one per step (after the step), by
-    /// Woodman & Harle eq. 9–11.
+    /// Woodman & Harle eq. 9–11 ([`dead_reckon`]).
     pub fn dead_reckon(&self, start: crate::geometry::Pose2) -> Vec<crate::geometry::Pose2> {
-        let mut pose = start;
-        self.steps
-            .iter()
-            .map(|s| {
-                pose = pose.step(s.length, s.dheading);
-                pose
-            })
-            .collect()
+        dead_reckon(&self.steps, start)
     }
+}
+
+/// `steps` dead-reckoned from `start`, one pose per step (after the step), by Woodman &
+/// Harle eq. 9–11.
+pub fn dead_reckon(steps: &[Step], start: crate::geometry::Pose2) -> Vec<crate::geometry::Pose2> {
+    let mut pose = start;
+    steps
+        .iter()
+        .map(|s| {
+            pose = pose.step(s.length, s.dheading);
+            pose
+        })
+        .collect()
 }
 
 /// The share of the step from the step event at `previous` to the one at `t` walked at
