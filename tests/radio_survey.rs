@@ -355,6 +355,55 @@ fn survey_and_track_write_the_radio_figures_and_refuse_what_they_cannot_use() {
             predicate::str::contains("--rf-epsilon")
                 .and(predicate::str::contains("footslam survey")),
         );
+    // A sparse map (the survey's cells on the start floor only): radio evidence by default,
+    // an answer at every step with its spread and share, scored every row by eval.
+    let mut sparse = json(&radiomap);
+    for feature in sparse["features"].as_array_mut().expect("features") {
+        let properties = feature["properties"].as_object_mut().expect("properties");
+        if properties["level"].as_i64() != Some(0) {
+            properties.insert("scans".into(), serde_json::json!(0));
+            properties.insert("aps".into(), serde_json::json!({}));
+        }
+    }
+    let sparse_path = dir.path().join("sparse.geojson");
+    std::fs::write(&sparse_path, sparse.to_string()).expect("write");
+    let run = dir.path().join("track-sparse");
+    track_with_map(&other, &sparse_path, &run)
+        .arg("--wifi")
+        .arg(other.join("wifi.csv"))
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("evidence measurements"));
+    let rf = &json(&run.join("summary.json"))["rf"];
+    assert_eq!(rf["mode"], "evidence", "{rf}");
+    let evidence = &rf["evidence"];
+    assert!(
+        evidence["bands_used"].as_u64().expect("bands") >= 1,
+        "{evidence}"
+    );
+    assert!(
+        evidence["cells_in_reach"].as_u64() < evidence["cells"].as_u64(),
+        "{evidence}"
+    );
+    let steps = std::fs::read_to_string(other.join("steps.csv"))
+        .expect("steps")
+        .lines()
+        .count();
+    let track = std::fs::read_to_string(run.join("track.csv")).expect("track");
+    assert_eq!(track.lines().count(), steps, "a row per step");
+    for row in track.lines().skip(1) {
+        let cols: Vec<f64> = row.split(',').map(|c| c.parse().expect("number")).collect();
+        let (spread, share) = (cols[7], cols[8]);
+        assert!(spread >= 0.0 && share > 0.0 && share <= 1.0, "{row}");
+    }
+    footslam()
+        .args(["eval", "--all-rows", "--truth"])
+        .arg(other.join("truth.csv"))
+        .arg("--track")
+        .arg(run.join("track.csv"))
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("uncertain").not());
     // A radio map needs its scans, and a map of another place is refused.
     track_with_map(&other, &radiomap, &dir.path().join("no-wifi"))
         .assert()

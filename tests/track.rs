@@ -99,7 +99,7 @@ fn track_writes_every_output_and_localises() {
     // The smoothed answer: one row per step, those before localisation included, each
     // saying whether the walk settles it; here the whole walk does.
     let text = std::fs::read_to_string(out.join("track.csv")).expect("track");
-    assert!(text.starts_with("t,x,y,z,level,certain,hypotheses\n"));
+    assert!(text.starts_with("t,x,y,z,level,certain,hypotheses,spread,share\n"));
     assert_eq!(text.lines().count() as u64 - 1, steps, "a row per step");
     let smoothing = &summary["smoothing"];
     assert_eq!(smoothing["steps_certain"].as_u64(), Some(steps));

@@ -73,6 +73,10 @@ class SmoothedColumns(PathColumns, total=False):
     certain: Bools
     """One hypothesis, no wider than the localisation spread, remains at this step."""
     hypotheses: Ints
+    spread: Floats
+    """RMS distance of the answer's hypothesis' particles from its position, metres."""
+    share: Floats
+    """The answer's hypothesis' share of the belief, 0 to 1."""
 
 class LearnedColumns(PathColumns):
     spread_m: Floats

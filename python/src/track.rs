@@ -17,8 +17,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use serde_json::json;
 
-/// One smoothed row of the answer: the point, certain, hypotheses.
-type SmoothedRow = (TrackPoint, bool, usize);
+/// One smoothed row of the answer: the point, certain, hypotheses, spread, share.
+type SmoothedRow = (TrackPoint, bool, usize, f64, f64);
 
 /// What a tracking run gives, ready for Python.
 struct TrackOut {
@@ -57,7 +57,8 @@ fn present<'a, 'py>(obj: Option<&'a Bound<'py, PyAny>>) -> Option<&'a Bound<'py,
 ///     seed: overrides the configuration's.
 ///     ignore_heading: ignore the steps' absolute ``heading`` column.
 ///     online: causal answers only (no smoothing): ``track`` is then the filtered track.
-///     rf_mode: ``"containment"``, ``"probabilistic"`` or ``"prior-only"``.
+///     rf_mode: ``"auto"`` (the default), ``"evidence"``, ``"containment"``,
+///         ``"probabilistic"`` or ``"prior-only"``.
 ///     rf_distance: ``"paper"`` or ``"sqrt"``; rf_epsilon: the region threshold, dBm;
 ///     rf_every_step: apply the latest scan at every step.
 ///     threads: worker threads (default: one per core); results do not depend on it.
@@ -68,7 +69,7 @@ fn present<'a, 'py>(obj: Option<&'a Bound<'py, PyAny>>) -> Option<&'a Bound<'py,
 ///
 /// Returns:
 ///     dict: ``track`` — the answer, columns ``t`` (s), ``x``, ``y``, ``z`` (m, local
-///     frame), ``level``, ``certain`` (bool), ``hypotheses``: one row per step with a
+///     frame), ``level``, ``certain`` (bool), ``hypotheses``, ``spread`` (m), ``share``: one row per step with a
 ///     smoothed estimate, as ``track.csv``; ``filtered`` — each step's estimate as the
 ///     filter saw it, from localisation on (``t, x, y, z, level``, as
 ///     ``track_filtered.csv``); ``steps`` — per step ``particles``, ``clusters`` (-1: not
@@ -122,13 +123,15 @@ pub(crate) fn track<'py>(
     }
     if let Some(m) = rf_mode {
         config.rf.mode = match m {
+            "auto" => RfMode::Auto,
+            "evidence" => RfMode::Evidence,
             "containment" => RfMode::Containment,
             "probabilistic" => RfMode::Probabilistic,
             "prior-only" | "prior_only" => RfMode::PriorOnly,
             other => {
                 return Err(PyValueError::new_err(format!(
-                    "rf_mode must be \"containment\", \"probabilistic\" or \"prior-only\", got \
-                     {other:?}"
+                    "rf_mode must be \"auto\", \"evidence\", \"containment\", \"probabilistic\" \
+                     or \"prior-only\", got {other:?}"
                 )));
             }
         };
@@ -249,7 +252,7 @@ pub(crate) fn track<'py>(
                         z: c.z,
                         level: c.level,
                     };
-                    Some((point, k.certain, k.hypotheses))
+                    Some((point, k.certain, k.hypotheses, c.spread, c.weight))
                 })
                 .collect::<Vec<SmoothedRow>>()
         });
@@ -270,6 +273,8 @@ pub(crate) fn track<'py>(
                     .position(|r| r.particles() > 0)
                     .map(|i| i + 1),
                 "measurements_ignored": run.measurements_ignored,
+                "evidence": localiser.evidence(),
+                "evidence_fallback": localiser.fallback(),
             })
         });
         let summary = json!({
@@ -352,7 +357,8 @@ pub(crate) fn track<'py>(
     Ok(result)
 }
 
-/// Columns `t, x, y, z, level` (and, for the smoothed answer, `certain, hypotheses`).
+/// Columns `t, x, y, z, level` (and, for the smoothed answer, `certain, hypotheses,
+/// spread, share`).
 fn points<'py>(
     py: Python<'py>,
     p: &[TrackPoint],
@@ -374,6 +380,8 @@ fn points<'py>(
             "hypotheses",
             Column::I64(rows.iter().map(|r| r.2 as i64).collect()),
         ));
+        cols.push(("spread", Column::F64(rows.iter().map(|r| r.3).collect())));
+        cols.push(("share", Column::F64(rows.iter().map(|r| r.4).collect())));
     }
     columns(py, cols)
 }

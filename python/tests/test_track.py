@@ -71,6 +71,9 @@ def test_track_matches_the_cli(cli, sim, config_file, tmp_path):
     assert_points(got["track"], expected)
     np.testing.assert_array_equal(got["track"]["certain"], expected["certain"] == 1)
     np.testing.assert_array_equal(got["track"]["hypotheses"], expected["hypotheses"])
+    np.testing.assert_allclose(got["track"]["spread"], expected["spread"], atol=0.006)
+    np.testing.assert_allclose(got["track"]["share"], expected["share"], atol=0.0006)
+    assert ((got["track"]["share"] > 0) & (got["track"]["share"] <= 1)).all()
     assert_points(got["filtered"], read_csv(tmp_path / "track_filtered.csv"))
     summary = read_json(tmp_path / "summary.json")
     assert got["summary"]["steps_to_localise"] == summary["steps_to_localise"]

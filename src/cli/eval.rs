@@ -36,9 +36,13 @@ pub struct Args {
     /// Estimated track CSV with `t,x,y` columns (e.g. learn's or track's track.csv); with
     /// `z` and `level` columns in both files, the share on the right floor is reported too.
     /// Rows a `certain` column marks 0 (track's smoothed steps whose place the walk leaves
-    /// ambiguous) are left out and counted.
+    /// ambiguous) are left out and counted, unless `--all-rows`.
     #[arg(long)]
     track: PathBuf,
+    /// Score every row of the track, uncertain ones (`certain = 0`) too: the answer a user
+    /// gets at every step, however sure.
+    #[arg(long)]
+    all_rows: bool,
     /// Alignment before measuring: `none` (absolute) or `rigid` (best rotation and
     /// translation, for maps learned without absolute anchors).
     #[arg(long, value_enum, default_value = "none")]
@@ -101,7 +105,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     require_file(&truth_path, "truth file")?;
     let truth = read_trajectory(&truth_path)?;
-    let (mut track, uncertain) = read_certain_trajectory(&args.track)?;
+    let (mut track, uncertain) = read_scored_rows(&args)?;
     let reprojected = reproject_to_truth(&truth_path, &args.track, &mut track);
     let alignment = Alignment::from(args.align);
     let report = position_errors(&truth, &track, alignment)?;
@@ -276,6 +280,16 @@ fn print_summary(o: &Outcome) {
     }
 }
 
+/// The track's rows to score (all with `--all-rows`, else the certain ones) and the number
+/// of uncertain rows left out.
+fn read_scored_rows(args: &Args) -> Result<(Vec<TimedPoint>, usize)> {
+    Ok(if args.all_rows {
+        (read_trajectory(&args.track)?, 0)
+    } else {
+        read_certain_trajectory(&args.track)?
+    })
+}
+
 /// Says how many smoothed rows were left out as uncertain (none said when none).
 fn note_uncertain(rows: usize) {
     if rows > 0 {
@@ -324,7 +338,7 @@ fn run_waypoints(args: Args) -> Result<()> {
     }
     require_file(path, "waypoints file")?;
     let waypoints = read_waypoints(path)?;
-    let (track, uncertain) = read_certain_trajectory(&args.track)?;
+    let (track, uncertain) = read_scored_rows(&args)?;
     let alignment = Alignment::from(args.align);
     let errors = waypoint_errors(&waypoints, &track, alignment)
         .with_context(|| format!("{} against {}", args.track.display(), path.display()))?;

@@ -96,8 +96,11 @@ pub struct Args {
     /// WiFi log CSV (`t,bssid,rssi[,ssid,freq]`) of the walk, on the step trace's clock.
     #[arg(long, requires = "radiomap")]
     wifi: Option<PathBuf>,
-    /// How scans weight particles after the prior region: `containment` (eqs. 12–13, the
-    /// default), `probabilistic` (eq. 14) or `prior-only`.
+    /// How scans weigh the particles: `auto` (the default: `evidence` on a radio map that
+    /// covers less than 60 % of its cells, else `containment`), `evidence` (likelihood ratios
+    /// calibrated on the radio map, which rule out no place the map does not know;
+    /// containment regions where the map is too sparse to calibrate them), `containment`
+    /// (eqs. 12–13), `probabilistic` (eq. 14) or `prior-only`.
     #[arg(long, value_enum)]
     rf_mode: Option<RfModeArg>,
     /// The scan-to-cell distance's divisor: `paper` (the number k of access points a cell
@@ -134,6 +137,8 @@ enum RfModeArg {
     Containment,
     Probabilistic,
     PriorOnly,
+    Evidence,
+    Auto,
 }
 
 /// Parses `X,Y[,HEADING[,LEVEL]]` ([`StartPose`]'s `FromStr`), for clap.
@@ -278,6 +283,12 @@ fn read_inputs(args: &Args, config: &TrackerConfig) -> Result<Inputs> {
                     map_path.display()
                 )
             })?;
+            if let Some(why) = localiser.fallback() {
+                super::common::warn(&format!(
+                    "{}: {why}; containment regions are used instead of radio evidence",
+                    map_path.display()
+                ));
+            }
             Some(RadioFiles {
                 map_path: map_path.clone(),
                 wifi_path: wifi_path.clone(),
@@ -332,6 +343,8 @@ fn summary<'r>(
                 .position(|r| r.particles() > 0)
                 .map(|i| i + 1),
             measurements_ignored: run.measurements_ignored,
+            evidence: r.localiser.evidence().cloned(),
+            evidence_fallback: r.localiser.fallback().map(str::to_owned),
         }),
         headings_used: run.headings_used > 0,
         steps_with_heading: inputs.steps_with_heading,
@@ -401,6 +414,8 @@ fn tracker_config(args: &Args) -> Result<TrackerConfig> {
             RfModeArg::Containment => RfMode::Containment,
             RfModeArg::Probabilistic => RfMode::Probabilistic,
             RfModeArg::PriorOnly => RfMode::PriorOnly,
+            RfModeArg::Evidence => RfMode::Evidence,
+            RfModeArg::Auto => RfMode::Auto,
         };
     }
     if args.rf_epsilon.is_some() {
@@ -470,6 +485,8 @@ fn write_tracks(
                         point,
                         certain: k.certain,
                         hypotheses: k.hypotheses,
+                        spread: c.spread,
+                        share: c.weight,
                     })
                 });
             write_smoothed_track(&folder.path("track.csv"), points)?;

@@ -72,6 +72,10 @@ pub(super) struct RfSummary {
     pub(super) started_at_step: Option<usize>,
     /// Scans no particle was consistent with (ignored).
     pub(super) measurements_ignored: usize,
+    /// The radio evidence's calibration (`--rf-mode evidence`).
+    pub(super) evidence: Option<footslam::model::EvidenceCalibration>,
+    /// Why the radio evidence fell back to containment regions, if it did.
+    pub(super) evidence_fallback: Option<String>,
 }
 
 /// What the smoother answered.

@@ -2,8 +2,10 @@
 //! track is linearly interpolated at each waypoint's time and compared with the waypoint.
 //! A step-based track has no point while the walker stands after the last step: a waypoint
 //! up to [`HOLD_S`] after the track's end is compared with its last point (and counted as
-//! `held`). Other waypoints outside the track's time span are skipped and counted (a track
-//! that starts at localisation has no estimate before it).
+//! `held`); so is a waypoint up to [`HOLD_BEFORE_S`] before its first point with that point
+//! (the walk's start, where the walker stood until the first step ended). Other waypoints
+//! outside the track's time span are skipped and counted (a track that starts at
+//! localisation has no estimate before it).
 
 use super::position_error::{Alignment, ErrorReport, interpolate_at, position_errors};
 use crate::error::{Error, Result};
@@ -12,6 +14,10 @@ use serde::Serialize;
 
 /// How long after its last point a track still stands there, seconds.
 pub const HOLD_S: f64 = 5.0;
+
+/// How long before its first point a track already stands there, seconds: about one step,
+/// since a step-based track's first point is the end of the first step.
+pub const HOLD_BEFORE_S: f64 = 1.0;
 
 /// One waypoint's error.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -37,7 +43,8 @@ pub struct WaypointErrors {
     pub report: ErrorReport,
     /// Per waypoint, in time order.
     pub points: Vec<WaypointError>,
-    /// Waypoints after the track's end (within [`HOLD_S`]) compared with its last point.
+    /// Waypoints after the track's end (within [`HOLD_S`]) compared with its last point, or
+    /// just before its start (within [`HOLD_BEFORE_S`]) with its first.
     pub held: usize,
 }
 
@@ -66,10 +73,13 @@ pub fn waypoint_errors(
         .iter()
         .filter_map(|w| {
             let at = interpolate_at(track, w.t).or_else(|| {
-                let last = track.last()?;
-                (w.t > last.t && w.t - last.t <= HOLD_S).then(|| {
+                let (first, last) = (track.first()?, track.last()?);
+                let after = w.t > last.t && w.t - last.t <= HOLD_S;
+                let before = w.t < first.t && first.t - w.t <= HOLD_BEFORE_S;
+                let p = if after { last } else { first };
+                (after || before).then(|| {
                     held += 1;
-                    (last.x, last.y)
+                    (p.x, p.y)
                 })
             });
             at.map(|(x, y)| (*w, TimedPoint { t: w.t, x, y }))
@@ -156,5 +166,16 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("same clock"), "{e}");
+    }
+
+    #[test]
+    fn a_waypoint_just_before_the_first_step_is_held_at_the_start() {
+        let track = [tp(10.0, 1.0, 0.0), tp(20.0, 10.0, 0.0)];
+        // t = 9.2: 0.8 s before the first point, held there (1, 0) → 1 m; t = 8.5 is more
+        // than a step before, skipped.
+        let w = [wp(8.5, 0.0, 0.0), wp(9.2, 0.0, 0.0), wp(20.0, 10.0, 0.0)];
+        let r = waypoint_errors(&w, &track, Alignment::None).expect("errors");
+        assert_eq!((r.report.n, r.report.skipped, r.held), (2, 1, 1));
+        assert_eq!(r.points[0].error, 1.0);
     }
 }

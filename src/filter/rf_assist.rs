@@ -22,6 +22,7 @@ use crate::error::{Error, Result};
 use crate::map::{CellField, CellRaster, FloorTopology, RadioMap};
 use crate::model::derived_epsilon::derive_epsilon;
 use crate::model::wifi_distance::{Fingerprints, Normalisation};
+use crate::model::wifi_evidence::{EvidenceCalibration, EvidenceConfig, RadioEvidence};
 use crate::model::wifi_likelihood::{HistogramLikelihood, LikelihoodConfig};
 use crate::sensor::WifiScan;
 use serde::{Deserialize, Serialize};
@@ -37,21 +38,35 @@ pub const PAPER_EPSILON: f64 = 9.5;
 #[serde(rename_all = "snake_case")]
 pub enum RfMode {
     /// Containment regions at every step (eqs. 12–13).
-    #[default]
     Containment,
     /// The histogram likelihood of each scan (eq. 14).
     Probabilistic,
     /// The prior region only.
     PriorOnly,
+    /// Radio evidence on a sparse map ([`crate::model::wifi_evidence`], eq. 1): each scan
+    /// weighs every place by how much more likely it is there than elsewhere, calibrated on
+    /// the map; places the map does not know are neither favoured nor excluded, and the walk
+    /// starts anywhere on the plan. A map too sparse to calibrate it falls back to
+    /// [`RfMode::Containment`] and says so.
+    Evidence,
+    /// The default: [`RfMode::Evidence`] on a map that covers less than
+    /// `evidence.auto_below_coverage` of its cells (the ordinary walks' survey), else
+    /// [`RfMode::Containment`] (the paper's complete survey, where regions rule out the
+    /// most).
+    #[default]
+    Auto,
 }
 
 impl RfMode {
-    /// Its name on the command line: `containment`, `probabilistic` or `prior-only`.
+    /// Its name on the command line: `auto`, `evidence`, `containment`, `probabilistic` or
+    /// `prior-only`.
     pub fn name(self) -> &'static str {
         match self {
             RfMode::Containment => "containment",
             RfMode::Probabilistic => "probabilistic",
             RfMode::PriorOnly => "prior-only",
+            RfMode::Evidence => "evidence",
+            RfMode::Auto => "auto",
         }
     }
 }
@@ -60,7 +75,7 @@ impl RfMode {
 ///
 /// | field              | default  | meaning                                                 |
 /// |--------------------|----------|---------------------------------------------------------|
-/// | `mode`             | containment | containment (eqs. 12–13), probabilistic (eq. 14) or prior only |
+/// | `mode`             | auto     | auto (evidence on a map covering less than `evidence.auto_below_coverage` of its cells, else containment), evidence (calibrated likelihood ratios on a sparse map; containment where the map cannot calibrate it), containment (eqs. 12–13), probabilistic (eq. 14) or prior only |
 /// | `distance`         | none     | `ndist`'s divisor: `paper` (`k`, eqs. 8, 11) or `sqrt` (`√k`); none = `sqrt` where the map is calibrated for it, else `paper` |
 /// | `epsilon`          | none     | region threshold on `ndist` (eqs. 2, 12): none = the map's calibrated `ε` for the distance, else derived from the map's histograms |
 /// | `epsilon_miss`     | 0.001    | share of a walker's scans a derived `ε` may leave outside their own cell |
@@ -72,6 +87,7 @@ impl RfMode {
 /// | `every_step`       | false    | apply the latest scan at every step where the particles are then, or (false) once, where they were at the scan's time |
 /// | `raster`           | 0.25 m   | grid of the point-to-cell lookup                         |
 /// | `likelihood`       | see [`LikelihoodConfig`] | eq. 14's histogram smoothing              |
+/// | `evidence`         | see [`EvidenceConfig`] | the evidence mode's calibration              |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RfConfig {
@@ -108,12 +124,14 @@ pub struct RfConfig {
     pub raster: f64,
     /// The histogram likelihood (eq. 14).
     pub likelihood: LikelihoodConfig,
+    /// The radio evidence ([`RfMode::Evidence`]).
+    pub evidence: EvidenceConfig,
 }
 
 impl Default for RfConfig {
     fn default() -> Self {
         Self {
-            mode: RfMode::Containment,
+            mode: RfMode::Auto,
             distance: None,
             epsilon: None,
             epsilon_miss: 0.001,
@@ -125,6 +143,7 @@ impl Default for RfConfig {
             every_step: false,
             raster: 0.25,
             likelihood: LikelihoodConfig::default(),
+            evidence: EvidenceConfig::default(),
         }
     }
 }
@@ -146,6 +165,7 @@ impl RfConfig {
             "seconds",
         )?;
         crate::error::check_range("rf.raster", self.raster, 0.05..=5.0, "metres")?;
+        self.evidence.validate()?;
         crate::error::check_range(
             "rf.likelihood.kernel_sigma",
             self.likelihood.kernel_sigma,
@@ -201,6 +221,10 @@ pub struct RfLocaliser {
     prints: Fingerprints,
     /// The histograms' likelihood, built for [`RfMode::Probabilistic`] only.
     likelihood: Option<HistogramLikelihood>,
+    /// The radio evidence, built for [`RfMode::Evidence`] only.
+    evidence: Option<RadioEvidence>,
+    /// Why the evidence mode asked for fell back to containment regions.
+    fallback: Option<String>,
 }
 
 impl RfLocaliser {
@@ -216,8 +240,29 @@ impl RfLocaliser {
                 "survey the building first",
             ));
         }
+        let (mut config, mut fallback, mut evidence) = (*config, None, None);
+        if config.mode == RfMode::Auto {
+            let known = (0..map.cells.len()).filter(|&c| prints.is_known(c)).count();
+            let coverage = known as f64 / map.cells.len().max(1) as f64;
+            config.mode = if coverage < config.evidence.auto_below_coverage {
+                RfMode::Evidence
+            } else {
+                RfMode::Containment
+            };
+        }
+        if config.mode == RfMode::Evidence {
+            match RadioEvidence::calibrate(map, &prints, &raster, &config.evidence) {
+                Ok(e) => evidence = Some(e),
+                Err(Error::NotEnough { problem, .. }) => {
+                    fallback = Some(problem);
+                    config.mode = RfMode::Containment;
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        debug_assert_ne!(config.mode, RfMode::Auto);
         Ok(Self {
-            config: *config,
+            config,
             distance,
             epsilon,
             epsilon_source,
@@ -225,10 +270,23 @@ impl RfLocaliser {
             prints,
             likelihood: (config.mode == RfMode::Probabilistic)
                 .then(|| HistogramLikelihood::new(map, &config.likelihood, config.min_scans)),
+            evidence,
+            fallback,
         })
     }
 
-    /// The configuration.
+    /// Why the evidence mode fell back to containment regions (the mode in use is then
+    /// [`RfMode::Containment`]), if it did.
+    pub fn fallback(&self) -> Option<&str> {
+        self.fallback.as_deref()
+    }
+
+    /// The radio evidence's calibration ([`RfMode::Evidence`] only).
+    pub fn evidence(&self) -> Option<&EvidenceCalibration> {
+        self.evidence.as_ref().map(RadioEvidence::calibration)
+    }
+
+    /// The configuration, with the mode in use (never [`RfMode::Auto`]).
     pub fn config(&self) -> &RfConfig {
         &self.config
     }
@@ -267,6 +325,22 @@ impl RfLocaliser {
     /// region's log-weights (eq. 13) or the cells' relative log-likelihoods (eq. 14); `None`
     /// for [`RfMode::PriorOnly`].
     pub fn scan_fields(&self, scan: &WifiScan) -> (CellField, Option<CellField>) {
+        if let Some(evidence) = &self.evidence {
+            // Every place stays possible; the evidence weighs them. A re-initialisation
+            // draws where the scan does not speak against the place (at least the
+            // likeliest cells).
+            let ratios = evidence.log_ratios(&self.ndist(scan));
+            let best = ratios.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+            let bar = best.min(0.0);
+            let region = ratios
+                .iter()
+                .map(|&r| if r >= bar { 0.0 } else { f32::NEG_INFINITY })
+                .collect();
+            return (
+                CellField::new(self.raster.clone(), region, 0.0),
+                Some(self.field(ratios)),
+            );
+        }
         let inside = self.in_region(scan);
         let region = |outside: f32| {
             self.field(

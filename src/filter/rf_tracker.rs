@@ -16,7 +16,7 @@
 //! are reported without particles (and count towards the steps to localise).
 
 use super::path_tree::{SmoothedStep, SmoothedWalk};
-use super::rf_assist::RfLocaliser;
+use super::rf_assist::{RfLocaliser, RfMode};
 use super::tracker::{StepMeasurement, TrackStep, Tracker};
 use super::tracker_config::TrackerConfig;
 use crate::error::{Error, Result};
@@ -64,9 +64,11 @@ impl<'a> RfTracker<'a> {
                 format!("follows one at t = {}: scans must be in time order", w[0].t),
             ));
         }
-        let tracker = match config.start {
-            Some(_) => Some(Tracker::new(topology, config)?),
-            None => None,
+        // With radio evidence the map rules no place out: the walk starts anywhere on the
+        // plan at its first step, so every step has an answer.
+        let tracker = match (config.start, rf.config().mode) {
+            (Some(_), _) | (None, RfMode::Evidence) => Some(Tracker::new(topology, config)?),
+            (None, _) => None,
         };
         let started_after = tracker.as_ref().map(|_| 0);
         Ok(Self {

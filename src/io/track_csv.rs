@@ -58,6 +58,10 @@ pub struct SmoothedPoint {
     pub certain: bool,
     /// Hypotheses (clusters) at this step.
     pub hypotheses: usize,
+    /// The RMS distance of the answer's hypothesis' particles from its position, metres.
+    pub spread: f64,
+    /// The answer's hypothesis' share of the belief, in [0, 1].
+    pub share: f64,
 }
 
 /// Writes `t,x,y,z,level` rows (millimetre precision).
@@ -73,7 +77,8 @@ pub fn write_track(path: &Path, points: &[TrackPoint]) -> Result<()> {
     })
 }
 
-/// Writes `t,x,y,z,level,certain,hypotheses` rows (`certain` 1 or 0): a reader of
+/// Writes `t,x,y,z,level,certain,hypotheses,spread,share` rows (`certain` 1 or 0; `spread`
+/// in metres to the centimetre, `share` to three decimals): a reader of
 /// `t,x,y,z,level` reads it as a track. The points are streamed (a long walk's smoothed
 /// track is computed as it is written); a non-finite one stops the writing and nothing is
 /// written.
@@ -83,14 +88,21 @@ pub fn write_smoothed_track(
 ) -> Result<()> {
     let mut bad = None;
     let written = crate::io::write_atomically_with(path, |w| {
-        w.write_all(b"t,x,y,z,level,certain,hypotheses\n")?;
+        w.write_all(b"t,x,y,z,level,certain,hypotheses,spread,share\n")?;
         for p in points {
             if !is_finite(&p.point) {
                 bad = Some(p.point);
                 return Err(std::io::Error::other("a track point is not finite"));
             }
             write_point(w, &p.point)?;
-            writeln!(w, ",{},{}", u8::from(p.certain), p.hypotheses)?;
+            writeln!(
+                w,
+                ",{},{},{:.2},{:.3}",
+                u8::from(p.certain),
+                p.hypotheses,
+                p.spread,
+                p.share
+            )?;
         }
         Ok(())
     });

@@ -177,6 +177,104 @@ impl CellRaster {
     }
 }
 
+impl CellRaster {
+    /// For every cell, the nearest `source` cell along the floor and the mean walking
+    /// distance of the cell's squares to it (0 for a source's own squares), metres; `None`
+    /// for cells with no square within `max_m` of a source (or with no square). Distances
+    /// run between the centres of squares that belong to a cell, 8-connected (Dijkstra on
+    /// the grid), so they follow the floor round walls and never cross levels.
+    pub fn walking_reach(&self, sources: &[bool], max_m: f64) -> Vec<Option<(usize, f64)>> {
+        use std::cmp::Reverse;
+        use std::collections::BinaryHeap;
+        let (nx, ny) = (self.nx, self.ny);
+        let per_level = nx * ny;
+        let mut dist = vec![f32::INFINITY; self.squares.len()];
+        let mut from = vec![NONE; self.squares.len()];
+        // Distances in grid squares, as integers of 1/1000 of a square for the heap.
+        let scale = 1000.0;
+        let limit = (max_m / self.resolution * scale) as u64;
+        let mut heap = BinaryHeap::new();
+        for (i, &c) in self.squares.iter().enumerate() {
+            if c != NONE && sources.get(c as usize).copied().unwrap_or(false) {
+                dist[i] = 0.0;
+                from[i] = c;
+                heap.push(Reverse((0u64, i)));
+            }
+        }
+        const MOVES: [(isize, isize, u64); 8] = [
+            (1, 0, 1000),
+            (-1, 0, 1000),
+            (0, 1, 1000),
+            (0, -1, 1000),
+            (1, 1, 1414),
+            (1, -1, 1414),
+            (-1, 1, 1414),
+            (-1, -1, 1414),
+        ];
+        while let Some(Reverse((d, i))) = heap.pop() {
+            if d as f32 > dist[i] * scale as f32 + 0.5 {
+                continue;
+            }
+            let (level_base, within) = (i / per_level * per_level, i % per_level);
+            let (x, y) = ((within % nx) as isize, (within / nx) as isize);
+            for (dx, dy, cost) in MOVES {
+                let (x2, y2) = (x + dx, y + dy);
+                if x2 < 0 || y2 < 0 || x2 >= nx as isize || y2 >= ny as isize {
+                    continue;
+                }
+                let j = level_base + y2 as usize * nx + x2 as usize;
+                if self.squares[j] == NONE {
+                    continue;
+                }
+                // A diagonal move may not cut a corner of the floor.
+                if dx != 0 && dy != 0 {
+                    let a = level_base + y as usize * nx + x2 as usize;
+                    let b = level_base + y2 as usize * nx + x as usize;
+                    if self.squares[a] == NONE || self.squares[b] == NONE {
+                        continue;
+                    }
+                }
+                let nd = d + cost;
+                if nd <= limit && (nd as f32) < dist[j] * scale as f32 {
+                    dist[j] = nd as f32 / scale as f32;
+                    from[j] = from[i];
+                    heap.push(Reverse((nd, j)));
+                }
+            }
+        }
+        // Per cell: its squares' mean distance and the source nearest its nearest square.
+        let mut sum = vec![0.0f64; self.cells];
+        let mut count = vec![0u32; self.cells];
+        let mut reached = vec![0u32; self.cells];
+        let mut best: Vec<(f32, u32)> = vec![(f32::INFINITY, NONE); self.cells];
+        for (i, &c) in self.squares.iter().enumerate() {
+            if c == NONE {
+                continue;
+            }
+            let c = c as usize;
+            count[c] += 1;
+            if dist[i].is_finite() {
+                reached[c] += 1;
+                sum[c] += f64::from(dist[i]);
+                if dist[i] < best[c].0 {
+                    best[c] = (dist[i], from[i]);
+                }
+            }
+        }
+        (0..self.cells)
+            .map(|c| {
+                // Most of the cell's floor must be within reach.
+                (count[c] > 0 && 2 * reached[c] > count[c]).then(|| {
+                    (
+                        best[c].1 as usize,
+                        sum[c] / f64::from(reached[c]) * self.resolution,
+                    )
+                })
+            })
+            .collect()
+    }
+}
+
 /// One value per cell of a raster (e.g. a measurement's log-weight), with a value for points
 /// of no cell.
 #[derive(Debug, Clone, PartialEq)]
@@ -271,5 +369,33 @@ mod tests {
         assert_eq!(r.cell_at(0, 2.95, 1.0), Some(0));
         assert_eq!(r.cell_at(0, 3.05, 1.0), Some(1));
         assert_eq!(r.cell_at(0, 1.0, 1.99), Some(0));
+    }
+
+    #[test]
+    fn walking_reach_goes_round_walls_and_stays_on_its_level() {
+        // A U: cells a (west arm) and c (east arm) 1 m apart across a wall, joined by b
+        // along the south; d on another level over a.
+        let map = RadioMap {
+            cells: vec![
+                cell("a", 0, Rect::new((0.0, 2.0), (2.0, 10.0))),
+                cell("b", 0, Rect::new((0.0, 0.0), (5.0, 2.0))),
+                cell("c", 0, Rect::new((3.0, 2.0), (5.0, 10.0))),
+                cell("d", 1, Rect::new((0.0, 2.0), (2.0, 10.0))),
+            ],
+            ..Default::default()
+        };
+        let r = CellRaster::build(&map, [0.0, 0.0, 5.0, 10.0], (0, 1), 0.25).expect("raster");
+        let reach = r.walking_reach(&[true, false, false, false], 100.0);
+        assert_eq!(reach[0], Some((0, 0.0)));
+        let (from_b, b) = reach[1].expect("b reached");
+        assert_eq!(from_b, 0);
+        assert!(b > 1.0 && b < 3.0, "b {b}");
+        // c's squares lie 1 m from a across the wall, but a walk goes round through b.
+        let (_, c) = reach[2].expect("c reached");
+        assert!(c > 5.0, "c {c}: the wall is not crossed");
+        assert_eq!(reach[3], None, "another level is never reached");
+        // Within 3 m of a: b's floor is mostly within reach, c's is not.
+        let near = r.walking_reach(&[true, false, false, false], 3.0);
+        assert!(near[1].is_some() && near[2].is_none());
     }
 }

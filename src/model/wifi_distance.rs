@@ -118,6 +118,19 @@ impl Fingerprints {
         scan_vector(&self.columns, self.missing, scan)
     }
 
+    /// True when cell `c` has a fingerprint (enough scans).
+    pub fn is_known(&self, c: usize) -> bool {
+        self.cells.get(c).is_some_and(Option::is_some)
+    }
+
+    /// `ndist` of cell `from`'s fingerprint, read as a scan, to cell `to`'s (`None` unless
+    /// both are known).
+    pub fn cell_ndist(&self, from: usize, to: usize) -> Option<f64> {
+        let (z, _) = self.cells.get(from)?.as_ref()?;
+        let (means, visible) = self.cells.get(to)?.as_ref()?;
+        Some(ndist(z, means, *visible, self.norm))
+    }
+
     /// `ndist(z, c_i)` for every cell (eqs. 2–11), `None` for unknown cells.
     pub fn ndist(&self, scan: &WifiScan) -> Vec<Option<f64>> {
         let z = self.scan_vector(scan);

@@ -1,0 +1,227 @@
+#!/usr/bin/env python3
+"""Radio maps from ordinary walks, placing later walks (issue 33's experiment).
+
+On an imported ILC floor (`footslam import ilc`: IMPORTED/floor.geojson and one folder per
+walk with imu.csv, wifi.csv and waypoints.csv):
+
+1. `footslam steps --mount phone` for every walk (WORK/<walk>/steps, reused unless --fresh);
+2. survey: the first SHARE of the walks by folder name (default 60 %), each from its first
+   waypoint (`survey --walks`, manifest `start`), into WORK/survey/radiomap.geojson;
+3. the peer: nearest-k fingerprints (k = 3, plain Euclidean over every access point the
+   survey heard, −100 dBm where not heard, the mean of the k nearest scans' positions) on a
+   database of the survey walks' scans at their *true* positions (linear between the
+   walk's waypoints; scans outside the waypoints' time span are left out);
+4. every other walk from an unknown start: `fingerprint --radiomap` (the radio map alone)
+   and `track --wifi --radiomap` (the tracker on the plan with the radio map), each scored by
+   `footslam eval --waypoints` at every waypoint (a waypoint the track does not answer
+   counts as unanswered); the track every row (`--all-rows`: the answer a user gets at every
+   step) and its certain rows alone; the peer's scan placements are written as a track.csv
+   and scored the same way.
+
+Prints and writes (WORK/radio_figures.json) median / p90 / answered share per method, the
+radio map's coverage and the per-walk table.
+
+    scripts/radio_figures.py IMPORTED WORK [--binary PATH] [--share 0.6] [--seed 0]
+        [--track-arg=--config --track-arg=FILE] [--jobs 2] [--fresh]
+"""
+import argparse
+import bisect
+import concurrent.futures as cf
+import csv
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+
+
+def run(binary, *args):
+    p = subprocess.run([binary, *args], capture_output=True, text=True)
+    if p.returncode != 0:
+        raise RuntimeError(f"footslam {' '.join(args[:1])} failed: {p.stderr.strip()[-400:]}")
+    return p.stdout
+
+
+def read_waypoints(path):
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    return [(float(r["t"]), float(r["x"]), float(r["y"])) for r in rows]
+
+
+def read_scans(path):
+    """Scans of a WiFi log: one per distinct time stamp, {bssid: rssi} (the strongest kept)."""
+    scans = {}
+    with open(path) as f:
+        for r in csv.DictReader(f):
+            t = float(r["t"])
+            s = scans.setdefault(t, {})
+            v = float(r["rssi"])
+            s[r["bssid"]] = max(v, s.get(r["bssid"], -200.0))
+    return sorted(scans.items())
+
+
+def truth_at(wps, t):
+    ts = [w[0] for w in wps]
+    if t < ts[0] or t > ts[-1]:
+        return None
+    i = bisect.bisect_right(ts, t)
+    if i >= len(ts):
+        return wps[-1][1:]
+    a, b = wps[i - 1], wps[i]
+    u = (t - a[0]) / (b[0] - a[0]) if b[0] > a[0] else 0.0
+    return (a[1] + u * (b[1] - a[1]), a[2] + u * (b[2] - a[2]))
+
+
+def percentile(xs, q):
+    if not xs:
+        return float("nan")
+    s = sorted(xs)
+    return s[min(len(s) - 1, max(0, math.ceil(q / 100 * len(s)) - 1))]
+
+
+def waypoint_errors(binary, wps, track, all_rows=False):
+    extra = ["--all-rows"] if all_rows else []
+    p = subprocess.run([binary, "eval", "--json", "--waypoints", wps, "--track", track, *extra], capture_output=True, text=True)
+    if p.returncode != 0:
+        if "no certain rows" in p.stderr:
+            return []
+        raise RuntimeError(f"footslam eval failed: {p.stderr.strip()[-400:]}")
+    out = json.loads(p.stdout)
+    return [w["error"] for w in out["waypoints"]]
+
+
+def peer_track(db, scans, path, k=3, missing=-100.0):
+    """Writes the nearest-k placements of `scans` as a track.csv (t,x,y)."""
+    aps = sorted({b for _, fp, _ in db for b in fp})
+    col = {b: i for i, b in enumerate(aps)}
+    vecs = []
+    for _, fp, pos in db:
+        v = [missing] * len(aps)
+        for b, r in fp.items():
+            v[col[b]] = r
+        vecs.append((v, pos))
+    with open(path, "w") as f:
+        f.write("t,x,y\n")
+        for t, fp in scans:
+            q = [missing] * len(aps)
+            common = 0
+            for b, r in fp.items():
+                if b in col:
+                    q[col[b]] = r
+                    common += 1
+            if common == 0:
+                continue
+            d = sorted((sum((a - c) ** 2 for a, c in zip(q, v)), pos) for v, pos in vecs)[:k]
+            x = sum(p[0] for _, p in d) / len(d)
+            y = sum(p[1] for _, p in d) / len(d)
+            f.write(f"{t:.3f},{x:.3f},{y:.3f}\n")
+
+
+def steps_of(binary, imported, work, w, fresh):
+    out = os.path.join(work, w, "steps")
+    if fresh or not os.path.isfile(os.path.join(out, "steps.csv")):
+        shutil.rmtree(out, ignore_errors=True)
+        run(binary, "steps", "--imu", os.path.join(imported, w, "imu.csv"), "--mount", "phone", "--out", out)
+    return os.path.join(out, "steps.csv")
+
+
+def test_walk(a, w, radiomap, plan, db):
+    src = os.path.join(a.imported, w)
+    wps = os.path.join(src, "waypoints.csv")
+    n_wps = len(read_waypoints(wps))
+    run_dir = os.path.join(a.work, w)
+    res = {"walk": w, "waypoints": n_wps}
+    fp = os.path.join(run_dir, "fingerprint")
+    shutil.rmtree(fp, ignore_errors=True)
+    run(a.binary, "fingerprint", "--radiomap", radiomap, "--wifi", os.path.join(src, "wifi.csv"), "--out", fp)
+    res["fingerprint"] = waypoint_errors(a.binary, wps, os.path.join(fp, "track.csv"))
+    peer = os.path.join(run_dir, "peer")
+    os.makedirs(peer, exist_ok=True)
+    peer_track(db, read_scans(os.path.join(src, "wifi.csv")), os.path.join(peer, "track.csv"))
+    res["peer"] = waypoint_errors(a.binary, wps, os.path.join(peer, "track.csv"))
+    tr = os.path.join(run_dir, "rf-track")
+    shutil.rmtree(tr, ignore_errors=True)
+    run(a.binary, "track", "--plan", plan, "--steps", os.path.join(run_dir, "steps", "steps.csv"),
+        "--radiomap", radiomap, "--wifi", os.path.join(src, "wifi.csv"), "--seed", str(a.seed),
+        "--threads", "1", *a.track_arg, "--out", tr)
+    res["track"] = waypoint_errors(a.binary, wps, os.path.join(tr, "track.csv"), all_rows=True)
+    res["track_certain"] = waypoint_errors(a.binary, wps, os.path.join(tr, "track.csv"))
+    with open(os.path.join(tr, "summary.json")) as f:
+        res["track_summary"] = json.load(f)
+    return res
+
+
+def summary(name, errors, expected):
+    return {"name": name, "n": len(errors), "answered": len(errors) / expected if expected else float("nan"),
+            "median_m": percentile(errors, 50), "p90_m": percentile(errors, 90)}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("imported")
+    ap.add_argument("work")
+    ap.add_argument("--binary", default="target/release/footslam")
+    ap.add_argument("--share", type=float, default=0.6)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--track-arg", action="append", default=[])
+    ap.add_argument("--survey-arg", action="append", default=[])
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--fresh", action="store_true")
+    a = ap.parse_args()
+    a.binary = os.path.abspath(a.binary)
+    os.makedirs(a.work, exist_ok=True)
+    plan = os.path.join(a.imported, "floor.geojson")
+    walks = sorted(d for d in os.listdir(a.imported)
+                   if all(os.path.isfile(os.path.join(a.imported, d, f)) for f in ("imu.csv", "wifi.csv", "waypoints.csv")))
+    if not walks:
+        sys.exit(f"no walks under {a.imported}")
+    with cf.ThreadPoolExecutor(a.jobs) as ex:
+        list(ex.map(lambda w: steps_of(a.binary, a.imported, a.work, w, a.fresh), walks))
+    n_survey = round(a.share * len(walks))
+    survey, tests = walks[:n_survey], walks[n_survey:]
+    manifest = os.path.join(a.work, "survey_walks.csv")
+    db = []
+    with open(manifest, "w") as f:
+        f.write("steps,wifi,start\n")
+        for w in survey:
+            wps = read_waypoints(os.path.join(a.imported, w, "waypoints.csv"))
+            steps = os.path.abspath(os.path.join(a.work, w, "steps", "steps.csv"))
+            f.write(f"{steps},{os.path.abspath(os.path.join(a.imported, w, 'wifi.csv'))},\"{wps[0][1]},{wps[0][2]}\"\n")
+            for t, fp in read_scans(os.path.join(a.imported, w, "wifi.csv")):
+                pos = truth_at(wps, t)
+                if pos is not None:
+                    db.append((t, fp, pos))
+    sv = os.path.join(a.work, "survey")
+    shutil.rmtree(sv, ignore_errors=True)
+    run(a.binary, "survey", "--plan", plan, "--walks", manifest, "--seed", str(a.seed), *a.survey_arg, "--out", sv)
+    radiomap = os.path.join(sv, "radiomap.geojson")
+    with open(os.path.join(sv, "summary.json")) as f:
+        survey_summary = json.load(f)
+    with cf.ThreadPoolExecutor(a.jobs) as ex:
+        results = list(ex.map(lambda w: test_walk(a, w, radiomap, plan, db), tests))
+    expected = sum(r["waypoints"] for r in results)
+    figures = {"survey_walks": len(survey), "test_walks": len(tests), "peer_database_scans": len(db),
+               "survey_summary": survey_summary, "methods": {}, "per_walk": []}
+    for key, name in (("track", "track --wifi --radiomap, unknown start, every row"),
+                      ("track_certain", "the same, certain rows only"),
+                      ("fingerprint", "fingerprint (radio map alone)"),
+                      ("peer", "nearest-3 at true positions (peer)")):
+        errs = [e for r in results for e in r[key]]
+        figures["methods"][key] = summary(name, errs, expected)
+    for r in results:
+        figures["per_walk"].append({"walk": r["walk"], "waypoints": r["waypoints"],
+                                    **{k: percentile(r[k], 50) for k in ("track", "fingerprint", "peer")},
+                                    "answered": len(r["track"])})
+    with open(os.path.join(a.work, "radio_figures.json"), "w") as f:
+        json.dump(figures, f, indent=2)
+    print(f"{len(survey)} survey walks, {len(tests)} test walks, {expected} waypoints, peer database {len(db)} scans")
+    for r in figures["per_walk"]:
+        print(f"{r['walk']}: {r['waypoints']:3} wps, track {r['track']:6.1f} m ({r['answered']} answered), fingerprint {r['fingerprint']:6.1f}, peer {r['peer']:6.1f}")
+    print(f"\n{'':42} {'waypoints':>9} {'answered':>8} {'median':>8} {'p90':>8}")
+    for m in figures["methods"].values():
+        print(f"{m['name']:42} {m['n']:>9} {m['answered']:>7.0%} {m['median_m']:>7.2f}m {m['p90_m']:>7.2f}m")
+
+
+if __name__ == "__main__":
+    main()
