@@ -77,16 +77,19 @@ pub(crate) fn learn<'py>(
     outline: Option<&Bound<'py, PyAny>>,
     origin: Option<(f64, f64)>,
     config: Option<&Bound<'py, PyAny>>,
-    seed: Option<u64>,
-    particles: Option<usize>,
+    seed: Option<&Bound<'py, PyAny>>,
+    particles: Option<&Bound<'py, PyAny>>,
     hex_radius: Option<f64>,
     prior_weight: Option<f64>,
     ignore_heading: bool,
     cell: Option<f64>,
     gps_t0: Option<f64>,
-    threads: Option<usize>,
+    threads: Option<&Bound<'py, PyAny>>,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let seed = crate::int_arg("seed", seed, u64::MAX)?;
+    let particles = crate::int_arg("particles", particles, 100_000_000)?.map(|n| n as usize);
+    let threads = crate::int_arg("threads", threads, 1 << 20)?.map(|n| n as usize);
     let args = Args {
         steps,
         gps,
@@ -170,14 +173,17 @@ pub(crate) fn learn_one<'py>(
     outline: Option<&Bound<'py, PyAny>>,
     origin: Option<(f64, f64)>,
     config: Option<&Bound<'py, PyAny>>,
-    seed: Option<u64>,
-    particles: Option<usize>,
+    seed: Option<&Bound<'py, PyAny>>,
+    particles: Option<&Bound<'py, PyAny>>,
     hex_radius: Option<f64>,
     prior_weight: Option<f64>,
     ignore_heading: bool,
     gps_t0: Option<f64>,
-    threads: Option<usize>,
+    threads: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let seed = crate::int_arg("seed", seed, u64::MAX)?;
+    let particles = crate::int_arg("particles", particles, 100_000_000)?.map(|n| n as usize);
+    let threads = crate::int_arg("threads", threads, 1 << 20)?.map(|n| n as usize);
     let args = Args {
         steps,
         gps,

@@ -61,6 +61,28 @@ pub(crate) fn py_error(error: footslam::Error) -> PyErr {
     }
 }
 
+/// An optional integer argument `value` named `name` as a `u64` no larger than `max`: a
+/// negative or too large integer is a `ValueError` naming the argument and its range (not
+/// Python's bare `OverflowError`); a non-integer a `TypeError`.
+pub(crate) fn int_arg(name: &str, value: Option<&Bound<'_, PyAny>>, max: u64) -> PyResult<Option<u64>> {
+    let Some(v) = value else {
+        return Ok(None);
+    };
+    if v.is_instance_of::<pyo3::types::PyBool>() || !v.is_instance_of::<pyo3::types::PyInt>() {
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "{name} must be an integer, got {}",
+            v.repr()?
+        )));
+    }
+    match v.extract::<u64>() {
+        Ok(n) if n <= max => Ok(Some(n)),
+        _ => Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "{name} = {} is out of range: it must be an integer from 0 to {max}",
+            v.repr()?
+        ))),
+    }
+}
+
 /// A [`FootslamError`] with `message` (a check of this crate's, worded as the command
 /// line's).
 pub(crate) fn fail(message: impl Into<String>) -> PyErr {
@@ -76,8 +98,12 @@ pub(crate) fn with_context(context: impl std::fmt::Display) -> impl Fn(footslam:
     }
 }
 
+/// Most worker threads per core (as the command line's `--threads`).
+const THREADS_PER_CORE: usize = 4;
+
 /// Runs `work` with the GIL released, on `threads` worker threads (`None` or 0: the global
-/// pool, one thread per core). Results do not depend on the thread count.
+/// pool, one thread per core; more than [`THREADS_PER_CORE`] a core are capped with a
+/// warning). Results do not depend on the thread count.
 pub(crate) fn detached<T, F>(py: Python<'_>, threads: Option<usize>, work: F) -> PyResult<T>
 where
     T: Send,
@@ -85,6 +111,31 @@ where
 {
     let pool = match threads {
         None | Some(0) => None,
+        Some(wanted) => Some(
+            // As the command line does: beyond a few threads per core, scheduling alone takes
+            // minutes, and the results do not depend on the count.
+            {
+                let cores = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
+                let cap = THREADS_PER_CORE * cores;
+                let n = wanted.min(cap);
+                if wanted > cap {
+                    py.import("warnings")?.call_method1(
+                        "warn",
+                        (
+                            format!(
+                                "threads={wanted} capped at {cap} ({THREADS_PER_CORE} per core on {cores} cores); results do not depend on the thread count"
+                            ),
+                            py.get_type::<FootslamWarning>(),
+                            1,
+                        ),
+                    )?;
+                }
+                n
+            },
+        ),
+    };
+    let pool = match pool {
+        None => None,
         Some(n) => Some(
             rayon::ThreadPoolBuilder::new()
                 .num_threads(n)

@@ -109,13 +109,15 @@ pub(crate) fn survey<'py>(
     start: Option<&Bound<'py, PyAny>>,
     cell: Option<f64>,
     config: Option<&Bound<'py, PyAny>>,
-    seed: Option<u64>,
+    seed: Option<&Bound<'py, PyAny>>,
     origin: Option<(f64, f64)>,
     one_floor: bool,
     merge: Option<&Bound<'py, PyAny>>,
-    threads: Option<usize>,
+    threads: Option<&Bound<'py, PyAny>>,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let seed = crate::int_arg("seed", seed, u64::MAX)?;
+    let threads = crate::int_arg("threads", threads, 1 << 20)?.map(|n| n as usize);
     let mut config: SurveyConfig = inputs::config(config)?;
     if let Some(s) = seed {
         config.tracker.seed = s;

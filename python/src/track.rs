@@ -100,16 +100,18 @@ pub(crate) fn track<'py>(
     plan_margin: Option<f64>,
     one_floor: bool,
     config: Option<&Bound<'py, PyAny>>,
-    seed: Option<u64>,
+    seed: Option<&Bound<'py, PyAny>>,
     ignore_heading: bool,
     online: bool,
     rf_mode: Option<&str>,
     rf_distance: Option<&str>,
     rf_epsilon: Option<f64>,
     rf_every_step: bool,
-    threads: Option<usize>,
+    threads: Option<&Bound<'py, PyAny>>,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let seed = crate::int_arg("seed", seed, u64::MAX)?;
+    let threads = crate::int_arg("threads", threads, 1 << 20)?.map(|n| n as usize);
     // The configuration, with the keyword overrides (`footslam track`'s flags).
     let mut config: TrackerConfig = inputs::config(config)?;
     if let Some(s) = seed {

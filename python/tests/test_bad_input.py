@@ -170,3 +170,18 @@ def test_inputs_that_do_not_belong_together():
     late = {"t": [5000.0, 5001.0], "lat": [48.1, 48.1], "lon": [11.5, 11.5]}
     with pytest.raises(footslam.FootslamError, match="gps: no fix falls within the walk's time span"):
         footslam.learn(STEPS, particles=50, gps=late)
+
+
+def test_integer_arguments_out_of_range_name_themselves_and_threads_are_capped():
+    for kwargs, name in [({"seed": -1}, "seed"), ({"seed": 2**70}, "seed"),
+                         ({"particles": 10**30}, "particles"), ({"particles": 10**8 + 1}, "particles"),
+                         ({"threads": -2}, "threads")]:
+        with pytest.raises(ValueError, match=f"{name} = .* is out of range"):
+            footslam.learn(STEPS, **kwargs)
+    with pytest.raises(TypeError, match="seed must be an integer"):
+        footslam.learn(STEPS, seed=1.5)
+    # A million threads would take minutes to schedule: capped, with a warning, same result.
+    with pytest.warns(footslam.FootslamWarning, match="threads=1000000 capped"):
+        many = footslam.learn(STEPS, particles=50, seed=1, threads=10**6)
+    one = footslam.learn(STEPS, particles=50, seed=1, threads=1)
+    np.testing.assert_array_equal(many["walks"][0]["track"]["x"], one["walks"][0]["track"]["x"])
