@@ -107,6 +107,7 @@ pub mod geometry;
 pub mod inertial;
 pub mod io;
 pub mod map;
+pub mod memory;
 pub mod model;
 pub mod pipeline;
 pub mod random;

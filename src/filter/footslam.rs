@@ -234,6 +234,17 @@ impl FootSlam {
             _ => 0.0,
         };
         let n = config.particles;
+        // The particles, their next generation and their weights, before anything is
+        // allocated: a run the machine cannot hold fails here, not aborted mid-allocation.
+        let per_particle = 2 * std::mem::size_of::<Particle>()
+            + 2 * std::mem::size_of::<f64>()
+            + std::mem::size_of::<usize>();
+        crate::memory::check_fits(
+            &format!("{n} particles"),
+            (n as u64).saturating_mul(per_particle as u64),
+            crate::memory::available_bytes(),
+            "use fewer particles (`particles`, --particles)",
+        )?;
         let particles: Vec<Particle> = (0..n)
             .into_par_iter()
             .map(|i| {
