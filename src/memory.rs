@@ -51,9 +51,17 @@ mod tests {
     fn a_run_larger_than_memory_is_refused_with_the_way_out() {
         assert!(check_fits("x", 10, None, "").is_ok());
         assert!(check_fits("x", 10, Some(10), "").is_ok());
-        let e = check_fits("100 particles", 8_000_000_000, Some(2_000_000_000), "use fewer")
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("8.0 GB") && e.contains("2.0 GB") && e.contains("use fewer"), "{e}");
+        let e = check_fits(
+            "100 particles",
+            8_000_000_000,
+            Some(2_000_000_000),
+            "use fewer",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("8.0 GB") && e.contains("2.0 GB") && e.contains("use fewer"),
+            "{e}"
+        );
     }
 }

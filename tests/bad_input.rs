@@ -388,6 +388,18 @@ fn files_out_of_range_or_ambiguous_fail_clearly() {
             says: &["warning", "given twice"],
         },
         Case {
+            name: "merge onto one of its inputs",
+            args: vec![
+                s("merge"),
+                map.clone(),
+                map.clone(),
+                s("--out"),
+                map.clone(),
+            ],
+            fails: true,
+            says: &["is the input map", "another file"],
+        },
+        Case {
             name: "merge into a folder",
             args: vec![s("merge"), map.clone(), s("--out"), p("folder")],
             fails: true,

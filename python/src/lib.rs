@@ -64,7 +64,11 @@ pub(crate) fn py_error(error: footslam::Error) -> PyErr {
 /// An optional integer argument `value` named `name` as a `u64` no larger than `max`: a
 /// negative or too large integer is a `ValueError` naming the argument and its range (not
 /// Python's bare `OverflowError`); a non-integer a `TypeError`.
-pub(crate) fn int_arg(name: &str, value: Option<&Bound<'_, PyAny>>, max: u64) -> PyResult<Option<u64>> {
+pub(crate) fn int_arg(
+    name: &str,
+    value: Option<&Bound<'_, PyAny>>,
+    max: u64,
+) -> PyResult<Option<u64>> {
     let Some(v) = value else {
         return Ok(None);
     };

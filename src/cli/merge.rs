@@ -21,6 +21,25 @@ pub struct Args {
     out: PathBuf,
 }
 
+/// An error when `out` is one of the input maps (the same file, by any path): the merge
+/// would replace an input it has not finished reading from the user's point of view, and a
+/// failed merge would leave neither.
+fn refuse_overwriting_an_input(out: &std::path::Path, maps: &[PathBuf]) -> Result<()> {
+    let Ok(out_real) = std::fs::canonicalize(out) else {
+        return Ok(()); // A new file: not an input.
+    };
+    for m in maps {
+        if std::fs::canonicalize(m).is_ok_and(|p| p == out_real) {
+            bail!(
+                "--out {} is the input map {}: write the merged map to another file",
+                out.display(),
+                m.display()
+            );
+        }
+    }
+    Ok(())
+}
+
 /// Runs `footslam merge`.
 pub fn run(args: Args) -> Result<()> {
     check_weights(&args.weights, args.maps.len())?;
@@ -31,6 +50,7 @@ pub fn run(args: Args) -> Result<()> {
             args.out.join("merged.geojson").display()
         );
     }
+    refuse_overwriting_an_input(&args.out, &args.maps)?;
     warn_repeated(&args.maps);
     let maps = read_maps(&args.maps)?;
     let weighted: Vec<_> = maps
