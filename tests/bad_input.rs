@@ -283,6 +283,20 @@ fn files_out_of_range_or_ambiguous_fail_clearly() {
         steps_text.replacen("t,length,dheading,dz", "t,length,dheading,t", 1),
     )
     .expect("dup");
+    // A `dz` column whose every cell is empty says nothing about height.
+    let empty_dz: String = steps_text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| match i {
+            0 => format!("{l}\n"),
+            _ => {
+                let mut f: Vec<&str> = l.split(',').collect();
+                f[3] = "";
+                format!("{}\n", f.join(","))
+            }
+        })
+        .collect();
+    std::fs::write(d.join("empty_dz.csv"), empty_dz).expect("empty dz");
     std::fs::write(d.join("cap.toml"), "[kld]\nmax_particles = 20000\n").expect("cap");
     // A learned map to merge.
     footslam()
@@ -386,6 +400,18 @@ fn files_out_of_range_or_ambiguous_fail_clearly() {
             args: vec![s("merge"), map.clone(), map.clone()],
             fails: false,
             says: &["warning", "given twice"],
+        },
+        Case {
+            name: "a dz column with every cell empty on a plan of several floors",
+            args: vec![
+                s("track"),
+                s("--plan"),
+                bundled("floor.geojson").display().to_string(),
+                s("--steps"),
+                p("empty_dz.csv"),
+            ],
+            fails: true,
+            says: &["no `dz` column", "3 levels"],
         },
         Case {
             name: "merge onto one of its inputs",

@@ -91,7 +91,8 @@ impl Table {
         }
     }
 
-    /// Whether the table has the column `name` (a file: its header).
+    /// Whether the table has the column `name` (a file: its header); for `dz`, a column with
+    /// at least one value (all empty or NaN says nothing about height).
     pub(crate) fn has_column(&self, name: &str) -> footslam::Result<bool> {
         match self {
             Table::File(path) => {
@@ -102,6 +103,9 @@ impl Table {
                     Ok(table.optional_column(name).is_some())
                 }
             }
+            Table::Text {
+                text, name: label, ..
+            } if name == "dz" => steps_csv::has_dz_column_in_str(text, label),
             Table::Text { columns, .. } => Ok(columns.iter().any(|c| c == name)),
         }
     }

@@ -185,3 +185,11 @@ def test_integer_arguments_out_of_range_name_themselves_and_threads_are_capped()
         many = footslam.learn(STEPS, particles=50, seed=1, threads=10**6)
     one = footslam.learn(STEPS, particles=50, seed=1, threads=1)
     np.testing.assert_array_equal(many["walks"][0]["track"]["x"], one["walks"][0]["track"]["x"])
+
+
+def test_an_all_nan_dz_column_is_no_dz_column(sim):
+    tower = sim / "tower"
+    table = {"t": [1.0, 2.0, 3.0], "length": [0.7, 0.7, 0.7], "dheading": [0.0, 0.0, 0.0],
+             "dz": [float("nan")] * 3}
+    with pytest.raises(footslam.FootslamError, match="no `dz` column"):
+        footslam.track(tower / "floor.geojson", table)

@@ -91,10 +91,28 @@ fn steps_from_table(mut table: CsvTable) -> Result<(StepTrace, Option<StepFields
     Ok((trace, fields))
 }
 
-/// Whether a step trace's header has a `dz` column (without one every step reads `dz = 0`,
-/// which a multi-floor plan must not take for "stayed on the floor").
+/// Whether a step trace has height changes: a `dz` column with at least one value (without
+/// one every step reads `dz = 0`, which a multi-floor plan must not take for "stayed on the
+/// floor"; a column whose every cell is empty says no more than none).
 pub fn has_dz_column(path: &Path) -> Result<bool> {
-    Ok(CsvTable::open(path)?.optional_column("dz").is_some())
+    has_dz_values(CsvTable::open(path)?)
+}
+
+/// [`has_dz_column`] of a CSV text named `name` in messages.
+pub fn has_dz_column_in_str(text: &str, name: &str) -> Result<bool> {
+    has_dz_values(CsvTable::from_text(text, name)?)
+}
+
+fn has_dz_values(mut table: CsvTable) -> Result<bool> {
+    let Some(dz) = table.optional_column("dz") else {
+        return Ok(false);
+    };
+    let mut any = false;
+    table.for_each_row(|row| {
+        any |= !row.text(dz).trim().is_empty();
+        Ok(())
+    })?;
+    Ok(any)
 }
 
 /// Writes a step trace as CSV (`t,length,dheading,dz` and `heading` when any step has one).
