@@ -111,6 +111,19 @@ fn inputs_wrong_together_fail_or_warn_clearly() {
     rewrite(&wifi, &d.join("late.csv"), |l| {
         with_field(l, 0, |t| format!("{}", t.parse::<f64>().expect("t") + 1e5))
     });
+    // The log in milliseconds.
+    rewrite(&wifi, &d.join("ms.csv"), |l| {
+        with_field(l, 0, |t| {
+            format!("{}", t.parse::<f64>().expect("t") * 1e3 + 1.7e12)
+        })
+    });
+    // A radio map with an absurd threshold.
+    let mut wild: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(d.join("survey/radiomap.geojson")).expect("map"),
+    )
+    .expect("json");
+    wild["epsilon_sqrt"] = 1e308.into();
+    std::fs::write(d.join("wild_epsilon.geojson"), wild.to_string()).expect("wild");
     // The steps without their height changes.
     rewrite(&steps, &d.join("flat.csv"), |l| {
         let f: Vec<&str> = l.split(',').collect();
@@ -163,6 +176,32 @@ fn inputs_wrong_together_fail_or_warn_clearly() {
             args: track(&steps_s, &p(&d.join("mostly_renamed.csv"))),
             fails: false,
             says: &["warning", "mostly_renamed.csv", "hear an access point"],
+        },
+        Case {
+            name: "a region threshold of 0",
+            args: {
+                let mut a = track(&steps_s, &p(&wifi));
+                a.extend([s("--rf-epsilon"), s("0")]);
+                a
+            },
+            fails: true,
+            says: &["rf.epsilon", "0"],
+        },
+        Case {
+            name: "WiFi times in milliseconds",
+            args: track(&steps_s, &p(&d.join("ms.csv"))),
+            fails: true,
+            says: &["ms.csv", "beyond 1e11 s", "milliseconds"],
+        },
+        Case {
+            name: "a radio map whose threshold is absurd",
+            args: {
+                let mut a = track(&steps_s, &p(&wifi));
+                a[6] = p(&d.join("wild_epsilon.geojson"));
+                a
+            },
+            fails: true,
+            says: &["wild_epsilon.geojson", "epsilon_sqrt"],
         },
         Case {
             name: "track: WiFi log on another clock",

@@ -48,9 +48,15 @@ fn errors_at_waypoints_and_dead_reckoning_from_the_first() {
         .assert()
         .success();
     let v: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).expect("json");
-    // The first waypoint precedes the track: skipped; the other two are 1 m off.
-    assert_eq!(v["track"]["n"], 2);
-    assert_eq!(v["track"]["skipped"], 1);
+    // The first waypoint is the walk's start, one step (1 s) before the track's first row:
+    // held at that row (1 m east, 1 m north: 1.41 m); the other two are 1 m off.
+    assert_eq!(v["track"]["n"], 3);
+    assert_eq!(v["track"]["skipped"], 0);
+    assert_eq!(v["held"], 1, "{v}");
+    assert!(
+        (v["track"]["max"].as_f64().expect("max") - 2f64.sqrt()).abs() < 1e-6,
+        "{v}"
+    );
     assert!(
         (v["track"]["p50"].as_f64().expect("p50") - 1.0).abs() < 1e-6,
         "{v}"
@@ -62,7 +68,7 @@ fn errors_at_waypoints_and_dead_reckoning_from_the_first() {
         "{v}"
     );
     assert_eq!(v["dead_reckoning_heading"], "absolute");
-    assert_eq!(v["waypoints"].as_array().expect("points").len(), 2);
+    assert_eq!(v["waypoints"].as_array().expect("points").len(), 3);
 }
 
 #[test]

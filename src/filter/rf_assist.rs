@@ -152,7 +152,7 @@ impl RfConfig {
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
         if let Some(e) = self.epsilon {
-            crate::error::check_range("rf.epsilon", e, 0.0..=200.0, "dBm")?;
+            crate::error::check_range("rf.epsilon", e, 0.01..=200.0, "dBm")?;
         }
         crate::error::check_range("rf.epsilon_miss", self.epsilon_miss, 0.0..=0.5, "")?;
         crate::error::check_range("rf.missing_rssi", self.missing_rssi, -150.0..=-20.0, "dBm")?;

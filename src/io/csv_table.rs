@@ -163,8 +163,11 @@ impl CsvRow<'_> {
         self.source.error(self.line, message)
     }
 
-    /// Fails unless time `t` comes strictly after `previous` (the previous row's time).
+    /// Fails unless time `t` is a plausible time in seconds
+    /// ([`crate::sensor::step::check_time`]) and comes strictly after `previous` (the
+    /// previous row's time).
     pub fn ensure_after(&self, previous: Option<f64>, t: f64) -> Result<()> {
+        crate::sensor::step::check_time(t).map_err(|m| self.error(m))?;
         match previous {
             Some(p) if t <= p => Err(self.error(format!(
                 "time {t} s is not after the previous row's {p} s (times must be strictly increasing)"
@@ -188,6 +191,15 @@ impl CsvRow<'_> {
             return Err(self.error(format!("column `{name}`: `{text}` is not a finite number")));
         }
         Ok(v)
+    }
+
+    /// A required time stamp in column `index` named `name`: a finite number of seconds no
+    /// larger than [`crate::sensor::step::MAX_TIME_S`].
+    pub fn time(&self, index: usize, name: &str) -> Result<f64> {
+        let t = self.number(index, name)?;
+        crate::sensor::step::check_time(t)
+            .map_err(|m| self.error(format!("column `{name}`: {m}")))?;
+        Ok(t)
     }
 
     /// An optional number: `None` when the column is absent or the cell empty.

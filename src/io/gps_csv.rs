@@ -25,7 +25,7 @@ fn gps_from_table(mut table: CsvTable) -> Result<Vec<GpsFix>> {
     let mut fixes: Vec<GpsFix> = Vec::new();
     table.for_each_row(|row| {
         let fix = GpsFix {
-            t: row.number(t, "t")?,
+            t: row.time(t, "t")?,
             lat: row.number(lat, "lat")?,
             lon: row.number(lon, "lon")?,
             accuracy: row

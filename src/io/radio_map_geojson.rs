@@ -21,6 +21,9 @@ use geo::MultiPolygon;
 use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject, JsonValue};
 use serde_json::json;
 use std::collections::BTreeMap;
+
+/// Largest region threshold a radio map may carry, dBm (as `rf.epsilon`).
+const MAX_EPSILON: f64 = 200.0;
 use std::path::Path;
 
 /// The map as a feature collection placed on the globe by `frame`.
@@ -159,9 +162,13 @@ fn radio_map_from_collection(
         None | Some(JsonValue::Null) => Ok(None),
         Some(v) => v
             .as_f64()
-            .filter(|e| e.is_finite() && *e > 0.0)
+            .filter(|e| e.is_finite() && *e > 0.0 && *e <= MAX_EPSILON)
             .map(Some)
-            .ok_or_else(|| whole(format!("member `{name}` = {v} is not a positive number"))),
+            .ok_or_else(|| {
+                whole(format!(
+                    "member `{name}` = {v} is not a threshold in (0, {MAX_EPSILON}] dBm"
+                ))
+            }),
     };
     Ok((
         RadioMap {

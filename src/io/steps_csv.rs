@@ -53,7 +53,7 @@ fn steps_from_table(mut table: CsvTable) -> Result<(StepTrace, Option<StepFields
     let mut previous = None;
     table.for_each_row(|row| {
         let step = Step {
-            t: row.number(t, "t")?,
+            t: row.time(t, "t")?,
             length: row.number(length, "length")?,
             dheading: row.number(dheading, "dheading")?,
             dz: row.optional_number(dz, "dz")?.unwrap_or(0.0),

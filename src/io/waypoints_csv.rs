@@ -28,7 +28,7 @@ pub fn read_waypoints(path: &Path) -> Result<Vec<Waypoint>> {
     let mut out: Vec<Waypoint> = Vec::new();
     table.for_each_row(|row| {
         let w = Waypoint {
-            t: row.number(t, "t")?,
+            t: row.time(t, "t")?,
             x: row.number(x, "x")?,
             y: row.number(y, "y")?,
             level: match row.optional_number(level, "level")? {

@@ -49,7 +49,7 @@ fn wifi_from_table(mut table: CsvTable) -> Result<WifiLog> {
     let mut scans: Vec<WifiScan> = Vec::new();
     let mut duplicate_readings = 0;
     table.for_each_row(|row| {
-        let time = row.number(t, "t")?;
+        let time = row.time(t, "t")?;
         let id = normalise_bssid(row.text(bssid)).ok_or_else(|| {
             row.error(format!(
                 "bssid `{}` is empty or holds a comma or quote",

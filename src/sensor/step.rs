@@ -30,12 +30,27 @@ pub const MAX_STEP_LENGTH: f64 = 3.0;
 /// Largest plausible height change in one step, metres.
 pub const MAX_STEP_DZ: f64 = 1.0;
 
+/// Largest plausible time stamp, seconds (about the year 5100 in Unix seconds): a larger one
+/// is another unit (Unix milliseconds are about 1.7e12) or a corrupt value.
+pub const MAX_TIME_S: f64 = 1e11;
+
+/// Why a time stamp `t` (seconds) is implausible, if it is.
+pub fn check_time(t: f64) -> Result<(), String> {
+    if t.abs() > MAX_TIME_S {
+        return Err(format!(
+            "time {t:e} s is beyond {MAX_TIME_S:e} s: times must be in seconds (Unix seconds are about 1.7e9; milliseconds would be about 1.7e12)"
+        ));
+    }
+    Ok(())
+}
+
 /// Why a step is implausible, if it is.
 pub fn check_step(step: &Step, previous_t: Option<f64>) -> Result<(), String> {
     let finite = [step.t, step.length, step.dheading, step.dz];
     if finite.iter().any(|v| !v.is_finite()) || step.heading.is_some_and(|h| !h.is_finite()) {
         return Err("values must be finite numbers (found NaN or infinity)".into());
     }
+    check_time(step.t)?;
     if !(0.0..=MAX_STEP_LENGTH).contains(&step.length) {
         return Err(format!(
             "step length {} m is outside [0, {MAX_STEP_LENGTH}] m",
