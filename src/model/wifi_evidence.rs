@@ -30,6 +30,7 @@
 //! (a little wider than the cell's own: the evidence errs on the weak side).
 
 use crate::error::{Error, Result};
+use crate::geometry::percentile::nearest_rank;
 use crate::map::{CellRaster, RadioMap};
 use crate::model::wifi_distance::Fingerprints;
 use geo::{BoundingRect, Centroid};
@@ -399,7 +400,7 @@ impl RadioEvidence {
 
 /// The map's cell size: the median of its cells' longer bounding-box sides.
 fn cell_size(map: &RadioMap) -> f64 {
-    let mut sides: Vec<f64> = map
+    let sides: Vec<f64> = map
         .cells
         .iter()
         .filter_map(|c| c.area.bounding_rect())
@@ -409,16 +410,14 @@ fn cell_size(map: &RadioMap) -> f64 {
     if sides.is_empty() {
         return 1.0;
     }
-    median_in_place(&mut sides)
+    median(&sides)
 }
 
+/// The nearest-rank median of non-empty samples.
 fn median(samples: &[f64]) -> f64 {
-    median_in_place(&mut samples.to_vec())
-}
-
-fn median_in_place(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
+    let mut sorted = samples.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    nearest_rank(&sorted, 50)
 }
 
 /// Keeps at most [`MAX_PAIRS`] samples, evenly spaced.
