@@ -594,6 +594,7 @@ fn surveys_from_an_unknown_start_place_the_scans_before_the_fix() {
                 }),
                 localised: true,
                 recovery: None,
+                fit: None,
             })
             .collect();
         let run = |smoothing: bool| {

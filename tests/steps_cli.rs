@@ -160,7 +160,7 @@ fn a_foot_excerpt_gives_strides_without_absolute_heading() {
         .arg(&out)
         .assert()
         .success()
-        .stdout(predicate::str::contains("strides"));
+        .stdout(predicate::str::contains("strides").and(predicate::str::contains("quality: ok")));
     let steps = footslam::io::read_steps(&out.join("steps.csv")).expect("steps.csv");
     // The excerpt's truth (tests/data/README.md): three strides of 1.11–1.26 m after a stand.
     assert!((3..=4).contains(&steps.len()), "{}", steps.len());
@@ -194,6 +194,9 @@ fn the_wrong_mount_is_said_not_swallowed() {
             serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("read"))
                 .expect("json");
         assert_eq!(summary["warnings"].as_array().expect("warnings").len(), 1);
+        // The warning makes the steps' verdict doubtful, in summary.json and on the terminal.
+        assert_eq!(summary["quality"]["verdict"], "doubtful");
+        assert_eq!(summary["quality"]["reasons"][0]["code"], "detector_warning");
     }
 }
 

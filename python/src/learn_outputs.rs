@@ -54,6 +54,7 @@ pub(crate) fn walk_out(
     let ess = filter.ess_history();
     let runtime = run.runtime_s;
     let summary = json!({
+        "quality": run.quality(&footslam::pipeline::QualityConfig::default()),
         "steps_file": label,
         "steps_with_heading": walk.trace.with_heading(),
         "headings_used": filter.headings_used(),
@@ -86,6 +87,7 @@ pub(crate) fn walk_out(
         "smoothing": run.smoothing_report(),
         "building_axes": run.axes_report(),
         "magnetic_field": run.field_report(),
+        "departure_from_dead_reckoning": run.departure,
     });
     WalkOut {
         track,

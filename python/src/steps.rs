@@ -198,6 +198,7 @@ fn summary(
     let steps = run.trace.steps();
     let total_length_m: f64 = steps.iter().map(|s| s.length).sum();
     json!({
+        "quality": footslam::pipeline::steps_quality(&warnings),
         "imu": label,
         "mount": run.mount,
         "steps": steps.len(),

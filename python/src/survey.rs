@@ -89,8 +89,9 @@ fn walk_tables(walks: &Bound<'_, PyAny>) -> PyResult<Vec<WalkTables>> {
 ///     ``cell``, ``level``, ``scans``, ``aps``; ``epsilon``); ``coverage`` — columns
 ///     ``granularity_m``, ``cells``, ``coverage`` (share of the plan's area in cells with a
 ///     scan), ``mean_scans`` at 1 to 5 m cells; ``walks`` — per walk ``start``,
-///     ``steps_to_localise``, ``steps_placed``, ``scans_added``, ``scans_skipped``;
-///     ``summary`` and ``config``.
+///     ``steps_to_localise``, ``steps_placed``, ``scans_added``, ``scans_skipped``,
+///     ``quality`` (a ``poor`` walk's scans are left out); ``summary`` (with the survey's
+///     ``quality``) and ``config``.
 ///
 /// Raises:
 ///     FootslamError: bad data or configuration, a WiFi log on another clock.
@@ -179,6 +180,7 @@ pub(crate) fn survey<'py>(
         let map = &surveyed.map;
         let (share, mean) = map.coverage();
         let summary = json!({
+            "quality": surveyed.quality,
             "cells": surveyed.cells.cells().len(),
             "rooms": surveyed.cells.rooms().len(),
             "granularity_m": config.cells.granularity,
@@ -203,6 +205,7 @@ pub(crate) fn survey<'py>(
                     "steps_placed": done.steps_placed,
                     "scans_added": done.scans_added,
                     "scans_skipped": done.scans_skipped,
+                    "quality": done.quality,
                 })
             })
             .collect();

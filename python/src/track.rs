@@ -279,7 +279,14 @@ pub(crate) fn track<'py>(
                 "evidence_fallback": localiser.fallback(),
             })
         });
+        let quality = run.quality(
+            smoothed
+                .as_ref()
+                .map_or(0, |s| s.iter().filter(|r| r.1).count()),
+            &footslam::pipeline::QualityConfig::default(),
+        );
         let summary = json!({
+            "quality": quality,
             "rf": rf,
             "headings_used": run.headings_used > 0,
             "steps_with_heading": trace.with_heading(),
@@ -303,6 +310,7 @@ pub(crate) fn track<'py>(
             "particles_final": records.steps.last().map_or(initial, |r| r.particles()),
             "deaths": records.recoveries.len(),
             "recoveries": records.recoveries,
+            "plan_fit": records.fit,
             "seed": run.seed,
             "filter_runtime_s": run.filter_runtime_s,
             "particle_steps_per_s": records.particle_steps() as f64

@@ -37,7 +37,8 @@ def test_learn_matches_the_cli(office):
     assert walk["map"] == expected
     assert walk["plan"] == read_json(out / "plan.geojson")
     summary = read_json(out / "summary.json")
-    for key in ["hexagons", "steps", "seed", "particles", "best_particle", "resamplings"]:
+    for key in ["hexagons", "steps", "seed", "particles", "best_particle", "resamplings",
+                "quality", "departure_from_dead_reckoning"]:
         assert walk["summary"][key] == summary[key], key
     assert walk["config"] == read_json(out / "config.json")
     assert got["merged"] is None and got["radio_map"] is None

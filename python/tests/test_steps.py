@@ -26,7 +26,7 @@ def test_steps_match_the_cli(cli, tmp_path, mount):
     summary = read_json(tmp_path / "summary.json")
     assert ("field" in steps) == (mount == "phone"), "the phone excerpt has a magnetometer"
     for key in ["mount", "steps", "heading_source", "steps_with_heading", "steps_with_field",
-                "steps_with_field_up", "warnings"]:
+                "steps_with_field_up", "warnings", "quality"]:
         assert got["summary"][key] == summary[key], key
     assert got["summary"]["mean_stride_m"] == pytest.approx(summary["mean_stride_m"])
 

@@ -55,9 +55,10 @@ def test_survey_matches_the_cli(surveyed):
     np.testing.assert_array_equal(got["coverage"]["cells"], coverage["cells"])
     summary = read_json(out / "summary.json")
     walk = summary["walks"][0]
-    for key in ["steps_to_localise", "steps_placed", "scans_added", "scans_skipped"]:
+    for key in ["steps_to_localise", "steps_placed", "scans_added", "scans_skipped", "quality"]:
         assert got["walks"][0][key] == walk[key], key
     assert got["summary"]["epsilon"] == summary["epsilon"]
+    assert got["summary"]["quality"] == summary["quality"]
 
 
 def test_track_matches_the_cli(cli, sim, config_file, tmp_path):
@@ -77,6 +78,8 @@ def test_track_matches_the_cli(cli, sim, config_file, tmp_path):
     assert_points(got["filtered"], read_csv(tmp_path / "track_filtered.csv"))
     summary = read_json(tmp_path / "summary.json")
     assert got["summary"]["steps_to_localise"] == summary["steps_to_localise"]
+    assert got["summary"]["quality"] == summary["quality"]
+    assert got["summary"]["plan_fit"] == summary["plan_fit"]
     assert list(got["steps"]["particles"]) == summary["particles_per_step"]
     assert got["config"] == read_json(tmp_path / "config.json")
 

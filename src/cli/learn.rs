@@ -20,7 +20,7 @@ use footslam::io::RunFolder;
 use footslam::io::map_geojson::{StoredMap, write_walks_map_geojson};
 use footslam::map::CellConfig;
 use footslam::model::{FieldUnused, ScanPairsUnused};
-use footslam::pipeline::{FieldReport, LearnInput, Learned, default_frame, learn};
+use footslam::pipeline::{FieldReport, LearnInput, Learned, Quality, default_frame, learn};
 use serde::Serialize;
 use std::time::Instant;
 
@@ -30,6 +30,9 @@ const DEFAULT_STEPS: &str = "datasets/office/steps.csv";
 /// `summary.json`: one walk's figures at the top level, or a batch's under `walks`.
 #[derive(Debug, Serialize)]
 struct RunSummary {
+    /// A batch's verdict: its walks' reasons, each named (one walk's is in its summary).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    quality: Option<Quality>,
     #[serde(flatten)]
     single: Option<Summary>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -214,7 +217,16 @@ fn write_outputs(
     } else {
         (summaries.pop(), Vec::new())
     };
+    let quality = batch.then(|| {
+        Quality::combined(
+            walks
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (format!("walk {}", i + 1), &s.quality)),
+        )
+    });
     Ok(RunSummary {
+        quality,
         single,
         walks,
         runtime_s: 0.0,
@@ -287,6 +299,13 @@ impl RunSummary {
             if let Some(f) = &s.magnetic_field {
                 outln!("{walk}magnetic field: {}", field_line(f));
             }
+        }
+        if let Some(q) = self
+            .quality
+            .as_ref()
+            .or(self.single.as_ref().map(|s| &s.quality))
+        {
+            outln!("quality: {}", q.line());
         }
         outln!("outputs: {}", out.display());
     }

@@ -15,13 +15,17 @@ use footslam::io::track_geojson::write_track_geojson;
 use footslam::io::{TimedPoint, TrackPoint, write_trajectory, write_trajectory_with};
 use footslam::map::{HexMapSnapshot, PlanConfig, walkable_plan};
 use footslam::model::PairLikelihood;
-use footslam::pipeline::{AxesReport, FieldReport, LearnWalk, SmoothingReport, WalkRun};
+use footslam::pipeline::{
+    AxesReport, FieldReport, LearnWalk, Quality, QualityConfig, SmoothingReport, WalkRun,
+};
 use footslam::render::map_png::{MapPicture, PictureConfig, write_map_png};
 use serde::Serialize;
 
 /// One walk's figures in `summary.json`.
 #[derive(Debug, Serialize)]
 pub(super) struct Summary {
+    /// The walk's verdict and its reasons (docs/robustness.md).
+    pub(super) quality: Quality,
     steps_file: String,
     gps_file: Option<String>,
     /// Steps of the trace that carry an absolute heading.
@@ -245,6 +249,7 @@ pub(super) fn write_walk(
     let ess = filter.ess_history();
     let steps = walk.trace.len();
     Ok(Summary {
+        quality: run.quality(&QualityConfig::default()),
         steps_file: files.steps_path.display().to_string(),
         gps_file: files.gps_path.as_ref().map(|p| p.display().to_string()),
         steps_with_heading: walk.trace.with_heading(),

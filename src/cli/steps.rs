@@ -8,7 +8,7 @@ use footslam::inertial::{HeadingSource, Mount, StepsConfig};
 use footslam::io::RunFolder;
 use footslam::io::{ImuUnits, read_imu_in, steps_csv::write_steps_with_field};
 use footslam::map::hex_transitions::HexMapSnapshot;
-use footslam::pipeline::{DetectorFigures, FrameVerdict, StepsRun, steps};
+use footslam::pipeline::{DetectorFigures, FrameVerdict, Quality, StepsRun, steps, steps_quality};
 use footslam::render::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::sensor::{ImuRecording, SamplingReport};
 use serde::Serialize;
@@ -70,6 +70,8 @@ enum MountArg {
 
 #[derive(Debug, Serialize)]
 struct Summary<'r> {
+    /// The steps' verdict and its reasons (docs/robustness.md).
+    quality: Quality,
     imu_file: String,
     mount: Mount,
     steps: usize,
@@ -129,7 +131,7 @@ pub fn run(args: Args) -> Result<()> {
         .chain(frame_warnings(&args, run.frame_verdict())?)
         .collect();
     let trace_len = run.trace.len();
-    write_outputs(&folder, &args, &recording, warnings, run, started)?;
+    let quality = write_outputs(&folder, &args, &recording, warnings, run, started)?;
     folder.write_json("config.json", &config)?;
     let out = folder.commit()?;
     let what = match mount {
@@ -137,6 +139,7 @@ pub fn run(args: Args) -> Result<()> {
         Mount::Phone => "steps",
     };
     outln!("{trace_len} {what}: {}", out.join("steps.csv").display());
+    outln!("quality: {}", quality.line());
     outln!("outputs: {}", out.display());
     Ok(())
 }
@@ -160,7 +163,7 @@ fn write_outputs(
     warnings: Vec<String>,
     run: StepsRun,
     started: Instant,
-) -> Result<()> {
+) -> Result<Quality> {
     let mount = run.mount;
     let sampling = recording.report().clone();
     let steps = run.trace.steps();
@@ -196,6 +199,7 @@ fn write_outputs(
     )?;
     let total_length_m: f64 = steps.iter().map(|s| s.length).sum();
     let summary = Summary {
+        quality: steps_quality(&warnings),
         imu_file: args.imu.display().to_string(),
         mount,
         steps: steps.len(),
@@ -213,5 +217,5 @@ fn write_outputs(
         version: env!("CARGO_PKG_VERSION"),
     };
     folder.write_json("summary.json", &summary)?;
-    Ok(())
+    Ok(summary.quality)
 }

@@ -15,7 +15,7 @@ use footslam::io::radio_map_geojson::read_radio_map_geojson;
 use footslam::io::{read_steps, read_walk_manifest};
 use footslam::map::{FloorPlan, FloorTopology};
 use footslam::model::wifi_distance::held_out_quantiles;
-use footslam::pipeline::{SurveyConfig, SurveyInput, SurveyWalk, Surveyed, survey};
+use footslam::pipeline::{Quality, SurveyConfig, SurveyInput, SurveyWalk, Surveyed, survey};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -89,10 +89,14 @@ struct WalkSummary {
     steps_placed: usize,
     scans_added: usize,
     scans_skipped: usize,
+    /// How well the walk fitted the plan; a `poor` walk's scans are left out of the map.
+    quality: Quality,
 }
 
 #[derive(Debug, Serialize)]
 struct Summary {
+    /// The survey's verdict and its reasons (docs/robustness.md).
+    quality: Quality,
     walks: Vec<WalkSummary>,
     cells: usize,
     rooms: usize,
@@ -141,7 +145,10 @@ pub fn run(args: Args) -> Result<()> {
         earlier: &earlier,
     };
     let pool = super::common::worker_pool(args.threads)?;
-    let surveyed = pool.install(|| survey(&input, &config, &Bars::default()))?;
+    let surveyed = pool
+        .install(|| survey(&input, &config, &Bars::default()))
+        .with_context(|| format!("{}: cannot survey on this plan", args.plan.display()))?;
+    warn_left_out(&files, &surveyed);
 
     let mut folder = RunFolder::create(&output_dir(args.out.clone(), "survey"))?;
     folder.protect(
@@ -166,6 +173,19 @@ pub fn run(args: Args) -> Result<()> {
     let out = folder.commit()?;
     summary.print(&out);
     Ok(())
+}
+
+/// Warns of each walk whose scans were left out of the map (it does not fit the plan).
+fn warn_left_out(files: &[WalkFiles], surveyed: &Surveyed) {
+    for (f, w) in files.iter().zip(&surveyed.walks) {
+        if w.left_out() {
+            super::common::warn(&format!(
+                "{}: {}; its scans were left out of the radio map",
+                f.steps.display(),
+                w.quality.line()
+            ));
+        }
+    }
 }
 
 /// The survey's configuration: the config file's (or the defaults) with the flags'
@@ -264,8 +284,10 @@ impl Summary {
                     steps_placed: done.steps_placed,
                     scans_added: done.scans_added,
                     scans_skipped: done.scans_skipped,
+                    quality: done.quality.clone(),
                 })
                 .collect(),
+            quality: surveyed.quality.clone(),
             cells: surveyed.cells.cells().len(),
             rooms: surveyed.cells.rooms().len(),
             granularity_m: config.cells.granularity,
@@ -297,6 +319,7 @@ impl Summary {
             self.mean_scans_per_covered_cell,
             self.access_points,
         );
+        outln!("quality: {}", self.quality.line());
         outln!("outputs: {}", out.display());
     }
 }

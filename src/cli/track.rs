@@ -19,7 +19,9 @@ use footslam::io::{SmoothedPoint, TrackPoint, read_steps, write_smoothed_track, 
 use footslam::map::{FloorPlan, FloorTopology, grow_plan};
 use footslam::model::TransitionPrior;
 use footslam::model::wifi_distance::Normalisation;
-use footslam::pipeline::{RadioInput, SAME_ORIGIN_M, SnapshotSteps, TrackInput, TrackRun, track};
+use footslam::pipeline::{
+    QualityConfig, RadioInput, SAME_ORIGIN_M, SnapshotSteps, TrackInput, TrackRun, track,
+};
 use footslam::sensor::{StepTrace, WifiScan};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -327,6 +329,7 @@ fn summary<'r>(
     let first = records.first_localised();
     let initial = run.initial_particles;
     Summary {
+        quality: run.quality(smoothed.map_or(0, |s| s.certain), &QualityConfig::default()),
         rf: inputs.radio.as_ref().map(|r| RfSummary {
             radiomap_file: r.map_path.display().to_string(),
             wifi_file: r.wifi_path.display().to_string(),
@@ -376,6 +379,7 @@ fn summary<'r>(
         clusters_per_step: &records.steps,
         deaths: records.recoveries.len(),
         recoveries: &records.recoveries,
+        plan_fit: records.fit,
         seed: run.seed,
         threads,
         runtime_s: started.elapsed().as_secs_f64(),

@@ -4,13 +4,15 @@
 use footslam::filter::RfMode;
 use footslam::geometry::LocalFrame;
 use footslam::model::wifi_distance::Normalisation;
-use footslam::pipeline::{RecoveryEvent, StepRecord};
+use footslam::pipeline::{Quality, RecoveryEvent, StepRecord};
 use serde::Serialize;
 use std::path::Path;
 
 /// `summary.json`.
 #[derive(Debug, Serialize)]
 pub(super) struct Summary<'r> {
+    /// The run's verdict and its reasons (docs/robustness.md).
+    pub(super) quality: Quality,
     pub(super) rf: Option<RfSummary>,
     /// Whether the steps' absolute headings weighted the particles.
     pub(super) headings_used: bool,
@@ -38,6 +40,8 @@ pub(super) struct Summary<'r> {
     pub(super) clusters_per_step: &'r [StepRecord],
     pub(super) deaths: usize,
     pub(super) recoveries: &'r [RecoveryEvent],
+    /// How well the steps fitted the plan.
+    pub(super) plan_fit: footslam::pipeline::PlanFit,
     pub(super) seed: u64,
     pub(super) threads: usize,
     pub(super) runtime_s: f64,
@@ -154,6 +158,7 @@ impl Summary<'_> {
             self.filter_runtime_s,
             self.particle_steps_per_s
         );
+        outln!("quality: {}", self.quality.line());
         outln!("outputs: {}", out.display());
     }
 }

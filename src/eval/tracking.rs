@@ -169,6 +169,7 @@ mod tests {
             }),
             localised,
             recovery: None,
+            fit: None,
         }
     }
 

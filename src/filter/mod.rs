@@ -62,5 +62,5 @@ pub use survey::{
     calibrate_map, path_points, path_steps, placed_steps, survey_assignments, survey_paths,
     survey_walk, whole_walk_reports,
 };
-pub use tracker::{StepMeasurement, TrackParticle, TrackStep, Tracker};
+pub use tracker::{StepFit, StepMeasurement, TrackParticle, TrackStep, Tracker};
 pub use tracker_config::{StartPose, TrackerConfig};

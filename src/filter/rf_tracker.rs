@@ -189,6 +189,7 @@ impl<'a> RfTracker<'a> {
                 estimate: None,
                 localised: false,
                 recovery: None,
+                fit: None,
             });
         };
         let every_step = self.rf.config().every_step;

@@ -4,6 +4,7 @@
 //! summary both serialise, so the two faces cannot drift apart.
 
 use super::learn_walks::WalkRun;
+use super::quality::{Quality, QualityConfig, learn_quality};
 use crate::model::{FieldCalibration, FieldUnused};
 use serde::Serialize;
 
@@ -68,6 +69,16 @@ impl WalkRun {
             calibration: e.calibration.clone(),
             unused: e.model.as_ref().err().copied(),
         })
+    }
+
+    /// The walk's verdict ([`learn_quality`]): its answer against dead reckoning and how far
+    /// its final paths disagree.
+    pub fn quality(&self, config: &QualityConfig) -> Quality {
+        learn_quality(
+            &self.departure,
+            self.smoothing_report().spread_median_m,
+            config,
+        )
     }
 
     /// The report of the whole-walk answer.

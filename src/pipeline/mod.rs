@@ -8,6 +8,7 @@
 //!   (prior, walks, merge, radio).
 //! * [`merge`](mod@merge) — maps of several walks in one frame combined (their counts summed).
 //! * [`plan`](mod@plan) — a learned map as a walkable floor plan and occupancy grids.
+//! * [`quality`] — every run's verdict (`ok`, `doubtful`, `poor`) and its reasons.
 //! * [`steps`](mod@steps) — a raw IMU recording (foot or phone) to step events (detect, check).
 //! * [`survey`](mod@survey) — a WiFi radio map from walks tracked on a known plan (track, cells, merge,
 //!   calibrate, coverage).
@@ -20,6 +21,7 @@ mod learn_walks;
 pub mod merge;
 pub mod plan;
 mod progress;
+pub mod quality;
 pub mod steps;
 pub mod survey;
 pub mod track;
@@ -37,10 +39,14 @@ pub use learn_reports::{AxesReport, FieldReport, SmoothingReport};
 pub use merge::merge;
 pub use plan::{PlanRunConfig, Planned, plan};
 pub use progress::{Progress, Silent};
+pub use quality::{
+    Quality, QualityConfig, Reason, TrackEvidence, Verdict, learn_quality, steps_quality,
+    track_quality,
+};
 pub use steps::{DetectorFigures, FrameVerdict, StepsRun, steps};
 pub use survey::{
     COVERAGE_GRANULARITIES, Coverage, SurveyConfig, SurveyInput, SurveyWalk, Surveyed,
     SurveyedWalk, survey,
 };
 pub use track::{CloudSnapshot, RadioInput, SnapshotSteps, TrackInput, TrackRun, track};
-pub use track_records::{RecoveryEvent, StepRecord, StepRecords};
+pub use track_records::{PlanFit, RecoveryEvent, StepRecord, StepRecords};

@@ -11,6 +11,8 @@
 //! 5. **coverage** — the same walks at 1 to 5 m cells (the paper's Table 1).
 
 use super::Progress;
+use super::quality::{Quality, QualityConfig, TrackEvidence, Verdict, track_quality};
+use super::track_records::{PlanFit, RecoveryEvent};
 use crate::filter::{
     Assignments, EPSILON_MISS, StartPose, TrackStep, Tracker, TrackerConfig, calibrate_map,
     placed_steps, survey_assignments, survey_walk,
@@ -93,6 +95,16 @@ pub struct SurveyedWalk {
     pub scans_added: usize,
     /// Scans from localisation on whose step had no estimate or no cell.
     pub scans_skipped: usize,
+    /// How well the walk fitted the plan ([`track_quality`]). A `poor` walk's scans are
+    /// left out of the map (they would land in the wrong cells).
+    pub quality: Quality,
+}
+
+impl SurveyedWalk {
+    /// Whether the walk's scans were left out of the map.
+    pub fn left_out(&self) -> bool {
+        self.quality.verdict == Verdict::Poor
+    }
 }
 
 /// One row of the coverage table.
@@ -121,6 +133,9 @@ pub struct Surveyed {
     pub held: Vec<HeldOut>,
     /// The coverage table ([`COVERAGE_GRANULARITIES`]).
     pub coverage: Vec<Coverage>,
+    /// The survey's verdict: its walks', each named (a walk left out makes the map
+    /// `doubtful`: it covers less than the walks did).
+    pub quality: Quality,
 }
 
 /// Surveys the walks of `input` with `config` in the stages of the [module](self).
@@ -139,6 +154,7 @@ pub fn survey(
     let total: u64 = input.walks.iter().map(|w| w.trace.len() as u64).sum();
     progress.start("surveying", total);
     let mut runs: Vec<(Vec<TrackStep>, Vec<TrackStep>)> = Vec::with_capacity(input.walks.len());
+    let mut qualities = Vec::with_capacity(input.walks.len());
     for (k, walk) in input.walks.iter().enumerate() {
         let tracker_config = TrackerConfig {
             seed: config.tracker.seed.wrapping_add(k as u64),
@@ -151,10 +167,31 @@ pub fn survey(
             reports.push(tracker.update(step)?);
             progress.advance(1);
         }
-        let placed = placed_steps(&tracker, reports.clone());
+        let mut placed = placed_steps(&tracker, reports.clone());
+        let quality = walk_quality(&reports, &placed, tracker.capped_draws());
+        if quality.verdict == Verdict::Poor {
+            // A walk that does not fit the plan places its scans in the wrong cells.
+            for step in &mut placed {
+                step.estimate = None;
+            }
+        }
+        qualities.push(quality);
         runs.push((reports, placed));
     }
     progress.finish();
+    if input.earlier.is_empty()
+        && !qualities.is_empty()
+        && qualities.iter().all(|q| q.verdict == Verdict::Poor)
+    {
+        return Err(Error::mismatch(
+            format!(
+                "no walk fits the floor plan, so no scan can be placed ({}{})",
+                if qualities.len() > 1 { "walk 1: " } else { "" },
+                qualities[0].line()
+            ),
+            "check that the plan is this building's, in the walks' frame (origin), with its floors",
+        ));
+    }
     // 2. cells
     let placed: Vec<&[TrackStep]> = runs.iter().map(|(_, p)| p.as_slice()).collect();
     let (cells, mut map, counts, assignments) =
@@ -197,27 +234,87 @@ pub fn survey(
             })
         })
         .collect::<Result<Vec<_>>>()?;
-    let walks = runs
+    let walks: Vec<SurveyedWalk> = runs
         .iter()
         .zip(&counts)
-        .zip(&starts)
+        .zip(starts.iter().zip(qualities))
         .map(
-            |(((reports, placed), &(added, skipped)), start)| SurveyedWalk {
+            |(((reports, placed), &(added, skipped)), (start, quality))| SurveyedWalk {
                 start: *start,
                 steps_to_localise: reports.iter().position(|r| r.localised).map(|i| i + 1),
                 steps_placed: placed.iter().filter(|r| r.estimate.is_some()).count(),
                 scans_added: added,
                 scans_skipped: skipped,
+                quality,
             },
         )
         .collect();
+    let quality = survey_quality(&walks);
     Ok(Surveyed {
         cells,
         map,
         walks,
         held,
         coverage,
+        quality,
     })
+}
+
+/// One surveyed walk's verdict from the filter's reports and the steps placed.
+fn walk_quality(reports: &[TrackStep], placed: &[TrackStep], capped_draws: usize) -> Quality {
+    let mut fit = PlanFit::default();
+    let mut recoveries = Vec::new();
+    for (i, r) in reports.iter().enumerate() {
+        if let Some(f) = &r.fit {
+            fit.add(f);
+        }
+        if let Some(recovery) = r.recovery {
+            recoveries.push(RecoveryEvent {
+                step: i + 1,
+                t: r.t,
+                recovery,
+            });
+        }
+    }
+    track_quality(
+        &TrackEvidence {
+            fit: &fit,
+            recoveries: &recoveries,
+            steps: reports.len(),
+            settled: reports.iter().chain(placed).any(|r| r.localised),
+            capped_draws,
+        },
+        &QualityConfig::default(),
+    )
+}
+
+/// The survey's verdict: its walks' reasons, each named; a walk left out makes the map
+/// doubtful at worst (the map holds the others' scans).
+fn survey_quality(walks: &[SurveyedWalk]) -> Quality {
+    let named: Vec<(String, Quality)> = walks
+        .iter()
+        .enumerate()
+        .filter(|(_, w)| w.quality.verdict != Verdict::Ok)
+        .map(|(k, w)| {
+            let mut q = w.quality.clone();
+            if w.left_out() {
+                for r in &mut q.reasons {
+                    r.verdict = Verdict::Doubtful;
+                }
+                q.reasons.push(super::quality::Reason {
+                    code: "walk_left_out",
+                    verdict: Verdict::Doubtful,
+                    message: "its scans were left out of the map".into(),
+                });
+            }
+            (format!("walk {}", k + 1), q)
+        })
+        .collect();
+    let mut quality = Quality::combined(named.iter().map(|(n, q)| (n.clone(), q)));
+    if !walks.is_empty() && walks.iter().all(SurveyedWalk::left_out) {
+        quality.verdict = Verdict::Poor;
+    }
+    quality
 }
 
 /// Stage 2 at one granularity: the cells, the map of every walk's scans, each walk's scans

@@ -9,6 +9,7 @@
 //!    ([`SmoothedWalk`]) unless the configuration asks for causal answers only.
 
 use super::Progress;
+use super::quality::{Quality, QualityConfig, TrackEvidence, track_quality};
 use super::track_records::StepRecords;
 use crate::Result;
 use crate::filter::{RfLocaliser, RfTracker, SmoothedWalk, TrackStep, Tracker, TrackerConfig};
@@ -102,6 +103,25 @@ pub struct TrackRun<'a> {
     pub seed: u64,
     /// Seconds spent in the filter.
     pub filter_runtime_s: f64,
+    /// Prior draws cut at `kld.max_particles` before the KLD bound was met.
+    pub capped_draws: usize,
+}
+
+impl TrackRun<'_> {
+    /// The run's verdict ([`track_quality`]); `steps_certain` is the number of steps the
+    /// whole-walk answer made certain (0 without smoothing).
+    pub fn quality(&self, steps_certain: usize, config: &QualityConfig) -> Quality {
+        track_quality(
+            &TrackEvidence {
+                fit: &self.records.fit,
+                recoveries: &self.records.recoveries,
+                steps: self.records.steps.len(),
+                settled: steps_certain > 0 || self.records.first_localised().is_some(),
+                capped_draws: self.capped_draws,
+            },
+            config,
+        )
+    }
 }
 
 /// Tracks the walk `trace` on `input` with `config`, keeping the particle clouds of
@@ -129,6 +149,7 @@ pub fn track<'a>(
         headings_used: 0,
         seed: config.seed,
         filter_runtime_s: 0.0,
+        capped_draws: 0,
     };
     if let Some(tracker) = walker.tracker()
         && snapshots.wanted(0, trace.is_empty(), false)
@@ -170,6 +191,7 @@ pub fn track<'a>(
         run.bytes_per_particle = tracker.bytes_per_particle();
         run.measurements_ignored = tracker.measurements_ignored();
         run.headings_used = tracker.headings_used();
+        run.capped_draws = tracker.capped_draws();
     }
     run.filter_runtime_s = started.elapsed().as_secs_f64();
     Ok(run)

@@ -2,7 +2,7 @@
 //! localised), where a whole [`TrackStep`] is over a hundred, and the steps at which every
 //! particle died.
 
-use crate::filter::{Recovery, TrackStep};
+use crate::filter::{Recovery, StepFit, TrackStep};
 use serde::Serialize;
 
 /// One step's particle count, cluster count and whether the walker was localised. Particles
@@ -55,6 +55,44 @@ pub struct RecoveryEvent {
     pub recovery: Recovery,
 }
 
+/// How well the walk fitted the plan, summed over its steps ([`StepFit`]): the evidence of
+/// the tracking verdict.
+#[derive(Debug, Default, Clone, Copy, PartialEq, Serialize)]
+pub struct PlanFit {
+    /// Steps the filter propagated.
+    pub steps: usize,
+    /// Their mean share of particles left alive by the walls.
+    pub survival_mean: f64,
+    /// Steps that left fewer than half the particles alive (every death included).
+    pub steps_half_lost: usize,
+    /// The largest excursion of the height change the plan's surfaces did not explain,
+    /// summed along the walk (max − min of the running sum), metres: a walk that climbs
+    /// a storey on a one-level plan shows the storey.
+    pub unexplained_climb_m: f64,
+    #[serde(skip)]
+    survival_sum: f64,
+    #[serde(skip)]
+    climb: f64,
+    #[serde(skip)]
+    climb_min: f64,
+    #[serde(skip)]
+    climb_max: f64,
+}
+
+impl PlanFit {
+    /// Adds one step's fit.
+    pub fn add(&mut self, fit: &StepFit) {
+        self.steps += 1;
+        self.survival_sum += f64::from(fit.survival);
+        self.survival_mean = self.survival_sum / self.steps as f64;
+        self.steps_half_lost += usize::from(fit.survival < 0.5);
+        self.climb += f64::from(fit.unexplained_dz);
+        self.climb_min = self.climb_min.min(self.climb);
+        self.climb_max = self.climb_max.max(self.climb);
+        self.unexplained_climb_m = self.climb_max - self.climb_min;
+    }
+}
+
 /// Every step's [`StepRecord`], and the steps at which every particle died.
 #[derive(Debug, Default, Clone)]
 pub struct StepRecords {
@@ -62,12 +100,17 @@ pub struct StepRecords {
     pub steps: Vec<StepRecord>,
     /// The deaths, in step order.
     pub recoveries: Vec<RecoveryEvent>,
+    /// How well the steps fitted the plan.
+    pub fit: PlanFit,
 }
 
 impl StepRecords {
     /// Records the report of step `i` (0-based) at time `t`.
     pub fn push(&mut self, i: usize, t: f64, report: &TrackStep) {
         self.steps.push(StepRecord::new(report));
+        if let Some(fit) = &report.fit {
+            self.fit.add(fit);
+        }
         if let Some(recovery) = report.recovery {
             self.recoveries.push(RecoveryEvent {
                 step: i + 1,

@@ -43,6 +43,7 @@
 
 mod ancestry;
 mod estimate;
+mod fit;
 mod measure;
 mod particle;
 mod prior;
@@ -52,6 +53,7 @@ mod resample;
 #[cfg(test)]
 mod tests;
 
+pub use fit::StepFit;
 pub use particle::TrackParticle;
 
 use super::cluster::Cluster;
@@ -110,6 +112,9 @@ pub struct TrackStep {
     pub localised: bool,
     /// Set when every particle died at this step, with how the filter recovered.
     pub recovery: Option<Recovery>,
+    /// How well the step fitted the plan (`None`: no filter ran, e.g. before a radio
+    /// tracker's first scan).
+    pub fit: Option<StepFit>,
 }
 
 /// The particle filter of Woodman & Harle 2008 on a [`FloorTopology`].
@@ -154,6 +159,8 @@ pub struct Tracker<'a> {
     ancestors: Vec<u32>,
     /// Prior draws cut at `kld.max_particles` before KLD was satisfied.
     capped_draws: usize,
+    /// The sums of the latest propagation.
+    propagation: fit::Propagation,
 }
 
 impl<'a> Tracker<'a> {
@@ -206,6 +213,7 @@ impl<'a> Tracker<'a> {
             path_nodes_peak_taken: 0,
             ancestors: Vec::new(),
             capped_draws: 0,
+            propagation: fit::Propagation::default(),
         };
         if let Some(start) = config.start {
             let s = tracker.locate_start(&start)?;
@@ -304,9 +312,21 @@ impl<'a> Tracker<'a> {
         let input = StepInput::of(step)?;
         self.steps += 1;
         let mut recovery = None;
-        if !self.propagate(&input, 0.0, SALT_STEP) {
+        let alive = self.propagate(&input, 0.0, SALT_STEP);
+        let survival = self.propagation.survival();
+        if !alive {
             recovery = Some(self.recover(&input));
         }
+        // The height change the particles that carried the step explain (none after a
+        // fresh prior, whose sums are those of a failed search).
+        let explained = match recovery {
+            Some(Recovery::Global) => None,
+            _ => self.propagation.explained_dz(),
+        };
+        let fit = StepFit {
+            survival,
+            unexplained_dz: explained.map_or(0.0, |dz| (f64::from(input.dz) - dz) as f32),
+        };
         if !matches!(recovery, Some(Recovery::Global)) {
             if let Some(mut m) = measurement {
                 // History fitting re-seeds and replays the belief: its particles are judged
@@ -340,6 +360,7 @@ impl<'a> Tracker<'a> {
             estimate: clusters.and_then(|c| c.first().copied()),
             localised,
             recovery,
+            fit: Some(fit),
         })
     }
 }

@@ -2,6 +2,7 @@
 //! moved (eqs. 9–11), walked through the floor polygons' walls and connections, and weighted
 //! by its height change across stairs (eqs. 15–17).
 
+use super::fit::Propagation;
 use super::particle::{SCALE_RANGE, wrap};
 use super::resample::resize;
 use super::{CHUNK, TrackParticle, Tracker};
@@ -24,7 +25,8 @@ pub(super) struct StepInput {
 impl Tracker<'_> {
     /// Algorithm 1 for every particle of the belief, into the proposal: returns false when
     /// every particle hit a wall. `heading_offset` is added to the step's heading change
-    /// (the heading search of recovery).
+    /// (the heading search of recovery). Its sums are kept for the step's fit
+    /// ([`super::StepFit`]).
     pub(super) fn propagate(&mut self, u: &StepInput, heading_offset: f32, salt: u64) -> bool {
         let n = self.particles.len();
         resize(&mut self.proposal, n);
@@ -48,7 +50,7 @@ impl Tracker<'_> {
             &self.bins,
             self.dense_bins,
         );
-        let alive = self
+        let chunks: Vec<Propagation> = self
             .particles
             .par_chunks(CHUNK)
             .zip(self.proposal.par_chunks_mut(CHUNK))
@@ -57,21 +59,33 @@ impl Tracker<'_> {
             .enumerate()
             .map(|(c, (((from, to), lw), bi))| {
                 let mut rng = crate::random::stream(seed, step, c as u64);
-                let mut alive = 0usize;
+                let mut sums = Propagation {
+                    particles: from.len(),
+                    ..Propagation::default()
+                };
                 for (i, (p, q)) in from.iter().zip(to.iter_mut()).enumerate() {
                     let (next, ll) = model.apply(p, &mut rng);
+                    if ll > f32::NEG_INFINITY {
+                        let w = f64::from(ll).exp();
+                        let dz_poly = model.topology.z(next.surface) - model.topology.z(p.surface);
+                        sums.alive += 1;
+                        sums.weight += w;
+                        sums.weighted_dz += w * f64::from(dz_poly);
+                    }
                     *q = next;
                     lw[i] = ll;
-                    alive += usize::from(ll > f32::NEG_INFINITY);
                     if dense {
                         let level = model.topology.level(next.surface);
                         bi[i] = bins.bin(next.x, next.y, next.heading, level) as u32;
                     }
                 }
-                alive
+                sums
             })
-            .sum::<usize>();
-        alive > 0
+            .collect();
+        self.propagation = chunks
+            .into_iter()
+            .fold(Propagation::default(), Propagation::add);
+        self.propagation.alive > 0
     }
 }
 
