@@ -309,6 +309,22 @@ fn files_out_of_range_or_ambiguous_fail_clearly() {
         let lat = p["origin"]["lat"].as_f64().expect("lat");
         p["origin"]["lat"] = (lat + 1.0).into();
     });
+    // A round hall drawn with 20,001 vertices (validating it compares every pair of edges).
+    edited_plan(&d.join("dense.geojson"), |p| {
+        let first = p["features"][0]["geometry"]["coordinates"][0][0].clone();
+        let (lon, lat) = (
+            first[0].as_f64().expect("lon"),
+            first[1].as_f64().expect("lat"),
+        );
+        let ring: Vec<serde_json::Value> = (0..=20_000)
+            .map(|k| {
+                let a = std::f64::consts::TAU * f64::from(k % 20_000) / 20_000.0;
+                serde_json::json!([lon + 2e-4 * a.cos(), lat + 1.5e-4 * a.sin()])
+            })
+            .collect();
+        p["features"][0]["geometry"] =
+            serde_json::json!({"type": "Polygon", "coordinates": [ring]});
+    });
     edited_plan(&d.join("twice.geojson"), |p| {
         let first = p["features"][0].clone();
         p["features"].as_array_mut().expect("features").push(first);
@@ -385,6 +401,12 @@ fn files_out_of_range_or_ambiguous_fail_clearly() {
             args: track("tiny.geojson", &[]),
             fails: true,
             says: &["tiny.geojson", "is it in metres"],
+        },
+        Case {
+            name: "a polygon of 20,001 vertices",
+            args: track("dense.geojson", &[]),
+            fails: true,
+            says: &["dense.geojson", "20001 vertices", "10000", "simplify it"],
         },
         Case {
             name: "a plan 16 km wide",

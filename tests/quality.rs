@@ -154,3 +154,60 @@ fn learn_reports_its_verdict() {
     let q = &json(&out.join("summary.json"))["quality"];
     assert_eq!(q["verdict"], "ok", "{q}");
 }
+
+#[test]
+fn an_open_plan_finishes_within_its_bounds_and_says_so() {
+    // One open room 1 km square: nothing narrows an unknown start, so the belief would keep
+    // every particle and every path. The documented bounds (particles per step, path nodes)
+    // keep the run short; the verdict says what the answer is worth.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (lat, lon): (f64, f64) = (48.1491, 11.5681);
+    let (dlat, dlon) = (
+        1000.0 / 111_320.0,
+        1000.0 / (111_320.0 * lat.to_radians().cos()),
+    );
+    let ring = serde_json::json!([
+        [lon, lat],
+        [lon + dlon, lat],
+        [lon + dlon, lat + dlat],
+        [lon, lat + dlat],
+        [lon, lat]
+    ]);
+    let plan = serde_json::json!({"type": "FeatureCollection", "origin": {"lat": lat, "lon": lon},
+        "features": [{"type": "Feature", "properties": {"level": 0, "z": 0.0},
+            "geometry": {"type": "Polygon", "coordinates": [ring]}}]});
+    let plan_path = dir.path().join("room.geojson");
+    std::fs::write(&plan_path, plan.to_string()).expect("plan");
+    let config = dir.path().join("bounds.toml");
+    std::fs::write(
+        &config,
+        "smoothing_max_nodes = 200000\n[kld]\nmax_particles = 40000\nmax_step_particles = 5000\n",
+    )
+    .expect("config");
+    let out = dir.path().join("run");
+    footslam()
+        .arg("track")
+        .arg("--plan")
+        .arg(&plan_path)
+        .arg("--steps")
+        .arg(datasets().join("office/steps.csv"))
+        .arg("--config")
+        .arg(&config)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("quality: doubtful"));
+    let summary = json(&out.join("summary.json"));
+    let reasons = codes(&summary["quality"]);
+    for code in ["not_settled", "smoothing_dropped", "thin_prior"] {
+        assert!(reasons.contains(&code.to_string()), "{reasons:?}");
+    }
+    assert!(summary["particles_max"].as_u64().expect("max") <= 40_000);
+    let per_step = summary["particles_per_step"].as_array().expect("per step");
+    assert!(per_step.iter().all(|n| n.as_u64().expect("n") <= 5_000));
+    // Without the ancestry the answer is the filter's own: track.csv in that format.
+    let track = std::fs::read_to_string(out.join("track.csv")).expect("track");
+    assert!(track.starts_with("t,x,y,z,level\n"));
+    assert!(summary["smoothing"].is_null());
+}

@@ -164,33 +164,20 @@ pub fn mean_shift(points: &[ClusterPoint], config: &ClusterConfig) -> Vec<Cluste
     }
     let r = config.radius;
     let grid = Grid::new(points, r);
+    // Each point's heading as a unit vector, once: mean shift visits a point many times.
+    let unit: Vec<Unit> = points.iter().map(Unit::of).collect();
     let modes = merge_modes(
-        seeds(points, r / 2.0, config.max_dheading)
+        seeds(points, &unit, r / 2.0, config.max_dheading)
             .into_iter()
-            .map(|s| shift(s, points, &grid, config))
+            .map(|s| shift(s, points, &unit, &grid, config))
             .collect(),
         config,
     );
     let mut sums = vec![Sums::default(); modes.len()];
-    for p in points.iter().filter(|p| p.weight > 0.0) {
-        let nearest = modes
-            .iter()
-            .enumerate()
-            .map(|(i, m)| {
-                let dz = (f64::from(p.z) - m.z).abs();
-                let dh = heading_gap(f64::from(p.heading), m.heading);
-                let mut penalty = if dz < config.max_dz { 0.0 } else { 1e6 * dz };
-                if dh > config.max_dheading {
-                    penalty += 1e3 * dh;
-                }
-                (
-                    i,
-                    (f64::from(p.x) - m.x).hypot(f64::from(p.y) - m.y) + penalty,
-                )
-            })
-            .min_by(|a, b| a.1.total_cmp(&b.1));
-        if let Some((i, _)) = nearest {
-            sums[i].add(p);
+    let index = ModeIndex::new(&modes, r);
+    for (p, u) in points.iter().zip(&unit).filter(|(p, _)| p.weight > 0.0) {
+        if let Some(i) = index.nearest(p, &modes, config) {
+            sums[i].add(p, u);
         }
     }
     let mut clusters: Vec<Cluster> = sums
@@ -229,15 +216,26 @@ struct Moments {
     sin: f64,
 }
 
+/// A point's heading as `(cos, sin)`.
+#[derive(Debug, Clone, Copy)]
+struct Unit(f64, f64);
+
+impl Unit {
+    fn of(p: &ClusterPoint) -> Self {
+        let h = f64::from(p.heading);
+        Self(h.cos(), h.sin())
+    }
+}
+
 impl Moments {
-    fn add(&mut self, p: &ClusterPoint) {
+    fn add(&mut self, p: &ClusterPoint, u: &Unit) {
         let w = f64::from(p.weight);
         self.w += w;
         self.x += w * f64::from(p.x);
         self.y += w * f64::from(p.y);
         self.z += w * f64::from(p.z);
-        self.cos += w * f64::from(p.heading).cos();
-        self.sin += w * f64::from(p.heading).sin();
+        self.cos += w * u.0;
+        self.sin += w * u.1;
     }
 
     /// The weighted mean, its circular mean heading and the weight as density.
@@ -263,9 +261,9 @@ struct Sums {
 }
 
 impl Sums {
-    fn add(&mut self, p: &ClusterPoint) {
+    fn add(&mut self, p: &ClusterPoint, u: &Unit) {
         let w = f64::from(p.weight);
-        self.m.add(p);
+        self.m.add(p, u);
         self.r2 += w * (f64::from(p.x).powi(2) + f64::from(p.y).powi(2));
         self.n += 1;
         match self.levels.iter_mut().find(|(l, _)| *l == p.level) {
@@ -337,13 +335,13 @@ impl Grid {
 
 /// Bin seeding: the weighted mean of the particles of each occupied bin of edge `cell`
 /// (per metre of height, per `sector` of heading), in a deterministic order.
-fn seeds(points: &[ClusterPoint], cell: f64, sector: f64) -> Vec<Mode> {
+fn seeds(points: &[ClusterPoint], unit: &[Unit], cell: f64, sector: f64) -> Vec<Mode> {
     let mut bins: FxHashMap<(i64, i64, i64, i64), Moments> = FxHashMap::default();
-    for p in points.iter().filter(|p| p.weight > 0.0) {
+    for (p, u) in points.iter().zip(unit).filter(|(p, _)| p.weight > 0.0) {
         let (kx, ky) = Grid::key(f64::from(p.x), f64::from(p.y), cell);
         let kz = f64::from(p.z).floor() as i64;
         let kh = ((f64::from(p.heading) + std::f64::consts::PI) / sector).floor() as i64;
-        bins.entry((kx, ky, kz, kh)).or_default().add(p);
+        bins.entry((kx, ky, kz, kh)).or_default().add(p, u);
     }
     let mut keyed: Vec<_> = bins.into_iter().collect();
     keyed.sort_by_key(|(k, _)| *k);
@@ -351,7 +349,13 @@ fn seeds(points: &[ClusterPoint], cell: f64, sector: f64) -> Vec<Mode> {
 }
 
 /// Mean shift of one mode to convergence.
-fn shift(mut m: Mode, points: &[ClusterPoint], grid: &Grid, config: &ClusterConfig) -> Mode {
+fn shift(
+    mut m: Mode,
+    points: &[ClusterPoint],
+    unit: &[Unit],
+    grid: &Grid,
+    config: &ClusterConfig,
+) -> Mode {
     let r2 = config.radius * config.radius;
     for _ in 0..MAX_ITERATIONS {
         let mut s = Moments::default();
@@ -362,7 +366,7 @@ fn shift(mut m: Mode, points: &[ClusterPoint], grid: &Grid, config: &ClusterConf
                 && (f64::from(p.z) - m.z).abs() < config.max_dz
                 && heading_gap(f64::from(p.heading), m.heading) <= config.max_dheading
             {
-                s.add(p);
+                s.add(p, &unit[i as usize]);
             }
         });
         if s.w <= 0.0 {
@@ -380,21 +384,119 @@ fn shift(mut m: Mode, points: &[ClusterPoint], grid: &Grid, config: &ClusterConf
     m
 }
 
-/// Modes closer than the kernel to a denser mode are that mode.
+/// Modes closer than the kernel to a denser mode are that mode. The kept modes are binned
+/// by the kernel radius, so each mode is compared with those of the 3 × 3 cells around it
+/// only (a belief spread over a large open plan has as many modes as points).
 fn merge_modes(mut modes: Vec<Mode>, config: &ClusterConfig) -> Vec<Mode> {
     modes.sort_by(|a, b| b.density.total_cmp(&a.density));
     let mut kept: Vec<Mode> = Vec::new();
+    let mut cells: FxHashMap<(i64, i64), Vec<u32>> = FxHashMap::default();
     for m in modes {
-        let near = kept.iter().any(|k| {
-            (k.x - m.x).hypot(k.y - m.y) < config.radius
-                && (k.z - m.z).abs() < config.max_dz
-                && heading_gap(k.heading, m.heading) < config.max_dheading
+        let (cx, cy) = Grid::key(m.x, m.y, config.radius);
+        let near = (-1..=1).any(|dx| {
+            (-1..=1).any(|dy| {
+                cells.get(&(cx + dx, cy + dy)).is_some_and(|v| {
+                    v.iter().any(|&k| {
+                        let k = &kept[k as usize];
+                        (k.x - m.x).hypot(k.y - m.y) < config.radius
+                            && (k.z - m.z).abs() < config.max_dz
+                            && heading_gap(k.heading, m.heading) < config.max_dheading
+                    })
+                })
+            })
         });
         if !near {
+            cells.entry((cx, cy)).or_default().push(kept.len() as u32);
             kept.push(m);
         }
     }
     kept
+}
+
+/// The modes binned horizontally, for each particle's nearest mode.
+struct ModeIndex {
+    cell: f64,
+    cells: FxHashMap<(i64, i64), Vec<u32>>,
+    /// The cells' key range, `(min x, min y, max x, max y)`.
+    extent: (i64, i64, i64, i64),
+}
+
+impl ModeIndex {
+    fn new(modes: &[Mode], cell: f64) -> Self {
+        let mut cells: FxHashMap<(i64, i64), Vec<u32>> = FxHashMap::default();
+        let mut extent = (i64::MAX, i64::MAX, i64::MIN, i64::MIN);
+        for (i, m) in modes.iter().enumerate() {
+            let (cx, cy) = Grid::key(m.x, m.y, cell);
+            extent = (
+                extent.0.min(cx),
+                extent.1.min(cy),
+                extent.2.max(cx),
+                extent.3.max(cy),
+            );
+            cells.entry((cx, cy)).or_default().push(i as u32);
+        }
+        Self {
+            cell,
+            cells,
+            extent,
+        }
+    }
+
+    /// The mode nearest `p` horizontally, one at another height (≥ `max_dz`) or heading
+    /// (beyond `max_dheading`) counting as far away; the lowest index among equals. Searched
+    /// ring by ring of cells outwards until no unseen mode can be nearer: the same answer as
+    /// comparing every mode.
+    fn nearest(&self, p: &ClusterPoint, modes: &[Mode], config: &ClusterConfig) -> Option<usize> {
+        let (px, py) = (f64::from(p.x), f64::from(p.y));
+        let (cx, cy) = Grid::key(px, py, self.cell);
+        let distance = |m: &Mode| {
+            let dz = (f64::from(p.z) - m.z).abs();
+            let dh = heading_gap(f64::from(p.heading), m.heading);
+            let mut penalty = if dz < config.max_dz { 0.0 } else { 1e6 * dz };
+            if dh > config.max_dheading {
+                penalty += 1e3 * dh;
+            }
+            (px - m.x).hypot(py - m.y) + penalty
+        };
+        // Rings beyond this one hold no mode.
+        let (x0, y0, x1, y1) = self.extent;
+        let last_ring = [cx - x0, x1 - cx, cy - y0, y1 - cy]
+            .into_iter()
+            .max()
+            .unwrap_or(0)
+            .max(0);
+        let mut best: Option<(f64, usize)> = None;
+        for ring in 0..=last_ring {
+            // Every mode outside the rings searched so far is at least this far away.
+            if let Some((d, _)) = best
+                && d < (ring - 1).max(0) as f64 * self.cell
+            {
+                break;
+            }
+            let mut visit = |key: (i64, i64)| {
+                for &i in self.cells.get(&key).map_or(&[][..], Vec::as_slice) {
+                    let d = distance(&modes[i as usize]);
+                    let i = i as usize;
+                    if best.is_none_or(|(bd, bi)| d.total_cmp(&bd).then(i.cmp(&bi)).is_lt()) {
+                        best = Some((d, i));
+                    }
+                }
+            };
+            if ring == 0 {
+                visit((cx, cy));
+                continue;
+            }
+            for k in -ring..=ring {
+                visit((cx + k, cy - ring));
+                visit((cx + k, cy + ring));
+            }
+            for k in -ring + 1..ring {
+                visit((cx - ring, cy + k));
+                visit((cx + ring, cy + k));
+            }
+        }
+        best.map(|(_, i)| i)
+    }
 }
 
 #[cfg(test)]
@@ -508,5 +610,110 @@ mod tests {
             ..Default::default()
         };
         assert_eq!(mean_shift(&points, &config).len(), 1);
+    }
+
+    /// Random modes over several floors and headings, some at equal places.
+    fn random_modes(rng: &mut rand_pcg::Pcg64Mcg, n: usize, extent: f64) -> Vec<Mode> {
+        let mut modes: Vec<Mode> = (0..n)
+            .map(|_| Mode {
+                x: rng.random_range(-extent..extent),
+                y: rng.random_range(-extent..extent),
+                z: 3.0 * f64::from(rng.random_range(0..3u8)),
+                heading: rng.random_range(-3.0..3.0),
+                density: rng.random_range(0.0..10.0),
+            })
+            .collect();
+        let copy = modes[0];
+        modes.push(copy); // a tie: the lower index must win
+        modes
+    }
+
+    #[test]
+    fn the_mode_index_finds_what_comparing_every_mode_finds() {
+        let mut rng = crate::random::stream(11, 0, 0);
+        let config = ClusterConfig::default();
+        for extent in [5.0, 60.0, 2000.0] {
+            let modes = random_modes(&mut rng, 300, extent);
+            let index = ModeIndex::new(&modes, config.radius);
+            for _ in 0..2000 {
+                let p = ClusterPoint {
+                    x: rng.random_range(-1.2 * extent..1.2 * extent) as f32,
+                    y: rng.random_range(-1.2 * extent..1.2 * extent) as f32,
+                    z: 3.0 * f32::from(rng.random_range(0..4u8)),
+                    level: 0,
+                    heading: rng.random_range(-3.0..3.0),
+                    weight: 1.0,
+                };
+                // Every mode compared, first minimum kept (the definition).
+                let brute = modes
+                    .iter()
+                    .enumerate()
+                    .map(|(i, m)| {
+                        let dz = (f64::from(p.z) - m.z).abs();
+                        let dh = heading_gap(f64::from(p.heading), m.heading);
+                        let mut penalty = if dz < config.max_dz { 0.0 } else { 1e6 * dz };
+                        if dh > config.max_dheading {
+                            penalty += 1e3 * dh;
+                        }
+                        let d = (f64::from(p.x) - m.x).hypot(f64::from(p.y) - m.y);
+                        (i, d + penalty)
+                    })
+                    .min_by(|a, b| a.1.total_cmp(&b.1))
+                    .map(|(i, _)| i);
+                assert_eq!(index.nearest(&p, &modes, &config), brute);
+            }
+        }
+    }
+
+    #[test]
+    fn merging_by_cells_keeps_what_comparing_every_pair_keeps() {
+        let mut rng = crate::random::stream(12, 0, 0);
+        let config = ClusterConfig::default();
+        for extent in [10.0, 100.0] {
+            let modes = random_modes(&mut rng, 500, extent);
+            let merged = merge_modes(modes.clone(), &config);
+            let mut sorted = modes;
+            sorted.sort_by(|a, b| b.density.total_cmp(&a.density));
+            let mut brute: Vec<Mode> = Vec::new();
+            for m in sorted {
+                if !brute.iter().any(|k| {
+                    (k.x - m.x).hypot(k.y - m.y) < config.radius
+                        && (k.z - m.z).abs() < config.max_dz
+                        && heading_gap(k.heading, m.heading) < config.max_dheading
+                }) {
+                    brute.push(m);
+                }
+            }
+            let key = |m: &Mode| (m.x.to_bits(), m.y.to_bits(), m.z.to_bits());
+            assert_eq!(
+                merged.iter().map(key).collect::<Vec<_>>(),
+                brute.iter().map(key).collect::<Vec<_>>()
+            );
+        }
+    }
+
+    #[test]
+    fn a_cloud_over_a_kilometre_clusters_quickly() {
+        // 10,000 points spread over 1 km² (a belief on a large open plan): every point its
+        // own mode, which comparing every mode with every point took minutes over a walk.
+        let mut rng = crate::random::stream(13, 0, 0);
+        let points: Vec<ClusterPoint> = (0..10_000)
+            .map(|_| ClusterPoint {
+                x: rng.random_range(0.0..1000.0),
+                y: rng.random_range(0.0..1000.0),
+                z: 0.0,
+                level: 0,
+                heading: rng.random_range(-3.0..3.0),
+                weight: 1.0,
+            })
+            .collect();
+        let config = ClusterConfig {
+            min_weight: 0.0,
+            ..ClusterConfig::default()
+        };
+        let clusters = mean_shift(&points, &config);
+        let total: usize = clusters.iter().map(|c| c.particles).sum();
+        assert!(clusters.len() > 1000, "{}", clusters.len());
+        assert_eq!(total, points.len(), "every point joins a cluster");
     }
 }

@@ -36,7 +36,8 @@ const SIZE_TOLERANCE: f64 = 0.002;
 /// | `bin_size`        | 1.0 m       | bin edge in x and y                               |
 /// | `bin_heading`     | 10° (rad)   | bin width in heading                              |
 /// | `min_particles`   | 500         | fewest particles                                  |
-/// | `max_particles`   | 8,000,000   | most particles                                    |
+/// | `max_particles`   | 8,000,000   | most particles (of a prior)                       |
+/// | `max_step_particles` | 1,000,000 | most particles after a step: bounds each step's work, however large and open the plan |
 ///
 /// With these values a uniform prior over the 8,725 m² of Woodman & Harle's building needs
 /// about 4.5 million particles, the number the paper reports (sec. "Scalability").
@@ -53,8 +54,12 @@ pub struct KldConfig {
     pub bin_heading: f64,
     /// Fewest particles.
     pub min_particles: usize,
-    /// Most particles.
+    /// Most particles (a prior over the plan may draw this many).
     pub max_particles: usize,
+    /// Most particles after a step (at most `max_particles`): a belief spread over a large
+    /// open plan, which no wall narrows, would otherwise keep the prior's millions at every
+    /// step.
+    pub max_step_particles: usize,
 }
 
 impl Default for KldConfig {
@@ -66,6 +71,7 @@ impl Default for KldConfig {
             bin_heading: 10f64.to_radians(),
             min_particles: 500,
             max_particles: 8_000_000,
+            max_step_particles: 1_000_000,
         }
     }
 }
@@ -108,6 +114,13 @@ impl KldConfig {
                 "must be at least 1 and at most max_particles",
             ));
         }
+        if self.max_step_particles == 0 || self.max_step_particles > 200_000_000 {
+            return Err(crate::error::Error::config(
+                "kld.max_step_particles",
+                self.max_step_particles.to_string(),
+                "must be in [1, 200000000]",
+            ));
+        }
         if self.max_particles > 200_000_000 {
             return Err(crate::error::Error::config(
                 "kld.max_particles",
@@ -116,6 +129,11 @@ impl KldConfig {
             ));
         }
         Ok(())
+    }
+
+    /// The most particles a step may keep: `max_step_particles`, at most `max_particles`.
+    pub fn step_cap(&self) -> usize {
+        self.max_step_particles.min(self.max_particles)
     }
 
     /// Fox's `n_χ(k)` (eq. 13) for these `ε` and `δ`, before clamping to the particle limits.

@@ -98,6 +98,7 @@ impl std::str::FromStr for StartPose {
 /// | `ambiguous_min_particles` | 3000  | fewest particles while the belief is not one cluster |
 /// | `smoothing`           | on        | keep the belief's ancestry for the whole-walk answer    |
 /// | `smoothing_lag`       | 10 steps  | lag of the fixed-lag answer used where the walk is sure |
+/// | `smoothing_max_nodes` | 67,108,864 | most path nodes the ancestry may hold (1 GiB); beyond, the whole-walk answer is given up for the filter's |
 /// | `kld`                 | see [`KldConfig`]     | adaptive particle count                     |
 /// | `cluster`             | see [`ClusterConfig`] | clusters and localisation                   |
 /// | `recovery`            | see [`RecoveryConfig`]| when every particle dies                    |
@@ -144,6 +145,10 @@ pub struct TrackerConfig {
     /// the walk settles the place (see [`super::PathTree::new`]); 0 = the final belief's
     /// ancestral lines alone.
     pub smoothing_lag: usize,
+    /// Most path nodes (16 bytes each) the ancestry may hold. A belief that never narrows
+    /// (a large open plan) keeps every particle's path: past this bound the ancestry is
+    /// dropped and the run answers with the filter's causal estimates, saying so.
+    pub smoothing_max_nodes: usize,
     /// KLD-sampling.
     pub kld: KldConfig,
     /// Clustering.
@@ -179,6 +184,7 @@ impl Default for TrackerConfig {
             ambiguous_min_particles: 3000,
             smoothing: true,
             smoothing_lag: 10,
+            smoothing_max_nodes: 1 << 26,
             kld: KldConfig::default(),
             cluster: ClusterConfig::default(),
             recovery: RecoveryConfig::default(),
@@ -196,6 +202,13 @@ impl TrackerConfig {
         crate::error::check_range("length_sigma", self.length_sigma, 0.0..=2.0, "metres")?;
         crate::error::check_range("dheading_sigma", self.dheading_sigma, 0.0..=1.0, "radians")?;
         crate::error::check_range("dz_sigma", self.dz_sigma, 0.001..=10.0, "metres")?;
+        if self.smoothing_max_nodes < 1_000 {
+            return Err(crate::error::Error::config(
+                "smoothing_max_nodes",
+                self.smoothing_max_nodes.to_string(),
+                "must be at least 1000",
+            ));
+        }
         crate::error::check_range("scale_sigma", self.scale_sigma, 0.0..=0.3, "")?;
         crate::error::check_range("scale_walk_sigma", self.scale_walk_sigma, 0.0..=0.05, "")?;
         crate::error::check_range("drift_sigma", self.drift_sigma, 0.0..=0.1, "radians")?;

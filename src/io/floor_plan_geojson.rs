@@ -226,6 +226,7 @@ fn read_feature(feature: &Feature, frame: &LocalFrame, out: &mut FloorPlan) -> R
         Some(v) => return Err(format!("property `room` = {v} is not a string or number")),
     };
     for (j, rings) in parts.into_iter().enumerate() {
+        check_vertices(rings).map_err(|m| format!("polygon {j}: {m}"))?;
         let polygon = read_polygon(rings, frame).map_err(|m| format!("polygon {j}: {m}"))?;
         if let Err(e) = polygon.check_validation() {
             return Err(format!("polygon {j}: not a valid polygon: {e}"));
@@ -237,6 +238,24 @@ fn read_feature(feature: &Feature, frame: &LocalFrame, out: &mut FloorPlan) -> R
             name: name.clone(),
             room: room.clone(),
         });
+    }
+    Ok(())
+}
+
+/// Most vertices of one polygon (its rings together): validating a polygon compares every
+/// pair of its edges, so a 100,000-vertex outline would take minutes. Floor plans drawn by
+/// people hold tens to hundreds (ILC's largest: 220).
+pub const MAX_POLYGON_VERTICES: usize = 10_000;
+
+/// Refuses a polygon of more than [`MAX_POLYGON_VERTICES`] vertices, with the way out.
+pub(crate) fn check_vertices(rings: &[Vec<geojson::Position>]) -> std::result::Result<(), String> {
+    let n: usize = rings.iter().map(Vec::len).sum();
+    if n > MAX_POLYGON_VERTICES {
+        return Err(format!(
+            "has {n} vertices, more than the {MAX_POLYGON_VERTICES} a polygon may have: \
+             simplify it first (e.g. QGIS's Simplify, or shapely's simplify with a \
+             tolerance of a few centimetres)"
+        ));
     }
     Ok(())
 }

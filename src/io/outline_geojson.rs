@@ -68,6 +68,8 @@ fn outline_from_text(text: &str, path: &Path, frame: &LocalFrame) -> Result<Poly
         }
     };
     let exterior: geojson::PolygonType = rings.into_iter().take(1).collect();
+    crate::io::floor_plan_geojson::check_vertices(&exterior)
+        .map_err(|m| whole(format!("outline polygon: {m}")))?;
     let polygon =
         read_polygon(&exterior, frame).map_err(|m| whole(format!("outline polygon: {m}")))?;
     let polygon = Polygon::new(polygon.exterior().clone(), Vec::new());

@@ -164,6 +164,9 @@ pub struct TrackEvidence<'a> {
     pub settled: bool,
     /// Prior draws cut at the particle cap before the KLD bound was met.
     pub capped_draws: usize,
+    /// The step at which the ancestry outgrew `smoothing_max_nodes` and the whole-walk
+    /// answer was given up.
+    pub smoothing_dropped_at: Option<usize>,
 }
 
 /// The verdict of a tracked walk.
@@ -218,6 +221,17 @@ pub fn track_quality(e: &TrackEvidence, config: &QualityConfig) -> Quality {
             message: "the walk never settled on one place: several places of the plan fit it \
                       (track.csv's `certain` is 0 throughout); give a start or a radio map"
                 .into(),
+        });
+    }
+    if let Some(step) = e.smoothing_dropped_at {
+        reasons.push(Reason {
+            code: "smoothing_dropped",
+            verdict: Verdict::Doubtful,
+            message: format!(
+                "the belief had not narrowed by step {step} and its ancestry outgrew \
+                 smoothing_max_nodes: the whole-walk answer was given up, track.csv holds the \
+                 filter's causal estimates"
+            ),
         });
     }
     if e.capped_draws > 0 {
@@ -330,6 +344,7 @@ mod tests {
             steps: fit.steps,
             settled: true,
             capped_draws: 0,
+            smoothing_dropped_at: None,
         }
     }
 

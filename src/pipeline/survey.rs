@@ -168,7 +168,7 @@ pub fn survey(
             progress.advance(1);
         }
         let mut placed = placed_steps(&tracker, reports.clone());
-        let quality = walk_quality(&reports, &placed, tracker.capped_draws());
+        let quality = walk_quality(&reports, &placed, &tracker);
         if quality.verdict == Verdict::Poor {
             // A walk that does not fit the plan places its scans in the wrong cells.
             for step in &mut placed {
@@ -261,7 +261,7 @@ pub fn survey(
 }
 
 /// One surveyed walk's verdict from the filter's reports and the steps placed.
-fn walk_quality(reports: &[TrackStep], placed: &[TrackStep], capped_draws: usize) -> Quality {
+fn walk_quality(reports: &[TrackStep], placed: &[TrackStep], tracker: &Tracker) -> Quality {
     let mut fit = PlanFit::default();
     let mut recoveries = Vec::new();
     for (i, r) in reports.iter().enumerate() {
@@ -282,7 +282,8 @@ fn walk_quality(reports: &[TrackStep], placed: &[TrackStep], capped_draws: usize
             recoveries: &recoveries,
             steps: reports.len(),
             settled: reports.iter().chain(placed).any(|r| r.localised),
-            capped_draws,
+            capped_draws: tracker.capped_draws(),
+            smoothing_dropped_at: tracker.smoothing_dropped_at(),
         },
         &QualityConfig::default(),
     )

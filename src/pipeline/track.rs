@@ -105,6 +105,9 @@ pub struct TrackRun<'a> {
     pub filter_runtime_s: f64,
     /// Prior draws cut at `kld.max_particles` before the KLD bound was met.
     pub capped_draws: usize,
+    /// The step at which the ancestry outgrew `smoothing_max_nodes` (the run then has no
+    /// whole-walk answer).
+    pub smoothing_dropped_at: Option<usize>,
 }
 
 impl TrackRun<'_> {
@@ -118,6 +121,7 @@ impl TrackRun<'_> {
                 steps: self.records.steps.len(),
                 settled: steps_certain > 0 || self.records.first_localised().is_some(),
                 capped_draws: self.capped_draws,
+                smoothing_dropped_at: self.smoothing_dropped_at,
             },
             config,
         )
@@ -150,6 +154,7 @@ pub fn track<'a>(
         seed: config.seed,
         filter_runtime_s: 0.0,
         capped_draws: 0,
+        smoothing_dropped_at: None,
     };
     if let Some(tracker) = walker.tracker()
         && snapshots.wanted(0, trace.is_empty(), false)
@@ -192,6 +197,7 @@ pub fn track<'a>(
         run.measurements_ignored = tracker.measurements_ignored();
         run.headings_used = tracker.headings_used();
         run.capped_draws = tracker.capped_draws();
+        run.smoothing_dropped_at = tracker.smoothing_dropped_at();
     }
     run.filter_runtime_s = started.elapsed().as_secs_f64();
     Ok(run)

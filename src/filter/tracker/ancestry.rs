@@ -59,6 +59,19 @@ impl<'a> Tracker<'a> {
                 self.topology,
                 &self.config.cluster,
             );
+            if tree.nodes() > self.config.smoothing_max_nodes {
+                // The belief has not narrowed: give up the whole-walk answer rather than
+                // the machine's memory.
+                self.path_nodes_peak_taken = tree.peak_nodes();
+                self.tree = None;
+                self.smoothing_dropped_at = Some(self.steps as usize);
+            }
         }
+    }
+
+    /// The step at which the ancestry outgrew `smoothing_max_nodes` and was dropped (the run
+    /// then has no whole-walk answer).
+    pub fn smoothing_dropped_at(&self) -> Option<usize> {
+        self.smoothing_dropped_at
     }
 }

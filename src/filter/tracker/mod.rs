@@ -161,6 +161,8 @@ pub struct Tracker<'a> {
     capped_draws: usize,
     /// The sums of the latest propagation.
     propagation: fit::Propagation,
+    /// The step at which the ancestry outgrew `smoothing_max_nodes` and was dropped.
+    smoothing_dropped_at: Option<usize>,
 }
 
 impl<'a> Tracker<'a> {
@@ -214,6 +216,7 @@ impl<'a> Tracker<'a> {
             ancestors: Vec::new(),
             capped_draws: 0,
             propagation: fit::Propagation::default(),
+            smoothing_dropped_at: None,
         };
         if let Some(start) = config.start {
             let s = tracker.locate_start(&start)?;

@@ -38,7 +38,9 @@ impl Tracker<'_> {
         } else {
             self.config.ambiguous_min_particles
         };
-        self.bins.sample_size_at_least(min)
+        self.bins
+            .sample_size_at_least(min)
+            .min(self.config.kld.step_cap())
     }
 
     /// Systematic resampling of `n` particles from the weighted proposal into the belief,

@@ -284,3 +284,68 @@ fn a_measurement_judges_each_particle_where_it_was_at_the_measurements_time() {
     assert!((x - 2.0).abs() < 0.5, "{x}");
     assert_eq!(run(1.0).0, 1);
 }
+
+/// One open square room of `side` metres, in its own frame.
+fn open_room(side: f64) -> FloorTopology {
+    use crate::map::{FloorPlan, FloorPolygon};
+    let ring = geo::LineString::from(vec![
+        (0.0, 0.0),
+        (side, 0.0),
+        (side, side),
+        (0.0, side),
+        (0.0, 0.0),
+    ]);
+    let plan = FloorPlan {
+        polygons: vec![FloorPolygon {
+            polygon: geo::Polygon::new(ring, Vec::new()),
+            level: 0,
+            z: 0.0,
+            name: None,
+            room: None,
+        }],
+        ..FloorPlan::default()
+    };
+    FloorTopology::build(&plan, &TopologyConfig::default()).expect("topology")
+}
+
+#[test]
+fn an_open_plan_keeps_each_step_within_its_bounds() {
+    // An open room no wall narrows: the belief would keep the prior's particles and every
+    // particle's path at every step.
+    let topology = open_room(200.0);
+    let config = TrackerConfig {
+        kld: KldConfig {
+            max_particles: 60_000,
+            max_step_particles: 20_000,
+            ..Default::default()
+        },
+        smoothing_max_nodes: 150_000,
+        ..Default::default()
+    };
+    let (sim, _) = office();
+    let mut tracker = Tracker::new(&topology, &config).expect("tracker");
+    assert_eq!(
+        tracker.initial_particles(),
+        60_000,
+        "the prior may use max_particles"
+    );
+    assert!(tracker.capped_draws() > 0);
+    for s in &sim.steps.steps()[..20] {
+        let r = tracker.update(s).expect("update");
+        assert!(
+            r.particles <= 20_000,
+            "{} particles after a step",
+            r.particles
+        );
+        let fit = r.fit.expect("fit");
+        assert!(
+            fit.survival > 0.9 && fit.unexplained_dz.abs() < 0.5,
+            "{fit:?}"
+        );
+    }
+    // 20 steps × 20,000 particles outgrow 150,000 path nodes: the ancestry is given up.
+    let dropped = tracker.smoothing_dropped_at().expect("dropped");
+    assert!((7..=9).contains(&dropped), "dropped at step {dropped}");
+    assert!(tracker.take_smoothed().is_none());
+    assert!(tracker.path_nodes_peak() > 150_000);
+}
