@@ -186,3 +186,120 @@ fn bad_gps_outline_and_prior_maps_are_explained() {
             .expect("json");
     assert_eq!(config["prior_weight"], 0.5);
 }
+
+/// `gps.csv` of `sim` with each row's `(t, lat, lon)` changed by `edit`.
+fn edited_fixes(sim: &Path, to: &Path, edit: impl Fn(f64, f64, f64) -> (f64, f64, f64)) {
+    let text = std::fs::read_to_string(sim.join("gps.csv")).expect("gps");
+    let mut lines = text.lines();
+    let header = lines.next().expect("header");
+    let cols: Vec<&str> = header.split(',').collect();
+    let at = |name: &str| cols.iter().position(|c| *c == name).expect(name);
+    let (it, ilat, ilon) = (at("t"), at("lat"), at("lon"));
+    let mut out = format!("{header}\n");
+    for line in lines {
+        let mut f: Vec<String> = line.split(',').map(str::to_owned).collect();
+        let num = |i: usize| f[i].parse::<f64>().expect("number");
+        let (t, lat, lon) = edit(num(it), num(ilat), num(ilon));
+        f[it] = t.to_string();
+        f[ilat] = lat.to_string();
+        f[ilon] = lon.to_string();
+        out.push_str(&f.join(","));
+        out.push('\n');
+    }
+    std::fs::write(to, out).expect("write");
+}
+
+#[test]
+fn fixes_and_outlines_of_another_place_or_clock_are_said() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let sim = simulate(dir.path());
+    let d = dir.path();
+    // The same fixes 500 km away (another city than --origin).
+    let far = d.join("far.csv");
+    edited_fixes(&sim, &far, |t, lat, lon| (t, lat - 4.5, lon));
+    let err = stderr(learn(
+        &sim,
+        &d.join("a"),
+        &["--gps", far.to_str().expect("p"), "--origin", "48.15,11.57"],
+    ));
+    assert!(
+        err.contains("far.csv") && err.contains("km from the run's origin"),
+        "{err}"
+    );
+    // A receiver's "no fix" rows at 0°, 0°.
+    let null = d.join("null.csv");
+    edited_fixes(&sim, &null, |t, lat, lon| {
+        if t < 5.0 {
+            (t, 0.0, 0.0)
+        } else {
+            (t, lat, lon)
+        }
+    });
+    let err = stderr(learn(
+        &sim,
+        &d.join("a"),
+        &["--gps", null.to_str().expect("p")],
+    ));
+    assert!(err.contains("null.csv:") && err.contains("no fix"), "{err}");
+    // The fixes on a clock running a third of the walk late: they still overlap the walk,
+    // so the run goes on, but says so.
+    let fixes = std::fs::read_to_string(sim.join("gps.csv")).expect("gps");
+    let last_t: f64 = fixes
+        .lines()
+        .last()
+        .and_then(|l| l.split(',').next())
+        .and_then(|t| t.parse().ok())
+        .expect("t");
+    let late = d.join("late.csv");
+    edited_fixes(&sim, &late, |t, lat, lon| (t + 0.4 * last_t, lat, lon));
+    let out = learn(&sim, &d.join("late"), &["--gps", late.to_str().expect("p")]).success();
+    let err = String::from_utf8_lossy(&out.get_output().stderr).into_owned();
+    assert!(
+        err.contains("late.csv") && err.contains("outside the walk's time span"),
+        "{err}"
+    );
+    // An outline 20 km from the walk, and one of a few square millimetres.
+    let outline = |name: &str, lat: f64, size: f64| {
+        let path = d.join(name);
+        let ring = format!(
+            "[[11.57,{lat}],[{},{lat}],[{},{}],[11.57,{}],[11.57,{lat}]]",
+            11.57 + size,
+            11.57 + size,
+            lat + size,
+            lat + size
+        );
+        std::fs::write(
+            &path,
+            format!(r#"{{"type":"Polygon","coordinates":[{ring}]}}"#),
+        )
+        .expect("outline");
+        path
+    };
+    let away = outline("away.geojson", 48.33, 0.001);
+    let err = stderr(learn(
+        &sim,
+        &d.join("a"),
+        &[
+            "--outline",
+            away.to_str().expect("p"),
+            "--origin",
+            "48.15,11.57",
+        ],
+    ));
+    assert!(
+        err.contains("away.geojson") && err.contains("from the walk's start"),
+        "{err}"
+    );
+    let tiny = outline("tiny.geojson", 48.15, 1e-8);
+    let err = stderr(learn(
+        &sim,
+        &d.join("a"),
+        &[
+            "--outline",
+            tiny.to_str().expect("p"),
+            "--origin",
+            "48.15,11.57",
+        ],
+    ));
+    assert!(err.contains("tiny.geojson") && err.contains("m²"), "{err}");
+}

@@ -111,6 +111,12 @@ fn inputs_wrong_together_fail_or_warn_clearly() {
     rewrite(&wifi, &d.join("late.csv"), |l| {
         with_field(l, 0, |t| format!("{}", t.parse::<f64>().expect("t") + 1e5))
     });
+    // The log 300 s late: it still overlaps the walk (718 s), but 40 % of it lies after.
+    rewrite(&wifi, &d.join("wifi_late.csv"), |l| {
+        with_field(l, 0, |t| {
+            format!("{}", t.parse::<f64>().expect("t") + 300.0)
+        })
+    });
     // The log in milliseconds.
     rewrite(&wifi, &d.join("ms.csv"), |l| {
         with_field(l, 0, |t| {
@@ -208,6 +214,15 @@ fn inputs_wrong_together_fail_or_warn_clearly() {
             args: track(&steps_s, &p(&d.join("late.csv"))),
             fails: true,
             says: &["late.csv", "no scan falls within the walk's time span"],
+        },
+        Case {
+            name: "track: WiFi log 300 s late (overlapping the walk)",
+            args: track(&steps_s, &p(&d.join("wifi_late.csv"))),
+            fails: false,
+            says: &[
+                "wifi_late.csv",
+                "lie more than 10 s outside the walk's time span",
+            ],
         },
         Case {
             name: "survey: WiFi log on another clock",

@@ -10,24 +10,31 @@ use crate::tables::Table;
 use footslam::geometry::LocalFrame;
 use footslam::map::{FloorPlan, RadioMap};
 use footslam::pipeline::{
-    GridMismatch, ScanMatch, fixes_off_clock, grid_mismatch, missing_height_changes,
-    scans_off_clock,
+    GPS_LEAD_S, GridMismatch, ScanMatch, fixes_off_clock, grid_mismatch, missing_height_changes,
+    partly_off_clock, scans_off_clock,
 };
 use footslam::sensor::{GpsFix, StepTrace, WifiScan};
 use pyo3::PyResult;
 
 /// WiFi scans, checked to overlap the walk in time: a log on another clock would place no
-/// scan (or every scan at one end of the walk).
-pub(crate) fn read_scans(table: &Table, trace: &StepTrace) -> PyResult<Vec<WifiScan>> {
+/// scan (or every scan at one end of the walk). With the warning when the log lies partly
+/// off the walk's clock ([`partly_off_clock`]).
+pub(crate) fn read_scans(
+    table: &Table,
+    trace: &StepTrace,
+) -> PyResult<(Vec<WifiScan>, Option<String>)> {
     let scans = table.wifi().map_err(crate::py_error)?;
     let steps = trace.steps();
     let (Some(first), Some(last)) = (steps.first(), steps.last()) else {
-        return Ok(scans);
+        return Ok((scans, None));
     };
     if let Some(problem) = scans_off_clock(&scans, first.t, last.t) {
         return Err(fail(format!("{}: {problem}", table.label())));
     }
-    Ok(scans)
+    let times: Vec<f64> = scans.iter().map(|s| s.t).collect();
+    let warning = partly_off_clock(&times, "scans", first.t, last.t, 0.0)
+        .map(|w| format!("{}: {w}", table.label()));
+    Ok((scans, warning))
 }
 
 /// GPS fixes (CSV, GPX or columns), checked to overlap the walk in time.
@@ -35,11 +42,11 @@ pub(crate) fn read_fixes(
     table: &Table,
     t0: Option<f64>,
     trace: &StepTrace,
-) -> PyResult<Vec<GpsFix>> {
+) -> PyResult<(Vec<GpsFix>, Option<String>)> {
     let fixes = table.gps(t0).map_err(crate::py_error)?;
     let steps = trace.steps();
     let (Some(first), Some(last)) = (steps.first(), steps.last()) else {
-        return Ok(fixes);
+        return Ok((fixes, None));
     };
     if let Some(problem) = fixes_off_clock(&fixes, first.t, last.t) {
         let hint = if table.is_gpx() {
@@ -49,7 +56,10 @@ pub(crate) fn read_fixes(
         };
         return Err(fail(format!("{}: {problem}{hint}", table.label())));
     }
-    Ok(fixes)
+    let times: Vec<f64> = fixes.iter().map(|f| f.t).collect();
+    let warning = partly_off_clock(&times, "fixes", first.t, last.t, GPS_LEAD_S)
+        .map(|w| format!("{}: {w}", table.label()));
+    Ok((fixes, warning))
 }
 
 /// The prior map must lie on the run's hexagon grid.

@@ -109,6 +109,9 @@ pub(crate) fn learn<'py>(
     };
     let inputs = read_inputs(py, &args, false)?;
     let report = Reporter::new(progress)?;
+    for w in &inputs.warnings {
+        report.push(w.clone());
+    }
     let out = detached(py, threads, || {
         let learned = footslam::pipeline::learn(&inputs.input(), &inputs.config, &report)
             .map_err(py_error)?;
@@ -223,6 +226,11 @@ pub(crate) fn learn_one<'py>(
         .map_err(py_error)?;
         Ok(walk_out(walk, &inputs.labels[0], &run, &inputs.frame))
     })?;
+    let report = Reporter::default();
+    for w in &inputs.warnings {
+        report.push(w.clone());
+    }
+    report.emit(py)?;
     out.to_python(py)
 }
 

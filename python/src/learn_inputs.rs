@@ -6,12 +6,14 @@
 use crate::checks::{check_same_grid, read_fixes, read_scans};
 use crate::inputs::{self, Document};
 use crate::tables::{self, GPS, STEPS, Table, WIFI};
-use crate::{detached, py_error};
+use crate::{detached, fail, py_error};
 use footslam::filter::{FootSlamConfig, StartPose};
 use footslam::geometry::LocalFrame;
 use footslam::io::map_geojson::StoredMap;
 use footslam::map::CellConfig;
-use footslam::pipeline::{LearnInput, LearnWalk, default_frame};
+use footslam::pipeline::{
+    LearnInput, LearnWalk, default_frame, fixes_far_from_origin, outline_off_walks,
+};
 use pyo3::prelude::*;
 
 /// What `learn` and `learn_one` read from their arguments, as `footslam learn` reads its
@@ -25,6 +27,8 @@ pub(crate) struct Inputs {
     pub(crate) frame: LocalFrame,
     pub(crate) outline: Option<geo::Polygon<f64>>,
     pub(crate) cells: CellConfig,
+    /// Warnings of the input checks (logs partly off the walk's clock).
+    pub(crate) warnings: Vec<String>,
 }
 
 /// The arguments `learn` and `learn_one` share.
@@ -132,7 +136,8 @@ impl Args<'_, '_> {
 
 impl WalkTables {
     /// Reads the walks, each file and its time span checked as `footslam learn` checks them.
-    fn read(self, gps_t0: Option<f64>) -> PyResult<(Vec<LearnWalk>, Vec<String>)> {
+    fn read(self, gps_t0: Option<f64>) -> PyResult<(Vec<LearnWalk>, Vec<String>, Vec<String>)> {
+        let mut warnings = Vec::new();
         let mut walks = Vec::with_capacity(self.steps.len());
         let mut labels = Vec::with_capacity(self.steps.len());
         for (((steps, gps), wifi), start) in self
@@ -143,14 +148,15 @@ impl WalkTables {
             .zip(self.starts)
         {
             let (trace, field) = steps.steps_with_field().map_err(py_error)?;
-            let fixes = match gps {
+            let (fixes, fixes_warning) = match gps {
                 Some(t) => read_fixes(t, gps_t0, &trace)?,
-                None => Vec::new(),
+                None => (Vec::new(), None),
             };
-            let scans = match wifi {
+            let (scans, scans_warning) = match wifi {
                 Some(t) => read_scans(t, &trace)?,
-                None => Vec::new(),
+                None => (Vec::new(), None),
             };
+            warnings.extend(fixes_warning.into_iter().chain(scans_warning));
             labels.push(steps.label());
             walks.push(LearnWalk {
                 trace,
@@ -160,7 +166,7 @@ impl WalkTables {
                 field,
             });
         }
-        Ok((walks, labels))
+        Ok((walks, labels, warnings))
     }
 }
 
@@ -190,7 +196,7 @@ pub(crate) fn read_inputs(
         ..CellConfig::default()
     };
     detached(py, None, move || {
-        let (walks, labels) = tables.read(gps_t0)?;
+        let (walks, labels, warnings) = tables.read(gps_t0)?;
         cells.validate().map_err(py_error)?;
         let prior_map = prior_doc
             .as_ref()
@@ -203,6 +209,23 @@ pub(crate) fn read_inputs(
             .map(|d| d.outline(&frame))
             .transpose()
             .map_err(py_error)?;
+        for (walk, label) in walks.iter().zip(&labels) {
+            if let Some(problem) = fixes_far_from_origin(&walk.fixes, &frame) {
+                return Err(fail(format!("{label}: its GPS fixes: {problem}")));
+            }
+        }
+        if let (Some(outline), Some(doc)) = (&outline, &outline_doc) {
+            let starts: Vec<(f64, f64)> = walks
+                .iter()
+                .map(|w| {
+                    w.start
+                        .map_or((config.start.x, config.start.y), |s| (s.x, s.y))
+                })
+                .collect();
+            if let Some(problem) = outline_off_walks(outline, &starts) {
+                return Err(fail(format!("{}: {problem}", doc.label())));
+            }
+        }
         if let (Some(stored), Some(doc)) = (&prior_map, &prior_doc) {
             let radius = stored.map.radius;
             check_same_grid(
@@ -221,6 +244,7 @@ pub(crate) fn read_inputs(
             frame,
             outline,
             cells,
+            warnings,
         })
     })
 }

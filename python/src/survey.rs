@@ -158,7 +158,10 @@ pub(crate) fn survey<'py>(
         for w in &tables {
             let trace = w.steps.steps().map_err(py_error)?;
             check_height_changes(&w.steps, &plan_label, &plan, one_floor)?;
-            let scans = read_scans(&w.wifi, &trace)?;
+            let (scans, warning) = read_scans(&w.wifi, &trace)?;
+            if let Some(w) = warning {
+                report.push(w);
+            }
             walks.push(SurveyWalk {
                 trace,
                 scans,

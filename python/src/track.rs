@@ -215,7 +215,10 @@ pub(crate) fn track<'py>(
         let radio = match (&radio_doc, &wifi_table) {
             (Some(doc), Some(table)) => {
                 let (map, _) = doc.radio_map(Some(frame)).map_err(py_error)?;
-                let scans = read_scans(table, &trace)?;
+                let (scans, warning) = read_scans(table, &trace)?;
+                if let Some(w) = warning {
+                    report.push(w);
+                }
                 let (matched, warning) =
                     check_scans_match(&map, &scans, &doc.label(), &table.label())?;
                 if let Some(w) = warning {

@@ -6,7 +6,7 @@ use footslam::io::steps_csv::has_dz_column;
 use footslam::io::{WifiLog, read_wifi_log};
 use footslam::map::FloorPlan;
 use footslam::map::RadioMap;
-use footslam::pipeline::{ScanMatch, missing_height_changes, scans_off_clock};
+use footslam::pipeline::{ScanMatch, missing_height_changes, partly_off_clock, scans_off_clock};
 use footslam::sensor::{StepTrace, WifiScan};
 use std::path::{Path, PathBuf};
 
@@ -244,6 +244,10 @@ pub fn read_scans(path: &Path, trace: &StepTrace) -> Result<(Vec<WifiScan>, usiz
     };
     if let Some(problem) = scans_off_clock(&log.scans, first.t, last.t) {
         bail!("{}: {problem}", path.display());
+    }
+    let times: Vec<f64> = log.scans.iter().map(|s| s.t).collect();
+    if let Some(problem) = partly_off_clock(&times, "scans", first.t, last.t, 0.0) {
+        warn(&format!("{}: {problem}", path.display()));
     }
     Ok((log.scans, log.duplicate_readings))
 }

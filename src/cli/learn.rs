@@ -8,7 +8,7 @@
 
 use super::common::{bundled, output_dir, peak_memory_bytes, read_config, walk_prefix, warn};
 use super::learn_args::Args;
-use super::learn_inputs::{WalkArgs, WalkFiles, read_anchors, read_walks};
+use super::learn_inputs::{WalkArgs, WalkFiles, check_anchors, read_anchors, read_walks};
 use super::learn_outputs::{Summary, write_learned_plan, write_walk};
 use super::learn_radio::{RadioSummary, write_learned_radio_map};
 use super::progress_bars::Bars;
@@ -76,6 +76,8 @@ pub fn run(args: Args) -> Result<()> {
     cells.validate()?;
     let default = |prior: Option<&StoredMap>| Ok(default_frame(prior, &walks));
     let (prior_map, frame, outline) = read_anchors(&args, &config, default)?;
+    let anchors = (&frame, outline.as_ref(), args.outline.as_deref());
+    check_anchors(&files, &walks, anchors, &config)?;
     let input = LearnInput {
         walks: &walks,
         frame,

@@ -1,7 +1,7 @@
 //! The inputs of `footslam learn`: walks from files and folders, their GPS fixes and WiFi
 //! logs, the prior map and outline, and the check that a prior map lies on the run's grid.
 
-use super::common::{read_scans, require_file};
+use super::common::{read_scans, require_file, warn};
 use super::learn_args::Args;
 use anyhow::{Context, Result, bail};
 use footslam::filter::{FootSlamConfig, StartPose};
@@ -10,7 +10,10 @@ use footslam::io::map_geojson::{StoredMap, read_stored_map};
 use footslam::io::{
     ManifestWalk, read_gps_csv, read_gpx, read_outline, read_steps_with_field, read_walk_manifest,
 };
-use footslam::pipeline::{GridMismatch, LearnWalk, fixes_off_clock, grid_mismatch};
+use footslam::pipeline::{
+    GPS_LEAD_S, GridMismatch, LearnWalk, fixes_far_from_origin, fixes_off_clock, grid_mismatch,
+    outline_off_walks, partly_off_clock,
+};
 use footslam::sensor::{GpsFix, StepTrace};
 use geo::Polygon;
 use std::path::{Path, PathBuf};
@@ -221,7 +224,40 @@ pub(super) fn read_fixes(path: &Path, t0: Option<f64>, trace: &StepTrace) -> Res
         };
         bail!("{}: {problem}{hint}", path.display());
     }
+    let times: Vec<f64> = fixes.iter().map(|f| f.t).collect();
+    if let Some(problem) = partly_off_clock(&times, "fixes", first.t, last.t, GPS_LEAD_S) {
+        warn(&format!("{}: {problem}", path.display()));
+    }
     Ok(fixes)
+}
+
+/// Refuses GPS fixes of another place than the run's origin, and an outline that cannot be
+/// the walks' building ([`fixes_far_from_origin`], [`outline_off_walks`]).
+pub(super) fn check_anchors(
+    files: &[WalkFiles],
+    walks: &[LearnWalk],
+    input: (&LocalFrame, Option<&Polygon<f64>>, Option<&Path>),
+    config: &FootSlamConfig,
+) -> Result<()> {
+    let (frame, outline, outline_path) = input;
+    for (f, w) in files.iter().zip(walks) {
+        if let (Some(path), Some(problem)) = (&f.gps_path, fixes_far_from_origin(&w.fixes, frame)) {
+            bail!("{}: {problem}", path.display());
+        }
+    }
+    if let (Some(outline), Some(path)) = (outline, outline_path) {
+        let starts: Vec<(f64, f64)> = walks
+            .iter()
+            .map(|w| {
+                w.start
+                    .map_or((config.start.x, config.start.y), |s| (s.x, s.y))
+            })
+            .collect();
+        if let Some(problem) = outline_off_walks(outline, &starts) {
+            bail!("{}: {problem}", path.display());
+        }
+    }
+    Ok(())
 }
 
 /// The prior map must lie on the run's hexagon grid.

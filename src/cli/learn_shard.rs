@@ -9,7 +9,7 @@
 
 use super::common::{output_dir, peak_memory_bytes, walk_prefix};
 use super::learn_args::{Args, Shard};
-use super::learn_inputs::{read_anchors, read_found, read_manifest};
+use super::learn_inputs::{check_anchors, read_anchors, read_found, read_manifest};
 use super::learn_outputs::{Summary, write_walk};
 use anyhow::{Context, Result, bail};
 use footslam::filter::FootSlamConfig;
@@ -48,6 +48,8 @@ pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) 
     let (files, walks) = read_found(found, args.gps_t0)?;
     let frame = |prior: Option<&StoredMap>| batch_frame(args, &all, prior);
     let (prior_map, frame, outline) = read_anchors(args, config, frame)?;
+    let anchors = (&frame, outline.as_ref(), args.outline.as_deref());
+    check_anchors(&files, &walks, anchors, config)?;
     let others = previous_priors(&args.previous, &all, &mine)?;
     let input = LearnInput {
         walks: &walks,

@@ -9,6 +9,7 @@
 use crate::geometry::LocalFrame;
 use crate::map::{FloorPlan, RadioMap};
 use crate::sensor::{GpsFix, WifiScan};
+use geo::Polygon;
 use std::fmt;
 
 /// Two local frames whose origins are closer than this are the same, metres.
@@ -50,6 +51,99 @@ pub fn fixes_off_clock(fixes: &[GpsFix], start: f64, end: f64) -> Option<String>
             "no fix falls within the walk's time span [{start}, {end}] s (fixes run from {} to \
              {} s)",
             first.t, last.t
+        )
+    })
+}
+
+/// Scans or fixes more than this far outside a walk's time span are off its clock, seconds
+/// (a WiFi log or receiver may run a little before and after the walk).
+pub const CLOCK_SLACK_S: f64 = 10.0;
+
+/// Above this share of a log's records lying off the walk's clock (and at least 3 of them),
+/// a run warns: the log is probably on another clock or offset from the steps'.
+pub const MAX_OFF_CLOCK_SHARE: f64 = 0.2;
+
+/// GPS fixes farther than this from the run's origin cannot be of the walk, metres.
+pub const MAX_FIX_DISTANCE_M: f64 = 50_000.0;
+
+/// An outline farther than this from every walk's start cannot be the walk's building,
+/// metres.
+pub const MAX_OUTLINE_DISTANCE_M: f64 = 500.0;
+
+/// An outline smaller than this cannot hold a walk, square metres.
+pub const MIN_OUTLINE_AREA_M2: f64 = 10.0;
+
+/// The warning for a log whose records' times (`times`) lie partly off the walk's time span
+/// `[start, end]` (`what` names the records, e.g. "scans"): more than
+/// [`MAX_OFF_CLOCK_SHARE`] of them, and at least 3, more than [`CLOCK_SLACK_S`] (before
+/// the start, `lead` more) outside; `None` otherwise. A log offset by tens of seconds
+/// still overlaps the walk, so [`scans_off_clock`] cannot see it, but its records then
+/// weigh the wrong steps.
+pub fn partly_off_clock(
+    times: &[f64],
+    what: &str,
+    start: f64,
+    end: f64,
+    lead: f64,
+) -> Option<String> {
+    let off = times
+        .iter()
+        .filter(|&&t| t < start - lead - CLOCK_SLACK_S || t > end + CLOCK_SLACK_S)
+        .count();
+    let n = times.len();
+    (off >= 3 && off as f64 > MAX_OFF_CLOCK_SHARE * n as f64).then(|| {
+        format!(
+            "{off} of its {n} {what} lie more than {CLOCK_SLACK_S} s outside the walk's time \
+             span [{start}, {end}] s ({what} run from {} to {} s): is it on the steps' clock, \
+             or offset? Those {what} are left out, and the rest may weigh the wrong steps",
+            times.first().copied().unwrap_or(f64::NAN),
+            times.last().copied().unwrap_or(f64::NAN)
+        )
+    })
+}
+
+/// Why `fixes` cannot be of a walk in `frame`: the nearest lies more than
+/// [`MAX_FIX_DISTANCE_M`] from the frame's origin (another city than `--origin`, or
+/// latitude and longitude swapped); `None` when one is near (or there are none).
+pub fn fixes_far_from_origin(fixes: &[GpsFix], frame: &LocalFrame) -> Option<String> {
+    let nearest = fixes
+        .iter()
+        .map(|f| {
+            let (x, y) = frame.to_local(f.lon, f.lat);
+            x.hypot(y)
+        })
+        .min_by(f64::total_cmp)?;
+    (nearest > MAX_FIX_DISTANCE_M).then(|| {
+        format!(
+            "its nearest fix lies {:.0} km from the run's origin ({}, {}): the fixes and the \
+             origin must be of one place (latitude and longitude swapped?)",
+            nearest / 1000.0,
+            frame.lat,
+            frame.lon
+        )
+    })
+}
+
+/// Why `outline` (in the frame's metres) cannot be the building of walks starting at
+/// `starts`: smaller than [`MIN_OUTLINE_AREA_M2`], or farther than
+/// [`MAX_OUTLINE_DISTANCE_M`] from every start; `None` otherwise.
+pub fn outline_off_walks(outline: &Polygon<f64>, starts: &[(f64, f64)]) -> Option<String> {
+    use geo::{Area, Distance, Euclidean, Point};
+    let area = outline.unsigned_area();
+    if area < MIN_OUTLINE_AREA_M2 {
+        return Some(format!(
+            "the outline covers {area:.3e} m², less than the {MIN_OUTLINE_AREA_M2} m² a walk \
+             needs: is it in degrees of the right place, and the building's?"
+        ));
+    }
+    let nearest = starts
+        .iter()
+        .map(|&(x, y)| Euclidean.distance(&Point::new(x, y), outline))
+        .min_by(f64::total_cmp)?;
+    (nearest > MAX_OUTLINE_DISTANCE_M).then(|| {
+        format!(
+            "the outline lies {nearest:.0} m from the walk's start: it is not this walk's \
+             building (or the origin or start is wrong)"
         )
     })
 }

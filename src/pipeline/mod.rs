@@ -28,8 +28,9 @@ pub mod track;
 mod track_records;
 
 pub use input_checks::{
-    GridMismatch, MIN_MATCHED_SHARE, SAME_ORIGIN_M, ScanMatch, fixes_off_clock, grid_mismatch,
-    missing_height_changes, scans_off_clock,
+    GPS_LEAD_S, GridMismatch, MIN_MATCHED_SHARE, SAME_ORIGIN_M, ScanMatch, fixes_far_from_origin,
+    fixes_off_clock, grid_mismatch, missing_height_changes, outline_off_walks, partly_off_clock,
+    scans_off_clock,
 };
 pub use learn::{
     Combined, LearnInput, LearnWalk, Learned, LearnedRadio, WalkRun, combine, default_frame,

@@ -35,6 +35,13 @@ pub fn check_fix(fix: &GpsFix, previous_t: Option<f64>) -> Result<(), String> {
     if fix.lon.abs() > 180.0 {
         return Err(format!("longitude {}° is outside [-180, 180]", fix.lon));
     }
+    if fix.lat == 0.0 && fix.lon == 0.0 {
+        return Err(
+            "latitude 0°, longitude 0° is a receiver's \"no fix\" value, not a place: \
+             remove such rows"
+                .into(),
+        );
+    }
     if !(fix.accuracy > 0.0 && fix.accuracy <= MAX_ACCURACY) {
         return Err(format!(
             "accuracy {} m is outside (0, {MAX_ACCURACY}] m",
@@ -81,5 +88,11 @@ mod tests {
             .is_err()
         );
         assert!(check_fix(&GpsFix { t: f64::NAN, ..ok }, None).is_err());
+        let null_island = GpsFix {
+            lat: 0.0,
+            lon: 0.0,
+            ..ok
+        };
+        assert!(check_fix(&null_island, None).is_err_and(|m| m.contains("no fix")));
     }
 }
