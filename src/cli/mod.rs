@@ -80,6 +80,12 @@ enum Command {
 /// Runs the command line and maps errors to an exit code.
 pub fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
+    // Ctrl-C or SIGTERM: the run's staged outputs go with it (exit status 130, as a shell's
+    // for an interrupt). Without a handler (none could be set) the next run removes them.
+    let _ = ctrlc::set_handler(|| {
+        footslam::io::run_folder::remove_staging_folders();
+        std::process::exit(130);
+    });
     let result = match cli.command {
         Command::Learn(a) => learn::run(a),
         Command::Merge(a) => merge::run(a),

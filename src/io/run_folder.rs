@@ -1,18 +1,52 @@
-//! A run's output folder, written completely or not at all.
+//! A run's output folder, written completely or not at all, and replaced whole.
 //!
-//! Files are written into a hidden staging folder beside the destination; [`RunFolder::commit`]
-//! moves them into place. Dropping an uncommitted folder removes the staging folder, so a
-//! failed run leaves no half-written outputs.
+//! The contract of `--out`: it is one run's folder. A new or empty folder is created; a
+//! folder an earlier run wrote (it holds a `summary.json`) is **replaced whole** when the
+//! new run commits, so no file of the old run is left beside the new ones (an old
+//! `walk-3/` beside a 2-walk batch, an old `track.png` after `--online`); any other
+//! non-empty folder (`--out .`, `--out /`, a folder of data) is refused before the run
+//! starts, and a run whose `--out` holds one of its inputs is refused before anything is
+//! moved.
 //!
-//! The staging folder is named `.NAME.staging.PID` after the writing process. It is also
-//! the run's lock: a run whose destination another live process is writing stops with an
-//! error naming that process, and staging folders of processes that no longer run (a run
-//! killed with `kill -9`, a power cut) are removed when the next run into the same
-//! destination starts. (Which processes run is read from `/proc` on Linux; elsewhere
-//! nothing is removed or refused.)
+//! Files are written into a hidden staging folder and moved into place by
+//! [`RunFolder::commit`]: beside the destination (`.NAME.staging.PID`) when it does not
+//! exist yet, inside it (`.footslam.staging.PID`) when it does — so the moves are renames
+//! within one file system even when `--out` is a mount point. Dropping an uncommitted folder
+//! removes the staging folder, so a failed run leaves no half-written outputs.
+//!
+//! The staging folder is also the run's lock: a run whose destination another live process
+//! is writing stops with an error naming that process, and staging folders of processes
+//! that no longer run (a run killed with `kill -9` or Ctrl-C, a power cut) are removed when
+//! the next run into the same destination starts. (Which processes run is read from
+//! `/proc` on Linux; elsewhere nothing is removed or refused.)
 
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// The staging folders of this process's uncommitted runs, for [`remove_staging_folders`].
+static STAGING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Removes the staging folders of this process's uncommitted runs: for an interrupt
+/// handler (Ctrl-C, SIGTERM) to call before the process exits, so that an interrupted run
+/// leaves nothing behind (the next run into the folder would remove it otherwise).
+pub fn remove_staging_folders() {
+    if let Ok(mut list) = STAGING.lock() {
+        for path in list.drain(..) {
+            let _ = std::fs::remove_dir_all(path);
+        }
+    }
+}
+
+fn registered(staging: &Path, add: bool) {
+    if let Ok(mut list) = STAGING.lock() {
+        if add {
+            list.push(staging.to_path_buf());
+        } else {
+            list.retain(|p| p != staging);
+        }
+    }
+}
 
 /// A staging folder that becomes the run's output folder on [`RunFolder::commit`].
 #[derive(Debug)]
@@ -25,8 +59,8 @@ pub struct RunFolder {
 }
 
 impl RunFolder {
-    /// Starts a run whose outputs will land in `destination` (created if missing; files of
-    /// the same names already there are replaced).
+    /// Starts a run whose outputs will land in `destination`: created if missing, replaced
+    /// whole at commit if an earlier run wrote it, refused if it holds anything else.
     pub fn create(destination: &Path) -> Result<Self> {
         let parent = destination
             .parent()
@@ -36,52 +70,40 @@ impl RunFolder {
         let name = destination
             .file_name()
             .map_or_else(|| "run".into(), |n| n.to_string_lossy().into_owned());
-        let own = std::process::id();
-        let prefix = format!(".{name}.staging.");
-        // Other runs into the same destination: a live one holds it, a dead one's staging
-        // folder is left over.
-        if let Ok(entries) = std::fs::read_dir(parent) {
-            for entry in entries.flatten() {
-                let file = entry.file_name();
-                let Some(pid) = file
-                    .to_str()
-                    .and_then(|f| f.strip_prefix(&prefix))
-                    .and_then(|p| p.parse::<u32>().ok())
-                    .filter(|&p| p != own)
-                else {
-                    continue;
-                };
-                match process_is_running(pid) {
-                    Some(true) => {
-                        return Err(Error::output(
-                            destination,
-                            format!(
-                                "another run (process {pid}) is writing into it; wait for it \
-                                 to end or choose another --out"
-                            ),
-                        ));
-                    }
-                    Some(false) => {
-                        let _ = std::fs::remove_dir_all(entry.path());
-                    }
-                    None => {}
-                }
-            }
-        }
         if destination.exists() && !destination.is_dir() {
             return Err(Error::output(
                 destination,
                 "--out is a file: the outputs go into a folder; choose a folder's path",
             ));
         }
-        let staging = parent.join(format!("{prefix}{own}"));
-        // Errors name the folder asked for, not the hidden staging folder beside it.
+        let exists = destination.is_dir();
+        if exists && !is_run_folder(destination)? {
+            return Err(Error::output(
+                destination,
+                "--out is a folder with other files in it, not an earlier run's (it has no \
+                 summary.json); a run replaces its --out whole, so choose a new or empty folder",
+            ));
+        }
+        // Other runs into the same destination: a live one holds it, a dead one's staging
+        // folder is left over.
+        let beside = format!(".{name}.staging.");
+        hold(parent, &beside, destination)?;
+        if exists {
+            hold(destination, INSIDE, destination)?;
+        }
+        let own = std::process::id();
+        let staging = if exists {
+            destination.join(format!("{INSIDE}{own}"))
+        } else {
+            parent.join(format!("{beside}{own}"))
+        };
+        // Errors name the folder asked for, not the hidden staging folder.
         let unwritable = |e: std::io::Error| {
             Error::output(
                 destination,
                 format!(
-                    "cannot write the outputs into its folder {}: {e}",
-                    parent.display()
+                    "cannot write the outputs into {}: {e}",
+                    staging.parent().unwrap_or(parent).display()
                 ),
             )
         };
@@ -89,6 +111,7 @@ impl RunFolder {
             std::fs::remove_dir_all(&staging).map_err(unwritable)?;
         }
         std::fs::create_dir_all(&staging).map_err(unwritable)?;
+        registered(&staging, true);
         Ok(Self {
             destination: destination.to_path_buf(),
             staging,
@@ -161,9 +184,9 @@ impl RunFolder {
         Ok(None)
     }
 
-    /// Moves every staged file and folder into the destination folder; a staged folder
-    /// replaces a folder of the same name there (a re-run's `walk-N/`). Nothing is moved
-    /// when an output would replace a protected input ([`RunFolder::protect`]).
+    /// Replaces the destination folder's contents with the staged files and folders.
+    /// Nothing is moved when an output would replace a protected input, or the destination
+    /// holds one ([`RunFolder::protect`]).
     pub fn commit(mut self) -> Result<PathBuf> {
         if let Some((input, name)) = self.replaced_input()? {
             return Err(Error::output(
@@ -175,20 +198,117 @@ impl RunFolder {
                 ),
             ));
         }
-        std::fs::create_dir_all(&self.destination).map_err(|e| Error::io(&self.destination, e))?;
-        let entries = std::fs::read_dir(&self.staging).map_err(|e| Error::io(&self.staging, e))?;
-        for entry in entries {
-            let entry = entry.map_err(|e| Error::io(&self.staging, e))?;
-            let to = self.destination.join(entry.file_name());
-            if entry.path().is_dir() && to.is_dir() {
-                std::fs::remove_dir_all(&to).map_err(|e| Error::io(&to, e))?;
-            }
-            std::fs::rename(entry.path(), &to).map_err(|e| Error::io(&to, e))?;
+        if let Ok(dest) = self.destination.canonicalize()
+            && let Some(input) = self.inputs.iter().find(|i| i.starts_with(&dest))
+        {
+            return Err(Error::output(
+                &self.destination,
+                format!(
+                    "it holds this run's input {}, and a run replaces its --out whole; choose \
+                     an --out apart from the inputs (nothing was written)",
+                    input.display()
+                ),
+            ));
         }
-        let _ = std::fs::remove_dir_all(&self.staging);
+        if self.staging.parent() == Some(self.destination.as_path()) {
+            // Staged inside: clear the earlier run's entries, then move the new ones up.
+            let entries = std::fs::read_dir(&self.destination)
+                .map_err(|e| Error::io(&self.destination, e))?;
+            for entry in entries {
+                let entry = entry.map_err(|e| Error::io(&self.destination, e))?;
+                if entry.path() == self.staging {
+                    continue;
+                }
+                let path = entry.path();
+                let removed = if path.is_dir() && !path.is_symlink() {
+                    std::fs::remove_dir_all(&path)
+                } else {
+                    std::fs::remove_file(&path)
+                };
+                removed.map_err(|e| Error::io(&path, e))?;
+            }
+            let staged =
+                std::fs::read_dir(&self.staging).map_err(|e| Error::io(&self.staging, e))?;
+            for entry in staged {
+                let entry = entry.map_err(|e| Error::io(&self.staging, e))?;
+                let to = self.destination.join(entry.file_name());
+                std::fs::rename(entry.path(), &to).map_err(|e| Error::io(&to, e))?;
+            }
+            let _ = std::fs::remove_dir_all(&self.staging);
+        } else {
+            // Staged beside a destination that did not exist (another process may have
+            // made it empty since).
+            if self.destination.is_dir() {
+                std::fs::remove_dir(&self.destination).map_err(|e| {
+                    Error::output(
+                        &self.destination,
+                        format!("appeared while the run was writing and is not empty: {e}"),
+                    )
+                })?;
+            }
+            std::fs::rename(&self.staging, &self.destination)
+                .map_err(|e| Error::io(&self.destination, e))?;
+        }
         self.committed = true;
+        registered(&self.staging, false);
         Ok(self.destination.clone())
     }
+}
+
+/// Prefix of the staging folder inside an existing destination.
+const INSIDE: &str = ".footslam.staging.";
+
+/// Whether `folder` is empty or an earlier run's (it holds a `summary.json`); staging
+/// folders of other runs do not count.
+fn is_run_folder(folder: &Path) -> Result<bool> {
+    if folder.join("summary.json").is_file() {
+        return Ok(true);
+    }
+    let entries = std::fs::read_dir(folder).map_err(|e| Error::io(folder, e))?;
+    for entry in entries {
+        let entry = entry.map_err(|e| Error::io(folder, e))?;
+        let name = entry.file_name();
+        if !name.to_string_lossy().contains(".staging.") {
+            return Ok(false);
+        }
+    }
+    Ok(true)
+}
+
+/// Staging folders `PREFIXpid` in `dir` of other processes: a live one's holds
+/// `destination` (an error naming the process), a dead one's is removed.
+fn hold(dir: &Path, prefix: &str, destination: &Path) -> Result<()> {
+    let own = std::process::id();
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Ok(());
+    };
+    for entry in entries.flatten() {
+        let file = entry.file_name();
+        let Some(pid) = file
+            .to_str()
+            .and_then(|f| f.strip_prefix(prefix))
+            .and_then(|p| p.parse::<u32>().ok())
+            .filter(|&p| p != own)
+        else {
+            continue;
+        };
+        match process_is_running(pid) {
+            Some(true) => {
+                return Err(Error::output(
+                    destination,
+                    format!(
+                        "another run (process {pid}) is writing into it; wait for it to end or \
+                         choose another --out"
+                    ),
+                ));
+            }
+            Some(false) => {
+                let _ = std::fs::remove_dir_all(entry.path());
+            }
+            None => {}
+        }
+    }
+    Ok(())
 }
 
 /// Whether process `pid` runs (`None`: cannot tell on this system).
@@ -204,6 +324,7 @@ impl Drop for RunFolder {
     fn drop(&mut self) {
         if !self.committed {
             let _ = std::fs::remove_dir_all(&self.staging);
+            registered(&self.staging, false);
         }
     }
 }
@@ -234,6 +355,51 @@ mod tests {
         assert_eq!(read("summary.json"), "second");
         assert_eq!(read("walk-1/track.csv"), "second");
         assert!(!out.join("walk-1/old.csv").exists());
+    }
+
+    #[test]
+    fn a_rerun_replaces_the_earlier_run_whole() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let out = dir.path().join("run");
+        let folder = RunFolder::create(&out).expect("create");
+        for name in ["summary.json", "track.png"] {
+            folder.write(name, b"first").expect("write");
+        }
+        folder.create_dir("walk-3").expect("dir");
+        folder.commit().expect("commit");
+        // The second run (into the existing folder: staged inside it) writes fewer files.
+        let folder = RunFolder::create(&out).expect("create");
+        assert!(
+            folder.path("x").starts_with(&out),
+            "staged inside the destination"
+        );
+        folder.write("summary.json", b"second").expect("write");
+        folder.commit().expect("commit");
+        let names: Vec<String> = std::fs::read_dir(&out)
+            .expect("read")
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(
+            names,
+            ["summary.json"],
+            "no file of the earlier run is left"
+        );
+        // An empty folder is a fine --out; a folder of other files is refused before the run.
+        let empty = dir.path().join("empty");
+        std::fs::create_dir(&empty).expect("dir");
+        RunFolder::create(&empty)
+            .expect("empty")
+            .commit()
+            .expect("commit");
+        let data = dir.path().join("data");
+        std::fs::create_dir(&data).expect("dir");
+        std::fs::write(data.join("notes.txt"), "mine").expect("write");
+        let err = RunFolder::create(&data).expect_err("not a run's folder");
+        assert!(err.to_string().contains("not an earlier run's"), "{err}");
+        assert_eq!(
+            std::fs::read_to_string(data.join("notes.txt")).expect("kept"),
+            "mine"
+        );
     }
 
     #[test]
@@ -279,12 +445,15 @@ mod tests {
         let out = dir.path().join("out");
         std::fs::create_dir_all(out.join("walk-1")).expect("dir");
         std::fs::write(out.join("walk-1/steps.csv"), "x").expect("input");
+        assert!(RunFolder::create(&out).is_err(), "not a run's folder");
+        std::fs::write(out.join("summary.json"), "{}").expect("an earlier run's");
         let mut folder = RunFolder::create(&out).expect("create");
         folder.protect([out.join("walk-1/steps.csv")]);
         folder.create_dir("walk-1").expect("dir");
         assert!(folder.commit().is_err());
         // A file of an input's folder (the simulator's config beside its steps) is kept too;
-        // new files beside the inputs are fine.
+        // and since a run replaces its --out whole, a folder holding an input is refused
+        // even for new file names.
         std::fs::write(sim.join("config.json"), "simulator's").expect("input");
         let mut folder = RunFolder::create(&sim).expect("create");
         folder.protect([sim.join("steps.csv")]);
@@ -293,6 +462,8 @@ mod tests {
         let mut folder = RunFolder::create(&sim).expect("create");
         folder.protect([sim.join("steps.csv")]);
         folder.write("track.csv", b"t,x,y").expect("write");
-        folder.commit().expect("commit");
+        let err = folder.commit().expect_err("holds an input");
+        assert!(err.to_string().contains("holds this run's input"), "{err}");
+        assert!(sim.join("steps.csv").exists() && !sim.join("track.csv").exists());
     }
 }

@@ -219,7 +219,7 @@ pub fn track_quality(e: &TrackEvidence, config: &QualityConfig) -> Quality {
             code: "not_settled",
             verdict: Verdict::Doubtful,
             message: "the walk never settled on one place: several places of the plan fit it \
-                      (track.csv's `certain` is 0 throughout); give a start or a radio map"
+                      (track.csv's `certain` is 0 throughout); a known start would settle it"
                 .into(),
         });
     }
