@@ -215,14 +215,8 @@ pub(crate) fn read_inputs(
             }
         }
         if let (Some(outline), Some(doc)) = (&outline, &outline_doc) {
-            let starts: Vec<(f64, f64)> = walks
-                .iter()
-                .map(|w| {
-                    w.start
-                        .map_or((config.start.x, config.start.y), |s| (s.x, s.y))
-                })
-                .collect();
-            if let Some(problem) = outline_off_walks(outline, &starts) {
+            let default_start = (config.start.x, config.start.y);
+            if let Some(problem) = outline_off_walks(outline, &walks, default_start) {
                 return Err(fail(format!("{}: {problem}", doc.label())));
             }
         }

@@ -246,14 +246,8 @@ pub(super) fn check_anchors(
         }
     }
     if let (Some(outline), Some(path)) = (outline, outline_path) {
-        let starts: Vec<(f64, f64)> = walks
-            .iter()
-            .map(|w| {
-                w.start
-                    .map_or((config.start.x, config.start.y), |s| (s.x, s.y))
-            })
-            .collect();
-        if let Some(problem) = outline_off_walks(outline, &starts) {
+        let default_start = (config.start.x, config.start.y);
+        if let Some(problem) = outline_off_walks(outline, walks, default_start) {
             bail!("{}: {problem}", path.display());
         }
     }

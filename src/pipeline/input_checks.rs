@@ -124,11 +124,19 @@ pub fn fixes_far_from_origin(fixes: &[GpsFix], frame: &LocalFrame) -> Option<Str
     })
 }
 
-/// Why `outline` (in the frame's metres) cannot be the building of walks starting at
-/// `starts`: smaller than [`MIN_OUTLINE_AREA_M2`], or farther than
-/// [`MAX_OUTLINE_DISTANCE_M`] from every start; `None` otherwise.
-pub fn outline_off_walks(outline: &Polygon<f64>, starts: &[(f64, f64)]) -> Option<String> {
+/// Why `outline` (in the frame's metres) cannot be the building of `walks` (each starting
+/// at its own start, else at `default_start`): smaller than [`MIN_OUTLINE_AREA_M2`], or
+/// farther than [`MAX_OUTLINE_DISTANCE_M`] from every start; `None` otherwise.
+pub fn outline_off_walks(
+    outline: &Polygon<f64>,
+    walks: &[super::LearnWalk],
+    default_start: (f64, f64),
+) -> Option<String> {
     use geo::{Area, Distance, Euclidean, Point};
+    let starts: Vec<(f64, f64)> = walks
+        .iter()
+        .map(|w| w.start.map_or(default_start, |s| (s.x, s.y)))
+        .collect();
     let area = outline.unsigned_area();
     if area < MIN_OUTLINE_AREA_M2 {
         return Some(format!(
