@@ -12,7 +12,7 @@
 
 use super::Progress;
 use super::quality::{Quality, QualityConfig, TrackEvidence, Verdict, track_quality};
-use super::track_records::{PlanFit, RecoveryEvent};
+use super::track_records::StepRecords;
 use crate::filter::{
     Assignments, EPSILON_MISS, StartPose, TrackStep, Tracker, TrackerConfig, calibrate_map,
     placed_steps, survey_assignments, survey_walk,
@@ -262,24 +262,15 @@ pub fn survey(
 
 /// One surveyed walk's verdict from the filter's reports and the steps placed.
 fn walk_quality(reports: &[TrackStep], placed: &[TrackStep], tracker: &Tracker) -> Quality {
-    let mut fit = PlanFit::default();
-    let mut recoveries = Vec::new();
+    // The tracking run's own records: the same fit and deaths `track` reports.
+    let mut records = StepRecords::default();
     for (i, r) in reports.iter().enumerate() {
-        if let Some(f) = &r.fit {
-            fit.add(f);
-        }
-        if let Some(recovery) = r.recovery {
-            recoveries.push(RecoveryEvent {
-                step: i + 1,
-                t: r.t,
-                recovery,
-            });
-        }
+        records.push(i, r.t, r);
     }
     track_quality(
         &TrackEvidence {
-            fit: &fit,
-            recoveries: &recoveries,
+            fit: &records.fit,
+            recoveries: &records.recoveries,
             steps: reports.len(),
             settled: reports.iter().chain(placed).any(|r| r.localised),
             capped_draws: tracker.capped_draws(),
