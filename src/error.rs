@@ -263,6 +263,23 @@ fn line_suffix(line: usize) -> String {
     }
 }
 
+/// A number as a user can read it: plainly when that is short, else in scientific notation
+/// (1e308 printed plainly has 309 digits).
+///
+/// ```
+/// use footslam::error::short_number;
+/// assert_eq!(short_number(2.5), "2.5");
+/// assert_eq!(short_number(1e308), "1e308");
+/// ```
+pub fn short_number(v: f64) -> String {
+    let plain = v.to_string();
+    if plain.len() > 24 {
+        format!("{v:e}")
+    } else {
+        plain
+    }
+}
+
 /// A value as the user can read it: a number too long to print plainly (1e308 has 309
 /// digits) in scientific notation.
 fn short_value(value: &str) -> String {

@@ -17,15 +17,16 @@ use footslam::pipeline::SAME_ORIGIN_M;
 use footslam::sensor::StepTrace;
 use std::path::{Path, PathBuf};
 
-/// Arguments of `footslam eval`.
+/// Arguments of `footslam eval`: one reference, `--truth` or `--waypoints`.
 #[derive(Debug, clap::Args)]
+#[command(group(
+    clap::ArgGroup::new("reference")
+        .required(true)
+        .args(["truth", "waypoints"])
+))]
 pub struct Args {
     /// Ground truth CSV with `t,x,y` columns (e.g. the simulator's truth.csv).
-    #[arg(
-        long,
-        required_unless_present = "waypoints",
-        conflicts_with = "waypoints"
-    )]
+    #[arg(long)]
     truth: Option<PathBuf>,
     /// Sparse ground truth `t,x,y[,level]` (e.g. an importer's waypoints.csv): the error at
     /// each waypoint, the track interpolated at its time. With `--steps`, dead reckoning

@@ -118,6 +118,12 @@ pub(super) fn read_found(
     found: Vec<Found>,
     gps_t0: Option<f64>,
 ) -> Result<(Vec<WalkFiles>, Vec<LearnWalk>)> {
+    if gps_t0.is_some() && !found.iter().any(|f| f.gps.as_deref().is_some_and(is_gpx)) {
+        bail!(
+            "--gps-t0 places GPX files' UTC times on the steps' clock, and no walk has a GPX \
+             file (CSV fixes are on the steps' clock already): leave --gps-t0 out"
+        );
+    }
     found
         .into_iter()
         .map(|f| {
@@ -202,11 +208,15 @@ fn walks_in_folder(dir: &Path) -> Result<Vec<Found>> {
     Ok(walks)
 }
 
+/// A GPX file (by its extension).
+fn is_gpx(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gpx"))
+}
+
 /// Fixes from CSV or GPX, checked to overlap the walk in time.
 pub(super) fn read_fixes(path: &Path, t0: Option<f64>, trace: &StepTrace) -> Result<Vec<GpsFix>> {
-    let is_gpx = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("gpx"));
+    let is_gpx = is_gpx(path);
     let fixes = if is_gpx {
         read_gpx(path, t0.unwrap_or(0.0))?
     } else {

@@ -13,7 +13,8 @@ pub struct Args {
     /// GPS-anchored walks learned with one `--origin` (or one prior map) do.
     #[arg(required = true, num_args = 1..)]
     maps: Vec<PathBuf>,
-    /// Weight of each map's counts, comma-separated, one per map (default all 1).
+    /// Relative weight of each map's counts, comma-separated, one per map (default all 1):
+    /// the largest counts each crossing once, the others in proportion; 0 leaves a map out.
     #[arg(long, value_delimiter = ',')]
     weights: Vec<f64>,
     /// The merged map (GeoJSON, the format of map.geojson).

@@ -57,11 +57,7 @@ struct TowerSummary {
 
 /// Runs `footslam simulate`.
 pub fn run(args: Args) -> Result<()> {
-    if args.magnetometer && args.building == Building::Campus {
-        anyhow::bail!(
-            "--magnetometer simulates the office's and the tower's field, not the campus's"
-        );
-    }
+    args.check_flags_apply()?;
     match args.building {
         Building::Office => run_office(args),
         Building::Tower => run_tower(args),

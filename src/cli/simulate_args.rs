@@ -86,6 +86,49 @@ pub struct Args {
     pub(super) out: Option<PathBuf>,
 }
 
+impl Args {
+    /// An error naming a flag given for a building it does not apply to (it would be
+    /// ignored, and the user would take the output for what they asked).
+    pub(super) fn check_flags_apply(&self) -> anyhow::Result<()> {
+        use Building::{Campus, Office, Tower};
+        let given: [(&str, bool, &[Building]); 9] = [
+            ("--floors", self.floors.is_some(), &[Tower]),
+            ("--identical-floors", self.identical_floors, &[Tower]),
+            ("--minutes", self.minutes.is_some(), &[Tower]),
+            ("--tour", self.tour.is_some(), &[Tower]),
+            ("--laps", self.laps.is_some(), &[Office, Campus]),
+            ("--walks", self.walks.is_some(), &[Campus]),
+            ("--entrance-only", self.entrance_only, &[Campus]),
+            ("--magnetometer", self.magnetometer, &[Office, Tower]),
+            ("--compass", self.compass, &[Campus]),
+        ];
+        for (flag, is_given, buildings) in given {
+            if is_given && !buildings.contains(&self.building) {
+                let names: Vec<&str> = buildings.iter().map(|b| b.name()).collect();
+                anyhow::bail!(
+                    "{flag} applies to --building {}, not to {}: leave it out, or simulate \
+                     --building {}",
+                    names.join(" or "),
+                    self.building.name(),
+                    names[0]
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Building {
+    /// The name `--building` takes.
+    fn name(self) -> &'static str {
+        match self {
+            Building::Office => "office",
+            Building::Tower => "tower",
+            Building::Campus => "campus",
+        }
+    }
+}
+
 /// Step-sensor error presets of `--sensor`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub(super) enum Sensor {

@@ -56,11 +56,31 @@ pub struct ErrorReport {
 /// of freedom of four, fewer none.
 pub const MIN_RIGID_POINTS: usize = 3;
 
+/// The least spread (RMS distance from their centre) of the truth's matched points a rigid
+/// alignment is measured on, metres: a truth that stays in one place fixes no rotation, and
+/// the alignment would fit any track onto it.
+pub const MIN_RIGID_SPREAD_M: f64 = 0.5;
+
+/// The RMS distance of `points` from their centre, metres.
+fn rms_spread(points: &[(f64, f64)]) -> f64 {
+    let n = points.len().max(1) as f64;
+    let (mx, my) = points
+        .iter()
+        .fold((0.0, 0.0), |(sx, sy), &(x, y)| (sx + x / n, sy + y / n));
+    (points
+        .iter()
+        .map(|&(x, y)| (x - mx).powi(2) + (y - my).powi(2))
+        .sum::<f64>()
+        / n)
+        .sqrt()
+}
+
 /// Errors of `track` against `truth` (both in time order, local metres).
 ///
 /// Fails when either is empty, not strictly increasing in time or not finite, when no
 /// track point lies within the truth's time span, or when a rigid alignment would rest on
-/// fewer than [`MIN_RIGID_POINTS`] points.
+/// fewer than [`MIN_RIGID_POINTS`] points or on a truth that spreads less than
+/// [`MIN_RIGID_SPREAD_M`].
 pub fn position_errors(
     truth: &[TimedPoint],
     track: &[TimedPoint],
@@ -90,6 +110,17 @@ pub fn position_errors(
                  truth's time span, got {n}: it would fit them exactly and report no error"
             ),
             "use no alignment",
+        ));
+    }
+    let spread = rms_spread(&reference);
+    if alignment == Alignment::Rigid && spread < MIN_RIGID_SPREAD_M {
+        return Err(Error::not_enough(
+            format!(
+                "a rigid alignment measures a track's shape, but the truth's {n} points \
+                 matched in time lie within {spread:.2} m (RMS) of one place: any track \
+                 would fit it"
+            ),
+            "use no alignment, or a truth of a walk that moves",
         ));
     }
     let transform = match alignment {
@@ -244,5 +275,10 @@ mod tests {
             "{err}"
         );
         assert!(matches!(err, Error::InvalidData { .. }));
+        // A truth that stays in one place fits any track rigidly: refused, not 0 m.
+        let still: Vec<_> = (0..10).map(|i| tp(f64::from(i), 1.0, 2.0)).collect();
+        let err = position_errors(&still, &still, Alignment::Rigid).expect_err("degenerate");
+        assert!(err.to_string().contains("within 0.00 m"), "{err}");
+        assert!(position_errors(&still, &still, Alignment::None).is_ok());
     }
 }

@@ -11,6 +11,11 @@ use crate::error::{Error, Result};
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
+/// The farthest a place in a local frame may lie from its origin, metres: local frames
+/// hold one building or campus, and 1,000 km keeps every distance computed from them
+/// finite and exact to well under a millimetre.
+pub const MAX_LOCAL_COORDINATE_M: f64 = 1e6;
+
 /// Where a table's rows come from, for error messages.
 #[derive(Debug, Clone)]
 pub enum CsvSource {
@@ -189,6 +194,22 @@ impl CsvRow<'_> {
             .map_err(|_| self.error(format!("column `{name}`: `{text}` is not a number")))?;
         if !v.is_finite() {
             return Err(self.error(format!("column `{name}`: `{text}` is not a finite number")));
+        }
+        Ok(v)
+    }
+
+    /// A required coordinate of the local frame in column `index` named `name`: a finite
+    /// number of metres no farther than [`MAX_LOCAL_COORDINATE_M`] from the origin.
+    pub fn coordinate(&self, index: usize, name: &str) -> Result<f64> {
+        let v = self.number(index, name)?;
+        if v.abs() > MAX_LOCAL_COORDINATE_M {
+            return Err(self.error(format!(
+                "column `{name}`: {} m is {} km from the origin: not a place in a local \
+                 frame (metres east, north and up of the origin; at most {} km)",
+                crate::error::short_number(v),
+                crate::error::short_number(v.abs() / 1000.0),
+                MAX_LOCAL_COORDINATE_M / 1000.0
+            )));
         }
         Ok(v)
     }

@@ -36,9 +36,9 @@ pub fn read_track(path: &Path) -> Result<Vec<TrackPoint>> {
         }
         let p = TrackPoint {
             t: row.number(t, "t")?,
-            x: row.number(x, "x")?,
-            y: row.number(y, "y")?,
-            z: row.number(z, "z")?,
+            x: row.coordinate(x, "x")?,
+            y: row.coordinate(y, "y")?,
+            z: row.coordinate(z, "z")?,
             level: l as i32,
         };
         row.ensure_after(points.last().map(|q| q.t), p.t)?;

@@ -39,8 +39,8 @@ fn read_rows(path: &Path, certain_only: bool) -> Result<(Vec<TimedPoint>, usize)
         rows += 1;
         let p = TimedPoint {
             t: row.number(t, "t")?,
-            x: row.number(x, "x")?,
-            y: row.number(y, "y")?,
+            x: row.coordinate(x, "x")?,
+            y: row.coordinate(y, "y")?,
         };
         row.ensure_after(previous, p.t)?;
         previous = Some(p.t);

@@ -35,7 +35,7 @@ pub fn read_truth(path: &Path) -> Result<TruePath> {
     );
     let mut poses: Vec<TruePose> = Vec::new();
     table.for_each_row(|row| {
-        let (px, py) = (row.number(x, "x")?, row.number(y, "y")?);
+        let (px, py) = (row.coordinate(x, "x")?, row.coordinate(y, "y")?);
         let previous = poses.last().map_or((0.0, 0.0), |p| (p.x, p.y));
         let level = match row.optional_number(level, "level")? {
             None => 0,
@@ -54,7 +54,10 @@ pub fn read_truth(path: &Path) -> Result<TruePath> {
             t: row.number(t, "t")?,
             x: px,
             y: py,
-            z: row.optional_number(z, "z")?.unwrap_or(0.0),
+            z: match z {
+                Some(z) if !row.text(z).is_empty() => row.coordinate(z, "z")?,
+                _ => 0.0,
+            },
             level,
             heading: match row.optional_number(heading, "heading")? {
                 Some(h) => h,

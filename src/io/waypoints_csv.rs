@@ -29,8 +29,8 @@ pub fn read_waypoints(path: &Path) -> Result<Vec<Waypoint>> {
     table.for_each_row(|row| {
         let w = Waypoint {
             t: row.time(t, "t")?,
-            x: row.number(x, "x")?,
-            y: row.number(y, "y")?,
+            x: row.coordinate(x, "x")?,
+            y: row.coordinate(y, "y")?,
             level: match row.optional_number(level, "level")? {
                 Some(l) if l.fract() != 0.0 || l.abs() > 1000.0 => {
                     return Err(row.error(format!("level {l} is not a floor number")));

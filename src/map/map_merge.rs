@@ -17,8 +17,12 @@ use std::collections::BTreeMap;
 const RADIUS_TOLERANCE: f64 = 1e-9;
 
 /// The weighted sum of `maps` (each `(map, weight)`, weights finite and ≥ 0), counts rounded
-/// to the nearest integer. All maps must have the same hexagon radius; the result has the
-/// first map's `α`. Hexagons whose counts round to zero are left out. Levels meet by number
+/// to the nearest integer. Weights are relative: they are scaled so that the largest is 1
+/// (the map of the largest weight counts each crossing once, so `1e12, 1` cannot overflow
+/// the counts and `0.3, 0.3` is `1, 1`), and an edge crossed in a map of weight > 0 keeps
+/// at least one crossing (a small weight lowers a map's say, it does not erase the places
+/// only it walked). All maps must have the same hexagon radius; the result has the first
+/// map's `α`. Maps of weight 0 are left out. Levels meet by number
 /// (walks that start on different floors say so with their start level); a level's height
 /// is the weighted mean of the maps' heights for it, each map's heights first moved onto
 /// those of the maps before it by their mean difference on the levels they share (each
@@ -27,6 +31,8 @@ pub fn merge_maps(maps: &[(&HexMapSnapshot, f64)]) -> Result<HexMapSnapshot> {
     let (first, _) = maps
         .first()
         .ok_or_else(|| Error::not_enough("no maps to merge", "give at least one map"))?;
+    let largest = maps.iter().map(|&(_, w)| w).fold(0.0_f64, f64::max);
+    let scale = if largest > 0.0 { 1.0 / largest } else { 1.0 };
     let mut sums: BTreeMap<(i32, i32, i32), [f64; 6]> = BTreeMap::new();
     // Per level: Σ weight·z and Σ weight over the maps that give its height.
     let mut heights: BTreeMap<i32, (f64, f64)> = BTreeMap::new();
@@ -75,7 +81,7 @@ pub fn merge_maps(maps: &[(&HexMapSnapshot, f64)]) -> Result<HexMapSnapshot> {
                 .entry((cell.level, cell.hex.x, cell.hex.y))
                 .or_insert([0.0; 6]);
             for (s, &n) in sum.iter_mut().zip(&cell.counts) {
-                *s += weight * f64::from(n);
+                *s += weight * scale * f64::from(n);
             }
         }
     }
@@ -84,7 +90,13 @@ pub fn merge_maps(maps: &[(&HexMapSnapshot, f64)]) -> Result<HexMapSnapshot> {
         .map(|((level, q, r), sum)| HexCell {
             hex: Hex::new(q, r),
             level,
-            counts: sum.map(|s| s.round().min(f64::from(u32::MAX)) as u32),
+            counts: sum.map(|s| {
+                if s > 0.0 {
+                    s.round().clamp(1.0, f64::from(u32::MAX)) as u32
+                } else {
+                    0
+                }
+            }),
         })
         .filter(|c| c.counts.iter().any(|&n| n > 0))
         .collect();
@@ -144,13 +156,24 @@ mod tests {
         let m = merge_maps(&[(&a, 1.0), (&b, 2.0)]).expect("merge");
         assert_eq!(m.cells.len(), 3);
         assert_eq!(m.cells[0].hex, Hex::new(0, 0));
-        assert_eq!(m.cells[0].counts, [4, 0, 0, 1, 0, 2]);
-        assert_eq!(m.cells[2].counts, [0, 2, 0, 0, 0, 0]);
-        let half = merge_maps(&[(&a, 0.2)]).expect("merge");
-        // Every count times 0.2 rounds to 0: no hexagon survives.
-        assert!(half.cells.is_empty());
-        let double = merge_maps(&[(&a, 0.5)]).expect("merge");
-        assert_eq!(double.cells[0].counts, [1, 0, 0, 1, 0, 0]);
+        // Weights 1, 2 are ½, 1: a's 1 on edge 3 weighs ½ and stays one crossing.
+        assert_eq!(m.cells[0].counts, [2, 0, 0, 1, 0, 1]);
+        assert_eq!(m.cells[1].counts, [0, 0, 0, 1, 0, 0]);
+        assert_eq!(m.cells[2].counts, [0, 1, 0, 0, 0, 0]);
+        // Weights are relative: one map alone is itself at any weight.
+        for w in [0.2, 0.5, 1e12] {
+            assert_eq!(merge_maps(&[(&a, w)]).expect("merge").cells, a.cells, "{w}");
+        }
+        // 0.3, 0.3 is 1, 1 (no hexagon dropped by rounding) …
+        let both = merge_maps(&[(&a, 0.3), (&b, 0.3)]).expect("merge");
+        assert_eq!(both, merge_maps(&[(&a, 1.0), (&b, 1.0)]).expect("merge"));
+        // … and 1e12, 1 neither saturates the counts nor erases b's own hexagon.
+        let heavy = merge_maps(&[(&a, 1e12), (&b, 1.0)]).expect("merge");
+        assert_eq!(heavy.cells[0].counts, [2, 0, 0, 1, 0, 1]);
+        assert_eq!(heavy.cells[2].counts, [0, 1, 0, 0, 0, 0]);
+        // A map of weight 0 is left out.
+        let zero = merge_maps(&[(&a, 1.0), (&b, 0.0)]).expect("merge");
+        assert_eq!(zero.cells, a.cells);
     }
 
     #[test]

@@ -102,6 +102,20 @@ pub struct RadioMapCell {
     pub radio: CellRadio,
 }
 
+/// Cells of two maps whose centres lie this close are the same cell, metres (the files
+/// round coordinates to centimetres).
+const SAME_CELL_M: f64 = 0.5;
+
+/// The distance between the centres of two cells' floors, metres (infinite when either has
+/// no area).
+fn cell_offset(a: &RadioMapCell, b: &RadioMapCell) -> f64 {
+    use geo::Centroid;
+    match (a.area.centroid(), b.area.centroid()) {
+        (Some(p), Some(q)) => (p.x() - q.x()).hypot(p.y() - q.y()),
+        _ => f64::INFINITY,
+    }
+}
+
 /// A radio map: cells with their readings.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct RadioMap {
@@ -183,6 +197,24 @@ impl RadioMap {
             return Err(Error::mismatch(
                 "radio maps with different cells cannot be merged",
                 "survey them on the same plan at the same granularity",
+            ));
+        }
+        // Ids are per plan ("room-column-row"): another building's map can share them.
+        // Its cells must also lie where these do, on the same level.
+        if let Some((a, b, off)) = self
+            .cells
+            .iter()
+            .zip(&other.cells)
+            .map(|(a, b)| (a, b, cell_offset(a, b)))
+            .find(|&(a, b, off)| a.level != b.level || off > SAME_CELL_M)
+        {
+            return Err(Error::mismatch(
+                format!(
+                    "cell {} lies {off:.1} m from this map's cell {} (levels {} and {}): \
+                     a map of another plan or frame",
+                    b.id, a.id, b.level, a.level
+                ),
+                "merge radio maps surveyed on the same plan, in the same frame (origin)",
             ));
         }
         for (a, b) in self.cells.iter_mut().zip(&other.cells) {
@@ -297,5 +329,16 @@ mod tests {
         let mut other = a.clone();
         other.cells.pop();
         assert!(a.merge(&other).is_err());
+        // The same ids somewhere else (another building, another frame) do not merge.
+        use geo::Translate;
+        let mut moved = a.clone();
+        for c in &mut moved.cells {
+            c.area = c.area.translate(40.0, 0.0);
+        }
+        let err = a.merge(&moved).expect_err("moved cells");
+        assert!(err.to_string().contains("40.0 m"), "{err}");
+        let mut relevelled = a.clone();
+        relevelled.cells[3].level += 1;
+        assert!(a.merge(&relevelled).is_err());
     }
 }

@@ -54,19 +54,29 @@ pub fn check_step(step: &Step, previous_t: Option<f64>) -> Result<(), String> {
     if !(0.0..=MAX_STEP_LENGTH).contains(&step.length) {
         return Err(format!(
             "step length {} m is outside [0, {MAX_STEP_LENGTH}] m",
-            step.length
+            crate::error::short_number(step.length)
         ));
     }
     if step.dheading.abs() > 2.0 * std::f64::consts::PI {
         return Err(format!(
-            "heading change {} rad exceeds one full turn",
-            step.dheading
+            "heading change {} rad exceeds one full turn (radians are expected: degrees? \
+             multiply by π/180)",
+            crate::error::short_number(step.dheading)
+        ));
+    }
+    if let Some(h) = step.heading
+        && h.abs() > 2.0 * std::f64::consts::PI
+    {
+        return Err(format!(
+            "absolute heading {} rad is beyond one full turn: headings are radians \
+             counter-clockwise from east (degrees? multiply by π/180)",
+            crate::error::short_number(h)
         ));
     }
     if step.dz.abs() > MAX_STEP_DZ {
         return Err(format!(
             "height change {} m exceeds {MAX_STEP_DZ} m per step",
-            step.dz
+            crate::error::short_number(step.dz)
         ));
     }
     if let Some(p) = previous_t
@@ -179,6 +189,22 @@ mod tests {
         assert!(StepTrace::new(vec![step(0.0, f64::NAN)]).is_err());
         assert!(StepTrace::new(vec![step(0.0, 12.0)]).is_err());
         assert!(StepTrace::new(vec![step(0.0, -0.1)]).is_err());
+        // Angles in degrees are caught when they leave one turn, and said so.
+        let mut degrees = step(0.0, 0.7);
+        degrees.heading = Some(135.0);
+        let (_, m) = StepTrace::new(vec![degrees]).unwrap_err();
+        assert!(
+            m.contains("absolute heading 135 rad") && m.contains("degrees?"),
+            "{m}"
+        );
+        let mut turn = step(0.0, 0.7);
+        turn.dheading = 90.0;
+        let (_, m) = StepTrace::new(vec![turn]).unwrap_err();
+        assert!(m.contains("degrees?"), "{m}");
+        let mut huge = step(0.0, 0.7);
+        huge.dz = 1e308;
+        let (_, m) = StepTrace::new(vec![huge]).unwrap_err();
+        assert!(m.contains("1e308 m"), "{m}");
     }
 
     #[test]
