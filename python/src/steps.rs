@@ -101,9 +101,8 @@ pub(crate) fn steps<'py>(
     })?;
     // The command line's order: a rejected frame before an empty trace.
     let list: Vec<String> = run
-        .mount_warning
-        .iter()
-        .cloned()
+        .recording_warnings()
+        .into_iter()
         .chain(frame_warnings(&label, flip, run.frame_verdict())?)
         .collect();
     if run.trace.is_empty() {

@@ -125,8 +125,7 @@ pub fn run(args: Args) -> Result<()> {
     let run = steps(&recording, mount, &config)
         .with_context(|| format!("{}: cannot detect steps", args.imu.display()))?;
     let warnings = run
-        .mount_warning
-        .clone()
+        .recording_warnings()
         .into_iter()
         .chain(frame_warnings(&args, run.frame_verdict())?)
         .collect();

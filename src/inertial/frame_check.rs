@@ -15,6 +15,9 @@
 //!   0.1 s windows, the quaternion turns 0.88–0.97 times as far as the gyroscope, with
 //!   correlation 0.85–0.94, on a real phone walk; a negated axis gives the opposite sign,
 //!   and timestamps stretched by a factor `k` make the gyroscope turn `k` times as far.
+//!   A quaternion written the wrong way (its inverse, ENU → sensor; or `w, x, y, z` in the
+//!   `qx, qy, qz, qw` columns) correlates poorly on some axes and well once undone: each
+//!   mistake is tried before any gyroscope axis is blamed.
 
 use super::foot::detect_strides;
 use super::foot_config::FootConfig;
@@ -28,9 +31,33 @@ pub const FOOT_ZUPT_RESIDUAL_MAX: f64 = 0.045;
 /// which that axis counts as negated (right: 0.85 and more).
 pub const MIRRORED_CORRELATION: f64 = -0.5;
 
+/// Correlation on every axis above which the gyroscope and the quaternion agree (right:
+/// 0.85 and more).
+pub const CONSISTENT_CORRELATION: f64 = 0.5;
+
 /// Gains of the gyroscope against the quaternion outside this range (with every axis
-/// correlated) mean the timestamps do not count seconds at the rate the samples came.
-pub const GAIN_RANGE: std::ops::RangeInclusive<f64> = 0.5..=2.0;
+/// correlated) mean the timestamps do not count seconds at the rate the samples came
+/// (right: 1.03–1.14 on real phone walks; timestamps ×2 or ×½ give 2.1 and 0.56).
+pub const GAIN_RANGE: std::ops::RangeInclusive<f64> = 0.7..=1.4;
+
+/// A way an orientation quaternion's columns are commonly written wrong.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum QuaternionMistake {
+    /// The inverse rotation, ENU → sensor (`qx, qy, qz` negated).
+    Conjugated,
+    /// `w, x, y, z` written into the `qx, qy, qz, qw` columns.
+    ScalarFirst,
+}
+
+impl QuaternionMistake {
+    /// The quaternion `[x, y, z, w]` as read, with the mistake undone.
+    pub fn undo(self, q: [f64; 4]) -> [f64; 4] {
+        match self {
+            Self::Conjugated => [-q[0], -q[1], -q[2], q[3]],
+            Self::ScalarFirst => [q[1], q[2], q[3], q[0]],
+        }
+    }
+}
 
 /// Window of the phone's quaternion-against-gyroscope regression, seconds.
 const WINDOW_S: f64 = 0.1;
@@ -56,6 +83,21 @@ pub enum FrameFinding {
     TimeBase {
         /// Median gain over the three axes.
         gain: f64,
+    },
+    /// The orientation quaternion agrees with the gyroscope once `mistake` is undone.
+    Quaternion {
+        /// The mistake.
+        mistake: QuaternionMistake,
+        /// The worst axis's correlation as recorded.
+        before: f64,
+        /// The same with the mistake undone.
+        after: f64,
+    },
+    /// The gyroscope and the orientation quaternion disagree, and neither an axis flip nor
+    /// a quaternion mistake explains it.
+    Disagreeing {
+        /// The worst axis's correlation.
+        correlation: f64,
     },
     /// The foot INS's stance residual is far above a foot IMU's and no axis flip explains
     /// it (units, timestamps or a recording that is not a foot's).
@@ -85,6 +127,30 @@ impl FrameFinding {
                 "the gyroscope turns {gain:.2} times as far as the orientation quaternion \
                  between the same samples: the timestamps are not in seconds, or the samples \
                  came at another rate than the timestamps say"
+            ),
+            Self::Quaternion {
+                mistake: QuaternionMistake::Conjugated,
+                before,
+                after,
+            } => format!(
+                "the orientation quaternion turns as the inverse of the gyroscope's rotation \
+                 (worst axis correlation {before:.2} as recorded, {after:.2} conjugated): it \
+                 looks like the rotation ENU → sensor, where the format takes sensor → ENU; \
+                 negate the qx, qy, qz columns"
+            ),
+            Self::Quaternion {
+                mistake: QuaternionMistake::ScalarFirst,
+                before,
+                after,
+            } => format!(
+                "the orientation quaternion's columns look to hold w, x, y, z (worst axis \
+                 correlation with the gyroscope {before:.2} as recorded, {after:.2} read that \
+                 way); the format's order is qx, qy, qz, qw: reorder the columns"
+            ),
+            Self::Disagreeing { correlation } => format!(
+                "the gyroscope and the orientation quaternion disagree (worst axis \
+                 correlation {correlation:.2}; a phone's agree at 0.85 and more), and no \
+                 gyroscope axis flip or quaternion convention explains it: check the columns"
             ),
             Self::Inconsistent { residual } => format!(
                 "the foot INS's mean stance velocity residual is {residual:.3} m/s, far above \
@@ -182,6 +248,14 @@ pub fn check_foot_frame(
 /// Per-axis gain and correlation of the quaternion's rotation against the gyroscope's over
 /// 0.1 s windows; `None` without a quaternion or with too little rotation.
 pub fn gyro_against_orientation(recording: &ImuRecording) -> Option<[(f64, f64); 3]> {
+    gyro_against(recording, |q| q)
+}
+
+/// [`gyro_against_orientation`] with each quaternion first passed through `read`.
+fn gyro_against(
+    recording: &ImuRecording,
+    read: impl Fn([f64; 4]) -> [f64; 4],
+) -> Option<[(f64, f64); 3]> {
     let samples = recording.samples();
     let span = samples.last()?.t - samples.first()?.t;
     let rate = (samples.len() - 1) as f64 / span;
@@ -205,7 +279,7 @@ pub fn gyro_against_orientation(recording: &ImuRecording) -> Option<[(f64, f64);
         let (Some(a), Some(b)) = (samples[k - lag].orientation, samples[k].orientation) else {
             return None;
         };
-        let d = relative_rotation(a, b);
+        let d = relative_rotation(read(a), read(b));
         for i in 0..3 {
             let g = integral[k][i] - integral[k - lag][i];
             qg[i] += d[i] * g;
@@ -237,19 +311,39 @@ fn relative_rotation(a: [f64; 4], b: [f64; 4]) -> [f64; 3] {
     [s * x, s * y, s * z]
 }
 
-/// Checks a phone recording with an orientation quaternion: a negated gyroscope axis, or
-/// timestamps that do not count seconds. `None` when consistent or when the data cannot
-/// tell (no quaternion, too little rotation).
+/// Checks a phone recording with an orientation quaternion: a quaternion written the
+/// wrong way, a negated gyroscope axis, or timestamps that do not count seconds. `None` when
+/// consistent or when the data cannot tell (no quaternion, too little rotation).
 pub fn check_phone_frame(recording: &ImuRecording) -> Option<FrameFinding> {
     let axes = gyro_against_orientation(recording)?;
-    let flip = axes.map(|(_, r)| r < MIRRORED_CORRELATION);
-    if flip.contains(&true) {
-        let worst = axes.iter().map(|a| a.1).fold(f64::INFINITY, f64::min);
+    let worst = |axes: &[(f64, f64); 3]| axes.iter().map(|a| a.1).fold(f64::INFINITY, f64::min);
+    let consistent = |axes: &[(f64, f64); 3]| worst(axes) > CONSISTENT_CORRELATION;
+    if !consistent(&axes) {
+        for mistake in [
+            QuaternionMistake::Conjugated,
+            QuaternionMistake::ScalarFirst,
+        ] {
+            if let Some(undone) = gyro_against(recording, |q| mistake.undo(q))
+                && consistent(&undone)
+            {
+                return Some(FrameFinding::Quaternion {
+                    mistake,
+                    before: worst(&axes),
+                    after: worst(&undone),
+                });
+            }
+        }
+        let flip = axes.map(|(_, r)| r < MIRRORED_CORRELATION);
         let after = axes.iter().map(|a| a.1.abs()).fold(f64::INFINITY, f64::min);
-        return Some(FrameFinding::MirroredGyro {
-            flip,
-            before: worst,
-            after,
+        if flip.contains(&true) && after > CONSISTENT_CORRELATION {
+            return Some(FrameFinding::MirroredGyro {
+                flip,
+                before: worst(&axes),
+                after,
+            });
+        }
+        return Some(FrameFinding::Disagreeing {
+            correlation: worst(&axes),
         });
     }
     let mut gains = axes.map(|(g, _)| g);
@@ -257,8 +351,7 @@ pub fn check_phone_frame(recording: &ImuRecording) -> Option<FrameFinding> {
     // The regression's gain is the quaternion's turn per the gyroscope's: its inverse is
     // how far the gyroscope turns per the quaternion's.
     let gain = 1.0 / gains[1];
-    let correlated = axes.iter().all(|a| a.1 > -MIRRORED_CORRELATION);
-    (correlated && !GAIN_RANGE.contains(&gain)).then_some(FrameFinding::TimeBase { gain })
+    (!GAIN_RANGE.contains(&gain)).then_some(FrameFinding::TimeBase { gain })
 }
 
 #[cfg(test)]
@@ -327,6 +420,49 @@ mod tests {
         match check_phone_frame(&slow) {
             Some(FrameFinding::TimeBase { gain }) => assert!((gain - 3.0).abs() < 0.2, "{gain}"),
             other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_quaternion_written_the_wrong_way_is_named_not_the_gyroscope() {
+        let r = turning_phone(1.0);
+        let rewritten = |mistake: QuaternionMistake| {
+            // Writing the mistake: its inverse applied to the right quaternion.
+            let write = |q: [f64; 4]| match mistake {
+                QuaternionMistake::Conjugated => [-q[0], -q[1], -q[2], q[3]],
+                QuaternionMistake::ScalarFirst => [q[3], q[0], q[1], q[2]],
+            };
+            let samples = r
+                .samples()
+                .iter()
+                .map(|s| ImuSample {
+                    orientation: s.orientation.map(write),
+                    ..s.clone()
+                })
+                .collect();
+            ImuRecording::new(samples, 0).expect("recording")
+        };
+        for mistake in [
+            QuaternionMistake::Conjugated,
+            QuaternionMistake::ScalarFirst,
+        ] {
+            match check_phone_frame(&rewritten(mistake)) {
+                Some(f @ FrameFinding::Quaternion { mistake: m, .. }) => {
+                    assert_eq!(m, mistake);
+                    assert!(f.message().contains("quaternion"), "{}", f.message());
+                }
+                other => panic!("{mistake:?}: {other:?}"),
+            }
+        }
+        // Timestamps ×2 and ×½ (the gain check's old bounds) are caught.
+        for k in [2.0, 0.5] {
+            assert!(
+                matches!(
+                    check_phone_frame(&turning_phone(k)),
+                    Some(FrameFinding::TimeBase { .. })
+                ),
+                "{k}"
+            );
         }
     }
 

@@ -27,11 +27,13 @@
 //! Checks of a recording:
 //! * [`frame_check`] — gyroscope in the accelerometer's frame, timestamps in seconds
 //! * [`mount_check`] — the mount the user named (foot or phone)
+//! * [`gait_check`] — step lengths and cadence that fit human walking (timestamps' scale)
 
 pub mod barometer;
 pub mod foot;
 pub mod foot_config;
 pub mod frame_check;
+pub mod gait_check;
 pub mod heading_fusion;
 pub mod mount_check;
 pub mod phone;
@@ -46,6 +48,7 @@ pub use barometer::{BarometerConfig, pressure_height};
 pub use foot::detect_strides;
 pub use foot_config::{FootConfig, FootFigures};
 pub use frame_check::{FrameFinding, check_foot_frame, check_phone_frame};
+pub use gait_check::check_gait;
 pub use heading_fusion::HeadingFusionConfig;
 pub use mount_check::check_mount;
 pub use phone::{HeadingFigures, PhoneConfig, PhoneFigures, detect_steps};

@@ -11,7 +11,7 @@
 
 use super::csv_table::{CsvRow, CsvTable};
 use crate::error::Result;
-use crate::sensor::imu::{ImuRecording, ImuSample, check_sample};
+use crate::sensor::imu::{ImuRecording, ImuSample, check_sample, diagnose_columns};
 use std::path::Path;
 
 /// Units of an IMU file's accelerometer and gyroscope columns, as factors to SI.
@@ -122,6 +122,9 @@ fn imu_from_table(mut table: CsvTable, units: ImuUnits) -> Result<ImuRecording> 
     mag.backfill(&mut samples, |s, v| s.mag = Some(v));
     quat.backfill(&mut samples, |s, v| s.orientation = Some(v));
     pressure.backfill(&mut samples, |s, [v]| s.pressure = Some(v));
+    if let Some(problem) = diagnose_columns(&samples, units.accel) {
+        return Err(table.error(0, problem));
+    }
     for (s, &line) in samples.iter().zip(&lines) {
         check_sample(s).map_err(|m| table.error(line, m))?;
     }

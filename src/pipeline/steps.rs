@@ -4,13 +4,14 @@
 //!    per stride, [`detect_strides`]), a phone's through the step-and-heading system (one per
 //!    step, [`detect_steps`]);
 //!    The magnetic field over each event comes beside them ([`field_per_step`]);
-//! 2. **check** — whether the recording looks like the mount ([`check_mount`]), and whether
-//!    its axes agree with each other ([`check_foot_frame`], [`check_phone_frame`]).
+//! 2. **check** — whether the recording looks like the mount ([`check_mount`]), whether
+//!    its axes agree with each other ([`check_foot_frame`], [`check_phone_frame`]), and
+//!    whether the steps fit human walking ([`check_gait`]).
 
 use crate::Result;
 use crate::inertial::{
     FootFigures, FrameFinding, HeadingSource, Mount, PhoneFigures, StepsConfig, check_foot_frame,
-    check_mount, check_phone_frame, detect_steps, detect_strides, field_per_step,
+    check_gait, check_mount, check_phone_frame, detect_steps, detect_strides, field_per_step,
 };
 use crate::sensor::{ImuRecording, StepFields, StepTrace};
 use serde::Serialize;
@@ -43,6 +44,9 @@ pub struct StepsRun {
     pub mount_warning: Option<String>,
     /// What the frame check found (checked on a foot only when the mount looks right).
     pub frame: Option<FrameFinding>,
+    /// The steps' lengths and cadence do not fit human walking ([`check_gait`]): the
+    /// timestamps are likely in another scale.
+    pub gait_warning: Option<String>,
     /// Whether the gyroscope set the headings (a mirrored one then makes them wrong).
     pub gyro_used: bool,
     /// The magnetic field over each event, when the recording has a magnetometer
@@ -62,7 +66,27 @@ pub enum FrameVerdict {
     Reject(FrameFinding),
 }
 
+impl DetectorFigures {
+    /// Mean step length (metres; a foot's stride is two steps) and steps a minute.
+    pub fn step_and_cadence(&self) -> (f64, f64) {
+        match self {
+            Self::Foot(f) => (0.5 * f.mean_stride_length_m, 2.0 * f.cadence_per_min),
+            Self::Phone(f) => (f.mean_stride_m, f.cadence_spm),
+        }
+    }
+}
+
 impl StepsRun {
+    /// The warnings on the recording the output depends on, in order: the mount, then the
+    /// gait (the frame finding is judged apart, [`Self::frame_verdict`]).
+    pub fn recording_warnings(&self) -> Vec<String> {
+        self.mount_warning
+            .iter()
+            .chain(&self.gait_warning)
+            .cloned()
+            .collect()
+    }
+
     /// The verdict on the frame finding.
     pub fn frame_verdict(&self) -> FrameVerdict {
         match &self.frame {
@@ -71,7 +95,10 @@ impl StepsRun {
                 FrameFinding::MirroredGyro { .. } if !self.gyro_used => {
                     FrameVerdict::Warn(f.clone())
                 }
-                FrameFinding::Inconsistent { .. } => FrameVerdict::Warn(f.clone()),
+                FrameFinding::Quaternion { .. } if self.gyro_used => FrameVerdict::Warn(f.clone()),
+                FrameFinding::Inconsistent { .. } | FrameFinding::Disagreeing { .. } => {
+                    FrameVerdict::Warn(f.clone())
+                }
                 _ => FrameVerdict::Reject(f.clone()),
             },
         }
@@ -98,6 +125,18 @@ impl FrameVerdict {
 /// Detects the steps of `recording` as `mount`, in the stages of the [module](self).
 pub fn steps(recording: &ImuRecording, mount: Mount, config: &StepsConfig) -> Result<StepsRun> {
     config.validate()?;
+    let mut run = detect_and_check(recording, mount, config)?;
+    let (step_m, per_min) = run.figures.step_and_cadence();
+    run.gait_warning = check_gait(mount, run.trace.len(), step_m, per_min);
+    Ok(run)
+}
+
+/// Stages 1 and 2 but the gait check.
+fn detect_and_check(
+    recording: &ImuRecording,
+    mount: Mount,
+    config: &StepsConfig,
+) -> Result<StepsRun> {
     Ok(match mount {
         Mount::Foot => {
             let events = detect_strides(recording, &config.foot)?;
@@ -118,6 +157,7 @@ pub fn steps(recording: &ImuRecording, mount: Mount, config: &StepsConfig) -> Re
                 figures: DetectorFigures::Foot(events.figures),
                 mount_warning,
                 frame,
+                gait_warning: None,
                 gyro_used: true,
             }
         }
@@ -135,6 +175,7 @@ pub fn steps(recording: &ImuRecording, mount: Mount, config: &StepsConfig) -> Re
                 figures: DetectorFigures::Phone(events.figures),
                 mount_warning,
                 frame: check_phone_frame(recording),
+                gait_warning: None,
             }
         }
     })

@@ -109,6 +109,74 @@ pub struct SamplingReport {
 /// measured on two fast Vicon-room walks). A recording in g (median 1–2.5) falls below.
 pub const GRAVITY_RANGE: std::ops::RangeInclusive<f64> = 4.0..=60.0;
 
+/// Sampling rates an IMU recording may have, Hz (the median interval's): phones log at
+/// 50–500 Hz, foot IMUs at 100–1000; a rate far outside says the times are in other units
+/// than seconds.
+pub const RATE_RANGE_HZ: std::ops::RangeInclusive<f64> = 5.0..=10_000.0;
+
+/// Why a recording's sampling rate is implausible, if it is (with the likely unit mistake).
+fn check_rate(report: &SamplingReport) -> Result<(), String> {
+    let (lo, hi) = (*RATE_RANGE_HZ.start(), *RATE_RANGE_HZ.end());
+    let rate = report.rate_hz;
+    if rate < lo {
+        return Err(format!(
+            "samples come every {} s (median), {} Hz: an IMU samples at {lo}–{hi} Hz; are the \
+             times in milliseconds (divide them by 1000)?",
+            crate::error::short_number(report.median_dt_s),
+            crate::error::short_number(rate)
+        ));
+    }
+    if rate > hi {
+        return Err(format!(
+            "samples come every {} s (median), {} Hz: an IMU samples at {lo}–{hi} Hz; are the \
+             times in other units than seconds (minutes, or clock ticks)?",
+            crate::error::short_number(report.median_dt_s),
+            crate::error::short_number(rate)
+        ));
+    }
+    Ok(())
+}
+
+/// The median of the magnitudes of `vectors`.
+fn median_magnitude(vectors: impl Iterator<Item = [f64; 3]>) -> f64 {
+    let mut m: Vec<f64> = vectors
+        .map(|v| v.iter().map(|a| a * a).sum::<f64>().sqrt())
+        .collect();
+    if m.is_empty() {
+        return f64::NAN;
+    }
+    let mid = m.len() / 2;
+    *m.select_nth_unstable_by(mid, f64::total_cmp).1
+}
+
+/// Why a recording's columns look mixed up, if they do, judged on the whole recording
+/// before any one row is (a row's value out of range would otherwise be blamed on its unit):
+/// accelerometer and gyroscope columns swapped (the rates hold gravity), or acceleration
+/// converted from g (`accel_factor`, the factor the reader applied) that was already in m/s².
+pub fn diagnose_columns(samples: &[ImuSample], accel_factor: f64) -> Option<String> {
+    let accel = median_magnitude(samples.iter().map(|s| s.accel));
+    let gyro = median_magnitude(samples.iter().map(|s| s.gyro));
+    let as_written = accel / accel_factor;
+    // Gravity in g (a median near 1) is a unit, not a swap.
+    let in_g = (0.8..=1.25).contains(&as_written);
+    if GRAVITY_RANGE.contains(&gyro) && as_written < *GRAVITY_RANGE.start() && !in_g {
+        return Some(format!(
+            "the angular-rate columns hold gravity (median magnitude {gyro:.2}, as an \
+             accelerometer's in m/s²) and the acceleration columns do not (median {:.2}): are \
+             the accelerometer's and the gyroscope's columns swapped?",
+            as_written
+        ));
+    }
+    if accel_factor != 1.0 && !GRAVITY_RANGE.contains(&accel) && GRAVITY_RANGE.contains(&as_written)
+    {
+        return Some(format!(
+            "the acceleration columns' median magnitude is {as_written:.2} as written, \
+             gravity's in m/s², so they are in m/s² already: leave out --accel-unit g"
+        ));
+    }
+    None
+}
+
 /// An interval longer than this many median intervals counts as a gap.
 pub const GAP_FACTOR: f64 = 5.0;
 
@@ -183,6 +251,7 @@ impl ImuRecording {
             ));
         }
         let report = sampling_report(&samples, duplicate_times);
+        check_rate(&report).map_err(|m| (0, m))?;
         Ok(Self { samples, report })
     }
 
@@ -309,5 +378,53 @@ mod tests {
         let e = ImuRecording::new(vec![sample(0.0), with_mag], 0).unwrap_err();
         assert!(e.1.contains("magnetometer"), "{}", e.1);
         assert!(ImuRecording::new(vec![sample(0.0)], 0).is_err());
+    }
+
+    #[test]
+    fn times_in_milliseconds_and_mixed_up_columns_are_named() {
+        // 100 Hz stamped in milliseconds: a sample every 10 "seconds".
+        let ms: Vec<_> = (0..50).map(|i| sample(f64::from(i) * 10.0)).collect();
+        let (_, m) = ImuRecording::new(ms, 0).unwrap_err();
+        assert!(m.contains("milliseconds"), "{m}");
+        let walking = |i: i32| ImuSample {
+            accel: [0.3 * f64::from(i % 5), 0.2, 9.81],
+            gyro: [0.1 + 0.05 * f64::from(i % 7), 0.0, 0.0],
+            ..sample(f64::from(i) * 0.01)
+        };
+        let fine: Vec<_> = (0..50).map(walking).collect();
+        assert_eq!(diagnose_columns(&fine, 1.0), None);
+        let swapped: Vec<_> = fine
+            .iter()
+            .map(|s| ImuSample {
+                accel: s.gyro,
+                gyro: s.accel,
+                ..s.clone()
+            })
+            .collect();
+        let m = diagnose_columns(&swapped, 1.0).expect("swapped");
+        assert!(m.contains("swapped"), "{m}");
+        // Already m/s², read as g: said, with the value as written.
+        let as_g: Vec<_> = fine
+            .iter()
+            .map(|s| ImuSample {
+                accel: s.accel.map(|a| a * 9.806_65),
+                ..s.clone()
+            })
+            .collect();
+        let m = diagnose_columns(&as_g, 9.806_65).expect("double g");
+        assert!(
+            m.contains("leave out --accel-unit g") && m.contains("9.8"),
+            "{m}"
+        );
+        // A file in g and deg/s without the flags is not a swap.
+        let g_deg: Vec<_> = fine
+            .iter()
+            .map(|s| ImuSample {
+                accel: s.accel.map(|a| a / 9.806_65),
+                gyro: s.gyro.map(f64::to_degrees),
+                ..s.clone()
+            })
+            .collect();
+        assert_eq!(diagnose_columns(&g_deg, 1.0), None);
     }
 }
