@@ -2,76 +2,10 @@
 //! a message naming the files and the way out, and write nothing — never a confident answer
 //! with exit 0. One table, run end to end through the CLI on the bundled tower walk.
 
-use assert_cmd::Command;
-use std::path::{Path, PathBuf};
+mod cli_cases;
 
-fn footslam() -> Command {
-    Command::cargo_bin("footslam").expect("binary")
-}
-
-fn bundled(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("datasets/tower")
-        .join(name)
-}
-
-/// Rewrites each data row of a CSV file with `f` (the header kept).
-fn rewrite(from: &Path, to: &Path, f: impl Fn(&str) -> String) {
-    let text = std::fs::read_to_string(from).expect("read");
-    let mut lines = text.lines();
-    let mut out = format!("{}\n", lines.next().expect("header"));
-    for line in lines {
-        out.push_str(&f(line));
-        out.push('\n');
-    }
-    std::fs::write(to, out).expect("write");
-}
-
-/// Replaces field `i` of a CSV row.
-fn with_field(line: &str, i: usize, value: impl Fn(&str) -> String) -> String {
-    let mut fields: Vec<String> = line.split(',').map(str::to_owned).collect();
-    fields[i] = value(&fields[i]);
-    fields.join(",")
-}
-
-/// One case: arguments (`{dir}` is replaced by the scratch folder), whether the command
-/// must fail, and words its stderr must hold.
-struct Case {
-    name: &'static str,
-    args: Vec<String>,
-    fails: bool,
-    says: &'static [&'static str],
-}
-
-/// Runs `case` (with `--out out` unless it is `eval` or gives its own) and checks its exit
-/// status, that it did not panic, its message's key words, and no outputs on failure.
-fn run_case(case: &Case, out: &Path) {
-    let mut cmd = footslam();
-    cmd.args(&case.args);
-    if case.args[0] != "eval" && !case.args.iter().any(|a| a == "--out") {
-        cmd.arg("--out").arg(out);
-    }
-    let output = cmd.output().expect("run");
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(
-        output.status.success(),
-        !case.fails,
-        "{}: exit {:?}, stderr: {stderr}",
-        case.name,
-        output.status.code()
-    );
-    assert!(!stderr.contains("panicked"), "{}: {stderr}", case.name);
-    for word in case.says {
-        assert!(
-            stderr.contains(word),
-            "{}: expected `{word}` in: {stderr}",
-            case.name
-        );
-    }
-    if case.fails {
-        assert!(!out.exists(), "{}: no outputs on failure", case.name);
-    }
-}
+use cli_cases::{Case, bundled, footslam, rewrite, run_case, with_field};
+use std::path::Path;
 
 #[test]
 fn inputs_wrong_together_fail_or_warn_clearly() {

@@ -23,7 +23,13 @@ pub fn parse_origin(s: &str) -> Result<LocalFrame, String> {
         .trim()
         .parse()
         .map_err(|_| format!("longitude `{lon}` is not a number"))?;
-    LocalFrame::new(lat, lon).ok_or_else(|| format!("`{s}` is not a valid latitude,longitude"))
+    LocalFrame::new(lat, lon).ok_or_else(|| {
+        format!(
+            "`{s}` is not the latitude,longitude of a building (latitude within ±{} °, \
+             longitude within ±180 °)",
+            footslam::geometry::local_frame::MAX_ORIGIN_LATITUDE
+        )
+    })
 }
 
 /// `--out` or a fresh folder `outputs/<command>-<UTC time>`.

@@ -395,7 +395,10 @@ fn print_log_notes(
     counts: &std::collections::BTreeMap<String, usize>,
 ) {
     if let Some(line) = truncated_last_line {
-        outln!("  warning: the unterminated last line {line} was malformed and skipped");
+        outln!(
+            "  warning: the last line {line} is unterminated (the log was cut off) and was \
+             skipped"
+        );
     }
     if !counts.is_empty() {
         let list: Vec<String> = counts.iter().map(|(k, v)| format!("{k} ×{v}")).collect();

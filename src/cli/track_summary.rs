@@ -153,6 +153,20 @@ impl Summary<'_> {
                 rf.measurements_ignored
             );
         }
+        if let Some(smoothing) = &self.smoothing
+            && smoothing.steps_estimated < self.steps
+        {
+            let started = self.rf.as_ref().and_then(|rf| rf.started_at_step);
+            outln!(
+                "track.csv: {} of {} steps have an estimate{}",
+                smoothing.steps_estimated,
+                self.steps,
+                started.map_or(String::new(), |s| format!(
+                    " (the filter started at step {s}, after the first WiFi scan; the steps \
+                     before it have no row)"
+                ))
+            );
+        }
         outln!(
             "filter: {:.2} s, {:.2e} particle-steps/s",
             self.filter_runtime_s,

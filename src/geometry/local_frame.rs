@@ -26,10 +26,28 @@ impl Default for LocalFrame {
     }
 }
 
+/// The farthest an origin may lie from the equator, degrees: at the poles east and north
+/// are undefined, and within a degree of them a local frame's maps would reach over the
+/// pole.
+pub const MAX_ORIGIN_LATITUDE: f64 = 89.0;
+
+/// `lon` degrees wrapped into [-180, 180] (unchanged, to the bit, when already there).
+fn wrap_longitude(lon: f64) -> f64 {
+    if (-180.0..=180.0).contains(&lon) {
+        lon
+    } else {
+        (lon + 180.0).rem_euclid(360.0) - 180.0
+    }
+}
+
 impl LocalFrame {
-    /// A frame at `lat`, `lon` (degrees); `None` unless both are finite and in range.
+    /// A frame at `lat`, `lon` (degrees); `None` unless both are finite, the latitude within
+    /// ±[`MAX_ORIGIN_LATITUDE`] and the longitude within ±180.
     pub fn new(lat: f64, lon: f64) -> Option<Self> {
-        (lat.is_finite() && lon.is_finite() && lat.abs() <= 90.0 && lon.abs() <= 180.0)
+        (lat.is_finite()
+            && lon.is_finite()
+            && lat.abs() <= MAX_ORIGIN_LATITUDE
+            && lon.abs() <= 180.0)
             .then_some(Self { lat, lon })
     }
 
@@ -52,7 +70,9 @@ impl LocalFrame {
         } else {
             self.lon
         };
-        (lon, lat)
+        // Across the antimeridian the longitude wraps, so every output is a WGS84 position
+        // the readers accept (and read back to the same local point).
+        (wrap_longitude(lon), lat.clamp(-90.0, 90.0))
     }
 
     /// Distance in metres between this origin and `other`'s, measured in this frame.
@@ -65,7 +85,7 @@ impl LocalFrame {
     pub fn to_local(&self, lon: f64, lat: f64) -> (f64, f64) {
         let (m, n) = self.radii();
         (
-            (lon - self.lon).to_radians() * n,
+            wrap_longitude(lon - self.lon).to_radians() * n,
             (lat - self.lat).to_radians() * m,
         )
     }
@@ -86,5 +106,12 @@ mod tests {
         assert!((y1 - 111_200.0).abs() < 200.0, "{y1}");
         assert!(LocalFrame::new(f64::NAN, 0.0).is_none());
         assert!(LocalFrame::new(91.0, 0.0).is_none());
+        assert!(LocalFrame::new(89.5, 0.0).is_none());
+        // Near the antimeridian, outputs stay in range and read back.
+        let east = LocalFrame::new(-16.5, 179.9995).expect("Fiji");
+        let (lon, lat) = east.to_lon_lat(200.0, 0.0);
+        assert!((-180.0..=180.0).contains(&lon) && lon < -179.99, "{lon}");
+        let (x, y) = east.to_local(lon, lat);
+        assert!((x - 200.0).abs() < 1e-6 && y.abs() < 1e-6, "{x} {y}");
     }
 }

@@ -101,7 +101,7 @@ pub fn read_origin(origin: &JsonValue) -> Result<LocalFrame, String> {
     };
     let (lat, lon) = (number("lat")?, number("lon")?);
     LocalFrame::new(lat, lon)
-        .ok_or_else(|| format!("origin ({lat}, {lon}) is not a valid latitude/longitude"))
+        .ok_or_else(|| format!("origin ({lat}, {lon}) is not a latitude/longitude an origin may have (latitude within ±89°, longitude within ±180°)"))
 }
 
 /// The text of a JSON file without a leading byte-order mark (editors on Windows write one;

@@ -201,7 +201,7 @@ fn read_header(members: &JsonObject) -> Result<(LocalFrame, f64, f64), String> {
     let lat = number(origin.and_then(|o| o.get("lat")), "origin.lat")?;
     let lon = number(origin.and_then(|o| o.get("lon")), "origin.lon")?;
     let frame = LocalFrame::new(lat, lon)
-        .ok_or_else(|| format!("origin ({lat}, {lon}) is not a valid latitude/longitude"))?;
+        .ok_or_else(|| format!("origin ({lat}, {lon}) is not a latitude/longitude an origin may have (latitude within ±89°, longitude within ±180°)"))?;
     let radius = number(members.get("hex_radius"), "hex_radius")?;
     if !(radius.is_finite() && radius > 0.0) {
         return Err(format!(

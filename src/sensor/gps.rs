@@ -30,10 +30,24 @@ pub fn check_fix(fix: &GpsFix, previous_t: Option<f64>) -> Result<(), String> {
         return Err("values must be finite numbers (found NaN or infinity)".into());
     }
     if fix.lat.abs() > 90.0 {
-        return Err(format!("latitude {}° is outside [-90, 90]", fix.lat));
+        return Err(format!(
+            "latitude {}° is outside [-90, 90]",
+            crate::error::short_number(fix.lat)
+        ));
+    }
+    let polar = crate::geometry::local_frame::MAX_ORIGIN_LATITUDE;
+    if fix.lat.abs() > polar {
+        return Err(format!(
+            "latitude {}° is within {}° of a pole, where a local east-north frame is undefined",
+            fix.lat,
+            90.0 - polar
+        ));
     }
     if fix.lon.abs() > 180.0 {
-        return Err(format!("longitude {}° is outside [-180, 180]", fix.lon));
+        return Err(format!(
+            "longitude {}° is outside [-180, 180]",
+            crate::error::short_number(fix.lon)
+        ));
     }
     if fix.lat == 0.0 && fix.lon == 0.0 {
         return Err(

@@ -25,8 +25,8 @@
 //! uncalibrated rows of a sensor whose calibrated rows exist, and any unknown `TYPE_*`.
 //!
 //! Strictness: a malformed row (too few or too many values, a non-number, NaN, a value out
-//! of the sensor's range) is an error naming the file and line, except on an unterminated
-//! last line, which a logger cut short: it is skipped and reported
+//! of the sensor's range) is an error naming the file and line. An unterminated last line,
+//! which a logger cut short (perhaps mid-number), is never used: it is skipped and reported
 //! ([`IlcTraceSummary::truncated_last_line`]). Rows of different sensors interleave freely;
 //! one sensor's rows may be out of order by up to
 //! [`super::sensor_streams::REORDER_TOLERANCE_S`] (sorted, counted), further is an error. A
@@ -122,7 +122,7 @@ pub struct IlcTraceSummary {
     pub not_converted: BTreeMap<String, usize>,
     /// Rows of unknown `TYPE_*`, skipped, per type.
     pub unknown_types: BTreeMap<String, usize>,
-    /// The 1-based number of an unterminated, malformed last line that was skipped.
+    /// The 1-based number of an unterminated last line, skipped (it may be cut short).
     pub truncated_last_line: Option<usize>,
 }
 

@@ -29,8 +29,8 @@
 //! `RFID`, `IMUX`, `IMUL`, `IMUI`, and any unknown one). Strict about the lines it
 //! converts: too few or too many fields, a non-number, NaN, a value out of range or a time
 //! more than [`super::sensor_streams::REORDER_TOLERANCE_S`] before the same sensor's
-//! previous line is an error naming the file and line (an unterminated malformed last line
-//! is skipped and reported, see [`super::log_lines`]).
+//! previous line is an error naming the file and line (an unterminated last line, perhaps
+//! cut mid-number, is skipped and reported, see [`super::log_lines`]).
 
 use super::log_lines::{LogLines, axes, number, read_log_lines};
 use super::sensor_streams::{ImuStreams, SensorStream, assemble_imu, rotation_vector_quaternion};

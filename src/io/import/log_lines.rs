@@ -1,10 +1,13 @@
 //! The lines of a phone sensor log (ILC traces, IPIN logfiles): comment lines and blank lines
 //! counted, every other line handed to a parser with its 1-based number.
 //!
-//! A parser's error becomes an error naming the file and line, except on an unterminated
-//! last line: a logger that was cut off (app killed, disk full) leaves one, so it is skipped
-//! and its number reported in [`LogLines::truncated_last_line`]. Bytes that are not UTF-8
-//! (SSIDs in legacy encodings) are replaced, not refused.
+//! A parser's error becomes an error naming the file and line. An unterminated last data
+//! line is what a logger that was cut off (app killed, disk full) leaves, and it may end in
+//! a number cut short (`0.12|345` parses as `0.12`), so it is never used: it is skipped and
+//! its number reported in [`LogLines::truncated_last_line`] (both formats end their lines
+//! with a newline; the competition's traces close with an `endTime` comment). A leading
+//! byte-order mark is dropped; bytes that are not UTF-8 (SSIDs in legacy encodings) are
+//! replaced, not refused.
 
 use crate::error::{Error, Result};
 use serde::Serialize;
@@ -19,7 +22,7 @@ pub struct LogLines {
     pub comment_lines: usize,
     /// Empty lines.
     pub blank_lines: usize,
-    /// The number of an unterminated, malformed last line that was skipped.
+    /// The number of an unterminated last data line, skipped (it may be cut short).
     pub truncated_last_line: Option<usize>,
 }
 
@@ -32,7 +35,8 @@ pub fn read_log_lines(
     mut on_line: impl FnMut(&str, usize) -> Result<(), String>,
 ) -> Result<LogLines> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let text = String::from_utf8_lossy(&bytes);
+    let bytes = bytes.strip_prefix("\u{feff}".as_bytes()).unwrap_or(&bytes);
+    let text = String::from_utf8_lossy(bytes);
     let terminated = text.is_empty() || text.ends_with('\n');
     let pieces: Vec<&str> = text.split('\n').collect();
     // `split` yields an empty piece after a final newline: not a line.
@@ -55,12 +59,10 @@ pub fn read_log_lines(
         } else if let Some(rest) = raw.strip_prefix(comment) {
             seen.comment_lines += 1;
             on_comment(rest);
+        } else if line == lines && !terminated {
+            seen.truncated_last_line = Some(line);
         } else if let Err(message) = on_line(raw, line) {
-            if line == lines && !terminated {
-                seen.truncated_last_line = Some(line);
-            } else {
-                return Err(Error::parse(path, line, message));
-            }
+            return Err(Error::parse(path, line, message));
         }
     }
     Ok(seen)
@@ -110,13 +112,16 @@ mod tests {
     }
 
     #[test]
-    fn counts_lines_and_skips_only_an_unterminated_bad_last_line() {
-        let (seen, ok) = run("# head\n1\n\n2\r\n3").expect("valid");
+    fn counts_lines_and_never_uses_an_unterminated_last_line() {
+        let (seen, ok) = run("\u{feff}# head\n1\n\n2\r\n3\n").expect("valid");
         assert_eq!(
             (seen.lines, seen.comment_lines, seen.blank_lines),
             (5, 1, 1)
         );
         assert_eq!(ok, vec![2, 4, 5]);
+        // A number cut short still parses: the unterminated line is skipped all the same.
+        let (seen, ok) = run("1\n2\n34").expect("cut");
+        assert_eq!((seen.truncated_last_line, ok), (Some(3), vec![1, 2]));
         let (seen, ok) = run("1\n2\n3.").expect("truncated");
         assert_eq!((seen.truncated_last_line, ok), (Some(3), vec![1, 2]));
         let e = run("1\n2\n3.\n").unwrap_err().to_string();

@@ -122,4 +122,14 @@ fn an_unterminated_malformed_last_line_is_skipped_and_reported() {
     // The same line terminated is an error.
     text.push_str("\t\n1060\tTYPE_GYROSCOPE\t0\t0\t0\n");
     assert!(read(&text).is_err());
+    // A line cut mid-number parses, and is skipped all the same: it cannot be trusted.
+    let mut cut = trace();
+    let whole = read(&cut).expect("whole");
+    cut.push_str("1050\tTYPE_ACCELEROMETER\t0.1\t0.2\t9.8");
+    let r = read(&cut).expect("cut");
+    assert_eq!(r.summary.truncated_last_line, Some(cut.lines().count()));
+    assert_eq!(r.imu.samples().len(), whole.imu.samples().len());
+    // A byte-order mark before the header is dropped.
+    let r = read(&format!("\u{feff}{}", trace())).expect("bom");
+    assert_eq!(r.imu.samples().len(), whole.imu.samples().len());
 }
