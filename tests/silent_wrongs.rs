@@ -189,6 +189,11 @@ fn flags_and_values_that_would_be_ignored_or_misread_are_refused() {
     }
     std::fs::write(d.join("degrees.csv"), degrees).expect("degrees");
     std::fs::write(d.join("gps.csv"), "t,lat,lon,accuracy\n1.0,48.1,11.5,5\n").expect("gps");
+    std::fs::write(
+        d.join("wide.csv"),
+        format!("t,lat,lon,accuracy\n1.0,48.1,11.5,1{}\n", "0".repeat(308)),
+    )
+    .expect("gps");
 
     let p = |name: &str| d.join(name).display().to_string();
     let s = |x: &str| x.to_owned();
@@ -269,6 +274,28 @@ fn flags_and_values_that_would_be_ignored_or_misread_are_refused() {
             args: vec![s("learn"), s("--steps"), p("degrees.csv")],
             fails: true,
             says: &["degrees.csv:", "absolute heading", "degrees?"],
+        },
+        Case {
+            name: "a GPS accuracy of 1e308 m, printed short",
+            args: vec![
+                s("learn"),
+                s("--steps"),
+                office.clone(),
+                s("--gps"),
+                p("wide.csv"),
+            ],
+            fails: true,
+            says: &["wide.csv:2", "accuracy 1e308 m"],
+        },
+        Case {
+            name: "a GeoJSON plan given as steps",
+            args: vec![
+                s("learn"),
+                s("--steps"),
+                bundled("floor.geojson").display().to_string(),
+            ],
+            fails: true,
+            says: &["floor.geojson:1", "this is JSON", "not a CSV table"],
         },
         Case {
             name: "an origin at the pole",

@@ -85,6 +85,16 @@ impl CsvTable {
         if headers.iter().all(|h| h.is_empty()) {
             return Err(source.error(1, "the file is empty: expected a header row"));
         }
+        if headers
+            .first()
+            .is_some_and(|h| h.starts_with('{') || h.starts_with('['))
+        {
+            return Err(source.error(
+                1,
+                "this is JSON (a GeoJSON map or plan?), not a CSV table with a header row: \
+                 check which file goes to which option",
+            ));
+        }
         for (i, h) in headers.iter().enumerate() {
             if !h.is_empty() && headers[..i].contains(h) {
                 return Err(source.error(

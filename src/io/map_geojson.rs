@@ -272,7 +272,8 @@ fn read_levels(members: &JsonObject) -> Result<Vec<FloorLevel>, String> {
         if !(l.z.is_finite() && l.z.abs() <= 10_000.0 && i64::from(l.level).abs() <= MAX_LEVEL) {
             return Err(format!(
                 "levels: level {} at z = {} m is out of range (|level| ≤ {MAX_LEVEL}, |z| ≤ 10 km)",
-                l.level, l.z
+                l.level,
+                crate::error::short_number(l.z)
             ));
         }
     }

@@ -30,15 +30,16 @@ pub fn check_field(field: &StepField) -> Result<(), String> {
     if !(0.0..=MAX_FIELD).contains(&field.magnitude) {
         return Err(format!(
             "magnetic field magnitude {} µT is outside [0, {MAX_FIELD}] µT",
-            field.magnitude
+            crate::error::short_number(field.magnitude)
         ));
     }
     if let Some(v) = field.vertical
         && v.abs() > field.magnitude + 1e-6 * field.magnitude.max(1.0)
     {
         return Err(format!(
-            "vertical magnetic field {v} µT exceeds the magnitude {} µT",
-            field.magnitude
+            "vertical magnetic field {} µT exceeds the magnitude {} µT",
+            crate::error::short_number(v),
+            crate::error::short_number(field.magnitude)
         ));
     }
     Ok(())

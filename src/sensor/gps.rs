@@ -59,7 +59,7 @@ pub fn check_fix(fix: &GpsFix, previous_t: Option<f64>) -> Result<(), String> {
     if !(fix.accuracy > 0.0 && fix.accuracy <= MAX_ACCURACY) {
         return Err(format!(
             "accuracy {} m is outside (0, {MAX_ACCURACY}] m",
-            fix.accuracy
+            crate::error::short_number(fix.accuracy)
         ));
     }
     if let Some(p) = previous_t

@@ -47,7 +47,8 @@ pub fn check_sample(s: &ImuSample) -> Result<(), String> {
             }
             if a.abs() > max {
                 return Err(format!(
-                    "{what} {name} = {a} {unit} is beyond ±{max} {unit}"
+                    "{what} {name} = {} {unit} is beyond ±{max} {unit}",
+                    crate::error::short_number(*a)
                 ));
             }
         }
@@ -75,7 +76,8 @@ pub fn check_sample(s: &ImuSample) -> Result<(), String> {
         && !(p.is_finite() && PRESSURE_RANGE.contains(&p))
     {
         return Err(format!(
-            "pressure {p} hPa is outside [{}, {}] hPa",
+            "pressure {} hPa is outside [{}, {}] hPa",
+            crate::error::short_number(p),
             PRESSURE_RANGE.start(),
             PRESSURE_RANGE.end()
         ));

@@ -92,7 +92,7 @@ pub fn check_reading(reading: &WifiReading) -> Result<(), String> {
     if !(reading.rssi.is_finite() && (MIN_RSSI..=MAX_RSSI).contains(&reading.rssi)) {
         return Err(format!(
             "rssi {} dBm is outside [{MIN_RSSI}, {MAX_RSSI}] dBm",
-            reading.rssi
+            crate::error::short_number(reading.rssi)
         ));
     }
     if let Some(f) = reading.freq

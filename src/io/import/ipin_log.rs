@@ -270,7 +270,8 @@ impl Reader {
                 let p = number(fields[3], "pressure")?;
                 if !PRESSURE_RANGE.contains(&p) {
                     return Err(format!(
-                        "pressure {p} mbar is outside [{}, {}] mbar",
+                        "pressure {} mbar is outside [{}, {}] mbar",
+                        crate::error::short_number(p),
                         PRESSURE_RANGE.start(),
                         PRESSURE_RANGE.end()
                     ));

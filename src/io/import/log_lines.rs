@@ -83,7 +83,10 @@ pub fn axes(fields: &[&str], what: &str, max: f64) -> Result<[f64; 3], String> {
     for (slot, (field, axis)) in v.iter_mut().zip(fields.iter().zip(["x", "y", "z"])) {
         *slot = number(field, &format!("{what} {axis}"))?;
         if slot.abs() > max {
-            return Err(format!("{what} {axis} = {slot} is beyond ±{max}"));
+            return Err(format!(
+                "{what} {axis} = {} is beyond ±{max}",
+                crate::error::short_number(*slot)
+            ));
         }
     }
     Ok(v)
