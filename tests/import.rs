@@ -311,4 +311,20 @@ fn bad_ipin_logs_fail_with_file_and_line() {
         err.contains(&format!("input.txt:{n}")) && err.contains("before"),
         "{err}"
     );
+    // AppTimestamp in milliseconds: 50 Hz would read as a 0.05 Hz, 16.7-hour recording.
+    let ms: String = synthetic_ipin_log(2, 40.313, -3.483)
+        .lines()
+        .map(|l| {
+            let mut f: Vec<String> = l.split(';').map(str::to_owned).collect();
+            if !l.starts_with('%') && f.len() > 2 {
+                f[1] = format!("{:.0}", f[1].parse::<f64>().expect("t") * 1000.0);
+            }
+            f.join(";") + "\n"
+        })
+        .collect();
+    let err = import_fails("ipin", &ms);
+    assert!(
+        err.contains("input.txt") && err.contains("milliseconds"),
+        "{err}"
+    );
 }

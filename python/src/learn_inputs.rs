@@ -137,6 +137,12 @@ impl Args<'_, '_> {
 impl WalkTables {
     /// Reads the walks, each file and its time span checked as `footslam learn` checks them.
     fn read(self, gps_t0: Option<f64>) -> PyResult<(Vec<LearnWalk>, Vec<String>, Vec<String>)> {
+        if gps_t0.is_some() && !self.gps.iter().flatten().any(Table::is_gpx) {
+            return Err(fail(
+                "gps_t0 places GPX files' UTC times on the steps' clock, and no walk has a GPX \
+                 file (CSV fixes and tables are on the steps' clock already): leave gps_t0 out",
+            ));
+        }
         let mut warnings = Vec::new();
         let mut walks = Vec::with_capacity(self.steps.len());
         let mut labels = Vec::with_capacity(self.steps.len());

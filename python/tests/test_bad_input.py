@@ -170,6 +170,9 @@ def test_inputs_that_do_not_belong_together():
     late = {"t": [5000.0, 5001.0], "lat": [48.1, 48.1], "lon": [11.5, 11.5]}
     with pytest.raises(footslam.FootslamError, match="gps: no fix falls within the walk's time span"):
         footslam.learn(STEPS, particles=50, gps=late)
+    # gps_t0 is for GPX files: with a table it would be ignored, so it is refused.
+    with pytest.raises(footslam.FootslamError, match="no walk has a GPX file"):
+        footslam.learn(STEPS, particles=50, gps=late, gps_t0=1.7e9)
 
 
 def test_integer_arguments_out_of_range_name_themselves_and_threads_are_capped():
