@@ -2,6 +2,7 @@
 //! simulated multi-floor walks.
 
 use assert_cmd::Command;
+use image::GenericImageView;
 use predicates::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -172,6 +173,33 @@ fn results_do_not_depend_on_threads_and_a_known_start_localises_at_once() {
     let summary = json(&known.join("summary.json"));
     assert_eq!(summary["steps_to_localise"], 1);
     assert!(summary["particles_initial"].as_u64().expect("n0") < 20_000);
+    // The pictures show the walk, not the whole building; or the part asked for.
+    let whole = image::open(one.join("particles.png")).expect("png");
+    let walk = image::open(known.join("particles.png")).expect("png");
+    assert!(walk.height() <= 4000 && walk.width() <= 4000);
+    let corner = dir.path().join("corner");
+    track(
+        &sim,
+        &corner,
+        &["--start", &arg, "--picture-extent", "0,0,10,10"],
+    )
+    .success();
+    let small = image::open(corner.join("track.png")).expect("png");
+    let large = image::open(known.join("track.png")).expect("png");
+    assert!(
+        small.height() < large.height() || small.width() < large.width(),
+        "{:?} {:?} {:?}",
+        small.dimensions(),
+        large.dimensions(),
+        whole.dimensions()
+    );
+    track(
+        &sim,
+        &dir.path().join("bad"),
+        &["--picture-extent", "5,0,1,10"],
+    )
+    .failure()
+    .stderr(predicate::str::contains("picture.extent"));
 }
 
 #[test]

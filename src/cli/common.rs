@@ -32,6 +32,24 @@ pub fn parse_origin(s: &str) -> Result<LocalFrame, String> {
     })
 }
 
+/// Parses `--picture-extent`: `X0,Y0,X1,Y1` local metres, `X0 < X1` and `Y0 < Y1`.
+pub fn parse_extent(s: &str) -> Result<[f64; 4], String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("expected X0,Y0,X1,Y1 in metres, got `{s}`"))?;
+    let [x0, y0, x1, y1] = v[..] else {
+        return Err(format!("expected four numbers X0,Y0,X1,Y1, got `{s}`"));
+    };
+    let config = footslam::render::plan_png::PlanPictureConfig {
+        extent: Some([x0, y0, x1, y1]),
+        ..Default::default()
+    };
+    config.validate().map_err(|e| e.to_string())?;
+    Ok([x0, y0, x1, y1])
+}
+
 /// `--out` or a fresh folder `outputs/<command>-<UTC time>`.
 pub fn output_dir(out: Option<PathBuf>, command: &str) -> PathBuf {
     out.unwrap_or_else(|| {

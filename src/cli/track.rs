@@ -1,8 +1,8 @@
 //! `footslam track`: locate and track a walker on a known 2.5D floor plan from step events.
 
 use super::common::{
-    bundled, check_height_changes, check_scans_match, output_dir, parse_origin, peak_memory_bytes,
-    read_config, read_scans, require_file,
+    bundled, check_height_changes, check_scans_match, output_dir, parse_extent, parse_origin,
+    peak_memory_bytes, read_config, read_scans, require_file,
 };
 use super::progress_bars::Bars;
 use super::track_pictures::{write_particles_png, write_track_png};
@@ -22,6 +22,7 @@ use footslam::model::wifi_distance::Normalisation;
 use footslam::pipeline::{
     QualityConfig, RadioInput, SAME_ORIGIN_M, SnapshotSteps, TrackInput, TrackRun, track,
 };
+use footslam::render::plan_png::PlanPictureConfig;
 use footslam::sensor::{StepTrace, WifiScan};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -118,6 +119,10 @@ pub struct Args {
     /// literally), instead of once, where they were when the scan was taken.
     #[arg(long, requires = "radiomap")]
     rf_every_step: bool,
+    /// The part of the plan `track.png` and `particles.png` show, `X0,Y0,X1,Y1` local
+    /// metres (default: what they draw, with 10 m around it, within the plan).
+    #[arg(long, value_parser = parse_extent, allow_hyphen_values = true)]
+    picture_extent: Option<[f64; 4]>,
     /// Causal answers only: `track.csv` holds each step's estimate as the filter saw it
     /// (from localisation on) and no ancestry is kept. By default `track.csv` is the
     /// smoothed whole-walk answer for every step, and the filtered one is
@@ -191,10 +196,21 @@ pub fn run(args: Args) -> Result<()> {
     write_track_geojson(&folder.path("track.geojson"), answer, &inputs.frame)?;
     let points: Vec<(f64, f64, i32)> = run.filtered.iter().map(|p| (p.x, p.y, p.level)).collect();
     let particles = folder.path("particles.png");
-    write_particles_png(&particles, &inputs.plan, &run.snapshots, &points)?;
+    let picture = PlanPictureConfig {
+        extent: args.picture_extent,
+        ..Default::default()
+    };
+    write_particles_png(&particles, &inputs.plan, &run.snapshots, &points, &picture)?;
     if let Some((_, answer, uncertain)) = &smoothed {
-        let path = folder.path("track.png");
-        write_track_png(&path, &inputs.plan, &points, answer, uncertain, times.len())?;
+        let (path, steps) = (folder.path("track.png"), times.len());
+        write_track_png(
+            &path,
+            &inputs.plan,
+            &points,
+            (answer, uncertain),
+            steps,
+            &picture,
+        )?;
     }
     folder.write_json("config.json", &config)?;
     let stats = smoothed.as_ref().map(|(s, ..)| s);

@@ -28,6 +28,7 @@ pub(super) fn write_particles_png(
     plan: &FloorPlan,
     snapshots: &[CloudSnapshot],
     track_points: &[(f64, f64, i32)],
+    config: &PlanPictureConfig,
 ) -> footslam::Result<()> {
     let pictures: Vec<PlanPicture> = snapshots
         .iter()
@@ -50,20 +51,21 @@ pub(super) fn write_particles_png(
         })
         .collect();
     if !pictures.is_empty() {
-        footslam::render::plan_png::write_plan_png(path, &pictures, &PlanPictureConfig::default())?;
+        footslam::render::plan_png::write_plan_png(path, &pictures, config)?;
     }
     Ok(())
 }
 
 /// `track.png`: the filtered track (`track_points`), the smoothed track's certain steps
-/// (`answer`) and its uncertain estimates, over a walk of `steps_total` steps.
+/// (`answer`) and its uncertain estimates, over a walk of `steps_total` steps; both pictures
+/// show the part of the plan `config` says.
 pub(super) fn write_track_png(
     path: &Path,
     plan: &FloorPlan,
     track_points: &[(f64, f64, i32)],
-    answer: &[TrackPoint],
-    uncertain: &[(f32, f32, i32)],
+    (answer, uncertain): (&[TrackPoint], &[(f32, f32, i32)]),
     steps_total: usize,
+    config: &PlanPictureConfig,
 ) -> footslam::Result<()> {
     let certain: Vec<(f64, f64, i32)> = answer.iter().map(|p| (p.x, p.y, p.level)).collect();
     footslam::render::plan_png::write_plan_png(
@@ -96,6 +98,6 @@ pub(super) fn write_track_png(
             markers: Vec::new(),
             colour_bar: None,
         }],
-        &PlanPictureConfig::default(),
+        config,
     )
 }

@@ -4,11 +4,13 @@
 //! * [`map_png`] — a learned hexagon map with paths, plan and legend
 //! * [`plan_png`] — multi-floor plans with paths, particle clouds, cells and heatmaps
 //! * [`plan_marks`] — labelled markers and colour bars on plan pictures
+//! * `plan_layout` — which part of the floor a plan picture shows, and its panels
 //! * `canvas` — colours and drawing primitives shared by the pictures
 //! * `glyphs` — a tiny bitmap font for labels
 
 mod canvas;
 mod glyphs;
 pub mod map_png;
+mod plan_layout;
 pub mod plan_marks;
 pub mod plan_png;

@@ -6,13 +6,14 @@
 
 use super::canvas::{INK, PLAN_WALL, fill, polyline, polyline_pieces, push_ring, rgb, stroke};
 use super::glyphs::{self, GLYPH_HEIGHT};
+use super::plan_layout::Layout;
 pub use super::plan_marks::{ColourBar, PlanMarker};
 use crate::error::{Error, Result};
 use crate::map::FloorPlan;
 use geo::Area;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-use tiny_skia::{Color, ColorU8, FillRule, PathBuilder, Pixmap};
+use tiny_skia::{Color, ColorU8, FillRule, PathBuilder, Pixmap, PixmapPaint, Transform};
 
 /// One picture: a plan with paths and point clouds in its local frame.
 #[derive(Debug, Clone)]
@@ -74,7 +75,11 @@ pub struct PlanPoints<'a> {
 /// | `margin_px`        | 24      | border around and between panels                  |
 /// | `max_width_px`     | 4000    | widest picture                                    |
 /// | `min_width_px`     | 900     | narrowest picture: a small plan is drawn larger, so its titles and labels fit |
+/// | `max_height_px`    | 4000    | tallest picture (all its snapshots): the scale is lowered to fit |
 /// | `text_scale`       | 2       | image pixels per font pixel                       |
+/// | `crop_to_content`  | true    | show what is drawn over the plan, not the whole plan |
+/// | `crop_margin_m`    | 10      | floor shown around what is drawn, metres          |
+/// | `extent`           | none    | `[x0, y0, x1, y1]` local metres to show instead (`--picture-extent`) |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PlanPictureConfig {
@@ -88,6 +93,15 @@ pub struct PlanPictureConfig {
     pub min_width_px: u32,
     /// Font scale.
     pub text_scale: u32,
+    /// Tallest picture, pixels (the scale is lowered to fit).
+    pub max_height_px: u32,
+    /// Show the part of the plan that paths, points, cells and markers cover (with
+    /// `crop_margin_m` around), not the whole plan.
+    pub crop_to_content: bool,
+    /// Floor shown around what is drawn, metres.
+    pub crop_margin_m: f64,
+    /// The part of the floor to show, `[x0, y0, x1, y1]` local metres, instead of the crop.
+    pub extent: Option<[f64; 4]>,
 }
 
 impl Default for PlanPictureConfig {
@@ -98,6 +112,10 @@ impl Default for PlanPictureConfig {
             max_width_px: 4000,
             min_width_px: 900,
             text_scale: 2,
+            max_height_px: 4000,
+            crop_to_content: true,
+            crop_margin_m: 10.0,
+            extent: None,
         }
     }
 }
@@ -134,6 +152,32 @@ impl PlanPictureConfig {
                 "must be at most 16384",
             ));
         }
+        if !(400..=16384).contains(&self.max_height_px) {
+            return Err(crate::error::Error::config(
+                "picture.max_height_px",
+                self.max_height_px.to_string(),
+                "must be in 400..=16384",
+            ));
+        }
+        crate::error::check_range(
+            "picture.crop_margin_m",
+            self.crop_margin_m,
+            0.0..=1000.0,
+            "m",
+        )?;
+        if let Some([x0, y0, x1, y1]) = self.extent
+            && !([x0, y0, x1, y1]
+                .iter()
+                .all(|v| v.is_finite() && v.abs() <= 1e6)
+                && x0 < x1
+                && y0 < y1)
+        {
+            return Err(crate::error::Error::config(
+                "picture.extent",
+                format!("[{x0}, {y0}, {x1}, {y1}]"),
+                "must be x0 < x1, y0 < y1, local metres within 1000 km of the origin",
+            ));
+        }
         if !(1..=4).contains(&self.text_scale) {
             return Err(crate::error::Error::config(
                 "picture.text_scale",
@@ -142,83 +186,6 @@ impl PlanPictureConfig {
             ));
         }
         Ok(())
-    }
-}
-
-/// Panel geometry shared by every picture of one image.
-struct Layout {
-    levels: Vec<i32>,
-    min_x: f64,
-    max_y: f64,
-    scale: f64,
-    panel_w: f64,
-    margin: f64,
-    title_h: f64,
-    width: u32,
-    row_h: f64,
-}
-
-impl Layout {
-    fn new(pictures: &[PlanPicture], config: &PlanPictureConfig) -> Result<Self> {
-        let mut levels: Vec<i32> = pictures
-            .iter()
-            .flat_map(|p| p.plan.polygons.iter().map(|f| f.level))
-            .collect();
-        levels.sort_unstable();
-        levels.dedup();
-        if levels.is_empty() {
-            levels.push(0);
-        }
-        let (x0, y0, x1, y1) = pictures
-            .iter()
-            .filter_map(|p| p.plan.bounds())
-            .reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))
-            .unwrap_or((-5.0, -5.0, 5.0, 5.0));
-        if ![x0, y0, x1, y1].iter().all(|v| v.is_finite()) {
-            return Err(Error::invalid(
-                "the floor plan",
-                "has non-finite coordinates",
-            ));
-        }
-        let (w_m, h_m) = ((x1 - x0).max(1.0), (y1 - y0).max(1.0));
-        let margin = f64::from(config.margin_px);
-        let n = levels.len() as f64;
-        let fit = (f64::from(config.max_width_px) - margin * (n + 1.0)) / (n * w_m);
-        // Raised for a narrow plan, but never taller than the widest picture allowed.
-        let least = ((f64::from(config.min_width_px.min(config.max_width_px))
-            - margin * (n + 1.0))
-            / (n * w_m))
-            .min(f64::from(config.max_width_px) / h_m);
-        let scale = config.pixels_per_metre.max(least).min(fit).max(0.05);
-        let (panel_w, panel_h) = (w_m * scale, h_m * scale);
-        let title_h = f64::from(2 * GLYPH_HEIGHT * config.text_scale) + 12.0;
-        let width = (margin * (n + 1.0) + n * panel_w).ceil();
-        let row_h = title_h + panel_h + margin;
-        Ok(Self {
-            levels,
-            min_x: x0,
-            max_y: y1,
-            scale,
-            panel_w,
-            margin,
-            title_h,
-            width: width as u32,
-            row_h,
-        })
-    }
-
-    /// Pixel of local `(x, y)` on the panel of level index `li` in row `row`.
-    fn pixel(&self, row: usize, li: usize, x: f64, y: f64) -> (f32, f32) {
-        let left = self.margin + li as f64 * (self.panel_w + self.margin);
-        let top = self.margin + row as f64 * self.row_h + self.title_h;
-        (
-            (left + (x - self.min_x) * self.scale) as f32,
-            (top + (self.max_y - y) * self.scale) as f32,
-        )
-    }
-
-    fn level_index(&self, level: i32) -> Option<usize> {
-        self.levels.binary_search(&level).ok()
     }
 }
 
@@ -257,18 +224,22 @@ pub fn render_plan_png(pictures: &[PlanPicture], config: &PlanPictureConfig) -> 
             let y = top + (GLYPH_HEIGHT * ts) as f32 + 4.0;
             glyphs::draw_text(&mut pixmap, &label, (x, y), ts, PLAN_WALL);
         }
-        draw_plan(&mut pixmap, &layout, row, picture.plan);
-        for cell in &picture.cells {
-            draw_cell(&mut pixmap, &layout, row, cell);
-        }
-        for cloud in &picture.points {
-            draw_points(&mut pixmap, &layout, row, cloud);
-        }
-        for path in &picture.paths {
-            draw_path(&mut pixmap, &layout, row, path);
+        for (li, &level) in layout.levels.iter().enumerate() {
+            let panel = draw_panel(&layout, level, picture)?;
+            let (x, y) = layout.pixel(row, li, layout.min_x, layout.max_y);
+            pixmap.draw_pixmap(
+                x.round() as i32,
+                y.round() as i32,
+                panel.as_ref(),
+                &PixmapPaint::default(),
+                Transform::identity(),
+                None,
+            );
         }
         for m in &picture.markers {
-            if let Some(li) = layout.level_index(m.level) {
+            if let Some(li) = layout.level_index(m.level)
+                && layout.shows(m.x, m.y)
+            {
                 let at = layout.pixel(row, li, m.x, m.y);
                 super::plan_marks::draw_marker(&mut pixmap, at, &m.label, ts);
             }
@@ -281,6 +252,30 @@ pub fn render_plan_png(pictures: &[PlanPicture], config: &PlanPictureConfig) -> 
     pixmap
         .encode_png()
         .map_err(|e| Error::encode("encode the picture as PNG", e))
+}
+
+/// The panel of `level` of `picture` on its own (white, the size of a panel): the plan,
+/// cells, point clouds and paths, clipped to the part of the floor shown.
+fn draw_panel(layout: &Layout, level: i32, picture: &PlanPicture) -> Result<Pixmap> {
+    let (w, h) = (
+        (layout.panel_w.ceil() as u32).max(1),
+        (layout.panel_h.ceil() as u32).max(1),
+    );
+    let mut panel = Pixmap::new(w, h)
+        .ok_or_else(|| Error::encode(format!("allocate a {w}×{h} panel"), "out of memory"))?;
+    panel.fill(Color::WHITE);
+    let own = layout.panel(level);
+    draw_plan(&mut panel, &own, 0, picture.plan);
+    for cell in &picture.cells {
+        draw_cell(&mut panel, &own, 0, cell);
+    }
+    for cloud in &picture.points {
+        draw_points(&mut panel, &own, 0, cloud);
+    }
+    for path in &picture.paths {
+        draw_path(&mut panel, &own, 0, path);
+    }
+    Ok(panel)
 }
 
 /// Renders `pictures` and writes them to `path` atomically.
