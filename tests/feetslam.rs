@@ -67,6 +67,9 @@ fn walks_with_known_starts_are_iterated_independently_of_threads() {
     // Walks in frames of their own (no start, no GPS) share no map to iterate with.
     assert_eq!(summary(&d.join("free"))["iterations"], 0);
     let read = |run: &str, file: &str| std::fs::read(d.join(run).join(file)).expect(file);
+    let table = std::fs::read_to_string(d.join("one/walks.csv")).expect("walks.csv");
+    assert_eq!(table.lines().count(), 4, "a header and one row per walk");
+    assert!(table.starts_with("walk,") && table.contains("quality.verdict"));
     for file in ["merged.geojson", "walk-1/track.csv", "walk-3/track.csv"] {
         assert_eq!(read("one", file), read("two", file), "{file}: thread count");
     }

@@ -281,6 +281,11 @@ fn survey_and_track_write_the_radio_figures_and_refuse_what_they_cannot_use() {
     let coverage = summary["coverage"].as_f64().expect("coverage");
     let epsilon = summary["epsilon"].as_f64().expect("calibrated epsilon");
     let epsilon_sqrt = summary["epsilon_sqrt"].as_f64().expect("calibrated for √k");
+    let walks = std::fs::read_to_string(out.join("walks.csv")).expect("walks.csv");
+    assert!(
+        walks.starts_with("walk,") && walks.contains("steps_to_localise"),
+        "{walks}"
+    );
     let table = std::fs::read_to_string(out.join("coverage.csv")).expect("coverage.csv");
     let three: Vec<&str> = table
         .lines()

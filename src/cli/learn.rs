@@ -6,6 +6,7 @@
 //! the merged maps and the radio map of their WiFi logs ([`super::learn_radio`]), and the
 //! run's summary.
 
+use super::batch_table::walks_table;
 use super::common::{bundled, output_dir, peak_memory_bytes, read_config, walk_prefix, warn};
 use super::learn_args::Args;
 use super::learn_inputs::{WalkArgs, WalkFiles, check_anchors, read_anchors, read_walks};
@@ -215,6 +216,7 @@ fn write_outputs(
         None => None,
     };
     let (single, walks) = if batch {
+        folder.write("walks.csv", &walks_table(&summaries)?)?;
         (None, summaries)
     } else {
         (summaries.pop(), Vec::new())

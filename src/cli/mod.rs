@@ -8,6 +8,7 @@ macro_rules! outln {
     }};
 }
 
+mod batch_table;
 mod common;
 mod eval;
 mod field_outputs;

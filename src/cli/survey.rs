@@ -1,6 +1,7 @@
 //! `footslam survey`: build a cell-based WiFi radio map from ordinary walks, tracking each
 //! walker on the known plan and adding its scans where it was (Woodman & Harle 2009).
 
+use super::batch_table::walks_table;
 use super::common::{
     check_height_changes, output_dir, parse_origin, peak_memory_bytes, read_config, read_scans,
     require_file,
@@ -169,6 +170,7 @@ pub fn run(args: Args) -> Result<()> {
     folder.write("coverage.csv", coverage.as_bytes())?;
     folder.write_json("config.json", &config)?;
     let summary = Summary::new(&files, &walks, &surveyed, &config, started);
+    folder.write("walks.csv", &walks_table(&summary.walks)?)?;
     folder.write_json("summary.json", &summary)?;
     let out = folder.commit()?;
     summary.print(&out);
