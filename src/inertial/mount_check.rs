@@ -9,7 +9,7 @@
 //! is said, not swallowed.
 
 use super::Mount;
-use crate::sensor::ImuRecording;
+use crate::sensor::{ImuRecording, ImuSample};
 
 /// 99th percentile of the angular rate's magnitude above which a recording may be
 /// foot-mounted, rad/s (foot walks measured 5.1–11.5; hand-held phones 1.8–4.7, swung
@@ -22,30 +22,26 @@ pub const HAND_HELD_RATE: f64 = 3.0;
 /// not, 11.5–12.7).
 pub const FOOT_STRIKE_FORCE: f64 = 13.5;
 
-/// The `q`-quantile (0–1) of `values`, reordering them.
-fn quantile(values: &mut [f64], q: f64) -> f64 {
+/// The `q`-quantile (0–1) over the recording of the magnitude of the vector `pick` takes
+/// from each sample.
+fn magnitude_quantile(recording: &ImuRecording, pick: fn(&ImuSample) -> [f64; 3], q: f64) -> f64 {
+    let mut values: Vec<f64> = recording
+        .samples()
+        .iter()
+        .map(|s| pick(s).iter().map(|v| v * v).sum::<f64>().sqrt())
+        .collect();
     let k = ((values.len() as f64 * q) as usize).min(values.len() - 1);
     *values.select_nth_unstable_by(k, f64::total_cmp).1
 }
 
 /// The 99th percentile of `|ω|` over the recording, rad/s.
 pub fn angular_rate_p99(recording: &ImuRecording) -> f64 {
-    let mut rates: Vec<f64> = recording
-        .samples()
-        .iter()
-        .map(|s| s.gyro.iter().map(|w| w * w).sum::<f64>().sqrt())
-        .collect();
-    quantile(&mut rates, 0.99)
+    magnitude_quantile(recording, |s| s.gyro, 0.99)
 }
 
 /// The 90th percentile of the specific force's magnitude `|a|` over the recording, m/s².
 pub fn specific_force_p90(recording: &ImuRecording) -> f64 {
-    let mut forces: Vec<f64> = recording
-        .samples()
-        .iter()
-        .map(|s| s.accel.iter().map(|a| a * a).sum::<f64>().sqrt())
-        .collect();
-    quantile(&mut forces, 0.9)
+    magnitude_quantile(recording, |s| s.accel, 0.9)
 }
 
 /// A warning when the recording does not look like `mount`, `None` when it does.
@@ -74,7 +70,6 @@ pub fn check_mount(recording: &ImuRecording, mount: Mount, strides: usize) -> Op
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sensor::ImuSample;
 
     fn recording(rate: impl Fn(usize) -> f64, force: impl Fn(usize) -> f64) -> ImuRecording {
         let samples = (0..1000)
