@@ -5,7 +5,7 @@ use super::common::{
     peak_memory_bytes, read_config, read_scans, require_file,
 };
 use super::progress_bars::Bars;
-use super::track_pictures::{write_particles_png, write_track_png};
+use super::track_pictures::write_track_pictures;
 use super::track_summary::{PlanStats, RfSummary, SmoothedStats, SmoothingSummary, Summary};
 use anyhow::{Context, Result, bail};
 use footslam::filter::{RfLocaliser, RfMode, SmoothedWalk, StartPose, TrackerConfig};
@@ -22,7 +22,6 @@ use footslam::model::wifi_distance::Normalisation;
 use footslam::pipeline::{
     QualityConfig, RadioInput, SAME_ORIGIN_M, SnapshotSteps, TrackInput, TrackRun, track,
 };
-use footslam::render::plan_png::PlanPictureConfig;
 use footslam::sensor::{StepTrace, WifiScan};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -194,24 +193,9 @@ pub fn run(args: Args) -> Result<()> {
         .as_ref()
         .map_or(&run.filtered[..], |(_, a, _)| &a[..]);
     write_track_geojson(&folder.path("track.geojson"), answer, &inputs.frame)?;
-    let points: Vec<(f64, f64, i32)> = run.filtered.iter().map(|p| (p.x, p.y, p.level)).collect();
-    let particles = folder.path("particles.png");
-    let picture = PlanPictureConfig {
-        extent: args.picture_extent,
-        ..Default::default()
-    };
-    write_particles_png(&particles, &inputs.plan, &run.snapshots, &points, &picture)?;
-    if let Some((_, answer, uncertain)) = &smoothed {
-        let (path, steps) = (folder.path("track.png"), times.len());
-        write_track_png(
-            &path,
-            &inputs.plan,
-            &points,
-            (answer, uncertain),
-            steps,
-            &picture,
-        )?;
-    }
+    let parts = smoothed.as_ref().map(|(_, a, u)| (&a[..], &u[..]));
+    let extent = args.picture_extent;
+    write_track_pictures(&folder, &inputs.plan, &run, parts, times.len(), extent)?;
     folder.write_json("config.json", &config)?;
     let stats = smoothed.as_ref().map(|(s, ..)| s);
     let summary = summary(&args, &inputs, &run, &times, stats, threads, started);

@@ -1,9 +1,9 @@
 //! `footslam track`'s pictures: the particle cloud at chosen steps (`particles.png`) and
 //! the filtered and smoothed tracks (`track.png`).
 
-use footslam::io::TrackPoint;
+use footslam::io::{RunFolder, TrackPoint};
 use footslam::map::FloorPlan;
-use footslam::pipeline::CloudSnapshot;
+use footslam::pipeline::{CloudSnapshot, TrackRun};
 use footslam::render::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, PlanPoints};
 use std::path::Path;
 
@@ -21,9 +21,34 @@ fn title(s: &CloudSnapshot) -> String {
     }
 }
 
+/// `particles.png` and, with smoothing (`smoothed`: the certain steps and the uncertain
+/// estimates), `track.png`, over a walk of `steps` steps; both show `extent` (local metres)
+/// when given, else what they draw.
+pub(super) fn write_track_pictures(
+    folder: &RunFolder,
+    plan: &FloorPlan,
+    run: &TrackRun,
+    smoothed: Option<(&[TrackPoint], &[(f32, f32, i32)])>,
+    steps: usize,
+    extent: Option<[f64; 4]>,
+) -> footslam::Result<()> {
+    let points: Vec<(f64, f64, i32)> = run.filtered.iter().map(|p| (p.x, p.y, p.level)).collect();
+    let config = PlanPictureConfig {
+        extent,
+        ..Default::default()
+    };
+    let particles = folder.path("particles.png");
+    write_particles_png(&particles, plan, &run.snapshots, &points, &config)?;
+    if let Some(smoothed) = smoothed {
+        let path = folder.path("track.png");
+        write_track_png(&path, plan, &points, smoothed, steps, &config)?;
+    }
+    Ok(())
+}
+
 /// `particles.png`: one picture per snapshot, with the filtered track (`track_points`, as
 /// `(x, y, level)`) up to the snapshot's step; nothing without snapshots.
-pub(super) fn write_particles_png(
+fn write_particles_png(
     path: &Path,
     plan: &FloorPlan,
     snapshots: &[CloudSnapshot],
@@ -59,7 +84,7 @@ pub(super) fn write_particles_png(
 /// `track.png`: the filtered track (`track_points`), the smoothed track's certain steps
 /// (`answer`) and its uncertain estimates, over a walk of `steps_total` steps; both pictures
 /// show the part of the plan `config` says.
-pub(super) fn write_track_png(
+fn write_track_png(
     path: &Path,
     plan: &FloorPlan,
     track_points: &[(f64, f64, i32)],

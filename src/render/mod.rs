@@ -2,6 +2,7 @@
 //! [`crate::io::write_atomically`].
 //!
 //! * [`map_png`] — a learned hexagon map with paths, plan and legend
+//! * [`plan_picture`] — what a plan picture holds, and its settings
 //! * [`plan_png`] — multi-floor plans with paths, particle clouds, cells and heatmaps
 //! * [`plan_marks`] — labelled markers and colour bars on plan pictures
 //! * `plan_layout` — which part of the floor a plan picture shows, and its panels
@@ -13,4 +14,5 @@ mod glyphs;
 pub mod map_png;
 mod plan_layout;
 pub mod plan_marks;
+pub mod plan_picture;
 pub mod plan_png;

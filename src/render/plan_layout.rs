@@ -8,7 +8,7 @@
 //! allowed, raised for a small extent so that titles and labels fit.
 
 use super::glyphs::GLYPH_HEIGHT;
-use super::plan_png::{PlanPicture, PlanPictureConfig};
+use super::plan_picture::{PlanPicture, PlanPictureConfig};
 use crate::error::{Error, Result};
 use geo::BoundingRect;
 
@@ -188,7 +188,7 @@ impl Layout {
 mod tests {
     use super::*;
     use crate::map::{FloorPlan, FloorPolygon};
-    use crate::render::plan_png::PlanPath;
+    use crate::render::plan_picture::PlanPath;
     use geo::Rect;
 
     fn mall() -> FloorPlan {
