@@ -110,7 +110,14 @@ pub(super) fn read_walks(
     for (walk, start) in found.iter_mut().zip(args.starts) {
         walk.start = Some(*start);
     }
-    read_found(found, args.gps_t0)
+    let gps_t0 = args.gps_t0;
+    if gps_t0.is_some() && !found.iter().any(|f| f.gps.as_deref().is_some_and(is_gpx)) {
+        bail!(
+            "--gps-t0 places GPX files' UTC times on the steps' clock, and no walk has a GPX \
+             file (CSV fixes are on the steps' clock already): leave --gps-t0 out"
+        );
+    }
+    read_found(found, gps_t0)
 }
 
 /// Reads the files of `found`: each walk's files and what they hold, in order.
@@ -118,12 +125,6 @@ pub(super) fn read_found(
     found: Vec<Found>,
     gps_t0: Option<f64>,
 ) -> Result<(Vec<WalkFiles>, Vec<LearnWalk>)> {
-    if gps_t0.is_some() && !found.iter().any(|f| f.gps.as_deref().is_some_and(is_gpx)) {
-        bail!(
-            "--gps-t0 places GPX files' UTC times on the steps' clock, and no walk has a GPX \
-             file (CSV fixes are on the steps' clock already): leave --gps-t0 out"
-        );
-    }
     found
         .into_iter()
         .map(|f| {
