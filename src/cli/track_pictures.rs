@@ -7,6 +7,9 @@ use footslam::pipeline::{CloudSnapshot, TrackRun};
 use footslam::render::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, PlanPoints};
 use std::path::Path;
 
+/// The smoothed track's certain steps and its uncertain estimates `(x, y, level)`.
+type Smoothed<'a> = (&'a [TrackPoint], &'a [(f32, f32, i32)]);
+
 /// Colours of the pictures.
 const PARTICLE_COLOUR: [u8; 3] = [200, 30, 30];
 const TRACK_COLOUR: [u8; 3] = [20, 60, 200];
@@ -28,7 +31,7 @@ pub(super) fn write_track_pictures(
     folder: &RunFolder,
     plan: &FloorPlan,
     run: &TrackRun,
-    smoothed: Option<(&[TrackPoint], &[(f32, f32, i32)])>,
+    smoothed: Option<Smoothed<'_>>,
     steps: usize,
     extent: Option<[f64; 4]>,
 ) -> footslam::Result<()> {
@@ -88,7 +91,7 @@ fn write_track_png(
     path: &Path,
     plan: &FloorPlan,
     track_points: &[(f64, f64, i32)],
-    (answer, uncertain): (&[TrackPoint], &[(f32, f32, i32)]),
+    (answer, uncertain): Smoothed<'_>,
     steps_total: usize,
     config: &PlanPictureConfig,
 ) -> footslam::Result<()> {

@@ -437,7 +437,7 @@ mod tests {
                 .iter()
                 .map(|s| ImuSample {
                     orientation: s.orientation.map(write),
-                    ..s.clone()
+                    ..*s
                 })
                 .collect();
             ImuRecording::new(samples, 0).expect("recording")

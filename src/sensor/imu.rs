@@ -400,7 +400,7 @@ mod tests {
             .map(|s| ImuSample {
                 accel: s.gyro,
                 gyro: s.accel,
-                ..s.clone()
+                ..*s
             })
             .collect();
         let m = diagnose_columns(&swapped, 1.0).expect("swapped");
@@ -410,7 +410,7 @@ mod tests {
             .iter()
             .map(|s| ImuSample {
                 accel: s.accel.map(|a| a * 9.806_65),
-                ..s.clone()
+                ..*s
             })
             .collect();
         let m = diagnose_columns(&as_g, 9.806_65).expect("double g");
@@ -424,7 +424,7 @@ mod tests {
             .map(|s| ImuSample {
                 accel: s.accel.map(|a| a / 9.806_65),
                 gyro: s.gyro.map(f64::to_degrees),
-                ..s.clone()
+                ..*s
             })
             .collect();
         assert_eq!(diagnose_columns(&g_deg, 1.0), None);
