@@ -301,6 +301,12 @@ fn bad_ipin_logs_fail_with_file_and_line() {
         err.contains(&format!("input.txt:{n}")) && err.contains("finite"),
         "{err}"
     );
+    // A bare tag (found by the fuzzer: the fields were taken from the end before counting).
+    let err = import_fails("ipin", &format!("{good}WIFI;\n"));
+    assert!(
+        err.contains(&format!("input.txt:{n}")) && err.contains("WIFI line has 1 fields"),
+        "{err}"
+    );
     let err = import_fails("ipin", &format!("{good}WIFI;1.000;1.0;lab\n"));
     assert!(
         err.contains(&format!("input.txt:{n}")) && err.contains("WIFI"),

@@ -343,13 +343,20 @@ impl Reader {
     /// fields are taken from the end: the BSSID is the MAC address before the numbers.
     fn read_wifi(&mut self, fields: &[&str], line: usize) -> Result<(), String> {
         let n = fields.len();
+        let malformed = || {
+            format!(
+                "WIFI line has {n} fields, expected `WIFI;AppTimestamp;SensorTimestamp;SSID;BSSID;[Frequency;]RSS`"
+            )
+        };
+        // Counted before any field is taken from the end (a bare `WIFI;` has one field).
+        if n < 6 {
+            return Err(malformed());
+        }
         let is_mac = |s: &str| normalise_bssid(s).is_some_and(|b| b.len() == 17 && b.contains(':'));
         let with_freq = n >= 7 && is_mac(fields[n - 3]);
         let bssid_at = if with_freq { n - 3 } else { n - 2 };
-        if n < 6 || bssid_at < 4 || (!with_freq && !is_mac(fields[bssid_at])) {
-            return Err(format!(
-                "WIFI line has {n} fields, expected `WIFI;AppTimestamp;SensorTimestamp;SSID;BSSID;[Frequency;]RSS`"
-            ));
+        if bssid_at < 4 || (!with_freq && !is_mac(fields[bssid_at])) {
+            return Err(malformed());
         }
         let t = number(fields[1], "timestamp")?;
         let seen = number(fields[2], "sensor timestamp")?;
