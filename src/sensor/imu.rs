@@ -234,12 +234,7 @@ impl ImuRecording {
             )?;
             same(s.pressure.is_some(), first.pressure.is_some(), "pressure")?;
         }
-        let mut magnitudes: Vec<f64> = samples
-            .iter()
-            .map(|s| s.accel.iter().map(|a| a * a).sum::<f64>().sqrt())
-            .collect();
-        let mid = magnitudes.len() / 2;
-        let median = *magnitudes.select_nth_unstable_by(mid, f64::total_cmp).1;
+        let median = median_magnitude(samples.iter().map(|s| s.accel));
         if !GRAVITY_RANGE.contains(&median) {
             return Err((
                 0,
