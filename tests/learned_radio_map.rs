@@ -256,11 +256,19 @@ fn learn_wifi_writes_a_radio_map_on_the_learned_plan_and_refuses_a_log_on_anothe
     for file in [
         "radiomap.geojson",
         "radiomap.csv",
-        "heatmap-000.png",
+        "radiomap.png",
         "plan.geojson",
     ] {
         assert!(out.join(file).is_file(), "{file}");
     }
+    // One heatmap per access point, named by its BSSID.
+    let heatmaps: Vec<String> = std::fs::read_dir(&out)
+        .expect("outputs")
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|n| n.starts_with("heatmap-") && n.ends_with(".png"))
+        .collect();
+    assert!(!heatmaps.is_empty(), "no heatmap");
+    assert!(heatmaps.iter().all(|n| !n.contains(':')), "{heatmaps:?}");
     let (map, _) = read_radio_map_geojson(&out.join("radiomap.geojson"), None).expect("map");
     assert!(map.epsilon.is_some(), "ε calibrated");
     let summary: serde_json::Value =

@@ -363,7 +363,12 @@ fn survey_builds_a_radio_map_from_tracked_walks() {
     )
     .expect("radiomap.geojson reads back");
     assert!(map.cells.iter().any(|c| c.radio.scans > 0));
-    assert!(out.join("radiomap.csv").is_file() && out.join("heatmap-000.png").is_file());
+    assert!(out.join("radiomap.csv").is_file() && out.join("radiomap.png").is_file());
+    let bssid = map.access_points()[0].replace(':', "-");
+    assert!(
+        out.join(format!("heatmap-{bssid}.png")).is_file(),
+        "{bssid}"
+    );
     // One WiFi log per step trace.
     footslam()
         .arg("survey")

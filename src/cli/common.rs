@@ -155,6 +155,9 @@ pub fn write_truth_png(
         path_breaks: &[],
         truth: None,
         plan: Some(plan),
+        outline: None,
+        path_label: "true path",
+        north_up: true,
     };
     write_map_png(path, &picture, &PictureConfig::default())?;
     Ok(())

@@ -10,7 +10,7 @@ use super::batch_table::walks_table;
 use super::common::{bundled, output_dir, peak_memory_bytes, read_config, walk_prefix, warn};
 use super::learn_args::Args;
 use super::learn_inputs::{WalkArgs, WalkFiles, check_anchors, read_anchors, read_walks};
-use super::learn_outputs::{Summary, write_learned_plan, write_walk};
+use super::learn_outputs::{MapFrame, MapPictures, Summary, write_learned_plan, write_walk};
 use super::learn_radio::{RadioSummary, write_learned_radio_map};
 use super::progress_bars::Bars;
 use anyhow::Result;
@@ -153,6 +153,16 @@ fn learn_config(args: &Args) -> Result<FootSlamConfig> {
     Ok(config)
 }
 
+/// The pictures of a map merged from several walks (no one path to draw).
+fn merged_pictures<'a>(frame: &MapFrame<'a>) -> MapPictures<'a> {
+    MapPictures {
+        path: &[],
+        path_label: "",
+        north_up: frame.anchored,
+        outline: frame.outline,
+    }
+}
+
 /// Writes every walk's outputs, the merged maps and the radio map; returns the summary
 /// (its runtime and threads left for the caller).
 fn write_outputs(
@@ -162,11 +172,18 @@ fn write_outputs(
     learned: &Learned,
 ) -> Result<RunSummary> {
     let frame = &input.frame;
+    let map_frame = MapFrame {
+        frame,
+        outline: input.outline,
+        anchored: input.outline.is_some() || input.prior_map.is_some(),
+    };
     let batch = input.walks.len() > 1;
     let mut summaries = Vec::with_capacity(learned.walks.len());
     for (i, (walk, run)) in input.walks.iter().zip(&learned.walks).enumerate() {
         let prefix = walk_prefix(folder, i, batch)?;
-        summaries.push(write_walk(folder, &prefix, &files[i], walk, run, frame)?);
+        summaries.push(write_walk(
+            folder, &prefix, &files[i], walk, run, &map_frame,
+        )?);
         if let Some(Err(why)) = &run.wifi
             && *why != ScanPairsUnused::Disabled
         {
@@ -198,12 +215,15 @@ fn write_outputs(
             write_walks_map_geojson(&path, merged, frame, stored.walks + 1)?;
             let plan = folder.path(&format!("{prefix}merged_plan.geojson"));
             write_learned_plan(&plan, merged, frame)?;
+            let at = |name: &str| folder.path(&format!("{prefix}{name}"));
+            merged_pictures(&map_frame).write(&at, "merged", merged)?;
         }
     }
     if let Some(merged) = &learned.combined.merged {
         let walks = learned.walks.len() as u32;
         write_walks_map_geojson(&folder.path("merged.geojson"), merged, frame, walks)?;
         write_learned_plan(&folder.path("merged_plan.geojson"), merged, frame)?;
+        merged_pictures(&map_frame).write(&|name| folder.path(name), "merged", merged)?;
     }
     let radio = match &learned.combined.radio {
         Some(radio) => Some(write_learned_radio_map(

@@ -136,6 +136,82 @@ struct HeadingSummary {
     final_sigma_deg: f64,
 }
 
+/// The frame of a run's maps, and what placed it on the globe.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct MapFrame<'a> {
+    /// The local frame.
+    pub(super) frame: &'a LocalFrame,
+    /// The building outline, local metres, when given.
+    pub(super) outline: Option<&'a geo::Polygon<f64>>,
+    /// An outline or a prior map holds the frame to the globe (north up).
+    pub(super) anchored: bool,
+}
+
+/// The pictures of a learned map: one per floor, `NAME.png` the first (level 0) and
+/// `NAME-level+N.png` the others, each with the path's part on that floor.
+pub(super) struct MapPictures<'a> {
+    /// The path `(x, y, level)`, empty for a map of several walks.
+    pub(super) path: &'a [(f64, f64, i32)],
+    /// What the path is, for the key.
+    pub(super) path_label: &'a str,
+    /// The frame's y axis points north.
+    pub(super) north_up: bool,
+    /// The building outline, drawn over the map.
+    pub(super) outline: Option<&'a geo::Polygon<f64>>,
+}
+
+impl MapPictures<'_> {
+    /// Writes the pictures of `map` to `at(NAME…)`.
+    pub(super) fn write(
+        &self,
+        at: &dyn Fn(&str) -> std::path::PathBuf,
+        name: &str,
+        map: &HexMapSnapshot,
+    ) -> Result<()> {
+        let mut levels = map.cell_levels();
+        if !levels.contains(&0) {
+            levels.insert(0, 0);
+        }
+        for level in levels {
+            let on_level = HexMapSnapshot {
+                cells: map
+                    .cells
+                    .iter()
+                    .filter(|c| c.level == level)
+                    .cloned()
+                    .collect(),
+                levels: Vec::new(),
+                ..*map
+            };
+            // The path on this floor, broken where the walk left it.
+            let (mut walked, mut breaks) = (Vec::new(), Vec::new());
+            let mut previous = None;
+            for (i, &(x, y, l)) in self.path.iter().enumerate() {
+                if l == level {
+                    if previous.is_some_and(|j| j + 1 != i) {
+                        breaks.push(walked.len());
+                    }
+                    walked.push((x, y));
+                    previous = Some(i);
+                }
+            }
+            let picture = MapPicture {
+                path_breaks: &breaks,
+                outline: self.outline,
+                path_label: self.path_label,
+                north_up: self.north_up,
+                ..MapPicture::new(&on_level, &walked)
+            };
+            let file = match level {
+                0 => format!("{name}.png"),
+                l => format!("{name}-level{l:+}.png"),
+            };
+            write_map_png(&at(&file), &picture, &PictureConfig::default())?;
+        }
+        Ok(())
+    }
+}
+
 /// Writes one walk's outputs under `prefix` and returns its summary.
 pub(super) fn write_walk(
     folder: &RunFolder,
@@ -143,9 +219,10 @@ pub(super) fn write_walk(
     files: &WalkFiles,
     walk: &LearnWalk,
     run: &WalkRun,
-    frame: &LocalFrame,
+    frame: &MapFrame,
 ) -> Result<Summary> {
     let (config, estimate, filter) = (&run.config, &run.estimate, &run.filter);
+    let (anchors, frame) = (frame, frame.frame);
     let at = |name: &str| folder.path(&format!("{prefix}{name}"));
     // Built one at a time from the trace and the path (a long walk's per-step outputs are
     // the largest things a run holds).
@@ -188,49 +265,24 @@ pub(super) fn write_walk(
         write_field_map_png(&at("fieldmap.png"), field, &path)?;
     }
     let walkable_plan_m2 = write_learned_plan(&at("plan.geojson"), &estimate.map, frame)?;
-    let path: Vec<(f64, f64)> = estimate.path.iter().map(|p| (p.x, p.y)).collect();
-    // One picture per floor: `map.png` the first (level 0), `map-level+N.png` the others.
-    let mut levels = estimate.map.cell_levels();
-    if !levels.contains(&0) {
-        levels.insert(0, 0);
-    }
-    for level in levels {
-        let on_level = HexMapSnapshot {
-            cells: estimate
-                .map
-                .cells
-                .iter()
-                .filter(|c| c.level == level)
-                .cloned()
-                .collect(),
-            levels: Vec::new(),
-            ..estimate.map
-        };
-        // The path on this floor, broken where the walk left it.
-        let (mut walked, mut breaks) = (Vec::new(), Vec::new());
-        let mut previous = None;
-        for (i, (p, &l)) in path.iter().zip(&estimate.levels).enumerate() {
-            if l == level {
-                if previous.is_some_and(|j| j + 1 != i) {
-                    breaks.push(walked.len());
-                }
-                walked.push(*p);
-                previous = Some(i);
-            }
-        }
-        let picture = MapPicture {
-            map: &on_level,
-            path: &walked,
-            path_breaks: &breaks,
-            truth: None,
-            plan: None,
-        };
-        let name = match level {
-            0 => "map.png".to_string(),
-            l => format!("map-level{l:+}.png"),
-        };
-        write_map_png(&at(&name), &picture, &PictureConfig::default())?;
-    }
+    let path: Vec<(f64, f64, i32)> = estimate
+        .path
+        .iter()
+        .zip(&estimate.levels)
+        .map(|(p, &l)| (p.x, p.y, l))
+        .collect();
+    let north_up = anchors.anchored
+        || matches!(
+            run.start_source,
+            "gps fixes" | "compass" | "given" | "config"
+        );
+    let pictures = MapPictures {
+        path: &path,
+        path_label: "most probable path",
+        north_up,
+        outline: anchors.outline,
+    };
+    pictures.write(&at, "map", &estimate.map)?;
     if !prefix.is_empty() {
         folder.write_json(&format!("{prefix}config.json"), config)?;
     }
@@ -268,7 +320,7 @@ pub(super) fn write_walk(
         hexagons: estimate.map.cells.len(),
         levels: estimate.map.levels.len().max(1),
         map_area_m2: estimate.map.cells.len() as f64 * HexGrid::new(config.hex_radius).cell_area(),
-        path_length_m: path_length(path.iter().copied()),
+        path_length_m: path_length(path.iter().map(|&(x, y, _)| (x, y))),
         gps_fixes: walk.fixes.len(),
         gps_fixes_used: filter.gps_fixes_used(),
         prior_offset_m: estimate.prior_offset,

@@ -10,7 +10,7 @@
 use super::common::{output_dir, peak_memory_bytes, walk_prefix};
 use super::learn_args::{Args, Shard};
 use super::learn_inputs::{check_anchors, read_anchors, read_found, read_manifest};
-use super::learn_outputs::{Summary, write_walk};
+use super::learn_outputs::{MapFrame, Summary, write_walk};
 use anyhow::{Context, Result, bail};
 use footslam::filter::FootSlamConfig;
 use footslam::geometry::LocalFrame;
@@ -67,10 +67,15 @@ pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) 
     })?;
     let folder = shard_folder(args, manifest, &all)?;
     let mut summaries = Vec::with_capacity(runs.len());
+    let map_frame = MapFrame {
+        frame: &input.frame,
+        outline: input.outline,
+        anchored: input.outline.is_some() || input.prior_map.is_some(),
+    };
     for (i, run) in runs.iter().enumerate() {
         let prefix = walk_prefix(&folder, mine[i], true)?;
         summaries.push(write_walk(
-            &folder, &prefix, &files[i], &walks[i], run, &frame,
+            &folder, &prefix, &files[i], &walks[i], run, &map_frame,
         )?);
     }
     folder.write_json("config.json", config)?;

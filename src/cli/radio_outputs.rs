@@ -17,9 +17,9 @@ const HEATMAP_FLOOR: f64 = -96.0;
 /// The brightest heatmap colour, dBm.
 const HEATMAP_TOP: f64 = -30.0;
 
-/// Writes `{prefix}radiomap.geojson`, `{prefix}radiomap.csv` and `{prefix}heatmap-NNN.png`
-/// (mean RSSI per cell of access point `NNN`, in the order of
-/// [`RadioMap::access_points`], over `plan`).
+/// Writes `{prefix}radiomap.geojson`, `{prefix}radiomap.csv`, `{prefix}radiomap.png` (scans
+/// per cell over `plan`) and `{prefix}heatmap-BSSID.png` (mean RSSI per cell of one access
+/// point, named by [`heatmap_name`]).
 pub(super) fn write_radio_map_files(
     folder: &RunFolder,
     prefix: &str,
@@ -30,7 +30,9 @@ pub(super) fn write_radio_map_files(
     let at = |name: &str| folder.path(&format!("{prefix}{name}"));
     write_radio_map_geojson(&at("radiomap.geojson"), map, frame)?;
     write_radio_map_csv(&at("radiomap.csv"), map)?;
-    for (i, &bssid) in map.access_points().iter().enumerate() {
+    write_coverage_png(&at("radiomap.png"), plan, map)?;
+    let mut names = std::collections::BTreeSet::new();
+    for &bssid in &map.access_points() {
         let heat: Vec<PlanCell> = map
             .cells
             .iter()
@@ -77,11 +79,91 @@ pub(super) fn write_radio_map_files(
                 colour: viridis_rgb,
             }),
         };
-        write_plan_png(
-            &at(&format!("heatmap-{i:03}.png")),
-            &[picture],
-            &PlanPictureConfig::default(),
-        )?;
+        let mut name = heatmap_name(bssid);
+        // Two BSSIDs that differ only in characters a file name cannot hold.
+        while !names.insert(name.clone()) {
+            name = name.replace(".png", "_.png");
+        }
+        write_plan_png(&at(&name), &[picture], &PlanPictureConfig::default())?;
     }
     Ok(())
+}
+
+/// The heatmap file of access point `bssid`: `heatmap-` and the BSSID with every character
+/// but letters, digits, `-` and `_` written as `-` (`02:00:00:00:00:03` →
+/// `heatmap-02-00-00-00-00-03.png`), at most 64 of them.
+pub(super) fn heatmap_name(bssid: &str) -> String {
+    let safe: String = bssid
+        .chars()
+        .take(64)
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '-'
+            }
+        })
+        .collect();
+    format!("heatmap-{safe}.png")
+}
+
+/// `radiomap.png`: the radio map's cells coloured by the scans taken in them (log scale),
+/// over `plan`: where the map knows the radio field and how well.
+fn write_coverage_png(path: &std::path::Path, plan: &FloorPlan, map: &RadioMap) -> Result<()> {
+    let most = map.cells.iter().map(|c| c.radio.scans).max().unwrap_or(0);
+    let cells: Vec<PlanCell> = map
+        .cells
+        .iter()
+        .filter(|c| c.radio.scans > 0)
+        .map(|c| {
+            let t = if most > 1 {
+                f64::from(c.radio.scans).ln() / f64::from(most).ln()
+            } else {
+                1.0
+            };
+            PlanCell {
+                area: &c.area,
+                level: c.level,
+                colour: viridis_rgb(t),
+            }
+        })
+        .collect();
+    let covered = cells.len();
+    let picture = PlanPicture {
+        plan,
+        title: Some(format!(
+            "radio map: {covered} of {} cells with scans, {} access points",
+            map.cells.len(),
+            map.access_points().len()
+        )),
+        paths: Vec::new(),
+        points: Vec::new(),
+        cells,
+        markers: Vec::new(),
+        colour_bar: (most > 1).then(|| ColourBar {
+            low: "1 scan".into(),
+            high: format!("{most} scans"),
+            colour: viridis_rgb,
+        }),
+    };
+    write_plan_png(path, &[picture], &PlanPictureConfig::default())?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::heatmap_name;
+
+    #[test]
+    fn heatmaps_are_named_by_bssid() {
+        assert_eq!(
+            heatmap_name("02:00:00:00:00:03"),
+            "heatmap-02-00-00-00-00-03.png"
+        );
+        assert_eq!(heatmap_name("a/b\\c d"), "heatmap-a-b-c-d.png");
+        assert_eq!(
+            heatmap_name(&"x".repeat(100)).len(),
+            "heatmap-.png".len() + 64
+        );
+    }
 }

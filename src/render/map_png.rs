@@ -4,8 +4,9 @@
 //! the hexagons coloured by a perceptual colour map (viridis) with thin outlines, the floor
 //! plan's walls, the ground-truth path (blue, dashed), the estimated path (dark red, with a
 //! white halo), a start (green dot) and an end marker (black square). Below the map, a legend
-//! strip holds a scale bar, a colour bar with its range and a north arrow. North is up: the
-//! local frame's y axis is flipped into image rows.
+//! strip holds a scale bar, a colour bar with its range, a north arrow where the frame's
+//! heading is absolute, and a key naming every line and mark drawn. The local frame's y
+//! axis is flipped into image rows (north is up when the frame is absolute).
 
 mod legend;
 
@@ -13,11 +14,12 @@ use super::canvas::{
     INK, PATH_RED, PLAN_FILL, PLAN_WALL, START_GREEN, TRUTH_BLUE, WHITE, fill, polyline_pieces,
     push_ring, rect, stroke, viridis,
 };
+use super::key::{KeyEntry, Swatch, key_height};
 use crate::error::{Error, Result};
 use crate::geometry::HexGrid;
 use crate::map::hex_transitions::{transition_probabilities, visits};
 use crate::map::{FloorPlan, HexMapSnapshot};
-use legend::{draw_legend, legend_height};
+use legend::{ColourScale, draw_legend, legend_height};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use tiny_skia::{Color, ColorU8, FillRule, PathBuilder, Pixmap, StrokeDash};
@@ -139,6 +141,14 @@ pub struct MapPicture<'a> {
     pub truth: Option<&'a [(f64, f64)]>,
     /// A floor plan in the same frame, drawn beneath the map.
     pub plan: Option<&'a FloorPlan>,
+    /// A building outline in the same frame, drawn dashed over the map.
+    pub outline: Option<&'a geo::Polygon<f64>>,
+    /// What `path` is, for the key (e.g. "most probable path", "true path").
+    pub path_label: &'a str,
+    /// The frame's y axis points north (GPS, an absolute heading, an outline or a plan
+    /// placed it): draw a north arrow. Otherwise the frame turns with the walker's unknown
+    /// first heading, and no arrow is drawn.
+    pub north_up: bool,
 }
 
 impl<'a> MapPicture<'a> {
@@ -150,9 +160,40 @@ impl<'a> MapPicture<'a> {
             path_breaks: &[],
             truth: None,
             plan: None,
+            outline: None,
+            path_label: "estimated path",
+            north_up: false,
         }
     }
+
+    /// The key: every line and mark this picture draws.
+    fn key(&self) -> Vec<KeyEntry> {
+        let mut entries = Vec::new();
+        if !self.path.is_empty() {
+            entries.push(KeyEntry::new(Swatch::HaloLine(PATH_RED), self.path_label));
+        }
+        if self.truth.is_some_and(|t| !t.is_empty()) {
+            entries.push(KeyEntry::new(Swatch::Dashed(TRUTH_BLUE), "true path"));
+        }
+        if !self.path.is_empty() {
+            entries.push(KeyEntry::new(Swatch::Dot(START_GREEN), "start"));
+            entries.push(KeyEntry::new(Swatch::Square(INK), "end"));
+        }
+        if self.plan.is_some() {
+            entries.push(KeyEntry::new(Swatch::Area(PLAN_FILL), "floor plan"));
+        }
+        if self.outline.is_some() {
+            entries.push(KeyEntry::new(
+                Swatch::Dashed(OUTLINE_GREY),
+                "building outline",
+            ));
+        }
+        entries
+    }
 }
+
+/// The building outline.
+const OUTLINE_GREY: ColorU8 = ColorU8::from_rgba(90, 90, 90, 255);
 
 /// Renders `picture` as PNG bytes.
 pub fn render_map_png(picture: &MapPicture, config: &PictureConfig) -> Result<Vec<u8>> {
@@ -187,7 +228,7 @@ struct Layout {
 }
 
 impl Layout {
-    fn new(picture: &MapPicture, config: &PictureConfig) -> Self {
+    fn new(picture: &MapPicture, config: &PictureConfig, key: &[KeyEntry]) -> Self {
         let (mut x0, mut y0, mut x1, mut y1) = extent(picture).unwrap_or((-5.0, -5.0, 5.0, 5.0));
         // At least a metre each way, so a single point still gets a picture.
         let grow = |lo: &mut f64, hi: &mut f64| {
@@ -199,14 +240,20 @@ impl Layout {
         grow(&mut y0, &mut y1);
         let ts = f64::from(config.text_scale);
         let margin = f64::from(config.margin_px);
-        let legend = legend_height(config.text_scale);
         let side = f64::from(config.max_side_px);
+        // The key wraps within the narrowest picture: its height is known before the scale.
+        let min_width = 2.0 * margin + 420.0 + 60.0 * ts;
+        let legend = legend_height(config.text_scale)
+            + f64::from(key_height(
+                key,
+                min_width as f32 - 2.0 * margin as f32,
+                config.text_scale,
+            ));
         let scale = config
             .pixels_per_metre
             .min((side - 2.0 * margin) / (x1 - x0))
             .min((side - 2.0 * margin - legend) / (y1 - y0));
         let (map_width, map_height) = ((x1 - x0) * scale, (y1 - y0) * scale);
-        let min_width = 2.0 * margin + 420.0 + 60.0 * ts;
         let width = (map_width.ceil() + 2.0 * margin).max(min_width).min(side);
         let legend_top = margin + map_height + margin / 2.0;
         let height = (legend_top + legend + margin / 2.0).ceil().min(side);
@@ -243,16 +290,22 @@ fn extent(picture: &MapPicture) -> Option<(f64, f64, f64, f64)> {
     let lines = picture.path.iter().chain(picture.truth.unwrap_or_default());
     let points = lines.map(|&(x, y)| (x, y, x, y));
     let plan = picture.plan.and_then(FloorPlan::bounds);
+    let outline = picture
+        .outline
+        .and_then(geo::BoundingRect::bounding_rect)
+        .map(|r| (r.min().x, r.min().y, r.max().x, r.max().y));
     hexes
         .chain(points)
         .chain(plan)
+        .chain(outline)
         .reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))
 }
 
 fn render(picture: &MapPicture, config: &PictureConfig) -> Result<Pixmap> {
     config.validate()?;
     check_finite(picture)?;
-    let layout = Layout::new(picture, config);
+    let key = picture.key();
+    let layout = Layout::new(picture, config, &key);
     let mut pixmap = Pixmap::new(layout.width, layout.height).ok_or_else(|| {
         Error::encode(
             format!("allocate a {}×{} picture", layout.width, layout.height),
@@ -287,9 +340,20 @@ fn render(picture: &MapPicture, config: &PictureConfig) -> Result<Pixmap> {
         draw_line(&mut pixmap, &layout, piece, (halo, w + 2.0), None);
         draw_line(&mut pixmap, &layout, piece, (PATH_RED, w), None);
     }
+    if let Some(outline) = picture.outline {
+        let dash = StrokeDash::new(vec![10.0, 5.0], 0.0);
+        let ring: Vec<(f64, f64)> = outline.exterior().coords().map(|c| (c.x, c.y)).collect();
+        draw_line(&mut pixmap, &layout, &ring, (OUTLINE_GREY, 1.5), dash);
+    }
     draw_markers(&mut pixmap, &layout, picture.path, w);
-    let labels = (!picture.map.cells.is_empty()).then_some(labels);
-    draw_legend(&mut pixmap, &layout, config, labels);
+    let scale = (!picture.map.cells.is_empty()).then_some(labels);
+    draw_legend(
+        &mut pixmap,
+        &layout,
+        config,
+        scale,
+        (picture.north_up, &key),
+    );
     Ok(pixmap)
 }
 
@@ -332,13 +396,13 @@ fn draw_plan(pixmap: &mut Pixmap, layout: &Layout, plan: &FloorPlan, surfaces: b
     }
 }
 
-/// Fills each hexagon by its shading value; returns the colour bar's labels (low, high).
+/// Fills each hexagon by its shading value; returns the colour bar's scale.
 fn draw_hexagons(
     pixmap: &mut Pixmap,
     layout: &Layout,
     map: &HexMapSnapshot,
     shading: Shading,
-) -> (String, String) {
+) -> ColourScale {
     let (values, (lo, hi), labels) = shading_values(map, shading);
     let grid = HexGrid::new(map.radius);
     let mut outlines = PathBuilder::new();
@@ -368,21 +432,19 @@ fn draw_hexagons(
     labels
 }
 
-/// Each cell's value on the colour scale, the scale's range and its end labels.
-fn shading_values(
-    map: &HexMapSnapshot,
-    shading: Shading,
-) -> (Vec<f64>, (f64, f64), (String, String)) {
+/// Each cell's value on the colour scale, the scale's range and its labels.
+fn shading_values(map: &HexMapSnapshot, shading: Shading) -> (Vec<f64>, (f64, f64), ColourScale) {
     match shading {
         Shading::Visits => {
             let n: Vec<u64> = map.cells.iter().map(|c| visits(&c.counts).max(1)).collect();
             let max = n.iter().copied().max().unwrap_or(1);
             let values = n.iter().map(|&v| (v as f64).ln()).collect();
-            (
-                values,
-                (0.0, (max as f64).ln()),
-                ("1".into(), max.to_string()),
-            )
+            let scale = if max > 1 {
+                ColourScale::Ramp("1".into(), max.to_string())
+            } else {
+                ColourScale::Uniform("1 visit each".into())
+            };
+            (values, (0.0, (max as f64).ln()), scale)
         }
         Shading::Probability => {
             let values: Vec<f64> = map
@@ -397,7 +459,13 @@ fn shading_values(
                 .collect();
             let lo = values.iter().copied().reduce(f64::min).unwrap_or(1.0 / 6.0);
             let hi = values.iter().copied().reduce(f64::max).unwrap_or(1.0);
-            (values, (lo, hi), (format!("{lo:.2}"), format!("{hi:.2}")))
+            let (low, high) = (format!("{lo:.2}"), format!("{hi:.2}"));
+            let scale = if low == high {
+                ColourScale::Uniform(format!("max transition p {low}"))
+            } else {
+                ColourScale::Ramp(low, high)
+            };
+            (values, (lo, hi), scale)
         }
     }
 }

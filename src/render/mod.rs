@@ -6,11 +6,13 @@
 //! * [`plan_png`] — multi-floor plans with paths, particle clouds, cells and heatmaps
 //! * [`plan_marks`] — labelled markers and colour bars on plan pictures
 //! * `plan_layout` — which part of the floor a plan picture shows, and its panels
+//! * `key` — the legend strip's parts: key of lines and marks, scale bar, north arrow
 //! * `canvas` — colours and drawing primitives shared by the pictures
 //! * `glyphs` — a tiny bitmap font for labels
 
 mod canvas;
 mod glyphs;
+mod key;
 pub mod map_png;
 mod plan_layout;
 pub mod plan_marks;

@@ -8,6 +8,7 @@
 //! allowed, raised for a small extent so that titles and labels fit.
 
 use super::glyphs::GLYPH_HEIGHT;
+use super::key::{KeyEntry, key_height};
 use super::plan_picture::{PlanPicture, PlanPictureConfig};
 use crate::error::{Error, Result};
 use geo::BoundingRect;
@@ -96,10 +97,18 @@ pub(super) struct Layout {
     pub(super) title_h: f64,
     pub(super) width: u32,
     pub(super) row_h: f64,
+    /// Height of the legend strip below the last picture, pixels.
+    pub(super) legend_h: f64,
+    /// Width the key wraps within, pixels.
+    pub(super) key_w: f32,
 }
 
 impl Layout {
-    pub(super) fn new(pictures: &[PlanPicture], config: &PlanPictureConfig) -> Result<Self> {
+    pub(super) fn new(
+        pictures: &[PlanPicture],
+        config: &PlanPictureConfig,
+        key: &[KeyEntry],
+    ) -> Result<Self> {
         let mut levels: Vec<i32> = pictures
             .iter()
             .flat_map(|p| p.plan.polygons.iter().map(|f| f.level))
@@ -122,8 +131,18 @@ impl Layout {
         let rows = pictures.len().max(1) as f64;
         let title_h = f64::from(2 * GLYPH_HEIGHT * config.text_scale) + 12.0;
         let fit = (f64::from(config.max_width_px) - margin * (n + 1.0)) / (n * w_m);
+        // The legend strip: scale bar and north arrow, then the key wrapped within the
+        // narrowest picture.
+        let ts = config.text_scale;
+        let key_w = (f64::from(config.min_width_px.min(config.max_width_px)) - 2.0 * margin)
+            .max(100.0) as f32;
+        let legend_h = f64::from(2 * GLYPH_HEIGHT * ts)
+            + 18.0
+            + f64::from(key_height(key, key_w, ts))
+            + margin;
         let fit_h =
-            (f64::from(config.max_height_px) - margin - rows * (title_h + margin)) / (rows * h_m);
+            (f64::from(config.max_height_px) - margin - legend_h - rows * (title_h + margin))
+                / (rows * h_m);
         // Raised for a narrow plan, but never taller than the widest picture allowed.
         let least = ((f64::from(config.min_width_px.min(config.max_width_px))
             - margin * (n + 1.0))
@@ -149,6 +168,8 @@ impl Layout {
             title_h,
             width: width as u32,
             row_h,
+            legend_h,
+            key_w,
         })
     }
 
@@ -242,11 +263,11 @@ mod tests {
         assert_eq!(extent(&nothing, &config), (0.0, 0.0, 240.0, 200.0));
         // Many snapshots stay within the tallest picture allowed.
         let many: Vec<_> = (0..12).map(|_| picture(&plan, &[])).collect();
-        let layout = Layout::new(&many, &config).expect("layout");
-        let height = layout.margin + layout.row_h * many.len() as f64;
+        let layout = Layout::new(&many, &config, &[]).expect("layout");
+        let height = layout.margin + layout.row_h * many.len() as f64 + layout.legend_h;
         assert!(height <= f64::from(config.max_height_px) + 1.0, "{height}");
         // Inside and outside what is shown.
-        let layout = Layout::new(&one, &config).expect("layout");
+        let layout = Layout::new(&one, &config, &[]).expect("layout");
         assert!(layout.shows(30.0, 25.0) && !layout.shows(100.0, 25.0));
     }
 }

@@ -2,10 +2,12 @@
 //! & Harle 2008, Fig. 4: one panel per floor level side by side at one scale, surfaces shaded
 //! by height (so stair treads show as a ramp), outlines as walls, barriers in black, paths as
 //! lines and point clouds as density-blended dots. Several pictures (snapshots at chosen
-//! steps) stack top to bottom in one image, each under its title. North is up.
+//! steps) stack top to bottom in one image, each under its title, above one legend strip:
+//! scale bar, north arrow (north is up) and the key of every line, cloud and marker drawn.
 
 use super::canvas::{INK, PLAN_WALL, fill, polyline, polyline_pieces, push_ring, rgb, stroke};
 use super::glyphs::{self, GLYPH_HEIGHT};
+use super::key::{KeyEntry, Swatch};
 use super::plan_layout::Layout;
 pub use super::plan_picture::{
     ColourBar, PlanCell, PlanMarker, PlanPath, PlanPicture, PlanPictureConfig, PlanPoints,
@@ -22,8 +24,10 @@ pub fn render_plan_png(pictures: &[PlanPicture], config: &PlanPictureConfig) -> 
     if pictures.is_empty() {
         return Err(Error::not_enough("no picture to draw", ""));
     }
-    let layout = Layout::new(pictures, config)?;
-    let height = (layout.margin + layout.row_h * pictures.len() as f64).ceil() as u32;
+    let key = key_of(pictures);
+    let layout = Layout::new(pictures, config, &key)?;
+    let rows_bottom = layout.margin + layout.row_h * pictures.len() as f64;
+    let height = (rows_bottom + layout.legend_h).ceil() as u32;
     if u64::from(layout.width) * u64::from(height) > 400_000_000 {
         return Err(Error::too_large(
             "a picture",
@@ -67,8 +71,9 @@ pub fn render_plan_png(pictures: &[PlanPicture], config: &PlanPictureConfig) -> 
             if let Some(li) = layout.level_index(m.level)
                 && layout.shows(m.x, m.y)
             {
+                // Its label is in the key: beside the marker it would hide the cells.
                 let at = layout.pixel(row, li, m.x, m.y);
-                super::plan_marks::draw_marker(&mut pixmap, at, &m.label, ts);
+                super::plan_marks::draw_marker(&mut pixmap, at, "", ts);
             }
         }
         if let Some(bar) = &picture.colour_bar {
@@ -76,9 +81,46 @@ pub fn render_plan_png(pictures: &[PlanPicture], config: &PlanPictureConfig) -> 
             super::plan_marks::draw_colour_bar(&mut pixmap, bar, right, top, ts);
         }
     }
+    draw_legend(&mut pixmap, &layout, rows_bottom as f32, &key, ts);
     pixmap
         .encode_png()
         .map_err(|e| Error::encode("encode the picture as PNG", e))
+}
+
+/// The key of `pictures`: each path, point cloud and marker label once, in the order drawn.
+fn key_of(pictures: &[PlanPicture]) -> Vec<KeyEntry> {
+    let mut key: Vec<KeyEntry> = Vec::new();
+    let mut add = |entry: KeyEntry| {
+        if !entry.label.is_empty() && !key.contains(&entry) {
+            key.push(entry);
+        }
+    };
+    for p in pictures {
+        for path in &p.paths {
+            let [r, g, b] = path.colour;
+            add(KeyEntry::new(Swatch::Line(rgb(r, g, b)), path.label));
+        }
+        for cloud in &p.points {
+            let [r, g, b] = cloud.colour;
+            add(KeyEntry::new(Swatch::Dots(rgb(r, g, b)), cloud.label));
+        }
+        for m in &p.markers {
+            add(KeyEntry::new(Swatch::Marker, m.label.clone()));
+        }
+    }
+    key
+}
+
+/// The strip below the pictures from `top`: a scale bar and a north arrow (plans are
+/// GeoJSON, RFC 7946: their frame's y axis points north), then the key.
+fn draw_legend(pixmap: &mut Pixmap, layout: &Layout, top: f32, key: &[KeyEntry], ts: u32) {
+    let margin = layout.margin as f32;
+    let text_h = (GLYPH_HEIGHT * ts) as f32;
+    let room = (layout.panel_w / 3.0).clamp(40.0, 200.0);
+    super::key::draw_scale_bar(pixmap, (margin, top + text_h), room, layout.scale, ts);
+    super::key::draw_north_arrow(pixmap, layout.width as f32 - margin - 10.0, top, ts);
+    let key_top = top + 2.0 * text_h + 18.0;
+    super::key::draw_key(pixmap, key, (margin, key_top), layout.key_w, ts);
 }
 
 /// The panel of `level` of `picture` on its own (white, the size of a panel): the plan,

@@ -1,14 +1,16 @@
-//! The legend strip below the map: scale bar (left), colour bar and north arrow (right).
+//! The legend strip below the map: scale bar (left), colour bar and north arrow (right), and
+//! the key of the lines and marks drawn (below them).
 
 use super::{Layout, PictureConfig, Shading};
-use crate::render::canvas::{INK, WHITE, fill, push_ring, rect, stroke, viridis};
+use crate::render::canvas::{INK, fill, rect, stroke, viridis};
 use crate::render::glyphs::{self, GLYPH_HEIGHT};
-use tiny_skia::{FillRule, PathBuilder, Pixmap};
+use crate::render::key::{self, KeyEntry};
+use tiny_skia::{FillRule, Pixmap};
 
 /// Colour bar length, pixels.
 const COLOUR_BAR_WIDTH: f32 = 200.0;
 
-/// Height of the legend strip, pixels: caption, colour bar, labels.
+/// Height of the legend strip's first row, pixels: caption, colour bar, labels.
 pub fn legend_height(text_scale: u32) -> f64 {
     f64::from(2 * GLYPH_HEIGHT * text_scale) + 24.0
 }
@@ -19,8 +21,6 @@ struct Strip {
     top: f32,
     /// Centre line of the bars.
     mid: f32,
-    /// Height of a line of text.
-    text_h: f32,
     /// Font scale.
     ts: u32,
 }
@@ -33,13 +33,24 @@ impl Strip {
     }
 }
 
-/// Draws the legend; `labels` are the colour bar's (low, high) ends, `None` for a
-/// picture without hexagons (no colour bar then).
+/// The colour bar of a picture's hexagons: its (low, high) labels, or one label when every
+/// hexagon has the same value (no bar then: a bar from 1 to 1 explains nothing).
+#[derive(Debug, Clone, PartialEq)]
+pub enum ColourScale {
+    /// A ramp from low to high.
+    Ramp(String, String),
+    /// Every hexagon alike: what they all are.
+    Uniform(String),
+}
+
+/// Draws the legend; `scale` is the hexagons' colour scale, `None` for a picture without
+/// hexagons; `north` draws the north arrow (only where the frame's heading is absolute).
 pub fn draw_legend(
     pixmap: &mut Pixmap,
     layout: &Layout,
     config: &PictureConfig,
-    labels: Option<(String, String)>,
+    scale: Option<ColourScale>,
+    (north, entries): (bool, &[KeyEntry]),
 ) {
     let ts = config.text_scale;
     let text_h = (GLYPH_HEIGHT * ts) as f32;
@@ -47,55 +58,48 @@ pub fn draw_legend(
     let strip = Strip {
         top,
         mid: top + text_h + 12.0,
-        text_h,
         ts,
     };
     let margin = config.margin_px as f32;
     // Room for a third of the map, at most 150 pixels.
-    let room = 150.0f64.min(layout.map_width.max(60.0) / 3.0) / layout.scale;
-    draw_scale_bar(pixmap, &strip, margin, scale_bar_length(room), layout.scale);
+    let room = 150.0f64.min(layout.map_width.max(60.0) / 3.0);
+    key::draw_scale_bar(pixmap, (margin, strip.mid), room, layout.scale, ts);
     let arrow_x = layout.width as f32 - margin - 10.0;
     let caption = match config.shading {
         Shading::Visits => "visits (log scale)",
         Shading::Probability => "max transition p",
     };
-    if let Some(labels) = labels {
-        draw_colour_bar(
+    match scale {
+        Some(ColourScale::Ramp(low, high)) => draw_colour_bar(
             pixmap,
             &strip,
             arrow_x - 50.0 - COLOUR_BAR_WIDTH,
             caption,
-            labels,
-        );
-    }
-    draw_north_arrow(pixmap, &strip, arrow_x);
-}
-
-/// The longest 1-2-5 length (metres, 1 cm to 500 km) not exceeding `room` metres.
-fn scale_bar_length(room: f64) -> f64 {
-    (-2..6)
-        .flat_map(|k| [1.0, 2.0, 5.0].map(|m| m * 10f64.powi(k)))
-        .take_while(|&m| m <= room)
-        .last()
-        .unwrap_or(0.01)
-}
-
-/// A two-tone bar `metres` long starting at `x0`, labelled on its right.
-fn draw_scale_bar(pixmap: &mut Pixmap, strip: &Strip, x0: f32, metres: f64, scale: f64) {
-    let bar = (metres * scale) as f32;
-    for (i, colour) in [INK, WHITE].into_iter().enumerate() {
-        if let Some(half) = rect(x0 + i as f32 * bar / 2.0, strip.mid - 4.0, bar / 2.0, 8.0) {
-            fill(pixmap, &half, colour, FillRule::Winding);
-            stroke(pixmap, &half, INK, 1.0, None);
+            (low, high),
+        ),
+        Some(ColourScale::Uniform(what)) => {
+            let right = arrow_x - 50.0;
+            let w = glyphs::text_width(&what, ts) as f32;
+            if let Some(swatch) = rect(right - w - 24.0, strip.mid - 6.0, 16.0, 12.0) {
+                fill(pixmap, &swatch, viridis(1.0), FillRule::Winding);
+                stroke(pixmap, &swatch, INK, 1.0, None);
+            }
+            glyphs::draw_text(
+                pixmap,
+                &what,
+                (right - w, strip.mid - text_h / 2.0),
+                ts,
+                INK,
+            );
         }
+        None => {}
     }
-    let label = if metres >= 1.0 {
-        format!("{metres} m")
-    } else {
-        format!("{metres:.2} m")
-    };
-    let at = (x0 + bar + 8.0, strip.mid - strip.text_h / 2.0);
-    glyphs::draw_text(pixmap, &label, at, strip.ts, INK);
+    if north {
+        key::draw_north_arrow(pixmap, arrow_x, strip.top, ts);
+    }
+    let key_top = top + legend_height(ts) as f32;
+    let width = layout.width as f32 - 2.0 * margin;
+    key::draw_key(pixmap, entries, (margin, key_top), width, ts);
 }
 
 /// The viridis ramp from `left`, its caption above and its end labels below.
@@ -120,31 +124,4 @@ fn draw_colour_bar(
     strip.centred_text(pixmap, caption, left + w / 2.0, strip.top);
     strip.centred_text(pixmap, &low, left, y + h + 4.0);
     strip.centred_text(pixmap, &high, left + w, y + h + 4.0);
-}
-
-/// An upward arrow centred on `x` under the letter N.
-fn draw_north_arrow(pixmap: &mut Pixmap, strip: &Strip, x: f32) {
-    let (tip, base) = (strip.mid - 8.0, strip.mid + strip.text_h + 6.0);
-    let mut pb = PathBuilder::new();
-    push_ring(
-        &mut pb,
-        [(x, tip), (x + 9.0, base), (x, base - 7.0), (x - 9.0, base)],
-    );
-    if let Some(arrow) = pb.finish() {
-        fill(pixmap, &arrow, INK, FillRule::Winding);
-    }
-    strip.centred_text(pixmap, "N", x, strip.top);
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn scale_bar_lengths_are_one_two_five() {
-        assert_eq!(scale_bar_length(7.5), 5.0);
-        assert_eq!(scale_bar_length(20.0), 20.0);
-        assert_eq!(scale_bar_length(0.3), 0.2);
-        assert_eq!(scale_bar_length(0.001), 0.01);
-    }
 }

@@ -60,9 +60,10 @@ fn picture_has_the_expected_size() {
     let config = PictureConfig::default();
     let png = render_map_png(&MapPicture::new(&map, &path), &config).expect("render");
     let img = decode(&png);
-    // 40 m × 10 m at 20 px/m, 40 px margins; the legend strip below the map.
+    // 40 m × 10 m at 20 px/m, 40 px margins; the legend strip below the map, and one row
+    // of key (path, start, end: 14 px of text and 10 px of spacing).
     assert_eq!(img.width(), 800 + 80);
-    let expect_h = (40.0 + 200.0 + 20.0 + legend_height(2) + 20.0) as u32;
+    let expect_h = (40.0 + 200.0 + 20.0 + legend_height(2) + 24.0 + 20.0) as u32;
     assert_eq!(img.height(), expect_h);
 }
 
@@ -73,7 +74,7 @@ fn path_pixels_have_the_path_colour() {
     let picture = MapPicture::new(&map, &path);
     let config = PictureConfig::default();
     let img = decode(&render_map_png(&picture, &config).expect("render"));
-    let layout = Layout::new(&picture, &config);
+    let layout = Layout::new(&picture, &config, &picture.key());
     for w in path.windows(2) {
         for f in [0.3, 0.5, 0.7] {
             let p = (
@@ -101,7 +102,7 @@ fn a_broken_path_draws_no_line_across_the_break() {
     };
     let config = PictureConfig::default();
     let img = decode(&render_map_png(&picture, &config).expect("render"));
-    let layout = Layout::new(&picture, &config);
+    let layout = Layout::new(&picture, &config, &picture.key());
     let at = |p: (f64, f64)| {
         let (x, y) = layout.pixel(p);
         *img.get_pixel(x as u32, y as u32)
@@ -122,7 +123,7 @@ fn north_is_up() {
     let picture = MapPicture::new(&map, &path);
     let config = PictureConfig::default();
     let img = decode(&render_map_png(&picture, &config).expect("render"));
-    let layout = Layout::new(&picture, &config);
+    let layout = Layout::new(&picture, &config, &picture.key());
     let (sx, sy) = layout.pixel(path[0]);
     let (ex, ey) = layout.pixel(path[1]);
     assert!(sy > ey, "the start (south) must be below the end (north)");
@@ -253,4 +254,43 @@ fn writes_sample_pictures() {
         let img = image::open(out.join(name)).expect("decodes");
         assert!(img.width() > 300 && img.height() > 200);
     }
+}
+
+#[test]
+fn a_north_arrow_only_where_the_frame_is_absolute() {
+    let path = [(0.0, 0.0), (20.0, 0.0), (20.0, 10.0)];
+    let map = map_of(&path, 0.5);
+    let config = PictureConfig::default();
+    let relative = decode(&render_map_png(&MapPicture::new(&map, &path), &config).expect("render"));
+    let picture = MapPicture {
+        north_up: true,
+        ..MapPicture::new(&map, &path)
+    };
+    let absolute = decode(&render_map_png(&picture, &config).expect("render"));
+    assert_eq!(relative.dimensions(), absolute.dimensions());
+    // They differ only at the arrow: right of the colour bar, in the legend strip.
+    let layout = Layout::new(&picture, &config, &picture.key());
+    let arrow_left = relative.width() - config.margin_px - 25;
+    let mut differ = 0;
+    for (x, y, p) in relative.enumerate_pixels() {
+        if *p != *absolute.get_pixel(x, y) {
+            assert!(
+                x >= arrow_left,
+                "pixel ({x}, {y}) differs left of the arrow"
+            );
+            assert!(
+                f64::from(y) >= layout.legend_top,
+                "pixel ({x}, {y}) above the legend"
+            );
+            differ += 1;
+        }
+    }
+    assert!(differ > 50, "the arrow drew {differ} pixels");
+}
+
+#[test]
+fn one_visit_everywhere_gives_no_degenerate_colour_bar() {
+    let map = map_of(&[(0.0, 0.0), (3.0, 0.0)], 0.5);
+    let (_, _, scale) = shading_values(&map, Shading::Visits);
+    assert_eq!(scale, ColourScale::Uniform("1 visit each".into()));
 }
