@@ -91,3 +91,76 @@ fn waypoints_on_another_clock_are_a_clear_error() {
         .failure()
         .stderr(predicates::str::contains("--truth"));
 }
+
+/// Pixels of `png` within 40 of colour `rgb` in every channel (thin lines are anti-aliased).
+fn pixels_of(png: &Path, rgb: [u8; 3]) -> usize {
+    let img = image::open(png).expect("a PNG").to_rgba8();
+    img.pixels()
+        .filter(|p| (0..3).all(|i| p.0[i].abs_diff(rgb[i]) <= 40))
+        .count()
+}
+
+#[test]
+fn picture_draws_the_track_over_the_waypoints() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let t0 = 1_574_000_000.0;
+    let mut track = String::from("t,x,y\n");
+    for k in 0..=20 {
+        track.push_str(&format!("{},{},{}\n", t0 + k as f64, 11.0, 5.0 + k as f64));
+    }
+    let track = write(dir.path(), "track.csv", &track);
+    let waypoints = write(
+        dir.path(),
+        "waypoints.csv",
+        &format!(
+            "t,x,y\n{t0},10,5\n{},10,15\n{},10,25\n",
+            t0 + 10.0,
+            t0 + 20.0
+        ),
+    );
+    let png = dir.path().join("eval.png");
+    footslam()
+        .args(["eval", "--track"])
+        .arg(&track)
+        .arg("--waypoints")
+        .arg(&waypoints)
+        .arg("--picture")
+        .arg(&png)
+        .assert()
+        .success();
+    // The track in red, the waypoints joined in blue (dashed), both in the key.
+    assert!(pixels_of(&png, [178, 24, 43]) > 200, "no track");
+    assert!(pixels_of(&png, [33, 102, 172]) > 20, "no waypoints");
+    // With a plan: one panel, the plan under both.
+    let plan = write(
+        dir.path(),
+        "plan.geojson",
+        r#"{"type":"FeatureCollection","origin":{"lat":0.0,"lon":0.0},"features":[{"type":"Feature",
+        "properties":{"level":0},"geometry":{"type":"Polygon","coordinates":[[[0.00008,0.0],
+        [0.00013,0.0],[0.00013,0.00027],[0.00008,0.00027],[0.00008,0.0]]]}}]}"#,
+    );
+    let png = dir.path().join("eval-plan.png");
+    footslam()
+        .args(["eval", "--track"])
+        .arg(&track)
+        .arg("--waypoints")
+        .arg(&waypoints)
+        .arg("--plan")
+        .arg(&plan)
+        .arg("--picture")
+        .arg(&png)
+        .assert()
+        .success();
+    assert!(pixels_of(&png, [178, 24, 43]) > 200, "no track on the plan");
+    // --plan without --picture says what it is for.
+    footslam()
+        .args(["eval", "--track"])
+        .arg(&track)
+        .arg("--waypoints")
+        .arg(&waypoints)
+        .arg("--plan")
+        .arg(&plan)
+        .assert()
+        .failure()
+        .stderr(predicates::str::contains("--picture"));
+}

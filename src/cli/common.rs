@@ -157,6 +157,7 @@ pub fn write_truth_png(
         plan: Some(plan),
         outline: None,
         path_label: "true path",
+        truth_label: "",
         north_up: true,
     };
     write_map_png(path, &picture, &PictureConfig::default())?;

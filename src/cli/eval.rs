@@ -1,6 +1,7 @@
 //! `footslam eval`: position error of a track against the truth.
 
 use super::common::{parse_origin, read_config, require_file};
+use super::eval_picture::EvalPicture;
 use anyhow::{Context, Result, bail};
 use footslam::eval::{
     Alignment, ErrorReport, PlanOverlap, WaypointDeadReckoning, WaypointErrors,
@@ -68,6 +69,10 @@ pub struct Args {
     /// WGS84 origin of the local frame, `LAT,LON`; overrides the `--plan`'s own `origin`.
     #[arg(long, value_parser = parse_origin, allow_hyphen_values = true)]
     origin: Option<LocalFrame>,
+    /// Also draw the track (after the alignment) over the truth or the waypoints into this
+    /// PNG, on the `--plan` when given (one panel per floor).
+    #[arg(long, value_name = "FILE")]
+    picture: Option<PathBuf>,
     /// Print JSON instead of a table.
     #[arg(long)]
     json: bool,
@@ -122,9 +127,18 @@ pub fn run(args: Args) -> Result<()> {
         (Ok(truth), Ok(track)) => track_floor_accuracy(&truth, &track),
         _ => None,
     };
-    if args.plan.is_some() && args.map.is_none() && args.learned_plan.is_none() {
-        bail!("--plan is for --map or --learned-plan: give one of them");
+    if args.plan.is_some()
+        && args.map.is_none()
+        && args.learned_plan.is_none()
+        && args.picture.is_none()
+    {
+        bail!("--plan is for --map, --learned-plan or --picture: give one of them");
     }
+    let reference = match read_track(&truth_path) {
+        Ok(t) => t.iter().map(|p| (p.x, p.y, p.level)).collect(),
+        Err(_) => truth.iter().map(|p| (p.x, p.y, 0)).collect(),
+    };
+    write_picture(&args, &track, reference, "true path", &report)?;
     let overlap = learned_plan_overlap(&args, &truth_path, &truth, &report)?;
     let walkable = map_walkable_fraction(&args, &report)?;
     let outcome = Outcome {
@@ -142,6 +156,33 @@ pub fn run(args: Args) -> Result<()> {
         print_summary(&outcome);
         Ok(())
     }
+}
+
+/// `--picture`: the track over `reference`, after the alignment of `report`.
+fn write_picture(
+    args: &Args,
+    track: &[TimedPoint],
+    reference: Vec<(f64, f64, i32)>,
+    reference_label: &str,
+    report: &ErrorReport,
+) -> Result<()> {
+    let Some(out) = &args.picture else {
+        return Ok(());
+    };
+    if let Some(plan) = &args.plan {
+        require_file(plan, "floor plan")?;
+    }
+    EvalPicture {
+        track,
+        track_file: &args.track,
+        reference,
+        reference_label,
+        report,
+        plan: args.plan.as_deref(),
+        origin: args.origin,
+    }
+    .write(out)
+    .with_context(|| format!("writing --picture {}", out.display()))
 }
 
 /// What `eval --truth` found, to print.
@@ -331,11 +372,14 @@ fn run_waypoints(args: Args) -> Result<()> {
     let Some(path) = &args.waypoints else {
         bail!("give --truth or --waypoints");
     };
-    if args.map.is_some() || args.learned_plan.is_some() || args.plan.is_some() {
+    if args.map.is_some() || args.learned_plan.is_some() {
         bail!(
-            "--map, --learned-plan and --plan need a dense --truth (the visited space); \
+            "--map and --learned-plan need a dense --truth (the visited space); \
              with --waypoints give the waypoints file as --truth instead"
         );
+    }
+    if args.plan.is_some() && args.picture.is_none() {
+        bail!("--plan with --waypoints is for --picture: give --picture FILE");
     }
     require_file(path, "waypoints file")?;
     let waypoints = read_waypoints(path)?;
@@ -343,6 +387,11 @@ fn run_waypoints(args: Args) -> Result<()> {
     let alignment = Alignment::from(args.align);
     let errors = waypoint_errors(&waypoints, &track, alignment)
         .with_context(|| format!("{} against {}", args.track.display(), path.display()))?;
+    let reference = waypoints
+        .iter()
+        .map(|w| (w.x, w.y, w.level.unwrap_or(0)))
+        .collect();
+    write_picture(&args, &track, reference, "waypoints", &errors.report)?;
     let dead_reckoning = match &args.steps {
         Some(steps) => {
             let trace = read_step_trace(steps)?;

@@ -16,6 +16,7 @@ pub(super) fn write_field_map_png(
     out: &Path,
     map: &FieldMapSnapshot,
     path: &[(f64, f64, i32)],
+    north_up: bool,
 ) -> Result<()> {
     let grid = HexGrid::new(map.radius);
     let (ox, oy) = map.offset;
@@ -70,6 +71,7 @@ pub(super) fn write_field_map_png(
         points: Vec::new(),
         cells,
         markers: Vec::new(),
+        north_up: north_up,
         colour_bar: Some(ColourBar {
             low: format!("{low:.1} uT"),
             high: format!("{high:.1} uT"),

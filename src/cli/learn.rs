@@ -231,7 +231,7 @@ fn write_outputs(
             input.walks,
             radio,
             &input.cells,
-            frame,
+            &map_frame,
         )?),
         None => None,
     };

@@ -223,6 +223,11 @@ pub(super) fn write_walk(
 ) -> Result<Summary> {
     let (config, estimate, filter) = (&run.config, &run.estimate, &run.filter);
     let (anchors, frame) = (frame, frame.frame);
+    let north_up = anchors.anchored
+        || matches!(
+            run.start_source,
+            "gps fixes" | "compass" | "given" | "config"
+        );
     let at = |name: &str| folder.path(&format!("{prefix}{name}"));
     // Built one at a time from the trace and the path (a long walk's per-step outputs are
     // the largest things a run holds).
@@ -262,7 +267,7 @@ pub(super) fn write_walk(
             .zip(&estimate.levels)
             .map(|(p, &l)| (p.x, p.y, l))
             .collect();
-        write_field_map_png(&at("fieldmap.png"), field, &path)?;
+        write_field_map_png(&at("fieldmap.png"), field, &path, north_up)?;
     }
     let walkable_plan_m2 = write_learned_plan(&at("plan.geojson"), &estimate.map, frame)?;
     let path: Vec<(f64, f64, i32)> = estimate
@@ -271,11 +276,6 @@ pub(super) fn write_walk(
         .zip(&estimate.levels)
         .map(|(p, &l)| (p.x, p.y, l))
         .collect();
-    let north_up = anchors.anchored
-        || matches!(
-            run.start_source,
-            "gps fixes" | "compass" | "given" | "config"
-        );
     let pictures = MapPictures {
         path: &path,
         path_label: "most probable path",

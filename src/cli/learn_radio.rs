@@ -1,9 +1,9 @@
 //! `learn --wifi`'s outputs: the radio map made from the walks alone
 //! ([`footslam::pipeline::LearnedRadio`]) and its summary.
 
+use super::learn_outputs::MapFrame;
 use super::radio_outputs::write_radio_map_files;
 use anyhow::Result;
-use footslam::geometry::LocalFrame;
 use footslam::io::RunFolder;
 use footslam::map::CellConfig;
 use footslam::model::wifi_distance::held_out_quantiles;
@@ -41,11 +41,12 @@ pub(super) fn write_learned_radio_map(
     walks: &[LearnWalk],
     radio: &LearnedRadio,
     cell_config: &CellConfig,
-    frame: &LocalFrame,
+    frame: &MapFrame,
 ) -> Result<RadioSummary> {
     let survey = &radio.survey;
     let map = &survey.map;
-    write_radio_map_files(folder, "", &radio.plan.plan, map, frame)?;
+    let plan = &radio.plan.plan;
+    write_radio_map_files(folder, "", plan, map, (frame.frame, frame.anchored))?;
     let (coverage, per_cell) = map.coverage();
     Ok(RadioSummary {
         granularity_m: cell_config.granularity,

@@ -11,6 +11,7 @@ macro_rules! outln {
 mod batch_table;
 mod common;
 mod eval;
+mod eval_picture;
 mod field_outputs;
 mod fingerprint;
 mod import;

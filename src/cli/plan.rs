@@ -140,6 +140,7 @@ pub fn write_plan_files(
         points: vec![],
         cells: vec![],
         markers: vec![],
+        north_up: false,
         colour_bar: None,
     };
     write_plan_png(&at("plan.png"), &[picture], &PlanPictureConfig::default())?;

@@ -25,12 +25,12 @@ pub(super) fn write_radio_map_files(
     prefix: &str,
     plan: &FloorPlan,
     map: &RadioMap,
-    frame: &LocalFrame,
+    (frame, north_up): (&LocalFrame, bool),
 ) -> Result<()> {
     let at = |name: &str| folder.path(&format!("{prefix}{name}"));
     write_radio_map_geojson(&at("radiomap.geojson"), map, frame)?;
     write_radio_map_csv(&at("radiomap.csv"), map)?;
-    write_coverage_png(&at("radiomap.png"), plan, map)?;
+    write_coverage_png(&at("radiomap.png"), plan, map, north_up)?;
     let mut names = std::collections::BTreeSet::new();
     for &bssid in &map.access_points() {
         let heat: Vec<PlanCell> = map
@@ -73,6 +73,7 @@ pub(super) fn write_radio_map_files(
             points: Vec::new(),
             cells: heat,
             markers,
+            north_up: north_up,
             colour_bar: Some(ColourBar {
                 low: format!("{HEATMAP_FLOOR} dBm"),
                 high: format!("{HEATMAP_TOP} dBm"),
@@ -109,7 +110,12 @@ pub(super) fn heatmap_name(bssid: &str) -> String {
 
 /// `radiomap.png`: the radio map's cells coloured by the scans taken in them (log scale),
 /// over `plan`: where the map knows the radio field and how well.
-fn write_coverage_png(path: &std::path::Path, plan: &FloorPlan, map: &RadioMap) -> Result<()> {
+fn write_coverage_png(
+    path: &std::path::Path,
+    plan: &FloorPlan,
+    map: &RadioMap,
+    north_up: bool,
+) -> Result<()> {
     let most = map.cells.iter().map(|c| c.radio.scans).max().unwrap_or(0);
     let cells: Vec<PlanCell> = map
         .cells
@@ -140,6 +146,7 @@ fn write_coverage_png(path: &std::path::Path, plan: &FloorPlan, map: &RadioMap) 
         points: Vec::new(),
         cells,
         markers: Vec::new(),
+        north_up: north_up,
         colour_bar: (most > 1).then(|| ColourBar {
             low: "1 scan".into(),
             high: format!("{most} scans"),

@@ -161,6 +161,7 @@ fn write_tower_png(path: &Path, sim: &TowerSimulation, truth: &[(f64, f64, i32)]
         points: Vec::new(),
         cells: Vec::new(),
         markers: Vec::new(),
+        north_up: true,
         colour_bar: None,
     };
     write_plan_png(path, &[picture], &PlanPictureConfig::default())?;

@@ -191,9 +191,15 @@ fn write_outputs(
         cells: Vec::new(),
         levels: Vec::new(),
     };
+    // The front end's frame is east-north only where its heading is absolute.
+    let picture = MapPicture {
+        path_label: "dead-reckoned steps",
+        north_up: run.heading_source != HeadingSource::Gyroscope,
+        ..MapPicture::new(&empty, &path)
+    };
     write_map_png(
         &folder.path("steps.png"),
-        &MapPicture::new(&empty, &path),
+        &picture,
         &PictureConfig::default(),
     )?;
     let total_length_m: f64 = steps.iter().map(|s| s.length).sum();

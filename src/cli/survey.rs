@@ -161,7 +161,7 @@ pub fn run(args: Args) -> Result<()> {
             .chain(args.walks.iter())
             .chain(args.config.iter()),
     );
-    write_radio_map_files(&folder, "", &plan, &surveyed.map, &frame)?;
+    write_radio_map_files(&folder, "", &plan, &surveyed.map, (&frame, true))?;
     let mut coverage = String::from("granularity_m,cells,coverage_percent,mean_scans_per_cell\n");
     for c in &surveyed.coverage {
         let (g, n, share, mean) = (c.granularity, c.cells, 100.0 * c.share, c.mean_scans);

@@ -75,6 +75,7 @@ fn write_particles_png(
             }],
             cells: Vec::new(),
             markers: Vec::new(),
+            north_up: true,
             colour_bar: None,
         })
         .collect();
@@ -124,6 +125,7 @@ fn write_track_png(
             }],
             cells: Vec::new(),
             markers: Vec::new(),
+            north_up: true,
             colour_bar: None,
         }],
         config,

@@ -145,6 +145,8 @@ pub struct MapPicture<'a> {
     pub outline: Option<&'a geo::Polygon<f64>>,
     /// What `path` is, for the key (e.g. "most probable path", "true path").
     pub path_label: &'a str,
+    /// What `truth` is, for the key (e.g. "true path", "waypoints").
+    pub truth_label: &'a str,
     /// The frame's y axis points north (GPS, an absolute heading, an outline or a plan
     /// placed it): draw a north arrow. Otherwise the frame turns with the walker's unknown
     /// first heading, and no arrow is drawn.
@@ -162,6 +164,7 @@ impl<'a> MapPicture<'a> {
             plan: None,
             outline: None,
             path_label: "estimated path",
+            truth_label: "true path",
             north_up: false,
         }
     }
@@ -173,7 +176,7 @@ impl<'a> MapPicture<'a> {
             entries.push(KeyEntry::new(Swatch::HaloLine(PATH_RED), self.path_label));
         }
         if self.truth.is_some_and(|t| !t.is_empty()) {
-            entries.push(KeyEntry::new(Swatch::Dashed(TRUTH_BLUE), "true path"));
+            entries.push(KeyEntry::new(Swatch::Dashed(TRUTH_BLUE), self.truth_label));
         }
         if !self.path.is_empty() {
             entries.push(KeyEntry::new(Swatch::Dot(START_GREEN), "start"));
@@ -219,8 +222,6 @@ struct Layout {
     /// Pixel position of (min_x, max_y).
     left: f64,
     top: f64,
-    /// Map area width, pixels.
-    map_width: f64,
     /// Top of the legend strip, pixels.
     legend_top: f64,
     width: u32,
@@ -263,7 +264,6 @@ impl Layout {
             scale,
             left: ((width - map_width) / 2.0).floor(),
             top: margin,
-            map_width,
             legend_top,
             width: width as u32,
             height: height as u32,

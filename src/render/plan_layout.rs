@@ -237,6 +237,7 @@ mod tests {
             points: Vec::new(),
             cells: Vec::new(),
             markers: Vec::new(),
+            north_up: true,
             colour_bar: None,
         }
     }

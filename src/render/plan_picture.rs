@@ -24,6 +24,10 @@ pub struct PlanPicture<'a> {
     pub markers: Vec<PlanMarker>,
     /// A colour bar in the title row, explaining the cells' colours.
     pub colour_bar: Option<ColourBar>,
+    /// The frame's y axis points north (a GeoJSON plan's frame does; a learned plan's only
+    /// where GPS, a compass, an outline or a prior map placed it): the legend draws a north
+    /// arrow when every picture of the image says so.
+    pub north_up: bool,
 }
 
 /// A filled area over the plan.

@@ -81,7 +81,14 @@ pub fn render_plan_png(pictures: &[PlanPicture], config: &PlanPictureConfig) -> 
             super::plan_marks::draw_colour_bar(&mut pixmap, bar, right, top, ts);
         }
     }
-    draw_legend(&mut pixmap, &layout, rows_bottom as f32, &key, ts);
+    let north_up = pictures.iter().all(|p| p.north_up);
+    draw_legend(
+        &mut pixmap,
+        &layout,
+        rows_bottom as f32,
+        (&key, north_up),
+        ts,
+    );
     pixmap
         .encode_png()
         .map_err(|e| Error::encode("encode the picture as PNG", e))
@@ -111,14 +118,22 @@ fn key_of(pictures: &[PlanPicture]) -> Vec<KeyEntry> {
     key
 }
 
-/// The strip below the pictures from `top`: a scale bar and a north arrow (plans are
-/// GeoJSON, RFC 7946: their frame's y axis points north), then the key.
-fn draw_legend(pixmap: &mut Pixmap, layout: &Layout, top: f32, key: &[KeyEntry], ts: u32) {
+/// The strip below the pictures from `top`: a scale bar and, where the frame is absolute
+/// (`north_up`), a north arrow; then the key.
+fn draw_legend(
+    pixmap: &mut Pixmap,
+    layout: &Layout,
+    top: f32,
+    (key, north_up): (&[KeyEntry], bool),
+    ts: u32,
+) {
     let margin = layout.margin as f32;
     let text_h = (GLYPH_HEIGHT * ts) as f32;
     let room = (layout.panel_w / 3.0).clamp(40.0, 200.0);
     super::key::draw_scale_bar(pixmap, (margin, top + text_h), room, layout.scale, ts);
-    super::key::draw_north_arrow(pixmap, layout.width as f32 - margin - 10.0, top, ts);
+    if north_up {
+        super::key::draw_north_arrow(pixmap, layout.width as f32 - margin - 10.0, top, ts);
+    }
     let key_top = top + 2.0 * text_h + 18.0;
     super::key::draw_key(pixmap, key, (margin, key_top), layout.key_w, ts);
 }
@@ -361,6 +376,7 @@ mod tests {
                 level: 1,
                 label: "strongest".into(),
             }],
+            north_up: true,
             colour_bar: Some(ColourBar {
                 low: "-96 dBm".into(),
                 high: "-30 dBm".into(),

@@ -61,8 +61,8 @@ pub fn draw_legend(
         ts,
     };
     let margin = config.margin_px as f32;
-    // Room for a third of the map, at most 150 pixels.
-    let room = 150.0f64.min(layout.map_width.max(60.0) / 3.0);
+    // Room for a third of the picture, at most 150 pixels.
+    let room = 150.0f64.min(f64::from(layout.width) / 3.0);
     key::draw_scale_bar(pixmap, (margin, strip.mid), room, layout.scale, ts);
     let arrow_x = layout.width as f32 - margin - 10.0;
     let caption = match config.shading {

@@ -1,0 +1,120 @@
+//! `eval --picture`: the scored track over its reference (the truth, or the waypoints
+//! joined in time order), after the alignment `eval` measured with, on the floor plan when
+//! `--plan` is given (one panel per floor) or on white.
+
+use anyhow::Result;
+use footslam::eval::ErrorReport;
+use footslam::io::floor_plan_geojson::read_floor_plan;
+use footslam::io::{TimedPoint, read_track};
+use footslam::map::HexMapSnapshot;
+use footslam::render::map_png::{MapPicture, PictureConfig, write_map_png};
+use footslam::render::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, write_plan_png};
+use std::path::Path;
+
+/// The track's colour (as on the learned-map pictures).
+const TRACK_RED: [u8; 3] = [178, 24, 43];
+/// The reference's colour.
+const TRUTH_BLUE: [u8; 3] = [33, 102, 172];
+
+/// What the picture shows.
+pub(super) struct EvalPicture<'a> {
+    /// The scored track rows, in the track's frame.
+    pub(super) track: &'a [TimedPoint],
+    /// The track file (for its `level` column, when it has one).
+    pub(super) track_file: &'a Path,
+    /// The reference `(x, y, level)` in time order (level 0 when unknown).
+    pub(super) reference: Vec<(f64, f64, i32)>,
+    /// What the reference is ("true path", "waypoints").
+    pub(super) reference_label: &'a str,
+    /// The errors, whose transform (rigid alignment) moves the track into the truth's frame.
+    pub(super) report: &'a ErrorReport,
+    /// The floor plan (`--plan`) and the origin that overrides its own.
+    pub(super) plan: Option<&'a Path>,
+    /// `--origin`.
+    pub(super) origin: Option<footslam::geometry::LocalFrame>,
+}
+
+impl EvalPicture<'_> {
+    /// Writes the picture to `out` (PNG).
+    pub(super) fn write(&self, out: &Path) -> Result<()> {
+        let levels = track_levels(self.track_file, self.track);
+        let aligned: Vec<(f64, f64, i32)> = self
+            .track
+            .iter()
+            .zip(levels)
+            .map(|(p, level)| {
+                let (x, y) = match &self.report.transform {
+                    Some(t) => t.apply((p.x, p.y)),
+                    None => (p.x, p.y),
+                };
+                (x, y, level)
+            })
+            .collect();
+        let title = format!(
+            "error median {:.2} m, p90 {:.2} m, {} points",
+            self.report.p50, self.report.p90, self.report.n
+        );
+        match self.plan {
+            Some(plan) => {
+                let (plan, _) = read_floor_plan(plan, self.origin)?;
+                let picture = PlanPicture {
+                    plan: &plan,
+                    title: Some(title),
+                    paths: vec![
+                        PlanPath {
+                            points: &self.reference,
+                            colour: TRUTH_BLUE,
+                            label: self.reference_label,
+                        },
+                        PlanPath {
+                            points: &aligned,
+                            colour: TRACK_RED,
+                            label: "track",
+                        },
+                    ],
+                    points: Vec::new(),
+                    cells: Vec::new(),
+                    markers: Vec::new(),
+                    north_up: true,
+                    colour_bar: None,
+                };
+                write_plan_png(out, &[picture], &PlanPictureConfig::default())?;
+            }
+            None => {
+                let empty = HexMapSnapshot {
+                    radius: 0.5,
+                    alpha: 0.8,
+                    cells: Vec::new(),
+                    levels: Vec::new(),
+                };
+                let track: Vec<(f64, f64)> = aligned.iter().map(|&(x, y, _)| (x, y)).collect();
+                let truth: Vec<(f64, f64)> =
+                    self.reference.iter().map(|&(x, y, _)| (x, y)).collect();
+                let picture = MapPicture {
+                    truth: Some(&truth),
+                    truth_label: self.reference_label,
+                    path_label: "track",
+                    // The truth's frame: east and north.
+                    north_up: true,
+                    ..MapPicture::new(&empty, &track)
+                };
+                write_map_png(out, &picture, &PictureConfig::default())?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The level of each of `rows` from the track file's `level` column (the row at the same
+/// time), 0 where it has none.
+fn track_levels(file: &Path, rows: &[TimedPoint]) -> Vec<i32> {
+    let Ok(all) = read_track(file) else {
+        return vec![0; rows.len()];
+    };
+    rows.iter()
+        .map(|p| {
+            let i = all.partition_point(|r| r.t < p.t);
+            all.get(i).filter(|r| r.t == p.t).map_or(0, |r| r.level)
+        })
+        .collect()
+}
