@@ -156,7 +156,7 @@ fn write_tower_png(path: &Path, sim: &TowerSimulation, truth: &[(f64, f64, i32)]
         paths: vec![PlanPath {
             points: truth,
             colour: [33, 102, 172],
-            label: "truth",
+            label: "true path",
         }],
         points: Vec::new(),
         cells: Vec::new(),
