@@ -48,7 +48,11 @@ fn regenerates(dataset: &str, args: &[&str], documented_in: &[&str]) {
     let mut compared = 0;
     for entry in std::fs::read_dir(&committed).expect("dataset folder") {
         let path = entry.expect("entry").path();
-        let name = path.file_name().expect("name").to_string_lossy().into_owned();
+        let name = path
+            .file_name()
+            .expect("name")
+            .to_string_lossy()
+            .into_owned();
         if name == "README.md" {
             continue;
         }

@@ -528,3 +528,45 @@ fn learn_weighs_the_magnetic_field_when_the_steps_carry_it() {
     assert_eq!(summary["magnetic_field"]["steps_weighed"], 0);
     assert!(!off.join("fieldmap.geojson").exists());
 }
+
+#[test]
+fn quiet_says_nothing_verbose_lists_the_files_and_every_run_ends_in_one_line() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("sim");
+    let run = |flag: Option<&str>| {
+        let mut cmd = footslam();
+        if let Some(f) = flag {
+            cmd.arg(f);
+        }
+        let done = cmd
+            .args(["simulate", "--laps", "1", "--out"])
+            .arg(&out)
+            .assert()
+            .success();
+        String::from_utf8(done.get_output().stdout.clone()).expect("utf-8")
+    };
+    let normal = run(None);
+    let last = normal.lines().last().expect("a closing line");
+    assert!(
+        last.starts_with(&format!("wrote {}", out.display())) && last.contains(" files) · "),
+        "{last}"
+    );
+    assert!(run(Some("--quiet")).is_empty());
+    let verbose = run(Some("-v"));
+    assert!(
+        verbose.contains("steps.csv (") && verbose.contains("truth.png ("),
+        "{verbose}"
+    );
+    // The flags go anywhere on the line, and not together.
+    footslam()
+        .args(["simulate", "--laps", "1", "-q", "--out"])
+        .arg(&out)
+        .assert()
+        .success()
+        .stdout("");
+    footslam()
+        .args(["-q", "-v", "simulate"])
+        .assert()
+        .failure()
+        .stderr(predicates::str::contains("cannot be used with"));
+}

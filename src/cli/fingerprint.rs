@@ -97,11 +97,12 @@ pub fn run(args: Args) -> Result<()> {
         },
     )?;
     let out = folder.commit()?;
-    outln!(
+    info!(
         "placed {} of {} scans by the radio map alone: {}",
         fixes.len(),
         scans.len(),
         out.join("track.csv").display()
     );
+    super::verbosity::done(&out, None);
     Ok(())
 }

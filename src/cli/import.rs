@@ -183,7 +183,7 @@ fn run_ilc(args: IlcArgs) -> Result<()> {
     });
     folder.write_json("summary.json", &summary)?;
     let out = folder.commit()?;
-    outln!(
+    info!(
         "wrote {} trace(s){} to {} in {:.1} s",
         traces.len(),
         if floor.is_some() {
@@ -324,7 +324,7 @@ fn check_written_plan(path: &Path, plan: &FloorPlan) -> Result<()> {
 
 fn print_floor(floor: &IlcFloor, report: &PlanReport) {
     let s = &floor.summary;
-    outln!(
+    info!(
         "floor.geojson: {} {:.0} m × {:.0} m (the bounding box spans {:.0} m × {:.0} m on the globe), \
          {} shops; walkable = {}: {} surface(s), {:.0} m² of {:.0} m² ({} slivers dropped)",
         s.floor_name.as_deref().unwrap_or("floor"),
@@ -348,10 +348,10 @@ fn print_shares(shares: &[(Walkable, WalkableShare)], walkable: Walkable) {
         .iter()
         .map(|&(choice, share)| format!("{} {}", walkable_name(choice), percent(share)))
         .collect();
-    outln!("  waypoints on the walkable area: {}", text.join(", "));
+    info!("  waypoints on the walkable area: {}", text.join(", "));
     let chosen = shares.iter().find(|(choice, _)| *choice == walkable);
     if let Some(&(_, share)) = chosen.filter(|(_, share)| share.suspect()) {
-        outln!(
+        info!(
             "  warning: {} of {} waypoints lie off the walkable area{}",
             share.off(),
             share.total,
@@ -367,7 +367,7 @@ fn print_shares(shares: &[(Walkable, WalkableShare)], walkable: Walkable) {
 fn print_trace(name: &str, trace: &IlcTrace, share: Option<WalkableShare>) {
     let s = &trace.summary;
     let total_wifi = s.wifi_readings + s.stale_readings_dropped + s.duplicate_bssids_dropped;
-    outln!(
+    info!(
         "{name}: {} IMU samples ({:.0} Hz, {:.1} s), {} WiFi scans ({} stale readings of {} dropped), {} waypoints{}",
         s.imu.samples,
         s.imu.rate_hz,
@@ -395,14 +395,14 @@ fn print_log_notes(
     counts: &std::collections::BTreeMap<String, usize>,
 ) {
     if let Some(line) = truncated_last_line {
-        outln!(
+        info!(
             "  warning: the last line {line} is unterminated (the log was cut off) and was \
              skipped"
         );
     }
     if !counts.is_empty() {
         let list: Vec<String> = counts.iter().map(|(k, v)| format!("{k} ×{v}")).collect();
-        outln!("  {what}: {}", list.join(", "));
+        info!("  {what}: {}", list.join(", "));
     }
 }
 
@@ -430,9 +430,9 @@ fn run_ipin(args: IpinArgs) -> Result<()> {
     let out = folder.commit()?;
     print_ipin(&args.log, &log.summary);
     if let Some(f) = frame {
-        outln!("  waypoints.csv frame origin: {:.7},{:.7}", f.lat, f.lon);
+        info!("  waypoints.csv frame origin: {:.7},{:.7}", f.lat, f.lon);
     }
-    outln!("wrote {} to {}", written.join(", "), out.display());
+    info!("wrote {} to {}", written.join(", "), out.display());
     Ok(())
 }
 
@@ -463,7 +463,7 @@ fn write_ipin_files(
 /// The logfile's counts and notes.
 fn print_ipin(path: &Path, s: &IpinLogSummary) {
     let total_wifi = s.wifi_readings + s.stale_readings_dropped + s.duplicate_bssids_dropped;
-    outln!(
+    info!(
         "{}: {} IMU samples ({:.0} Hz, {:.1} s{}), {} WiFi scans ({} stale readings of {} dropped), \
          {} GNSS fixes, {} positions",
         path.display(),

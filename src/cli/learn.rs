@@ -302,7 +302,7 @@ impl RunSummary {
             } else {
                 String::new()
             };
-            outln!(
+            info!(
                 "{walk}learned {} hexagons from {} steps{gps} with {} particles in {:.2} s ({:.2e} particle-steps/s); final ESS {:.0}",
                 s.hexagons,
                 s.steps,
@@ -313,24 +313,19 @@ impl RunSummary {
             );
             let m = &s.smoothing;
             if m.averaged_paths > 1 {
-                outln!(
+                info!(
                     "{walk}track.csv: the mean of {} final paths; they spread {:.2} m about it (median over the steps), {:.2} m at most",
-                    m.averaged_paths,
-                    m.spread_median_m,
-                    m.spread_max_m
+                    m.averaged_paths, m.spread_median_m, m.spread_max_m
                 );
             }
             if let Some(f) = &s.magnetic_field {
-                outln!("{walk}magnetic field: {}", field_line(f));
+                info!("{walk}magnetic field: {}", field_line(f));
             }
         }
-        if let Some(q) = self
+        let quality = self
             .quality
             .as_ref()
-            .or(self.single.as_ref().map(|s| &s.quality))
-        {
-            outln!("quality: {}", q.line());
-        }
-        outln!("outputs: {}", out.display());
+            .or(self.single.as_ref().map(|s| &s.quality));
+        super::verbosity::done(out, quality.map(|q| q.line()).as_deref());
     }
 }

@@ -97,12 +97,11 @@ pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) 
     folder.write_json("summary.json", &summary)?;
     let out = folder.commit()?;
     let (walks, n) = (&summary.shard_walks, all.len());
-    outln!(
+    info!(
         "shard {}/{}: learned walks {walks:?} of {n}",
-        shard.index,
-        shard.count
+        shard.index, shard.count
     );
-    outln!("outputs: {}", out.display());
+    super::verbosity::done(&out, None);
     Ok(())
 }
 

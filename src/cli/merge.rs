@@ -61,7 +61,7 @@ pub fn run(args: Args) -> Result<()> {
         .collect();
     let merged = merge(&weighted)?;
     write_walks_map_geojson(&args.out, &merged.map, &merged.frame, merged.walks)?;
-    outln!(
+    info!(
         "merged {} maps ({} walks) into {} hexagons: {}",
         maps.len(),
         merged.walks,

@@ -8,6 +8,15 @@ macro_rules! outln {
     }};
 }
 
+/// Prints a line of a run's report on stdout, unless `--quiet`.
+macro_rules! info {
+    ($($arg:tt)*) => {{
+        if !$crate::cli::verbosity::quiet() {
+            outln!($($arg)*);
+        }
+    }};
+}
+
 mod batch_table;
 mod common;
 mod eval;
@@ -33,6 +42,7 @@ mod survey;
 mod track;
 mod track_pictures;
 mod track_summary;
+mod verbosity;
 
 use clap::{Parser, Subcommand};
 
@@ -42,6 +52,12 @@ use clap::{Parser, Subcommand};
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Say nothing but errors and warnings: no progress bars, no report.
+    #[arg(short, long, global = true, conflicts_with = "verbose")]
+    quiet: bool,
+    /// Also list every file written, and show progress bars from the start.
+    #[arg(short, long, global = true)]
+    verbose: bool,
 }
 
 /// Every subcommand takes negative numbers as values (`--flag -3`, not only `--flag=-3`).
@@ -82,6 +98,7 @@ enum Command {
 /// Runs the command line and maps errors to an exit code.
 pub fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
+    verbosity::set(cli.quiet, cli.verbose);
     // Ctrl-C or SIGTERM: the run's staged outputs go with it (exit status 130, as a shell's
     // for an interrupt). Without a handler (none could be set) the next run removes them.
     let _ = ctrlc::set_handler(|| {

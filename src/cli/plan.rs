@@ -94,7 +94,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     folder.write_json("summary.json", &summary)?;
     let out = folder.commit()?;
-    outln!(
+    info!(
         "walkable plan of {:.0} m² in {} polygon(s) from {} of {} hexagons ({} holes filled, {} stray pieces dropped); occupancy grid {} × {} at {} m",
         learned.area_m2,
         learned.plan.polygons.len(),
@@ -106,7 +106,7 @@ pub fn run(args: Args) -> Result<()> {
         grid.height,
         grid.resolution
     );
-    outln!("outputs: {}", out.display());
+    super::verbosity::done(&out, None);
     Ok(())
 }
 

@@ -76,7 +76,7 @@ fn run_tower(args: Args) -> Result<()> {
     let summary = tower_summary(&config, &sim, &truth, origin);
     folder.write_json("summary.json", &summary)?;
     let out = folder.commit()?;
-    outln!(
+    info!(
         "simulated {} steps ({:.0} m, {:.0} s) through {} floors, {} changes of floor, {} WiFi scans of {} access points",
         summary.steps,
         summary.path_length_m,
@@ -86,7 +86,7 @@ fn run_tower(args: Args) -> Result<()> {
         summary.wifi_scans,
         summary.access_points
     );
-    outln!("outputs: {}", out.display());
+    super::verbosity::done(&out, None);
     Ok(())
 }
 
@@ -231,14 +231,11 @@ fn run_office(args: Args) -> Result<()> {
     folder.write_json("summary.json", &summary)?;
     let out = folder.commit()?;
     {
-        outln!(
+        info!(
             "simulated {} steps ({:.0} m, {:.0} s) through {} floor polygons",
-            summary.steps,
-            summary.path_length_m,
-            summary.duration_s,
-            summary.floor_polygons
+            summary.steps, summary.path_length_m, summary.duration_s, summary.floor_polygons
         );
-        outln!("outputs: {}", out.display());
+        super::verbosity::done(&out, None);
     }
     Ok(())
 }

@@ -59,7 +59,7 @@ pub fn run(args: Args) -> Result<()> {
     for w in &summary.walks {
         print_walk(w);
     }
-    outln!("outputs: {}", out.display());
+    super::verbosity::done(&out, None);
     Ok(())
 }
 
@@ -95,7 +95,7 @@ fn campus_config(args: &Args) -> Result<CampusSimConfig> {
 
 /// One walk's line.
 fn print_walk(w: &WalkSummary) {
-    outln!(
+    info!(
         "simulated {} steps ({:.0} m, {:.0} s) with {} GPS fixes outdoors (error mean {:.1} m, p95 {:.1} m){}",
         w.steps,
         w.path_length_m,

@@ -137,9 +137,8 @@ pub fn run(args: Args) -> Result<()> {
         Mount::Foot => "strides",
         Mount::Phone => "steps",
     };
-    outln!("{trace_len} {what}: {}", out.join("steps.csv").display());
-    outln!("quality: {}", quality.line());
-    outln!("outputs: {}", out.display());
+    info!("{trace_len} {what}: {}", out.join("steps.csv").display());
+    super::verbosity::done(&out, Some(&quality.line()));
     Ok(())
 }
 

@@ -313,7 +313,7 @@ impl Summary {
         } else {
             format!(" ({:.0}× real time)", self.speed_vs_real_time)
         };
-        outln!(
+        info!(
             "surveyed {} walk(s) into {} cells: {:.1} % covered, {:.1} scans per covered cell, {} access points{speed}",
             self.walks.len(),
             self.cells,
@@ -321,8 +321,7 @@ impl Summary {
             self.mean_scans_per_covered_cell,
             self.access_points,
         );
-        outln!("quality: {}", self.quality.line());
-        outln!("outputs: {}", out.display());
+        super::verbosity::done(out, Some(&self.quality.line()));
     }
 }
 

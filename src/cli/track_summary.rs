@@ -127,23 +127,17 @@ impl Summary<'_> {
     /// Prints the run's outcome on stdout, `out` being the run's folder.
     pub(super) fn print(&self, out: &Path) {
         match self.steps_to_localise {
-            Some(k) => outln!(
+            Some(k) => info!(
                 "localised after {k} of {} steps ({} particles at the start, {} at the end, {} deaths)",
-                self.steps,
-                self.particles_initial,
-                self.particles_final,
-                self.deaths
+                self.steps, self.particles_initial, self.particles_final, self.deaths
             ),
-            None => outln!(
+            None => info!(
                 "not localised in {} steps ({} particles at the start, {} at the end, {} deaths)",
-                self.steps,
-                self.particles_initial,
-                self.particles_final,
-                self.deaths
+                self.steps, self.particles_initial, self.particles_final, self.deaths
             ),
         }
         if let Some(rf) = &self.rf {
-            outln!(
+            info!(
                 "radio map: {} measurements, {} distance, epsilon {:.2} dBm ({}), started at step {}, {} scan(s) ignored",
                 rf.mode.name(),
                 rf.distance.name(),
@@ -157,7 +151,7 @@ impl Summary<'_> {
             && smoothing.steps_estimated < self.steps
         {
             let started = self.rf.as_ref().and_then(|rf| rf.started_at_step);
-            outln!(
+            info!(
                 "track.csv: {} of {} steps have an estimate{}",
                 smoothing.steps_estimated,
                 self.steps,
@@ -167,12 +161,10 @@ impl Summary<'_> {
                 ))
             );
         }
-        outln!(
+        info!(
             "filter: {:.2} s, {:.2e} particle-steps/s",
-            self.filter_runtime_s,
-            self.particle_steps_per_s
+            self.filter_runtime_s, self.particle_steps_per_s
         );
-        outln!("quality: {}", self.quality.line());
-        outln!("outputs: {}", out.display());
+        super::verbosity::done(out, Some(&self.quality.line()));
     }
 }

@@ -2,7 +2,7 @@
 //! given start, GPS fixes or step headings; registered onto a prior map first when it has
 //! GPS), and a batch's FeetSLAM passes, each walk learned again on the others' merged maps.
 
-use super::Progress;
+use super::{ItemProgress, Progress};
 use crate::Result;
 use crate::filter::StartPose;
 use crate::filter::departure::{Departure, Trust};
@@ -187,7 +187,8 @@ pub(super) fn learn_batch(
 ) -> Result<(Vec<WalkRun>, u32)> {
     let batch = walks.len() > 1;
     let iterations = feetslam_passes(walks, shared.config);
-    let bar = batch && iterations > 0;
+    // A batch: the walks (of every pass) in total, and each walk's steps beside it.
+    let bar = batch;
     if bar {
         let passes = u64::from(iterations) + 1;
         progress.start("learning walks", passes * walks.len() as u64);
@@ -198,9 +199,14 @@ pub(super) fn learn_batch(
             .enumerate()
             .map(|(i, walk)| {
                 let prior = priors.map_or(shared.prior, |p| &p[i]);
-                let steps = (!batch).then_some(progress);
+                let item = ItemProgress {
+                    inner: progress,
+                    item: i,
+                    label: format!("walk {}", i + 1),
+                };
+                let steps: &dyn Progress = if batch { &item } else { progress };
                 let refs = references.get(i).cloned().flatten();
-                let run = learn_walk_at(walk, i, shared, prior, steps, refs);
+                let run = learn_walk_at(walk, i, shared, prior, Some(steps), refs);
                 if bar {
                     progress.advance(1);
                 }

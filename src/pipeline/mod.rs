@@ -39,7 +39,7 @@ pub use learn::{
 pub use learn_reports::{AxesReport, FieldReport, SmoothingReport};
 pub use merge::merge;
 pub use plan::{PlanRunConfig, Planned, plan};
-pub use progress::{Progress, Silent};
+pub use progress::{ItemProgress, Progress, Silent};
 pub use quality::{
     Quality, QualityConfig, Reason, TrackEvidence, Verdict, learn_quality, steps_quality,
     track_quality,

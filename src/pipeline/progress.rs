@@ -22,6 +22,49 @@ pub trait Progress: Sync {
     fn warn(&self, message: &str) {
         let _ = message;
     }
+
+    /// Item `item` of the current stage (a walk of a batch; items may run in parallel)
+    /// begins: `total` units of its own work (steps), described by `label`.
+    fn item_start(&self, item: usize, label: &str, total: u64) {
+        let _ = (item, label, total);
+    }
+
+    /// `units` more of item `item` are done.
+    fn item_advance(&self, item: usize, units: u64) {
+        let _ = (item, units);
+    }
+
+    /// Item `item` is over.
+    fn item_finish(&self, item: usize) {
+        let _ = item;
+    }
+}
+
+/// One item of a stage seen as a stage of its own: what a walk's filter reports
+/// ([`Progress::start`], [`Progress::advance`]) becomes its item's progress, beside the
+/// batch's total.
+pub struct ItemProgress<'a> {
+    /// Where the item's progress goes.
+    pub inner: &'a dyn Progress,
+    /// The item's index.
+    pub item: usize,
+    /// Its label (e.g. `walk 3`).
+    pub label: String,
+}
+
+impl Progress for ItemProgress<'_> {
+    fn start(&self, _stage: &str, total: u64) {
+        self.inner.item_start(self.item, &self.label, total);
+    }
+    fn advance(&self, units: u64) {
+        self.inner.item_advance(self.item, units);
+    }
+    fn finish(&self) {
+        self.inner.item_finish(self.item);
+    }
+    fn warn(&self, message: &str) {
+        self.inner.warn(message);
+    }
 }
 
 /// Progress that goes nowhere: for callers that do not watch.
@@ -46,6 +89,36 @@ mod tests {
         fn advance(&self, units: u64) {
             self.0.lock().expect("log").push(format!("+{units}"));
         }
+    }
+
+    #[test]
+    fn an_item_reports_as_its_own_stage() {
+        #[derive(Default)]
+        struct Items(Mutex<Vec<String>>);
+        impl Progress for Items {
+            fn item_start(&self, item: usize, label: &str, total: u64) {
+                self.0
+                    .lock()
+                    .expect("log")
+                    .push(format!("{item}:{label}/{total}"));
+            }
+            fn item_advance(&self, item: usize, units: u64) {
+                self.0.lock().expect("log").push(format!("{item}+{units}"));
+            }
+            fn item_finish(&self, item: usize) {
+                self.0.lock().expect("log").push(format!("{item}."));
+            }
+        }
+        let items = Items::default();
+        let walk = ItemProgress {
+            inner: &items,
+            item: 2,
+            label: "walk 3".into(),
+        };
+        walk.start("learning", 10);
+        walk.advance(4);
+        walk.finish();
+        assert_eq!(*items.0.lock().expect("log"), ["2:walk 3/10", "2+4", "2."]);
     }
 
     #[test]

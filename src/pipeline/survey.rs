@@ -163,9 +163,19 @@ pub fn survey(
         };
         let mut tracker = Tracker::new(input.topology, &tracker_config)?;
         let mut reports = Vec::with_capacity(walk.trace.len());
+        let several = input.walks.len() > 1;
+        if several {
+            progress.item_start(k, &format!("walk {}", k + 1), walk.trace.len() as u64);
+        }
         for step in walk.trace.steps() {
             reports.push(tracker.update(step)?);
             progress.advance(1);
+            if several {
+                progress.item_advance(k, 1);
+            }
+        }
+        if several {
+            progress.item_finish(k);
         }
         let mut placed = placed_steps(&tracker, reports.clone());
         let quality = walk_quality(&reports, &placed, &tracker);
