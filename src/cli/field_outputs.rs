@@ -71,7 +71,7 @@ pub(super) fn write_field_map_png(
         points: Vec::new(),
         cells,
         markers: Vec::new(),
-        north_up: north_up,
+        north_up,
         colour_bar: Some(ColourBar {
             low: format!("{low:.1} uT"),
             high: format!("{high:.1} uT"),

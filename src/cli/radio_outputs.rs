@@ -73,7 +73,7 @@ pub(super) fn write_radio_map_files(
             points: Vec::new(),
             cells: heat,
             markers,
-            north_up: north_up,
+            north_up,
             colour_bar: Some(ColourBar {
                 low: format!("{HEATMAP_FLOOR} dBm"),
                 high: format!("{HEATMAP_TOP} dBm"),
@@ -146,7 +146,7 @@ fn write_coverage_png(
         points: Vec::new(),
         cells,
         markers: Vec::new(),
-        north_up: north_up,
+        north_up,
         colour_bar: (most > 1).then(|| ColourBar {
             low: "1 scan".into(),
             high: format!("{most} scans"),
