@@ -436,10 +436,10 @@ fn files_out_of_range_or_ambiguous_fail_clearly() {
             says: &["is the input map", "another file"],
         },
         Case {
-            name: "merge into a folder",
-            args: vec![s("merge"), map.clone(), s("--out"), p("folder")],
+            name: "merge into a folder of other files (the inputs')",
+            args: vec![s("merge"), map.clone(), s("--out"), p("")],
             fails: true,
-            says: &["is a folder", "merged.geojson"],
+            says: &["other files in it", "new or empty folder"],
         },
         Case {
             name: "an --out that is a file",

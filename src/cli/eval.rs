@@ -27,54 +27,54 @@ use std::path::{Path, PathBuf};
 ))]
 pub struct Args {
     /// Ground truth CSV with `t,x,y` columns (e.g. the simulator's truth.csv).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     truth: Option<PathBuf>,
     /// Sparse ground truth `t,x,y[,level]` (e.g. an importer's waypoints.csv): the error at
     /// each waypoint, the track interpolated at its time. With `--steps`, dead reckoning
     /// starts at the first waypoint (with the steps' absolute heading when they carry one,
     /// else rigidly aligned).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     waypoints: Option<PathBuf>,
     /// Estimated track CSV with `t,x,y` columns (e.g. learn's or track's track.csv); with
     /// `z` and `level` columns in both files, the share on the right floor is reported too.
     /// Rows a `certain` column marks 0 (track's smoothed steps whose place the walk leaves
     /// ambiguous) are left out and counted, unless `--all-rows`.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     track: PathBuf,
     /// Score every row of the track, uncertain ones (`certain = 0`) too: the answer a user
     /// gets at every step, however sure.
-    #[arg(long)]
+    #[arg(long, help_heading = "Filter")]
     all_rows: bool,
     /// Alignment before measuring: `none` (absolute) or `rigid` (best rotation and
     /// translation, for maps learned without absolute anchors).
-    #[arg(long, value_enum, default_value = "none")]
+    #[arg(long, value_enum, default_value = "none", help_heading = "Filter")]
     align: AlignArg,
     /// Step trace of the walk: also report dead reckoning's error, for comparison.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     steps: Option<PathBuf>,
     /// Learned map (map.geojson): with `--plan`, also report the visit-weighted fraction of
     /// its hexagons in walkable space (after the track's alignment).
-    #[arg(long, requires = "plan")]
+    #[arg(long, requires = "plan", value_name = "FILE", help_heading = "Inputs")]
     map: Option<PathBuf>,
     /// Learned walkable plan (learn's plan.geojson or merged_plan.geojson, or plan's): with
     /// `--plan`, also report its precision and its recall of the space the walk visited
     /// (the true walkable area within 0.75 m of the truth), by area, after the track's
     /// alignment.
-    #[arg(long, requires = "plan")]
+    #[arg(long, requires = "plan", value_name = "FILE", help_heading = "Inputs")]
     learned_plan: Option<PathBuf>,
     /// Floor plan GeoJSON of the building, in the truth's frame (e.g. simulate's
     /// floor.geojson), for `--map` or `--learned-plan`.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     plan: Option<PathBuf>,
     /// WGS84 origin of the local frame, `LAT,LON`; overrides the `--plan`'s own `origin`.
-    #[arg(long, value_parser = parse_origin, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_origin, allow_hyphen_values = true, value_name = "LAT,LON", help_heading = "Inputs")]
     origin: Option<LocalFrame>,
     /// Also draw the track (after the alignment) over the truth or the waypoints into this
     /// PNG, on the `--plan` when given (one panel per floor).
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", help_heading = "Outputs")]
     picture: Option<PathBuf>,
     /// Print JSON instead of a table.
-    #[arg(long)]
+    #[arg(long, help_heading = "Outputs")]
     json: bool,
 }
 

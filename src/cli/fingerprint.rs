@@ -15,19 +15,19 @@ use std::path::PathBuf;
 pub struct Args {
     /// Radio map (`radiomap.geojson` as `footslam survey` writes it, or another tool's with
     /// the same properties).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     radiomap: PathBuf,
     /// WiFi log CSV (`t,bssid,rssi[,ssid,freq]`).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     wifi: PathBuf,
     /// Nearest cells averaged (overrides the config file).
-    #[arg(long)]
+    #[arg(long, value_name = "K", help_heading = "Filter")]
     k: Option<usize>,
     /// Configuration (TOML, or JSON such as a previous run's config.json).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     config: Option<PathBuf>,
     /// Output folder (default: a new folder under `outputs/`).
-    #[arg(long)]
+    #[arg(short = 'o', long, value_name = "DIR", help_heading = "Outputs")]
     out: Option<PathBuf>,
 }
 

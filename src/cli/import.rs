@@ -55,40 +55,40 @@ struct IlcArgs {
     /// Trace files (*.txt) or folders of them; repeat or list several. One trace file
     /// writes into --out itself; several (or a folder) write one sub-folder per trace,
     /// named after the file stem.
-    #[arg(long, num_args = 1..)]
+    #[arg(long, num_args = 1.., value_name = "FILE", help_heading = "Inputs")]
     trace: Vec<PathBuf>,
     /// Floor folder holding geojson_map.json and floor_info.json: writes floor.geojson.
-    #[arg(long)]
+    #[arg(long, value_name = "DIR", help_heading = "Inputs")]
     floor: Option<PathBuf>,
     /// The plan's walkable area. `corridors` (default): in the sample site's F1 all 237
     /// waypoints of 36 traces lie in the corridors (none in a shop), and the corridors are a
     /// third of the floor, a far stronger constraint for the tracker. The import reports
     /// the share for both choices; use `outline` where walkers enter shops.
-    #[arg(long, value_enum, default_value_t = WalkableArg::Corridors)]
+    #[arg(long, value_enum, default_value_t = WalkableArg::Corridors, help_heading = "Inputs")]
     walkable: WalkableArg,
     /// WiFi readings last seen longer than this before their scan are stale and dropped,
     /// seconds.
-    #[arg(long, default_value_t = IlcImportConfig::default().max_wifi_age_s)]
+    #[arg(long, default_value_t = IlcImportConfig::default().max_wifi_age_s, value_name = "SECONDS", help_heading = "Inputs")]
     max_wifi_age: f64,
     /// Output folder (written completely or not at all).
-    #[arg(long)]
+    #[arg(short = 'o', long, value_name = "DIR", help_heading = "Outputs")]
     out: PathBuf,
 }
 
 #[derive(Debug, clap::Args)]
 struct IpinArgs {
     /// The logfile.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     log: PathBuf,
     /// Origin LAT,LON of the local frame of waypoints.csv (default: the first POSI point).
-    #[arg(long, value_parser = parse_origin)]
+    #[arg(long, value_parser = parse_origin, value_name = "LAT,LON", help_heading = "Inputs")]
     origin: Option<LocalFrame>,
     /// WiFi readings last seen longer than this before the newest of their scan are stale
     /// and dropped, seconds.
-    #[arg(long, default_value_t = IpinImportConfig::default().max_wifi_age_s)]
+    #[arg(long, default_value_t = IpinImportConfig::default().max_wifi_age_s, value_name = "SECONDS", help_heading = "Inputs")]
     max_wifi_age: f64,
     /// Output folder (written completely or not at all).
-    #[arg(long)]
+    #[arg(short = 'o', long, value_name = "DIR", help_heading = "Outputs")]
     out: PathBuf,
 }
 

@@ -1,7 +1,9 @@
 //! `footslam merge`: combine maps learned on several walks of one building.
 
-use super::common::{require_file, warn};
+use super::common::{output_dir, require_file, warn};
+use super::learn_outputs::{MapPictures, write_learned_plan};
 use anyhow::{Result, bail};
+use footslam::io::RunFolder;
 use footslam::io::map_geojson::{StoredMap, read_stored_map, write_walks_map_geojson};
 use footslam::pipeline::{SAME_ORIGIN_M, merge};
 use std::path::PathBuf;
@@ -15,11 +17,31 @@ pub struct Args {
     maps: Vec<PathBuf>,
     /// Relative weight of each map's counts, comma-separated, one per map (default all 1):
     /// the largest counts each crossing once, the others in proportion; 0 leaves a map out.
-    #[arg(long, value_delimiter = ',')]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "W1,W2,...",
+        help_heading = "Filter"
+    )]
     weights: Vec<f64>,
-    /// The merged map (GeoJSON, the format of map.geojson).
-    #[arg(long)]
-    out: PathBuf,
+    /// Output folder (default: a new folder under `outputs/`): `merged.geojson` (the format
+    /// of map.geojson), its walkable plan `merged_plan.geojson`, the picture `merged.png`,
+    /// `config.json` and `summary.json`. A path ending in `.geojson` writes that one file
+    /// instead (the older form; deprecated).
+    #[arg(short = 'o', long, value_name = "DIR", help_heading = "Outputs")]
+    out: Option<PathBuf>,
+}
+
+/// `summary.json` of a merge.
+#[derive(Debug, serde::Serialize)]
+struct Summary<'a> {
+    maps: Vec<String>,
+    weights: &'a [f64],
+    walks: u32,
+    hexagons: usize,
+    /// Walkable area of `merged_plan.geojson`, m² (`None`: too little to make a plan of).
+    walkable_plan_m2: Option<f64>,
+    version: &'static str,
 }
 
 /// An error when `out` is one of the input maps (the same file, by any path): the merge
@@ -44,14 +66,19 @@ fn refuse_overwriting_an_input(out: &std::path::Path, maps: &[PathBuf]) -> Resul
 /// Runs `footslam merge`.
 pub fn run(args: Args) -> Result<()> {
     check_weights(&args.weights, args.maps.len())?;
-    if args.out.is_dir() {
-        bail!(
-            "--out {} is a folder: merge writes one map file, e.g. --out {}",
-            args.out.display(),
-            args.out.join("merged.geojson").display()
-        );
+    let one_file = args.out.as_ref().filter(|o| {
+        o.extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("geojson"))
+            || o.is_file()
+    });
+    if let Some(out) = one_file {
+        refuse_overwriting_an_input(out, &args.maps)?;
+        warn(&format!(
+            "--out {}: merge now writes a folder like every command (merged.geojson, \
+             merged_plan.geojson, merged.png); writing the one file, as before, for this release",
+            out.display()
+        ));
     }
-    refuse_overwriting_an_input(&args.out, &args.maps)?;
     warn_repeated(&args.maps);
     let maps = read_maps(&args.maps)?;
     let weighted: Vec<_> = maps
@@ -60,14 +87,47 @@ pub fn run(args: Args) -> Result<()> {
         .map(|(i, m)| (m, args.weights.get(i).copied().unwrap_or(1.0)))
         .collect();
     let merged = merge(&weighted)?;
-    write_walks_map_geojson(&args.out, &merged.map, &merged.frame, merged.walks)?;
     info!(
-        "merged {} maps ({} walks) into {} hexagons: {}",
+        "merged {} maps ({} walks) into {} hexagons",
         maps.len(),
         merged.walks,
         merged.map.cells.len(),
-        args.out.display()
     );
+    if let Some(out) = one_file {
+        write_walks_map_geojson(out, &merged.map, &merged.frame, merged.walks)?;
+        info!("wrote {}", out.display());
+        return Ok(());
+    }
+    let mut folder = RunFolder::create(&output_dir(args.out.clone(), "merge"))?;
+    folder.protect(args.maps.iter());
+    let (map, frame) = (&merged.map, &merged.frame);
+    write_walks_map_geojson(&folder.path("merged.geojson"), map, frame, merged.walks)?;
+    let walkable_plan_m2 = write_learned_plan(&folder.path("merged_plan.geojson"), map, frame)?;
+    let pictures = MapPictures {
+        path: &[],
+        path_label: "",
+        // Maps are merged only in one frame; whether it points north is not recorded.
+        north_up: false,
+        outline: None,
+    };
+    pictures.write(&|name| folder.path(name), "merged", map)?;
+    folder.write_json(
+        "config.json",
+        &serde_json::json!({ "maps": &args.maps, "weights": &args.weights }),
+    )?;
+    folder.write_json(
+        "summary.json",
+        &Summary {
+            maps: args.maps.iter().map(|p| p.display().to_string()).collect(),
+            weights: &args.weights,
+            walks: merged.walks,
+            hexagons: map.cells.len(),
+            walkable_plan_m2,
+            version: env!("CARGO_PKG_VERSION"),
+        },
+    )?;
+    let out = folder.commit()?;
+    super::verbosity::done(&out, None);
     Ok(())
 }
 

@@ -17,20 +17,20 @@ use std::path::PathBuf;
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Learned map (map.geojson or merged.geojson of `learn`, or `merge`'s output).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     map: PathBuf,
     /// Passes through a hexagon that make it walkable (overrides the config file; default
     /// 1; raise it for maps of many walks, where a stray step should not open a wall).
-    #[arg(long)]
+    #[arg(long, value_name = "N", help_heading = "Filter")]
     min_visits: Option<u32>,
     /// Side of an occupancy-grid square, metres (overrides the config file; default 0.05).
-    #[arg(long)]
+    #[arg(long, value_name = "METRES", help_heading = "Filter")]
     resolution: Option<f64>,
     /// Configuration (TOML or JSON with `plan` and `grid` tables; see config.json of a run).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     config: Option<PathBuf>,
     /// Output folder (default: a new folder under `outputs/`).
-    #[arg(long)]
+    #[arg(short = 'o', long, value_name = "DIR", help_heading = "Outputs")]
     out: Option<PathBuf>,
 }
 

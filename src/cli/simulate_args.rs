@@ -34,55 +34,65 @@ pub(super) enum Tour {
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The building.
-    #[arg(long, value_enum, default_value = "office")]
+    #[arg(
+        long,
+        value_enum,
+        default_value = "office",
+        help_heading = "Simulation"
+    )]
     pub(super) building: Building,
     /// Tower: number of floors (overrides the config file).
-    #[arg(long)]
+    #[arg(long, value_name = "N", help_heading = "Simulation")]
     pub(super) floors: Option<usize>,
     /// Tower: every floor with the same layout (overrides the config file).
-    #[arg(long)]
+    #[arg(long, help_heading = "Simulation")]
     pub(super) identical_floors: bool,
     /// Tower: length of the walk in minutes (overrides the config file).
-    #[arg(long)]
+    #[arg(long, value_name = "MINUTES", help_heading = "Simulation")]
     pub(super) minutes: Option<f64>,
     /// Tower: the kind of tour (overrides the config file; default random).
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, help_heading = "Simulation")]
     pub(super) tour: Option<Tour>,
     /// Random seed (overrides the config file).
-    #[arg(long)]
+    #[arg(long, value_name = "N", help_heading = "Filter")]
     pub(super) seed: Option<u64>,
     /// Office, campus: laps of the corridor loop (overrides the config file).
-    #[arg(long)]
+    #[arg(long, value_name = "N", help_heading = "Simulation")]
     pub(super) laps: Option<usize>,
     /// Campus: number of walks of the building, written to walk-1/ … walk-N/ when more
     /// than one (overrides the config file).
-    #[arg(long)]
+    #[arg(
+        long = "walk-count",
+        alias = "walks",
+        value_name = "N",
+        help_heading = "Simulation"
+    )]
     pub(super) walks: Option<usize>,
     /// Campus: the walks end indoors after the tour, so GPS sees only the way in
     /// (overrides the config file's `walk_out`).
-    #[arg(long)]
+    #[arg(long, help_heading = "Simulation")]
     pub(super) entrance_only: bool,
     /// Office, tower: the steps carry a magnetometer's reading of the building's field
     /// (`field`, `field_up`; overrides the config file's `field.enabled`).
-    #[arg(long)]
+    #[arg(long, help_heading = "Simulation")]
     pub(super) magnetometer: bool,
     /// Campus: the steps carry a compass's absolute `heading` (overrides the config file's
     /// `compass.enabled`).
-    #[arg(long)]
+    #[arg(long, help_heading = "Simulation")]
     pub(super) compass: bool,
     /// Step-sensor errors: `foot` (a foot-mounted IMU, the default) or `phone` (a hand-held
     /// phone's PDR; on the campus also its compass), both measured on real recordings
     /// (docs/error-models.md). Overrides the config file's `noise` (and `compass`).
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, help_heading = "Simulation")]
     pub(super) sensor: Option<Sensor>,
     /// Simulation configuration (TOML, or JSON such as a previous run's config.json).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     pub(super) config: Option<PathBuf>,
     /// WGS84 origin of the local frame for the floor plan GeoJSON, `LAT,LON` (default 0,0).
-    #[arg(long, value_parser = parse_origin, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_origin, allow_hyphen_values = true, value_name = "LAT,LON", help_heading = "Inputs")]
     pub(super) origin: Option<LocalFrame>,
     /// Output folder (default: a new folder under `outputs/`).
-    #[arg(long)]
+    #[arg(short = 'o', long, value_name = "DIR", help_heading = "Outputs")]
     pub(super) out: Option<PathBuf>,
 }
 

@@ -21,28 +21,40 @@ pub struct Args {
     /// IMU recording CSV: `t,ax,ay,az,gx,gy,gz` (s, m/s² with gravity, rad/s, sensor frame),
     /// optionally `mx,my,mz` (µT), `qx,qy,qz,qw` (orientation sensor → ENU) and `pressure`
     /// (hPa); extra columns are ignored.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     imu: PathBuf,
     /// Where the IMU was worn: `foot` (zero-velocity-aided INS, one event per stride) or
     /// `phone` (held in the hand: step-and-heading system, one event per step).
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, help_heading = "Inputs")]
     mount: MountArg,
     /// Unit of the acceleration columns: `m/s2` (the format's) or `g`.
-    #[arg(long, value_enum, default_value = "m/s2")]
+    #[arg(
+        long,
+        value_enum,
+        default_value = "m/s2",
+        value_name = "UNIT",
+        help_heading = "Inputs"
+    )]
     accel_unit: AccelUnit,
     /// Unit of the angular-rate columns: `rad/s` (the format's) or `deg/s`.
-    #[arg(long, value_enum, default_value = "rad/s")]
+    #[arg(
+        long,
+        value_enum,
+        default_value = "rad/s",
+        value_name = "UNIT",
+        help_heading = "Inputs"
+    )]
     gyro_unit: GyroUnit,
     /// Gyroscope axes to negate (any of `x`, `y`, `z`, e.g. `y` or `xyz`): for recordings
     /// whose gyroscope is mirrored against the accelerometer (a left-handed frame, or an
     /// inverted axis). Such recordings are detected and refused with the axes to give here.
-    #[arg(long, value_parser = footslam::inertial::frame_check::parse_axes)]
+    #[arg(long, value_parser = footslam::inertial::frame_check::parse_axes, value_name = "AXES", help_heading = "Inputs")]
     gyro_flip: Option<[bool; 3]>,
     /// Detector configuration (TOML, or JSON such as a previous run's config.json).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     config: Option<PathBuf>,
     /// Output folder (default: a new folder under `outputs/`).
-    #[arg(long)]
+    #[arg(short = 'o', long, value_name = "DIR", help_heading = "Outputs")]
     out: Option<PathBuf>,
 }
 

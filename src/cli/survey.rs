@@ -26,51 +26,62 @@ use std::time::Instant;
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Floor plan GeoJSON.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     plan: PathBuf,
     /// Step trace CSV of a walk; repeat with `--wifi` for several walks (paired in order).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     steps: Vec<PathBuf>,
     /// WiFi log CSV (`t,bssid,rssi[,ssid,freq]`) of the walk given by the `--steps` at the
     /// same position.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     wifi: Vec<PathBuf>,
     /// Manifest of walks: a CSV with columns `steps,wifi` (paths relative to the manifest)
     /// and optionally `start` — the walk's known start `X,Y[,HEADING[,LEVEL]]` as `--start`
     /// takes it, quoted since it holds commas (e.g. `"12.5,3,,1"`); empty = the start of
     /// `--start` or the config, else unknown — one walk a row; added to any
     /// `--steps`/`--wifi` pairs.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     walks: Option<PathBuf>,
     /// Every walk stays on its start floor: allows step traces without a `dz` column on a
     /// plan of several levels (otherwise an error).
-    #[arg(long)]
+    #[arg(long, help_heading = "Inputs")]
     one_floor: bool,
     /// A radio map surveyed before on this plan at this granularity (`radiomap.geojson`),
     /// merged into the new one; repeat to merge several (with no walk: just merge them).
-    #[arg(long)]
+    #[arg(
+        long = "radiomap",
+        alias = "merge",
+        value_name = "FILE",
+        help_heading = "Inputs"
+    )]
     merge: Vec<PathBuf>,
     /// Cell granularity, metres (default 3).
-    #[arg(long)]
+    #[arg(long, value_name = "METRES", help_heading = "Filter")]
     cell: Option<f64>,
-    /// Known start `X,Y[,HEADING[,LEVEL]]` of every walk (`X,Y,,LEVEL`: a level without a
-    /// heading), unless the manifest gives the walk its own (default: unknown).
-    #[arg(long, value_parser = super::track::parse_start, allow_hyphen_values = true)]
-    start: Option<StartPose>,
+    /// Known start `X,Y[,HEADING[,LEVEL]]` of the walk of the `--steps` at the same position
+    /// (`X,Y,,LEVEL`: a level without a heading), as in `learn`; a manifest's walks take
+    /// theirs from its `start` column (default: unknown).
+    #[arg(long, value_parser = super::track::parse_start, allow_hyphen_values = true, value_name = "X,Y[,HEADING[,LEVEL]]", help_heading = "Inputs")]
+    start: Vec<StartPose>,
     /// WGS84 origin `LAT,LON`; overrides the plan's `origin`.
-    #[arg(long, value_parser = parse_origin, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_origin, allow_hyphen_values = true, value_name = "LAT,LON", help_heading = "Inputs")]
     origin: Option<footslam::geometry::LocalFrame>,
+    /// Most particles: KLD-sampling's cap (overrides `kld.max_particles` of the config file,
+    /// and `kld.max_step_particles` where lower; default 8,000,000 at the prior, 1,000,000
+    /// after a step).
+    #[arg(long, value_name = "N", help_heading = "Filter")]
+    particles: Option<usize>,
     /// Random seed (overrides the config file).
-    #[arg(long)]
+    #[arg(long, value_name = "N", help_heading = "Filter")]
     seed: Option<u64>,
     /// Survey configuration (TOML or JSON with `tracker` and `cells`).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     config: Option<PathBuf>,
     /// Output folder (default: a new folder under `outputs/`).
-    #[arg(long)]
+    #[arg(short = 'o', long, value_name = "DIR", help_heading = "Outputs")]
     out: Option<PathBuf>,
     /// Worker threads (default: all cores; at most 4 per core). Results do not depend on it.
-    #[arg(long)]
+    #[arg(long, value_name = "N", help_heading = "Filter")]
     threads: Option<usize>,
 }
 
@@ -200,8 +211,8 @@ fn survey_config(args: &Args) -> Result<SurveyConfig> {
     if let Some(s) = args.seed {
         config.tracker.seed = s;
     }
-    if args.start.is_some() {
-        config.tracker.start = args.start;
+    if let Some(n) = args.particles {
+        config.tracker.kld.cap_particles(n);
     }
     if let Some(g) = args.cell {
         config.cells.granularity = g;
@@ -221,13 +232,23 @@ fn read_walks(args: &Args, plan: &FloorPlan) -> Result<(Vec<WalkFiles>, Vec<Surv
         .iter()
         .cloned()
         .zip(args.wifi.iter().cloned())
-        .map(|(steps, wifi)| WalkFiles {
+        .enumerate()
+        .map(|(i, (steps, wifi))| WalkFiles {
             steps,
             wifi,
-            start: None,
+            start: args.start.get(i).copied(),
             duplicate_readings: 0,
         })
         .collect();
+    if !args.start.is_empty() && args.start.len() != args.steps.len() {
+        bail!(
+            "{} --start poses for {} --steps files: give one --start per --steps (paired in \
+             order), a `start` column in the --walks manifest, or `tracker.start` in --config \
+             for every walk",
+            args.start.len(),
+            args.steps.len()
+        );
+    }
     if let Some(manifest) = &args.walks {
         files.extend(read_manifest(manifest)?);
     }

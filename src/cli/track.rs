@@ -35,98 +35,129 @@ const DEFAULT_STEPS: &str = "datasets/tower/steps.csv";
 pub struct Args {
     /// Floor plan GeoJSON (walkable polygons with `level` and `z`). Default: the bundled
     /// three-floor building.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     plan: Option<PathBuf>,
     /// Grow the plan by this many metres before tracking (default 0). For a plan learned
     /// from walks (`learn`'s `plan.geojson`), whose edges are where the walks stopped rather
     /// than walls: 0.25 gives a new walker room past them. Only for plans with one height
     /// per level.
-    #[arg(long)]
+    #[arg(long, value_name = "METRES", help_heading = "Filter")]
     plan_margin: Option<f64>,
     /// The walk stays on its start floor: allows a step trace without a `dz` column on a
     /// plan of several levels (without this flag that is an error, since `dz = 0` would
     /// pin the walk to one floor silently).
-    #[arg(long)]
+    #[arg(long, help_heading = "Inputs")]
     one_floor: bool,
     /// A map learned by `learn` in the plan's frame (its `map.geojson` or `merged.geojson`
     /// beside the `plan.geojson` it made): its transition probabilities become a motion
     /// prior — a particle moving along a well-trodden hexagon edge is likelier than one
     /// crossing an edge nobody crossed (FeetSLAM's reuse of a FootSLAM map).
-    #[arg(long)]
+    #[arg(
+        long = "map",
+        alias = "hexmap",
+        value_name = "FILE",
+        help_heading = "Inputs"
+    )]
     hexmap: Option<PathBuf>,
     /// Exponent of the learned map's transition factors (default 1; 0 switches them off).
-    #[arg(long, requires = "hexmap")]
+    #[arg(
+        long = "map-weight",
+        alias = "hexmap-weight",
+        requires = "hexmap",
+        value_name = "WEIGHT",
+        help_heading = "Filter"
+    )]
     hexmap_weight: Option<f64>,
     /// Step trace CSV (`t,length,dheading[,dz][,heading]`). An absolute `heading` column
     /// (radians counter-clockwise from east, e.g. from a compass) weights the particles
     /// (see `--ignore-heading`). Default: the bundled walk.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     steps: Option<PathBuf>,
     /// Known start `X,Y[,HEADING[,LEVEL]]` (local metres; HEADING = heading before the first
     /// step, radians counter-clockwise from east). Without HEADING the heading is unknown
     /// (uniform at the known position); `X,Y,,LEVEL` gives a level without a heading.
     /// Default: unknown (uniform over the whole plan).
-    #[arg(long, value_parser = parse_start, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_start, allow_hyphen_values = true, value_name = "X,Y[,HEADING[,LEVEL]]", help_heading = "Inputs")]
     start: Option<StartPose>,
     /// Ignore the step trace's absolute `heading` column (same as `heading.enabled = false`
     /// in the config).
-    #[arg(long)]
+    #[arg(long, help_heading = "Inputs")]
     ignore_heading: bool,
     /// WGS84 origin of the local frame, `LAT,LON`; overrides the plan's `origin` member.
-    #[arg(long, value_parser = parse_origin, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_origin, allow_hyphen_values = true, value_name = "LAT,LON", help_heading = "Inputs")]
     origin: Option<LocalFrame>,
+    /// Most particles: KLD-sampling's cap (overrides `kld.max_particles` of the config file,
+    /// and `kld.max_step_particles` where lower; default 8,000,000 at the prior, 1,000,000
+    /// after a step).
+    #[arg(long, value_name = "N", help_heading = "Filter")]
+    particles: Option<usize>,
     /// Random seed (overrides the config file).
-    #[arg(long)]
+    #[arg(long, value_name = "N", help_heading = "Filter")]
     seed: Option<u64>,
     /// Steps after which to draw the particle cloud in particles.png (0 = the prior),
     /// e.g. `0,5,50`. Default: the prior, steps 5 and 25, localisation and the last step.
-    #[arg(long, value_delimiter = ',')]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "STEPS",
+        help_heading = "Outputs"
+    )]
     snapshots: Option<Vec<usize>>,
     /// Tracker configuration (TOML, or JSON such as a previous run's config.json).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     config: Option<PathBuf>,
     /// Output folder (default: a new folder under `outputs/`).
-    #[arg(long)]
+    #[arg(short = 'o', long, value_name = "DIR", help_heading = "Outputs")]
     out: Option<PathBuf>,
     /// Worker threads (default: all cores; at most 4 per core). Results do not depend on it.
-    #[arg(long)]
+    #[arg(long, value_name = "N", help_heading = "Filter")]
     threads: Option<usize>,
     /// Radio map (`radiomap.geojson` as `footslam survey` writes it, or another tool's with
     /// the same properties) for RF-assisted localisation; needs `--wifi`.
-    #[arg(long, requires = "wifi")]
+    #[arg(long, requires = "wifi", value_name = "FILE", help_heading = "Inputs")]
     radiomap: Option<PathBuf>,
     /// WiFi log CSV (`t,bssid,rssi[,ssid,freq]`) of the walk, on the step trace's clock.
-    #[arg(long, requires = "radiomap")]
+    #[arg(
+        long,
+        requires = "radiomap",
+        value_name = "FILE",
+        help_heading = "Inputs"
+    )]
     wifi: Option<PathBuf>,
     /// How scans weigh the particles: `auto` (the default: `evidence` on a radio map that
     /// covers less than 60 % of its cells, else `containment`), `evidence` (likelihood ratios
     /// calibrated on the radio map, which rule out no place the map does not know;
     /// containment regions where the map is too sparse to calibrate them), `containment`
     /// (eqs. 12–13), `probabilistic` (eq. 14) or `prior-only`.
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, help_heading = "Filter")]
     rf_mode: Option<RfModeArg>,
     /// The scan-to-cell distance's divisor: `paper` (the number k of access points a cell
     /// hears, eqs. 8 and 11) or `sqrt` (√k). Default: `sqrt`, unless the radio map holds a
     /// threshold calibrated for the paper's distance only.
-    #[arg(long, value_enum, requires = "radiomap")]
+    #[arg(long, value_enum, requires = "radiomap", help_heading = "Filter")]
     rf_distance: Option<RfDistanceArg>,
     /// Region threshold ε, dBm (default: the radio map's calibration for the distance, else
     /// one derived from the map's histograms; the paper used 9.5 with `--rf-distance paper`).
-    #[arg(long, requires = "radiomap")]
+    #[arg(
+        long,
+        requires = "radiomap",
+        value_name = "EPSILON",
+        help_heading = "Filter"
+    )]
     rf_epsilon: Option<f64>,
     /// Apply the latest scan at every step where the particles are then (eq. 12 read
     /// literally), instead of once, where they were when the scan was taken.
-    #[arg(long, requires = "radiomap")]
+    #[arg(long, requires = "radiomap", help_heading = "Filter")]
     rf_every_step: bool,
     /// The part of the plan `track.png` and `particles.png` show, `X0,Y0,X1,Y1` local
     /// metres (default: what they draw, with 10 m around it, within the plan).
-    #[arg(long, value_parser = parse_extent, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_extent, allow_hyphen_values = true, value_name = "X0,Y0,X1,Y1", help_heading = "Outputs")]
     picture_extent: Option<[f64; 4]>,
     /// Causal answers only: `track.csv` holds each step's estimate as the filter saw it
     /// (from localisation on) and no ancestry is kept. By default `track.csv` is the
     /// smoothed whole-walk answer for every step, and the filtered one is
     /// `track_filtered.csv`.
-    #[arg(long)]
+    #[arg(long, help_heading = "Filter")]
     online: bool,
 }
 
@@ -406,6 +437,9 @@ fn tracker_config(args: &Args) -> Result<TrackerConfig> {
     };
     if let Some(s) = args.seed {
         config.seed = s;
+    }
+    if let Some(n) = args.particles {
+        config.kld.cap_particles(n);
     }
     if args.start.is_some() {
         config.start = args.start;

@@ -62,6 +62,15 @@ pub struct KldConfig {
     pub max_step_particles: usize,
 }
 
+impl KldConfig {
+    /// Caps the particles at `n` (`--particles`): the most at the prior, and after a step
+    /// where that was higher.
+    pub fn cap_particles(&mut self, n: usize) {
+        self.max_particles = n;
+        self.max_step_particles = self.max_step_particles.min(n);
+    }
+}
+
 impl Default for KldConfig {
     fn default() -> Self {
         Self {
