@@ -32,6 +32,7 @@ mod survey;
 mod track;
 mod track_pictures;
 mod track_summary;
+mod view;
 
 use clap::{Parser, Subcommand};
 
@@ -76,6 +77,9 @@ enum Command {
     /// Convert public dataset recordings (Indoor Location Competition, IPIN) into footslam's CSV and GeoJSON.
     #[command(allow_negative_numbers = true)]
     Import(import::Args),
+    /// Write an interactive map page of run folders (open index.html in a browser; no server).
+    #[command(allow_negative_numbers = true)]
+    View(view::Args),
 }
 
 /// Runs the command line and maps errors to an exit code.
@@ -98,6 +102,7 @@ pub fn main() -> std::process::ExitCode {
         Command::Eval(a) => eval::run(a),
         Command::Fingerprint(a) => fingerprint::run(a),
         Command::Import(a) => import::run(a),
+        Command::View(a) => view::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
