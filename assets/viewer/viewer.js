@@ -59,7 +59,6 @@ function drawView() {
   const runs = VIEW.runs;
   const several = runs.length > 1;
   const origin = runs.length ? runs[0] : null;
-  let colourIndex = 0;
   const allLevels = Array.from(new Set([].concat(...runs.map(r => [].concat(...r.layers.map(l => l.levels))))))
     .sort((a, b) => a - b);
   let currentLevel = allLevels.length > 1 ? allLevels[0] : ALL;
@@ -112,7 +111,8 @@ function drawView() {
 
   function drawPlan(view) {
     const outline = view.spec.kind === 'outline';
-    const learned = /plan\.geojson$/.test(view.spec.file) && !/floor/.test(view.spec.file);
+    const learned = /(^|\/)(merged_)?plan\.geojson$/.test(view.spec.file);
+    view.learned = learned;
     geojsonPieces(view, view.spec.data.geojson, {
       pane: 'fs-plans',
       style: () => outline
@@ -207,7 +207,7 @@ function drawView() {
         layer.bindTooltip(() => radioTooltip(view, f), { sticky: true });
       },
     });
-    view.restyle = () => layers.forEach(l => l.setStyle(radioStyle));
+    view.restyle = () => layers.forEach(l => l.setStyle(radioStyle(l.feature)));
     const counts = new Map();
     for (const f of view.spec.data.geojson.features || []) {
       for (const bssid of Object.keys((f.properties && f.properties.aps) || {})) {
@@ -265,11 +265,25 @@ function drawView() {
     return out;
   }
 
+  // One colour per walk: a folder's smoothed and filtered tracks share it.
+  const walkColours = new Map();
+  function trackColour(view) {
+    const key = view.run.name + '/' + view.spec.file.replace(/[^/]*$/, '');
+    if (!walkColours.has(key)) { walkColours.set(key, TRACK_COLOURS[walkColours.size % TRACK_COLOURS.length]); }
+    return walkColours.get(key);
+  }
+
   function drawPath(view) {
     const kind = view.spec.kind;
     const points = view.spec.data.path;
     view.points = points;
-    if (kind === 'truth' || kind === 'waypoints') { view.colour = TRUTH_COLOUR; } else if (kind === 'dead_reckoning') { view.colour = DEAD_RECKONING_COLOUR; } else { view.colour = TRACK_COLOURS[colourIndex++ % TRACK_COLOURS.length]; }
+    if (kind === 'truth' || kind === 'waypoints') {
+      view.colour = TRUTH_COLOUR;
+    } else if (kind === 'dead_reckoning') {
+      view.colour = DEAD_RECKONING_COLOUR;
+    } else {
+      view.colour = trackColour(view);
+    }
     if (kind === 'waypoints') {
       points.forEach((p, i) => {
         const m = L.circleMarker([p.lat, p.lon], { pane: 'fs-truth', radius: 5, color: '#fff', weight: 1.5, fillColor: view.colour, fillOpacity: 1 });
@@ -280,7 +294,7 @@ function drawView() {
       const style = {
         truth: { pane: 'fs-truth', weight: 2, dashArray: '6 4' },
         dead_reckoning: { pane: 'fs-paths', weight: 1.5, dashArray: '3 4' },
-        filtered_track: { pane: 'fs-paths', weight: 1.8, dashArray: '8 3 2 3', opacity: 0.9 },
+        filtered_track: { pane: 'fs-paths', weight: 1.6, dashArray: '7 4', opacity: 0.75 },
         track: { pane: 'fs-paths', weight: 2.6, opacity: 0.95 },
       }[kind];
       for (const s of segments(points)) {
@@ -460,7 +474,9 @@ function drawView() {
       if (currentBssid) { rampBlock('Mean RSSI of ' + esc(currentBssid) + ' (dBm)', RSSI, RSSI_RANGE[0], RSSI_RANGE[1]); } else { parts.push('<div><span class="fs-box" style="background:#ccc"></span>radio-map cells (shaded: scanned)</div>'); }
     }
     views.filter(v => v.spec.kind === 'field_map').forEach(v => rampBlock('Field magnitude (µT)', VIRIDIS, fmt(v.range[0], 1), fmt(v.range[1], 1)));
-    if (views.some(v => v.spec.kind === 'plan')) { parts.push('<div><span class="fs-box" style="background:#fff"></span>floor plan <span class="fs-box" style="background:#efe3c4;margin-left:8px"></span>learned plan</div>'); }
+    const plans = views.filter(v => v.spec.kind === 'plan');
+    if (plans.some(v => !v.learned)) { parts.push('<div><span class="fs-box" style="background:#fff"></span>floor plan</div>'); }
+    if (plans.some(v => v.learned)) { parts.push('<div><span class="fs-box" style="background:#efe3c4"></span>learned plan</div>'); }
     for (const v of views) {
       if (!v.colour) { continue; }
       if (v.spec.kind === 'waypoints') {
@@ -470,7 +486,7 @@ function drawView() {
         parts.push('<div><span class="fs-swatch" style="border-top-color:' + v.colour + ';border-top-style:' + dash + '"></span>' + esc(v.name) + '</div>');
       }
     }
-    if (views.some(v => v.points && v.points.some(p => p.spread > 0))) { parts.push('<div><span class="fs-dot" style="background:rgba(230,25,75,0.25);box-shadow:none"></span>uncertainty (spread, m)</div>'); }
+    if (views.some(v => v.points && v.points.some(p => p.spread > 0))) { parts.push('<div><span class="fs-dot" style="background:rgba(90,90,90,0.2);box-shadow:none"></span>uncertainty: disc of the step\'s spread</div>'); }
     if (hex.length) { parts.push('<div style="font-size:11px;color:#555">zoom in for transition arrows</div>'); }
     legend.div.innerHTML = parts.join('');
   };

@@ -57,6 +57,20 @@ pub fn read_run(folder: &Path) -> Result<ViewRun> {
         .unwrap_or_else(|| folder.display().to_string());
     let mut run = ViewRun::new(name, folder.to_path_buf(), origin);
     read_folder(&mut run, folder, "", "", &origin)?;
+    if !run.layers.iter().any(|l| l.kind == LayerKind::Plan)
+        && let Some(plan) = summary_plan(folder)?
+    {
+        let layer = geojson_layer(&plan, LayerKind::Plan)?;
+        run.layers.insert(
+            0,
+            Layer {
+                name: "floor plan".into(),
+                file: plan.display().to_string(),
+                ..layer
+            },
+        );
+        run.inputs.push(plan);
+    }
     for (n, walk) in walk_folders(folder)? {
         let walk_origin = folder_origin(&walk, Some(origin))?;
         let prefix = format!("walk-{n}/");
@@ -127,14 +141,33 @@ fn walk_folders(folder: &Path) -> Result<Vec<(usize, PathBuf)>> {
     Ok(walks)
 }
 
+/// The floor plan a run was given, as its `summary.json` records it (`plan_file`: `track`,
+/// `fingerprint`), when that file is still there (as given, or relative to the run folder).
+fn summary_plan(folder: &Path) -> Result<Option<PathBuf>> {
+    let path = folder.join("summary.json");
+    if !path.is_file() {
+        return Ok(None);
+    }
+    let Some(Value::String(plan)) = read_summary(&path)?.get("plan_file").cloned() else {
+        return Ok(None);
+    };
+    let plan = PathBuf::from(plan);
+    Ok([plan.clone(), folder.join(&plan)]
+        .into_iter()
+        .find(|p| p.is_file()))
+}
+
+/// A run's `summary.json`, read as JSON.
+fn read_summary(path: &Path) -> Result<Value> {
+    let text = read_json_text(path)?;
+    serde_json::from_str(&text).map_err(|e| Error::parse(path, e.line(), format!("not JSON: {e}")))
+}
+
 /// The origin of `folder`'s local metres (see the module's documentation).
 fn folder_origin(folder: &Path, above: Option<LocalFrame>) -> Result<LocalFrame> {
     let summary = folder.join("summary.json");
     if summary.is_file() {
-        let text = read_json_text(&summary)?;
-        let value: Value = serde_json::from_str(&text)
-            .map_err(|e| Error::parse(&summary, e.line(), format!("not JSON: {e}")))?;
-        if let Some(member) = value.get("origin") {
+        if let Some(member) = read_summary(&summary)?.get("origin") {
             return read_origin(member).map_err(|m| Error::parse(&summary, 0, m));
         }
     }
