@@ -168,15 +168,18 @@ function drawView() {
     counts.forEach((n, k) => {
       if (!n) { return; }
       const a = k * Math.PI / 3;
-      const len = r * Math.sqrt(3) * (0.3 + 0.55 * n / total);
+      // From near the centre towards the edge's midpoint (√3/2 r away): the larger the
+      // share of the hexagon's exits, the closer the tip comes to the edge.
+      const len = r * (0.3 + 0.55 * n / total);
       const [dx, dy] = [Math.cos(a), Math.sin(a)];
+      const tail = [dx * 0.12 * r, dy * 0.12 * r];
       const tip = [dx * len, dy * len];
-      const head = 0.28 * r;
-      const left = [tip[0] - head * Math.cos(a - 0.5), tip[1] - head * Math.sin(a - 0.5)];
-      const right = [tip[0] - head * Math.cos(a + 0.5), tip[1] - head * Math.sin(a + 0.5)];
-      lines.push([at(0, 0), at(tip[0], tip[1])], [at(left[0], left[1]), at(tip[0], tip[1]), at(right[0], right[1])]);
+      const head = 0.18 * r;
+      const left = [tip[0] - head * Math.cos(a - 0.55), tip[1] - head * Math.sin(a - 0.55)];
+      const right = [tip[0] - head * Math.cos(a + 0.55), tip[1] - head * Math.sin(a + 0.55)];
+      lines.push([at(tail[0], tail[1]), at(tip[0], tip[1])], [at(left[0], left[1]), at(tip[0], tip[1]), at(right[0], right[1])]);
     });
-    return L.polyline(lines, { pane: 'fs-arrows', color: '#ff4d4d', weight: 1.4, opacity: 0.9, interactive: false });
+    return L.polyline(lines, { pane: 'fs-arrows', color: '#111111', weight: 1.5, opacity: 0.85, interactive: false });
   }
 
   function hexRadiusPixels(view) {
@@ -333,10 +336,17 @@ function drawView() {
     return { lat: a.lat + (b.lat - a.lat) * f, lon: a.lon + (b.lon - a.lon) * f, level: f < 0.5 ? a.level : b.level };
   }
 
+  // Times on a walk's own clock read as seconds; Unix times (real recordings) as the UTC
+  // time of day and the seconds since the slider's start.
+  let timeStart = 0;
+  function timeText(t) {
+    if (timeStart < 1e8) { return 't = ' + fmt(t, 1) + ' s'; }
+    return new Date(t * 1000).toISOString().slice(11, 21) + ' UTC (+' + fmt(t - timeStart, 1) + ' s)';
+  }
   let timeLabel = null;
   let followBox = null;
   function setTime(t) {
-    if (timeLabel) { timeLabel.textContent = 't = ' + fmt(t, 1) + ' s'; }
+    if (timeLabel) { timeLabel.textContent = timeText(t); }
     const leader = views.find(v => v.marker && v.spec.kind === 'track') || views.find(v => v.marker);
     if (followBox && followBox.checked && leader && currentLevel !== ALL) {
       const p = pointAt(leader.points, t);
@@ -429,6 +439,7 @@ function drawView() {
   function timeRow(paths) {
     const t0 = Math.min(...paths.map(v => v.points[0].t));
     const t1 = Math.max(...paths.map(v => v.points[v.points.length - 1].t));
+    timeStart = t0;
     const row = document.createElement('div');
     row.className = 'fs-row';
     row.innerHTML = '<label for="fs-time">Time</label>';
@@ -487,7 +498,7 @@ function drawView() {
       }
     }
     if (views.some(v => v.points && v.points.some(p => p.spread > 0))) { parts.push('<div><span class="fs-dot" style="background:rgba(90,90,90,0.2);box-shadow:none"></span>uncertainty: disc of the step\'s spread</div>'); }
-    if (hex.length) { parts.push('<div style="font-size:11px;color:#555">zoom in for transition arrows</div>'); }
+    if (hex.length) { parts.push('<div style="font-size:11px;color:#555">zoom in for transition arrows (black)</div>'); }
     legend.div.innerHTML = parts.join('');
   };
 
@@ -524,7 +535,7 @@ function drawView() {
       const image = L.imageOverlay(b.file, b.bounds, { pane: 'fs-basemap', opacity: 0.85 });
       image.addTo(map);
       layerControl.addOverlay(image, 'basemap image');
-      bounds.extend(b.bounds);
+      if (!bounds.isValid()) { bounds.extend(b.bounds); }
     }
   }
 
