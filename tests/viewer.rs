@@ -3,7 +3,7 @@
 //! loaded in a real browser — headless Chromium — which must draw every layer with no error.
 //!
 //! The runs are made once per test binary by the command line, on simulated data, in
-//! `target/tmp/viewer-<pid>/` (seconds: few particles, short walks). The browser test saves
+//! `target/tmp/viewer-runs/`, made afresh (seconds: few particles, short walks). The browser test saves
 //! its screenshots in `target/tmp/viewer-screenshots/` for a person to look at. Without
 //! Chromium it fails, saying how to install it, unless `FOOTSLAM_SKIP_BROWSER=1`.
 
@@ -38,8 +38,7 @@ fn run_ok(args: &[&str]) {
 fn runs() -> &'static Runs {
     static RUNS: OnceLock<Runs> = OnceLock::new();
     RUNS.get_or_init(|| {
-        let root =
-            Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("viewer-{}", std::process::id()));
+        let root = Path::new(env!("CARGO_TARGET_TMPDIR")).join("viewer-runs");
         let _ = std::fs::remove_dir_all(&root);
         std::fs::create_dir_all(&root).expect("dir");
         let p = |name: &str| root.join(name).display().to_string();

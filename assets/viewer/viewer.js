@@ -30,7 +30,7 @@ function drawView() {
   const RSSI = ['#313695', '#4575b4', '#74add1', '#abd9e9', '#e0f3f8', '#fee090', '#fdae61', '#f46d43', '#d73027', '#a50026'];
   const RSSI_RANGE = [-100, -40];
   // Transition arrows appear when a hexagon's radius is this many pixels on screen.
-  const ARROW_MIN_PIXELS = 9;
+  const ARROW_MIN_PIXELS = 14;
 
   // ---------- colour ramps ----------
   function hexToRgb(h) { return [1, 3, 5].map(i => parseInt(h.slice(i, i + 2), 16)); }
@@ -79,7 +79,7 @@ function drawView() {
       this.group = L.layerGroup();
       this.byLevel = new Map();
       this.drawn = 0;
-      this.shown = spec.kind !== 'dead_reckoning';
+      this.shown = spec.kind !== 'dead_reckoning' && !walkMapUnderMerged(run, spec);
       this.colour = null;
     }
     piece(level) {
@@ -97,6 +97,13 @@ function drawView() {
       this.group.clearLayers();
       this.byLevel.forEach((piece, level) => { if (onLevel(level)) { this.group.addLayer(piece); } });
     }
+  }
+
+  // A batch's walk maps and plans start hidden under the merged ones (one click away in the
+  // layer list): three maps on top of each other hide each other.
+  function walkMapUnderMerged(run, spec) {
+    const merged = run.layers.some(l => /^merged(_plan)?\.geojson$/.test(l.file));
+    return merged && /^walk-\d+\//.test(spec.file) && (spec.kind === 'hex_map' || spec.kind === 'plan');
   }
 
   function featureLevel(f) { const l = f.properties && f.properties.level; return Number.isInteger(l) ? l : null; }
@@ -489,7 +496,7 @@ function drawView() {
     if (plans.some(v => !v.learned)) { parts.push('<div><span class="fs-box" style="background:#fff"></span>floor plan</div>'); }
     if (plans.some(v => v.learned)) { parts.push('<div><span class="fs-box" style="background:#efe3c4"></span>learned plan</div>'); }
     for (const v of views) {
-      if (!v.colour) { continue; }
+      if (!v.colour || !map.hasLayer(v.group)) { continue; }
       if (v.spec.kind === 'waypoints') {
         parts.push('<div><span class="fs-dot" style="background:' + v.colour + '"></span>' + esc(v.name) + '</div>');
       } else {
@@ -560,6 +567,7 @@ function drawView() {
   legend.addTo(map);
   if (bounds.isValid()) { map.fitBounds(bounds, { padding: [30, 30] }); } else { map.setView([0, 0], 18); }
   map.on('zoomend', updateArrows);
+  map.on('overlayadd overlayremove', () => legend.update());
   setLevel(currentLevel);
   updateArrows();
   if (slider) { setTime(Number(slider.value)); }
