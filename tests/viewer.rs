@@ -310,11 +310,11 @@ fn bad_folders_and_files_are_named_and_nothing_is_written() {
 
 // ---------- the page in a real browser ----------
 
-/// Headless Chromium: `FOOTSLAM_CHROMIUM`, else the first of Debian's and others' names on
-/// the PATH.
+/// Headless Chromium: `FOOTSLAM_CHROMIUM` (if it is a file), else the first of Debian's and
+/// others' names on the PATH.
 fn chromium() -> Option<PathBuf> {
     if let Some(path) = std::env::var_os("FOOTSLAM_CHROMIUM") {
-        return Some(PathBuf::from(path));
+        return Some(PathBuf::from(path)).filter(|p| p.is_file());
     }
     let names = [
         "chromium",
@@ -331,10 +331,14 @@ fn chromium() -> Option<PathBuf> {
         .find(|p| p.is_file())
 }
 
-/// Runs Chromium headless on `page` with `args`: (stdout, stderr).
-fn browse(chromium: &Path, page: &Path, args: &[&str]) -> (String, String) {
+/// Runs Chromium headless on `page` (with `#fragment` when not empty) with `args`:
+/// (stdout, stderr).
+fn browse(chromium: &Path, page: &Path, fragment: &str, args: &[&str]) -> (String, String) {
     let profile = tempfile::tempdir().expect("tempdir");
-    let url = format!("file://{}", page.canonicalize().expect("page").display());
+    let url = format!(
+        "file://{}{fragment}",
+        page.canonicalize().expect("page").display()
+    );
     let output = Command::new(chromium)
         .args([
             "--headless",
@@ -376,11 +380,12 @@ fn page_status(dom: &str) -> Value {
 }
 
 /// Loads `page` in the browser: every layer drawn, no error, the console clean; saves a
-/// screenshot as `name.png`.
-fn check_in_browser(chromium: &Path, page: &Path, name: &str, layers: usize) {
+/// screenshot as `name.png`. Returns the page's report.
+fn check_in_browser(chromium: &Path, page: &Path, name: &str, layers: usize) -> Value {
     let (dom, log) = browse(
         chromium,
         &page.join("index.html"),
+        "#selftest",
         &["--dump-dom", "--enable-logging=stderr", "--v=0"],
     );
     let status = page_status(&dom);
@@ -401,6 +406,19 @@ fn check_in_browser(chromium: &Path, page: &Path, name: &str, layers: usize) {
             "{name}: layer drew nothing: {layer}"
         );
     }
+    // The self-test worked every control: levels, the time slider, access points, the
+    // pointer's read-out.
+    let exercised = &status["exercised"];
+    assert_eq!(
+        exercised["times"].as_array().map(Vec::len),
+        Some(3),
+        "{name}: {exercised}"
+    );
+    let readout = exercised["readout"].as_str().unwrap_or("");
+    assert!(
+        readout.contains('°') && readout.contains(" m"),
+        "{name}: read-out {readout}"
+    );
     let console: Vec<&str> = log
         .lines()
         .filter(|l| l.contains(":CONSOLE") && (l.contains("Uncaught") || l.contains("rror")))
@@ -413,6 +431,7 @@ fn check_in_browser(chromium: &Path, page: &Path, name: &str, layers: usize) {
     browse(
         chromium,
         &page.join("index.html"),
+        "",
         &[&format!("--screenshot={}", shot.display())],
     );
     let png = std::fs::read(&shot)
@@ -422,6 +441,7 @@ fn check_in_browser(chromium: &Path, page: &Path, name: &str, layers: usize) {
         "{name}: screenshot of {} bytes",
         png.len()
     );
+    status
 }
 
 #[test]
@@ -456,6 +476,21 @@ fn the_page_draws_every_layer_in_headless_chromium() {
             .arg(&out)
             .assert()
             .success();
-        check_in_browser(&chromium, &out, name, layers);
+        let status = check_in_browser(&chromium, &out, name, layers);
+        let exercised = &status["exercised"];
+        match name {
+            "learn" => assert!(
+                exercised["arrow_groups"].as_u64() >= Some(1),
+                "arrows: {exercised}"
+            ),
+            "tower" => {
+                assert_eq!(status["levels"], serde_json::json!([0, 1, 2]), "{status}");
+                assert!(
+                    exercised["access_points"].as_u64() > Some(10),
+                    "the BSSID picker: {exercised}"
+                );
+            }
+            _ => {}
+        }
     }
 }

@@ -573,7 +573,44 @@ function drawView() {
   if (slider) { setTime(Number(slider.value)); }
   map.attributionControl.setPrefix('<a href="https://leafletjs.com">Leaflet</a> · footslam ' + esc(VIEW.version));
 
+  // `index.html#selftest` (the tests): work every control once — each level, the slider
+  // at its start, middle and end, each access point, a zoom to the arrows, the pointer's
+  // read-out, each overlay off and on — then return to the opening view.
+  let exercised = null;
+  if (window.location.hash === '#selftest') {
+    exercised = exercise();
+  }
+
+  function exercise() {
+    const start = { level: currentLevel, center: map.getCenter(), zoom: map.getZoom() };
+    allLevels.concat([ALL]).forEach(setLevel);
+    const times = [];
+    if (slider) {
+      for (const f of [0, 0.5, 1]) {
+        slider.value = String(Number(slider.min) + f * (Number(slider.max) - Number(slider.min)));
+        slider.dispatchEvent(new Event('input'));
+        times.push(timeLabel.textContent);
+      }
+    }
+    const select = document.getElementById('fs-bssid');
+    const bssids = select ? Array.from(select.options).map(o => o.value) : [];
+    bssids.concat(bssids.length ? [bssids[Math.min(1, bssids.length - 1)]] : []).forEach(b => {
+      select.value = b;
+      select.dispatchEvent(new Event('change'));
+    });
+    map.setZoom(start.zoom + 5, { animate: false });
+    const arrows = views.filter(v => v.arrows).reduce((n, v) => n + Array.from(v.arrows.values()).filter(g => v.group.hasLayer(g)).length, 0);
+    map.fire('mousemove', { latlng: map.getCenter() });
+    const readoutText = document.querySelector('.fs-readout').textContent;
+    views.forEach(v => { const on = map.hasLayer(v.group); map.removeLayer(v.group); if (on) { map.addLayer(v.group); } });
+    setLevel(start.level);
+    map.setView(start.center, start.zoom, { animate: false });
+    if (slider) { slider.value = slider.min; setTime(Number(slider.min)); }
+    return { levels: allLevels.length, times: times, access_points: bssids.length, arrow_groups: arrows, readout: readoutText };
+  }
+
   window.footslamStatus({
+    exercised: exercised,
     ready: true,
     level: currentLevel,
     levels: allLevels,
