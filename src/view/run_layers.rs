@@ -166,10 +166,10 @@ fn read_summary(path: &Path) -> Result<Value> {
 /// The origin of `folder`'s local metres (see the module's documentation).
 fn folder_origin(folder: &Path, above: Option<LocalFrame>) -> Result<LocalFrame> {
     let summary = folder.join("summary.json");
-    if summary.is_file() {
-        if let Some(member) = read_summary(&summary)?.get("origin") {
-            return read_origin(member).map_err(|m| Error::parse(&summary, 0, m));
-        }
+    if summary.is_file()
+        && let Some(member) = read_summary(&summary)?.get("origin")
+    {
+        return read_origin(member).map_err(|m| Error::parse(&summary, 0, m));
     }
     for (file, _, _) in VIEWABLE_FILES
         .iter()
