@@ -233,7 +233,10 @@ fn the_cli_writes_a_complete_page_with_given_truth_and_waypoints() {
         .map(|l| l["name"].as_str().expect("name"))
         .collect();
     assert!(
-        layers.contains(&"truth (truth.csv)") && layers.contains(&"waypoints (waypoints.csv)"),
+        layers.contains(&"truth (sim/truth.csv)")
+            && layers
+                .iter()
+                .any(|l| l.starts_with("waypoints (") && l.ends_with("/waypoints.csv)")),
         "{layers:?}"
     );
     assert_eq!(summary["runs"][1]["layers"][0]["kind"], "radio_map");

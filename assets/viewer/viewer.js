@@ -99,11 +99,11 @@ function drawView() {
     }
   }
 
-  // A batch's walk maps and plans start hidden under the merged ones (one click away in the
+  // A batch's walk maps, plans and field maps start hidden under the merged ones (one click away in the
   // layer list): three maps on top of each other hide each other.
   function walkMapUnderMerged(run, spec) {
     const merged = run.layers.some(l => /^merged(_plan)?\.geojson$/.test(l.file));
-    return merged && /^walk-\d+\//.test(spec.file) && (spec.kind === 'hex_map' || spec.kind === 'plan');
+    return merged && /^walk-\d+\//.test(spec.file) && ['hex_map', 'plan', 'field_map'].includes(spec.kind);
   }
 
   function featureLevel(f) { const l = f.properties && f.properties.level; return Number.isInteger(l) ? l : null; }
@@ -475,7 +475,7 @@ function drawView() {
     return row;
   }
 
-  const legend = L.control({ position: 'bottomright' });
+  const legend = L.control({ position: 'bottomleft' });
   legend.onAdd = () => {
     legend.div = L.DomUtil.create('div', 'fs-panel fs-legend');
     legend.update();
@@ -491,22 +491,25 @@ function drawView() {
     if (views.some(v => v.spec.kind === 'radio_map')) {
       if (currentBssid) { rampBlock('Mean RSSI of ' + esc(currentBssid) + ' (dBm)', RSSI, RSSI_RANGE[0], RSSI_RANGE[1]); } else { parts.push('<div><span class="fs-box" style="background:#ccc"></span>radio-map cells (shaded: scanned)</div>'); }
     }
-    views.filter(v => v.spec.kind === 'field_map').forEach(v => rampBlock('Field magnitude (µT)', VIRIDIS, fmt(v.range[0], 1), fmt(v.range[1], 1)));
+    views.filter(v => v.spec.kind === 'field_map' && map.hasLayer(v.group)).forEach(v => rampBlock('Field magnitude (µT)', VIRIDIS, fmt(v.range[0], 1), fmt(v.range[1], 1)));
     const plans = views.filter(v => v.spec.kind === 'plan');
     if (plans.some(v => !v.learned)) { parts.push('<div><span class="fs-box" style="background:#fff"></span>floor plan</div>'); }
     if (plans.some(v => v.learned)) { parts.push('<div><span class="fs-box" style="background:#efe3c4"></span>learned plan</div>'); }
+    // Truth and waypoints share one colour: several such layers make one entry.
+    const shared = kind => views.filter(v => v.spec.kind === kind).length > 1;
     for (const v of views) {
       if (!v.colour || !map.hasLayer(v.group)) { continue; }
+      const label = esc(['truth', 'waypoints'].includes(v.spec.kind) && shared(v.spec.kind) ? v.spec.kind : v.name);
       if (v.spec.kind === 'waypoints') {
-        parts.push('<div><span class="fs-dot" style="background:' + v.colour + '"></span>' + esc(v.name) + '</div>');
+        parts.push('<div><span class="fs-dot" style="background:' + v.colour + '"></span>' + label + '</div>');
       } else {
         const dash = { truth: 'dashed', dead_reckoning: 'dotted', filtered_track: 'dashed' }[v.spec.kind] || 'solid';
-        parts.push('<div><span class="fs-swatch" style="border-top-color:' + v.colour + ';border-top-style:' + dash + '"></span>' + esc(v.name) + '</div>');
+        parts.push('<div><span class="fs-swatch" style="border-top-color:' + v.colour + ';border-top-style:' + dash + '"></span>' + label + '</div>');
       }
     }
     if (views.some(v => v.points && v.points.some(p => p.spread > 0))) { parts.push('<div><span class="fs-dot" style="background:rgba(90,90,90,0.2);box-shadow:none"></span>uncertainty: disc of the step\'s spread</div>'); }
     if (hex.length) { parts.push('<div style="font-size:11px;color:#555">zoom in for transition arrows (black)</div>'); }
-    legend.div.innerHTML = parts.join('');
+    legend.div.innerHTML = parts.filter((p, i) => parts.indexOf(p) === i).join('');
   };
 
   // Latitude/longitude and metres east/north of the (first) run's origin under the pointer.
@@ -547,7 +550,9 @@ function drawView() {
   }
 
   // ---------- build ----------
-  const layerControl = L.control.layers(null, null, { collapsed: false, position: 'topright' }).addTo(map);
+  // The layer list stays open unless it is long (a batch of many walks).
+  const overlays = runs.reduce((n, r) => n + r.layers.length, 0);
+  const layerControl = L.control.layers(null, null, { collapsed: overlays > 14, position: 'topright' }).addTo(map);
   for (const run of runs) {
     for (const spec of run.layers) {
       const view = new View(run, spec);

@@ -359,9 +359,15 @@ pub fn read_waypoints_layer(path: &Path, frame: &LocalFrame) -> Result<Layer> {
 /// `layer` named after the file given for it.
 fn given_layer(path: &Path, layer: Layer, what: &str) -> Layer {
     let file = path.display().to_string();
-    let short = path
-        .file_name()
-        .map_or_else(|| file.clone(), |n| n.to_string_lossy().into_owned());
+    // The file's name and its folder's: importers write one `waypoints.csv` per walk folder.
+    let short: Vec<String> = path
+        .components()
+        .rev()
+        .take(2)
+        .map(|c| c.as_os_str().to_string_lossy().into_owned())
+        .filter(|c| c != "." && c != "/")
+        .collect();
+    let short = short.into_iter().rev().collect::<Vec<_>>().join("/");
     Layer {
         name: format!("{what} ({short})"),
         file,
