@@ -1,5 +1,5 @@
 //! `footslam view`: the layers a page gets from the runs' folders (a learn run, a track run on
-//! the three-floor tower, a survey's radio map, a batch), its errors, and the page itself
+//! the three-floor tower, a survey's radio map, a batch, a simulated campus), its errors, and the page itself
 //! loaded in a real browser — headless Chromium — which must draw every layer with no error.
 //!
 //! The runs are made once per test binary by the command line, on simulated data, in
@@ -88,6 +88,17 @@ fn runs() -> &'static Runs {
             &wifi,
             "--out",
             &p("survey"),
+        ]);
+        run_ok(&[
+            "simulate",
+            "--building",
+            "campus",
+            "--walks",
+            "2",
+            "--laps",
+            "1",
+            "--out",
+            &p("campus"),
         ]);
         run_ok(&[
             "learn",
@@ -188,6 +199,34 @@ fn a_batch_has_layers_per_walk_and_the_merged_map() {
         .find(|l| l.name == "walk 2 · track")
         .expect("track");
     assert_eq!(track.file, "walk-2/track.csv");
+}
+
+#[test]
+fn a_simulated_campus_shows_its_outline_and_each_walk_s_truth_and_gps_fixes() {
+    let run = read_run(&runs().path("campus")).expect("read");
+    let names: Vec<(String, LayerKind)> = kinds(&run);
+    for (name, kind) in [
+        ("floor plan", LayerKind::Plan),
+        ("outline", LayerKind::Outline),
+        ("walk 1 · truth", LayerKind::Truth),
+        ("walk 2 · GPS fixes", LayerKind::GpsFixes),
+    ] {
+        assert!(
+            names.contains(&(name.to_owned(), kind)),
+            "{name} in {names:?}"
+        );
+    }
+    let gps = run
+        .layers
+        .iter()
+        .find(|l| l.kind == LayerKind::GpsFixes)
+        .expect("gps");
+    assert!(
+        path_points(gps)
+            .iter()
+            .all(|p| p.spread.is_some_and(|a| a > 0.0)),
+        "accuracy as spread"
+    );
 }
 
 #[test]
@@ -461,8 +500,9 @@ fn the_page_draws_every_layer_in_headless_chromium() {
     };
     let runs = runs();
     let dir = tempfile::tempdir().expect("tempdir");
-    let pages: [(&str, Vec<PathBuf>, usize); 3] = [
+    let pages: [(&str, Vec<PathBuf>, usize); 4] = [
         ("learn", vec![runs.path("learn")], 4),
+        ("campus", vec![runs.path("campus")], 6),
         (
             "tower",
             vec![runs.path("sim"), runs.path("track"), runs.path("survey")],

@@ -24,6 +24,7 @@ function drawView() {
   const TRACK_COLOURS = ['#e6194b', '#4363d8', '#f58231', '#911eb4', '#0aa5a5', '#f032e6', '#9a6324', '#000075'];
   const TRUTH_COLOUR = '#1b9e3b';
   const DEAD_RECKONING_COLOUR = '#777777';
+  const GPS_COLOUR = '#ff8c00';
   // Viridis, as the project's pictures shade learned maps (map.png).
   const VIRIDIS = ['#440154', '#482878', '#3e4989', '#31688e', '#26828e', '#1f9e89', '#35b779', '#6ece58', '#b5de2b', '#fde725'];
   // Weak to strong signal: blue to red (RdYlBu reversed).
@@ -289,15 +290,18 @@ function drawView() {
     view.points = points;
     if (kind === 'truth' || kind === 'waypoints') {
       view.colour = TRUTH_COLOUR;
+    } else if (kind === 'gps_fixes') {
+      view.colour = GPS_COLOUR;
     } else if (kind === 'dead_reckoning') {
       view.colour = DEAD_RECKONING_COLOUR;
     } else {
       view.colour = trackColour(view);
     }
-    if (kind === 'waypoints') {
+    const dots = kind === 'waypoints' || kind === 'gps_fixes';
+    if (dots) {
       points.forEach((p, i) => {
-        const m = L.circleMarker([p.lat, p.lon], { pane: 'fs-truth', radius: 5, color: '#fff', weight: 1.5, fillColor: view.colour, fillOpacity: 1 });
-        m.bindTooltip(esc(view.name) + ' ' + (i + 1) + ' · t = ' + fmt(p.t, 1) + ' s' + (p.level !== undefined ? ' · level ' + p.level : ''));
+        const m = L.circleMarker([p.lat, p.lon], { pane: 'fs-truth', radius: kind === 'waypoints' ? 5 : 3.5, color: '#fff', weight: 1.2, fillColor: view.colour, fillOpacity: 1 });
+        m.bindTooltip(esc(view.name) + ' ' + (i + 1) + ' · t = ' + fmt(p.t, 1) + ' s' + (p.level !== undefined ? ' · level ' + p.level : '') + (p.spread !== undefined && kind === 'gps_fixes' ? ' · accuracy ' + fmt(p.spread, 1) + ' m' : ''));
         view.add(p.level, m);
       });
     } else {
@@ -312,14 +316,15 @@ function drawView() {
         line.bindTooltip(esc(view.name) + (s.level !== undefined ? ' · level ' + s.level : '') + (s.uncertain ? ' · uncertain' : ''), { sticky: true });
         view.add(s.level, line);
       }
-      for (const p of points) {
-        if (!(p.spread > 0)) { continue; }
-        const c = L.circle([p.lat, p.lon], { pane: 'fs-uncertainty', radius: p.spread, stroke: false, fillColor: view.colour, fillOpacity: 0.1 });
-        c.bindTooltip('t = ' + fmt(p.t, 1) + ' s · spread ' + fmt(p.spread, 2) + ' m' + (p.certain === false ? ' · uncertain' : ''), { sticky: true });
-        view.add(p.level, c);
-      }
     }
-    if (points.length && kind !== 'waypoints') {
+    // Each step's spread (a GPS fix's accuracy) as a faint disc.
+    for (const p of points) {
+      if (!(p.spread > 0)) { continue; }
+      const c = L.circle([p.lat, p.lon], { pane: 'fs-uncertainty', radius: p.spread, stroke: false, fillColor: view.colour, fillOpacity: kind === 'gps_fixes' ? 0.05 : 0.1 });
+      c.bindTooltip('t = ' + fmt(p.t, 1) + ' s · ' + (kind === 'gps_fixes' ? 'accuracy ' : 'spread ') + fmt(p.spread, 2) + ' m' + (p.certain === false ? ' · uncertain' : ''), { sticky: true });
+      view.add(p.level, c);
+    }
+    if (points.length && !dots) {
       view.marker = L.circleMarker([points[0].lat, points[0].lon], { pane: 'fs-markers', radius: 6, color: '#fff', weight: 2, fillColor: view.colour, fillOpacity: 1 });
       view.marker.bindTooltip(esc(view.name));
     }
@@ -327,7 +332,7 @@ function drawView() {
 
   const DRAW = {
     plan: drawPlan, outline: drawPlan, hex_map: drawHexMap, radio_map: drawRadioMap, field_map: drawFieldMap,
-    track: drawPath, filtered_track: drawPath, dead_reckoning: drawPath, truth: drawPath, waypoints: drawPath,
+    track: drawPath, filtered_track: drawPath, dead_reckoning: drawPath, truth: drawPath, waypoints: drawPath, gps_fixes: drawPath,
   };
 
   // ---------- time ----------
@@ -396,7 +401,7 @@ function drawView() {
       if (allLevels.length > 1) { div.appendChild(levelRow()); }
       const radios = views.filter(v => v.bssids);
       if (radios.length) { div.appendChild(bssidRow(radios)); }
-      const paths = views.filter(v => v.points && v.points.length && v.spec.kind !== 'waypoints');
+      const paths = views.filter(v => v.marker);
       if (paths.length) { div.appendChild(timeRow(paths)); }
       return div;
     };
@@ -499,8 +504,8 @@ function drawView() {
     const shared = kind => views.filter(v => v.spec.kind === kind).length > 1;
     for (const v of views) {
       if (!v.colour || !map.hasLayer(v.group)) { continue; }
-      const label = esc(['truth', 'waypoints'].includes(v.spec.kind) && shared(v.spec.kind) ? v.spec.kind : v.name);
-      if (v.spec.kind === 'waypoints') {
+      const label = esc(['truth', 'waypoints', 'gps_fixes'].includes(v.spec.kind) && shared(v.spec.kind) ? v.spec.kind.replace('gps_fixes', 'GPS fixes') : v.name);
+      if (v.spec.kind === 'waypoints' || v.spec.kind === 'gps_fixes') {
         parts.push('<div><span class="fs-dot" style="background:' + v.colour + '"></span>' + label + '</div>');
       } else {
         const dash = { truth: 'dashed', dead_reckoning: 'dotted', filtered_track: 'dashed' }[v.spec.kind] || 'solid';

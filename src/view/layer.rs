@@ -30,6 +30,8 @@ pub enum LayerKind {
     Truth,
     /// Sparse ground-truth points (`waypoints.csv`, `--waypoints`).
     Waypoints,
+    /// GPS fixes (`gps.csv`), each with its accuracy as its spread.
+    GpsFixes,
 }
 
 impl LayerKind {
@@ -38,7 +40,12 @@ impl LayerKind {
     pub fn is_path(self) -> bool {
         matches!(
             self,
-            Self::Track | Self::FilteredTrack | Self::DeadReckoning | Self::Truth | Self::Waypoints
+            Self::Track
+                | Self::FilteredTrack
+                | Self::DeadReckoning
+                | Self::Truth
+                | Self::Waypoints
+                | Self::GpsFixes
         )
     }
 }

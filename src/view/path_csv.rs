@@ -1,6 +1,6 @@
 //! Timed positions from CSV, placed on the globe for the page: tracks (`t,x,y` with
 //! optional `level`, `spread` or `spread_m`, `certain`), the truth and waypoints, all in
-//! local metres of a run's frame. Extra columns are ignored; errors name file and line.
+//! local metres of a run's frame, and GPS fixes. Extra columns are ignored; errors name file and line.
 
 use super::layer::PathPoint;
 use crate::error::Result;
@@ -76,6 +76,22 @@ pub fn read_waypoints_path(path: &Path, frame: &LocalFrame) -> Result<Vec<PathPo
         .map(|w| PathPoint {
             level: w.level,
             ..PathPoint::from_local(frame, w.t, w.x, w.y)
+        })
+        .collect())
+}
+
+/// Reads GPS fixes (`t,lat,lon[,accuracy]`, [`crate::io::read_gps_csv`]), each fix's
+/// accuracy as its spread.
+pub fn read_gps_path(path: &Path) -> Result<Vec<PathPoint>> {
+    Ok(crate::io::read_gps_csv(path)?
+        .into_iter()
+        .map(|fix| PathPoint {
+            t: fix.t,
+            lon: fix.lon,
+            lat: fix.lat,
+            level: None,
+            spread: Some(fix.accuracy),
+            certain: None,
         })
         .collect())
 }

@@ -1,5 +1,5 @@
 //! A run folder read into the page's layers: the files `learn`, `track`, `survey`,
-//! `simulate`, `plan` and `import` write ([`VIEWABLE_FILES`]), in the folder and in its
+//! `simulate`, `plan`, `fingerprint` and `import` write ([`VIEWABLE_FILES`]), in the folder and in its
 //! `walk-N/` folders (a batch's walks), each placed on the globe at the run's origin.
 //!
 //! The origin of a folder's local metres is the `origin` its `summary.json` records, else
@@ -7,7 +7,7 @@
 //! else (0°, 0°) — where every run puts it when given none.
 
 use super::layer::{Layer, LayerData, LayerKind, PathPoint, ViewRun};
-use super::path_csv::{LevelsByTime, read_path_csv, read_waypoints_path, time_key};
+use super::path_csv::{LevelsByTime, read_gps_path, read_path_csv, read_waypoints_path, time_key};
 use crate::error::{Error, Result};
 use crate::geometry::LocalFrame;
 use crate::io::geojson_file::{read_feature_collection, read_json_text, read_origin};
@@ -16,7 +16,7 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 /// The files of a run folder the page draws, bottom to top: file name, kind, layer name.
-pub const VIEWABLE_FILES: [(&str, LayerKind, &str); 13] = [
+pub const VIEWABLE_FILES: [(&str, LayerKind, &str); 14] = [
     ("floor.geojson", LayerKind::Plan, "floor plan"),
     ("outline.geojson", LayerKind::Outline, "outline"),
     ("plan.geojson", LayerKind::Plan, "learned plan"),
@@ -32,6 +32,7 @@ pub const VIEWABLE_FILES: [(&str, LayerKind, &str); 13] = [
     ),
     ("truth.csv", LayerKind::Truth, "truth"),
     ("waypoints.csv", LayerKind::Waypoints, "waypoints"),
+    ("gps.csv", LayerKind::GpsFixes, "GPS fixes"),
     (
         "track_filtered.csv",
         LayerKind::FilteredTrack,
@@ -243,6 +244,7 @@ fn read_layer(
 ) -> Result<Layer> {
     match kind {
         LayerKind::Waypoints => Ok(path_layer(kind, read_waypoints_path(path, frame)?)),
+        LayerKind::GpsFixes => Ok(path_layer(kind, read_gps_path(path)?)),
         k if k.is_path() => Ok(path_layer(kind, read_path_csv(path, frame, levels)?)),
         _ => geojson_layer(path, kind),
     }
