@@ -230,6 +230,31 @@ fn a_simulated_campus_shows_its_outline_and_each_walk_s_truth_and_gps_fixes() {
 }
 
 #[test]
+fn an_importer_s_trace_folders_are_parts_of_the_run() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let import = dir.path().join("import");
+    for trace in ["trace-b", "trace-a", "empty"] {
+        std::fs::create_dir_all(import.join(trace)).expect("dir");
+    }
+    std::fs::copy(
+        runs().path("sim/floor.geojson"),
+        import.join("floor.geojson"),
+    )
+    .expect("copy");
+    for trace in ["trace-b", "trace-a"] {
+        let waypoints = import.join(trace).join("waypoints.csv");
+        std::fs::write(waypoints, "t,x,y\n1,2,3\n5,6,7\n").expect("write");
+    }
+    let run = read_run(&import).expect("read");
+    let names: Vec<&str> = run.layers.iter().map(|l| l.name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["floor plan", "trace-a · waypoints", "trace-b · waypoints"]
+    );
+    assert_eq!(run.layers[1].file, "trace-a/waypoints.csv");
+}
+
+#[test]
 fn the_cli_writes_a_complete_page_with_given_truth_and_waypoints() {
     let runs = runs();
     let dir = tempfile::tempdir().expect("tempdir");

@@ -1,6 +1,7 @@
 //! A run folder read into the page's layers: the files `learn`, `track`, `survey`,
-//! `simulate`, `plan`, `fingerprint` and `import` write ([`VIEWABLE_FILES`]), in the folder and in its
-//! `walk-N/` folders (a batch's walks), each placed on the globe at the run's origin.
+//! `simulate`, `plan`, `fingerprint` and `import` write ([`VIEWABLE_FILES`]), in the folder,
+//! in its `walk-N/` folders (a batch's walks) and in other sub-folders holding such files (an
+//! importer's traces), each placed on the globe at the run's origin.
 //!
 //! The origin of a folder's local metres is the `origin` its `summary.json` records, else
 //! the `origin` member of its GeoJSON files, else that of the folder above (a batch's walk),
@@ -45,9 +46,9 @@ pub const VIEWABLE_FILES: [(&str, LayerKind, &str); 14] = [
 /// the folder has no `track.csv`.
 const TRACK_GEOJSON: &str = "track.geojson";
 
-/// Reads the run folder `folder` and its `walk-N/` folders into layers. Errors: the folder
-/// does not exist or is not a folder, holds nothing to view (the message lists what was
-/// looked for), or a file is malformed (file and line named).
+/// Reads the run folder `folder` and its parts' folders (`walk-N/`, an importer's traces)
+/// into layers. Errors: the folder does not exist or is not a folder, holds nothing to view
+/// (the message lists what was looked for), or a file is malformed (file and line named).
 pub fn read_run(folder: &Path) -> Result<ViewRun> {
     check_folder(folder)?;
     let origin = folder_origin(folder, None)?;
@@ -72,16 +73,10 @@ pub fn read_run(folder: &Path) -> Result<ViewRun> {
         );
         run.inputs.push(plan);
     }
-    for (n, walk) in walk_folders(folder)? {
-        let walk_origin = folder_origin(&walk, Some(origin))?;
-        let prefix = format!("walk-{n}/");
-        read_folder(
-            &mut run,
-            &walk,
-            &prefix,
-            &format!("walk {n} · "),
-            &walk_origin,
-        )?;
+    for (label, name, part) in part_folders(folder)? {
+        let part_origin = folder_origin(&part, Some(origin))?;
+        let (file_prefix, name_prefix) = (format!("{name}/"), format!("{label} · "));
+        read_folder(&mut run, &part, &file_prefix, &name_prefix, &part_origin)?;
     }
     let summary = folder.join("summary.json");
     if summary.is_file() {
@@ -91,8 +86,8 @@ pub fn read_run(folder: &Path) -> Result<ViewRun> {
         let names: Vec<&str> = VIEWABLE_FILES.iter().map(|(f, _, _)| *f).collect();
         return Err(Error::not_enough(
             format!(
-                "{}: nothing to view: none of {}, {TRACK_GEOJSON} is there, nor a walk-N/ \
-                 folder holding one",
+                "{}: nothing to view: none of {}, {TRACK_GEOJSON} is there, nor a \
+                 sub-folder (walk-N/) holding one",
                 folder.display(),
                 names.join(", ")
             ),
@@ -121,25 +116,47 @@ fn check_folder(folder: &Path) -> Result<()> {
     Err(Error::io(folder, std::io::Error::new(kind, message)))
 }
 
-/// The `walk-N/` folders of a batch, by N.
-fn walk_folders(folder: &Path) -> Result<Vec<(usize, PathBuf)>> {
+/// The folders of a run's parts, as (label, folder name, path): a batch's `walk-N/` by N
+/// (labelled `walk N`), then any other sub-folder holding a file the page draws, by name (an
+/// importer's folder per trace).
+fn part_folders(folder: &Path) -> Result<Vec<(String, String, PathBuf)>> {
     let entries = std::fs::read_dir(folder).map_err(|e| Error::io(folder, e))?;
     let mut walks = Vec::new();
+    let mut others = Vec::new();
     for entry in entries {
         let entry = entry.map_err(|e| Error::io(folder, e))?;
-        let name = entry.file_name();
-        let number = name
-            .to_str()
-            .and_then(|n| n.strip_prefix("walk-"))
-            .and_then(|n| n.parse::<usize>().ok());
-        if let Some(n) = number
-            && entry.path().is_dir()
+        let path = entry.path();
+        let Some(name) = entry.file_name().to_str().map(str::to_owned) else {
+            continue;
+        };
+        if !path.is_dir() || name.starts_with('.') {
+            continue;
+        }
+        match name
+            .strip_prefix("walk-")
+            .and_then(|n| n.parse::<usize>().ok())
         {
-            walks.push((n, entry.path()));
+            Some(n) => walks.push((n, name, path)),
+            None if holds_viewable(&path) => others.push((name.clone(), name, path)),
+            None => {}
         }
     }
     walks.sort();
-    Ok(walks)
+    others.sort();
+    Ok(walks
+        .into_iter()
+        .map(|(n, name, path)| (format!("walk {n}"), name, path))
+        .chain(others)
+        .collect())
+}
+
+/// Whether `folder` holds a file the page draws.
+fn holds_viewable(folder: &Path) -> bool {
+    VIEWABLE_FILES
+        .iter()
+        .map(|(file, _, _)| *file)
+        .chain([TRACK_GEOJSON])
+        .any(|file| folder.join(file).is_file())
 }
 
 /// The floor plan a run was given, as its `summary.json` records it (`plan_file`: `track`,
