@@ -136,7 +136,7 @@ function drawView() {
   function drawHexMap(view) {
     const collection = view.spec.data.geojson;
     const features = collection.features || [];
-    const maxVisits = Math.max(1, ...features.map(f => (f.properties && f.properties.visits) || 0));
+    const maxVisits = features.reduce((m, f) => Math.max(m, (f.properties && f.properties.visits) || 0), 1);
     view.maxVisits = maxVisits;
     const shade = v => ramp(VIRIDIS, Math.log(1 + v) / Math.log(1 + maxVisits));
     view.hexRadius = collection.hex_radius || 0.5;
