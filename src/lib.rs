@@ -25,7 +25,8 @@
 //! * One module per file format, reading and writing it: step traces, IMU recordings, WiFi
 //!   and GPS logs, floor plans and learned maps as RFC 7946 GeoJSON, and importers of public
 //!   datasets (the Indoor Location Competition 2.0, IPIN logfiles) ([`io`]); pictures of
-//!   maps, plans, paths and particle clouds ([`render`]); a simulator of office and
+//!   maps, plans, paths and particle clouds ([`render`]); interactive map pages of run
+//!   folders, opened from disk in a browser ([`view`]); a simulator of office and
 //!   multi-floor walks with a foot-mounted-grade error model ([`sim`]) and evaluation
 //!   ([`eval`]).
 //!
@@ -97,8 +98,8 @@
 //!
 //! Layers point down only, each using only those before it: [`geometry`] → [`sensor`] →
 //! [`inertial`], [`map`] → [`model`] → [`filter`] → [`io`] (files) → [`pipeline`] (the
-//! work, reading no files) and [`render`] (pictures), with [`sim`] and [`eval`] beside them.
-//! The library never prints.
+//! work, reading no files), [`render`] (pictures) and [`view`] (map pages of run folders),
+//! with [`sim`] and [`eval`] beside them. The library never prints.
 
 pub mod error;
 pub mod eval;
@@ -114,6 +115,7 @@ pub mod random;
 pub mod render;
 pub mod sensor;
 pub mod sim;
+pub mod view;
 
 pub use error::{Error, Result};
 

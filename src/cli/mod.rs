@@ -43,6 +43,7 @@ mod track;
 mod track_pictures;
 mod track_summary;
 mod verbosity;
+mod view;
 
 use clap::{Parser, Subcommand};
 
@@ -93,6 +94,9 @@ enum Command {
     /// Convert public dataset recordings (Indoor Location Competition, IPIN) into footslam's CSV and GeoJSON.
     #[command(allow_negative_numbers = true)]
     Import(import::Args),
+    /// Write an interactive map page of run folders (open index.html in a browser; no server).
+    #[command(allow_negative_numbers = true)]
+    View(view::Args),
 }
 
 /// Runs the command line and maps errors to an exit code.
@@ -116,6 +120,7 @@ pub fn main() -> std::process::ExitCode {
         Command::Eval(a) => eval::run(a),
         Command::Fingerprint(a) => fingerprint::run(a),
         Command::Import(a) => import::run(a),
+        Command::View(a) => view::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
