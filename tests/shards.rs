@@ -18,7 +18,7 @@ fn shard(d: &Path, index: usize, out: &str, previous: &[&str]) -> assert_cmd::as
     let mut cmd = footslam();
     cmd.args(["learn", "--particles", "400", "--walks"])
         .arg(d.join("walks.csv"))
-        .args(["--shard", &format!("{index}/2"), "--out"])
+        .args(["--shard", &format!("{}/2", index + 1), "--out"])
         .arg(d.join(out));
     for p in previous {
         cmd.arg("--previous").arg(d.join(p));
@@ -104,8 +104,16 @@ fn shards_and_merge_give_the_batch() {
     footslam()
         .args(["learn", "--walks"])
         .arg(d.join("walks.csv"))
-        .args(["--shard", "2/2"])
+        .args(["--shard", "3/2"])
         .assert()
         .failure()
-        .stderr(predicates::str::contains("need 0 ≤ I < N"));
+        .stderr(predicates::str::contains("need 1 ≤ K ≤ N"));
+    // Shards count from 1, as walks do; 0 names the fix.
+    footslam()
+        .args(["learn", "--walks"])
+        .arg(d.join("walks.csv"))
+        .args(["--shard", "0/2"])
+        .assert()
+        .failure()
+        .stderr(predicates::str::contains("--shard 1/2"));
 }

@@ -95,11 +95,12 @@ pub struct Args {
     /// row, paths relative to the manifest.
     #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     pub(super) walks: Option<PathBuf>,
-    /// Learn only shard `I` of `N` (0-based) of the `--walks` manifest: walk `k` (0-based)
-    /// when `k mod N = I`, exactly as in the whole batch (seed `seed + k`), into
-    /// `walk-<k+1>/`. For batch schedulers (Slurm arrays, Kubernetes jobs): run the shards
-    /// of a pass in any order or place, then `footslam merge` their `walk-*/map.geojson`.
-    #[arg(long, value_parser = parse_shard, requires = "walks", value_name = "I/N", help_heading = "Filter")]
+    /// Learn only shard `K` of `N` (counted from 1, as walks are) of the `--walks`
+    /// manifest: walks `K`, `K + N`, `K + 2N`, … (the manifest's rows, from 1), each exactly
+    /// as in the whole batch (walk `w` with seed `seed + w − 1`), into `walk-<w>/`. For batch
+    /// schedulers (Slurm arrays, Kubernetes jobs): run the shards of a pass in any order or
+    /// place, then `footslam merge` their `walk-*/map.geojson`.
+    #[arg(long, value_parser = parse_shard, requires = "walks", value_name = "K/N", help_heading = "Filter")]
     pub(super) shard: Option<Shard>,
     /// With `--shard`: the shard folders of the previous pass (repeat, or one folder per
     /// shard): this shard runs a FeetSLAM pass, each walk against the merged map of the
@@ -113,28 +114,43 @@ pub struct Args {
     pub(super) ignore_heading: bool,
 }
 
-/// `--shard I/N`: shard `I` (0-based) of `N`.
+/// `--shard K/N`: shard `K` of `N`, counted from 1 as walks (`walk-1/`) are.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub struct Shard {
-    /// This shard, `0 ≤ index < count`.
+    /// This shard, 0-based (`K − 1`): `0 ≤ index < count`. Not in `summary.json`, which
+    /// gives `number`.
+    #[serde(skip)]
     pub index: usize,
+    /// This shard as the user numbers it, `1 ≤ number ≤ count`.
+    pub number: usize,
     /// Shards in all.
     pub count: usize,
 }
 
-/// Parses `I/N` with `0 ≤ I < N`.
+/// Parses `K/N` with `1 ≤ K ≤ N`.
 pub fn parse_shard(s: &str) -> Result<Shard, String> {
-    let (i, n) = s
+    let (k, n) = s
         .split_once('/')
-        .ok_or_else(|| format!("expected I/N (shard I of N, 0 ≤ I < N), got `{s}`"))?;
+        .ok_or_else(|| format!("expected K/N (shard K of N, 1 ≤ K ≤ N), got `{s}`"))?;
     let number = |v: &str, what: &str| {
         v.trim()
             .parse::<usize>()
-            .map_err(|_| format!("{what} `{v}` is not a whole number ≥ 0"))
+            .map_err(|_| format!("{what} `{v}` is not a whole number ≥ 1"))
     };
-    let (index, count) = (number(i, "shard")?, number(n, "shard count")?);
-    if count == 0 || index >= count {
-        return Err(format!("shard {index} of {count}: need 0 ≤ I < N"));
+    let (number, count) = (number(k, "shard")?, number(n, "shard count")?);
+    if number == 0 && count > 0 {
+        return Err(format!(
+            "shard 0 of {count}: shards count from 1, as walks do (`walk-1/`): `--shard 1/{count}` \
+             is the first (earlier releases counted from 0; add 1 to the shard, e.g. \
+             `$((SLURM_ARRAY_TASK_ID + 1))` for a 0-based array)"
+        ));
     }
-    Ok(Shard { index, count })
+    if count == 0 || number > count {
+        return Err(format!("shard {number} of {count}: need 1 ≤ K ≤ N"));
+    }
+    Ok(Shard {
+        index: number - 1,
+        number,
+        count,
+    })
 }

@@ -99,7 +99,7 @@ pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) 
     let (walks, n) = (&summary.shard_walks, all.len());
     info!(
         "shard {}/{}: learned walks {walks:?} of {n}",
-        shard.index, shard.count
+        shard.number, shard.count
     );
     super::verbosity::done(&out, None);
     Ok(())

@@ -253,7 +253,7 @@ fn read_walks(args: &Args, plan: &FloorPlan) -> Result<(Vec<WalkFiles>, Vec<Surv
         files.extend(read_manifest(manifest)?);
     }
     if files.is_empty() && args.merge.is_empty() {
-        bail!("nothing to survey: give --steps/--wifi pairs, --walks or --merge");
+        bail!("nothing to survey: give --steps/--wifi pairs, --walks or --radiomap");
     }
     let mut walks = Vec::with_capacity(files.len());
     for w in &mut files {
