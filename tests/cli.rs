@@ -557,6 +557,13 @@ fn quiet_says_nothing_verbose_lists_the_files_and_every_run_ends_in_one_line() {
         verbose.contains("steps.csv (") && verbose.contains("truth.png ("),
         "{verbose}"
     );
+    // Into an earlier run's folder: a notice on stderr, and it is replaced whole.
+    footslam()
+        .args(["simulate", "--laps", "1", "--out"])
+        .arg(&out)
+        .assert()
+        .success()
+        .stderr(predicates::str::contains("holds an earlier run"));
     // The flags go anywhere on the line, and not together.
     footslam()
         .args(["simulate", "--laps", "1", "-q", "--out"])
@@ -569,4 +576,45 @@ fn quiet_says_nothing_verbose_lists_the_files_and_every_run_ends_in_one_line() {
         .assert()
         .failure()
         .stderr(predicates::str::contains("cannot be used with"));
+}
+
+#[test]
+fn completions_and_manual_pages_come_from_the_command_line_itself() {
+    let out = footslam().args(["completions", "bash"]).assert().success();
+    let script = String::from_utf8(out.get_output().stdout.clone()).expect("utf-8");
+    assert!(script.contains("_footslam") && script.contains("--map-weight"));
+    let dir = tempfile::tempdir().expect("tempdir");
+    footslam()
+        .args(["man", "--out"])
+        .arg(dir.path())
+        .assert()
+        .success();
+    let learn = std::fs::read_to_string(dir.path().join("footslam-learn.1")).expect("page");
+    assert!(
+        learn.contains("\\-\\-map") || learn.contains("--map"),
+        "{learn}"
+    );
+    assert!(dir.path().join("footslam.1").is_file());
+    footslam().args(["completions", "tcsh"]).assert().failure();
+}
+
+#[test]
+fn old_option_spellings_still_work_hidden() {
+    // learn --prior-map (now --map), track --hexmap (now --map): hidden, not in --help.
+    let help = footslam().args(["learn", "--help"]).assert().success();
+    let help = String::from_utf8(help.get_output().stdout.clone()).expect("utf-8");
+    assert!(
+        help.contains("--map <FILE>") && !help.contains("prior-map"),
+        "{help}"
+    );
+    footslam()
+        .args(["learn", "--prior-map", "/no/such/map.geojson"])
+        .assert()
+        .failure()
+        .stderr(predicates::str::contains("/no/such/map.geojson"));
+    footslam()
+        .args(["track", "--hexmap", "/no/such/map.geojson"])
+        .assert()
+        .failure()
+        .stderr(predicates::str::contains("/no/such/map.geojson"));
 }

@@ -50,6 +50,24 @@ pub fn parse_extent(s: &str) -> Result<[f64; 4], String> {
     Ok([x0, y0, x1, y1])
 }
 
+/// Starts a run into `out` ([`footslam::io::RunFolder::create`]), with a notice when it will replace an
+/// earlier run there (never files of two runs in one folder).
+pub fn create_run_folder(out: &Path) -> footslam::Result<footslam::io::RunFolder> {
+    let folder = footslam::io::RunFolder::create(out)?;
+    if folder.replacing() > 0 && !super::verbosity::quiet() {
+        #[allow(clippy::print_stderr)]
+        {
+            eprintln!(
+                "note: {} holds an earlier run: its {} files and folders are replaced whole \
+                 when this run ends",
+                out.display(),
+                folder.replacing()
+            );
+        }
+    }
+    Ok(folder)
+}
+
 /// `--out` or a fresh folder `outputs/<command>-<UTC time>`.
 pub fn output_dir(out: Option<PathBuf>, command: &str) -> PathBuf {
     out.unwrap_or_else(|| {

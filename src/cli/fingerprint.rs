@@ -4,7 +4,6 @@
 use super::common::{check_scans_match, output_dir, read_config, read_wifi_warned, require_file};
 use anyhow::{Result, bail};
 use footslam::filter::{FingerprintConfig, NearestFingerprint};
-use footslam::io::RunFolder;
 use footslam::io::radio_map_geojson::read_radio_map_geojson;
 use footslam::io::{TrackPoint, write_track};
 use serde::Serialize;
@@ -71,7 +70,7 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     let out = output_dir(args.out, "fingerprint");
-    let folder = RunFolder::create(&out)?;
+    let folder = super::common::create_run_folder(&out)?;
     let track: Vec<TrackPoint> = fixes
         .iter()
         .map(|f| TrackPoint {

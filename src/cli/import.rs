@@ -160,7 +160,7 @@ fn run_ilc(args: IlcArgs) -> Result<()> {
         Some(dir) => Some(read_ilc_floor(dir)?),
         None => None,
     };
-    let folder = RunFolder::create(&args.out)?;
+    let folder = super::common::create_run_folder(&args.out)?;
     let walkable = Walkable::from(args.walkable);
     let (floor_json, plan) = match &floor {
         Some(floor) => {
@@ -414,7 +414,7 @@ fn run_ipin(args: IpinArgs) -> Result<()> {
     };
     let log = read_ipin_log(&args.log, &config)?;
     let frame = log.waypoint_frame(args.origin);
-    let folder = RunFolder::create(&args.out)?;
+    let folder = super::common::create_run_folder(&args.out)?;
     let written = write_ipin_files(&folder, &log, frame.as_ref())?;
     folder.write_json(
         "summary.json",

@@ -90,7 +90,7 @@ pub fn run(args: Args) -> Result<()> {
     let threads = pool.current_num_threads();
     let learned = pool.install(|| learn(&input, &config, &Bars::default()))?;
 
-    let mut folder = RunFolder::create(&output_dir(args.out.clone(), "learn"))?;
+    let mut folder = super::common::create_run_folder(&output_dir(args.out.clone(), "learn"))?;
     protect_inputs(&mut folder, &args, &files);
     let mut summary = write_outputs(&folder, &files, &input, &learned)?;
     summary.runtime_s = started.elapsed().as_secs_f64();

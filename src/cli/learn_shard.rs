@@ -107,7 +107,7 @@ pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) 
 
 /// The shard's output folder, every input of the batch protected.
 fn shard_folder(args: &Args, manifest: &Path, all: &[ManifestWalk]) -> Result<RunFolder> {
-    let mut folder = RunFolder::create(&output_dir(args.out.clone(), "learn"))?;
+    let mut folder = super::common::create_run_folder(&output_dir(args.out.clone(), "learn"))?;
     folder.protect(
         all.iter()
             .flat_map(|w| [Some(&w.steps), w.gps.as_ref(), w.wifi.as_ref()])

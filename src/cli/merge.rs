@@ -3,7 +3,6 @@
 use super::common::{output_dir, require_file, warn};
 use super::learn_outputs::{MapPictures, write_learned_plan};
 use anyhow::{Result, bail};
-use footslam::io::RunFolder;
 use footslam::io::map_geojson::{StoredMap, read_stored_map, write_walks_map_geojson};
 use footslam::pipeline::{SAME_ORIGIN_M, merge};
 use std::path::PathBuf;
@@ -98,7 +97,7 @@ pub fn run(args: Args) -> Result<()> {
         info!("wrote {}", out.display());
         return Ok(());
     }
-    let mut folder = RunFolder::create(&output_dir(args.out.clone(), "merge"))?;
+    let mut folder = super::common::create_run_folder(&output_dir(args.out.clone(), "merge"))?;
     folder.protect(args.maps.iter());
     let (map, frame) = (&merged.map, &merged.frame);
     write_walks_map_geojson(&folder.path("merged.geojson"), map, frame, merged.walks)?;

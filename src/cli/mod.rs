@@ -34,6 +34,7 @@ mod merge;
 mod plan;
 mod progress_bars;
 mod radio_outputs;
+mod shell;
 mod simulate;
 mod simulate_args;
 mod simulate_campus;
@@ -97,6 +98,10 @@ enum Command {
     /// Write an interactive map page of run folders (open index.html in a browser; no server).
     #[command(allow_negative_numbers = true)]
     View(view::Args),
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
+    Completions(shell::CompletionArgs),
+    /// Write the manual pages (man footslam, man footslam-learn, ...).
+    Man(shell::ManArgs),
 }
 
 /// Runs the command line and maps errors to an exit code.
@@ -121,6 +126,8 @@ pub fn main() -> std::process::ExitCode {
         Command::Fingerprint(a) => fingerprint::run(a),
         Command::Import(a) => import::run(a),
         Command::View(a) => view::run(a),
+        Command::Completions(a) => shell::completions(&a),
+        Command::Man(a) => shell::man(&a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

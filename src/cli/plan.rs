@@ -70,7 +70,7 @@ pub fn run(args: Args) -> Result<()> {
     // One occupancy grid per floor: `map.pgm` for the main floor, `map-level+N.pgm` others.
     let Planned { learned, grids } = plan(&stored.map, &config)?;
     let grid = &grids[0].1;
-    let mut folder = RunFolder::create(&output_dir(args.out, "plan"))?;
+    let mut folder = super::common::create_run_folder(&output_dir(args.out, "plan"))?;
     folder.protect(std::iter::once(&args.map).chain(args.config.iter()));
     write_plan_files(&folder, "", &learned, &grids, &stored.frame)?;
     folder.write_json("config.json", &config)?;

@@ -70,7 +70,7 @@ fn run_tower(args: Args) -> Result<()> {
     let config = tower_config(&args)?;
     let origin = args.origin.unwrap_or_default();
     let sim = simulate_tower(&config)?;
-    let folder = RunFolder::create(&output_dir(args.out, "simulate"))?;
+    let folder = super::common::create_run_folder(&output_dir(args.out, "simulate"))?;
     let truth = write_tower_files(&folder, &sim, &origin)?;
     folder.write_json("config.json", &config)?;
     let summary = tower_summary(&config, &sim, &truth, origin);
@@ -213,7 +213,7 @@ fn run_office(args: Args) -> Result<()> {
     }
     let origin = args.origin.unwrap_or_default();
     let sim = simulate(&config)?;
-    let folder = RunFolder::create(&output_dir(args.out, "simulate"))?;
+    let folder = super::common::create_run_folder(&output_dir(args.out, "simulate"))?;
     write_floor_plan(&folder.path("floor.geojson"), &sim.plan, &origin)?;
     write_steps_with_field(&folder.path("steps.csv"), &sim.steps, sim.field.as_ref())?;
     write_truth(&folder.path("truth.csv"), &sim.truth)?;

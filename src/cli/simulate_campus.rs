@@ -38,7 +38,7 @@ pub fn run(args: Args) -> Result<()> {
     let config = campus_config(&args)?;
     let origin = args.origin.unwrap_or_default();
     let sim = simulate_campus(&config, &origin)?;
-    let folder = RunFolder::create(&output_dir(args.out, "simulate"))?;
+    let folder = super::common::create_run_folder(&output_dir(args.out, "simulate"))?;
     write_floor_plan(&folder.path("floor.geojson"), &sim.plan, &origin)?;
     write_outline(&folder.path("outline.geojson"), &sim.outline, &origin)?;
     let several = sim.walks.len() > 1;

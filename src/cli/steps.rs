@@ -128,7 +128,7 @@ pub fn run(args: Args) -> Result<()> {
         recording = recording.with_gyro_flipped(flip);
     }
     let out = output_dir(args.out.clone(), "steps");
-    let mut folder = RunFolder::create(&out)?;
+    let mut folder = super::common::create_run_folder(&out)?;
     folder.protect(std::iter::once(&args.imu).chain(args.config.iter()));
     let mount = match args.mount {
         MountArg::Foot => Mount::Foot,

@@ -10,7 +10,6 @@ use super::progress_bars::Bars;
 use super::radio_outputs::write_radio_map_files;
 use anyhow::{Context, Result, bail};
 use footslam::filter::StartPose;
-use footslam::io::RunFolder;
 use footslam::io::floor_plan_geojson::read_floor_plan;
 use footslam::io::radio_map_geojson::read_radio_map_geojson;
 use footslam::io::{read_steps, read_walk_manifest};
@@ -162,7 +161,7 @@ pub fn run(args: Args) -> Result<()> {
         .with_context(|| format!("{}: cannot survey on this plan", args.plan.display()))?;
     warn_left_out(&files, &surveyed);
 
-    let mut folder = RunFolder::create(&output_dir(args.out.clone(), "survey"))?;
+    let mut folder = super::common::create_run_folder(&output_dir(args.out.clone(), "survey"))?;
     folder.protect(
         [&args.plan]
             .into_iter()

@@ -205,7 +205,7 @@ pub fn run(args: Args) -> Result<()> {
     let bars = Bars::default();
     let mut run = pool.install(|| track(&input, &inputs.trace, &config, &snapshots, &bars))?;
 
-    let mut folder = RunFolder::create(&output_dir(args.out.clone(), "track"))?;
+    let mut folder = super::common::create_run_folder(&output_dir(args.out.clone(), "track"))?;
     folder.protect(
         [&inputs.plan_path, &inputs.steps_path]
             .into_iter()

@@ -2,7 +2,6 @@
 
 use super::common::{output_dir, parse_extent};
 use anyhow::{Result, bail};
-use footslam::io::RunFolder;
 use footslam::view::{
     Basemap, Page, ViewRun, read_run, read_truth_layer, read_waypoints_layer, write_page,
 };
@@ -80,7 +79,7 @@ pub fn run(args: Args) -> Result<()> {
     add_references(&mut runs[0], &args)?;
     let basemap = basemap(&args, &runs[0])?;
     let page = Page::new(runs, basemap);
-    let mut folder = RunFolder::create(&output_dir(args.out.clone(), "view"))?;
+    let mut folder = super::common::create_run_folder(&output_dir(args.out.clone(), "view"))?;
     folder.protect(page.inputs());
     write_page(&folder, &page)?;
     folder.write_json("summary.json", &page.summary())?;

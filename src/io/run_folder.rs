@@ -56,6 +56,9 @@ pub struct RunFolder {
     committed: bool,
     /// The run's inputs (canonical paths), which [`RunFolder::commit`] must not replace.
     inputs: Vec<PathBuf>,
+    /// The files and folders of an earlier run in the destination, which the commit
+    /// replaces (0: a new or empty folder).
+    replacing: usize,
 }
 
 impl RunFolder {
@@ -77,6 +80,15 @@ impl RunFolder {
             ));
         }
         let exists = destination.is_dir();
+        let replacing = if exists {
+            std::fs::read_dir(destination)
+                .map_err(|e| Error::io(destination, e))?
+                .flatten()
+                .filter(|e| !e.file_name().to_string_lossy().contains(".staging."))
+                .count()
+        } else {
+            0
+        };
         if exists && !is_run_folder(destination)? {
             return Err(Error::output(
                 destination,
@@ -117,7 +129,14 @@ impl RunFolder {
             staging,
             committed: false,
             inputs: Vec::new(),
+            replacing,
         })
+    }
+
+    /// How many files and folders of an earlier run the commit will replace (0: the
+    /// destination is new or empty), for a notice before the run starts.
+    pub fn replacing(&self) -> usize {
+        self.replacing
     }
 
     /// Where a file named `name` is to be written before commit.
