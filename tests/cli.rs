@@ -618,3 +618,49 @@ fn old_option_spellings_still_work_hidden() {
         .failure()
         .stderr(predicates::str::contains("/no/such/map.geojson"));
 }
+
+#[test]
+fn merge_writes_a_run_folder_with_a_picture_and_the_old_one_file_form_warns() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut maps = Vec::new();
+    for seed in ["1", "2"] {
+        let out = dir.path().join(format!("learn-{seed}"));
+        footslam()
+            .args(["-q", "learn", "--particles", "200", "--seed", seed, "--out"])
+            .arg(&out)
+            .assert()
+            .success();
+        maps.push(out.join("map.geojson"));
+    }
+    let merged = dir.path().join("merged");
+    footslam()
+        .arg("merge")
+        .args(&maps)
+        .arg("-o")
+        .arg(&merged)
+        .assert()
+        .success();
+    for file in [
+        "merged.geojson",
+        "merged_plan.geojson",
+        "merged.png",
+        "summary.json",
+    ] {
+        assert!(merged.join(file).is_file(), "{file}");
+    }
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(merged.join("summary.json")).expect("summary"),
+    )
+    .expect("json");
+    assert_eq!(summary["walks"], 2, "{summary}");
+    let one = dir.path().join("one.geojson");
+    footslam()
+        .arg("merge")
+        .args(&maps)
+        .arg("--out")
+        .arg(&one)
+        .assert()
+        .success()
+        .stderr(predicates::str::contains("writes a folder"));
+    assert!(one.is_file());
+}

@@ -66,7 +66,7 @@ pub(super) fn write_field_map_png(
         paths: vec![PlanPath {
             points: path,
             colour: [230, 60, 40],
-            label: "learned path",
+            label: "most probable path",
         }],
         points: Vec::new(),
         cells,

@@ -43,10 +43,8 @@ struct Summary {
     version: &'static str,
 }
 
-/// Runs `footslam fingerprint`.
-pub fn run(args: Args) -> Result<()> {
-    require_file(&args.radiomap, "radio map")?;
-    require_file(&args.wifi, "WiFi log")?;
+/// The configuration file's (or the defaults) with `--k`.
+fn fingerprint_config(args: &Args) -> Result<FingerprintConfig> {
     let mut config: FingerprintConfig = match &args.config {
         Some(p) => read_config(p)?,
         None => FingerprintConfig::default(),
@@ -54,6 +52,14 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(k) = args.k {
         config.k = k;
     }
+    Ok(config)
+}
+
+/// Runs `footslam fingerprint`.
+pub fn run(args: Args) -> Result<()> {
+    require_file(&args.radiomap, "radio map")?;
+    require_file(&args.wifi, "WiFi log")?;
+    let config = fingerprint_config(&args)?;
     let (map, _) = read_radio_map_geojson(&args.radiomap, None)?;
     let localiser = NearestFingerprint::new(&map, &config)?;
     let log = read_wifi_warned(&args.wifi)?;

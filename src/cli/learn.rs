@@ -172,11 +172,7 @@ fn write_outputs(
     learned: &Learned,
 ) -> Result<RunSummary> {
     let frame = &input.frame;
-    let map_frame = MapFrame {
-        frame,
-        outline: input.outline,
-        anchored: input.outline.is_some() || input.prior_map.is_some(),
-    };
+    let map_frame = MapFrame::of(input);
     let batch = input.walks.len() > 1;
     let mut summaries = Vec::with_capacity(learned.walks.len());
     for (i, (walk, run)) in input.walks.iter().zip(&learned.walks).enumerate() {

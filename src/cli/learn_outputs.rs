@@ -147,6 +147,17 @@ pub(super) struct MapFrame<'a> {
     pub(super) anchored: bool,
 }
 
+impl<'a> MapFrame<'a> {
+    /// The frame of a run's `input`: anchored by its outline or prior map.
+    pub(super) fn of(input: &'a footslam::pipeline::LearnInput<'a>) -> Self {
+        Self {
+            frame: &input.frame,
+            outline: input.outline,
+            anchored: input.outline.is_some() || input.prior_map.is_some(),
+        }
+    }
+}
+
 /// The pictures of a learned map: one per floor, `NAME.png` the first (level 0) and
 /// `NAME-level+N.png` the others, each with the path's part on that floor.
 pub(super) struct MapPictures<'a> {

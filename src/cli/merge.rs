@@ -97,6 +97,11 @@ pub fn run(args: Args) -> Result<()> {
         info!("wrote {}", out.display());
         return Ok(());
     }
+    write_merged_folder(&args, &merged)
+}
+
+/// The merge's run folder: the merged map, its plan and pictures, configuration and summary.
+fn write_merged_folder(args: &Args, merged: &StoredMap) -> Result<()> {
     let mut folder = super::common::create_run_folder(&output_dir(args.out.clone(), "merge"))?;
     folder.protect(args.maps.iter());
     let (map, frame) = (&merged.map, &merged.frame);

@@ -103,11 +103,12 @@ fn key_of(pictures: &[PlanPicture]) -> Vec<KeyEntry> {
         }
     };
     for p in pictures {
-        for path in &p.paths {
+        // What a picture holds nothing of is not in the key.
+        for path in p.paths.iter().filter(|p| !p.points.is_empty()) {
             let [r, g, b] = path.colour;
             add(KeyEntry::new(Swatch::Line(rgb(r, g, b)), path.label));
         }
-        for cloud in &p.points {
+        for cloud in p.points.iter().filter(|c| !c.points.is_empty()) {
             let [r, g, b] = cloud.colour;
             add(KeyEntry::new(Swatch::Dots(rgb(r, g, b)), cloud.label));
         }
