@@ -664,3 +664,39 @@ fn merge_writes_a_run_folder_with_a_picture_and_the_old_one_file_form_warns() {
         .stderr(predicates::str::contains("writes a folder"));
     assert!(one.is_file());
 }
+
+#[test]
+fn eval_picture_draws_the_learned_plan_over_the_true_one() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let sim = simulate_into(dir.path(), "3");
+    let run = dir.path().join("run");
+    footslam()
+        .args(["-q", "learn", "--particles", "300", "--steps"])
+        .arg(sim.join("steps.csv"))
+        .arg("--out")
+        .arg(&run)
+        .assert()
+        .success();
+    let png = dir.path().join("eval.png");
+    footslam()
+        .args(["eval", "--align", "rigid", "--truth"])
+        .arg(sim.join("truth.csv"))
+        .arg("--track")
+        .arg(run.join("track.csv"))
+        .arg("--learned-plan")
+        .arg(run.join("plan.geojson"))
+        .arg("--plan")
+        .arg(sim.join("floor.geojson"))
+        .arg("--picture")
+        .arg(&png)
+        .assert()
+        .success();
+    let img = image::open(&png).expect("a PNG").to_rgba8();
+    let near = |rgb: [u8; 3]| {
+        img.pixels()
+            .filter(|p| (0..3).all(|i| p.0[i].abs_diff(rgb[i]) <= 30))
+            .count()
+    };
+    assert!(near([166, 97, 26]) > 200, "no learned plan outline");
+    assert!(near([178, 24, 43]) > 200, "no track");
+}

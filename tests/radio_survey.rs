@@ -524,10 +524,36 @@ fn manifest_starts_place_each_walk_and_override_the_shared_start() {
         with_starts[0]["scans_added"].as_u64() > unknown[0]["scans_added"].as_u64(),
         "a known start surveys the walk's scans from its first step"
     );
-    // A shared --start applies to the walks without their own.
-    let shared = survey(&known, "shared", &[format!("--start={}", full(&starts[2]))]);
+    // A shared start (`tracker.start` of --config) applies to the walks without their own.
+    let s = &starts[2];
+    let config = dir.path().join("shared.toml");
+    std::fs::write(
+        &config,
+        format!(
+            "[tracker.start]\nx = {}\ny = {}\nheading = {}\nlevel = {}\n",
+            s["x"], s["y"], s["heading"], s["level"]
+        ),
+    )
+    .expect("write");
+    let shared = survey(
+        &known,
+        "shared",
+        &["--config".into(), config.display().to_string()],
+    );
     assert_eq!(localised(&shared[2]), Some(1));
     assert_eq!(shared[0]["start"], with_starts[0]["start"]);
+    // A --start belongs to the --steps at its position: with a manifest alone it is refused,
+    // naming the ways to give a shared start.
+    footslam()
+        .arg("survey")
+        .arg("--plan")
+        .arg(walks[0].join("floor.geojson"))
+        .arg("--walks")
+        .arg(&known)
+        .arg(format!("--start={}", full(&starts[2])))
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("tracker.start"));
     // A malformed start names the manifest's line.
     let bad = manifest(
         "bad.csv",

@@ -70,7 +70,8 @@ pub struct Args {
     #[arg(long, value_parser = parse_origin, allow_hyphen_values = true, value_name = "LAT,LON", help_heading = "Inputs")]
     origin: Option<LocalFrame>,
     /// Also draw the track (after the alignment) over the truth or the waypoints into this
-    /// PNG, on the `--plan` when given (one panel per floor).
+    /// PNG, on the `--plan` when given (one panel per floor), with the `--learned-plan`'s
+    /// outlines aligned as the track is.
     #[arg(long, value_name = "FILE", help_heading = "Outputs")]
     picture: Option<PathBuf>,
     /// Print JSON instead of a table.
@@ -180,6 +181,7 @@ fn write_picture(
         report,
         plan: args.plan.as_deref(),
         origin: args.origin,
+        learned_plan: args.learned_plan.as_deref(),
     }
     .write(out)
     .with_context(|| format!("writing --picture {}", out.display()))

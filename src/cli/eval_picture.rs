@@ -32,7 +32,13 @@ pub(super) struct EvalPicture<'a> {
     pub(super) plan: Option<&'a Path>,
     /// `--origin`.
     pub(super) origin: Option<footslam::geometry::LocalFrame>,
+    /// A learned plan (`--learned-plan`), in the track's frame: drawn, aligned as the
+    /// track is, over the true plan.
+    pub(super) learned_plan: Option<&'a Path>,
 }
+
+/// The learned plan's outlines.
+const LEARNED_BROWN: [u8; 3] = [166, 97, 26];
 
 impl EvalPicture<'_> {
     /// Writes the picture to `out` (PNG).
@@ -57,21 +63,31 @@ impl EvalPicture<'_> {
         match self.plan {
             Some(plan) => {
                 let (plan, _) = read_floor_plan(plan, self.origin)?;
+                let outlines = self.learned_outlines()?;
+                let mut paths: Vec<PlanPath> = outlines
+                    .iter()
+                    .map(|ring| PlanPath {
+                        points: ring,
+                        colour: LEARNED_BROWN,
+                        label: "learned plan",
+                    })
+                    .collect();
+                paths.extend([
+                    PlanPath {
+                        points: &self.reference,
+                        colour: TRUTH_BLUE,
+                        label: self.reference_label,
+                    },
+                    PlanPath {
+                        points: &aligned,
+                        colour: TRACK_RED,
+                        label: "track",
+                    },
+                ]);
                 let picture = PlanPicture {
                     plan: &plan,
                     title: Some(title),
-                    paths: vec![
-                        PlanPath {
-                            points: &self.reference,
-                            colour: TRUTH_BLUE,
-                            label: self.reference_label,
-                        },
-                        PlanPath {
-                            points: &aligned,
-                            colour: TRACK_RED,
-                            label: "track",
-                        },
-                    ],
+                    paths,
                     points: Vec::new(),
                     cells: Vec::new(),
                     markers: Vec::new(),
@@ -102,6 +118,37 @@ impl EvalPicture<'_> {
             }
         }
         Ok(())
+    }
+}
+
+impl EvalPicture<'_> {
+    /// The rings of `--learned-plan`'s polygons as closed `(x, y, level)` lines, moved into
+    /// the truth's frame by the track's alignment.
+    fn learned_outlines(&self) -> Result<Vec<Vec<(f64, f64, i32)>>> {
+        let Some(path) = self.learned_plan else {
+            return Ok(Vec::new());
+        };
+        let (learned, _) = read_floor_plan(path, self.origin)?;
+        let moved = |(x, y): (f64, f64)| match &self.report.transform {
+            Some(t) => t.apply((x, y)),
+            None => (x, y),
+        };
+        Ok(learned
+            .polygons
+            .iter()
+            .flat_map(|f| {
+                std::iter::once(f.polygon.exterior())
+                    .chain(f.polygon.interiors())
+                    .map(move |ring| {
+                        ring.coords()
+                            .map(|c| {
+                                let (x, y) = moved((c.x, c.y));
+                                (x, y, f.level)
+                            })
+                            .collect()
+                    })
+            })
+            .collect())
     }
 }
 
