@@ -118,16 +118,18 @@ fn picture_draws_the_track_over_the_waypoints() {
             t0 + 20.0
         ),
     );
+    // `eval --track T --waypoints W [EXTRA…]`.
+    let eval = |extra: &[&std::ffi::OsStr]| {
+        footslam()
+            .args(["eval", "--track"])
+            .arg(&track)
+            .arg("--waypoints")
+            .arg(&waypoints)
+            .args(extra)
+            .assert()
+    };
     let png = dir.path().join("eval.png");
-    footslam()
-        .args(["eval", "--track"])
-        .arg(&track)
-        .arg("--waypoints")
-        .arg(&waypoints)
-        .arg("--picture")
-        .arg(&png)
-        .assert()
-        .success();
+    eval(&["--picture".as_ref(), png.as_os_str()]).success();
     // The track in red, the waypoints joined in blue (dashed), both in the key.
     assert!(pixels_of(&png, [178, 24, 43]) > 200, "no track");
     assert!(pixels_of(&png, [33, 102, 172]) > 20, "no waypoints");
@@ -140,27 +142,16 @@ fn picture_draws_the_track_over_the_waypoints() {
         [0.00013,0.0],[0.00013,0.00027],[0.00008,0.00027],[0.00008,0.0]]]}}]}"#,
     );
     let png = dir.path().join("eval-plan.png");
-    footslam()
-        .args(["eval", "--track"])
-        .arg(&track)
-        .arg("--waypoints")
-        .arg(&waypoints)
-        .arg("--plan")
-        .arg(&plan)
-        .arg("--picture")
-        .arg(&png)
-        .assert()
-        .success();
+    eval(&[
+        "--plan".as_ref(),
+        plan.as_os_str(),
+        "--picture".as_ref(),
+        png.as_os_str(),
+    ])
+    .success();
     assert!(pixels_of(&png, [178, 24, 43]) > 200, "no track on the plan");
     // --plan without --picture says what it is for.
-    footslam()
-        .args(["eval", "--track"])
-        .arg(&track)
-        .arg("--waypoints")
-        .arg(&waypoints)
-        .arg("--plan")
-        .arg(&plan)
-        .assert()
+    eval(&["--plan".as_ref(), plan.as_os_str()])
         .failure()
         .stderr(predicates::str::contains("--picture"));
 }

@@ -270,23 +270,18 @@ pub(super) fn write_walk(
     write_track_geojson(&at("track.geojson"), &points, frame)?;
     drop(points);
     write_map_geojson(&at("map.geojson"), &estimate.map, frame)?;
-    if let Some(field) = estimate.field_map.as_ref().filter(|f| !f.cells.is_empty()) {
-        write_field_map_geojson(&at("fieldmap.geojson"), field, frame)?;
-        let path: Vec<(f64, f64, i32)> = estimate
-            .path
-            .iter()
-            .zip(&estimate.levels)
-            .map(|(p, &l)| (p.x, p.y, l))
-            .collect();
-        write_field_map_png(&at("fieldmap.png"), field, &path, north_up)?;
-    }
-    let walkable_plan_m2 = write_learned_plan(&at("plan.geojson"), &estimate.map, frame)?;
+    // The path `(x, y, level)`, for the pictures.
     let path: Vec<(f64, f64, i32)> = estimate
         .path
         .iter()
         .zip(&estimate.levels)
         .map(|(p, &l)| (p.x, p.y, l))
         .collect();
+    if let Some(field) = estimate.field_map.as_ref().filter(|f| !f.cells.is_empty()) {
+        write_field_map_geojson(&at("fieldmap.geojson"), field, frame)?;
+        write_field_map_png(&at("fieldmap.png"), field, &path, north_up)?;
+    }
+    let walkable_plan_m2 = write_learned_plan(&at("plan.geojson"), &estimate.map, frame)?;
     let pictures = MapPictures {
         path: &path,
         path_label: "most probable path",
