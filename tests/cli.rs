@@ -700,3 +700,28 @@ fn eval_picture_draws_the_learned_plan_over_the_true_one() {
     assert!(near([166, 97, 26]) > 200, "no learned plan outline");
     assert!(near([178, 24, 43]) > 200, "no track");
 }
+
+#[test]
+fn survey_pictures_show_the_picture_extent() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let tower = Path::new(env!("CARGO_MANIFEST_DIR")).join("datasets/tower");
+    let survey = |out: &Path, extra: &[&str]| {
+        footslam()
+            .args(["-q", "survey", "--particles", "20000", "--plan"])
+            .arg(tower.join("floor.geojson"))
+            .arg("--steps")
+            .arg(tower.join("steps.csv"))
+            .arg("--wifi")
+            .arg(tower.join("wifi.csv"))
+            .args(extra)
+            .arg("--out")
+            .arg(out)
+            .assert()
+            .success();
+        image::image_dimensions(out.join("radiomap.png")).expect("radiomap.png")
+    };
+    let (w, h) = survey(&dir.path().join("whole"), &[]);
+    let (w2, h2) = survey(&dir.path().join("part"), &["--picture-extent", "0,0,10,10"]);
+    // A 10 m square per floor is narrower than the cells' crop of a 40 m corridor.
+    assert!(w2 < w && h2 != h, "{w}×{h} vs {w2}×{h2}");
+}

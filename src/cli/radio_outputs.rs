@@ -25,12 +25,17 @@ pub(super) fn write_radio_map_files(
     prefix: &str,
     plan: &FloorPlan,
     map: &RadioMap,
-    (frame, north_up): (&LocalFrame, bool),
+    (frame, north_up, extent): (&LocalFrame, bool, Option<[f64; 4]>),
 ) -> Result<()> {
     let at = |name: &str| folder.path(&format!("{prefix}{name}"));
+    // The part of the plan the pictures show: `--picture-extent`, else what they draw.
+    let pictures = PlanPictureConfig {
+        extent,
+        ..PlanPictureConfig::default()
+    };
     write_radio_map_geojson(&at("radiomap.geojson"), map, frame)?;
     write_radio_map_csv(&at("radiomap.csv"), map)?;
-    write_coverage_png(&at("radiomap.png"), plan, map, north_up)?;
+    write_coverage_png(&at("radiomap.png"), plan, map, (north_up, &pictures))?;
     let mut names = std::collections::BTreeSet::new();
     for &bssid in &map.access_points() {
         let heat: Vec<PlanCell> = map
@@ -85,7 +90,7 @@ pub(super) fn write_radio_map_files(
         while !names.insert(name.clone()) {
             name = name.replace(".png", "_.png");
         }
-        write_plan_png(&at(&name), &[picture], &PlanPictureConfig::default())?;
+        write_plan_png(&at(&name), &[picture], &pictures)?;
     }
     Ok(())
 }
@@ -114,7 +119,7 @@ fn write_coverage_png(
     path: &std::path::Path,
     plan: &FloorPlan,
     map: &RadioMap,
-    north_up: bool,
+    (north_up, config): (bool, &PlanPictureConfig),
 ) -> Result<()> {
     let most = map.cells.iter().map(|c| c.radio.scans).max().unwrap_or(0);
     let cells: Vec<PlanCell> = map
@@ -153,7 +158,7 @@ fn write_coverage_png(
             colour: viridis_rgb,
         }),
     };
-    write_plan_png(path, &[picture], &PlanPictureConfig::default())?;
+    write_plan_png(path, &[picture], config)?;
     Ok(())
 }
 

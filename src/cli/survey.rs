@@ -76,6 +76,10 @@ pub struct Args {
     /// Survey configuration (TOML or JSON with `tracker` and `cells`).
     #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     config: Option<PathBuf>,
+    /// The part of the plan `radiomap.png` and the heatmaps show, `X0,Y0,X1,Y1` local
+    /// metres (default: the cells drawn, with 10 m around them, within the plan).
+    #[arg(long, value_parser = super::common::parse_extent, allow_hyphen_values = true, value_name = "X0,Y0,X1,Y1", help_heading = "Outputs")]
+    picture_extent: Option<[f64; 4]>,
     /// Output folder (default: a new folder under `outputs/`).
     #[arg(short = 'o', long, value_name = "DIR", help_heading = "Outputs")]
     out: Option<PathBuf>,
@@ -171,7 +175,8 @@ pub fn run(args: Args) -> Result<()> {
             .chain(args.walks.iter())
             .chain(args.config.iter()),
     );
-    write_radio_map_files(&folder, "", &plan, &surveyed.map, (&frame, true))?;
+    let pictures = (&frame, true, args.picture_extent);
+    write_radio_map_files(&folder, "", &plan, &surveyed.map, pictures)?;
     let mut coverage = String::from("granularity_m,cells,coverage_percent,mean_scans_per_cell\n");
     for c in &surveyed.coverage {
         let (g, n, share, mean) = (c.granularity, c.cells, 100.0 * c.share, c.mean_scans);
