@@ -10,10 +10,11 @@ use super::progress_bars::Bars;
 use super::radio_outputs::write_radio_map_files;
 use anyhow::{Context, Result, bail};
 use footslam::filter::StartPose;
+use footslam::geometry::LocalFrame;
 use footslam::io::floor_plan_geojson::read_floor_plan;
 use footslam::io::radio_map_geojson::read_radio_map_geojson;
 use footslam::io::{read_steps, read_walk_manifest};
-use footslam::map::{FloorPlan, FloorTopology};
+use footslam::map::{FloorPlan, FloorTopology, RadioMap};
 use footslam::model::wifi_distance::held_out_quantiles;
 use footslam::pipeline::{Quality, SurveyConfig, SurveyInput, SurveyWalk, Surveyed, survey};
 use serde::Serialize;
@@ -129,6 +130,17 @@ struct Summary {
     peak_memory_bytes: Option<u64>,
 }
 
+/// The radio maps of `--radiomap`, to merge into the new one.
+fn read_earlier_maps(args: &Args, frame: LocalFrame) -> Result<Vec<RadioMap>> {
+    args.merge
+        .iter()
+        .map(|path| {
+            require_file(path, "radio map")?;
+            Ok(read_radio_map_geojson(path, Some(frame))?.0)
+        })
+        .collect()
+}
+
 /// Runs `footslam survey`.
 pub fn run(args: Args) -> Result<()> {
     let started = Instant::now();
@@ -145,14 +157,7 @@ pub fn run(args: Args) -> Result<()> {
     let topology = FloorTopology::build(&plan, &config.tracker.topology)
         .with_context(|| format!("{}: not a usable floor plan", args.plan.display()))?;
     let (files, walks) = read_walks(&args, &plan)?;
-    let earlier = args
-        .merge
-        .iter()
-        .map(|path| {
-            require_file(path, "radio map")?;
-            Ok(read_radio_map_geojson(path, Some(frame))?.0)
-        })
-        .collect::<Result<Vec<_>>>()?;
+    let earlier = read_earlier_maps(&args, frame)?;
     let input = SurveyInput {
         plan: &plan,
         topology: &topology,
