@@ -1,7 +1,7 @@
 //! `footslam eval`: position error of a track against the truth.
 
 use super::common::{parse_origin, read_config, require_file};
-use super::eval_picture::EvalPicture;
+use super::eval_picture::{EvalPicture, Reference};
 use anyhow::{Context, Result, bail};
 use footslam::eval::{
     Alignment, ErrorReport, PlanOverlap, WaypointDeadReckoning, WaypointErrors,
@@ -124,8 +124,9 @@ pub fn run(args: Args) -> Result<()> {
         None => None,
     };
     // Both files with `z` and `level` columns (truth.csv, track's track.csv): floor accuracy.
-    let floors = match (read_track(&truth_path), read_track(&args.track)) {
-        (Ok(truth), Ok(track)) => track_floor_accuracy(&truth, &track),
+    let (truth_rows, track_rows) = (read_track(&truth_path).ok(), read_track(&args.track).ok());
+    let floors = match (&truth_rows, &track_rows) {
+        (Some(truth), Some(track)) => track_floor_accuracy(truth, track),
         _ => None,
     };
     if args.plan.is_some()
@@ -135,12 +136,18 @@ pub fn run(args: Args) -> Result<()> {
     {
         bail!("--plan is for --map, --learned-plan or --picture: give one of them");
     }
-    let reference = match read_track(&truth_path) {
-        Ok(t) => t.iter().map(|p| (p.x, p.y, p.level)).collect(),
-        Err(_) => truth.iter().map(|p| (p.x, p.y, 0)).collect(),
+    // The truth with its levels when it has a `level` column (0 otherwise).
+    let reference: Vec<(f64, f64, i32)> = match &truth_rows {
+        Some(t) => t.iter().map(|p| (p.x, p.y, p.level)).collect(),
+        None => truth.iter().map(|p| (p.x, p.y, 0)).collect(),
     };
-    write_picture(&args, &track, reference, "true path", &report)?;
-    let overlap = learned_plan_overlap(&args, &truth_path, &truth, &report)?;
+    let picture = Reference {
+        points: &reference,
+        label: "true path",
+        track_rows: track_rows.as_deref(),
+    };
+    write_picture(&args, &track, picture, &report)?;
+    let overlap = learned_plan_overlap(&args, &reference, &report)?;
     let walkable = map_walkable_fraction(&args, &report)?;
     let outcome = Outcome {
         report,
@@ -163,8 +170,7 @@ pub fn run(args: Args) -> Result<()> {
 fn write_picture(
     args: &Args,
     track: &[TimedPoint],
-    reference: Vec<(f64, f64, i32)>,
-    reference_label: &str,
+    reference: Reference,
     report: &ErrorReport,
 ) -> Result<()> {
     let Some(out) = &args.picture else {
@@ -175,9 +181,7 @@ fn write_picture(
     }
     EvalPicture {
         track,
-        track_file: &args.track,
         reference,
-        reference_label,
         report,
         plan: args.plan.as_deref(),
         origin: args.origin,
@@ -232,8 +236,7 @@ fn read_step_trace(path: &Path) -> Result<StepTrace> {
 /// track's alignment.
 fn learned_plan_overlap(
     args: &Args,
-    truth_path: &Path,
-    truth: &[TimedPoint],
+    visited: &[(f64, f64, i32)],
     report: &ErrorReport,
 ) -> Result<Option<PlanOverlap>> {
     let (Some(learned), Some(plan)) = (&args.learned_plan, &args.plan) else {
@@ -246,15 +249,11 @@ fn learned_plan_overlap(
     // Levels from the truth's `level` column when it has one, compared by number: a learned
     // plan numbers its floors from the walks' start levels (`learn --start X,Y,HEADING,LEVEL`;
     // 0 when not given).
-    let visited: Vec<(f64, f64, i32)> = match read_track(truth_path) {
-        Ok(t) => t.iter().map(|p| (p.x, p.y, p.level)).collect(),
-        Err(_) => truth.iter().map(|p| (p.x, p.y, 0)).collect(),
-    };
     let transform = report.transform.as_ref();
     Ok(Some(plan_overlap(
         &learned,
         &plan,
-        &visited,
+        visited,
         0,
         transform,
         VISITED_REACH,
@@ -389,11 +388,20 @@ fn run_waypoints(args: Args) -> Result<()> {
     let alignment = Alignment::from(args.align);
     let errors = waypoint_errors(&waypoints, &track, alignment)
         .with_context(|| format!("{} against {}", args.track.display(), path.display()))?;
-    let reference = waypoints
+    let reference: Vec<(f64, f64, i32)> = waypoints
         .iter()
         .map(|w| (w.x, w.y, w.level.unwrap_or(0)))
         .collect();
-    write_picture(&args, &track, reference, "waypoints", &errors.report)?;
+    let track_rows = args
+        .picture
+        .as_ref()
+        .and_then(|_| read_track(&args.track).ok());
+    let picture = Reference {
+        points: &reference,
+        label: "waypoints",
+        track_rows: track_rows.as_deref(),
+    };
+    write_picture(&args, &track, picture, &errors.report)?;
     let dead_reckoning = match &args.steps {
         Some(steps) => {
             let trace = read_step_trace(steps)?;

@@ -5,7 +5,7 @@
 use anyhow::Result;
 use footslam::eval::ErrorReport;
 use footslam::io::floor_plan_geojson::read_floor_plan;
-use footslam::io::{TimedPoint, read_track};
+use footslam::io::{TimedPoint, TrackPoint};
 use footslam::map::HexMapSnapshot;
 use footslam::render::map_png::{MapPicture, PictureConfig, write_map_png};
 use footslam::render::plan_png::{PlanPath, PlanPicture, PlanPictureConfig, write_plan_png};
@@ -20,12 +20,8 @@ const TRUTH_BLUE: [u8; 3] = [33, 102, 172];
 pub(super) struct EvalPicture<'a> {
     /// The scored track rows, in the track's frame.
     pub(super) track: &'a [TimedPoint],
-    /// The track file (for its `level` column, when it has one).
-    pub(super) track_file: &'a Path,
-    /// The reference `(x, y, level)` in time order (level 0 when unknown).
-    pub(super) reference: Vec<(f64, f64, i32)>,
-    /// What the reference is ("true path", "waypoints").
-    pub(super) reference_label: &'a str,
+    /// What the track is drawn over.
+    pub(super) reference: Reference<'a>,
     /// The errors, whose transform (rigid alignment) moves the track into the truth's frame.
     pub(super) report: &'a ErrorReport,
     /// The floor plan (`--plan`) and the origin that overrides its own.
@@ -37,25 +33,38 @@ pub(super) struct EvalPicture<'a> {
     pub(super) learned_plan: Option<&'a Path>,
 }
 
+/// The reference of an `eval` picture, and the track's rows with levels.
+pub(super) struct Reference<'a> {
+    /// `(x, y, level)` in time order (level 0 when unknown).
+    pub(super) points: &'a [(f64, f64, i32)],
+    /// What it is ("true path", "waypoints").
+    pub(super) label: &'a str,
+    /// The track file's rows when it has `z` and `level` columns (the track's levels).
+    pub(super) track_rows: Option<&'a [TrackPoint]>,
+}
+
+/// `p` moved into the truth's frame by `report`'s alignment (as it is, without one).
+fn aligned(report: &ErrorReport, p: (f64, f64)) -> (f64, f64) {
+    report.transform.as_ref().map_or(p, |t| t.apply(p))
+}
+
 /// The learned plan's outlines.
 const LEARNED_BROWN: [u8; 3] = [166, 97, 26];
 
 impl EvalPicture<'_> {
     /// Writes the picture to `out` (PNG).
     pub(super) fn write(&self, out: &Path) -> Result<()> {
-        let levels = track_levels(self.track_file, self.track);
-        let aligned: Vec<(f64, f64, i32)> = self
+        let levels = track_levels(self.reference.track_rows, self.track);
+        let track: Vec<(f64, f64, i32)> = self
             .track
             .iter()
             .zip(levels)
             .map(|(p, level)| {
-                let (x, y) = match &self.report.transform {
-                    Some(t) => t.apply((p.x, p.y)),
-                    None => (p.x, p.y),
-                };
+                let (x, y) = aligned(self.report, (p.x, p.y));
                 (x, y, level)
             })
             .collect();
+        let (reference, label) = (self.reference.points, self.reference.label);
         let title = format!(
             "error median {:.2} m, p90 {:.2} m, {} points",
             self.report.p50, self.report.p90, self.report.n
@@ -74,12 +83,12 @@ impl EvalPicture<'_> {
                     .collect();
                 paths.extend([
                     PlanPath {
-                        points: &self.reference,
+                        points: reference,
                         colour: TRUTH_BLUE,
-                        label: self.reference_label,
+                        label,
                     },
                     PlanPath {
-                        points: &aligned,
+                        points: &track,
                         colour: TRACK_RED,
                         label: "track",
                     },
@@ -103,12 +112,11 @@ impl EvalPicture<'_> {
                     cells: Vec::new(),
                     levels: Vec::new(),
                 };
-                let track: Vec<(f64, f64)> = aligned.iter().map(|&(x, y, _)| (x, y)).collect();
-                let truth: Vec<(f64, f64)> =
-                    self.reference.iter().map(|&(x, y, _)| (x, y)).collect();
+                let track: Vec<(f64, f64)> = track.iter().map(|&(x, y, _)| (x, y)).collect();
+                let truth: Vec<(f64, f64)> = reference.iter().map(|&(x, y, _)| (x, y)).collect();
                 let picture = MapPicture {
                     truth: Some(&truth),
-                    truth_label: self.reference_label,
+                    truth_label: label,
                     path_label: "track",
                     // The truth's frame: east and north.
                     north_up: true,
@@ -129,10 +137,6 @@ impl EvalPicture<'_> {
             return Ok(Vec::new());
         };
         let (learned, _) = read_floor_plan(path, self.origin)?;
-        let moved = |(x, y): (f64, f64)| match &self.report.transform {
-            Some(t) => t.apply((x, y)),
-            None => (x, y),
-        };
         Ok(learned
             .polygons
             .iter()
@@ -142,7 +146,7 @@ impl EvalPicture<'_> {
                     .map(move |ring| {
                         ring.coords()
                             .map(|c| {
-                                let (x, y) = moved((c.x, c.y));
+                                let (x, y) = aligned(self.report, (c.x, c.y));
                                 (x, y, f.level)
                             })
                             .collect()
@@ -152,10 +156,10 @@ impl EvalPicture<'_> {
     }
 }
 
-/// The level of each of `rows` from the track file's `level` column (the row at the same
-/// time), 0 where it has none.
-fn track_levels(file: &Path, rows: &[TimedPoint]) -> Vec<i32> {
-    let Ok(all) = read_track(file) else {
+/// The level of each of `rows` from the track file's rows `all` (the row at the same time),
+/// 0 where it has none.
+fn track_levels(all: Option<&[TrackPoint]>, rows: &[TimedPoint]) -> Vec<i32> {
+    let Some(all) = all else {
         return vec![0; rows.len()];
     };
     rows.iter()

@@ -234,11 +234,7 @@ pub(super) fn write_walk(
 ) -> Result<Summary> {
     let (config, estimate, filter) = (&run.config, &run.estimate, &run.filter);
     let (anchors, frame) = (frame, frame.frame);
-    let north_up = anchors.anchored
-        || matches!(
-            run.start_source,
-            "gps fixes" | "compass" | "given" | "config"
-        );
+    let north_up = anchors.anchored || run.heading_is_absolute();
     let at = |name: &str| folder.path(&format!("{prefix}{name}"));
     // Built one at a time from the trace and the path (a long walk's per-step outputs are
     // the largest things a run holds).

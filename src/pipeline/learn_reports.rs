@@ -60,6 +60,16 @@ pub struct FieldReport {
 }
 
 impl WalkRun {
+    /// Whether the start heading is tied to north (given, configured, from GPS fixes or
+    /// from a compass), so that the learned map's y axis points north; `assumed` and
+    /// `unknown` leave the map turned by the walker's first heading.
+    pub fn heading_is_absolute(&self) -> bool {
+        matches!(
+            self.start_source,
+            "gps fixes" | "compass" | "given" | "config"
+        )
+    }
+
     /// The report of the magnetic field, when the steps carried it.
     pub fn field_report(&self) -> Option<FieldReport> {
         let e = self.field.as_ref()?;

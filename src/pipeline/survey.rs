@@ -155,6 +155,8 @@ pub fn survey(
     progress.start("surveying", total);
     let mut runs: Vec<(Vec<TrackStep>, Vec<TrackStep>)> = Vec::with_capacity(input.walks.len());
     let mut qualities = Vec::with_capacity(input.walks.len());
+    // Several walks: each walk's steps beside the total.
+    let several = input.walks.len() > 1;
     for (k, walk) in input.walks.iter().enumerate() {
         let tracker_config = TrackerConfig {
             seed: config.tracker.seed.wrapping_add(k as u64),
@@ -163,7 +165,6 @@ pub fn survey(
         };
         let mut tracker = Tracker::new(input.topology, &tracker_config)?;
         let mut reports = Vec::with_capacity(walk.trace.len());
-        let several = input.walks.len() > 1;
         if several {
             progress.item_start(k, &format!("walk {}", k + 1), walk.trace.len() as u64);
         }
