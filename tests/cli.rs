@@ -725,3 +725,28 @@ fn survey_pictures_show_the_picture_extent() {
     // A 10 m square per floor is narrower than the cells' crop of a 40 m corridor.
     assert!(w2 < w && h2 != h, "{w}×{h} vs {w2}×{h2}");
 }
+
+#[test]
+fn learn_pictures_show_the_picture_extent() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let learn = |out: &Path, extra: &[&str]| {
+        footslam()
+            .args(["-q", "learn", "--particles", "200"])
+            .args(extra)
+            .arg("--out")
+            .arg(out)
+            .assert()
+            .success();
+        image::image_dimensions(out.join("map.png")).expect("map.png")
+    };
+    let (w, h) = learn(&dir.path().join("whole"), &[]);
+    let (w2, h2) = learn(&dir.path().join("part"), &["--picture-extent", "0,0,4,4"]);
+    // A 4 m square is smaller than the whole walk's map at the same scale.
+    assert!(w2 <= w && h2 < h, "{w}×{h} vs {w2}×{h2}");
+    footslam()
+        .args(["learn", "--particles", "200", "--picture-extent", "4,0,0,4", "--out"])
+        .arg(dir.path().join("bad"))
+        .assert()
+        .failure()
+        .stderr(predicates::str::contains("picture.extent"));
+}

@@ -92,7 +92,7 @@ pub fn run(args: Args) -> Result<()> {
 
     let mut folder = super::common::create_run_folder(&output_dir(args.out.clone(), "learn"))?;
     protect_inputs(&mut folder, &args, &files);
-    let mut summary = write_outputs(&folder, &files, &input, &learned)?;
+    let mut summary = write_outputs(&folder, &files, &input, &learned, args.picture_extent)?;
     summary.runtime_s = started.elapsed().as_secs_f64();
     summary.threads = threads;
     // One walk: the configuration it ran with (start from its fixes included); a batch: the
@@ -160,6 +160,7 @@ fn merged_pictures<'a>(frame: &MapFrame<'a>) -> MapPictures<'a> {
         path_label: "",
         north_up: frame.anchored,
         outline: frame.outline,
+        extent: frame.picture_extent,
     }
 }
 
@@ -170,9 +171,10 @@ fn write_outputs(
     files: &[WalkFiles],
     input: &LearnInput,
     learned: &Learned,
+    picture_extent: Option<[f64; 4]>,
 ) -> Result<RunSummary> {
     let frame = &input.frame;
-    let map_frame = MapFrame::of(input);
+    let map_frame = MapFrame::of(input, picture_extent);
     let batch = input.walks.len() > 1;
     let mut summaries = Vec::with_capacity(learned.walks.len());
     for (i, (walk, run)) in input.walks.iter().zip(&learned.walks).enumerate() {

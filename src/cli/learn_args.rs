@@ -79,6 +79,11 @@ pub struct Args {
     /// Output folder (default: a new folder under `outputs/`).
     #[arg(short = 'o', long, value_name = "DIR", help_heading = "Outputs")]
     pub(super) out: Option<PathBuf>,
+    /// The part of the frame the pictures show (maps, radio map, heatmaps), `X0,Y0,X1,Y1`
+    /// local metres (default: the map and the path, and the building outline within 10 m of
+    /// them).
+    #[arg(long, value_parser = super::common::parse_extent, allow_hyphen_values = true, value_name = "X0,Y0,X1,Y1", help_heading = "Outputs")]
+    pub(super) picture_extent: Option<[f64; 4]>,
     /// Worker threads (default: all cores; at most 4 per core). Results do not depend on it.
     #[arg(long, value_name = "N", help_heading = "Filter")]
     pub(super) threads: Option<usize>,

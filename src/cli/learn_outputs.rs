@@ -136,7 +136,8 @@ struct HeadingSummary {
     final_sigma_deg: f64,
 }
 
-/// The frame of a run's maps, and what placed it on the globe.
+/// The frame of a run's maps, what placed it on the globe, and the part of it the pictures
+/// show.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct MapFrame<'a> {
     /// The local frame.
@@ -145,15 +146,22 @@ pub(super) struct MapFrame<'a> {
     pub(super) outline: Option<&'a geo::Polygon<f64>>,
     /// An outline or a prior map holds the frame to the globe (north up).
     pub(super) anchored: bool,
+    /// `--picture-extent`: the part of the frame the map pictures show.
+    pub(super) picture_extent: Option<[f64; 4]>,
 }
 
 impl<'a> MapFrame<'a> {
-    /// The frame of a run's `input`: anchored by its outline or prior map.
-    pub(super) fn of(input: &'a footslam::pipeline::LearnInput<'a>) -> Self {
+    /// The frame of a run's `input`: anchored by its outline or prior map; the pictures
+    /// show `picture_extent`, else what they draw.
+    pub(super) fn of(
+        input: &'a footslam::pipeline::LearnInput<'a>,
+        picture_extent: Option<[f64; 4]>,
+    ) -> Self {
         Self {
             frame: &input.frame,
             outline: input.outline,
             anchored: input.outline.is_some() || input.prior_map.is_some(),
+            picture_extent,
         }
     }
 }
@@ -169,6 +177,8 @@ pub(super) struct MapPictures<'a> {
     pub(super) north_up: bool,
     /// The building outline, drawn over the map.
     pub(super) outline: Option<&'a geo::Polygon<f64>>,
+    /// The part of the frame shown (`--picture-extent`); `None`: what is drawn.
+    pub(super) extent: Option<[f64; 4]>,
 }
 
 impl MapPictures<'_> {
@@ -217,7 +227,11 @@ impl MapPictures<'_> {
                 0 => format!("{name}.png"),
                 l => format!("{name}-level{l:+}.png"),
             };
-            write_map_png(&at(&file), &picture, &PictureConfig::default())?;
+            let config = PictureConfig {
+                extent: self.extent,
+                ..PictureConfig::default()
+            };
+            write_map_png(&at(&file), &picture, &config)?;
         }
         Ok(())
     }
@@ -283,6 +297,7 @@ pub(super) fn write_walk(
         path_label: "most probable path",
         north_up,
         outline: anchors.outline,
+        extent: anchors.picture_extent,
     };
     pictures.write(&at, "map", &estimate.map)?;
     if !prefix.is_empty() {

@@ -46,7 +46,8 @@ pub(super) fn write_learned_radio_map(
     let survey = &radio.survey;
     let map = &survey.map;
     let plan = &radio.plan.plan;
-    write_radio_map_files(folder, "", plan, map, (frame.frame, frame.anchored, None))?;
+    let pictures = (frame.frame, frame.anchored, frame.picture_extent);
+    write_radio_map_files(folder, "", plan, map, pictures)?;
     let (coverage, per_cell) = map.coverage();
     Ok(RadioSummary {
         granularity_m: cell_config.granularity,

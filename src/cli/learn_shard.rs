@@ -67,7 +67,7 @@ pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) 
     })?;
     let folder = shard_folder(args, manifest, &all)?;
     let mut summaries = Vec::with_capacity(runs.len());
-    let map_frame = MapFrame::of(&input);
+    let map_frame = MapFrame::of(&input, args.picture_extent);
     for (i, run) in runs.iter().enumerate() {
         let prefix = walk_prefix(&folder, mine[i], true)?;
         summaries.push(write_walk(

@@ -113,6 +113,7 @@ fn write_merged_folder(args: &Args, merged: &StoredMap) -> Result<()> {
         // Maps are merged only in one frame; whether it points north is not recorded.
         north_up: false,
         outline: None,
+        extent: None,
     };
     pictures.write(&|name| folder.path(name), "merged", map)?;
     folder.write_json(

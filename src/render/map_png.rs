@@ -54,6 +54,13 @@ pub struct PictureConfig {
     /// Image pixels per font pixel of the labels (glyphs are 7 font pixels tall), 1..=4.
     /// Default 2.
     pub text_scale: u32,
+    /// The part of the map to show, `[x0, y0, x1, y1]` local metres (`--picture-extent`);
+    /// `None`: everything drawn, with a building outline cut to
+    /// [`PictureConfig::outline_margin_m`] around the rest. Default `None`.
+    pub extent: Option<[f64; 4]>,
+    /// How far around the map, the path and the truth a building outline is shown, metres,
+    /// [0, 1000]: a 40 m walk in a 240 m mall fills its picture. Default 10.
+    pub outline_margin_m: f64,
 }
 
 impl Default for PictureConfig {
@@ -65,6 +72,8 @@ impl Default for PictureConfig {
             shading: Shading::Visits,
             line_width_px: 2.0,
             text_scale: 2,
+            extent: None,
+            outline_margin_m: 10.0,
         }
     }
 }
@@ -104,7 +113,26 @@ impl PictureConfig {
             "picture.text_scale",
             ts,
             "must be in 1..=4",
-        )
+        )?;
+        let m = self.outline_margin_m;
+        require(
+            m.is_finite() && (0.0..=1000.0).contains(&m),
+            "picture.outline_margin_m",
+            m,
+            "must be in [0, 1000] m",
+        )?;
+        if let Some([x0, y0, x1, y1]) = self.extent {
+            let finite = [x0, y0, x1, y1]
+                .iter()
+                .all(|v| v.is_finite() && v.abs() <= 1e6);
+            require(
+                finite && x0 < x1 && y0 < y1,
+                "picture.extent",
+                format!("[{x0}, {y0}, {x1}, {y1}]"),
+                "must be x0 < x1, y0 < y1, local metres within 1000 km of the origin",
+            )?;
+        }
+        Ok(())
     }
 }
 
@@ -226,11 +254,22 @@ struct Layout {
     legend_top: f64,
     width: u32,
     height: u32,
+    /// Pixel size of the part of the map shown.
+    map_width: f64,
+    map_height: f64,
+    /// Something drawn lies outside the part shown: cut it at the map's edges.
+    cropped: bool,
 }
 
 impl Layout {
     fn new(picture: &MapPicture, config: &PictureConfig, key: &[KeyEntry]) -> Self {
-        let (mut x0, mut y0, mut x1, mut y1) = extent(picture).unwrap_or((-5.0, -5.0, 5.0, 5.0));
+        let given = config.extent.map(|[x0, y0, x1, y1]| (x0, y0, x1, y1));
+        let shown = given.or_else(|| extent(picture, config.outline_margin_m));
+        let cropped = match (extent(picture, f64::INFINITY), shown) {
+            (Some(all), Some(s)) => all.0 < s.0 || all.1 < s.1 || all.2 > s.2 || all.3 > s.3,
+            _ => false,
+        };
+        let (mut x0, mut y0, mut x1, mut y1) = shown.unwrap_or((-5.0, -5.0, 5.0, 5.0));
         // At least a metre each way, so a single point still gets a picture.
         let grow = |lo: &mut f64, hi: &mut f64| {
             let pad = (1.0 - (*hi - *lo)).max(0.0) / 2.0;
@@ -267,6 +306,33 @@ impl Layout {
             legend_top,
             width: width as u32,
             height: height as u32,
+            map_width,
+            map_height,
+            cropped,
+        }
+    }
+
+    /// Paints white over everything outside the part of the map shown (the legend is drawn
+    /// after).
+    fn blank_outside_map(&self, pixmap: &mut Pixmap) {
+        let (left, top) = (self.left as f32, self.top as f32);
+        let (right, bottom) = (
+            (self.left + self.map_width) as f32,
+            (self.top + self.map_height) as f32,
+        );
+        let (width, height) = (self.width as f32, self.height as f32);
+        let bands = [
+            rect(0.0, 0.0, width, top),
+            rect(0.0, bottom, width, height - bottom),
+            rect(0.0, top, left, bottom - top),
+            rect(right, top, width - right, bottom - top),
+        ];
+        for band in bands.into_iter().flatten() {
+            fill(pixmap, &band, WHITE, FillRule::Winding);
+        }
+        // A thin frame says that the map goes on beyond it.
+        if let Some(frame) = rect(left, top, right - left, bottom - top) {
+            stroke(pixmap, &frame, OUTLINE_GREY, 1.0, None);
         }
     }
 
@@ -279,8 +345,10 @@ impl Layout {
     }
 }
 
-/// Bounding box of everything drawn, metres; `None` when there is nothing.
-fn extent(picture: &MapPicture) -> Option<(f64, f64, f64, f64)> {
+/// Bounding box of everything drawn, metres, the building outline only within
+/// `outline_margin` of the rest (all of it when there is nothing else); `None` when there is
+/// nothing.
+fn extent(picture: &MapPicture, outline_margin: f64) -> Option<(f64, f64, f64, f64)> {
     let grid = HexGrid::new(picture.map.radius);
     let r = picture.map.radius;
     let hexes = picture.map.cells.iter().map(|c| {
@@ -294,12 +362,25 @@ fn extent(picture: &MapPicture) -> Option<(f64, f64, f64, f64)> {
         .outline
         .and_then(geo::BoundingRect::bounding_rect)
         .map(|r| (r.min().x, r.min().y, r.max().x, r.max().y));
-    hexes
-        .chain(points)
-        .chain(plan)
-        .chain(outline)
-        .reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))
+    let union = |a: Bounds, b: Bounds| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3));
+    let Some(rest) = hexes.chain(points).chain(plan).reduce(union) else {
+        return outline;
+    };
+    let m = outline_margin;
+    let near = outline.and_then(|o| {
+        let cut = (
+            o.0.max(rest.0 - m),
+            o.1.max(rest.1 - m),
+            o.2.min(rest.2 + m),
+            o.3.min(rest.3 + m),
+        );
+        (cut.0 <= cut.2 && cut.1 <= cut.3).then_some(cut)
+    });
+    Some(near.map_or(rest, |n| union(rest, n)))
 }
+
+/// `(x0, y0, x1, y1)`, metres.
+type Bounds = (f64, f64, f64, f64);
 
 fn render(picture: &MapPicture, config: &PictureConfig) -> Result<Pixmap> {
     config.validate()?;
@@ -346,6 +427,9 @@ fn render(picture: &MapPicture, config: &PictureConfig) -> Result<Pixmap> {
         draw_line(&mut pixmap, &layout, &ring, (OUTLINE_GREY, 1.5), dash);
     }
     draw_markers(&mut pixmap, &layout, picture.path, w);
+    if layout.cropped {
+        layout.blank_outside_map(&mut pixmap);
+    }
     let scale = (!picture.map.cells.is_empty()).then_some(labels);
     draw_legend(
         &mut pixmap,

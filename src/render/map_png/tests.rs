@@ -294,3 +294,70 @@ fn one_visit_everywhere_gives_no_degenerate_colour_bar() {
     let (_, _, scale) = shading_values(&map, Shading::Visits);
     assert_eq!(scale, ColourScale::Uniform("1 visit each".into()));
 }
+
+#[test]
+fn a_given_extent_crops_the_picture_and_nothing_is_drawn_outside_it() {
+    let path = [(0.0, 0.0), (40.0, 0.0), (40.0, 30.0)];
+    let map = map_of(&path, 0.5);
+    let picture = MapPicture::new(&map, &path);
+    let config = PictureConfig {
+        extent: Some([30.0, -5.0, 50.0, 5.0]),
+        ..PictureConfig::default()
+    };
+    let layout = Layout::new(&picture, &config, &picture.key());
+    assert!(layout.cropped);
+    assert!((layout.map_width - 20.0 * layout.scale).abs() < 1e-9);
+    assert!((layout.map_height - 10.0 * layout.scale).abs() < 1e-9);
+    let img = decode(&render_map_png(&picture, &config).expect("render"));
+    // Above the map and left of it, only white and the thin frame: no path, no hexagons.
+    let (left, top) = (layout.left as u32, layout.top as u32);
+    for (x, y, p) in img.enumerate_pixels() {
+        if y + 2 < top || (x + 2 < left && f64::from(y) < layout.legend_top) {
+            assert!(near(p, WHITE, 0), "pixel ({x}, {y}) outside the map is {p:?}");
+        }
+    }
+    // The part shown holds the path (the corner at 40, 0).
+    let (cx, cy) = layout.pixel((40.0, 0.0));
+    let red = (-3..=3)
+        .flat_map(|dx| (-3..=3).map(move |dy| (dx, dy)))
+        .any(|(dx, dy)| {
+            let p = img.get_pixel((cx as i32 + dx) as u32, (cy as i32 + dy) as u32);
+            near(p, PATH_RED, 40)
+        });
+    assert!(red, "the path's corner is in the picture");
+}
+
+#[test]
+fn an_outline_is_cut_to_the_walk_and_the_default_picture_is_not_cropped() {
+    let path = [(0.0, 0.0), (10.0, 0.0)];
+    let map = map_of(&path, 0.5);
+    let plain = MapPicture::new(&map, &path);
+    let config = PictureConfig::default();
+    assert!(!Layout::new(&plain, &config, &plain.key()).cropped);
+    let mall = Polygon::new(
+        LineString::from(vec![(-100.0, -100.0), (140.0, -100.0), (140.0, 100.0), (-100.0, 100.0)]),
+        Vec::new(),
+    );
+    let picture = MapPicture {
+        outline: Some(&mall),
+        ..MapPicture::new(&map, &path)
+    };
+    let (x0, y0, x1, y1) = extent(&picture, 10.0).expect("something drawn");
+    assert!((-11.0..=-10.0).contains(&x0) && (20.0..=21.0).contains(&x1), "{x0} {x1}");
+    assert!((-11.0..=-10.0).contains(&y0) && (10.0..=11.0).contains(&y1), "{y0} {y1}");
+    assert!(Layout::new(&picture, &config, &picture.key()).cropped);
+    let everything = extent(&picture, f64::INFINITY).expect("something drawn");
+    assert_eq!(everything, (-100.0, -100.0, 140.0, 100.0));
+}
+
+#[test]
+fn a_bad_extent_is_refused_by_name() {
+    for extent in [[5.0, 0.0, 1.0, 1.0], [0.0, 0.0, f64::NAN, 1.0], [0.0, 3.0, 1.0, 3.0]] {
+        let config = PictureConfig {
+            extent: Some(extent),
+            ..PictureConfig::default()
+        };
+        let err = config.validate().expect_err("refused").to_string();
+        assert!(err.contains("picture.extent"), "{err}");
+    }
+}
