@@ -90,6 +90,11 @@ fn ilc_trace_and_floor_convert_to_footslam_files() {
     let waypoints = read_waypoints(&out.join("waypoints.csv")).expect("waypoints.csv");
     assert_eq!(waypoints.len(), 2);
     assert!((waypoints[0].x - 81.317215).abs() < 1e-3);
+    // The known start: the first waypoint, as `--start` takes it.
+    let start = std::fs::read_to_string(out.join("start.txt")).expect("start.txt");
+    let start: footslam::filter::StartPose = start.trim().parse().expect("X,Y");
+    assert!((start.x - waypoints[0].x).abs() < 1e-3 && (start.y - waypoints[0].y).abs() < 1e-3);
+    assert!(!out.join("walks.csv").exists(), "one trace: no manifest");
 
     // The plan reads back in the waypoints' metres and the tracker accepts it.
     let (plan, frame) = read_floor_plan(&out.join("floor.geojson"), None).expect("plan");
@@ -155,6 +160,16 @@ fn a_folder_of_traces_gives_one_folder_per_trace_and_one_floor() {
     }
     assert!(out.join("floor.geojson").is_file() && !out.join("imu.csv").exists());
     assert_eq!(summary(&out)["traces"].as_array().map(Vec::len), Some(2));
+    // The manifest names each walk's steps-to-be, its WiFi log and its start.
+    let walks =
+        footslam::io::read_walk_manifest(&out.join("walks.csv"), true).expect("walks.csv");
+    assert_eq!(walks.len(), 2);
+    for (walk, name) in walks.iter().zip(["a", "b"]) {
+        assert_eq!(walk.steps, out.join(name).join("steps/steps.csv"));
+        assert_eq!(walk.wifi.as_deref(), Some(out.join(name).join("wifi.csv").as_path()));
+        assert!(walk.start.is_some_and(|s| (s.x - 81.317).abs() < 1e-3));
+    }
+    assert_eq!(summary(&out)["manifest"], "walks.csv");
 }
 
 #[test]

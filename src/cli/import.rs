@@ -10,7 +10,11 @@ use footslam::io::import::ilc_floor::{IlcFloor, PlanReport, Walkable, read_ilc_f
 use footslam::io::import::ilc_trace::{IlcImportConfig, IlcTrace, read_ilc_trace};
 use footslam::io::import::ipin_log::{IpinImportConfig, IpinLog, IpinLogSummary, read_ipin_log};
 use footslam::io::import::walkable_share::{WalkableShare, walkable_shares};
-use footslam::io::{Waypoint, write_gps_csv, write_imu, write_waypoints, write_wifi};
+use footslam::filter::StartPose;
+use footslam::io::{
+    ManifestWalk, Waypoint, write_gps_csv, write_imu, write_walk_manifest, write_waypoints,
+    write_wifi,
+};
 use footslam::map::{FloorPlan, FloorTopology, TopologyConfig};
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
@@ -173,12 +177,14 @@ fn run_ilc(args: IlcArgs) -> Result<()> {
     for (name, trace) in &traces {
         traces_json.push(write_trace(&folder, name, trace, nested, plan.as_ref())?);
     }
+    let manifest = nested && write_manifest(&folder, &traces)?;
     let summary = json!({
         "source": "Microsoft Indoor Location Competition 2.0 (MIT licence, XYZ10 Inc.)",
         "walkable": walkable,
         "max_wifi_age_s": config.max_wifi_age_s,
         "floor": floor_json,
         "traces": traces_json,
+        "manifest": manifest.then_some("walks.csv"),
         "seconds": started.elapsed().as_secs_f64(),
     });
     folder.write_json("summary.json", &summary)?;
@@ -272,9 +278,11 @@ fn write_trace(
         write_wifi(&at("wifi.csv"), &trace.wifi)?;
         written.push("wifi.csv");
     }
-    if !trace.waypoints.is_empty() {
+    if let Some(start) = known_start(trace) {
         write_waypoints(&at("waypoints.csv"), &trace.waypoints)?;
-        written.push("waypoints.csv");
+        let text = format!("{:.3},{:.3}\n", start.x, start.y);
+        folder.write(&format!("{prefix}start.txt"), text.as_bytes())?;
+        written.extend(["waypoints.csv", "start.txt"]);
     }
     let share = plan.map(|p| WalkableShare::of(p, &trace.waypoints));
     print_trace(name, trace, share);
@@ -285,6 +293,45 @@ fn write_trace(
         "summary": trace.summary,
         "waypoints_on_walkable": share,
     }))
+}
+
+/// Where a trace starts: its first waypoint (the walker marked it on the floor plan),
+/// heading unknown.
+fn known_start(trace: &IlcTrace) -> Option<StartPose> {
+    trace.waypoints.first().map(|w| StartPose {
+        x: w.x,
+        y: w.y,
+        heading: None,
+        level: None,
+    })
+}
+
+/// `walks.csv`: the manifest of `learn --walks` and `survey --walks` for the traces with a
+/// known start, each walk's steps at `NAME/steps/steps.csv` (where `footslam steps --imu
+/// NAME/imu.csv --out NAME/steps` writes them), its WiFi log and its start. Returns whether
+/// it was written (no trace with waypoints: no manifest).
+fn write_manifest(folder: &RunFolder, traces: &[(String, IlcTrace)]) -> Result<bool> {
+    let walks: Vec<ManifestWalk> = traces
+        .iter()
+        .filter_map(|(name, trace)| {
+            Some(ManifestWalk {
+                steps: PathBuf::from(format!("{name}/steps/steps.csv")),
+                gps: None,
+                wifi: (!trace.wifi.is_empty()).then(|| format!("{name}/wifi.csv").into()),
+                start: Some(known_start(trace)?),
+            })
+        })
+        .collect();
+    if walks.is_empty() {
+        return Ok(false);
+    }
+    write_walk_manifest(&folder.path("walks.csv"), &walks)?;
+    info!(
+        "walks.csv: {} walks with their starts, for `learn --walks` and `survey --walks` once \
+         each has its steps (footslam steps --imu NAME/imu.csv --out NAME/steps)",
+        walks.len()
+    );
+    Ok(true)
 }
 
 /// Reads the written plan back: the tracker's topology must accept it and its metres must

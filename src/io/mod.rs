@@ -68,6 +68,6 @@ pub use track_csv::{SmoothedPoint, TrackPoint, read_track, write_smoothed_track,
 pub use trajectory_csv::{
     TimedPoint, read_certain_trajectory, read_trajectory, write_trajectory, write_trajectory_with,
 };
-pub use walk_manifest::{ManifestWalk, read_walk_manifest};
+pub use walk_manifest::{ManifestWalk, read_walk_manifest, write_walk_manifest};
 pub use waypoints_csv::{Waypoint, read_waypoints, write_waypoints};
 pub use wifi_csv::{WifiLog, read_wifi, read_wifi_log, write_wifi};

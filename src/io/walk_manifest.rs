@@ -75,9 +75,102 @@ pub fn read_walk_manifest(path: &Path, wifi_required: bool) -> Result<Vec<Manife
     Ok(walks)
 }
 
+/// Writes a walk manifest that [`read_walk_manifest`] reads back: the paths as given
+/// (relative to the manifest's folder, `/` between parts), a column only where some walk
+/// has it, each start as `X,Y[,HEADING[,LEVEL]]` (metres to the millimetre).
+pub fn write_walk_manifest(path: &Path, walks: &[ManifestWalk]) -> Result<()> {
+    let has_gps = walks.iter().any(|w| w.gps.is_some());
+    let has_wifi = walks.iter().any(|w| w.wifi.is_some());
+    let has_start = walks.iter().any(|w| w.start.is_some());
+    let text = |p: &Option<PathBuf>| {
+        p.as_ref()
+            .map(|p| p.to_string_lossy().replace('\\', "/"))
+            .unwrap_or_default()
+    };
+    let mut out = csv::Writer::from_writer(Vec::new());
+    let mut header = vec!["steps"];
+    header.extend(has_gps.then_some("gps"));
+    header.extend(has_wifi.then_some("wifi"));
+    header.extend(has_start.then_some("start"));
+    let wrote = |e: csv::Error| Error::io(path, std::io::Error::other(e));
+    out.write_record(&header).map_err(wrote)?;
+    for w in walks {
+        let mut row = vec![text(&Some(w.steps.clone()))];
+        if has_gps {
+            row.push(text(&w.gps));
+        }
+        if has_wifi {
+            row.push(text(&w.wifi));
+        }
+        if has_start {
+            row.push(w.start.map(start_text).unwrap_or_default());
+        }
+        out.write_record(&row).map_err(wrote)?;
+    }
+    let bytes = out
+        .into_inner()
+        .map_err(|e| Error::io(path, std::io::Error::other(e.to_string())))?;
+    crate::io::write_atomically(path, &bytes)
+}
+
+/// `X,Y[,HEADING[,LEVEL]]`, as `--start` and the manifest's `start` column take it.
+fn start_text(s: StartPose) -> String {
+    let mut text = format!("{:.3},{:.3}", s.x, s.y);
+    match (s.heading, s.level) {
+        (Some(h), Some(l)) => text.push_str(&format!(",{h},{l}")),
+        (Some(h), None) => text.push_str(&format!(",{h}")),
+        (None, Some(l)) => text.push_str(&format!(",,{l}")),
+        (None, None) => {}
+    }
+    text
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_written_manifest_reads_back() {
+        let dir = std::env::temp_dir().join(format!("footslam-manifest-w-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let start = |x, heading, level| StartPose {
+            x,
+            y: -2.5,
+            heading,
+            level,
+        };
+        let walks = vec![
+            ManifestWalk {
+                steps: "a, odd/steps.csv".into(),
+                gps: None,
+                wifi: Some("a, odd/wifi.csv".into()),
+                start: Some(start(1.25, None, None)),
+            },
+            ManifestWalk {
+                steps: "b/steps.csv".into(),
+                gps: None,
+                wifi: None,
+                start: Some(start(3.0, Some(0.5), Some(-1))),
+            },
+            ManifestWalk {
+                steps: "c/steps.csv".into(),
+                gps: None,
+                wifi: None,
+                start: Some(start(4.0, None, Some(2))),
+            },
+        ];
+        let path = dir.join("walks.csv");
+        write_walk_manifest(&path, &walks).expect("write");
+        let back = read_walk_manifest(&path, false).expect("read back");
+        let _ = std::fs::remove_dir_all(&dir);
+        assert_eq!(back.len(), 3);
+        for (w, b) in walks.iter().zip(&back) {
+            assert_eq!(b.steps, dir.join(&w.steps));
+            assert_eq!(b.wifi, w.wifi.as_ref().map(|f| dir.join(f)));
+            assert_eq!(b.gps, None);
+            assert_eq!(b.start, w.start);
+        }
+    }
 
     fn read(text: &str, wifi_required: bool) -> Result<Vec<ManifestWalk>> {
         let dir = std::env::temp_dir().join(format!("footslam-manifest-{}", std::process::id()));
