@@ -31,6 +31,8 @@ import math
 import os
 import shutil
 import subprocess
+
+from progress import Progress
 import sys
 
 import numpy as np
@@ -432,16 +434,20 @@ def spread_beyond_noise(values, ses):
 
 def analyse_foot(data_dir, binary, work, reuse):
     walks = []
-    for d in sorted(glob.glob(os.path.join(data_dir, "*", "*"))):
-        if not os.path.exists(os.path.join(d, "strides.csv")):
-            continue
+    found = [d for d in sorted(glob.glob(os.path.join(data_dir, "*", "*")))
+             if os.path.exists(os.path.join(d, "strides.csv"))]
+    bar = Progress(len(found), "foot walks")
+    for d in found:
         kind, name = d.rstrip("/").split("/")[-2:]
+        bar.start(f"{kind}/{name}")
         steps = run_steps(binary, os.path.join(d, "imu.csv"), "foot",
                           os.path.join(work, "foot", f"{kind}_{name}"), reuse)
         truth = read_csv(os.path.join(d, "strides.csv"))
         units, info = foot_units(steps, truth)
         a = foot_walk_arrays(units)
         walks.append({"kind": kind, "name": name, "info": info, "a": a})
+        bar.done(f"{kind}/{name}")
+    bar.finish()
     return walks
 
 
@@ -758,18 +764,23 @@ def analyse_phone(ilc_dir, binary, work, reuse):
     with open(gyro_cfg, "w") as f:
         f.write("[phone]\nuse_rotation_vector = false\nuse_magnetometer = false\n")
     walks = []
-    for d in sorted(glob.glob(os.path.join(imported, "*", ""))):
+    found = [d for d in sorted(glob.glob(os.path.join(imported, "*", "")))
+             if os.path.exists(os.path.join(d, "waypoints.csv"))]
+    bar = Progress(len(found), "phone walks")
+    for d in found:
         name = os.path.basename(d.rstrip("/"))
-        if not os.path.exists(os.path.join(d, "waypoints.csv")):
-            continue
+        bar.start(name)
         rv = run_steps(binary, os.path.join(d, "imu.csv"), "phone",
                        os.path.join(work, "phone", "steps", name + "_rv"), reuse)
         gy = run_steps(binary, os.path.join(d, "imu.csv"), "phone",
                        os.path.join(work, "phone", "steps", name + "_gyro"), reuse, gyro_cfg)
         wp = read_csv(os.path.join(d, "waypoints.csv"))
         if len(rv["t"]) < 3 or len(wp["t"]) < 2 or "heading" not in rv:
+            bar.done(name, "too short, left out")
             continue
         walks.append(phone_walk(name, wp, rv, gy))
+        bar.done(name)
+    bar.finish()
     return walks
 
 

@@ -22,6 +22,7 @@ import json
 import os
 import sys
 
+from progress import Progress
 from real_data_figures import footslam, percentile
 
 
@@ -55,24 +56,30 @@ def main():
     manifest = os.path.join(a.out, "walks.csv")
     with open(manifest, "w") as m:
         m.write("steps,wifi,start\n" if a.wifi else "steps,start\n")
+        bar = Progress(len(walks), "walks' steps")
         for w in walks:
+            bar.start(w)
             steps = os.path.join(a.out, w, "steps", "steps.csv")
             if not os.path.isfile(steps):
                 footslam(a.binary, "steps", "--imu", os.path.join(a.imported, w, "imu.csv"),
                          "--mount", "phone", "--out", os.path.dirname(steps))
+            bar.done(w)
             _, x0, y0 = first_waypoint(os.path.join(a.imported, w, "waypoints.csv"))
             wifi = os.path.abspath(os.path.join(a.imported, w, "wifi.csv"))
             wifi = (f"{wifi}," if os.path.isfile(wifi) else ",") if a.wifi else ""
             m.write(f"{os.path.abspath(steps)},{wifi}\"{x0},{y0}\"\n")
+        bar.finish()
     learned = os.path.join(a.out, "learn")
     cfg = ["--config", a.config] if a.config else []
     footslam(a.binary, "learn", "--walks", manifest, "--particles", a.particles, "--seed", a.seed,
-             *cfg, "--out", learned)
+             *cfg, "--out", learned, live=True)
     with open(os.path.join(learned, "summary.json")) as f:
         summary = json.load(f)
 
     slam, pdr, per_walk = [], [], []
+    bar = Progress(len(walks), "walks scored")
     for i, w in enumerate(walks, start=1):
+        bar.start(w)
         wps = os.path.join(a.imported, w, "waypoints.csv")
         t0, _, _ = first_waypoint(wps)
         v = json.loads(footslam(a.binary, "eval", "--json", "--waypoints", wps, "--track",
@@ -84,7 +91,8 @@ def main():
         pdr += d
         per_walk.append({"walk": w, "waypoints": len(s),
                          "footslam_median_m": percentile(s, 50), "pdr_median_m": percentile(d, 50)})
-        print(f"{w}: FootSLAM median {percentile(s, 50):.2f} m, PDR median {percentile(d, 50):.2f} m ({len(s)} waypoints)")
+        bar.done(w, f"FootSLAM median {percentile(s, 50):.2f} m, PDR median {percentile(d, 50):.2f} m ({len(s)} waypoints)")
+    bar.finish()
 
     # Precision of the learned walkable area against the floor's (outline minus shops). The
     # walks' own waypoints stand in for the truth track (recall needs a dense truth).

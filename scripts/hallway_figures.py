@@ -54,6 +54,8 @@ import os
 import shutil
 import statistics
 import subprocess
+
+from progress import Progress
 import sys
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -286,19 +288,24 @@ def main():
     version = footslam(a.binary, "--version")[0].strip()
 
     per_walk, failed = [], []
+    bar = Progress(len(walks), f"walks × {len(a.seeds)} seeds")
     for w in walks:
+        bar.start(w)
         try:
             r = run_walk(a, w)
         except RuntimeError as e:
             failed.append({"walk": w, "error": str(e)})
-            print(f"{w}: FAILED {e}", file=sys.stderr)
+            bar.failed(w, e)
             continue
         failed += [{"walk": w, **f} for f in r["failed"]]
         per_walk.append(r)
+        note = ""
         if r["runs"]:
             ratios = " ".join(f"{x['ratio']:.2f}" for x in r["runs"])
-            print(f"{w}: DR p95 {r['dead_reckoning']['p95']:.2f} m, learned p95 {r['learned_p95_mean']:.2f} m "
-                  f"(ratios {ratios})", file=sys.stderr)
+            note = (f"DR p95 {r['dead_reckoning']['p95']:.2f} m, learned p95 {r['learned_p95_mean']:.2f} m "
+                    f"(ratios {ratios})")
+        bar.done(w, note)
+    bar.finish()
 
     done = [r for r in per_walk if r["runs"]]
     runs = [(r["walk"], x) for r in done for x in r["runs"]]

@@ -51,6 +51,8 @@ import re
 import shutil
 import statistics
 import subprocess
+
+from progress import Progress
 import sys
 import time
 
@@ -441,12 +443,16 @@ def main():
         sys.exit(f"no logs named ...Trial<route>_repetition<k>.txt under {a.logs}")
     os.makedirs(a.work, exist_ok=True)
     results = []
+    bar = Progress(len(routes), "routes")
     for route, reps in routes.items():
+        bar.start(f"route {route}")
         try:
             results.append(run_route(a, route, reps))
+            bar.done(f"route {route}")
         except RuntimeError as e:
-            print(f"route {route}: FAILED {e}", file=sys.stderr)
+            bar.failed(f"route {route}", e)
             results.append({"route": route, "error": str(e)})
+    bar.finish()
     text = table(results, a.variants)
     print(text)
     os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)

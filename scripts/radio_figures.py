@@ -33,6 +33,8 @@ import math
 import os
 import shutil
 import subprocess
+
+from progress import Progress
 import sys
 
 
@@ -176,8 +178,10 @@ def main():
                    if all(os.path.isfile(os.path.join(a.imported, d, f)) for f in ("imu.csv", "wifi.csv", "waypoints.csv")))
     if not walks:
         sys.exit(f"no walks under {a.imported}")
+    bar = Progress(len(walks), "walks' steps")
     with cf.ThreadPoolExecutor(a.jobs) as ex:
-        list(ex.map(lambda w: steps_of(a.binary, a.imported, a.work, w, a.fresh), walks))
+        list(ex.map(bar.wrap(lambda w: steps_of(a.binary, a.imported, a.work, w, a.fresh)), walks))
+    bar.finish()
     n_survey = round(a.share * len(walks))
     survey, tests = walks[:n_survey], walks[n_survey:]
     manifest = os.path.join(a.work, "survey_walks.csv")
@@ -194,12 +198,17 @@ def main():
                     db.append((t, fp, pos))
     sv = os.path.join(a.work, "survey")
     shutil.rmtree(sv, ignore_errors=True)
+    bar = Progress(1, f"survey of {len(survey)} walks")
+    bar.start("survey")
     run(a.binary, "survey", "--plan", plan, "--walks", manifest, "--seed", str(a.seed), *a.survey_arg, "--out", sv)
+    bar.done("survey")
     radiomap = os.path.join(sv, "radiomap.geojson")
     with open(os.path.join(sv, "summary.json")) as f:
         survey_summary = json.load(f)
+    bar = Progress(len(tests), "test walks")
     with cf.ThreadPoolExecutor(a.jobs) as ex:
-        results = list(ex.map(lambda w: test_walk(a, w, radiomap, plan, db), tests))
+        results = list(ex.map(bar.wrap(lambda w: test_walk(a, w, radiomap, plan, db)), tests))
+    bar.finish()
     expected = sum(r["waypoints"] for r in results)
     figures = {"survey_walks": len(survey), "test_walks": len(tests), "peer_database_scans": len(db),
                "survey_summary": survey_summary, "methods": {}, "per_walk": []}

@@ -22,13 +22,19 @@ import json
 import os
 import statistics
 import subprocess
+
+from progress import Progress
 import sys
 
 
-def footslam(binary, *args):
-    r = subprocess.run([binary, *map(str, args)], capture_output=True, text=True)
+def footslam(binary, *args, live=False):
+    """Runs `footslam ARGS` and returns its stdout. `live`: its stderr (progress bars,
+    warnings) goes to ours as it runs, for the long jobs."""
+    stderr = None if live else subprocess.PIPE
+    r = subprocess.run([binary, *map(str, args)], stdout=subprocess.PIPE, stderr=stderr, text=True)
     if r.returncode != 0:
-        raise RuntimeError(f"footslam {' '.join(map(str, args))}: {r.stderr.strip()}")
+        why = "its messages are above" if live else r.stderr.strip()
+        raise RuntimeError(f"footslam {' '.join(map(str, args))}: {why}")
     return r.stdout
 
 
@@ -84,7 +90,9 @@ def main():
         sys.exit(f"no walks (folders with imu.csv and waypoints.csv) under {a.imported}")
     cfg = ["--config", a.track_config] if a.track_config else []
     pdr, tracked, per_walk, failed = [], [], [], []
+    bar = Progress(len(walks), "walks tracked")
     for w in walks:
+        bar.start(w)
         src = os.path.join(a.imported, w)
         run = os.path.join(a.out, w)
         wps = os.path.join(src, "waypoints.csv")
@@ -98,12 +106,13 @@ def main():
             trk, dr = waypoint_errors(a.binary, wps, os.path.join(run, "track", "track.csv"), steps)
         except RuntimeError as e:
             failed.append({"walk": w, "error": str(e)})
-            print(f"{w}: FAILED {e}", file=sys.stderr)
+            bar.failed(w, e)
             continue
         pdr += dr
         tracked += trk
         per_walk.append({"walk": w, "pdr": summary("pdr", dr), "tracked": summary("tracked", trk)})
-        print(f"{w}: PDR median {percentile(dr, 50):.2f} m, tracked median {percentile(trk, 50):.2f} m ({len(trk)} waypoints)")
+        bar.done(w, f"PDR median {percentile(dr, 50):.2f} m, tracked median {percentile(trk, 50):.2f} m ({len(trk)} waypoints)")
+    bar.finish()
     figures = {"walks": len(walks), "failed": failed, "pdr": summary("PDR alone", pdr), "tracked": summary("tracked on the plan", tracked), "per_walk": per_walk}
 
     if not a.skip_radio:
@@ -123,9 +132,12 @@ def main():
         radiomap = os.path.join(a.out, "survey", "radiomap.geojson")
         footslam(a.binary, "survey", "--plan", plan, "--walks", manifest, "--seed", a.seed, *cfg, "--out", os.path.join(a.out, "survey"))
         rf_tracked, rf_alone, unanswered, not_localised = [], [], 0, 0
+        bar = Progress(len(test_walks), "walks placed by the radio map")
         for w in test_walks:
+            bar.start(w)
             wifi = os.path.join(a.imported, w, "wifi.csv")
             if not os.path.isfile(wifi):
+                bar.done(w, "no wifi.csv")
                 continue
             wps = os.path.join(a.imported, w, "waypoints.csv")
             run = os.path.join(a.out, w)
@@ -147,9 +159,11 @@ def main():
                     e, not_localised = [], not_localised + 1
                 rf_tracked += e
                 unanswered += n_wps - len(e)
+                bar.done(w, f"{len(e)} of {n_wps} waypoints answered")
             except RuntimeError as err:
                 failed.append({"walk": w, "error": str(err)})
-                print(f"{w}: FAILED {err}", file=sys.stderr)
+                bar.failed(w, err)
+        bar.finish()
         figures["radio"] = {
             "survey_walks": len(survey_walks),
             "test_walks": len(test_walks),
