@@ -561,4 +561,25 @@ fn the_page_draws_every_layer_in_headless_chromium() {
             _ => {}
         }
     }
+    // Web tiles under the layers: a local tile stands for every tile of the template.
+    let tile = dir.path().join("tile.png");
+    image::RgbaImage::from_pixel(256, 256, image::Rgba([200, 220, 240, 255]))
+        .save(&tile)
+        .expect("tile");
+    let template = format!("file://{}?{{z}}/{{x}}/{{y}}", tile.display());
+    let out = dir.path().join("basemap");
+    footslam()
+        .arg("view")
+        .arg(runs.path("learn"))
+        .args(["--basemap", &template, "--basemap-attribution", "test tiles"])
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success();
+    let status = check_in_browser(&chromium, &out, "basemap", 4);
+    let basemap = &status["basemap"];
+    assert!(
+        basemap["tiles_loaded"].as_u64() > Some(0) && basemap["tiles_failed"] == 0,
+        "the basemap's tiles: {status}"
+    );
 }

@@ -544,6 +544,14 @@ function drawView() {
     if (!b) { return; }
     if (b.type === 'tiles') {
       const tiles = L.tileLayer(b.url, { maxNativeZoom: 19, maxZoom: 28, attribution: esc(b.attribution || '') });
+      // Tiles loaded and failed, for the page's report (a failed tile is also an error).
+      const counts = { type: 'tiles', tiles_loaded: 0, tiles_failed: 0 };
+      tiles.on('tileload', () => { counts.tiles_loaded += 1; window.footslamStatus({ basemap: counts }); });
+      tiles.on('tileerror', (e) => {
+        counts.tiles_failed += 1;
+        window.FOOTSLAM_ERRORS.push('basemap tile failed: ' + (e.tile && e.tile.src));
+        window.footslamStatus({ basemap: counts });
+      });
       tiles.addTo(map);
       layerControl.addOverlay(tiles, 'basemap');
     } else if (b.type === 'image') {
