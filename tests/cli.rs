@@ -744,7 +744,14 @@ fn learn_pictures_show_the_picture_extent() {
     // A 4 m square is smaller than the whole walk's map at the same scale.
     assert!(w2 <= w && h2 < h, "{w}×{h} vs {w2}×{h2}");
     footslam()
-        .args(["learn", "--particles", "200", "--picture-extent", "4,0,0,4", "--out"])
+        .args([
+            "learn",
+            "--particles",
+            "200",
+            "--picture-extent",
+            "4,0,0,4",
+            "--out",
+        ])
         .arg(dir.path().join("bad"))
         .assert()
         .failure()

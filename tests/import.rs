@@ -161,12 +161,14 @@ fn a_folder_of_traces_gives_one_folder_per_trace_and_one_floor() {
     assert!(out.join("floor.geojson").is_file() && !out.join("imu.csv").exists());
     assert_eq!(summary(&out)["traces"].as_array().map(Vec::len), Some(2));
     // The manifest names each walk's steps-to-be, its WiFi log and its start.
-    let walks =
-        footslam::io::read_walk_manifest(&out.join("walks.csv"), true).expect("walks.csv");
+    let walks = footslam::io::read_walk_manifest(&out.join("walks.csv"), true).expect("walks.csv");
     assert_eq!(walks.len(), 2);
     for (walk, name) in walks.iter().zip(["a", "b"]) {
         assert_eq!(walk.steps, out.join(name).join("steps/steps.csv"));
-        assert_eq!(walk.wifi.as_deref(), Some(out.join(name).join("wifi.csv").as_path()));
+        assert_eq!(
+            walk.wifi.as_deref(),
+            Some(out.join(name).join("wifi.csv").as_path())
+        );
         assert!(walk.start.is_some_and(|s| (s.x - 81.317).abs() < 1e-3));
     }
     assert_eq!(summary(&out)["manifest"], "walks.csv");

@@ -81,7 +81,7 @@ fn a_batch_fanned_out_walk_by_walk_learns_what_learn_does() {
         .iter()
         .enumerate()
         .map(|(i, w)| {
-            learn_one(&input, w, i, None, &config)
+            learn_one(&input, w, i, None, &config, None)
                 .expect("pass 0")
                 .estimate
         })
@@ -95,7 +95,7 @@ fn a_batch_fanned_out_walk_by_walk_learns_what_learn_does() {
             .iter()
             .enumerate()
             .map(|(i, w)| {
-                learn_one(&input, w, i, Some(&others[i]), &config)
+                learn_one(&input, w, i, Some(&others[i]), &config, None)
                     .expect("pass")
                     .estimate
             })

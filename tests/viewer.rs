@@ -571,7 +571,12 @@ fn the_page_draws_every_layer_in_headless_chromium() {
     footslam()
         .arg("view")
         .arg(runs.path("learn"))
-        .args(["--basemap", &template, "--basemap-attribution", "test tiles"])
+        .args([
+            "--basemap",
+            &template,
+            "--basemap-attribution",
+            "test tiles",
+        ])
         .arg("--out")
         .arg(&out)
         .assert()

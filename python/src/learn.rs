@@ -222,6 +222,7 @@ pub(crate) fn learn_one<'py>(
             index,
             others.as_ref().map(|m| &m.map),
             &inputs.config,
+            None,
         )
         .map_err(py_error)?;
         Ok(walk_out(walk, &inputs.labels[0], &run, &inputs.frame))

@@ -3,6 +3,7 @@
 
 use super::common::parse_origin;
 use anyhow::{Context, Result, bail};
+use footslam::filter::StartPose;
 use footslam::geometry::LocalFrame;
 use footslam::io::RunFolder;
 use footslam::io::floor_plan_geojson::{read_floor_plan, write_floor_plan};
@@ -10,7 +11,6 @@ use footslam::io::import::ilc_floor::{IlcFloor, PlanReport, Walkable, read_ilc_f
 use footslam::io::import::ilc_trace::{IlcImportConfig, IlcTrace, read_ilc_trace};
 use footslam::io::import::ipin_log::{IpinImportConfig, IpinLog, IpinLogSummary, read_ipin_log};
 use footslam::io::import::walkable_share::{WalkableShare, walkable_shares};
-use footslam::filter::StartPose;
 use footslam::io::{
     ManifestWalk, Waypoint, write_gps_csv, write_imu, write_walk_manifest, write_waypoints,
     write_wifi,

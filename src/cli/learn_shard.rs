@@ -11,13 +11,16 @@ use super::common::{output_dir, peak_memory_bytes, walk_prefix};
 use super::learn_args::{Args, Shard};
 use super::learn_inputs::{check_anchors, read_anchors, read_found, read_manifest};
 use super::learn_outputs::{MapFrame, Summary, write_walk};
+use super::progress_bars::Bars;
 use anyhow::{Context, Result, bail};
 use footslam::filter::FootSlamConfig;
 use footslam::geometry::LocalFrame;
 use footslam::io::map_geojson::{StoredMap, read_stored_map};
 use footslam::io::{ManifestWalk, RunFolder};
 use footslam::map::{CellConfig, HexMapSnapshot};
-use footslam::pipeline::{LearnInput, default_frame, learn_one, others_map};
+use footslam::pipeline::{
+    ItemProgress, LearnInput, Progress, default_frame, learn_one, others_map,
+};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -59,12 +62,31 @@ pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) 
         cells: CellConfig::default(),
     };
     let pool = super::common::worker_pool(args.threads)?;
+    let bars = Bars::default();
+    bars.start("learning the shard's walks", walks.len() as u64);
     let runs = pool.install(|| {
         (0..walks.len())
             .into_par_iter()
-            .map(|i| learn_one(&input, &walks[i], mine[i], others[i].as_ref(), config))
+            .map(|i| {
+                let item = ItemProgress {
+                    inner: &bars,
+                    item: i,
+                    label: format!("walk {}", mine[i] + 1),
+                };
+                let run = learn_one(
+                    &input,
+                    &walks[i],
+                    mine[i],
+                    others[i].as_ref(),
+                    config,
+                    Some(&item),
+                );
+                bars.advance(1);
+                run
+            })
             .collect::<footslam::Result<Vec<_>>>()
     })?;
+    bars.finish();
     let folder = shard_folder(args, manifest, &all)?;
     let mut summaries = Vec::with_capacity(runs.len());
     let map_frame = MapFrame::of(&input, args.picture_extent);

@@ -224,20 +224,23 @@ fn base_prior(input: &LearnInput, config: &FootSlamConfig) -> BasePrior {
 /// the other walks' previous pass ([`others_map`]) — as prior pseudo-counts. The same
 /// computation as that walk's in [`learn`] (its stage 2), so a batch fanned out walk by walk
 /// and pass by pass ([`feetslam_passes`]) gives the same maps and paths; [`combine`] then
-/// merges them.
+/// merges them. `steps` hears of the walk's steps (e.g. an [`ItemProgress`] of a shard's
+/// bar).
+///
+/// [`ItemProgress`]: super::ItemProgress
 pub fn learn_one(
     input: &LearnInput,
     walk: &LearnWalk,
     index: usize,
     others: Option<&HexMapSnapshot>,
     config: &FootSlamConfig,
+    steps: Option<&dyn Progress>,
 ) -> Result<WalkRun> {
     config.validate()?;
     let base = base_prior(input, config);
     let shared = base.shared(input, config);
     let prior = walk_prior(&base.prior, others, config.prior_weight);
-    // A walk alone reports its steps in `learn`; a task of a batch does not.
-    learn_walk_at(walk, index, &shared, &prior, None, None)
+    learn_walk_at(walk, index, &shared, &prior, steps, None)
 }
 
 /// Stage 4: the walks' scans on the plan learned from `map`, each walk's placed by its

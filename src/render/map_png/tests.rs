@@ -313,7 +313,10 @@ fn a_given_extent_crops_the_picture_and_nothing_is_drawn_outside_it() {
     let (left, top) = (layout.left as u32, layout.top as u32);
     for (x, y, p) in img.enumerate_pixels() {
         if y + 2 < top || (x + 2 < left && f64::from(y) < layout.legend_top) {
-            assert!(near(p, WHITE, 0), "pixel ({x}, {y}) outside the map is {p:?}");
+            assert!(
+                near(p, WHITE, 0),
+                "pixel ({x}, {y}) outside the map is {p:?}"
+            );
         }
     }
     // The part shown holds the path (the corner at 40, 0).
@@ -335,7 +338,12 @@ fn an_outline_is_cut_to_the_walk_and_the_default_picture_is_not_cropped() {
     let config = PictureConfig::default();
     assert!(!Layout::new(&plain, &config, &plain.key()).cropped);
     let mall = Polygon::new(
-        LineString::from(vec![(-100.0, -100.0), (140.0, -100.0), (140.0, 100.0), (-100.0, 100.0)]),
+        LineString::from(vec![
+            (-100.0, -100.0),
+            (140.0, -100.0),
+            (140.0, 100.0),
+            (-100.0, 100.0),
+        ]),
         Vec::new(),
     );
     let picture = MapPicture {
@@ -343,8 +351,14 @@ fn an_outline_is_cut_to_the_walk_and_the_default_picture_is_not_cropped() {
         ..MapPicture::new(&map, &path)
     };
     let (x0, y0, x1, y1) = extent(&picture, 10.0).expect("something drawn");
-    assert!((-11.0..=-10.0).contains(&x0) && (20.0..=21.0).contains(&x1), "{x0} {x1}");
-    assert!((-11.0..=-10.0).contains(&y0) && (10.0..=11.0).contains(&y1), "{y0} {y1}");
+    assert!(
+        (-11.0..=-10.0).contains(&x0) && (20.0..=21.0).contains(&x1),
+        "{x0} {x1}"
+    );
+    assert!(
+        (-11.0..=-10.0).contains(&y0) && (10.0..=11.0).contains(&y1),
+        "{y0} {y1}"
+    );
     assert!(Layout::new(&picture, &config, &picture.key()).cropped);
     let everything = extent(&picture, f64::INFINITY).expect("something drawn");
     assert_eq!(everything, (-100.0, -100.0, 140.0, 100.0));
@@ -352,7 +366,11 @@ fn an_outline_is_cut_to_the_walk_and_the_default_picture_is_not_cropped() {
 
 #[test]
 fn a_bad_extent_is_refused_by_name() {
-    for extent in [[5.0, 0.0, 1.0, 1.0], [0.0, 0.0, f64::NAN, 1.0], [0.0, 3.0, 1.0, 3.0]] {
+    for extent in [
+        [5.0, 0.0, 1.0, 1.0],
+        [0.0, 0.0, f64::NAN, 1.0],
+        [0.0, 3.0, 1.0, 3.0],
+    ] {
         let config = PictureConfig {
             extent: Some(extent),
             ..PictureConfig::default()
