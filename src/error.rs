@@ -94,6 +94,53 @@ pub enum Error {
     /// user's data.
     #[error("simulator: {0}")]
     Simulation(String),
+    /// Inputs that do not belong together as given, with the one option that makes them do:
+    /// each face spells the option its own way (`--one-floor`, `one_floor=True`).
+    #[error("{problem}, or set {remedy}")]
+    Remedied {
+        /// What is wrong, with the input's name first.
+        problem: String,
+        /// The option that fixes it.
+        remedy: Remedy,
+    },
+}
+
+/// An option of a job that makes a failed check pass, for each face to spell: the command
+/// line as `--one-floor` or `--hex-radius 0.5`, Python as `one_floor=True` or
+/// `hex_radius=0.5`.
+///
+/// ```
+/// use footslam::error::{Remedy, RemedyValue};
+/// let r = Remedy { option: "hex_radius", value: RemedyValue::Number(0.5) };
+/// assert_eq!(r.to_string(), "hex_radius = 0.5");
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Remedy {
+    /// The option's name in snake case, as the job's request and Python name it.
+    pub option: &'static str,
+    /// What to set it to.
+    pub value: RemedyValue,
+}
+
+/// The value a [`Remedy`] sets.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RemedyValue {
+    /// A switch turned on (`--one-floor`, `one_floor=True`).
+    Flag,
+    /// A number (`--hex-radius 0.5`, `hex_radius=0.5`).
+    Number(f64),
+    /// A latitude and longitude, degrees (`--origin LAT,LON`, `origin=(lat, lon)`).
+    LatLon(f64, f64),
+}
+
+impl std::fmt::Display for Remedy {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.value {
+            RemedyValue::Flag => write!(f, "{}", self.option),
+            RemedyValue::Number(v) => write!(f, "{} = {v}", self.option),
+            RemedyValue::LatLon(lat, lon) => write!(f, "{} = {lat},{lon}", self.option),
+        }
+    }
 }
 
 /// Shorthand for results carrying [`Error`].

@@ -10,6 +10,15 @@ pub fn available_bytes() -> Option<u64> {
     parse_mem_available(&text)
 }
 
+/// The most memory this process has held so far, bytes: `VmHWM` of `/proc/self/status` on
+/// Linux; `None` elsewhere.
+pub fn peak_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kb.checked_mul(1024)
+}
+
 /// `MemAvailable` of a `/proc/meminfo` text, bytes.
 fn parse_mem_available(text: &str) -> Option<u64> {
     let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;

@@ -8,9 +8,9 @@
 use crate::fail;
 use crate::tables::Table;
 use footslam::geometry::LocalFrame;
-use footslam::map::{FloorPlan, RadioMap};
+use footslam::map::FloorPlan;
 use footslam::pipeline::{
-    GPS_LEAD_S, GridMismatch, ScanMatch, fixes_off_clock, grid_mismatch, missing_height_changes,
+    GPS_LEAD_S, GridMismatch, fixes_off_clock, grid_mismatch, missing_height_changes,
     partly_off_clock, scans_off_clock,
 };
 use footslam::sensor::{GpsFix, StepTrace, WifiScan};
@@ -99,20 +99,4 @@ pub(crate) fn check_height_changes(
         )));
     }
     Ok(())
-}
-
-/// A WiFi log and a radio map must be of one building: an error when no scan hears an
-/// access point of the map, a warning (returned) when fewer than half do. Returns how many
-/// scans matched.
-pub(crate) fn check_scans_match(
-    map: &RadioMap,
-    scans: &[WifiScan],
-    map_label: &str,
-    wifi_label: &str,
-) -> PyResult<(usize, Option<String>)> {
-    let found = ScanMatch::of(map, scans);
-    if let Some(problem) = found.unmatched() {
-        return Err(fail(format!("{wifi_label} and {map_label}: {problem}")));
-    }
-    Ok((found.matched, found.warning(wifi_label, map_label)))
 }

@@ -57,6 +57,16 @@ pub(crate) fn py_error(error: footslam::Error) -> PyErr {
             pyo3::exceptions::PyFileNotFoundError::new_err(error.to_string())
         }
         footslam::Error::Io { .. } => pyo3::exceptions::PyOSError::new_err(error.to_string()),
+        // The option that fixes it, as a keyword argument.
+        footslam::Error::Remedied { problem, remedy } => {
+            use footslam::error::RemedyValue;
+            let keyword = match remedy.value {
+                RemedyValue::Flag => format!("{}=True", remedy.option),
+                RemedyValue::Number(v) => format!("{}={v}", remedy.option),
+                RemedyValue::LatLon(lat, lon) => format!("{}=({lat}, {lon})", remedy.option),
+            };
+            FootslamError::new_err(format!("{problem}, or pass {keyword}"))
+        }
         _ => FootslamError::new_err(error.to_string()),
     }
 }

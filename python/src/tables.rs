@@ -142,6 +142,14 @@ impl Table {
         }
     }
 
+    /// The WiFi log it holds, with the count of repeated readings left out.
+    pub(crate) fn wifi_log(&self) -> footslam::Result<wifi_csv::WifiLog> {
+        match self {
+            Table::File(path) => wifi_csv::read_wifi_log(path),
+            Table::Text { text, name, .. } => wifi_csv::wifi_log_from_str(text, name),
+        }
+    }
+
     /// The GPS fixes it holds (a `.gpx` file as GPX 1.1, its times less `t0`).
     pub(crate) fn gps(&self, t0: Option<f64>) -> footslam::Result<Vec<GpsFix>> {
         match self {

@@ -1,33 +1,31 @@
 //! `footslam.track`: one walk located and tracked on a known floor plan, as `footslam
 //! track` runs it.
 
-use crate::checks::{check_height_changes, check_scans_match, read_scans};
 use crate::inputs;
 use crate::outputs::{Column, columns, json_object};
 use crate::tables::{self, STEPS, WIFI};
-use crate::{Reporter, detached, fail, py_error, with_context};
-use footslam::filter::{RfLocaliser, RfMode, TrackerConfig};
-use footslam::io::TrackPoint;
-use footslam::map::{FloorTopology, grow_plan};
-use footslam::model::TransitionPrior;
+use crate::{Reporter, detached, fail, py_error};
+use footslam::filter::{RfMode, TrackerConfig};
+use footslam::io::{SmoothedPoint, TrackPoint};
 use footslam::model::wifi_distance::Normalisation;
-use footslam::pipeline::{RadioInput, SAME_ORIGIN_M, SnapshotSteps, TrackInput};
+use footslam::pipeline::{
+    Named, SnapshotSteps, TrackAnswer, TrackOverrides, TrackRadioRequest, TrackReport,
+    TrackRequest, prepare,
+};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use serde_json::json;
-
-/// One smoothed row of the answer: the point, certain, hypotheses, spread, share.
-type SmoothedRow = (TrackPoint, bool, usize, f64, f64);
 
 /// What a tracking run gives, ready for Python.
 struct TrackOut {
     /// The smoothed answer (`None` online).
-    smoothed: Option<Vec<SmoothedRow>>,
+    smoothed: Option<Vec<SmoothedPoint>>,
     filtered: Vec<TrackPoint>,
     /// Per step: particles, clusters (-1: not clustered), localised.
     records: Vec<(i64, i64, bool)>,
+    /// The job's report (`summary.json`) and the configuration it ran.
     summary: serde_json::Value,
+    config: serde_json::Value,
 }
 
 /// `obj` unless it is Python's `None`.
@@ -112,56 +110,19 @@ pub(crate) fn track<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let seed = crate::int_arg("seed", seed, u64::MAX)?;
     let threads = crate::int_arg("threads", threads, 1 << 20)?.map(|n| n as usize);
-    // The configuration, with the keyword overrides (`footslam track`'s flags).
-    let mut config: TrackerConfig = inputs::config(config)?;
-    if let Some(s) = seed {
-        config.seed = s;
-    }
-    if let Some(s) = inputs::start(start, "start")? {
-        config.start = Some(s);
-    }
-    if ignore_heading {
-        config.heading.enabled = false;
-    }
-    if let Some(m) = rf_mode {
-        config.rf.mode = match m {
-            "auto" => RfMode::Auto,
-            "evidence" => RfMode::Evidence,
-            "containment" => RfMode::Containment,
-            "probabilistic" => RfMode::Probabilistic,
-            "prior-only" | "prior_only" => RfMode::PriorOnly,
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "rf_mode must be \"auto\", \"evidence\", \"containment\", \"probabilistic\" \
-                     or \"prior-only\", got {other:?}"
-                )));
-            }
-        };
-    }
-    if rf_epsilon.is_some() {
-        config.rf.epsilon = rf_epsilon;
-    }
-    if let Some(d) = rf_distance {
-        config.rf.distance = Some(match d {
-            "paper" => Normalisation::Paper,
-            "sqrt" => Normalisation::Sqrt,
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "rf_distance must be \"paper\" or \"sqrt\", got {other:?}"
-                )));
-            }
-        });
-    }
-    if rf_every_step {
-        config.rf.every_step = true;
-    }
-    if online {
-        config.smoothing = false;
-    }
-    if let Some(w) = hexmap_weight {
-        config.transitions.weight = w;
-    }
-    config.validate().map_err(py_error)?;
+    let overrides = TrackOverrides {
+        seed,
+        particles: None,
+        start: inputs::start(start, "start")?,
+        ignore_heading,
+        rf_mode: rf_mode.map(rf_mode_named).transpose()?,
+        rf_epsilon,
+        rf_distance: rf_distance.map(rf_distance_named).transpose()?,
+        rf_every_step,
+        online,
+        map_weight: hexmap_weight,
+    };
+    let config: TrackerConfig = inputs::config(config)?;
     let (wifi, radio_map) = match (present(wifi), present(radio_map)) {
         (Some(w), Some(r)) => (Some(w), Some(r)),
         (None, None) => (None, None),
@@ -183,151 +144,47 @@ pub(crate) fn track<'py>(
     let wifi_table = wifi.map(|o| tables::table(o, &WIFI, "wifi")).transpose()?;
     let origin = inputs::origin(origin)?;
     let report = Reporter::new(progress)?;
+    let started = std::time::Instant::now();
     let out = detached(py, threads, || {
-        let plan_label = plan_doc.label();
         let (plan, frame) = plan_doc.floor_plan(origin).map_err(py_error)?;
-        let plan = match plan_margin {
-            Some(margin) => grow_plan(&plan, margin)
-                .map_err(with_context(format!("{plan_label}: plan_margin {margin}")))?,
-            None => plan,
-        };
-        let transitions = match &hexmap_doc {
-            Some(doc) => {
-                let stored = doc.stored_map().map_err(py_error)?;
-                let off = frame.distance_to(&stored.frame);
-                if off > SAME_ORIGIN_M {
-                    return Err(fail(format!(
-                        "{}: its origin lies {off:.3} m from the plan's ({plan_label}): the \
-                         learned map must be in the plan's frame (the map and the plan.geojson \
-                         of one learn run)",
-                        doc.label()
-                    )));
-                }
-                Some(TransitionPrior::new(&stored.map, config.transitions).map_err(py_error)?)
-            }
+        let map = match &hexmap_doc {
+            Some(doc) => Some(Named::new(doc.stored_map().map_err(py_error)?, doc.label())),
             None => None,
         };
-        let trace = steps_table.steps().map_err(py_error)?;
-        check_height_changes(&steps_table, &plan_label, &plan, one_floor)?;
-        let topology = FloorTopology::build(&plan, &config.topology).map_err(with_context(
-            format!("{plan_label}: not a usable floor plan"),
-        ))?;
         let radio = match (&radio_doc, &wifi_table) {
             (Some(doc), Some(table)) => {
                 let (map, _) = doc.radio_map(Some(frame)).map_err(py_error)?;
-                let (scans, warning) = read_scans(table, &trace)?;
-                if let Some(w) = warning {
-                    report.push(w);
-                }
-                let (matched, warning) =
-                    check_scans_match(&map, &scans, &doc.label(), &table.label())?;
-                if let Some(w) = warning {
-                    report.push(w);
-                }
-                let localiser =
-                    RfLocaliser::new(&map, &topology, &config.rf).map_err(with_context(
-                        format!("{}: cannot localise with this radio map", doc.label()),
-                    ))?;
-                Some((localiser, scans, matched))
+                let log = table.wifi_log().map_err(py_error)?;
+                Some(TrackRadioRequest {
+                    map: Named::new(map, doc.label()),
+                    scans: Named::new(log.scans, table.label()),
+                    duplicate_readings: log.duplicate_readings,
+                })
             }
             _ => None,
         };
-        let input = TrackInput {
-            topology: &topology,
-            transitions: transitions.as_ref(),
-            radio: radio
-                .as_ref()
-                .map(|(localiser, scans, _)| RadioInput { localiser, scans }),
+        let request = TrackRequest {
+            steps_have_dz: plan.levels().len() <= 1
+                || one_floor
+                || steps_table.has_column("dz").map_err(py_error)?,
+            plan: Named::new(plan, plan_doc.label()),
+            frame,
+            plan_margin,
+            steps: Named::new(steps_table.steps().map_err(py_error)?, steps_table.label()),
+            one_floor,
+            map,
+            radio,
+            snapshots: SnapshotSteps::Never,
+            config,
+            overrides,
         };
-        let mut run =
-            footslam::pipeline::track(&input, &trace, &config, &SnapshotSteps::Never, &report)
-                .map_err(py_error)?;
-        let times: Vec<f64> = trace.steps().iter().map(|s| s.t).collect();
-        let smoothed = run.smoothed.take().map(|walk| {
-            times
-                .iter()
-                .zip(walk.iter())
-                .filter_map(|(&t, k)| {
-                    let k = k?;
-                    let c = k.estimate?;
-                    let point = TrackPoint {
-                        t,
-                        x: c.x,
-                        y: c.y,
-                        z: c.z,
-                        level: c.level,
-                    };
-                    Some((point, k.certain, k.hypotheses, c.spread, c.weight))
-                })
-                .collect::<Vec<SmoothedRow>>()
-        });
-        let records = &run.records;
-        let first = records.first_localised();
-        let initial = run.initial_particles;
-        let rf = radio.as_ref().map(|(localiser, scans, matched)| {
-            json!({
-                "scans": scans.len(),
-                "scans_matched": matched,
-                "mode": localiser.config().mode,
-                "distance": localiser.distance(),
-                "epsilon_dbm": localiser.epsilon(),
-                "epsilon_source": localiser.epsilon_source(),
-                "started_at_step": records
-                    .steps
-                    .iter()
-                    .position(|r| r.particles() > 0)
-                    .map(|i| i + 1),
-                "measurements_ignored": run.measurements_ignored,
-                "evidence": localiser.evidence(),
-                "evidence_fallback": localiser.fallback(),
-            })
-        });
-        let quality = run.quality(
-            smoothed
-                .as_ref()
-                .map_or(0, |s| s.iter().filter(|r| r.1).count()),
-            &footslam::pipeline::QualityConfig::default(),
-        );
-        let summary = json!({
-            "quality": quality,
-            "rf": rf,
-            "headings_used": run.headings_used > 0,
-            "steps_with_heading": trace.with_heading(),
-            "plan_file": plan_label,
-            "hexmap_hexagons": transitions.as_ref().map(TransitionPrior::len),
-            "steps_file": steps_table.label(),
-            "steps": times.len(),
-            "steps_to_localise": first.map(|i| i + 1),
-            "localised_at_t": first.map(|i| times[i]),
-            "track_rows": run.filtered.len(),
-            "steps_estimated": smoothed.as_ref().map(Vec::len),
-            "steps_certain": smoothed.as_ref().map(|s| s.iter().filter(|r| r.1).count()),
-            "particles_initial": initial,
-            "particles_max": records
-                .steps
-                .iter()
-                .map(|r| r.particles())
-                .max()
-                .unwrap_or(initial)
-                .max(initial),
-            "particles_final": records.steps.last().map_or(initial, |r| r.particles()),
-            "deaths": records.recoveries.len(),
-            "recoveries": records.recoveries,
-            "plan_fit": records.fit,
-            "seed": run.seed,
-            "filter_runtime_s": run.filter_runtime_s,
-            "particle_steps_per_s": records.particle_steps() as f64
-                / run.filter_runtime_s.max(1e-9),
-            "bytes_per_particle": run.bytes_per_particle,
-            "plan": {
-                "surfaces": topology.len(),
-                "walkable_area_m2": topology.total_area(),
-                "levels": topology.levels(),
-            },
-            "origin": frame,
-            "version": env!("CARGO_PKG_VERSION"),
-        });
-        let records = records
+        let prepared = prepare(request, &report).map_err(py_error)?;
+        let mut run = prepared.run(&report).map_err(py_error)?;
+        let times: Vec<f64> = prepared.trace.steps().iter().map(|s| s.t).collect();
+        let answer = TrackAnswer::read(&mut run, &times);
+        let summary = TrackReport::new(&prepared, &run, &answer, started);
+        let records = run
+            .records
             .steps
             .iter()
             .map(|r| {
@@ -336,17 +193,18 @@ pub(crate) fn track<'py>(
             })
             .collect();
         Ok(TrackOut {
-            smoothed,
+            smoothed: answer.smoothing.is_some().then_some(answer.rows),
             filtered: std::mem::take(&mut run.filtered),
             records,
-            summary,
+            summary: serde_json::to_value(&summary).map_err(|e| fail(e.to_string()))?,
+            config: serde_json::to_value(&prepared.config).map_err(|e| fail(e.to_string()))?,
         })
     })?;
     let result = PyDict::new(py);
     let filtered = points(py, &out.filtered, None)?;
     match &out.smoothed {
         Some(rows) => {
-            let p: Vec<TrackPoint> = rows.iter().map(|r| r.0).collect();
+            let p: Vec<TrackPoint> = rows.iter().map(|r| r.point).collect();
             result.set_item("track", points(py, &p, Some(rows))?)?;
         }
         None => result.set_item("track", points(py, &out.filtered, None)?)?,
@@ -365,9 +223,31 @@ pub(crate) fn track<'py>(
         )?,
     )?;
     result.set_item("summary", json_object(py, &out.summary)?)?;
-    result.set_item("config", json_object(py, &config)?)?;
+    result.set_item("config", json_object(py, &out.config)?)?;
     report.emit(py)?;
     Ok(result)
+}
+
+/// `rf_mode`'s value.
+fn rf_mode_named(name: &str) -> PyResult<RfMode> {
+    RfMode::from_name(name).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "rf_mode must be \"auto\", \"evidence\", \"containment\", \"probabilistic\" or \
+             \"prior-only\", got {name:?}"
+        ))
+    })
+}
+
+/// `rf_distance`'s value.
+fn rf_distance_named(name: &str) -> PyResult<Normalisation> {
+    Normalisation::ALL
+        .into_iter()
+        .find(|d| d.name() == name)
+        .ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "rf_distance must be \"paper\" or \"sqrt\", got {name:?}"
+            ))
+        })
 }
 
 /// Columns `t, x, y, z, level` (and, for the smoothed answer, `certain, hypotheses,
@@ -375,7 +255,7 @@ pub(crate) fn track<'py>(
 fn points<'py>(
     py: Python<'py>,
     p: &[TrackPoint],
-    smoothed: Option<&[SmoothedRow]>,
+    smoothed: Option<&[SmoothedPoint]>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mut cols = vec![
         ("t", Column::F64(p.iter().map(|q| q.t).collect())),
@@ -388,13 +268,19 @@ fn points<'py>(
         ),
     ];
     if let Some(rows) = smoothed {
-        cols.push(("certain", Column::Bool(rows.iter().map(|r| r.1).collect())));
+        cols.push((
+            "certain",
+            Column::Bool(rows.iter().map(|r| r.certain).collect()),
+        ));
         cols.push((
             "hypotheses",
-            Column::I64(rows.iter().map(|r| r.2 as i64).collect()),
+            Column::I64(rows.iter().map(|r| r.hypotheses as i64).collect()),
         ));
-        cols.push(("spread", Column::F64(rows.iter().map(|r| r.3).collect())));
-        cols.push(("share", Column::F64(rows.iter().map(|r| r.4).collect())));
+        cols.push((
+            "spread",
+            Column::F64(rows.iter().map(|r| r.spread).collect()),
+        ));
+        cols.push(("share", Column::F64(rows.iter().map(|r| r.share).collect())));
     }
     columns(py, cols)
 }

@@ -115,10 +115,7 @@ pub fn read_config<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
 
 /// Peak resident memory of this process in bytes (Linux `VmHWM`), if known.
 pub fn peak_memory_bytes() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
+    footslam::memory::peak_bytes()
 }
 
 /// A bundled dataset file: `relative` under the working directory when it is there (a

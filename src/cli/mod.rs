@@ -134,9 +134,32 @@ pub fn main() -> std::process::ExitCode {
         Err(e) => {
             #[allow(clippy::print_stderr)]
             {
-                eprintln!("error: {e:#}");
+                eprintln!("error: {}", spelled(&e));
             }
             std::process::ExitCode::FAILURE
         }
     }
+}
+
+/// An error as `{:#}` shows it (each cause after the one before), with a library
+/// [`Remedy`](footslam::error::Remedy) spelled as this command line's option.
+fn spelled(e: &anyhow::Error) -> String {
+    use footslam::error::{Remedy, RemedyValue};
+    let option = |r: &Remedy| {
+        let flag = format!("--{}", r.option.replace('_', "-"));
+        match r.value {
+            RemedyValue::Flag => flag,
+            RemedyValue::Number(v) => format!("{flag} {v}"),
+            RemedyValue::LatLon(lat, lon) => format!("{flag} {lat},{lon}"),
+        }
+    };
+    e.chain()
+        .map(|cause| match cause.downcast_ref::<footslam::Error>() {
+            Some(footslam::Error::Remedied { problem, remedy }) => {
+                format!("{problem}, or pass {}", option(remedy))
+            }
+            _ => cause.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join(": ")
 }

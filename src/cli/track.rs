@@ -1,28 +1,24 @@
 //! `footslam track`: locate and track a walker on a known 2.5D floor plan from step events.
 
-use super::common::{
-    bundled, check_height_changes, check_scans_match, output_dir, parse_extent, parse_origin,
-    peak_memory_bytes, read_config, read_scans, require_file,
-};
+use super::common::{bundled, output_dir, parse_extent, parse_origin, read_config, require_file};
 use super::progress_bars::Bars;
 use super::track_pictures::write_track_pictures;
-use super::track_summary::{PlanStats, RfSummary, SmoothedStats, SmoothingSummary, Summary};
-use anyhow::{Context, Result, bail};
-use footslam::filter::{RfLocaliser, RfMode, SmoothedWalk, StartPose, TrackerConfig};
+use super::track_summary::print_report;
+use anyhow::Result;
+use footslam::filter::{RfMode, StartPose, TrackerConfig};
 use footslam::geometry::LocalFrame;
 use footslam::io::RunFolder;
 use footslam::io::floor_plan_geojson::read_floor_plan;
-use footslam::io::map_geojson::read_map_geojson;
+use footslam::io::map_geojson::read_stored_map;
 use footslam::io::radio_map_geojson::read_radio_map_geojson;
+use footslam::io::steps_csv::has_dz_column;
 use footslam::io::track_geojson::write_track_geojson;
-use footslam::io::{SmoothedPoint, TrackPoint, read_steps, write_smoothed_track, write_track};
-use footslam::map::{FloorPlan, FloorTopology, grow_plan};
-use footslam::model::TransitionPrior;
+use footslam::io::{read_steps, read_wifi_log, write_smoothed_track, write_track};
 use footslam::model::wifi_distance::Normalisation;
 use footslam::pipeline::{
-    QualityConfig, RadioInput, SAME_ORIGIN_M, SnapshotSteps, TrackInput, TrackRun, track,
+    Named, SnapshotSteps, TrackAnswer, TrackOverrides, TrackRadioRequest, TrackReport,
+    TrackRequest, TrackRun, prepare,
 };
-use footslam::sensor::{StepTrace, WifiScan};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -186,363 +182,131 @@ pub(super) fn parse_start(s: &str) -> Result<StartPose, String> {
 /// Runs `footslam track`.
 pub fn run(args: Args) -> Result<()> {
     let started = Instant::now();
-    let config = tracker_config(&args)?;
-    let mut inputs = read_inputs(&args, &config)?;
-    let input = TrackInput {
-        topology: &inputs.topology,
-        transitions: inputs.transitions.as_ref(),
-        radio: inputs.radio.as_ref().map(|r| RadioInput {
-            localiser: &r.localiser,
-            scans: &r.scans,
-        }),
-    };
-    let snapshots = match &args.snapshots {
-        Some(list) => SnapshotSteps::At(list.clone()),
-        None => SnapshotSteps::Auto,
-    };
+    let (request, inputs) = read_request(&args)?;
     let pool = super::common::worker_pool(args.threads)?;
-    let threads = pool.current_num_threads();
     let bars = Bars::default();
-    let mut run = pool.install(|| track(&input, &inputs.trace, &config, &snapshots, &bars))?;
+    let prepared = pool.install(|| prepare(request, &bars))?;
+    let mut run = pool.install(|| prepared.run(&bars))?;
 
     let mut folder = super::common::create_run_folder(&output_dir(args.out.clone(), "track"))?;
-    folder.protect(
-        [&inputs.plan_path, &inputs.steps_path]
-            .into_iter()
-            .chain(args.radiomap.iter())
-            .chain(args.wifi.iter())
-            .chain(args.hexmap.iter())
-            .chain(args.config.iter()),
-    );
-    // The trace's times are all the outputs need of it now.
-    let times: Vec<f64> = inputs.trace.steps().iter().map(|s| s.t).collect();
-    inputs.steps_with_heading = inputs.trace.with_heading();
-    inputs.trace = StepTrace::default();
+    folder.protect(inputs.iter().chain(args.config.iter()));
+    let times: Vec<f64> = prepared.trace.steps().iter().map(|s| s.t).collect();
+    let answer = TrackAnswer::read(&mut run, &times);
+    write_tracks(&folder, &answer, &run)?;
     // The answer: the smoothed track's certain steps, else (online) the filtered track.
-    let smoothed = write_tracks(&folder, &times, run.smoothed.take(), &run)?;
-    let answer = smoothed
-        .as_ref()
-        .map_or(&run.filtered[..], |(_, a, _)| &a[..]);
-    write_track_geojson(&folder.path("track.geojson"), answer, &inputs.frame)?;
-    let parts = smoothed.as_ref().map(|(_, a, u)| (&a[..], &u[..]));
+    let (certain, uncertain) = (answer.certain(), answer.uncertain());
+    let smoothed = answer.smoothing.is_some();
+    let track = if smoothed { &certain } else { &run.filtered };
+    write_track_geojson(&folder.path("track.geojson"), track, &prepared.frame)?;
+    let parts = smoothed.then_some((&certain[..], &uncertain[..]));
     let extent = args.picture_extent;
-    write_track_pictures(&folder, &inputs.plan, &run, parts, times.len(), extent)?;
-    folder.write_json("config.json", &config)?;
-    let stats = smoothed.as_ref().map(|(s, ..)| s);
-    let summary = summary(&args, &inputs, &run, &times, stats, threads, started);
-    folder.write_json("summary.json", &summary)?;
+    write_track_pictures(&folder, &prepared.plan, &run, parts, times.len(), extent)?;
+    folder.write_json("config.json", &prepared.config)?;
+    let report = pool.install(|| TrackReport::new(&prepared, &run, &answer, started));
+    folder.write_json("summary.json", &report)?;
     let out = folder.commit()?;
-    summary.print(&out);
+    print_report(&report, &out);
     Ok(())
 }
 
-/// What `track` read: the plan, the walk and, when given, the learned map and the radio map
-/// with the walk's scans.
-struct Inputs {
-    plan_path: PathBuf,
-    steps_path: PathBuf,
-    plan: FloorPlan,
-    frame: LocalFrame,
-    topology: FloorTopology,
-    transitions: Option<TransitionPrior>,
-    trace: StepTrace,
-    /// Steps of the trace with an absolute heading (kept when the trace is dropped).
-    steps_with_heading: usize,
-    radio: Option<RadioFiles>,
-}
-
-/// The radio map (as a localiser) and the walk's scans, with their files.
-struct RadioFiles {
-    map_path: PathBuf,
-    wifi_path: PathBuf,
-    localiser: RfLocaliser,
-    scans: Vec<WifiScan>,
-    /// Scans that hear an access point of the map.
-    matched: usize,
-    /// Rows of the log that repeated an access point within a scan (the later kept).
-    duplicate_readings: usize,
-}
-
-/// Reads and checks `track`'s inputs.
-fn read_inputs(args: &Args, config: &TrackerConfig) -> Result<Inputs> {
+/// Reads `track`'s inputs into its request; with the files read (kept from the output).
+fn read_request(args: &Args) -> Result<(TrackRequest, Vec<PathBuf>)> {
     let plan_path = args.plan.clone().unwrap_or_else(|| bundled(DEFAULT_PLAN));
     let steps_path = args.steps.clone().unwrap_or_else(|| bundled(DEFAULT_STEPS));
     require_file(&plan_path, "floor plan")?;
     require_file(&steps_path, "step trace")?;
-    let (plan, frame) = read_floor_plan(&plan_path, args.origin)?;
-    let plan = match args.plan_margin {
-        Some(margin) => grow_plan(&plan, margin)
-            .with_context(|| format!("{}: --plan-margin {margin}", plan_path.display()))?,
-        None => plan,
+    let config: TrackerConfig = match &args.config {
+        Some(p) => read_config(p)?,
+        None => TrackerConfig::default(),
     };
-    let transitions = match &args.hexmap {
+    let (plan, frame) = read_floor_plan(&plan_path, args.origin)?;
+    // Only a plan of several levels needs the steps' file read again for its header.
+    let steps_have_dz = plan.levels().len() <= 1 || args.one_floor || has_dz_column(&steps_path)?;
+    let map = match &args.hexmap {
         Some(path) => {
             require_file(path, "learned map")?;
-            let (map, map_frame) = read_map_geojson(path)?;
-            let off = frame.distance_to(&map_frame);
-            if off > SAME_ORIGIN_M {
-                bail!(
-                    "{}: its origin lies {off:.3} m from the plan's ({}): the learned map \
-                     must be in the plan's frame (the map and the plan.geojson of one learn run)",
-                    path.display(),
-                    plan_path.display()
-                );
-            }
-            Some(TransitionPrior::new(&map, config.transitions)?)
+            Some(Named::new(
+                read_stored_map(path)?,
+                path.display().to_string(),
+            ))
         }
         None => None,
     };
-    let trace = read_steps(&steps_path)?;
-    check_height_changes(&steps_path, &plan_path, &plan, args.one_floor)?;
-    if let Some(late) = args.snapshots.iter().flatten().find(|&&k| k > trace.len()) {
-        bail!(
-            "--snapshots asks for step {late}, but {} has only {} steps",
-            steps_path.display(),
-            trace.len()
-        );
-    }
-    let topology = FloorTopology::build(&plan, &config.topology)
-        .with_context(|| format!("{}: not a usable floor plan", plan_path.display()))?;
     let radio = match (&args.radiomap, &args.wifi) {
         (Some(map_path), Some(wifi_path)) => {
             require_file(map_path, "radio map")?;
             require_file(wifi_path, "WiFi log")?;
             let (map, _) = read_radio_map_geojson(map_path, Some(frame))?;
-            let (scans, duplicate_readings) = read_scans(wifi_path, &trace)?;
-            let matched = check_scans_match(&map, &scans, map_path, wifi_path)?;
-            let localiser = RfLocaliser::new(&map, &topology, &config.rf).with_context(|| {
-                format!(
-                    "{}: cannot localise with this radio map",
-                    map_path.display()
-                )
-            })?;
-            if let Some(why) = localiser.fallback() {
-                super::common::warn(&format!(
-                    "{}: {why}; containment regions are used instead of radio evidence",
-                    map_path.display()
-                ));
-            }
-            Some(RadioFiles {
-                map_path: map_path.clone(),
-                wifi_path: wifi_path.clone(),
-                localiser,
-                scans,
-                matched,
-                duplicate_readings,
+            let log = read_wifi_log(wifi_path)?;
+            Some(TrackRadioRequest {
+                map: Named::new(map, map_path.display().to_string()),
+                scans: Named::new(log.scans, wifi_path.display().to_string()),
+                duplicate_readings: log.duplicate_readings,
             })
         }
         _ => None,
     };
-    Ok(Inputs {
-        plan_path,
-        steps_path,
-        plan,
+    let request = TrackRequest {
+        plan: Named::new(plan, plan_path.display().to_string()),
         frame,
-        topology,
-        transitions,
-        steps_with_heading: trace.with_heading(),
-        trace,
+        plan_margin: args.plan_margin,
+        steps: Named::new(read_steps(&steps_path)?, steps_path.display().to_string()),
+        steps_have_dz,
+        one_floor: args.one_floor,
+        map,
         radio,
-    })
-}
-
-/// `summary.json` of a run: its inputs, the filter's figures and the smoother's.
-fn summary<'r>(
-    args: &Args,
-    inputs: &Inputs,
-    run: &'r TrackRun,
-    times: &[f64],
-    smoothed: Option<&SmoothedStats>,
-    threads: usize,
-    started: Instant,
-) -> Summary<'r> {
-    let records = &run.records;
-    let first = records.first_localised();
-    let initial = run.initial_particles;
-    Summary {
-        quality: run.quality(smoothed.map_or(0, |s| s.certain), &QualityConfig::default()),
-        rf: inputs.radio.as_ref().map(|r| RfSummary {
-            radiomap_file: r.map_path.display().to_string(),
-            wifi_file: r.wifi_path.display().to_string(),
-            scans: r.scans.len(),
-            scans_matched: r.matched,
-            duplicate_readings: r.duplicate_readings,
-            mode: r.localiser.config().mode,
-            distance: r.localiser.distance(),
-            epsilon_dbm: r.localiser.epsilon(),
-            epsilon_source: r.localiser.epsilon_source(),
-            started_at_step: records
-                .steps
-                .iter()
-                .position(|r| r.particles() > 0)
-                .map(|i| i + 1),
-            measurements_ignored: run.measurements_ignored,
-            evidence: r.localiser.evidence().cloned(),
-            evidence_fallback: r.localiser.fallback().map(str::to_owned),
-        }),
-        headings_used: run.headings_used > 0,
-        steps_with_heading: inputs.steps_with_heading,
-        plan_file: inputs.plan_path.display().to_string(),
-        hexmap_file: args.hexmap.as_ref().map(|p| p.display().to_string()),
-        hexmap_hexagons: inputs.transitions.as_ref().map(TransitionPrior::len),
-        steps_file: inputs.steps_path.display().to_string(),
-        steps: times.len(),
-        steps_to_localise: first.map(|i| i + 1),
-        localised_at_t: first.map(|i| times[i]),
-        track_rows: run.filtered.len(),
-        smoothing: smoothed.map(|s| SmoothingSummary {
-            steps_estimated: s.estimated,
-            steps_certain: s.certain,
-            first_certain_step: s.first_certain,
-            path_nodes_peak: s.path_nodes_peak,
-            runtime_s: s.runtime_s,
-        }),
-        particles_initial: initial,
-        particles_max: records
-            .steps
-            .iter()
-            .map(|r| r.particles())
-            .max()
-            .unwrap_or(initial)
-            .max(initial),
-        particles_final: records.steps.last().map_or(initial, |r| r.particles()),
-        particles_per_step: &records.steps,
-        clusters_per_step: &records.steps,
-        deaths: records.recoveries.len(),
-        recoveries: &records.recoveries,
-        plan_fit: records.fit,
-        seed: run.seed,
-        threads,
-        runtime_s: started.elapsed().as_secs_f64(),
-        filter_runtime_s: run.filter_runtime_s,
-        particle_steps_per_s: records.particle_steps() as f64 / run.filter_runtime_s.max(1e-9),
-        bytes_per_particle: run.bytes_per_particle,
-        peak_memory_bytes: peak_memory_bytes(),
-        plan: PlanStats {
-            surfaces: inputs.topology.len(),
-            walkable_area_m2: inputs.topology.total_area(),
-            levels: inputs.topology.levels(),
+        snapshots: match &args.snapshots {
+            Some(list) => SnapshotSteps::At(list.clone()),
+            None => SnapshotSteps::Auto,
         },
-        origin: inputs.frame,
-        version: env!("CARGO_PKG_VERSION"),
-    }
+        config,
+        overrides: overrides(args),
+    };
+    let files = [plan_path, steps_path]
+        .into_iter()
+        .chain(args.radiomap.iter().cloned())
+        .chain(args.wifi.iter().cloned())
+        .chain(args.hexmap.iter().cloned())
+        .collect();
+    Ok((request, files))
 }
 
-/// The tracker's configuration: the config file's (or the defaults), with the flags'
-/// overrides, validated.
-fn tracker_config(args: &Args) -> Result<TrackerConfig> {
-    let mut config: TrackerConfig = match &args.config {
-        Some(p) => read_config(p)?,
-        None => TrackerConfig::default(),
-    };
-    if let Some(s) = args.seed {
-        config.seed = s;
-    }
-    if let Some(n) = args.particles {
-        config.kld.cap_particles(n);
-    }
-    if args.start.is_some() {
-        config.start = args.start;
-    }
-    if args.ignore_heading {
-        config.heading.enabled = false;
-    }
-    if let Some(m) = args.rf_mode {
-        config.rf.mode = match m {
+/// The flags that override the tracker's configuration.
+fn overrides(args: &Args) -> TrackOverrides {
+    TrackOverrides {
+        seed: args.seed,
+        particles: args.particles,
+        start: args.start,
+        ignore_heading: args.ignore_heading,
+        rf_mode: args.rf_mode.map(|m| match m {
             RfModeArg::Containment => RfMode::Containment,
             RfModeArg::Probabilistic => RfMode::Probabilistic,
             RfModeArg::PriorOnly => RfMode::PriorOnly,
             RfModeArg::Evidence => RfMode::Evidence,
             RfModeArg::Auto => RfMode::Auto,
-        };
-    }
-    if args.rf_epsilon.is_some() {
-        config.rf.epsilon = args.rf_epsilon;
-    }
-    if let Some(d) = args.rf_distance {
-        config.rf.distance = Some(match d {
+        }),
+        rf_epsilon: args.rf_epsilon,
+        rf_distance: args.rf_distance.map(|d| match d {
             RfDistanceArg::Paper => Normalisation::Paper,
             RfDistanceArg::Sqrt => Normalisation::Sqrt,
-        });
+        }),
+        rf_every_step: args.rf_every_step,
+        online: args.online,
+        map_weight: args.hexmap_weight,
     }
-    if args.rf_every_step {
-        config.rf.every_step = true;
-    }
-    if args.online {
-        config.smoothing = false;
-    }
-    if let Some(w) = args.hexmap_weight {
-        config.transitions.weight = w;
-    }
-    config.validate()?;
-    Ok(config)
 }
 
-/// Writes `track.csv` (and, with smoothing, `track_filtered.csv`) and returns, with
-/// smoothing, what the smoother gave, the answer (the smoothed track's certain steps) and
-/// the uncertain steps' estimates; `None` online, where the answer is the filtered `track`.
-/// The smoothed walk is read once, into track.csv and the answer, then dropped.
-fn write_tracks(
-    folder: &RunFolder,
-    times: &[f64],
-    smoothed: Option<SmoothedWalk>,
-    run: &TrackRun,
-) -> Result<Option<SmoothedTracks>> {
-    let smoothing_started = Instant::now();
-    let track = &run.filtered;
-    Ok(match smoothed {
-        Some(walk) => {
-            let mut stats = SmoothedStats::default();
-            let mut answer = Vec::new();
-            let mut uncertain = Vec::new();
-            let points = times
-                .iter()
-                .zip(walk.iter())
-                .enumerate()
-                .filter_map(|(i, (&t, k))| {
-                    let k = k?;
-                    stats.certain += usize::from(k.certain);
-                    if k.certain && stats.first_certain.is_none() {
-                        stats.first_certain = Some(i + 1);
-                    }
-                    let c = k.estimate?;
-                    stats.estimated += 1;
-                    let point = TrackPoint {
-                        t,
-                        x: c.x,
-                        y: c.y,
-                        z: c.z,
-                        level: c.level,
-                    };
-                    if k.certain {
-                        answer.push(point);
-                    } else {
-                        uncertain.push((c.x as f32, c.y as f32, c.level));
-                    }
-                    Some(SmoothedPoint {
-                        point,
-                        certain: k.certain,
-                        hypotheses: k.hypotheses,
-                        spread: c.spread,
-                        share: c.weight,
-                    })
-                });
-            write_smoothed_track(&folder.path("track.csv"), points)?;
-            write_track(&folder.path("track_filtered.csv"), track)?;
-            stats.path_nodes_peak = run.path_nodes_peak;
-            stats.runtime_s = smoothing_started.elapsed().as_secs_f64();
-            Some((stats, answer, uncertain))
-        }
-        None => {
-            write_track(&folder.path("track.csv"), track)?;
-            None
-        }
-    })
+/// Writes `track.csv`: the smoothed answer (and the filtered track as
+/// `track_filtered.csv`), or online the filtered track.
+fn write_tracks(folder: &RunFolder, answer: &TrackAnswer, run: &TrackRun) -> Result<()> {
+    if answer.smoothing.is_some() {
+        write_smoothed_track(&folder.path("track.csv"), answer.rows.iter().copied())?;
+        write_track(&folder.path("track_filtered.csv"), &run.filtered)?;
+    } else {
+        write_track(&folder.path("track.csv"), &run.filtered)?;
+    }
+    Ok(())
 }
-
-/// What [`write_tracks`] gives with smoothing: the smoother's counts, the answer (certain
-/// steps) and the uncertain steps' estimates as `(x, y, level)`.
-type SmoothedTracks = (SmoothedStats, Vec<TrackPoint>, Vec<(f32, f32, i32)>);
 
 #[cfg(test)]
 mod tests {

@@ -69,6 +69,19 @@ impl RfMode {
             RfMode::Auto => "auto",
         }
     }
+
+    /// The mode [`RfMode::name`] names (`prior_only` too); `None` for any other text.
+    pub fn from_name(name: &str) -> Option<Self> {
+        [
+            RfMode::Auto,
+            RfMode::Evidence,
+            RfMode::Containment,
+            RfMode::Probabilistic,
+            RfMode::PriorOnly,
+        ]
+        .into_iter()
+        .find(|m| m.name() == name || m.name().replace('-', "_") == name)
+    }
 }
 
 /// RF-assisted localisation's parameters; every default in one place.

@@ -39,6 +39,11 @@ pub fn wifi_from_str(text: &str, name: &str) -> Result<Vec<WifiScan>> {
     Ok(wifi_from_table(CsvTable::from_text(text, name)?)?.scans)
 }
 
+/// Reads a WiFi log from CSV `text`, as [`read_wifi_log`] reads a file.
+pub fn wifi_log_from_str(text: &str, name: &str) -> Result<WifiLog> {
+    wifi_from_table(CsvTable::from_text(text, name)?)
+}
+
 fn wifi_from_table(mut table: CsvTable) -> Result<WifiLog> {
     let (t, bssid, rssi) = (
         table.column("t")?,

@@ -13,6 +13,8 @@
 //! * [`survey`](mod@survey) — a WiFi radio map from walks tracked on a known plan (track, cells, merge,
 //!   calibrate, coverage).
 //! * [`track`](mod@track) — one walk on a known floor plan (prior, steps, smoothing).
+//! * [`track_job`] — the `track` job: request in (overrides, prepare), and
+//!   [`track_report`] — its answer and report out.
 
 pub mod input_checks;
 pub mod learn;
@@ -25,7 +27,9 @@ pub mod quality;
 pub mod steps;
 pub mod survey;
 pub mod track;
+pub mod track_job;
 mod track_records;
+pub mod track_report;
 
 pub use input_checks::{
     GPS_LEAD_S, GridMismatch, MIN_MATCHED_SHARE, SAME_ORIGIN_M, ScanMatch, fixes_far_from_origin,
@@ -50,4 +54,8 @@ pub use survey::{
     SurveyedWalk, survey,
 };
 pub use track::{CloudSnapshot, RadioInput, SnapshotSteps, TrackInput, TrackRun, track};
+pub use track_job::{
+    Named, PreparedRadio, PreparedTrack, TrackOverrides, TrackRadioRequest, TrackRequest, prepare,
+};
 pub use track_records::{PlanFit, RecoveryEvent, StepRecord, StepRecords};
+pub use track_report::{PlanStats, RfReport, TrackAnswer, TrackReport, TrackSmoothingReport};

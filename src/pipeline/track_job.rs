@@ -1,0 +1,369 @@
+//! The `track` job, request in, report out: what the command line and the Python package
+//! both run, so that neither repeats the other.
+//!
+//! 1. **overrides** — the faces' options that change the configuration
+//!    ([`TrackOverrides`]), applied by the library to the configuration file's;
+//! 2. **prepare** — the plan grown by its margin, the learned map on the plan's frame, the
+//!    steps' height changes on a plan of several floors, the topology, the WiFi log on the
+//!    steps' clock and of the radio map's building, the localiser ([`prepare`]): a failed
+//!    check is an error naming the input, with a [`Remedy`](crate::error::Remedy) where one
+//!    option fixes it;
+//! 3. **track** — [`track`](super::track()) on what was prepared;
+//! 4. **answer** — the smoothed whole-walk answer read into rows
+//!    ([`TrackAnswer`](super::TrackAnswer));
+//! 5. **report** — `summary.json` as one typed struct ([`TrackReport`](super::TrackReport)).
+
+use super::Progress;
+use super::input_checks::{
+    SAME_ORIGIN_M, ScanMatch, missing_height_changes, partly_off_clock, scans_off_clock,
+};
+use super::track::{RadioInput, SnapshotSteps, TrackInput, TrackRun};
+use crate::error::{Error, Remedy, RemedyValue, Result};
+use crate::filter::{RfLocaliser, RfMode, StartPose, TrackerConfig};
+use crate::geometry::LocalFrame;
+use crate::io::map_geojson::StoredMap;
+use crate::map::{FloorPlan, FloorTopology, RadioMap, grow_plan};
+use crate::model::TransitionPrior;
+use crate::model::wifi_distance::Normalisation;
+use crate::sensor::{StepTrace, WifiScan};
+
+/// The options of `track` that change its configuration; `None` (or `false`) leaves the
+/// configuration's value. Both faces fill it from their arguments.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct TrackOverrides {
+    /// `seed`.
+    pub seed: Option<u64>,
+    /// KLD-sampling's cap ([`crate::filter::KldConfig::cap_particles`]).
+    pub particles: Option<usize>,
+    /// The known start.
+    pub start: Option<StartPose>,
+    /// `heading.enabled = false`.
+    pub ignore_heading: bool,
+    /// `rf.mode`.
+    pub rf_mode: Option<RfMode>,
+    /// `rf.epsilon`.
+    pub rf_epsilon: Option<f64>,
+    /// `rf.distance`.
+    pub rf_distance: Option<Normalisation>,
+    /// `rf.every_step = true`.
+    pub rf_every_step: bool,
+    /// `smoothing = false`: causal answers only.
+    pub online: bool,
+    /// `transitions.weight`: the learned map's exponent.
+    pub map_weight: Option<f64>,
+}
+
+impl TrackOverrides {
+    /// `config` with these overrides, validated.
+    pub fn apply(&self, mut config: TrackerConfig) -> Result<TrackerConfig> {
+        if let Some(s) = self.seed {
+            config.seed = s;
+        }
+        if let Some(n) = self.particles {
+            config.kld.cap_particles(n);
+        }
+        if self.start.is_some() {
+            config.start = self.start;
+        }
+        if self.ignore_heading {
+            config.heading.enabled = false;
+        }
+        if let Some(m) = self.rf_mode {
+            config.rf.mode = m;
+        }
+        if self.rf_epsilon.is_some() {
+            config.rf.epsilon = self.rf_epsilon;
+        }
+        if self.rf_distance.is_some() {
+            config.rf.distance = self.rf_distance;
+        }
+        if self.rf_every_step {
+            config.rf.every_step = true;
+        }
+        if self.online {
+            config.smoothing = false;
+        }
+        if let Some(w) = self.map_weight {
+            config.transitions.weight = w;
+        }
+        config.validate()?;
+        Ok(config)
+    }
+}
+
+/// A parsed input and the name errors and the report give it (a path, or `<DataFrame>`).
+#[derive(Debug, Clone)]
+pub struct Named<T> {
+    /// The input.
+    pub value: T,
+    /// Its name.
+    pub label: String,
+}
+
+impl<T> Named<T> {
+    /// `value` named `label`.
+    pub fn new(value: T, label: impl Into<String>) -> Self {
+        Self {
+            value,
+            label: label.into(),
+        }
+    }
+}
+
+/// A walk's WiFi log and the radio map to place it with, read.
+#[derive(Debug, Clone)]
+pub struct TrackRadioRequest {
+    /// The radio map, in the plan's frame.
+    pub map: Named<RadioMap>,
+    /// The walk's scans, in time order, on the steps' clock.
+    pub scans: Named<Vec<WifiScan>>,
+    /// Rows of the log that repeated an access point within a scan (the later kept).
+    pub duplicate_readings: usize,
+}
+
+/// Everything `track` runs on, read and parsed by a face.
+#[derive(Debug, Clone)]
+pub struct TrackRequest {
+    /// The floor plan, in `frame`.
+    pub plan: Named<FloorPlan>,
+    /// The local frame (the plan's, or the given origin).
+    pub frame: LocalFrame,
+    /// Grow the plan by this many metres first (a learned plan's edges are where walks
+    /// stopped, not walls).
+    pub plan_margin: Option<f64>,
+    /// The walk's steps.
+    pub steps: Named<StepTrace>,
+    /// Whether the steps came with a `dz` column.
+    pub steps_have_dz: bool,
+    /// The walk stays on its start floor (steps without `dz` allowed on several floors).
+    pub one_floor: bool,
+    /// A learned map whose transitions become the motion prior.
+    pub map: Option<Named<StoredMap>>,
+    /// The radio map and the walk's scans.
+    pub radio: Option<TrackRadioRequest>,
+    /// The steps after which the particle cloud is kept.
+    pub snapshots: SnapshotSteps,
+    /// The configuration file's (or the defaults).
+    pub config: TrackerConfig,
+    /// The face's options over it.
+    pub overrides: TrackOverrides,
+}
+
+/// The radio map as a localiser, with the walk's scans.
+#[derive(Debug)]
+pub struct PreparedRadio {
+    /// The radio map's name.
+    pub map_label: String,
+    /// The WiFi log's name.
+    pub wifi_label: String,
+    /// The localiser on the plan's topology.
+    pub localiser: RfLocaliser,
+    /// The scans.
+    pub scans: Vec<WifiScan>,
+    /// Scans that hear an access point of the map.
+    pub matched: usize,
+    /// Rows of the log that repeated an access point within a scan.
+    pub duplicate_readings: usize,
+}
+
+/// What [`prepare`] made of a request: the filter's inputs, checked.
+#[derive(Debug)]
+pub struct PreparedTrack {
+    /// The configuration run, overrides applied.
+    pub config: TrackerConfig,
+    /// The plan (grown by its margin).
+    pub plan: FloorPlan,
+    /// Its name.
+    pub plan_label: String,
+    /// The frame.
+    pub frame: LocalFrame,
+    /// The plan's walkable surfaces and their connections.
+    pub topology: FloorTopology,
+    /// The learned map's transitions, and the map's name.
+    pub transitions: Option<(TransitionPrior, String)>,
+    /// The walk's steps.
+    pub trace: StepTrace,
+    /// Their name.
+    pub steps_label: String,
+    /// The radio map and the scans.
+    pub radio: Option<PreparedRadio>,
+    /// The steps after which the particle cloud is kept.
+    pub snapshots: SnapshotSteps,
+}
+
+impl PreparedTrack {
+    /// What [`track`](super::track()) tracks on.
+    pub fn input(&self) -> TrackInput<'_> {
+        TrackInput {
+            topology: &self.topology,
+            transitions: self.transitions.as_ref().map(|(t, _)| t),
+            radio: self.radio.as_ref().map(|r| RadioInput {
+                localiser: &r.localiser,
+                scans: &r.scans,
+            }),
+        }
+    }
+
+    /// Tracks the walk ([`track`](super::track())).
+    pub fn run(&self, progress: &dyn Progress) -> Result<TrackRun<'_>> {
+        super::track(
+            &self.input(),
+            &self.trace,
+            &self.config,
+            &self.snapshots,
+            progress,
+        )
+    }
+}
+
+/// Stage 2: checks that the request's inputs belong together and builds the filter's. What
+/// the user should know but that does not stop the run (a log partly off the walk's clock,
+/// few scans of the map's building, a radio map too sparse for evidence) goes to `progress`
+/// as warnings.
+pub fn prepare(request: TrackRequest, progress: &dyn Progress) -> Result<PreparedTrack> {
+    let config = request.overrides.apply(request.config)?;
+    let Named {
+        value: plan,
+        label: plan_label,
+    } = request.plan;
+    let plan = match request.plan_margin {
+        Some(margin) => grow_plan(&plan, margin)
+            .map_err(|e| within(&plan_label, &format!("plan margin {margin}"), e))?,
+        None => plan,
+    };
+    let transitions = match request.map {
+        Some(map) => Some((
+            map_prior(&map, &request.frame, &plan_label, &config)?,
+            map.label,
+        )),
+        None => None,
+    };
+    let steps = request.steps;
+    if let Some(problem) =
+        missing_height_changes(&plan, &plan_label, request.steps_have_dz, request.one_floor)
+    {
+        return Err(Error::Remedied {
+            problem: format!("{}: {problem}", steps.label),
+            remedy: Remedy {
+                option: "one_floor",
+                value: RemedyValue::Flag,
+            },
+        });
+    }
+    if let SnapshotSteps::At(list) = &request.snapshots
+        && let Some(late) = list.iter().find(|&&k| k > steps.value.len())
+    {
+        return Err(Error::invalid(
+            "snapshots",
+            format!(
+                "asks for step {late}, but {} has only {} steps",
+                steps.label,
+                steps.value.len()
+            ),
+        ));
+    }
+    let topology = FloorTopology::build(&plan, &config.topology)
+        .map_err(|e| within(&plan_label, "not a usable floor plan", e))?;
+    let radio = match request.radio {
+        Some(radio) => Some(prepare_radio(
+            radio,
+            &steps.value,
+            &topology,
+            &config,
+            progress,
+        )?),
+        None => None,
+    };
+    Ok(PreparedTrack {
+        config,
+        plan,
+        plan_label,
+        frame: request.frame,
+        topology,
+        transitions,
+        trace: steps.value,
+        steps_label: steps.label,
+        radio,
+        snapshots: request.snapshots,
+    })
+}
+
+/// The learned map's transitions, the map being in the plan's frame.
+fn map_prior(
+    map: &Named<StoredMap>,
+    frame: &LocalFrame,
+    plan_label: &str,
+    config: &TrackerConfig,
+) -> Result<TransitionPrior> {
+    let off = frame.distance_to(&map.value.frame);
+    if off > SAME_ORIGIN_M {
+        return Err(Error::mismatch(
+            format!(
+                "{}: its origin lies {off:.3} m from the plan's ({plan_label})",
+                map.label
+            ),
+            "the learned map must be in the plan's frame (the map and the plan.geojson of one \
+             learn run)",
+        ));
+    }
+    TransitionPrior::new(&map.value.map, config.transitions)
+}
+
+/// The WiFi log on the steps' clock and of the radio map's building, and the localiser.
+fn prepare_radio(
+    radio: TrackRadioRequest,
+    trace: &StepTrace,
+    topology: &FloorTopology,
+    config: &TrackerConfig,
+    progress: &dyn Progress,
+) -> Result<PreparedRadio> {
+    let (map, scans) = (radio.map, radio.scans);
+    if radio.duplicate_readings > 0 {
+        progress.warn(&format!(
+            "{}: {} row(s) repeated an access point already in their scan; kept the later \
+             reading of each",
+            scans.label, radio.duplicate_readings
+        ));
+    }
+    let steps = trace.steps();
+    if let (Some(first), Some(last)) = (steps.first(), steps.last()) {
+        if let Some(problem) = scans_off_clock(&scans.value, first.t, last.t) {
+            return Err(Error::mismatch(format!("{}: {problem}", scans.label), ""));
+        }
+        let times: Vec<f64> = scans.value.iter().map(|s| s.t).collect();
+        if let Some(w) = partly_off_clock(&times, "scans", first.t, last.t, 0.0) {
+            progress.warn(&format!("{}: {w}", scans.label));
+        }
+    }
+    let found = ScanMatch::of(&map.value, &scans.value);
+    if let Some(problem) = found.unmatched() {
+        return Err(Error::mismatch(
+            format!("{} and {}: {problem}", scans.label, map.label),
+            "",
+        ));
+    }
+    if let Some(w) = found.warning(&scans.label, &map.label) {
+        progress.warn(&w);
+    }
+    let localiser = RfLocaliser::new(&map.value, topology, &config.rf)
+        .map_err(|e| within(&map.label, "cannot localise with this radio map", e))?;
+    if let Some(why) = localiser.fallback() {
+        progress.warn(&format!(
+            "{}: {why}; containment regions are used instead of radio evidence",
+            map.label
+        ));
+    }
+    Ok(PreparedRadio {
+        map_label: map.label,
+        wifi_label: scans.label,
+        localiser,
+        scans: scans.value,
+        matched: found.matched,
+        duplicate_readings: radio.duplicate_readings,
+    })
+}
+
+/// `error` as a problem of `label`: `what`.
+fn within(label: &str, what: &str, error: Error) -> Error {
+    Error::invalid(label, format!("{what}: {error}"))
+}
