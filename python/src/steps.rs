@@ -3,16 +3,14 @@
 use crate::inputs;
 use crate::outputs::{Column, columns, json_object, points3};
 use crate::tables::{self, IMU};
-use crate::{Reporter, detached, fail, py_error, with_context};
-use footslam::inertial::frame_check::{axes_flag, parse_axes};
+use crate::{Reporter, detached, fail, py_error};
+use footslam::inertial::frame_check::parse_axes;
 use footslam::inertial::{Mount, StepsConfig};
 use footslam::io::ImuUnits;
-use footslam::pipeline::{FrameVerdict, StepsRun};
-use footslam::sensor::SamplingReport;
+use footslam::pipeline::{Named, StepsRequest, run_steps};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use serde_json::json;
 
 /// Detects the steps of a raw IMU recording (``footslam steps``).
 ///
@@ -54,7 +52,6 @@ pub(crate) fn steps<'py>(
     gyro_flip: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let config: StepsConfig = inputs::config(config)?;
-    config.validate().map_err(py_error)?;
     let mount = match mount {
         "foot" => Mount::Foot,
         "phone" => Mount::Phone,
@@ -88,34 +85,17 @@ pub(crate) fn steps<'py>(
         .map(|axes| parse_axes(axes).map_err(|m| fail(format!("gyro_flip: {m}"))))
         .transpose()?;
     let table = tables::table(imu, &IMU, "imu")?;
-    let label = table.label();
     let started = std::time::Instant::now();
-    let (run, sampling) = detached(py, None, || {
-        let mut recording = table.imu(units).map_err(py_error)?;
-        if let Some(flip) = flip {
-            recording = recording.with_gyro_flipped(flip);
-        }
-        let run = footslam::pipeline::steps(&recording, mount, &config)
-            .map_err(with_context(format!("{label}: cannot detect steps")))?;
-        Ok((run, recording.report().clone()))
+    let job = detached(py, None, || {
+        let request = StepsRequest {
+            recording: Named::new(table.imu(units).map_err(py_error)?, table.label()),
+            mount,
+            gyro_flip: flip,
+            config: config.clone(),
+        };
+        run_steps(request, started).map_err(py_error)
     })?;
-    // The command line's order: a rejected frame before an empty trace.
-    let list: Vec<String> = run
-        .recording_warnings()
-        .into_iter()
-        .chain(frame_warnings(&label, flip, run.frame_verdict())?)
-        .collect();
-    if run.trace.is_empty() {
-        return Err(fail(format!(
-            "{label}: no {} detected in {:.1} s of data (is the mount right? is the walker \
-             moving?)",
-            match mount {
-                Mount::Foot => "strides",
-                Mount::Phone => "steps",
-            },
-            sampling.duration_s
-        )));
-    }
+    let run = &job.run;
     let result = PyDict::new(py);
     let steps = run.trace.steps();
     let mut step_columns = vec![
@@ -160,58 +140,12 @@ pub(crate) fn steps<'py>(
     result.set_item("steps", columns(py, step_columns)?)?;
     result.set_item("path", points3(py, &run.path)?)?;
     let report = Reporter::default();
-    for w in &list {
-        report.push(format!("{label}: {w}"));
+    for w in &job.report.warnings {
+        report.push(format!("{}: {w}", job.report.imu_file));
     }
-    let summary = summary(&label, &run, list, sampling, started);
+    let summary = serde_json::to_value(&job.report).map_err(|e| fail(e.to_string()))?;
     result.set_item("summary", json_object(py, &summary)?)?;
     result.set_item("config", json_object(py, &config)?)?;
     report.emit(py)?;
     Ok(result)
-}
-
-/// The frame check's verdict as an error, or as warnings where the output does not depend
-/// on the finding (the command line's wording, `gyro_flip` for `--gyro-flip`).
-fn frame_warnings(
-    label: &str,
-    flip: Option<[bool; 3]>,
-    verdict: FrameVerdict,
-) -> PyResult<Vec<String>> {
-    let flipped = match flip {
-        Some(flip) => format!(" (after gyro_flip=\"{}\")", axes_flag(flip)),
-        None => String::new(),
-    };
-    verdict
-        .messages(&flipped)
-        .map_err(|problem| fail(format!("{label}: {problem}")))
-}
-
-/// `summary.json`'s figures.
-fn summary(
-    label: &str,
-    run: &StepsRun,
-    warnings: Vec<String>,
-    sampling: SamplingReport,
-    started: std::time::Instant,
-) -> serde_json::Value {
-    let steps = run.trace.steps();
-    let total_length_m: f64 = steps.iter().map(|s| s.length).sum();
-    json!({
-        "quality": footslam::pipeline::steps_quality(&warnings),
-        "imu": label,
-        "mount": run.mount,
-        "steps": steps.len(),
-        "mean_stride_m": total_length_m / steps.len().max(1) as f64,
-        "total_length_m": total_length_m,
-        "net_height_change_m": steps.iter().map(|s| s.dz).sum::<f64>(),
-        "heading_source": run.heading_source,
-        "steps_with_heading": run.trace.with_heading(),
-        "steps_with_field": run.field.as_ref().map_or(0, |f| f.observed()),
-        "steps_with_field_up": run.field.as_ref().map_or(0, |f| f.with_vertical()),
-        "warnings": warnings,
-        "sampling": sampling,
-        "detector": run.figures,
-        "runtime_s": started.elapsed().as_secs_f64(),
-        "version": env!("CARGO_PKG_VERSION"),
-    })
 }

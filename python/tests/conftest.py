@@ -79,3 +79,21 @@ def cli_error(done):
     lines = [l for l in done.stderr.splitlines() if l.startswith("error: ")]
     assert lines, done.stderr
     return lines[-1][len("error: ") :]
+
+
+# What may differ between two runs of one job: how long they took and the memory held.
+VARYING = {"runtime_s", "filter_runtime_s", "particle_steps_per_s", "peak_memory_bytes"}
+
+
+def same_report(got, expected, path="summary"):
+    """The dict Python returns and the summary.json the CLI writes hold the same keys and
+    values (one report struct), all but runtimes; a difference names its key."""
+    if isinstance(expected, dict):
+        assert isinstance(got, dict) and sorted(got) == sorted(expected), \
+            f"{path}: keys {sorted(got)} vs {sorted(expected)}"
+        for k, v in expected.items():
+            if k not in VARYING:
+                same_report(got[k], v, f"{path}.{k}")
+    else:
+        assert got == expected, f"{path}: {got!r} vs {expected!r}"
+    return True

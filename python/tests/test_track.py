@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import footslam
-from conftest import read_csv, read_json
+from conftest import read_csv, read_json, same_report
 
 # A smaller prior than the default 8 million particles keeps the suite fast.
 CONFIG = {"kld": {"max_particles": 100_000}}
@@ -20,24 +20,6 @@ def assert_points(got, expected, columns=("t", "x", "y", "z", "level")):
     assert len(got["t"]) == len(expected["t"])
     for c in columns:
         np.testing.assert_allclose(got[c], expected[c], rtol=0, atol=6e-4, err_msg=c)
-
-
-# What may differ between two runs of one job: how long they took and the memory held.
-VARYING = {"runtime_s", "filter_runtime_s", "particle_steps_per_s", "peak_memory_bytes"}
-
-
-def same_report(got, expected, path="summary"):
-    """The dict Python returns and the summary.json the CLI writes hold the same keys and
-    values (one report struct), all but runtimes; a difference names its key."""
-    if isinstance(expected, dict):
-        assert isinstance(got, dict) and list(got) == list(expected), \
-            f"{path}: keys {list(got)} vs {list(expected)}"
-        for k, v in expected.items():
-            if k not in VARYING:
-                same_report(got[k], v, f"{path}.{k}")
-    else:
-        assert got == expected, f"{path}: {got!r} vs {expected!r}"
-    return True
 
 
 @pytest.fixture(scope="module")

@@ -2,16 +2,13 @@
 //! figures and a picture of the dead-reckoned path.
 
 use super::common::{output_dir, read_config, require_file};
-use anyhow::{Context, Result};
-use footslam::inertial::frame_check::axes_flag;
+use anyhow::Result;
 use footslam::inertial::{HeadingSource, Mount, StepsConfig};
 use footslam::io::RunFolder;
 use footslam::io::{ImuUnits, read_imu_in, steps_csv::write_steps_with_field};
 use footslam::map::hex_transitions::HexMapSnapshot;
-use footslam::pipeline::{DetectorFigures, FrameVerdict, Quality, StepsRun, steps, steps_quality};
+use footslam::pipeline::{Named, StepsJob, StepsRequest, run_steps};
 use footslam::render::map_png::{MapPicture, PictureConfig, write_map_png};
-use footslam::sensor::{ImuRecording, SamplingReport};
-use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -80,30 +77,6 @@ enum MountArg {
     Phone,
 }
 
-#[derive(Debug, Serialize)]
-struct Summary<'r> {
-    /// The steps' verdict and its reasons (docs/robustness.md).
-    quality: Quality,
-    imu_file: String,
-    mount: Mount,
-    steps: usize,
-    mean_stride_m: f64,
-    total_length_m: f64,
-    net_height_change_m: f64,
-    heading_source: HeadingSource,
-    steps_with_heading: usize,
-    /// Steps with a magnetic field reading (`field` column), and of them with its vertical
-    /// part (`field_up`).
-    steps_with_field: usize,
-    steps_with_field_up: usize,
-    /// Why the output may be wrong (e.g. the recording does not look like the mount).
-    warnings: Vec<String>,
-    sampling: SamplingReport,
-    detector: &'r DetectorFigures,
-    runtime_s: f64,
-    version: &'static str,
-}
-
 /// Runs `footslam steps`.
 pub fn run(args: Args) -> Result<()> {
     require_file(&args.imu, "IMU recording")?;
@@ -111,7 +84,6 @@ pub fn run(args: Args) -> Result<()> {
         Some(p) => read_config(p)?,
         None => StepsConfig::default(),
     };
-    config.validate()?;
     let started = Instant::now();
     let units = ImuUnits {
         accel: match args.accel_unit {
@@ -123,78 +95,46 @@ pub fn run(args: Args) -> Result<()> {
             GyroUnit::DegreesPerSecond => std::f64::consts::PI / 180.0,
         },
     };
-    let mut recording = read_imu_in(&args.imu, units)?;
-    if let Some(flip) = args.gyro_flip {
-        recording = recording.with_gyro_flipped(flip);
-    }
+    let request = StepsRequest {
+        recording: Named::new(
+            read_imu_in(&args.imu, units)?,
+            args.imu.display().to_string(),
+        ),
+        mount: match args.mount {
+            MountArg::Foot => Mount::Foot,
+            MountArg::Phone => Mount::Phone,
+        },
+        gyro_flip: args.gyro_flip,
+        config,
+    };
     let out = output_dir(args.out.clone(), "steps");
     let mut folder = super::common::create_run_folder(&out)?;
     folder.protect(std::iter::once(&args.imu).chain(args.config.iter()));
-    let mount = match args.mount {
-        MountArg::Foot => Mount::Foot,
-        MountArg::Phone => Mount::Phone,
-    };
-    let run = steps(&recording, mount, &config)
-        .with_context(|| format!("{}: cannot detect steps", args.imu.display()))?;
-    let warnings = run
-        .recording_warnings()
-        .into_iter()
-        .chain(frame_warnings(&args, run.frame_verdict())?)
-        .collect();
-    let trace_len = run.trace.len();
-    let quality = write_outputs(&folder, &args, &recording, warnings, run, started)?;
+    let config = request.config.clone();
+    let job = run_steps(request, started)?;
+    for w in &job.report.warnings {
+        super::common::warn(&format!("{}: {w}", job.report.imu_file));
+    }
+    write_outputs(&folder, &job)?;
     folder.write_json("config.json", &config)?;
     let out = folder.commit()?;
-    let what = match mount {
+    let what = match job.run.mount {
         Mount::Foot => "strides",
         Mount::Phone => "steps",
     };
-    info!("{trace_len} {what}: {}", out.join("steps.csv").display());
-    super::verbosity::done(&out, Some(&quality.line()));
+    info!(
+        "{} {what}: {}",
+        job.run.trace.len(),
+        out.join("steps.csv").display()
+    );
+    super::verbosity::done(&out, Some(&job.report.quality.line()));
     Ok(())
 }
 
-/// The frame check's verdict as an error, or as warnings where the output does not depend
-/// on the finding.
-fn frame_warnings(args: &Args, verdict: FrameVerdict) -> Result<Vec<String>> {
-    let flipped = match args.gyro_flip {
-        Some(flip) => format!(" (after --gyro-flip {})", axes_flag(flip)),
-        None => String::new(),
-    };
-    verdict
-        .messages(&flipped)
-        .map_err(|problem| anyhow::anyhow!("{}: {problem}", args.imu.display()))
-}
-
-fn write_outputs(
-    folder: &RunFolder,
-    args: &Args,
-    recording: &ImuRecording,
-    warnings: Vec<String>,
-    run: StepsRun,
-    started: Instant,
-) -> Result<Quality> {
-    let mount = run.mount;
-    let sampling = recording.report().clone();
-    let steps = run.trace.steps();
-    if steps.is_empty() {
-        anyhow::bail!(
-            "{}: no {} detected in {:.1} s of data (is --mount right? is the walker moving?)",
-            args.imu.display(),
-            match mount {
-                Mount::Foot => "strides",
-                Mount::Phone => "steps",
-            },
-            sampling.duration_s
-        );
-    }
+/// `steps.csv`, `steps.png` and `summary.json`.
+fn write_outputs(folder: &RunFolder, job: &StepsJob) -> Result<()> {
+    let run = &job.run;
     write_steps_with_field(&folder.path("steps.csv"), &run.trace, run.field.as_ref())?;
-    for w in &warnings {
-        #[allow(clippy::print_stderr)]
-        {
-            eprintln!("warning: {}: {w}", args.imu.display());
-        }
-    }
     let path: Vec<(f64, f64)> = run.path.iter().map(|p| (p[0], p[1])).collect();
     let empty = HexMapSnapshot {
         radius: 0.5,
@@ -213,25 +153,6 @@ fn write_outputs(
         &picture,
         &PictureConfig::default(),
     )?;
-    let total_length_m: f64 = steps.iter().map(|s| s.length).sum();
-    let summary = Summary {
-        quality: steps_quality(&warnings),
-        imu_file: args.imu.display().to_string(),
-        mount,
-        steps: steps.len(),
-        mean_stride_m: total_length_m / steps.len() as f64,
-        total_length_m,
-        net_height_change_m: steps.iter().map(|s| s.dz).sum(),
-        heading_source: run.heading_source,
-        steps_with_heading: run.trace.with_heading(),
-        steps_with_field: run.field.as_ref().map_or(0, |f| f.observed()),
-        steps_with_field_up: run.field.as_ref().map_or(0, |f| f.with_vertical()),
-        warnings,
-        sampling,
-        detector: &run.figures,
-        runtime_s: started.elapsed().as_secs_f64(),
-        version: env!("CARGO_PKG_VERSION"),
-    };
-    folder.write_json("summary.json", &summary)?;
-    Ok(summary.quality)
+    folder.write_json("summary.json", &job.report)?;
+    Ok(())
 }

@@ -9,7 +9,8 @@
 //! * [`merge`](mod@merge) — maps of several walks in one frame combined (their counts summed).
 //! * [`plan`](mod@plan) — a learned map as a walkable floor plan and occupancy grids.
 //! * [`quality`] — every run's verdict (`ok`, `doubtful`, `poor`) and its reasons.
-//! * [`steps`](mod@steps) — a raw IMU recording (foot or phone) to step events (detect, check).
+//! * [`steps`](mod@steps) — a raw IMU recording (foot or phone) to step events (detect, check);
+//!   [`steps_job`] — the `steps` job: request in, report out.
 //! * [`survey`](mod@survey) — a WiFi radio map from walks tracked on a known plan (track, cells, merge,
 //!   calibrate, coverage).
 //! * [`track`](mod@track) — one walk on a known floor plan (prior, steps, smoothing).
@@ -25,6 +26,7 @@ pub mod plan;
 mod progress;
 pub mod quality;
 pub mod steps;
+pub mod steps_job;
 pub mod survey;
 pub mod track;
 pub mod track_job;
@@ -49,6 +51,7 @@ pub use quality::{
     track_quality,
 };
 pub use steps::{DetectorFigures, FrameVerdict, StepsRun, steps};
+pub use steps_job::{StepsJob, StepsReport, StepsRequest, run_steps};
 pub use survey::{
     COVERAGE_GRANULARITIES, Coverage, SurveyConfig, SurveyInput, SurveyWalk, Surveyed,
     SurveyedWalk, survey,
