@@ -19,7 +19,7 @@ use footslam::io::map_geojson::{StoredMap, read_stored_map};
 use footslam::io::{ManifestWalk, RunFolder};
 use footslam::map::{CellConfig, HexMapSnapshot};
 use footslam::pipeline::{
-    ItemProgress, LearnInput, Progress, default_frame, learn_one, others_map,
+    ItemProgress, LearnInput, LearnWalk, Progress, WalkRun, default_frame, learn_one, others_map,
 };
 use rayon::prelude::*;
 use serde::Serialize;
@@ -42,6 +42,37 @@ struct ShardSummary {
     version: &'static str,
 }
 
+/// Learns the shard's walks (`walks`, their manifest rows `mine`, and in a FeetSLAM pass
+/// the other walks' maps `others`) in parallel, a bar for the walks and one per walk.
+fn learn_shard_walks(
+    args: &Args,
+    input: &LearnInput,
+    (walks, mine, others): (&[LearnWalk], &[usize], &[Option<HexMapSnapshot>]),
+    config: &FootSlamConfig,
+) -> Result<Vec<WalkRun>> {
+    let pool = super::common::worker_pool(args.threads)?;
+    let bars = Bars::default();
+    bars.start("learning the shard's walks", walks.len() as u64);
+    let runs = pool.install(|| {
+        (0..walks.len())
+            .into_par_iter()
+            .map(|i| {
+                let item = ItemProgress {
+                    inner: &bars,
+                    item: i,
+                    label: format!("walk {}", mine[i] + 1),
+                };
+                let others = others[i].as_ref();
+                let run = learn_one(input, &walks[i], mine[i], others, config, Some(&item));
+                bars.advance(1);
+                run
+            })
+            .collect::<footslam::Result<Vec<_>>>()
+    })?;
+    bars.finish();
+    Ok(runs)
+}
+
 /// Runs one shard of `learn --walks`.
 pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) -> Result<()> {
     let started = Instant::now();
@@ -61,32 +92,7 @@ pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) 
         prior_map: prior_map.as_ref(),
         cells: CellConfig::default(),
     };
-    let pool = super::common::worker_pool(args.threads)?;
-    let bars = Bars::default();
-    bars.start("learning the shard's walks", walks.len() as u64);
-    let runs = pool.install(|| {
-        (0..walks.len())
-            .into_par_iter()
-            .map(|i| {
-                let item = ItemProgress {
-                    inner: &bars,
-                    item: i,
-                    label: format!("walk {}", mine[i] + 1),
-                };
-                let run = learn_one(
-                    &input,
-                    &walks[i],
-                    mine[i],
-                    others[i].as_ref(),
-                    config,
-                    Some(&item),
-                );
-                bars.advance(1);
-                run
-            })
-            .collect::<footslam::Result<Vec<_>>>()
-    })?;
-    bars.finish();
+    let runs = learn_shard_walks(args, &input, (&walks, &mine, &others), config)?;
     let folder = shard_folder(args, manifest, &all)?;
     let mut summaries = Vec::with_capacity(runs.len());
     let map_frame = MapFrame::of(&input, args.picture_extent);
