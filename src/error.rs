@@ -94,6 +94,15 @@ pub enum Error {
     /// user's data.
     #[error("simulator: {0}")]
     Simulation(String),
+    /// An option of a job given a value it cannot take: each face spells the option its own
+    /// way (`--plan-margin`, `plan_margin`).
+    #[error("{option}: {problem}")]
+    BadOption {
+        /// The option's name in snake case, as the job's request and Python name it.
+        option: &'static str,
+        /// The value and why it cannot be taken.
+        problem: String,
+    },
     /// Inputs that do not belong together as given, with the one option that makes them do:
     /// each face spells the option its own way (`--one-floor`, `one_floor=True`).
     #[error("{problem}, or set {remedy}")]

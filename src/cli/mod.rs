@@ -158,6 +158,9 @@ fn spelled(e: &anyhow::Error) -> String {
             Some(footslam::Error::Remedied { problem, remedy }) => {
                 format!("{problem}, or pass {}", option(remedy))
             }
+            Some(footslam::Error::BadOption { option, problem }) => {
+                format!("--{}: {problem}", option.replace('_', "-"))
+            }
             _ => cause.to_string(),
         })
         .collect::<Vec<_>>()

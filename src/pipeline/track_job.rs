@@ -227,8 +227,10 @@ pub fn prepare(request: TrackRequest, progress: &dyn Progress) -> Result<Prepare
         label: plan_label,
     } = request.plan;
     let plan = match request.plan_margin {
-        Some(margin) => grow_plan(&plan, margin)
-            .map_err(|e| within(&plan_label, &format!("plan margin {margin}"), e))?,
+        Some(margin) => grow_plan(&plan, margin).map_err(|e| Error::BadOption {
+            option: "plan_margin",
+            problem: format!("{margin} for {plan_label}: {e}"),
+        })?,
         None => plan,
     };
     let transitions = match request.map {
