@@ -156,5 +156,9 @@ fn track_outputs_are_byte_identical_to_the_golden_digests() {
             wrong.push(format!("{} is new (not in {GOLDEN})", key(l)));
         }
     }
-    assert!(wrong.is_empty(), "track outputs differ:\n{}", wrong.join("\n"));
+    assert!(
+        wrong.is_empty(),
+        "track outputs differ:\n{}",
+        wrong.join("\n")
+    );
 }
