@@ -63,10 +63,12 @@ impl Tracker<'_> {
                     particles: from.len(),
                     ..Propagation::default()
                 };
+                // Most particles share a log-weight (no change of height): one exp each.
+                let mut exp = Memo::default();
                 for (i, (p, q)) in from.iter().zip(to.iter_mut()).enumerate() {
                     let (next, ll) = model.apply(p, &mut rng);
                     if ll > f32::NEG_INFINITY {
-                        let w = f64::from(ll).exp();
+                        let w = exp.get(ll, |l| f64::from(l).exp());
                         let dz_poly = model.topology.z(next.surface) - model.topology.z(p.surface);
                         sums.alive += 1;
                         sums.weight += w;
@@ -86,6 +88,34 @@ impl Tracker<'_> {
             .into_iter()
             .fold(Propagation::default(), Propagation::add);
         self.propagation.alive > 0
+    }
+}
+
+/// The last argument of a function and its value: a run of equal arguments costs one call
+/// (and gives the same bits).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Memo<T> {
+    x: f32,
+    y: T,
+}
+
+impl<T: Copy + Default> Default for Memo<T> {
+    fn default() -> Self {
+        Self {
+            x: f32::NAN,
+            y: T::default(),
+        }
+    }
+}
+
+impl<T: Copy> Memo<T> {
+    /// `f(x)`, computed only when `x` differs from the last argument.
+    #[inline]
+    pub(super) fn get(&mut self, x: f32, f: impl FnOnce(f32) -> T) -> T {
+        if x.to_bits() != self.x.to_bits() {
+            (self.x, self.y) = (x, f(x));
+        }
+        self.y
     }
 }
 

@@ -1,6 +1,7 @@
 //! KLD sizing of the next particle set and systematic resampling into it, with the buffers
 //! reused between steps.
 
+use super::propagate::Memo;
 use super::{CHUNK, TrackParticle, Tracker};
 use rand::RngExt;
 use rayon::prelude::*;
@@ -14,9 +15,12 @@ impl Tracker<'_> {
             .par_iter()
             .copied()
             .reduce(|| f32::NEG_INFINITY, f32::max);
-        self.log_weights
-            .par_iter_mut()
-            .for_each(|l| *l = (*l - max).exp());
+        self.log_weights.par_chunks_mut(CHUNK).for_each(|chunk| {
+            let mut exp = Memo::default();
+            for l in chunk {
+                *l = exp.get(*l, |l| (l - max).exp());
+            }
+        });
         self.bins.clear();
         if self.dense_bins {
             for (&b, &w) in self.bin_index.iter().zip(&self.log_weights) {

@@ -1,6 +1,12 @@
 //! The grid index of a topology: a uniform grid over the plan whose cells hold the records of
 //! the segments crossing them and the ids of the surfaces whose bounding boxes meet them,
 //! each cell's items stored contiguously (compressed rows).
+//!
+//! The segment records are kept per level ([`LevelCells`]): a step on a surface of one
+//! level reads only the walls, connections and barriers of that level (a connection
+//! between two levels, e.g. stair treads, is stored in both), over the part of the grid
+//! the level covers. A cell's records keep the order they have in the whole plan's cell, so
+//! the walk meets the records that concern it in the same order as in one shared grid.
 
 use super::segments::{Segment, SegmentKind};
 
@@ -26,15 +32,52 @@ pub(super) struct Record {
     pub(super) right: u32,
 }
 
-/// The grid: origin, reciprocal cell size, dimensions, row offsets and records.
+impl Record {
+    /// True when the record bounds a surface of level `level` (levels counted from the
+    /// lowest; `level_of` gives a surface's) or is a barrier of that level.
+    fn concerns(&self, level: u32, level_of: impl Fn(u32) -> u32) -> bool {
+        let side = |s: u32| {
+            if s < BARRIER_FLAG {
+                level_of(s) == level
+            } else {
+                s != NO_SURFACE && s == BARRIER_FLAG | level
+            }
+        };
+        side(self.left) || side(self.right)
+    }
+}
+
+/// One level's segment records over the cells `x0..=x1` × `y0..=y1` of the grid that hold
+/// any (none when `x1 < x0`), in compressed rows.
+#[derive(Debug, Clone)]
+pub(super) struct LevelCells {
+    pub(super) x0: usize,
+    pub(super) x1: usize,
+    pub(super) y0: usize,
+    pub(super) y1: usize,
+    offsets: Vec<u32>,
+    records: Vec<Record>,
+}
+
+impl LevelCells {
+    /// The records of cells `x0..=x1` of row `y`, all within the level's cells.
+    #[inline]
+    pub(super) fn row(&self, y: usize, x0: usize, x1: usize) -> &[Record] {
+        let row = (y - self.y0) * (self.x1 + 1 - self.x0);
+        let (a, b) = (row + x0 - self.x0, row + x1 + 1 - self.x0);
+        &self.records[self.offsets[a] as usize..self.offsets[b] as usize]
+    }
+}
+
+/// The grid: origin, reciprocal cell size, dimensions, and each level's records.
 #[derive(Debug, Clone)]
 pub(super) struct SegmentGrid {
     pub(super) origin: [f32; 2],
     pub(super) inv_cell: f32,
     pub(super) nx: usize,
     pub(super) ny: usize,
-    pub(super) offsets: Vec<u32>,
-    pub(super) records: Vec<Record>,
+    /// The records of each level, by level − the lowest level.
+    pub(super) levels: Vec<LevelCells>,
     /// Surfaces whose bounding box meets each cell (for `locate`).
     surface_offsets: Vec<u32>,
     surface_ids: Vec<u32>,
@@ -42,15 +85,18 @@ pub(super) struct SegmentGrid {
 
 impl SegmentGrid {
     /// The grid over `bounds` (min x, min y, max x, max y) with every segment's record in
-    /// every cell it crosses, and every surface's id in every cell its bounding box
-    /// (`bboxes`) meets; barriers are keyed by their level's index above `lowest_level`.
+    /// every cell it crosses (in the grid of each level it concerns: `surface_levels` gives
+    /// every surface's level, `levels` the lowest and highest), and every surface's id in
+    /// every cell its bounding box (`bboxes`) meets; barriers are keyed by their level's index
+    /// above the lowest level.
     pub(super) fn build(
         segments: &[Segment],
         bboxes: &[[f64; 4]],
         bounds: [f64; 4],
-        lowest_level: i32,
+        (surface_levels, levels): (&[i32], (i32, i32)),
         cell_size: f64,
     ) -> Self {
+        let lowest_level = levels.0;
         let b = bounds;
         // Plans spread over kilometres get coarser cells rather than a huge grid.
         let area = (b[2] - b[0] + 2.0 * cell_size) * (b[3] - b[1] + 2.0 * cell_size);
@@ -61,8 +107,7 @@ impl SegmentGrid {
             inv_cell: (1.0 / cell_size) as f32,
             nx: (((b[2] - b[0] + 2.0 * pad) / cell_size).ceil() as usize).max(1),
             ny: (((b[3] - b[1] + 2.0 * pad) / cell_size).ceil() as usize).max(1),
-            offsets: Vec::new(),
-            records: Vec::new(),
+            levels: Vec::new(),
             surface_offsets: Vec::new(),
             surface_ids: Vec::new(),
         };
@@ -96,8 +141,12 @@ impl SegmentGrid {
             })
             .collect();
         let (offsets, items) = compress(cells, spans.iter().copied(), grid.nx);
-        grid.offsets = offsets;
-        grid.records = items.into_iter().map(|i| records[i]).collect();
+        let records: Vec<Record> = items.into_iter().map(|i| records[i]).collect();
+        let level_of = |s: u32| (surface_levels[s as usize] - lowest_level) as u32;
+        let count = (levels.1 - levels.0) as usize + 1;
+        grid.levels = (0..count as u32)
+            .map(|l| grid.level_cells(&offsets, &records, |r| r.concerns(l, level_of)))
+            .collect();
         let surface_spans: Vec<(usize, usize, usize, usize)> = bboxes
             .iter()
             .enumerate()
@@ -111,6 +160,46 @@ impl SegmentGrid {
         grid.surface_offsets = offsets;
         grid.surface_ids = items.into_iter().map(|i| i as u32).collect();
         grid
+    }
+
+    /// The records of the whole plan's cells (`offsets`, `records`) that `concern` one level,
+    /// over the cells that hold any, each cell's in their order.
+    fn level_cells(
+        &self,
+        offsets: &[u32],
+        records: &[Record],
+        concern: impl Fn(&Record) -> bool,
+    ) -> LevelCells {
+        let cell = |c: usize| &records[offsets[c] as usize..offsets[c + 1] as usize];
+        let (mut x0, mut x1, mut y0, mut y1) = (usize::MAX, 0, usize::MAX, 0);
+        for c in 0..self.nx * self.ny {
+            if cell(c).iter().any(&concern) {
+                let (x, y) = (c % self.nx, c / self.nx);
+                (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+            }
+        }
+        let mut level = LevelCells {
+            x0: 1,
+            x1: 0,
+            y0: 1,
+            y1: 0,
+            offsets: vec![0],
+            records: Vec::new(),
+        };
+        if x0 > x1 {
+            return level;
+        }
+        (level.x0, level.x1, level.y0, level.y1) = (x0, x1, y0, y1);
+        level.offsets.clear();
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                level.offsets.push(level.records.len() as u32);
+                let own = cell(y * self.nx + x).iter().filter(|r| concern(r));
+                level.records.extend(own);
+            }
+        }
+        level.offsets.push(level.records.len() as u32);
+        level
     }
 
     /// The surfaces whose bounding box meets the cell holding `(x, y)`.

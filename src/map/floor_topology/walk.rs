@@ -27,14 +27,19 @@ impl FloorTopology {
         let mut s = surface;
         let mut t_c = -WALL_SLACK;
         for _ in 0..MAX_HOPS {
-            let barrier = BARRIER_FLAG | (self.level[s as usize] - self.levels.0) as u32;
+            // Only the records of the surface's level, in the cells the step's box covers.
+            let level = (self.level[s as usize] - self.levels.0) as u32;
+            let barrier = BARRIER_FLAG | level;
+            let cells = &grid.levels[level as usize];
+            let (x0, x1) = (ix0.max(cells.x0), ix1.min(cells.x1));
+            let (y0, y1) = (iy0.max(cells.y0), iy1.min(cells.y1));
             let mut best_t = f32::INFINITY;
             let mut best: Option<(&Record, bool, bool)> = None;
-            for iy in iy0..=iy1 {
-                let row = iy * grid.nx;
-                let lo = grid.offsets[row + ix0] as usize;
-                let hi = grid.offsets[row + ix1 + 1] as usize;
-                for r in &grid.records[lo..hi] {
+            for iy in y0..=y1 {
+                if x0 > x1 {
+                    break;
+                }
+                for r in cells.row(iy, x0, x1) {
                     let (on_left, on_right) = (r.left == s, r.right == s);
                     let is_barrier = r.left == barrier;
                     if !(on_left || on_right || is_barrier) {
