@@ -2,11 +2,12 @@
 //! the segments crossing them and the ids of the surfaces whose bounding boxes meet them,
 //! each cell's items stored contiguously (compressed rows).
 //!
-//! The segment records are kept per level ([`LevelCells`]): a step on a surface of one
-//! level reads only the walls, connections and barriers of that level (a connection
-//! between two levels, e.g. stair treads, is stored in both), over the part of the grid
-//! the level covers. A cell's records keep the order they have in the whole plan's cell, so
-//! the walk meets the records that concern it in the same order as in one shared grid.
+//! The segment records are kept per surface and, for barriers, per level ([`CellRows`]):
+//! a step on a surface reads only that surface's walls and connections and its level's
+//! barriers, over the part of the grid they cover. A cell's records keep the order they
+//! have in the whole plan's cell, so the walk meets the records that concern it in the
+//! order of one shared grid (only the order of connections matters to it: a wall ends the
+//! step wherever it is met).
 
 use super::segments::{Segment, SegmentKind};
 
@@ -33,24 +34,46 @@ pub(super) struct Record {
 }
 
 impl Record {
-    /// True when the record bounds a surface of level `level` (levels counted from the
-    /// lowest; `level_of` gives a surface's) or is a barrier of that level.
-    fn concerns(&self, level: u32, level_of: impl Fn(u32) -> u32) -> bool {
-        let side = |s: u32| {
-            if s < BARRIER_FLAG {
-                level_of(s) == level
-            } else {
-                s != NO_SURFACE && s == BARRIER_FLAG | level
+    /// The record of `segment`, barriers keyed by their level's index above `lowest_level`.
+    pub(super) fn of(segment: &Segment, lowest_level: i32) -> Self {
+        let (left, right) = match segment.kind {
+            SegmentKind::Wall { surface } => (surface, NO_SURFACE),
+            SegmentKind::Connection { a, b } => (a, b),
+            SegmentKind::Barrier { level } => {
+                let k = BARRIER_FLAG | (level - lowest_level) as u32;
+                (k, k)
             }
         };
-        side(self.left) || side(self.right)
+        Self {
+            ax: segment.a[0] as f32,
+            ay: segment.a[1] as f32,
+            bx: segment.b[0] as f32,
+            by: segment.b[1] as f32,
+            left,
+            right,
+        }
+    }
+
+    /// The surfaces the record bounds (a wall one, a connection two).
+    fn surfaces(&self) -> impl Iterator<Item = u32> {
+        let right = (self.right != self.left).then_some(self.right);
+        [Some(self.left), right]
+            .into_iter()
+            .flatten()
+            .filter(|&s| s < BARRIER_FLAG)
+    }
+
+    /// The level index of a barrier record (none for a wall or a connection).
+    fn barrier_level(&self) -> Option<u32> {
+        (self.left >= BARRIER_FLAG && self.left != NO_SURFACE).then_some(self.left & !BARRIER_FLAG)
     }
 }
 
-/// One level's segment records over the cells `x0..=x1` × `y0..=y1` of the grid that hold
-/// any (none when `x1 < x0`), in compressed rows.
+/// The records of one owner (a surface, or a level's barriers) over the cells
+/// `x0..=x1` × `y0..=y1` of the grid that hold any (none when `x1 < x0`), in compressed
+/// rows.
 #[derive(Debug, Clone)]
-pub(super) struct LevelCells {
+pub(super) struct CellRows {
     pub(super) x0: usize,
     pub(super) x1: usize,
     pub(super) y0: usize,
@@ -59,13 +82,28 @@ pub(super) struct LevelCells {
     records: Vec<Record>,
 }
 
-impl LevelCells {
-    /// The records of cells `x0..=x1` of row `y`, all within the level's cells.
+impl CellRows {
+    /// The records of cells `x0..=x1` × `y0..=y1` (clipped to the owner's), row by row, in
+    /// order.
     #[inline]
-    pub(super) fn row(&self, y: usize, x0: usize, x1: usize) -> &[Record] {
-        let row = (y - self.y0) * (self.x1 + 1 - self.x0);
-        let (a, b) = (row + x0 - self.x0, row + x1 + 1 - self.x0);
-        &self.records[self.offsets[a] as usize..self.offsets[b] as usize]
+    pub(super) fn visit(
+        &self,
+        (x0, x1): (usize, usize),
+        (y0, y1): (usize, usize),
+        mut f: impl FnMut(&Record),
+    ) {
+        let (x0, x1) = (x0.max(self.x0), x1.min(self.x1));
+        let (y0, y1) = (y0.max(self.y0), y1.min(self.y1));
+        if x0 > x1 {
+            return;
+        }
+        let width = self.x1 + 1 - self.x0;
+        for y in y0..=y1 {
+            let row = (y - self.y0) * width;
+            let (a, b) = (row + x0 - self.x0, row + x1 + 1 - self.x0);
+            let run = &self.records[self.offsets[a] as usize..self.offsets[b] as usize];
+            run.iter().for_each(&mut f);
+        }
     }
 }
 
@@ -76,8 +114,10 @@ pub(super) struct SegmentGrid {
     pub(super) inv_cell: f32,
     pub(super) nx: usize,
     pub(super) ny: usize,
-    /// The records of each level, by level − the lowest level.
-    pub(super) levels: Vec<LevelCells>,
+    /// The walls and connections of each surface.
+    pub(super) surfaces: Vec<CellRows>,
+    /// The barriers of each level, by level − the lowest level.
+    pub(super) barriers: Vec<CellRows>,
     /// Surfaces whose bounding box meets each cell (for `locate`).
     surface_offsets: Vec<u32>,
     surface_ids: Vec<u32>,
@@ -85,15 +125,15 @@ pub(super) struct SegmentGrid {
 
 impl SegmentGrid {
     /// The grid over `bounds` (min x, min y, max x, max y) with every segment's record in
-    /// every cell it crosses (in the grid of each level it concerns: `surface_levels` gives
-    /// every surface's level, `levels` the lowest and highest), and every surface's id in
-    /// every cell its bounding box (`bboxes`) meets; barriers are keyed by their level's index
-    /// above the lowest level.
+    /// every cell it crosses (in the rows of each surface it bounds, or of its level for a
+    /// barrier; `levels`: the lowest and highest), and every surface's id in every cell its
+    /// bounding box (`bboxes`, one a surface) meets; barriers are keyed by their level's
+    /// index above the lowest level.
     pub(super) fn build(
         segments: &[Segment],
         bboxes: &[[f64; 4]],
         bounds: [f64; 4],
-        (surface_levels, levels): (&[i32], (i32, i32)),
+        levels: (i32, i32),
         cell_size: f64,
     ) -> Self {
         let lowest_level = levels.0;
@@ -107,7 +147,8 @@ impl SegmentGrid {
             inv_cell: (1.0 / cell_size) as f32,
             nx: (((b[2] - b[0] + 2.0 * pad) / cell_size).ceil() as usize).max(1),
             ny: (((b[3] - b[1] + 2.0 * pad) / cell_size).ceil() as usize).max(1),
-            levels: Vec::new(),
+            surfaces: Vec::new(),
+            barriers: Vec::new(),
             surface_offsets: Vec::new(),
             surface_ids: Vec::new(),
         };
@@ -121,32 +162,17 @@ impl SegmentGrid {
             .collect();
         let records: Vec<Record> = segments
             .iter()
-            .map(|s| {
-                let (left, right) = match s.kind {
-                    SegmentKind::Wall { surface } => (surface, NO_SURFACE),
-                    SegmentKind::Connection { a, b } => (a, b),
-                    SegmentKind::Barrier { level } => {
-                        let k = BARRIER_FLAG | (level - lowest_level) as u32;
-                        (k, k)
-                    }
-                };
-                Record {
-                    ax: s.a[0] as f32,
-                    ay: s.a[1] as f32,
-                    bx: s.b[0] as f32,
-                    by: s.b[1] as f32,
-                    left,
-                    right,
-                }
-            })
+            .map(|s| Record::of(s, lowest_level))
             .collect();
         let (offsets, items) = compress(cells, spans.iter().copied(), grid.nx);
         let records: Vec<Record> = items.into_iter().map(|i| records[i]).collect();
-        let level_of = |s: u32| (surface_levels[s as usize] - lowest_level) as u32;
         let count = (levels.1 - levels.0) as usize + 1;
-        grid.levels = (0..count as u32)
-            .map(|l| grid.level_cells(&offsets, &records, |r| r.concerns(l, level_of)))
-            .collect();
+        grid.surfaces = grid.owned_rows(&offsets, &records, bboxes.len(), |r, f| {
+            r.surfaces().for_each(f);
+        });
+        grid.barriers = grid.owned_rows(&offsets, &records, count, |r, f| {
+            r.barrier_level().into_iter().for_each(f);
+        });
         let surface_spans: Vec<(usize, usize, usize, usize)> = bboxes
             .iter()
             .enumerate()
@@ -162,44 +188,57 @@ impl SegmentGrid {
         grid
     }
 
-    /// The records of the whole plan's cells (`offsets`, `records`) that `concern` one level,
-    /// over the cells that hold any, each cell's in their order.
-    fn level_cells(
+    /// The records of the whole plan's cells (`offsets`, `records`) split by owner
+    /// (`owners_of` calls its argument with each owner of a record, below `owners`): each
+    /// owner's over the cells that hold any, each cell's in their order.
+    fn owned_rows(
         &self,
         offsets: &[u32],
         records: &[Record],
-        concern: impl Fn(&Record) -> bool,
-    ) -> LevelCells {
+        owners: usize,
+        owners_of: impl Fn(&Record, &mut dyn FnMut(u32)),
+    ) -> Vec<CellRows> {
         let cell = |c: usize| &records[offsets[c] as usize..offsets[c + 1] as usize];
-        let (mut x0, mut x1, mut y0, mut y1) = (usize::MAX, 0, usize::MAX, 0);
+        let mut rows: Vec<CellRows> = (0..owners)
+            .map(|_| CellRows {
+                x0: usize::MAX,
+                x1: 0,
+                y0: usize::MAX,
+                y1: 0,
+                offsets: Vec::new(),
+                records: Vec::new(),
+            })
+            .collect();
         for c in 0..self.nx * self.ny {
-            if cell(c).iter().any(&concern) {
-                let (x, y) = (c % self.nx, c / self.nx);
-                (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+            let (x, y) = (c % self.nx, c / self.nx);
+            for r in cell(c) {
+                owners_of(r, &mut |o| {
+                    let o = &mut rows[o as usize];
+                    (o.x0, o.x1, o.y0, o.y1) = (o.x0.min(x), o.x1.max(x), o.y0.min(y), o.y1.max(y));
+                });
             }
         }
-        let mut level = LevelCells {
-            x0: 1,
-            x1: 0,
-            y0: 1,
-            y1: 0,
-            offsets: vec![0],
-            records: Vec::new(),
-        };
-        if x0 > x1 {
-            return level;
-        }
-        (level.x0, level.x1, level.y0, level.y1) = (x0, x1, y0, y1);
-        level.offsets.clear();
-        for y in y0..=y1 {
-            for x in x0..=x1 {
-                level.offsets.push(level.records.len() as u32);
-                let own = cell(y * self.nx + x).iter().filter(|r| concern(r));
-                level.records.extend(own);
+        for (owner, o) in rows.iter_mut().enumerate() {
+            if o.x0 > o.x1 {
+                (o.x0, o.x1, o.y0, o.y1) = (1, 0, 1, 0);
+                o.offsets.push(0);
+                continue;
             }
+            for y in o.y0..=o.y1 {
+                for x in o.x0..=o.x1 {
+                    o.offsets.push(o.records.len() as u32);
+                    for r in cell(y * self.nx + x) {
+                        let mut own = false;
+                        owners_of(r, &mut |k| own |= k as usize == owner);
+                        if own {
+                            o.records.push(*r);
+                        }
+                    }
+                }
+            }
+            o.offsets.push(o.records.len() as u32);
         }
-        level.offsets.push(level.records.len() as u32);
-        level
+        rows
     }
 
     /// The surfaces whose bounding box meets the cell holding `(x, y)`.
