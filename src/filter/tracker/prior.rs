@@ -151,7 +151,8 @@ impl<'a> Tracker<'a> {
             ));
         }
         // Drawing pass: each chunk's kept particles into their place.
-        let mut particles = vec![TrackParticle::default(); kept];
+        let mut particles = Vec::with_capacity(kept);
+        particles.par_extend(rayon::iter::repeat_n(TrackParticle::default(), kept));
         let mut places = Vec::with_capacity(taken.len());
         let mut rest = particles.as_mut_slice();
         for (c, &(n, k)) in taken.iter().enumerate() {
@@ -170,8 +171,10 @@ impl<'a> Tracker<'a> {
             },
         );
         self.particles = particles;
-        // The uniform prior stands in for this step's proposal when it replaces a dead belief.
-        self.proposal.clone_from(&self.particles);
+        // The uniform prior stands in for this step's proposal when it replaces a dead belief
+        // (copied in parallel: a million particles' fresh pages).
+        self.proposal.clear();
+        self.proposal.par_extend(self.particles.par_iter().copied());
         Ok(())
     }
 

@@ -118,8 +118,9 @@ impl Tracker<'_> {
 }
 
 /// Sets `v`'s length to `n` (contents unspecified), keeping its allocation where it fits and
-/// releasing most of it when the set shrinks a lot.
-pub(super) fn resize<T: Copy + Default>(v: &mut Vec<T>, n: usize) {
+/// releasing most of it when the set shrinks a lot. New slots are filled in parallel: a
+/// fresh buffer's pages are first touched by every thread, not one.
+pub(super) fn resize<T: Copy + Default + Send + Sync>(v: &mut Vec<T>, n: usize) {
     if n < v.capacity() / 8 {
         v.truncate(n);
         v.shrink_to(2 * n);
@@ -127,5 +128,10 @@ pub(super) fn resize<T: Copy + Default>(v: &mut Vec<T>, n: usize) {
     if v.capacity() < n {
         v.reserve_exact(n - v.len());
     }
-    v.resize(n, T::default());
+    if n <= v.len() {
+        v.truncate(n);
+    } else {
+        let extra = n - v.len();
+        v.par_extend(rayon::iter::repeat_n(T::default(), extra).with_min_len(CHUNK));
+    }
 }

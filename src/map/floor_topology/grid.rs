@@ -83,27 +83,23 @@ pub(super) struct CellRows {
 }
 
 impl CellRows {
-    /// The records of cells `x0..=x1` × `y0..=y1` (clipped to the owner's), row by row, in
-    /// order.
+    /// The records of cells `x0..=x1` × `y0..=y1` (clipped to the owner's), one run per row,
+    /// in order.
     #[inline]
-    pub(super) fn visit(
+    pub(super) fn rows(
         &self,
         (x0, x1): (usize, usize),
         (y0, y1): (usize, usize),
-        mut f: impl FnMut(&Record),
-    ) {
+    ) -> impl Iterator<Item = &[Record]> {
         let (x0, x1) = (x0.max(self.x0), x1.min(self.x1));
         let (y0, y1) = (y0.max(self.y0), y1.min(self.y1));
-        if x0 > x1 {
-            return;
-        }
         let width = self.x1 + 1 - self.x0;
-        for y in y0..=y1 {
+        let ys = if x0 <= x1 { y0..y1 + 1 } else { 0..0 };
+        ys.map(move |y| {
             let row = (y - self.y0) * width;
             let (a, b) = (row + x0 - self.x0, row + x1 + 1 - self.x0);
-            let run = &self.records[self.offsets[a] as usize..self.offsets[b] as usize];
-            run.iter().for_each(&mut f);
-        }
+            &self.records[self.offsets[a] as usize..self.offsets[b] as usize]
+        })
     }
 }
 

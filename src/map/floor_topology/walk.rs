@@ -33,7 +33,9 @@ impl FloorTopology {
             let barrier = BARRIER_FLAG | level;
             let mut best_t = f32::INFINITY;
             let mut best: Option<(Record, bool, bool)> = None;
-            let mut test = |r: &Record| {
+            let own = grid.surfaces[s as usize].rows((ix0, ix1), (iy0, iy1));
+            let barriers = grid.barriers[level as usize].rows((ix0, ix1), (iy0, iy1));
+            for r in own.chain(barriers).flatten() {
                 // The nearest crossing; a wall wins a tie (so walls may be met in any order,
                 // connections in the order of the plan's cells).
                 if let Some((t, on_left, wall)) = crossing(r, s, barrier, from, (sx, sy), t_c)
@@ -42,9 +44,7 @@ impl FloorTopology {
                     best_t = t;
                     best = Some((*r, on_left, wall));
                 }
-            };
-            grid.surfaces[s as usize].visit((ix0, ix1), (iy0, iy1), &mut test);
-            grid.barriers[level as usize].visit((ix0, ix1), (iy0, iy1), &mut test);
+            }
             let Some((r, on_left, wall)) = best else {
                 return Some(s);
             };
