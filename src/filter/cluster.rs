@@ -169,7 +169,7 @@ pub fn mean_shift(points: &[ClusterPoint], config: &ClusterConfig) -> Vec<Cluste
 pub struct MeanShift {
     unit: Vec<Unit>,
     grid: Grid,
-    seed_keys: Vec<((i64, i64, i64, i64), u32)>,
+    seed_keys: Vec<(SeedBin, u32)>,
 }
 
 impl MeanShift {
@@ -410,6 +410,9 @@ impl Grid {
     }
 }
 
+/// A seeding bin: cell x, cell y, metre of height, heading sector.
+type SeedBin = (i64, i64, i64, i64);
+
 /// Bin seeding: the weighted mean of the particles of each occupied bin of edge `cell`
 /// (per metre of height, per `sector` of heading), in bin order; each bin's particles are
 /// summed in their order. `keys` is scratch.
@@ -418,7 +421,7 @@ fn seeds(
     unit: &[Unit],
     cell: f64,
     sector: f64,
-    keys: &mut Vec<((i64, i64, i64, i64), u32)>,
+    keys: &mut Vec<(SeedBin, u32)>,
 ) -> Vec<Mode> {
     keys.clear();
     keys.extend(
