@@ -35,6 +35,7 @@
 //!   a known start
 //! * `propagate` — Algorithm 1 for every particle: the step model, walls, stairs
 //! * `measure` — the step's extra measurement, absolute heading and learned transitions
+//! * `memo` — a function's last value, for runs of equal log-weights
 //! * `resample` — KLD sizing and systematic resampling
 //! * `estimate` — clustering the belief into the estimate
 //! * `recover` — recovery when every particle died: heading search, history fitting, a fresh
@@ -45,6 +46,7 @@ mod ancestry;
 mod estimate;
 mod fit;
 mod measure;
+mod memo;
 mod particle;
 mod prior;
 mod propagate;

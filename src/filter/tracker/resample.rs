@@ -1,7 +1,7 @@
 //! KLD sizing of the next particle set and systematic resampling into it, with the buffers
 //! reused between steps.
 
-use super::propagate::Memo;
+use super::memo::Memo;
 use super::{CHUNK, TrackParticle, Tracker};
 use rand::RngExt;
 use rayon::prelude::*;
