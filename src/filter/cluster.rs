@@ -156,38 +156,63 @@ pub struct Cluster {
 
 /// Clusters of `points`, heaviest first, with every cluster's share of the weight; clusters
 /// lighter than `config.min_weight` are dropped from the list (their particles still count in
-/// the total). Empty when the points carry no weight.
+/// the total). Empty when the points carry no weight. A filter that clusters every step keeps
+/// a [`MeanShift`] instead, whose buffers live from call to call.
 pub fn mean_shift(points: &[ClusterPoint], config: &ClusterConfig) -> Vec<Cluster> {
-    let total: f64 = points.iter().map(|p| f64::from(p.weight)).sum();
-    if !(total > 0.0 && total.is_finite()) {
-        return Vec::new();
-    }
-    let r = config.radius;
-    let grid = Grid::new(points, r);
-    // Each point's heading as a unit vector, once: mean shift visits a point many times.
-    let unit: Vec<Unit> = points.iter().map(Unit::of).collect();
-    let modes = merge_modes(
-        seeds(points, &unit, r / 2.0, config.max_dheading)
-            .into_iter()
-            .map(|s| shift(s, points, &unit, &grid, config))
-            .collect(),
-        config,
-    );
-    let mut sums = vec![Sums::default(); modes.len()];
-    let index = ModeIndex::new(&modes, r);
-    for (p, u) in points.iter().zip(&unit).filter(|(p, _)| p.weight > 0.0) {
-        if let Some(i) = index.nearest(p, &modes, config) {
-            sums[i].add(p, u);
+    MeanShift::default().cluster(points, config)
+}
+
+/// Mean shift's working memory (each point's heading as a unit vector, the points sorted by
+/// cell, the seeds), kept between calls so that clustering every step allocates nothing of
+/// the belief's size.
+#[derive(Debug, Clone, Default)]
+pub struct MeanShift {
+    unit: Vec<Unit>,
+    grid: Grid,
+    seed_keys: Vec<(SeedBin, u32)>,
+}
+
+impl MeanShift {
+    /// [`mean_shift`] of `points`, reusing this workspace's buffers.
+    pub fn cluster(&mut self, points: &[ClusterPoint], config: &ClusterConfig) -> Vec<Cluster> {
+        let total: f64 = points.iter().map(|p| f64::from(p.weight)).sum();
+        if !(total > 0.0 && total.is_finite()) {
+            return Vec::new();
         }
+        let r = config.radius;
+        // Each point's heading as a unit vector, once: mean shift visits a point many times.
+        self.unit.clear();
+        self.unit.extend(points.iter().map(Unit::of));
+        let unit = &self.unit;
+        self.grid.build(points, unit, r);
+        let seeds = seeds(
+            points,
+            unit,
+            r / 2.0,
+            config.max_dheading,
+            &mut self.seed_keys,
+        );
+        let grid = &self.grid;
+        let modes = merge_modes(
+            seeds.into_iter().map(|s| shift(s, grid, config)).collect(),
+            config,
+        );
+        let mut sums = vec![Sums::default(); modes.len()];
+        let index = ModeIndex::new(&modes, r);
+        for (p, u) in points.iter().zip(unit).filter(|(p, _)| p.weight > 0.0) {
+            if let Some(i) = index.nearest(p, &modes, config) {
+                sums[i].add(p, u);
+            }
+        }
+        let mut clusters: Vec<Cluster> = sums
+            .into_iter()
+            .filter(|s| s.m.w > 0.0)
+            .map(|s| s.cluster(total))
+            .filter(|c| c.weight >= config.min_weight)
+            .collect();
+        clusters.sort_by(|a, b| b.weight.total_cmp(&a.weight));
+        clusters
     }
-    let mut clusters: Vec<Cluster> = sums
-        .into_iter()
-        .filter(|s| s.m.w > 0.0)
-        .map(|s| s.cluster(total))
-        .filter(|c| c.weight >= config.min_weight)
-        .collect();
-    clusters.sort_by(|a, b| b.weight.total_cmp(&a.weight));
-    clusters
 }
 
 /// A mode's position and the weight inside its kernel.
@@ -201,6 +226,7 @@ struct Mode {
 }
 
 /// Absolute difference of two headings, radians in [0, π].
+#[inline]
 fn heading_gap(a: f64, b: f64) -> f64 {
     wrap_angle(a - b).abs()
 }
@@ -236,6 +262,17 @@ impl Moments {
         self.z += w * f64::from(p.z);
         self.cos += w * u.0;
         self.sin += w * u.1;
+    }
+
+    /// [`Self::add`] of a point as the grid holds it (the same sums, bit for bit).
+    #[inline]
+    fn add_member(&mut self, p: &Member) {
+        self.w += p.w;
+        self.x += p.w * p.x;
+        self.y += p.w * p.y;
+        self.z += p.w * p.z;
+        self.cos += p.w * p.cos;
+        self.sin += p.w * p.sin;
     }
 
     /// The weighted mean, its circular mean heading and the weight as density.
@@ -298,77 +335,136 @@ impl Sums {
     }
 }
 
-/// Particles binned horizontally by the kernel radius, for neighbour queries.
+/// A weighted point as the kernel reads it: in `f64`, its heading's unit vector beside it.
+#[derive(Debug, Clone, Copy)]
+struct Member {
+    x: f64,
+    y: f64,
+    z: f64,
+    heading: f64,
+    w: f64,
+    cos: f64,
+    sin: f64,
+}
+
+/// The weighted particles binned horizontally by the kernel radius, for neighbour queries:
+/// sorted by cell, column by column (x, then y), each cell's particles in their order, so
+/// that the 3 × 3 cells around a place are three runs, visited in the order of the cells
+/// `(x − 1, y − 1), (x − 1, y), …, (x + 1, y + 1)`.
+#[derive(Debug, Clone, Default)]
 struct Grid {
     cell: f64,
-    cells: FxHashMap<(i64, i64), Vec<u32>>,
+    /// The occupied cells, sorted.
+    keys: Vec<(i64, i64)>,
+    /// Where each cell's members start in `members` (one more entry than `keys`).
+    starts: Vec<u32>,
+    members: Vec<Member>,
+    /// Scratch: `(cell, point index)` of every weighted point.
+    order: Vec<((i64, i64), u32)>,
 }
 
 impl Grid {
-    fn new(points: &[ClusterPoint], cell: f64) -> Self {
-        let mut cells: FxHashMap<(i64, i64), Vec<u32>> = FxHashMap::default();
-        for (i, p) in points.iter().enumerate().filter(|(_, p)| p.weight > 0.0) {
-            cells
-                .entry(Self::key(f64::from(p.x), f64::from(p.y), cell))
-                .or_default()
-                .push(i as u32);
+    fn build(&mut self, points: &[ClusterPoint], unit: &[Unit], cell: f64) {
+        self.cell = cell;
+        self.order.clear();
+        self.order.extend(
+            points
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| p.weight > 0.0)
+                .map(|(i, p)| (Self::key(f64::from(p.x), f64::from(p.y), cell), i as u32)),
+        );
+        // Keys are unique (the index is part of them): unstable sorting is in point order.
+        self.order.sort_unstable();
+        self.keys.clear();
+        self.starts.clear();
+        self.members.clear();
+        for &(key, i) in &self.order {
+            if self.keys.last() != Some(&key) {
+                self.keys.push(key);
+                self.starts.push(self.members.len() as u32);
+            }
+            let (p, u) = (&points[i as usize], unit[i as usize]);
+            self.members.push(Member {
+                x: f64::from(p.x),
+                y: f64::from(p.y),
+                z: f64::from(p.z),
+                heading: f64::from(p.heading),
+                w: f64::from(p.weight),
+                cos: u.0,
+                sin: u.1,
+            });
         }
-        Self { cell, cells }
+        self.starts.push(self.members.len() as u32);
     }
 
     fn key(x: f64, y: f64, cell: f64) -> (i64, i64) {
         ((x / cell).floor() as i64, (y / cell).floor() as i64)
     }
 
-    /// Calls `f` with every point index in the 3 × 3 cells around `(x, y)`.
-    fn around(&self, x: f64, y: f64, mut f: impl FnMut(u32)) {
-        let (cx, cy) = Self::key(x, y, self.cell);
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                if let Some(v) = self.cells.get(&(cx + dx, cy + dy)) {
-                    v.iter().for_each(|&i| f(i));
-                }
-            }
-        }
+    /// The members of the cells `(x, y0..=y1)`.
+    fn column(&self, x: i64, y0: i64, y1: i64) -> &[Member] {
+        let a = self.keys.partition_point(|&k| k < (x, y0));
+        let b = a + self.keys[a..].partition_point(|&k| k <= (x, y1));
+        &self.members[self.starts[a] as usize..self.starts[b] as usize]
     }
 }
 
+/// A seeding bin: cell x, cell y, metre of height, heading sector.
+type SeedBin = (i64, i64, i64, i64);
+
 /// Bin seeding: the weighted mean of the particles of each occupied bin of edge `cell`
-/// (per metre of height, per `sector` of heading), in a deterministic order.
-fn seeds(points: &[ClusterPoint], unit: &[Unit], cell: f64, sector: f64) -> Vec<Mode> {
-    let mut bins: FxHashMap<(i64, i64, i64, i64), Moments> = FxHashMap::default();
-    for (p, u) in points.iter().zip(unit).filter(|(p, _)| p.weight > 0.0) {
-        let (kx, ky) = Grid::key(f64::from(p.x), f64::from(p.y), cell);
-        let kz = f64::from(p.z).floor() as i64;
-        let kh = ((f64::from(p.heading) + std::f64::consts::PI) / sector).floor() as i64;
-        bins.entry((kx, ky, kz, kh)).or_default().add(p, u);
+/// (per metre of height, per `sector` of heading), in bin order; each bin's particles are
+/// summed in their order. `keys` is scratch.
+fn seeds(
+    points: &[ClusterPoint],
+    unit: &[Unit],
+    cell: f64,
+    sector: f64,
+    keys: &mut Vec<(SeedBin, u32)>,
+) -> Vec<Mode> {
+    keys.clear();
+    keys.extend(
+        points
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.weight > 0.0)
+            .map(|(i, p)| {
+                let (kx, ky) = Grid::key(f64::from(p.x), f64::from(p.y), cell);
+                let kz = f64::from(p.z).floor() as i64;
+                let kh = ((f64::from(p.heading) + std::f64::consts::PI) / sector).floor() as i64;
+                ((kx, ky, kz, kh), i as u32)
+            }),
+    );
+    keys.sort_unstable();
+    let mut modes = Vec::new();
+    for run in keys.chunk_by(|a, b| a.0 == b.0) {
+        let mut m = Moments::default();
+        for &(_, i) in run {
+            m.add(&points[i as usize], &unit[i as usize]);
+        }
+        modes.push(m.mode());
     }
-    let mut keyed: Vec<_> = bins.into_iter().collect();
-    keyed.sort_by_key(|(k, _)| *k);
-    keyed.into_iter().map(|(_, s)| s.mode()).collect()
+    modes
 }
 
 /// Mean shift of one mode to convergence.
-fn shift(
-    mut m: Mode,
-    points: &[ClusterPoint],
-    unit: &[Unit],
-    grid: &Grid,
-    config: &ClusterConfig,
-) -> Mode {
+fn shift(mut m: Mode, grid: &Grid, config: &ClusterConfig) -> Mode {
     let r2 = config.radius * config.radius;
     for _ in 0..MAX_ITERATIONS {
         let mut s = Moments::default();
-        grid.around(m.x, m.y, |i| {
-            let p = &points[i as usize];
-            let (dx, dy) = (f64::from(p.x) - m.x, f64::from(p.y) - m.y);
-            if dx * dx + dy * dy <= r2
-                && (f64::from(p.z) - m.z).abs() < config.max_dz
-                && heading_gap(f64::from(p.heading), m.heading) <= config.max_dheading
-            {
-                s.add(p, &unit[i as usize]);
+        let (cx, cy) = Grid::key(m.x, m.y, grid.cell);
+        for dx in -1..=1 {
+            for p in grid.column(cx + dx, cy - 1, cy + 1) {
+                let (dx, dy) = (p.x - m.x, p.y - m.y);
+                if dx * dx + dy * dy <= r2
+                    && (p.z - m.z).abs() < config.max_dz
+                    && heading_gap(p.heading, m.heading) <= config.max_dheading
+                {
+                    s.add_member(p);
+                }
             }
-        });
+        }
         if s.w <= 0.0 {
             break;
         }
@@ -500,118 +596,8 @@ impl ModeIndex {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use rand::RngExt;
-    use rand_distr::StandardNormal;
-
-    fn blob(
-        rng: &mut rand_pcg::Pcg64Mcg,
-        n: usize,
-        c: (f32, f32, f32),
-        level: i32,
-        spread: f32,
-    ) -> Vec<ClusterPoint> {
-        (0..n)
-            .map(|_| ClusterPoint {
-                x: c.0 + spread * rng.sample::<f32, _>(StandardNormal),
-                y: c.1 + spread * rng.sample::<f32, _>(StandardNormal),
-                z: c.2,
-                level,
-                heading: 0.3 + 0.05 * rng.sample::<f32, _>(StandardNormal),
-                weight: 1.0,
-            })
-            .collect()
-    }
-
-    #[test]
-    fn one_blob_is_one_cluster_at_its_mean() {
-        let mut rng = crate::random::stream(1, 0, 0);
-        let points = blob(&mut rng, 2000, (10.0, -4.0, 3.0), 1, 1.0);
-        let clusters = mean_shift(&points, &ClusterConfig::default());
-        assert_eq!(clusters.len(), 1, "{clusters:?}");
-        let c = clusters[0];
-        assert!((c.x - 10.0).abs() < 0.1 && (c.y + 4.0).abs() < 0.1, "{c:?}");
-        assert_eq!((c.level, c.particles), (1, 2000));
-        assert!((c.weight - 1.0).abs() < 1e-9 && (c.z - 3.0).abs() < 1e-6);
-        // Two axes of 1 m spread: an RMS radius of √2 m.
-        assert!((c.spread - 2f64.sqrt()).abs() < 0.1, "{c:?}");
-    }
-
-    #[test]
-    fn distant_blobs_and_floors_are_separate_clusters() {
-        let mut rng = crate::random::stream(2, 0, 0);
-        let mut points = blob(&mut rng, 1500, (0.0, 0.0, 0.0), 0, 1.0);
-        points.extend(blob(&mut rng, 500, (30.0, 0.0, 0.0), 0, 1.0));
-        // Straight above the first blob, one floor up.
-        points.extend(blob(&mut rng, 1000, (0.0, 0.0, 3.0), 1, 1.0));
-        let clusters = mean_shift(&points, &ClusterConfig::default());
-        assert_eq!(clusters.len(), 3, "{clusters:?}");
-        assert!((clusters[0].weight - 0.5).abs() < 1e-9);
-        assert_eq!(clusters[0].level, 0);
-        assert_eq!(clusters[1].level, 1);
-        assert!((clusters[2].x - 30.0).abs() < 0.2);
-    }
-
-    #[test]
-    fn stragglers_do_not_count_and_weights_matter() {
-        let mut rng = crate::random::stream(3, 0, 0);
-        let mut points = blob(&mut rng, 1000, (0.0, 0.0, 0.0), 0, 1.0);
-        let mut far = blob(&mut rng, 1, (50.0, 50.0, 0.0), 0, 0.5);
-        points.append(&mut far);
-        let clusters = mean_shift(&points, &ClusterConfig::default());
-        assert_eq!(clusters.len(), 1);
-        // Reweighting the stragglers makes them the main cluster.
-        for p in points.iter_mut().skip(1000) {
-            p.weight = 2000.0;
-        }
-        let clusters = mean_shift(&points, &ClusterConfig::default());
-        assert_eq!(clusters.len(), 2);
-        assert!((clusters[0].x - 50.0).abs() < 1.0);
-        assert!(mean_shift(&[], &ClusterConfig::default()).is_empty());
-    }
-
-    #[test]
-    fn elongated_corridor_cloud_stays_one_cluster() {
-        // A 12 m strip along a corridor: within reach of one 7 m kernel's shifts.
-        let points: Vec<ClusterPoint> = (0..1200)
-            .map(|i| ClusterPoint {
-                x: (i % 120) as f32 * 0.1,
-                y: (i / 120) as f32 * 0.2,
-                z: 0.0,
-                level: 0,
-                heading: std::f32::consts::PI * if i % 2 == 0 { 1.0 } else { -1.0 },
-                weight: 1.0,
-            })
-            .collect();
-        // Headings of ±π are one direction.
-        assert_eq!(mean_shift(&points, &ClusterConfig::default()).len(), 1);
-    }
-
-    #[test]
-    fn groups_walking_towards_each_other_are_two_hypotheses() {
-        // Two groups 6 m apart along a corridor (within one 7 m kernel), heading east and
-        // west: a building's 180° symmetry, two poses, not one.
-        let mut rng = crate::random::stream(4, 0, 0);
-        let mut points = blob(&mut rng, 1000, (0.0, 0.0, 0.0), 0, 0.5);
-        let mut west = blob(&mut rng, 1000, (6.0, 0.0, 0.0), 0, 0.5);
-        west.iter_mut()
-            .for_each(|p| p.heading -= std::f32::consts::PI);
-        points.extend(west);
-        let clusters = mean_shift(&points, &ClusterConfig::default());
-        assert_eq!(clusters.len(), 2, "{clusters:?}");
-        let mut xs: Vec<f64> = clusters.iter().map(|c| c.x).collect();
-        xs.sort_by(f64::total_cmp);
-        assert!(xs[0].abs() < 0.2 && (xs[1] - 6.0).abs() < 0.2, "{xs:?}");
-        assert!(clusters.iter().all(|c| c.particles == 1000));
-        // Ignoring headings, they are one place.
-        let config = ClusterConfig {
-            max_dheading: std::f64::consts::PI,
-            ..Default::default()
-        };
-        assert_eq!(mean_shift(&points, &config).len(), 1);
-    }
-}
+#[path = "cluster_tests.rs"]
+mod tests;
 
 #[cfg(test)]
 #[path = "cluster_index_tests.rs"]

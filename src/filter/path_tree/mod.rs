@@ -40,6 +40,7 @@ pub use smoothed_walk::SmoothedWalk;
 
 use super::cluster::{Cluster, ClusterConfig};
 use crate::map::FloorTopology;
+use rayon::prelude::*;
 use stored_step::StoredStep;
 
 /// Marks a node without a parent (a root of the current segment).
@@ -196,6 +197,38 @@ impl PathTree {
             debug_assert!((a as usize) < previous);
             PathNode { parent: a, ..n }
         }));
+        self.add_generation(generation, ancestors, topology, cluster);
+    }
+
+    /// [`Self::push`] from a parallel iterator: a large generation is written by every
+    /// thread (the same nodes).
+    pub fn push_parallel(
+        &mut self,
+        nodes: impl IndexedParallelIterator<Item = PathNode>,
+        ancestors: &[u32],
+        topology: &FloorTopology,
+        cluster: &ClusterConfig,
+    ) {
+        debug_assert!(!self.generations.is_empty(), "push before root");
+        let previous = self.generations.last().map_or(0, Vec::len);
+        let mut generation = std::mem::take(&mut self.spare);
+        generation.clear();
+        generation.par_extend(nodes.zip(ancestors.par_iter()).map(|(n, &a)| {
+            debug_assert!((a as usize) < previous);
+            PathNode { parent: a, ..n }
+        }));
+        self.add_generation(generation, ancestors, topology, cluster);
+    }
+
+    /// The end of [`Self::push`]: `generation` appended, then pruning, coalescing and the
+    /// lagged answer.
+    fn add_generation(
+        &mut self,
+        generation: Vec<PathNode>,
+        ancestors: &[u32],
+        topology: &FloorTopology,
+        cluster: &ClusterConfig,
+    ) {
         debug_assert_eq!(generation.len(), ancestors.len());
         self.generations.push(generation);
         self.note_size();
@@ -289,7 +322,8 @@ impl PathTree {
             if parents.capacity() > 2 * parents.len() {
                 // Move the few kept nodes out and keep the large buffer for the next
                 // generation (fresh large buffers cost a page fault per 4 KiB).
-                let large = std::mem::replace(parents, parents.clone());
+                let kept: Vec<PathNode> = parents.par_iter().copied().collect();
+                let large = std::mem::replace(parents, kept);
                 if large.capacity() > self.spare.capacity() {
                     self.spare = large;
                 }

@@ -2,6 +2,7 @@
 
 use super::{TrackParticle, Tracker};
 use crate::filter::path_tree::{PathNode, PathTree, SmoothedStep, SmoothedWalk};
+use rayon::prelude::*;
 
 /// A particle's place as a node of the ancestry.
 fn path_node(p: &TrackParticle) -> PathNode {
@@ -36,7 +37,7 @@ impl<'a> Tracker<'a> {
 
     /// The belief as path nodes.
     pub(super) fn path_nodes(&self) -> Vec<PathNode> {
-        self.particles.iter().map(path_node).collect()
+        self.particles.par_iter().map(path_node).collect()
     }
 
     /// Starts a new ancestry at `step` with the belief as its roots (a prior, or particles
@@ -53,8 +54,8 @@ impl<'a> Tracker<'a> {
     /// Adds the resampled belief to the ancestry (its ancestors index the last generation).
     pub(super) fn grow_tree(&mut self) {
         if let Some(tree) = self.tree.as_mut() {
-            tree.push(
-                self.particles.iter().map(path_node),
+            tree.push_parallel(
+                self.particles.par_iter().map(path_node),
                 &self.ancestors,
                 self.topology,
                 &self.config.cluster,

@@ -35,6 +35,7 @@
 //!   a known start
 //! * `propagate` — Algorithm 1 for every particle: the step model, walls, stairs
 //! * `measure` — the step's extra measurement, absolute heading and learned transitions
+//! * `memo` — a function's last value, for runs of equal log-weights
 //! * `resample` — KLD sizing and systematic resampling
 //! * `estimate` — clustering the belief into the estimate
 //! * `recover` — recovery when every particle died: heading search, history fitting, a fresh
@@ -45,6 +46,7 @@ mod ancestry;
 mod estimate;
 mod fit;
 mod measure;
+mod memo;
 mod particle;
 mod prior;
 mod propagate;
@@ -56,7 +58,7 @@ mod tests;
 pub use fit::StepFit;
 pub use particle::TrackParticle;
 
-use super::cluster::Cluster;
+use super::cluster::{Cluster, ClusterPoint, MeanShift};
 use super::kld::KldBins;
 use super::path_tree::PathTree;
 use super::recovery::Recovery;
@@ -163,6 +165,10 @@ pub struct Tracker<'a> {
     propagation: fit::Propagation,
     /// The step at which the ancestry outgrew `smoothing_max_nodes` and was dropped.
     smoothing_dropped_at: Option<usize>,
+    /// The belief as clustered (reused from step to step).
+    cluster_points: Vec<ClusterPoint>,
+    /// Mean shift's buffers (reused from step to step).
+    mean_shift: MeanShift,
 }
 
 impl<'a> Tracker<'a> {
@@ -217,6 +223,8 @@ impl<'a> Tracker<'a> {
             capped_draws: 0,
             propagation: fit::Propagation::default(),
             smoothing_dropped_at: None,
+            cluster_points: Vec::new(),
+            mean_shift: MeanShift::default(),
         };
         if let Some(start) = config.start {
             let s = tracker.locate_start(&start)?;

@@ -79,6 +79,12 @@ impl<'a> Tracker<'a> {
     /// The KLD rule of [`Self::draw_prior`] over candidates `(particle, keep)`: every
     /// candidate counts towards `n` and its bin, only kept ones become particles; drawing
     /// goes on (up to `max_particles` candidates) until at least `at_least` are kept.
+    ///
+    /// Two passes over the same streams, so that a million-particle prior is written once,
+    /// in place, rather than grown: the counting pass draws batches of chunks into reused
+    /// buffers and runs the rule, noting how many candidates of each chunk it took and kept;
+    /// the drawing pass draws those chunks again (each from its own stream: the same
+    /// candidates) and writes their kept particles straight into the belief.
     fn draw_candidates(
         &mut self,
         salt: u64,
@@ -87,55 +93,88 @@ impl<'a> Tracker<'a> {
     ) -> Result<()> {
         let seed = self.config.seed ^ salt;
         let max = self.config.kld.max_particles;
-        let mut drawn: Vec<TrackParticle> = Vec::new();
-        let mut candidates = 0usize;
+        let draw_chunk = |c: usize, out: &mut Vec<(TrackParticle, bool)>| {
+            let mut rng = crate::random::stream(seed, 0, c as u64);
+            out.clear();
+            out.extend(
+                (0..CHUNK).filter_map(|_| (0..PLACEMENT_TRIES).find_map(|_| draw(&mut rng))),
+            );
+        };
+        // Counting pass: (candidates taken, kept) of each chunk.
+        let mut taken: Vec<(usize, usize)> = Vec::new();
+        let mut buffers: Vec<Vec<(TrackParticle, bool)>> = (0..PRIOR_BATCH)
+            .map(|_| Vec::with_capacity(CHUNK))
+            .collect();
+        let (mut candidates, mut kept) = (0usize, 0usize);
         let mut settled = false;
         self.bins.clear();
-        let mut chunk = 0usize;
         'outer: loop {
-            let batch: Vec<Vec<(TrackParticle, bool)>> = (chunk..chunk + PRIOR_BATCH)
-                .into_par_iter()
-                .map(|c| {
-                    let mut rng = crate::random::stream(seed, 0, c as u64);
-                    (0..CHUNK)
-                        .filter_map(|_| (0..PLACEMENT_TRIES).find_map(|_| draw(&mut rng)))
-                        .collect()
-                })
-                .collect();
-            chunk += PRIOR_BATCH;
-            if batch.iter().all(Vec::is_empty) {
+            let first = taken.len();
+            buffers
+                .par_iter_mut()
+                .enumerate()
+                .for_each(|(k, out)| draw_chunk(first + k, out));
+            if buffers.iter().all(Vec::is_empty) {
                 return Err(Error::not_enough(
                     "no prior particle could be placed on a walkable surface",
                     "",
                 ));
             }
-            for (p, keep) in batch.into_iter().flatten() {
-                candidates += 1;
-                if !settled {
-                    let level = self.topology.level(p.surface);
-                    self.bins.mark(self.bins.bin(p.x, p.y, p.heading, level));
-                    settled = self.bins.enough(candidates, self.bins.occupied());
+            for batch in &buffers {
+                let mut t = (0, 0);
+                for &(p, keep) in batch {
+                    candidates += 1;
+                    t.0 += 1;
+                    if !settled {
+                        let level = self.topology.level(p.surface);
+                        self.bins.mark(self.bins.bin(p.x, p.y, p.heading, level));
+                        settled = self.bins.enough(candidates, self.bins.occupied());
+                    }
+                    if keep {
+                        kept += 1;
+                        t.1 += 1;
+                    }
+                    if (settled && kept >= at_least) || candidates >= max {
+                        let met = self.bins.satisfied(candidates, self.bins.occupied());
+                        self.capped_draws += usize::from(candidates >= max && !met);
+                        taken.push(t);
+                        break 'outer;
+                    }
                 }
-                if keep {
-                    drawn.push(p);
-                }
-                if (settled && drawn.len() >= at_least) || candidates >= max {
-                    let met = self.bins.satisfied(candidates, self.bins.occupied());
-                    self.capped_draws += usize::from(candidates >= max && !met);
-                    break 'outer;
-                }
+                taken.push(t);
             }
         }
-        if drawn.is_empty() {
+        if kept == 0 {
             return Err(Error::not_enough(
                 "no prior particle could be placed inside the prior region",
                 "",
             ));
         }
-        drawn.shrink_to_fit();
-        self.particles = drawn;
-        // The uniform prior stands in for this step's proposal when it replaces a dead belief.
-        self.proposal.clone_from(&self.particles);
+        // Drawing pass: each chunk's kept particles into their place.
+        let mut particles = Vec::with_capacity(kept);
+        particles.par_extend(rayon::iter::repeat_n(TrackParticle::default(), kept));
+        let mut places = Vec::with_capacity(taken.len());
+        let mut rest = particles.as_mut_slice();
+        for (c, &(n, k)) in taken.iter().enumerate() {
+            let (head, tail) = rest.split_at_mut(k);
+            places.push((c, n, head));
+            rest = tail;
+        }
+        places.into_par_iter().for_each_init(
+            || Vec::with_capacity(CHUNK),
+            |buffer, (c, n, out)| {
+                draw_chunk(c, buffer);
+                let own = buffer[..n].iter().filter(|(_, keep)| *keep);
+                for (slot, &(p, _)) in out.iter_mut().zip(own) {
+                    *slot = p;
+                }
+            },
+        );
+        self.particles = particles;
+        // The uniform prior stands in for this step's proposal when it replaces a dead belief
+        // (copied in parallel: a million particles' fresh pages).
+        self.proposal.clear();
+        self.proposal.par_extend(self.particles.par_iter().copied());
         Ok(())
     }
 

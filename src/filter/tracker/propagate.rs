@@ -3,6 +3,7 @@
 //! by its height change across stairs (eqs. 15–17).
 
 use super::fit::Propagation;
+use super::memo::Memo;
 use super::particle::{SCALE_RANGE, wrap};
 use super::resample::resize;
 use super::{CHUNK, TrackParticle, Tracker};
@@ -63,10 +64,12 @@ impl Tracker<'_> {
                     particles: from.len(),
                     ..Propagation::default()
                 };
+                // Most particles share a log-weight (no change of height): one exp each.
+                let mut exp = Memo::default();
                 for (i, (p, q)) in from.iter().zip(to.iter_mut()).enumerate() {
                     let (next, ll) = model.apply(p, &mut rng);
                     if ll > f32::NEG_INFINITY {
-                        let w = f64::from(ll).exp();
+                        let w = exp.get(ll, |l| f64::from(l).exp());
                         let dz_poly = model.topology.z(next.surface) - model.topology.z(p.surface);
                         sums.alive += 1;
                         sums.weight += w;

@@ -1,6 +1,7 @@
 //! KLD sizing of the next particle set and systematic resampling into it, with the buffers
 //! reused between steps.
 
+use super::memo::Memo;
 use super::{CHUNK, TrackParticle, Tracker};
 use rand::RngExt;
 use rayon::prelude::*;
@@ -14,9 +15,12 @@ impl Tracker<'_> {
             .par_iter()
             .copied()
             .reduce(|| f32::NEG_INFINITY, f32::max);
-        self.log_weights
-            .par_iter_mut()
-            .for_each(|l| *l = (*l - max).exp());
+        self.log_weights.par_chunks_mut(CHUNK).for_each(|chunk| {
+            let mut exp = Memo::default();
+            for l in chunk {
+                *l = exp.get(*l, |l| (l - max).exp());
+            }
+        });
         self.bins.clear();
         if self.dense_bins {
             for (&b, &w) in self.bin_index.iter().zip(&self.log_weights) {
@@ -114,8 +118,9 @@ impl Tracker<'_> {
 }
 
 /// Sets `v`'s length to `n` (contents unspecified), keeping its allocation where it fits and
-/// releasing most of it when the set shrinks a lot.
-pub(super) fn resize<T: Copy + Default>(v: &mut Vec<T>, n: usize) {
+/// releasing most of it when the set shrinks a lot. New slots are filled in parallel: a
+/// fresh buffer's pages are first touched by every thread, not one.
+pub(super) fn resize<T: Copy + Default + Send + Sync>(v: &mut Vec<T>, n: usize) {
     if n < v.capacity() / 8 {
         v.truncate(n);
         v.shrink_to(2 * n);
@@ -123,5 +128,10 @@ pub(super) fn resize<T: Copy + Default>(v: &mut Vec<T>, n: usize) {
     if v.capacity() < n {
         v.reserve_exact(n - v.len());
     }
-    v.resize(n, T::default());
+    if n <= v.len() {
+        v.truncate(n);
+    } else {
+        let extra = n - v.len();
+        v.par_extend(rayon::iter::repeat_n(T::default(), extra).with_min_len(CHUNK));
+    }
 }

@@ -1,6 +1,13 @@
 //! The grid index of a topology: a uniform grid over the plan whose cells hold the records of
 //! the segments crossing them and the ids of the surfaces whose bounding boxes meet them,
 //! each cell's items stored contiguously (compressed rows).
+//!
+//! The segment records are kept per surface and, for barriers, per level ([`CellRows`]):
+//! a step on a surface reads only that surface's walls and connections and its level's
+//! barriers, over the part of the grid they cover. A cell's records keep the order they
+//! have in the whole plan's cell, so the walk meets the records that concern it in the
+//! order of one shared grid (only the order of connections matters to it: a wall ends the
+//! step wherever it is met).
 
 use super::segments::{Segment, SegmentKind};
 
@@ -26,15 +33,87 @@ pub(super) struct Record {
     pub(super) right: u32,
 }
 
-/// The grid: origin, reciprocal cell size, dimensions, row offsets and records.
+impl Record {
+    /// The record of `segment`, barriers keyed by their level's index above `lowest_level`.
+    pub(super) fn of(segment: &Segment, lowest_level: i32) -> Self {
+        let (left, right) = match segment.kind {
+            SegmentKind::Wall { surface } => (surface, NO_SURFACE),
+            SegmentKind::Connection { a, b } => (a, b),
+            SegmentKind::Barrier { level } => {
+                let k = BARRIER_FLAG | (level - lowest_level) as u32;
+                (k, k)
+            }
+        };
+        Self {
+            ax: segment.a[0] as f32,
+            ay: segment.a[1] as f32,
+            bx: segment.b[0] as f32,
+            by: segment.b[1] as f32,
+            left,
+            right,
+        }
+    }
+
+    /// The surfaces the record bounds (a wall one, a connection two).
+    fn surfaces(&self) -> impl Iterator<Item = u32> {
+        let right = (self.right != self.left).then_some(self.right);
+        [Some(self.left), right]
+            .into_iter()
+            .flatten()
+            .filter(|&s| s < BARRIER_FLAG)
+    }
+
+    /// The level index of a barrier record (none for a wall or a connection).
+    fn barrier_level(&self) -> Option<u32> {
+        (self.left >= BARRIER_FLAG && self.left != NO_SURFACE).then_some(self.left & !BARRIER_FLAG)
+    }
+}
+
+/// The records of one owner (a surface, or a level's barriers) over the cells
+/// `x0..=x1` × `y0..=y1` of the grid that hold any (none when `x1 < x0`), in compressed
+/// rows.
+#[derive(Debug, Clone)]
+pub(super) struct CellRows {
+    pub(super) x0: usize,
+    pub(super) x1: usize,
+    pub(super) y0: usize,
+    pub(super) y1: usize,
+    offsets: Vec<u32>,
+    records: Vec<Record>,
+}
+
+impl CellRows {
+    /// The records of cells `x0..=x1` × `y0..=y1` (clipped to the owner's), one run per row,
+    /// in order.
+    #[inline]
+    pub(super) fn rows(
+        &self,
+        (x0, x1): (usize, usize),
+        (y0, y1): (usize, usize),
+    ) -> impl Iterator<Item = &[Record]> {
+        let (x0, x1) = (x0.max(self.x0), x1.min(self.x1));
+        let (y0, y1) = (y0.max(self.y0), y1.min(self.y1));
+        let width = self.x1 + 1 - self.x0;
+        let ys = if x0 <= x1 { y0..y1 + 1 } else { 0..0 };
+        ys.map(move |y| {
+            let row = (y - self.y0) * width;
+            let (a, b) = (row + x0 - self.x0, row + x1 + 1 - self.x0);
+            &self.records[self.offsets[a] as usize..self.offsets[b] as usize]
+        })
+    }
+}
+
+/// The grid: origin, reciprocal cell size, dimensions, and each level's records.
 #[derive(Debug, Clone)]
 pub(super) struct SegmentGrid {
     pub(super) origin: [f32; 2],
     pub(super) inv_cell: f32,
     pub(super) nx: usize,
     pub(super) ny: usize,
-    pub(super) offsets: Vec<u32>,
-    pub(super) records: Vec<Record>,
+    /// The walls and connections of each surface.
+    pub(super) surfaces: Vec<CellRows>,
+    /// The barriers of each level, by level − the lowest level.
+    pub(super) barriers: Vec<CellRows>,
     /// Surfaces whose bounding box meets each cell (for `locate`).
     surface_offsets: Vec<u32>,
     surface_ids: Vec<u32>,
@@ -42,15 +121,18 @@ pub(super) struct SegmentGrid {
 
 impl SegmentGrid {
     /// The grid over `bounds` (min x, min y, max x, max y) with every segment's record in
-    /// every cell it crosses, and every surface's id in every cell its bounding box
-    /// (`bboxes`) meets; barriers are keyed by their level's index above `lowest_level`.
+    /// every cell it crosses (in the rows of each surface it bounds, or of its level for a
+    /// barrier; `levels`: the lowest and highest), and every surface's id in every cell its
+    /// bounding box (`bboxes`, one a surface) meets; barriers are keyed by their level's
+    /// index above the lowest level.
     pub(super) fn build(
         segments: &[Segment],
         bboxes: &[[f64; 4]],
         bounds: [f64; 4],
-        lowest_level: i32,
+        levels: (i32, i32),
         cell_size: f64,
     ) -> Self {
+        let lowest_level = levels.0;
         let b = bounds;
         // Plans spread over kilometres get coarser cells rather than a huge grid.
         let area = (b[2] - b[0] + 2.0 * cell_size) * (b[3] - b[1] + 2.0 * cell_size);
@@ -61,8 +143,8 @@ impl SegmentGrid {
             inv_cell: (1.0 / cell_size) as f32,
             nx: (((b[2] - b[0] + 2.0 * pad) / cell_size).ceil() as usize).max(1),
             ny: (((b[3] - b[1] + 2.0 * pad) / cell_size).ceil() as usize).max(1),
-            offsets: Vec::new(),
-            records: Vec::new(),
+            surfaces: Vec::new(),
+            barriers: Vec::new(),
             surface_offsets: Vec::new(),
             surface_ids: Vec::new(),
         };
@@ -76,28 +158,17 @@ impl SegmentGrid {
             .collect();
         let records: Vec<Record> = segments
             .iter()
-            .map(|s| {
-                let (left, right) = match s.kind {
-                    SegmentKind::Wall { surface } => (surface, NO_SURFACE),
-                    SegmentKind::Connection { a, b } => (a, b),
-                    SegmentKind::Barrier { level } => {
-                        let k = BARRIER_FLAG | (level - lowest_level) as u32;
-                        (k, k)
-                    }
-                };
-                Record {
-                    ax: s.a[0] as f32,
-                    ay: s.a[1] as f32,
-                    bx: s.b[0] as f32,
-                    by: s.b[1] as f32,
-                    left,
-                    right,
-                }
-            })
+            .map(|s| Record::of(s, lowest_level))
             .collect();
         let (offsets, items) = compress(cells, spans.iter().copied(), grid.nx);
-        grid.offsets = offsets;
-        grid.records = items.into_iter().map(|i| records[i]).collect();
+        let records: Vec<Record> = items.into_iter().map(|i| records[i]).collect();
+        let count = (levels.1 - levels.0) as usize + 1;
+        grid.surfaces = grid.owned_rows(&offsets, &records, bboxes.len(), |r, f| {
+            r.surfaces().for_each(f);
+        });
+        grid.barriers = grid.owned_rows(&offsets, &records, count, |r, f| {
+            r.barrier_level().into_iter().for_each(f);
+        });
         let surface_spans: Vec<(usize, usize, usize, usize)> = bboxes
             .iter()
             .enumerate()
@@ -111,6 +182,59 @@ impl SegmentGrid {
         grid.surface_offsets = offsets;
         grid.surface_ids = items.into_iter().map(|i| i as u32).collect();
         grid
+    }
+
+    /// The records of the whole plan's cells (`offsets`, `records`) split by owner
+    /// (`owners_of` calls its argument with each owner of a record, below `owners`): each
+    /// owner's over the cells that hold any, each cell's in their order.
+    fn owned_rows(
+        &self,
+        offsets: &[u32],
+        records: &[Record],
+        owners: usize,
+        owners_of: impl Fn(&Record, &mut dyn FnMut(u32)),
+    ) -> Vec<CellRows> {
+        let cell = |c: usize| &records[offsets[c] as usize..offsets[c + 1] as usize];
+        let mut rows: Vec<CellRows> = (0..owners)
+            .map(|_| CellRows {
+                x0: usize::MAX,
+                x1: 0,
+                y0: usize::MAX,
+                y1: 0,
+                offsets: Vec::new(),
+                records: Vec::new(),
+            })
+            .collect();
+        for c in 0..self.nx * self.ny {
+            let (x, y) = (c % self.nx, c / self.nx);
+            for r in cell(c) {
+                owners_of(r, &mut |o| {
+                    let o = &mut rows[o as usize];
+                    (o.x0, o.x1, o.y0, o.y1) = (o.x0.min(x), o.x1.max(x), o.y0.min(y), o.y1.max(y));
+                });
+            }
+        }
+        for (owner, o) in rows.iter_mut().enumerate() {
+            if o.x0 > o.x1 {
+                (o.x0, o.x1, o.y0, o.y1) = (1, 0, 1, 0);
+                o.offsets.push(0);
+                continue;
+            }
+            for y in o.y0..=o.y1 {
+                for x in o.x0..=o.x1 {
+                    o.offsets.push(o.records.len() as u32);
+                    for r in cell(y * self.nx + x) {
+                        let mut own = false;
+                        owners_of(r, &mut |k| own |= k as usize == owner);
+                        if own {
+                            o.records.push(*r);
+                        }
+                    }
+                }
+            }
+            o.offsets.push(o.records.len() as u32);
+        }
+        rows
     }
 
     /// The surfaces whose bounding box meets the cell holding `(x, y)`.

@@ -17,8 +17,10 @@
 //! levels that overlap it in the plane (stairwells) never interfere.
 //!
 //! The index is a uniform grid over the plan with the segments of each cell stored
-//! contiguously (compressed rows), as compact `f32` records; a step tests the records of the
-//! few cells its bounding box touches, filtered by surface id before any arithmetic.
+//! contiguously (compressed rows), as compact `f32` records, each surface holding its own
+//! walls and connections (each level its barriers) over the cells they cover: a step tests
+//! only its surface's records in the few cells its bounding box touches (stacked floors and
+//! neighbouring rooms never cost it a record), as in Woodman & Harle's per-polygon edges.
 //!
 //! The pieces, one file each:
 //! * `config` — tolerances and the index's cell ([`TopologyConfig`])
@@ -26,7 +28,8 @@
 //! * `connections` — connection finding: the stretches of boundary edges surfaces share
 //! * `segments` — segment splitting: boundary edges cut into walls and connections
 //!   ([`Segment`]), and barrier walls
-//! * `grid` — the grid index of segments and surfaces (compressed rows of `f32` records)
+//! * `grid` — the grid index of segments (per surface) and surfaces (compressed rows of
+//!   `f32` records)
 //! * `walk` — a step walked through walls and connections (Algorithm 1)
 //! * `sampling` — points drawn uniformly over the walkable area
 

@@ -1,4 +1,5 @@
-use super::grid::MAX_CELLS;
+use super::grid::{BARRIER_FLAG, MAX_CELLS, Record};
+use super::walk::crossing;
 use super::*;
 use crate::map::{Barrier, FloorPlan, FloorPolygon};
 use geo::{Contains, Intersects, LineString, Rect};
@@ -275,4 +276,80 @@ fn walks_agree_with_a_brute_force_reference_on_the_office() {
         }
     }
     assert!(checked > 15_000);
+}
+
+/// The walk over one shared list of every segment, as the index was before it was split by
+/// surface: the same crossings, the nearest kept (a wall winning a tie).
+fn walk_every_segment(
+    t: &FloorTopology,
+    surface: u32,
+    from: [f32; 2],
+    to: [f32; 2],
+) -> Option<u32> {
+    let records: Vec<Record> = t
+        .segments()
+        .iter()
+        .map(|s| Record::of(s, t.levels.0))
+        .collect();
+    let step = (to[0] - from[0], to[1] - from[1]);
+    let (mut s, mut t_c) = (surface, -1e-4);
+    for _ in 0..64 {
+        let barrier = BARRIER_FLAG | (t.level(s) - t.levels.0) as u32;
+        let mut best: Option<(f32, Record, bool, bool)> = None;
+        for r in &records {
+            if let Some((x, on_left, wall)) = crossing(r, s, barrier, from, step, t_c)
+                && best.is_none_or(|(b, ..)| x < b || (x == b && wall))
+            {
+                best = Some((x, *r, on_left, wall));
+            }
+        }
+        match best {
+            None => return Some(s),
+            Some((_, _, _, true)) => return None,
+            Some((x, r, on_left, false)) => {
+                s = if on_left { r.right } else { r.left };
+                t_c = x;
+            }
+        }
+    }
+    None
+}
+
+#[test]
+fn the_indexed_walk_matches_a_scan_of_every_segment_on_the_tower() {
+    let mut tower = crate::sim::Tower::new(&Default::default()).expect("tower");
+    // A barrier across the corridor of the middle floor: barriers meet the walk too.
+    let (x, y) = (
+        20.0,
+        tower
+            .plan
+            .polygons
+            .iter()
+            .map(|p| p.polygon.exterior().0[0].y)
+            .fold(f64::MAX, f64::min),
+    );
+    tower.plan.barriers.push(Barrier {
+        line: LineString::from(vec![(x, y - 5.0), (x, y + 30.0)]),
+        level: 1,
+    });
+    let t = build(&tower.plan);
+    let mut rng = crate::random::stream(9, 0, 0);
+    let mut crossed = 0;
+    for _ in 0..20_000 {
+        let (s, [x, y]) = t.sample_uniform(&mut rng);
+        let h = rng.random_range(0.0..std::f64::consts::TAU);
+        let l = rng.random_range(0.0..3.0);
+        let (from, to) = (
+            [x as f32, y as f32],
+            [(x + l * h.cos()) as f32, (y + l * h.sin()) as f32],
+        );
+        let got = t.walk(s, from, to);
+        assert_eq!(
+            got,
+            walk_every_segment(&t, s, from, to),
+            "step {from:?} → {to:?} from {s}"
+        );
+        crossed += usize::from(got.is_some_and(|e| e != s));
+    }
+    assert!(crossed > 300, "{crossed} steps changed surface");
 }

@@ -92,7 +92,7 @@ impl FloorTopology {
                 ]
             })
             .unwrap_or([0.0; 4]);
-        let grid = SegmentGrid::build(&segments, &bboxes, bounds, levels.0, config.cell_size);
+        let grid = SegmentGrid::build(&segments, &bboxes, bounds, levels, config.cell_size);
         let polygons: Vec<geo::Polygon<f64>> =
             plan.polygons.iter().map(|f| f.polygon.clone()).collect();
         let triangles = Triangles::new(&polygons);

@@ -27,45 +27,22 @@ impl FloorTopology {
         let mut s = surface;
         let mut t_c = -WALL_SLACK;
         for _ in 0..MAX_HOPS {
-            let barrier = BARRIER_FLAG | (self.level[s as usize] - self.levels.0) as u32;
+            // The surface's own walls and connections and its level's barriers, in the
+            // cells the step's box covers.
+            let level = (self.level[s as usize] - self.levels.0) as u32;
+            let barrier = BARRIER_FLAG | level;
             let mut best_t = f32::INFINITY;
-            let mut best: Option<(&Record, bool, bool)> = None;
-            for iy in iy0..=iy1 {
-                let row = iy * grid.nx;
-                let lo = grid.offsets[row + ix0] as usize;
-                let hi = grid.offsets[row + ix1 + 1] as usize;
-                for r in &grid.records[lo..hi] {
-                    let (on_left, on_right) = (r.left == s, r.right == s);
-                    let is_barrier = r.left == barrier;
-                    if !(on_left || on_right || is_barrier) {
-                        continue;
-                    }
-                    let (dx, dy) = (r.bx - r.ax, r.by - r.ay);
-                    // The step leaves the surface's side: left to right is cross(d, S) < 0.
-                    let denom = dx * sy - dy * sx;
-                    let leaves = if on_left {
-                        denom < 0.0
-                    } else if on_right {
-                        denom > 0.0
-                    } else {
-                        denom != 0.0
-                    };
-                    if !leaves {
-                        continue;
-                    }
-                    // The segment's ends lie on both sides of (or on) the step's line.
-                    let ca = sx * (r.ay - from[1]) - sy * (r.ax - from[0]);
-                    let cb = sx * (r.by - from[1]) - sy * (r.bx - from[0]);
-                    if ca * cb > 0.0 {
-                        continue;
-                    }
-                    let t = (dx * (r.ay - from[1]) - dy * (r.ax - from[0])) / denom;
-                    let wall = is_barrier || r.right == NO_SURFACE || r.left == NO_SURFACE;
-                    let after = if wall { t >= t_c - WALL_SLACK } else { t > t_c };
-                    if after && t <= 1.0 && (t < best_t || (t == best_t && wall)) {
-                        best_t = t;
-                        best = Some((r, on_left, wall));
-                    }
+            let mut best: Option<(Record, bool, bool)> = None;
+            let own = grid.surfaces[s as usize].rows((ix0, ix1), (iy0, iy1));
+            let barriers = grid.barriers[level as usize].rows((ix0, ix1), (iy0, iy1));
+            for r in own.chain(barriers).flatten() {
+                // The nearest crossing; a wall wins a tie (so walls may be met in any order,
+                // connections in the order of the plan's cells).
+                if let Some((t, on_left, wall)) = crossing(r, s, barrier, from, (sx, sy), t_c)
+                    && (t < best_t || (t == best_t && wall))
+                {
+                    best_t = t;
+                    best = Some((*r, on_left, wall));
                 }
             }
             let Some((r, on_left, wall)) = best else {
@@ -79,4 +56,47 @@ impl FloorTopology {
         }
         None
     }
+}
+
+/// Where the step from `from` along `(sx, sy)` leaves surface `s` through record `r` (whose
+/// level's barriers are flagged `barrier`), as a fraction of the step no later than its end
+/// and beyond the last connection crossed (`t_c`; walls from a hair before it), with whether
+/// `s` lies on the record's left and whether it is a wall: `(t, on_left, wall)`.
+#[inline]
+pub(super) fn crossing(
+    r: &Record,
+    s: u32,
+    barrier: u32,
+    from: [f32; 2],
+    (sx, sy): (f32, f32),
+    t_c: f32,
+) -> Option<(f32, bool, bool)> {
+    let (on_left, on_right) = (r.left == s, r.right == s);
+    let is_barrier = r.left == barrier;
+    if !(on_left || on_right || is_barrier) {
+        return None;
+    }
+    let (dx, dy) = (r.bx - r.ax, r.by - r.ay);
+    // The step leaves the surface's side: left to right is cross(d, S) < 0.
+    let denom = dx * sy - dy * sx;
+    let leaves = if on_left {
+        denom < 0.0
+    } else if on_right {
+        denom > 0.0
+    } else {
+        denom != 0.0
+    };
+    if !leaves {
+        return None;
+    }
+    // The segment's ends lie on both sides of (or on) the step's line.
+    let ca = sx * (r.ay - from[1]) - sy * (r.ax - from[0]);
+    let cb = sx * (r.by - from[1]) - sy * (r.bx - from[0]);
+    if ca * cb > 0.0 {
+        return None;
+    }
+    let t = (dx * (r.ay - from[1]) - dy * (r.ax - from[0])) / denom;
+    let wall = is_barrier || r.right == NO_SURFACE || r.left == NO_SURFACE;
+    let after = if wall { t >= t_c - WALL_SLACK } else { t > t_c };
+    (after && t <= 1.0).then_some((t, on_left, wall))
 }
