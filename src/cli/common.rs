@@ -113,11 +113,6 @@ pub fn read_config<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
     }
 }
 
-/// Peak resident memory of this process in bytes (Linux `VmHWM`), if known.
-pub fn peak_memory_bytes() -> Option<u64> {
-    footslam::memory::peak_bytes()
-}
-
 /// A bundled dataset file: `relative` under the working directory when it is there (a
 /// checkout), else under the source tree the binary was built from.
 pub fn bundled(relative: &str) -> PathBuf {

@@ -7,7 +7,7 @@
 //! run's summary.
 
 use super::batch_table::walks_table;
-use super::common::{bundled, output_dir, peak_memory_bytes, read_config, walk_prefix, warn};
+use super::common::{bundled, output_dir, read_config, walk_prefix, warn};
 use super::learn_args::Args;
 use super::learn_inputs::{WalkArgs, WalkFiles, check_anchors, read_anchors, read_walks};
 use super::learn_outputs::{MapFrame, MapPictures, Summary, write_learned_plan, write_walk};
@@ -257,7 +257,7 @@ fn write_outputs(
         prior_map_hexagons: learned.prior_map_hexagons,
         prior_map_walks: learned.prior_map_walks,
         iterations: learned.iterations,
-        peak_memory_bytes: peak_memory_bytes(),
+        peak_memory_bytes: footslam::memory::peak_bytes(),
         origin: *frame,
         radio,
         version: env!("CARGO_PKG_VERSION"),

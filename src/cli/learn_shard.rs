@@ -7,7 +7,7 @@
 //! rewrites the same files; `footslam merge` of the last pass's `walk-*/map.geojson` (in walk
 //! order) gives the batch's `merged.geojson`.
 
-use super::common::{output_dir, peak_memory_bytes, walk_prefix};
+use super::common::{output_dir, walk_prefix};
 use super::learn_args::{Args, Shard};
 use super::learn_inputs::{check_anchors, read_anchors, read_found, read_manifest};
 use super::learn_outputs::{MapFrame, Summary, write_walk};
@@ -114,7 +114,7 @@ pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) 
             .collect(),
         walks: summaries,
         runtime_s: started.elapsed().as_secs_f64(),
-        peak_memory_bytes: peak_memory_bytes(),
+        peak_memory_bytes: footslam::memory::peak_bytes(),
         origin: frame,
         version: env!("CARGO_PKG_VERSION"),
     };

@@ -3,8 +3,7 @@
 
 use super::batch_table::walks_table;
 use super::common::{
-    check_height_changes, output_dir, parse_origin, peak_memory_bytes, read_config, read_scans,
-    require_file,
+    check_height_changes, output_dir, parse_origin, read_config, read_scans, require_file,
 };
 use super::progress_bars::Bars;
 use super::radio_outputs::write_radio_map_files;
@@ -332,7 +331,7 @@ impl Summary {
             runtime_s: runtime,
             walk_duration_s: duration,
             speed_vs_real_time: duration / runtime.max(1e-9),
-            peak_memory_bytes: peak_memory_bytes(),
+            peak_memory_bytes: footslam::memory::peak_bytes(),
         }
     }
 
