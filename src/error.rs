@@ -140,6 +140,8 @@ pub enum RemedyValue {
     Number(f64),
     /// A latitude and longitude, degrees (`--origin LAT,LON`, `origin=(lat, lon)`).
     LatLon(f64, f64),
+    /// A value only the user knows, described (`--gps-t0 <the UTC time …>`).
+    Described(&'static str),
 }
 
 impl std::fmt::Display for Remedy {
@@ -148,6 +150,7 @@ impl std::fmt::Display for Remedy {
             RemedyValue::Flag => write!(f, "{}", self.option),
             RemedyValue::Number(v) => write!(f, "{} = {v}", self.option),
             RemedyValue::LatLon(lat, lon) => write!(f, "{} = {lat},{lon}", self.option),
+            RemedyValue::Described(what) => write!(f, "{} = <{what}>", self.option),
         }
     }
 }

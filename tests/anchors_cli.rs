@@ -148,7 +148,7 @@ fn bad_gps_outline_and_prior_maps_are_explained() {
     ));
     assert!(
         err.contains("hexagons of radius")
-            && err.contains("this run uses 0.6 m: pass --hex-radius"),
+            && err.contains("this run uses 0.6 m, or pass --hex-radius 0.5"),
         "{err}"
     );
     let other = dir.path().join("other");

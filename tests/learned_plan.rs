@@ -18,14 +18,16 @@
 mod common;
 
 use assert_cmd::Command;
-use common::{Anchors, learn_walks, learned_track, recorded, recorded_truth, truth_track};
+use common::{
+    Anchors, learn_walks, learn_walks_with, learned_track, recorded, recorded_truth, truth_track,
+};
 use footslam::eval::{Alignment, plan_overlap, position_errors};
 use footslam::filter::{FootSlamConfig, StartPose};
 use footslam::io::floor_plan_geojson::read_floor_plan;
 use footslam::io::read_trajectory;
 use footslam::io::ros_map::{FREE, OCCUPIED, UNKNOWN};
 use footslam::map::{FloorPlan, HexMapSnapshot, Occupancy, OccupancyConfig, OccupancyGrid};
-use footslam::pipeline::{LearnWalk, PlanRunConfig, plan};
+use footslam::pipeline::{LearnConfig, LearnWalk, PlanRunConfig, plan};
 use footslam::sensor::TruePath;
 use footslam::sim::{SimConfig, TowerSimConfig, simulate, simulate_tower};
 use std::path::Path;
@@ -359,11 +361,11 @@ fn three_tower_walks_make_one_plan_level_per_floor() {
             ..Default::default()
         })
         .collect();
-    let config = FootSlamConfig {
+    let config = LearnConfig {
         iterations: 0,
         ..Default::default()
     };
-    let learned = learn_walks(&walks, Anchors::default(), &config);
+    let learned = learn_walks_with(&walks, Anchors::default(), &config);
     let plan = plan_of(learned.combined.merged.as_ref().expect("merged map"));
     let mut levels: Vec<i32> = plan.polygons.iter().map(|p| p.level).collect();
     levels.sort_unstable();

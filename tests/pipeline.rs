@@ -15,10 +15,11 @@ use footslam::io::map_geojson::write_map_geojson;
 use footslam::io::radio_map_geojson::write_radio_map_geojson;
 use footslam::io::steps_csv::write_steps_with_field;
 use footslam::io::{read_imu, read_steps, read_wifi, write_track};
-use footslam::map::{CellConfig, FloorTopology};
+use footslam::map::FloorTopology;
 use footslam::pipeline::{
-    LearnInput, LearnWalk, Silent, SnapshotSteps, SurveyConfig, SurveyInput, SurveyWalk,
-    TrackInput, combine, feetslam_passes, learn, learn_one, others_map, steps, survey, track,
+    LearnConfig, LearnInput, LearnWalk, Silent, SnapshotSteps, SurveyConfig, SurveyInput,
+    SurveyWalk, TrackInput, combine, feetslam_passes, learn, learn_one, others_map, steps, survey,
+    track,
 };
 use footslam::sim::{SimConfig, simulate};
 use std::path::Path;
@@ -38,7 +39,6 @@ fn in_local_frame(walks: &[LearnWalk]) -> LearnInput<'_> {
         frame: LocalFrame::default(),
         outline: None,
         prior_map: None,
-        cells: CellConfig::default(),
     }
 }
 
@@ -65,8 +65,11 @@ fn a_batch_fanned_out_walk_by_walk_learns_what_learn_does() {
             }
         })
         .collect();
-    let config = FootSlamConfig {
-        particles: 300,
+    let config = LearnConfig {
+        footslam: FootSlamConfig {
+            particles: 300,
+            ..Default::default()
+        },
         ..Default::default()
     };
     let input = in_local_frame(&walks);
@@ -106,12 +109,12 @@ fn a_batch_fanned_out_walk_by_walk_learns_what_learn_does() {
         assert_eq!(apart.map, run.estimate.map, "walk {i}: map");
     }
     let refs: Vec<&FootSlamEstimate> = answers.iter().collect();
-    let combined = combine(&input, &refs).expect("combine");
+    let combined = combine(&input, &refs, &config.cells).expect("combine");
     let merged = combined.merged.expect("a batch's merged map");
     assert_eq!(Some(&merged), together.combined.merged.as_ref());
     assert!(merged.cells.len() > 50, "{} hexagons", merged.cells.len());
     // A task's index must name a walk of the batch, and combine wants one answer a walk.
-    assert!(combine(&input, &refs[..2]).is_err());
+    assert!(combine(&input, &refs[..2], &config.cells).is_err());
 }
 
 #[test]
@@ -158,7 +161,7 @@ fn the_cli_writes_what_the_pipelines_compute() {
         ..Default::default()
     }];
     let input = in_local_frame(&walks);
-    let learned = learn(&input, &config, &Silent).expect("learn");
+    let learned = learn(&input, &LearnConfig::from(config), &Silent).expect("learn");
     let map = d.join("lib-map.geojson");
     write_map_geojson(&map, &learned.walks[0].estimate.map, &input.frame).expect("write");
     assert_eq!(read(&map), read(&d.join("learn/map.geojson")), "learn");
@@ -269,14 +272,17 @@ fn cross_walk_scans_weigh_in_the_feetslam_passes_when_asked() {
         })
         .collect();
     let input = in_local_frame(&walks);
-    let mut config = FootSlamConfig {
-        particles: 300,
+    let mut config = LearnConfig {
+        footslam: FootSlamConfig {
+            particles: 300,
+            ..Default::default()
+        },
         iterations: 1,
         ..Default::default()
     };
     let without = learn(&input, &config, &Silent).expect("learn");
     assert!(without.walks.iter().all(|r| r.wifi_references.is_none()));
-    config.wifi.cross_walk = true;
+    config.footslam.wifi.cross_walk = true;
     let with = learn(&input, &config, &Silent).expect("learn");
     for (i, run) in with.walks.iter().enumerate() {
         let refs = run

@@ -25,7 +25,7 @@
 mod common;
 
 use common::{
-    Anchors, learn_walks, learned_track, nearest_rank_p95, p95, recorded, recorded_fixes,
+    Anchors, learn_walks_with, learned_track, nearest_rank_p95, p95, recorded, recorded_fixes,
     recorded_truth, stored, truth_track,
 };
 use footslam::eval::Alignment;
@@ -33,7 +33,7 @@ use footslam::filter::FootSlamConfig;
 use footslam::geometry::LocalFrame;
 use footslam::io::map_geojson::StoredMap;
 use footslam::io::{TimedPoint, read_outline, write_outline};
-use footslam::pipeline::{LearnWalk, Learned, WalkRun};
+use footslam::pipeline::{LearnConfig, LearnWalk, Learned, WalkRun};
 use footslam::sim::{CampusSimConfig, simulate_campus};
 use geo::Polygon;
 use rayon::prelude::*;
@@ -107,19 +107,19 @@ fn learn(
     seed: u64,
     outline: Option<&Polygon<f64>>,
     prior_map: Option<&StoredMap>,
-    config: FootSlamConfig,
+    mut config: LearnConfig,
 ) -> Learned {
     let anchors = Anchors {
         frame: origin(),
         outline,
         prior_map,
     };
-    let config = FootSlamConfig {
+    config.footslam = FootSlamConfig {
         particles: PARTICLES,
         seed,
-        ..config
+        ..config.footslam
     };
-    learn_walks(walks, anchors, &config)
+    learn_walks_with(walks, anchors, &config)
 }
 
 /// Absolute p95 error of a walk's learned path against its truth, metres.
@@ -202,7 +202,7 @@ fn outdoor_indoor_outdoor_walks_are_anchored_and_the_outline_helps() {
 fn five_walks_of(sim: &Campus, seed: u64) -> (Vec<f64>, Vec<f64>) {
     let walks: Vec<LearnWalk> = sim.walks.iter().map(|w| w.input.clone()).collect();
     // Each walk alone: no FeetSLAM iterations over the batch (they would share the maps).
-    let alone_config = FootSlamConfig {
+    let alone_config = LearnConfig {
         iterations: 0,
         ..Default::default()
     };

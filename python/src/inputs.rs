@@ -94,10 +94,10 @@ impl Document {
     }
 
     /// The building outline it holds, in `frame`.
-    pub(crate) fn outline(&self, frame: &LocalFrame) -> footslam::Result<geo::Polygon<f64>> {
+    pub(crate) fn world_outline(&self) -> footslam::Result<footslam::io::WorldOutline> {
         match self {
-            Document::File(path) => footslam::io::read_outline(path, frame),
-            Document::Text { text, name } => outline_geojson::outline_from_str(text, name, frame),
+            Document::File(path) => footslam::io::read_world_outline(path),
+            Document::Text { text, name } => outline_geojson::world_outline_from_str(text, name),
         }
     }
 }

@@ -2,12 +2,12 @@
 //! walk or a batch, as `footslam learn` runs it, and a batch fanned out walk by walk.
 
 use crate::inputs::{self, Document};
-use crate::learn_inputs::{Args, read_inputs};
+use crate::learn_inputs::{Args, read_request};
 use crate::learn_outputs::{learn_out, walk_out};
 use crate::outputs::json_object;
 use crate::{Reporter, detached, py_error};
-use footslam::filter::{FootSlamConfig, StartPose};
-use footslam::pipeline::LearnWalk;
+use footslam::filter::StartPose;
+use footslam::pipeline::{LearnConfig, LearnWalk, prepare_learn};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -53,7 +53,9 @@ use pyo3::types::PyDict;
 ///     ``merged_with_prior`` (with a prior map), ``summary`` and ``config``; ``merged`` —
 ///     a batch's merged map (GeoJSON, or None); ``radio_map`` and ``radio_plan`` — with
 ///     WiFi, the radio map (as ``radiomap.geojson``) and the learned plan it lies on;
-///     ``summary`` — the run's figures.
+///     ``summary`` — the run's report, as ``summary.json`` (one walk's figures at the top
+///     level, a batch's under ``walks``); ``config`` — the configuration the run ran with,
+///     as ``config.json`` (each walk's own in its entry of ``walks``).
 ///
 /// Raises:
 ///     FootslamError: bad data or configuration, or inputs that do not belong together
@@ -107,15 +109,13 @@ pub(crate) fn learn<'py>(
         cell,
         gps_t0,
     };
-    let inputs = read_inputs(py, &args, false)?;
+    let started = std::time::Instant::now();
+    let request = read_request(py, &args, false)?;
     let report = Reporter::new(progress)?;
-    for w in &inputs.warnings {
-        report.push(w.clone());
-    }
     let out = detached(py, threads, || {
-        let learned = footslam::pipeline::learn(&inputs.input(), &inputs.config, &report)
-            .map_err(py_error)?;
-        Ok(learn_out(&inputs, &learned))
+        let prepared = prepare_learn(request, &report).map_err(py_error)?;
+        let learned = prepared.run(&report).map_err(py_error)?;
+        Ok(learn_out(&prepared, &learned, started))
     })?;
     let result = PyDict::new(py);
     let walks = out
@@ -128,6 +128,7 @@ pub(crate) fn learn<'py>(
     result.set_item("radio_map", json_object(py, &out.radio_map)?)?;
     result.set_item("radio_plan", json_object(py, &out.radio_plan)?)?;
     result.set_item("summary", json_object(py, &out.summary)?)?;
+    result.set_item("config", json_object(py, &out.config)?)?;
     report.emit(py)?;
     Ok(result)
 }
@@ -208,29 +209,19 @@ pub(crate) fn learn_one<'py>(
         .filter(|o| !o.is_none())
         .map(|o| inputs::document(o, "map", "others"))
         .transpose()?;
-    let inputs = read_inputs(py, &args, true)?;
+    let request = read_request(py, &args, true)?;
+    let report = Reporter::default();
     let out = detached(py, threads, || {
         let others = others_doc
             .as_ref()
             .map(Document::stored_map)
             .transpose()
             .map_err(py_error)?;
-        let walk = &inputs.walks[0];
-        let run = footslam::pipeline::learn_one(
-            &inputs.input(),
-            walk,
-            index,
-            others.as_ref().map(|m| &m.map),
-            &inputs.config,
-            None,
-        )
-        .map_err(py_error)?;
-        Ok(walk_out(walk, &inputs.labels[0], &run, &inputs.frame))
+        let prepared = prepare_learn(request, &report).map_err(py_error)?;
+        let others = others.as_ref().map(|m| &m.map);
+        let run = prepared.run_one(0, index, others, None).map_err(py_error)?;
+        Ok(walk_out(&prepared, 0, &run))
     })?;
-    let report = Reporter::default();
-    for w in &inputs.warnings {
-        report.push(w.clone());
-    }
     report.emit(py)?;
     out.to_python(py)
 }
@@ -253,7 +244,7 @@ pub(crate) fn feetslam_passes(
     known_starts: bool,
     config: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<u32> {
-    let config: FootSlamConfig = inputs::config(config)?;
+    let config: LearnConfig = inputs::config(config)?;
     config.validate().map_err(py_error)?;
     let start = known_starts.then_some(StartPose {
         x: 0.0,

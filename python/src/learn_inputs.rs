@@ -1,35 +1,14 @@
 //! What `footslam.learn` and `footslam.learn_one` read from their arguments, as `footslam
-//! learn` reads its flags and files: the configuration with its overrides, the walks (steps,
-//! GPS fixes and WiFi scans, each checked against the steps' time span), the prior map, the
-//! frame and the outline.
+//! learn` reads its flags and files, into the job's request
+//! ([`footslam::pipeline::LearnRequest`]): the configuration and its overrides, the walks
+//! (steps, GPS fixes and WiFi scans), the prior map, the origin and the outline.
 
-use crate::checks::{check_same_grid, read_fixes, read_scans};
 use crate::inputs::{self, Document};
 use crate::tables::{self, GPS, STEPS, Table, WIFI};
-use crate::{detached, fail, py_error};
-use footslam::filter::{FootSlamConfig, StartPose};
-use footslam::geometry::LocalFrame;
-use footslam::io::map_geojson::StoredMap;
-use footslam::map::CellConfig;
-use footslam::pipeline::{
-    LearnInput, LearnWalk, default_frame, fixes_far_from_origin, outline_off_walks,
-};
+use crate::{detached, py_error};
+use footslam::filter::StartPose;
+use footslam::pipeline::{LearnConfig, LearnOverrides, LearnRequest, LearnWalkRequest, Named};
 use pyo3::prelude::*;
-
-/// What `learn` and `learn_one` read from their arguments, as `footslam learn` reads its
-/// flags and files.
-pub(crate) struct Inputs {
-    pub(crate) config: FootSlamConfig,
-    pub(crate) walks: Vec<LearnWalk>,
-    /// Each walk's steps, as messages name them.
-    pub(crate) labels: Vec<String>,
-    pub(crate) prior_map: Option<StoredMap>,
-    pub(crate) frame: LocalFrame,
-    pub(crate) outline: Option<geo::Polygon<f64>>,
-    pub(crate) cells: CellConfig,
-    /// Warnings of the input checks (logs partly off the walk's clock).
-    pub(crate) warnings: Vec<String>,
-}
 
 /// The arguments `learn` and `learn_one` share.
 pub(crate) struct Args<'a, 'py> {
@@ -59,26 +38,16 @@ struct WalkTables {
 }
 
 impl Args<'_, '_> {
-    /// The configuration: `config`'s (or the defaults) with the keyword overrides, checked.
-    fn learn_config(&self) -> PyResult<FootSlamConfig> {
-        let mut config: FootSlamConfig = inputs::config(self.config)?;
-        if let Some(n) = self.particles {
-            config.particles = n;
+    /// The options over the configuration.
+    fn overrides(&self) -> LearnOverrides {
+        LearnOverrides {
+            seed: self.seed,
+            particles: self.particles,
+            hex_radius: self.hex_radius,
+            prior_weight: self.prior_weight,
+            ignore_heading: self.ignore_heading,
+            cell: self.cell,
         }
-        if let Some(s) = self.seed {
-            config.seed = s;
-        }
-        if let Some(r) = self.hex_radius {
-            config.hex_radius = r;
-        }
-        if let Some(w) = self.prior_weight {
-            config.prior_weight = w;
-        }
-        if self.ignore_heading {
-            config.heading.enabled = false;
-        }
-        config.validate().map_err(py_error)?;
-        Ok(config)
     }
 
     /// The walks' tables: `steps` one walk's or a list of walks', with `gps`, `wifi` and
@@ -135,17 +104,9 @@ impl Args<'_, '_> {
 }
 
 impl WalkTables {
-    /// Reads the walks, each file and its time span checked as `footslam learn` checks them.
-    fn read(self, gps_t0: Option<f64>) -> PyResult<(Vec<LearnWalk>, Vec<String>, Vec<String>)> {
-        if gps_t0.is_some() && !self.gps.iter().flatten().any(Table::is_gpx) {
-            return Err(fail(
-                "gps_t0 places GPX files' UTC times on the steps' clock, and no walk has a GPX \
-                 file (CSV fixes and tables are on the steps' clock already): leave gps_t0 out",
-            ));
-        }
-        let mut warnings = Vec::new();
+    /// Parses the walks' tables, GPX times placed by `gps_t0`.
+    fn read(self, gps_t0: Option<f64>) -> footslam::Result<Vec<LearnWalkRequest>> {
         let mut walks = Vec::with_capacity(self.steps.len());
-        let mut labels = Vec::with_capacity(self.steps.len());
         for (((steps, gps), wifi), start) in self
             .steps
             .iter()
@@ -153,37 +114,38 @@ impl WalkTables {
             .zip(&self.wifi)
             .zip(self.starts)
         {
-            let (trace, field) = steps.steps_with_field().map_err(py_error)?;
-            let (fixes, fixes_warning) = match gps {
-                Some(t) => read_fixes(t, gps_t0, &trace)?,
-                None => (Vec::new(), None),
+            let (trace, field) = steps.steps_with_field()?;
+            let gps = match gps {
+                Some(t) => Some((Named::new(t.gps(gps_t0)?, t.label()), t.is_gpx())),
+                None => None,
             };
-            let (scans, scans_warning) = match wifi {
-                Some(t) => read_scans(t, &trace)?,
-                None => (Vec::new(), None),
+            let wifi = match wifi {
+                Some(t) => {
+                    let log = t.wifi_log()?;
+                    Some((Named::new(log.scans, t.label()), log.duplicate_readings))
+                }
+                None => None,
             };
-            warnings.extend(fixes_warning.into_iter().chain(scans_warning));
-            labels.push(steps.label());
-            walks.push(LearnWalk {
-                trace,
-                fixes,
-                scans,
-                start,
+            walks.push(LearnWalkRequest {
+                steps: Named::new(trace, steps.label()),
                 field,
+                gps,
+                wifi,
+                start,
             });
         }
-        Ok((walks, labels, warnings))
+        Ok(walks)
     }
 }
 
-/// Reads everything `learn` needs, in the command line's order: the configuration, the
-/// walks, the cells, the prior map, the frame and the outline.
-pub(crate) fn read_inputs(
+/// The request of `learn` (`one_walk_only`: of `learn_one`) from its arguments, as `footslam
+/// learn` reads its flags and files.
+pub(crate) fn read_request(
     py: Python<'_>,
     args: &Args<'_, '_>,
     one_walk_only: bool,
-) -> PyResult<Inputs> {
-    let config = args.learn_config()?;
+) -> PyResult<LearnRequest> {
+    let config: LearnConfig = inputs::config(args.config)?;
     let tables = args.tables(one_walk_only)?;
     let prior_doc = args
         .prior_map
@@ -196,67 +158,26 @@ pub(crate) fn read_inputs(
         .map(|o| inputs::document(o, "outline", "outline"))
         .transpose()?;
     let origin = inputs::origin(args.origin)?;
-    let gps_t0 = args.gps_t0;
-    let cells = CellConfig {
-        granularity: args.cell.unwrap_or(CellConfig::default().granularity),
-        ..CellConfig::default()
-    };
+    let (gps_t0, overrides) = (args.gps_t0, args.overrides());
     detached(py, None, move || {
-        let (walks, labels, warnings) = tables.read(gps_t0)?;
-        cells.validate().map_err(py_error)?;
-        let prior_map = prior_doc
-            .as_ref()
-            .map(Document::stored_map)
-            .transpose()
-            .map_err(py_error)?;
-        let frame = origin.unwrap_or_else(|| default_frame(prior_map.as_ref(), &walks));
-        let outline = outline_doc
-            .as_ref()
-            .map(|d| d.outline(&frame))
-            .transpose()
-            .map_err(py_error)?;
-        for (walk, label) in walks.iter().zip(&labels) {
-            if let Some(problem) = fixes_far_from_origin(&walk.fixes, &frame) {
-                return Err(fail(format!("{label}: its GPS fixes: {problem}")));
-            }
-        }
-        if let (Some(outline), Some(doc)) = (&outline, &outline_doc) {
-            let default_start = (config.start.x, config.start.y);
-            if let Some(problem) = outline_off_walks(outline, &walks, default_start) {
-                return Err(fail(format!("{}: {problem}", doc.label())));
-            }
-        }
-        if let (Some(stored), Some(doc)) = (&prior_map, &prior_doc) {
-            let radius = stored.map.radius;
-            check_same_grid(
-                &doc.label(),
-                radius,
-                &stored.frame,
-                config.hex_radius,
-                &frame,
-            )?;
-        }
-        Ok(Inputs {
-            config,
-            walks,
-            labels,
-            prior_map,
-            frame,
-            outline,
-            cells,
-            warnings,
-        })
+        let named = |doc: &Document, value| Named::new(value, doc.label());
+        let read = || -> footslam::Result<LearnRequest> {
+            Ok(LearnRequest {
+                walks: tables.read(gps_t0)?,
+                gps_t0,
+                prior_map: match &prior_doc {
+                    Some(d) => Some(named(d, d.stored_map()?)),
+                    None => None,
+                },
+                outline: match &outline_doc {
+                    Some(d) => Some(Named::new(d.world_outline()?, d.label())),
+                    None => None,
+                },
+                origin,
+                config,
+                overrides,
+            })
+        };
+        read().map_err(py_error)
     })
-}
-
-impl Inputs {
-    pub(crate) fn input(&self) -> LearnInput<'_> {
-        LearnInput {
-            walks: &self.walks,
-            frame: self.frame,
-            outline: self.outline.as_ref(),
-            prior_map: self.prior_map.as_ref(),
-            cells: self.cells,
-        }
-    }
 }

@@ -3,22 +3,17 @@
 //! `map.geojson`, `plan.geojson`, `summary.json` and `config.json`), and a run's merged
 //! maps and radio map.
 
-use crate::learn_inputs::Inputs;
 use crate::outputs::{Column, columns, json_object};
 use footslam::filter::FootSlamConfig;
-use footslam::geometry::path_length;
-use footslam::geometry::{HexGrid, LocalFrame};
 use footslam::io::field_map_geojson::field_map_to_geojson;
 use footslam::io::floor_plan_geojson::floor_plan_to_geojson;
 use footslam::io::map_geojson::walks_map_to_geojson;
 use footslam::io::radio_map_geojson::radio_map_to_geojson;
 use footslam::map::{PlanConfig, walkable_plan};
-use footslam::model::wifi_distance::held_out_quantiles;
-use footslam::pipeline::{LearnWalk, Learned, LearnedRadio, WalkRun};
+use footslam::pipeline::{LearnConfig, LearnReport, Learned, PreparedLearn, WalkReport, WalkRun};
 use geojson::FeatureCollection;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use serde_json::json;
 
 /// One learned walk, ready for Python.
 pub(crate) struct WalkOut {
@@ -30,78 +25,37 @@ pub(crate) struct WalkOut {
     /// `fieldmap.geojson`: the learned magnetic field, when it weighed the particles.
     field_map: Option<FeatureCollection>,
     merged_with_prior: Option<FeatureCollection>,
-    summary: serde_json::Value,
+    summary: WalkReport,
     config: FootSlamConfig,
 }
 
-/// The outputs of one walk, as `footslam learn` writes them (`track.geojson`'s points,
-/// `map.geojson`, `plan.geojson`, `summary.json`'s figures and `config.json`).
-pub(crate) fn walk_out(
-    walk: &LearnWalk,
-    label: &str,
-    run: &WalkRun,
-    frame: &LocalFrame,
-) -> WalkOut {
-    let (config, estimate, filter) = (&run.config, &run.estimate, &run.filter);
-    let steps = walk.trace.steps();
-    let track = steps
+/// The outputs of walk `i` of `prepared`, learned as `run`, as `footslam learn` writes them
+/// (`track.geojson`'s points, `map.geojson`, `plan.geojson`, its report and `config.json`).
+pub(crate) fn walk_out(prepared: &PreparedLearn, i: usize, run: &WalkRun) -> WalkOut {
+    let (walk, frame) = (&prepared.walks[i], &prepared.frame);
+    let estimate = &run.estimate;
+    let track = walk
+        .trace
+        .steps()
         .iter()
         .zip(&estimate.path)
         .zip(&estimate.levels)
         .map(|((s, p), &level)| (s.t, p.x, p.y, estimate.map.level_height(level), level))
         .collect();
-    let learned = walkable_plan(&estimate.map, &PlanConfig::default()).ok();
-    let ess = filter.ess_history();
-    let runtime = run.runtime_s;
-    let summary = json!({
-        "quality": run.quality(&footslam::pipeline::QualityConfig::default()),
-        "steps_file": label,
-        "steps_with_heading": walk.trace.with_heading(),
-        "headings_used": filter.headings_used(),
-        "particles": config.particles,
-        "steps": steps.len(),
-        "seed": config.seed,
-        "filter_runtime_s": runtime,
-        "particle_steps_per_s": (config.particles * steps.len()) as f64 / runtime.max(1e-9),
-        "final_effective_sample_size": filter.effective_sample_size(),
-        "min_effective_sample_size": ess.iter().copied().fold(f64::INFINITY, f64::min),
-        "resamplings": filter.resamplings(),
-        "best_particle": estimate.index,
-        "best_particle_weight": estimate.weight,
-        "best_path_log_likelihood": estimate.path_log_likelihood,
-        "hexagons": estimate.map.cells.len(),
-        "levels": estimate.map.levels.len().max(1),
-        "map_area_m2": estimate.map.cells.len() as f64
-            * HexGrid::new(config.hex_radius).cell_area(),
-        "path_length_m": path_length(estimate.path.iter().map(|p| (p.x, p.y))),
-        "gps_fixes": walk.fixes.len(),
-        "gps_fixes_used": filter.gps_fixes_used(),
-        "prior_offset_m": estimate.prior_offset,
-        "heading": {
-            "start_source": run.start_source,
-            "start_deg": config.start.heading.to_degrees(),
-            "start_sigma_deg": config.start_heading_sigma.min(std::f64::consts::PI).to_degrees(),
-            "final_sigma_deg": filter.heading_spread().to_degrees(),
-        },
-        "walkable_plan_m2": learned.as_ref().map(|l| l.area_m2),
-        "smoothing": run.smoothing_report(),
-        "building_axes": run.axes_report(),
-        "magnetic_field": run.field_report(),
-        "departure_from_dead_reckoning": run.departure,
-    });
+    let plan = walkable_plan(&estimate.map, &PlanConfig::default()).ok();
     WalkOut {
         track,
         spread_m: estimate.spread_m.clone(),
         map: walks_map_to_geojson(&estimate.map, frame, 1),
-        plan: learned.map(|l| floor_plan_to_geojson(&l.plan, frame)),
+        plan: plan.as_ref().map(|l| floor_plan_to_geojson(&l.plan, frame)),
         field_map: estimate
             .field_map
             .as_ref()
             .filter(|f| !f.cells.is_empty())
             .map(|f| field_map_to_geojson(f, frame)),
         merged_with_prior: None,
-        summary,
-        config: config.clone(),
+        summary: WalkReport::new(walk, run, &prepared.labels[i], plan.as_ref()),
+        config: run.config.clone(),
     }
 }
 
@@ -144,20 +98,23 @@ pub(crate) struct LearnOut {
     pub(crate) merged: Option<FeatureCollection>,
     pub(crate) radio_map: Option<FeatureCollection>,
     pub(crate) radio_plan: Option<FeatureCollection>,
-    pub(crate) summary: serde_json::Value,
+    pub(crate) summary: LearnReport,
+    /// The configuration the run ran with (`config.json`).
+    pub(crate) config: LearnConfig,
 }
 
-pub(crate) fn learn_out(inputs: &Inputs, learned: &Learned) -> LearnOut {
-    let frame = &inputs.frame;
-    let mut walks: Vec<WalkOut> = inputs
-        .walks
-        .iter()
-        .zip(&inputs.labels)
-        .zip(&learned.walks)
-        .map(|((walk, label), run)| walk_out(walk, label, run, frame))
+/// What `learn` gives of `learned`, learned from `prepared` by a job begun at `started`.
+pub(crate) fn learn_out(
+    prepared: &PreparedLearn,
+    learned: &Learned,
+    started: std::time::Instant,
+) -> LearnOut {
+    let frame = &prepared.frame;
+    let mut walks: Vec<WalkOut> = (0..prepared.walks.len())
+        .map(|i| walk_out(prepared, i, &learned.walks[i]))
         .collect();
     let combined = &learned.combined;
-    if let Some(stored) = &inputs.prior_map {
+    if let Some(stored) = &prepared.prior_map {
         for (out, merged) in walks.iter_mut().zip(&combined.merged_with_prior) {
             out.merged_with_prior = Some(walks_map_to_geojson(merged, frame, stored.walks + 1));
         }
@@ -166,28 +123,8 @@ pub(crate) fn learn_out(inputs: &Inputs, learned: &Learned) -> LearnOut {
         .merged
         .as_ref()
         .map(|m| walks_map_to_geojson(m, frame, learned.walks.len() as u32));
-    let radio = combined.radio.as_ref().map(|radio| {
-        let mut summary = radio_summary(radio, inputs.cells.granularity);
-        summary["scans"] = json!(
-            inputs
-                .walks
-                .iter()
-                .map(|w| w.scans.len())
-                .collect::<Vec<_>>()
-        );
-        summary["ndist_leave_one_out_p50_p90_p99_max"] =
-            json!(held_out_quantiles(&radio.survey.held));
-        summary
-    });
-    let summary = json!({
-        "iterations": learned.iterations,
-        "outline_edges": learned.outline_edges,
-        "prior_map_hexagons": learned.prior_map_hexagons,
-        "prior_map_walks": learned.prior_map_walks,
-        "origin": frame,
-        "radio": radio,
-        "version": env!("CARGO_PKG_VERSION"),
-    });
+    let reports = walks.iter().map(|w| w.summary.clone()).collect();
+    let threads = rayon::current_num_threads();
     LearnOut {
         walks,
         merged,
@@ -199,26 +136,7 @@ pub(crate) fn learn_out(inputs: &Inputs, learned: &Learned) -> LearnOut {
             .radio
             .as_ref()
             .map(|r| floor_plan_to_geojson(&r.plan.plan, frame)),
-        summary,
+        summary: LearnReport::new(prepared, learned, reports, started, threads),
+        config: prepared.config_run(learned),
     }
-}
-
-/// The figures of a radio map learned from walks (`summary.json`'s `radio` block, less what
-/// only `learn` knows): cells, scans placed, coverage, access points, ε.
-pub(crate) fn radio_summary(radio: &LearnedRadio, granularity: f64) -> serde_json::Value {
-    let survey = &radio.survey;
-    let map = &survey.map;
-    let (coverage, per_cell) = map.coverage();
-    json!({
-        "granularity_m": granularity,
-        "cells": survey.cells.cells().len(),
-        "rooms": survey.cells.rooms().len(),
-        "scans_added": survey.counts.iter().map(|c| c.added).collect::<Vec<_>>(),
-        "scans_skipped": survey.counts.iter().map(|c| c.skipped).collect::<Vec<_>>(),
-        "coverage": coverage,
-        "mean_scans_per_covered_cell": per_cell,
-        "access_points": map.access_points().len(),
-        "epsilon": map.epsilon,
-        "epsilon_sqrt": map.epsilon_sqrt,
-    })
 }

@@ -64,6 +64,7 @@ pub(crate) fn py_error(error: footslam::Error) -> PyErr {
                 RemedyValue::Flag => format!("{}=True", remedy.option),
                 RemedyValue::Number(v) => format!("{}={v}", remedy.option),
                 RemedyValue::LatLon(lat, lon) => format!("{}=({lat}, {lon})", remedy.option),
+                RemedyValue::Described(what) => format!("{}=<{what}>", remedy.option),
             };
             FootslamError::new_err(format!("{problem}, or pass {keyword}"))
         }

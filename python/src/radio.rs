@@ -3,7 +3,6 @@
 //! cells of the plan learned from the merged map.
 
 use crate::inputs::{self, Document};
-use crate::learn_outputs::radio_summary;
 use crate::outputs::json_object;
 use crate::tables::{WIFI, table};
 use crate::{detached, fail, py_error};
@@ -11,7 +10,7 @@ use footslam::filter::PathPoint;
 use footslam::io::floor_plan_geojson::floor_plan_to_geojson;
 use footslam::io::radio_map_geojson::radio_map_to_geojson;
 use footslam::map::{CellConfig, PlanConfig};
-use footslam::pipeline::{learned_radio_map, scans_off_clock};
+use footslam::pipeline::{LearnRadioReport, learned_radio_map, scans_off_clock};
 use footslam::sensor::WifiScan;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -113,7 +112,8 @@ pub(crate) fn radio_map<'py>(
         let radio = learned_radio_map(&walks, &stored.map, &cells).map_err(py_error)?;
         Ok((radio, stored.frame))
     })?;
-    let summary = radio_summary(&radio, cells.granularity);
+    let scans = logs_read.iter().map(Vec::len).collect();
+    let summary = LearnRadioReport::new(scans, &radio, &cells);
     let result = PyDict::new(py);
     result.set_item(
         "radio_map",

@@ -94,6 +94,11 @@ def same_report(got, expected, path="summary"):
         for k, v in expected.items():
             if k not in VARYING:
                 same_report(got[k], v, f"{path}.{k}")
+    elif isinstance(expected, list):
+        assert isinstance(got, list) and len(got) == len(expected), \
+            f"{path}: {len(got)} items vs {len(expected)}"
+        for i, (g, e) in enumerate(zip(got, expected)):
+            same_report(g, e, f"{path}[{i}]")
     else:
         assert got == expected, f"{path}: {got!r} vs {expected!r}"
     return True

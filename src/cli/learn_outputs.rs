@@ -1,12 +1,9 @@
 //! The outputs of one learned walk: its track (CSV and GeoJSON), map (GeoJSON and one picture
-//! per floor), walkable plan and configuration, and its figures for `summary.json`.
+//! per floor), walkable plan and configuration, and its report for `summary.json`.
 
 use super::field_outputs::write_field_map_png;
-use super::learn_inputs::WalkFiles;
 use anyhow::Result;
-use footslam::filter::departure::Departure;
-use footslam::geometry::path_length;
-use footslam::geometry::{HexGrid, LocalFrame};
+use footslam::geometry::LocalFrame;
 use footslam::io::RunFolder;
 use footslam::io::field_map_geojson::write_field_map_geojson;
 use footslam::io::floor_plan_geojson::write_floor_plan;
@@ -14,127 +11,8 @@ use footslam::io::map_geojson::write_map_geojson;
 use footslam::io::track_geojson::write_track_geojson;
 use footslam::io::{TimedPoint, TrackPoint, write_trajectory, write_trajectory_with};
 use footslam::map::{HexMapSnapshot, PlanConfig, walkable_plan};
-use footslam::model::PairLikelihood;
-use footslam::pipeline::{
-    AxesReport, FieldReport, LearnWalk, Quality, QualityConfig, SmoothingReport, WalkRun,
-};
+use footslam::pipeline::{LearnWalk, PreparedLearn, WalkLabels, WalkReport, WalkRun};
 use footslam::render::map_png::{MapPicture, PictureConfig, write_map_png};
-use serde::Serialize;
-
-/// One walk's figures in `summary.json`.
-#[derive(Debug, Serialize)]
-pub(super) struct Summary {
-    /// The walk's verdict and its reasons (docs/robustness.md).
-    pub(super) quality: Quality,
-    steps_file: String,
-    gps_file: Option<String>,
-    /// Steps of the trace that carry an absolute heading.
-    steps_with_heading: usize,
-    /// Steps whose absolute heading weighted the particles.
-    headings_used: usize,
-    pub(super) particles: usize,
-    pub(super) steps: usize,
-    seed: u64,
-    pub(super) filter_runtime_s: f64,
-    pub(super) particle_steps_per_s: f64,
-    pub(super) final_effective_sample_size: f64,
-    min_effective_sample_size: f64,
-    resamplings: usize,
-    best_particle: usize,
-    best_particle_weight: f64,
-    best_path_log_likelihood: f64,
-    pub(super) hexagons: usize,
-    /// Floors found from the steps' height changes (1 for a walk on one floor).
-    levels: usize,
-    map_area_m2: f64,
-    path_length_m: f64,
-    pub(super) gps_fixes: usize,
-    pub(super) gps_fixes_used: usize,
-    /// How far path and map were moved towards the prior map's frame, metres.
-    prior_offset_m: (f64, f64),
-    /// Where the walk's orientation came from and how well it is known.
-    heading: HeadingSummary,
-    /// Walkable area of `plan.geojson`, m² (`None`: the map had too little to make a plan
-    /// of, and no file was written).
-    walkable_plan_m2: Option<f64>,
-    /// With WiFi: how the scans weighed inside the filter (`None` without scans).
-    wifi_in_filter: Option<WifiSummary>,
-    /// Whether the walk's turns showed the building's dominant directions, and how many
-    /// straight steps they weighed.
-    building_axes: AxesReport,
-    /// With the steps' magnetic field (`field` column): how it weighed inside the filter.
-    pub(super) magnetic_field: Option<FieldReport>,
-    /// The whole-walk answer in `track.csv`: how many final paths it averages and how far
-    /// they spread.
-    pub(super) smoothing: SmoothingReport,
-    /// How far the learned path departs from the dead-reckoned steps (`dead_reckoning.csv`),
-    /// what supports it, and which path `track.csv` holds (`answer`).
-    departure_from_dead_reckoning: Departure,
-}
-
-/// How a walk's WiFi scans weighed inside the filter ([`footslam::model::scan_pairs`]).
-#[derive(Debug, Serialize)]
-struct WifiSummary {
-    /// Scans in the walk's WiFi log.
-    scans: usize,
-    /// Rows of the log that repeated an access point within a scan (the later kept).
-    duplicate_readings: usize,
-    /// Scans that weighted the particles.
-    scans_used: usize,
-    /// Scan pairs close enough in time to calibrate the model on dead reckoning.
-    calibration_pairs: usize,
-    /// Pairs of a scan and an earlier one that weighed in.
-    informative_pairs: usize,
-    /// How long before its time stamp a scan was heard, as calibrated, seconds.
-    latency_s: Option<f64>,
-    /// The calibrated model: per distance bin the median dissimilarity and its spread, dB.
-    model: Option<PairLikelihood>,
-    /// In a FeetSLAM pass: the other walks' scans (where the pass before placed them) the
-    /// scans were weighed against, and the pairs that calibrated that model (`None`: not
-    /// in this run).
-    cross_walk_references: Option<usize>,
-    cross_walk_calibration_pairs: Option<usize>,
-    /// The part of `best_path_log_likelihood` the scans gave.
-    best_path_wifi_log_likelihood: f64,
-    /// Why the scans did not weigh (`None` when they did).
-    unused: Option<String>,
-}
-
-impl WifiSummary {
-    fn of(walk: &LearnWalk, run: &WalkRun, duplicate_readings: usize) -> Option<Self> {
-        let outcome = run.wifi.as_ref()?;
-        let evidence = outcome.as_ref().ok();
-        Some(Self {
-            scans: walk.scans.len(),
-            duplicate_readings,
-            scans_used: run.filter.scans_used(),
-            calibration_pairs: evidence.map_or(0, |e| e.calibration_pairs),
-            informative_pairs: evidence.map_or(0, |e| e.pairs()),
-            latency_s: evidence.map(|e| e.latency_s),
-            model: evidence.map(|e| e.likelihood.clone()),
-            cross_walk_references: run.wifi_references.as_ref().map(|r| r.references()),
-            cross_walk_calibration_pairs: run.wifi_references.as_ref().map(|r| r.calibration_pairs),
-            best_path_wifi_log_likelihood: run.estimate.wifi_log_likelihood,
-            unused: outcome.as_ref().err().map(ToString::to_string),
-        })
-    }
-}
-
-/// Where a walk's start heading came from and how uncertain the map's orientation is.
-#[derive(Debug, Clone, Copy, Serialize)]
-struct HeadingSummary {
-    /// `gps fixes` (the first fixes' track), `compass` (the steps' `heading` column),
-    /// `config` (`start.heading` with `start_heading_sigma`), `assumed` (`start.heading`,
-    /// exact: a map in the walk's own frame) or `unknown` (uniform over the circle).
-    start_source: &'static str,
-    /// The start heading, degrees counter-clockwise from east.
-    start_deg: f64,
-    /// Its spread before the walk, degrees (1σ; 0 when assumed exact).
-    start_sigma_deg: f64,
-    /// The spread of the particles' headings after the last step, degrees (1σ,
-    /// [`FootSlam::heading_spread`]): the map's orientation as the whole walk pins it.
-    final_sigma_deg: f64,
-}
 
 /// The frame of a run's maps, what placed it on the globe, and the part of it the pictures
 /// show.
@@ -151,16 +29,13 @@ pub(super) struct MapFrame<'a> {
 }
 
 impl<'a> MapFrame<'a> {
-    /// The frame of a run's `input`: anchored by its outline or prior map; the pictures
+    /// The frame of a prepared run: anchored by its outline or prior map; the pictures
     /// show `picture_extent`, else what they draw.
-    pub(super) fn of(
-        input: &'a footslam::pipeline::LearnInput<'a>,
-        picture_extent: Option<[f64; 4]>,
-    ) -> Self {
+    pub(super) fn of(prepared: &'a PreparedLearn, picture_extent: Option<[f64; 4]>) -> Self {
         Self {
-            frame: &input.frame,
-            outline: input.outline,
-            anchored: input.outline.is_some() || input.prior_map.is_some(),
+            frame: &prepared.frame,
+            outline: prepared.outline.as_ref(),
+            anchored: prepared.outline.is_some() || prepared.prior_map.is_some(),
             picture_extent,
         }
     }
@@ -237,16 +112,16 @@ impl MapPictures<'_> {
     }
 }
 
-/// Writes one walk's outputs under `prefix` and returns its summary.
+/// Writes one walk's outputs under `prefix` and returns its report.
 pub(super) fn write_walk(
     folder: &RunFolder,
     prefix: &str,
-    files: &WalkFiles,
+    labels: &WalkLabels,
     walk: &LearnWalk,
     run: &WalkRun,
     frame: &MapFrame,
-) -> Result<Summary> {
-    let (config, estimate, filter) = (&run.config, &run.estimate, &run.filter);
+) -> Result<WalkReport> {
+    let (config, estimate) = (&run.config, &run.estimate);
     let (anchors, frame) = (frame, frame.frame);
     let north_up = anchors.anchored || run.heading_is_absolute();
     let at = |name: &str| folder.path(&format!("{prefix}{name}"));
@@ -291,7 +166,10 @@ pub(super) fn write_walk(
         write_field_map_geojson(&at("fieldmap.geojson"), field, frame)?;
         write_field_map_png(&at("fieldmap.png"), field, &path, north_up)?;
     }
-    let walkable_plan_m2 = write_learned_plan(&at("plan.geojson"), &estimate.map, frame)?;
+    let plan = walkable_plan(&estimate.map, &PlanConfig::default()).ok();
+    if let Some(plan) = &plan {
+        write_floor_plan(&at("plan.geojson"), &plan.plan, frame)?;
+    }
     let pictures = MapPictures {
         path: &path,
         path_label: "most probable path",
@@ -315,48 +193,7 @@ pub(super) fn write_walk(
                 y: p.y,
             }),
     )?;
-    let ess = filter.ess_history();
-    let steps = walk.trace.len();
-    Ok(Summary {
-        quality: run.quality(&QualityConfig::default()),
-        steps_file: files.steps_path.display().to_string(),
-        gps_file: files.gps_path.as_ref().map(|p| p.display().to_string()),
-        steps_with_heading: walk.trace.with_heading(),
-        headings_used: filter.headings_used(),
-        particles: config.particles,
-        steps,
-        seed: config.seed,
-        filter_runtime_s: run.runtime_s,
-        particle_steps_per_s: (config.particles * steps) as f64 / run.runtime_s.max(1e-9),
-        final_effective_sample_size: filter.effective_sample_size(),
-        min_effective_sample_size: ess.iter().copied().fold(f64::INFINITY, f64::min),
-        resamplings: filter.resamplings(),
-        best_particle: estimate.index,
-        best_particle_weight: estimate.weight,
-        best_path_log_likelihood: estimate.path_log_likelihood,
-        hexagons: estimate.map.cells.len(),
-        levels: estimate.map.levels.len().max(1),
-        map_area_m2: estimate.map.cells.len() as f64 * HexGrid::new(config.hex_radius).cell_area(),
-        path_length_m: path_length(path.iter().map(|&(x, y, _)| (x, y))),
-        gps_fixes: walk.fixes.len(),
-        gps_fixes_used: filter.gps_fixes_used(),
-        prior_offset_m: estimate.prior_offset,
-        walkable_plan_m2,
-        wifi_in_filter: WifiSummary::of(walk, run, files.wifi_duplicate_readings),
-        building_axes: run.axes_report(),
-        magnetic_field: run.field_report(),
-        smoothing: run.smoothing_report(),
-        departure_from_dead_reckoning: run.departure.clone(),
-        heading: HeadingSummary {
-            start_source: run.start_source,
-            start_deg: config.start.heading.to_degrees(),
-            start_sigma_deg: config
-                .start_heading_sigma
-                .min(std::f64::consts::PI)
-                .to_degrees(),
-            final_sigma_deg: filter.heading_spread().to_degrees(),
-        },
-    })
+    Ok(WalkReport::new(walk, run, labels, plan.as_ref()))
 }
 
 /// Writes the walkable plan of `map` ([`walkable_plan`], default settings) to `path` and

@@ -9,17 +9,17 @@
 
 use super::common::{output_dir, walk_prefix};
 use super::learn_args::{Args, Shard};
-use super::learn_inputs::{check_anchors, read_anchors, read_found, read_manifest};
-use super::learn_outputs::{MapFrame, Summary, write_walk};
+use super::learn_inputs::{read_found, read_manifest, read_prior_map, read_request};
+use super::learn_outputs::{MapFrame, write_walk};
 use super::progress_bars::Bars;
 use anyhow::{Context, Result, bail};
-use footslam::filter::FootSlamConfig;
 use footslam::geometry::LocalFrame;
 use footslam::io::map_geojson::{StoredMap, read_stored_map};
 use footslam::io::{ManifestWalk, RunFolder};
-use footslam::map::{CellConfig, HexMapSnapshot};
+use footslam::map::HexMapSnapshot;
 use footslam::pipeline::{
-    ItemProgress, LearnInput, LearnWalk, Progress, WalkRun, default_frame, learn_one, others_map,
+    ItemProgress, PreparedLearn, Progress, WalkReport, WalkRun, default_frame, others_map,
+    prepare_learn,
 };
 use rayon::prelude::*;
 use serde::Serialize;
@@ -35,26 +35,26 @@ struct ShardSummary {
     shard_walks: Vec<usize>,
     /// The previous pass's shard folders (empty: the first pass, each walk alone).
     previous: Vec<String>,
-    walks: Vec<Summary>,
+    walks: Vec<WalkReport>,
     runtime_s: f64,
     peak_memory_bytes: Option<u64>,
     origin: LocalFrame,
     version: &'static str,
 }
 
-/// Learns the shard's walks (`walks`, their manifest rows `mine`, and in a FeetSLAM pass
+/// Learns the prepared shard's walks (their manifest rows `mine`, and in a FeetSLAM pass
 /// the other walks' maps `others`) in parallel, a bar for the walks and one per walk.
 fn learn_shard_walks(
     args: &Args,
-    input: &LearnInput,
-    (walks, mine, others): (&[LearnWalk], &[usize], &[Option<HexMapSnapshot>]),
-    config: &FootSlamConfig,
+    prepared: &PreparedLearn,
+    mine: &[usize],
+    others: &[Option<HexMapSnapshot>],
 ) -> Result<Vec<WalkRun>> {
     let pool = super::common::worker_pool(args.threads)?;
     let bars = Bars::default();
-    bars.start("learning the shard's walks", walks.len() as u64);
+    bars.start("learning the shard's walks", mine.len() as u64);
     let runs = pool.install(|| {
-        (0..walks.len())
+        (0..mine.len())
             .into_par_iter()
             .map(|i| {
                 let item = ItemProgress {
@@ -62,8 +62,7 @@ fn learn_shard_walks(
                     item: i,
                     label: format!("walk {}", mine[i] + 1),
                 };
-                let others = others[i].as_ref();
-                let run = learn_one(input, &walks[i], mine[i], others, config, Some(&item));
+                let run = prepared.run_one(i, mine[i], others[i].as_ref(), Some(&item));
                 bars.advance(1);
                 run
             })
@@ -74,35 +73,28 @@ fn learn_shard_walks(
 }
 
 /// Runs one shard of `learn --walks`.
-pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) -> Result<()> {
+pub fn run(args: &Args, manifest: &Path, shard: Shard) -> Result<()> {
     let started = Instant::now();
     let all = read_manifest(manifest)?;
     let mine: Vec<usize> = (shard.index..all.len()).step_by(shard.count).collect();
     let found: Vec<ManifestWalk> = mine.iter().map(|&k| all[k].clone()).collect();
-    let (files, walks) = read_found(found, args.gps_t0)?;
-    let frame = |prior: Option<&StoredMap>| batch_frame(args, &all, prior);
-    let (prior_map, frame, outline) = read_anchors(args, config, frame)?;
-    let anchors = (&frame, outline.as_ref(), args.outline.as_deref());
-    check_anchors(&files, &walks, anchors, config)?;
+    let mut request = read_request(args, &found)?;
+    if request.origin.is_none() {
+        let prior = read_prior_map(args)?;
+        request.origin = Some(batch_frame(args, &all, prior.as_ref().map(|m| &m.value))?);
+    }
+    let prepared = prepare_learn(request, &Bars::default())?;
     let others = previous_priors(&args.previous, &all, &mine)?;
-    let input = LearnInput {
-        walks: &walks,
-        frame,
-        outline: outline.as_ref(),
-        prior_map: prior_map.as_ref(),
-        cells: CellConfig::default(),
-    };
-    let runs = learn_shard_walks(args, &input, (&walks, &mine, &others), config)?;
+    let runs = learn_shard_walks(args, &prepared, &mine, &others)?;
     let folder = shard_folder(args, manifest, &all)?;
     let mut summaries = Vec::with_capacity(runs.len());
-    let map_frame = MapFrame::of(&input, args.picture_extent);
+    let map_frame = MapFrame::of(&prepared, args.picture_extent);
     for (i, run) in runs.iter().enumerate() {
         let prefix = walk_prefix(&folder, mine[i], true)?;
-        summaries.push(write_walk(
-            &folder, &prefix, &files[i], &walks[i], run, &map_frame,
-        )?);
+        let (labels, walk) = (&prepared.labels[i], &prepared.walks[i]);
+        summaries.push(write_walk(&folder, &prefix, labels, walk, run, &map_frame)?);
     }
-    folder.write_json("config.json", config)?;
+    folder.write_json("config.json", &prepared.config)?;
     let summary = ShardSummary {
         shard,
         manifest_walks: all.len(),
@@ -115,7 +107,7 @@ pub fn run(args: &Args, manifest: &Path, shard: Shard, config: &FootSlamConfig) 
         walks: summaries,
         runtime_s: started.elapsed().as_secs_f64(),
         peak_memory_bytes: footslam::memory::peak_bytes(),
-        origin: frame,
+        origin: prepared.frame,
         version: env!("CARGO_PKG_VERSION"),
     };
     folder.write_json("summary.json", &summary)?;
@@ -157,7 +149,13 @@ fn batch_frame(
         .take(1)
         .cloned()
         .collect();
-    let (_, walks) = read_found(first_with_gps, args.gps_t0)?;
+    let walks: Vec<_> = read_found(&first_with_gps, args.gps_t0)?
+        .into_iter()
+        .map(|w| footslam::pipeline::LearnWalk {
+            fixes: w.gps.map(|g| g.0.value).unwrap_or_default(),
+            ..Default::default()
+        })
+        .collect();
     Ok(default_frame(prior_map, &walks))
 }
 

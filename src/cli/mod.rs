@@ -28,7 +28,6 @@ mod learn;
 mod learn_args;
 mod learn_inputs;
 mod learn_outputs;
-mod learn_radio;
 mod learn_shard;
 mod merge;
 mod plan;
@@ -151,6 +150,7 @@ fn spelled(e: &anyhow::Error) -> String {
             RemedyValue::Flag => flag,
             RemedyValue::Number(v) => format!("{flag} {v}"),
             RemedyValue::LatLon(lat, lon) => format!("{flag} {lat},{lon}"),
+            RemedyValue::Described(what) => format!("{flag} <{what}>"),
         }
     };
     e.chain()

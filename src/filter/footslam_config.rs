@@ -51,15 +51,6 @@ pub struct FootSlamConfig {
     /// How well a building outline is known, metres: the outline fit counts a crossing only
     /// from this far inside to this far outside ([`crate::filter::outline_fit`]). Default 1.5 m.
     pub outline_margin: f64,
-    /// Weight `w` of a prior map's counts as pseudo-counts on top of `α`. Default 1.
-    pub prior_weight: f64,
-    /// FeetSLAM iterations for a batch of walks learned into one frame (every walk with a
-    /// known start): after the walks are learned alone, each is learned again
-    /// `iterations` times with the merged map of the others (from the pass before) as its
-    /// prior, weighted by `prior_weight`. Default 2: the first pass shares what the others
-    /// saw; the second lets walks that were wrong alone correct the others in turn, and more
-    /// passes change little (docs/footslam.md) while each costs a full run.
-    pub iterations: u32,
     /// Step error model.
     pub motion: StepMotionConfig,
     /// Resampling.
@@ -91,9 +82,6 @@ pub struct FootSlamConfig {
     pub departure: DepartureConfig,
 }
 
-/// The most FeetSLAM iterations a configuration may ask for.
-const MAX_ITERATIONS: u32 = 20;
-
 impl Default for FootSlamConfig {
     fn default() -> Self {
         Self {
@@ -108,8 +96,6 @@ impl Default for FootSlamConfig {
             start_heading_sigma: 0.0,
             outline_alpha: 0.05,
             outline_margin: 1.5,
-            prior_weight: 1.0,
-            iterations: 2,
             motion: StepMotionConfig::default(),
             resample: ResampleConfig::default(),
             gps: GpsConfig::default(),
@@ -162,7 +148,6 @@ impl FootSlamConfig {
         for (field, v, hi) in [
             ("start_position_sigma", self.start_position_sigma, 10_000.0),
             ("start_heading_sigma", self.start_heading_sigma, 1000.0),
-            ("prior_weight", self.prior_weight, 1000.0),
             ("outline_margin", self.outline_margin, 100.0),
         ] {
             if !(v.is_finite() && (0.0..=hi).contains(&v)) {
@@ -172,13 +157,6 @@ impl FootSlamConfig {
                     "must be a finite number ≥ 0 (and not absurd)",
                 ));
             }
-        }
-        if self.iterations > MAX_ITERATIONS {
-            return Err(crate::error::Error::config(
-                "iterations",
-                self.iterations.to_string(),
-                "must be at most 20 (each is a full pass over the walks)",
-            ));
         }
         if !(self.outline_alpha.is_finite()
             && self.outline_alpha > 0.0

@@ -60,7 +60,7 @@ pub use geojson_file::write_geojson;
 pub use gps_csv::{read_gps_csv, write_gps_csv};
 pub use gpx_file::{parse_utc_time, read_gpx};
 pub use imu_csv::{ImuUnits, read_imu, read_imu_in, write_imu};
-pub use outline_geojson::{read_outline, write_outline};
+pub use outline_geojson::{WorldOutline, read_outline, read_world_outline, write_outline};
 pub use ros_map::write_ros_map;
 pub use run_folder::RunFolder;
 pub use steps_csv::{read_steps, read_steps_with_field};

@@ -10,19 +10,54 @@ use geojson::{Feature, FeatureCollection, GeoJson, Geometry, GeometryValue, Json
 use serde_json::json;
 use std::path::Path;
 
-/// Reads the outline polygon in the local frame `frame`; errors name the file and problem.
-pub fn read_outline(path: &Path, frame: &LocalFrame) -> Result<Polygon<f64>> {
-    outline_from_text(&super::geojson_file::read_json_text(path)?, path, frame)
+/// A building's outline as read, in WGS84 (longitude, latitude): [`WorldOutline::project`]
+/// puts it in a run's frame once the run knows its frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorldOutline {
+    /// The exterior ring's positions, `[lon, lat]` degrees.
+    ring: geojson::PolygonType,
+    /// The file (or name) it came from, for errors.
+    name: std::path::PathBuf,
 }
 
-/// Reads the outline polygon from GeoJSON `text` (a Polygon, Feature or FeatureCollection
-/// of one, as [`read_outline`] reads a file); errors name `name`.
+impl WorldOutline {
+    /// The outline in the local frame `frame`: a valid polygon, or an error naming the file.
+    pub fn project(&self, frame: &LocalFrame) -> Result<Polygon<f64>> {
+        let whole = |m: String| Error::parse(&self.name, 0, m);
+        let polygon =
+            read_polygon(&self.ring, frame).map_err(|m| whole(format!("outline polygon: {m}")))?;
+        let polygon = Polygon::new(polygon.exterior().clone(), Vec::new());
+        if let Err(e) = polygon.check_validation() {
+            return Err(whole(format!("outline polygon is not valid: {e}")));
+        }
+        Ok(polygon)
+    }
+}
+
+/// Reads the outline polygon in the local frame `frame`; errors name the file and problem.
+pub fn read_outline(path: &Path, frame: &LocalFrame) -> Result<Polygon<f64>> {
+    read_world_outline(path)?.project(frame)
+}
+
+/// Reads the outline of a GeoJSON file, in WGS84; errors name the file and problem.
+pub fn read_world_outline(path: &Path) -> Result<WorldOutline> {
+    outline_from_text(&super::geojson_file::read_json_text(path)?, path)
+}
+
+/// Reads the outline from GeoJSON `text` (a Polygon, Feature or FeatureCollection of one,
+/// as [`read_world_outline`] reads a file); errors name `name`.
+pub fn world_outline_from_str(text: &str, name: &str) -> Result<WorldOutline> {
+    outline_from_text(text, Path::new(name))
+}
+
+/// Reads the outline polygon from GeoJSON `text` in the local frame `frame`; errors name
+/// `name`.
 pub fn outline_from_str(text: &str, name: &str, frame: &LocalFrame) -> Result<Polygon<f64>> {
-    outline_from_text(text, Path::new(name), frame)
+    world_outline_from_str(text, name)?.project(frame)
 }
 
 /// The outline of `text`; errors name `path`.
-fn outline_from_text(text: &str, path: &Path, frame: &LocalFrame) -> Result<Polygon<f64>> {
+fn outline_from_text(text: &str, path: &Path) -> Result<WorldOutline> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let whole = |m: String| Error::parse(path, 0, m);
     let json: GeoJson = serde_json::from_str(text)
@@ -70,13 +105,10 @@ fn outline_from_text(text: &str, path: &Path, frame: &LocalFrame) -> Result<Poly
     let exterior: geojson::PolygonType = rings.into_iter().take(1).collect();
     crate::io::floor_plan_geojson::check_vertices(&exterior)
         .map_err(|m| whole(format!("outline polygon: {m}")))?;
-    let polygon =
-        read_polygon(&exterior, frame).map_err(|m| whole(format!("outline polygon: {m}")))?;
-    let polygon = Polygon::new(polygon.exterior().clone(), Vec::new());
-    if let Err(e) = polygon.check_validation() {
-        return Err(whole(format!("outline polygon is not valid: {e}")));
-    }
-    Ok(polygon)
+    Ok(WorldOutline {
+        ring: exterior,
+        name: path.to_path_buf(),
+    })
 }
 
 /// Writes `outline` (local coordinates placed by `frame`) as a FeatureCollection holding one

@@ -13,11 +13,11 @@
 //!    survey with no drawn plan).
 
 use super::Progress;
+use super::learn_config::LearnConfig;
 use super::learn_walks::{Shared, learn_batch, learn_walk_at, walk_prior};
 use crate::Result;
 use crate::filter::{
-    EPSILON_MISS, FootSlamConfig, FootSlamEstimate, PathPoint, PathSurvey, RfConfig, path_points,
-    survey_paths,
+    EPSILON_MISS, FootSlamEstimate, PathPoint, PathSurvey, RfConfig, path_points, survey_paths,
 };
 use crate::geometry::{HexGrid, LocalFrame};
 use crate::io::map_geojson::StoredMap;
@@ -41,8 +41,6 @@ pub struct LearnInput<'a> {
     pub outline: Option<&'a Polygon<f64>>,
     /// A map learned earlier, on the run's grid: its counts become prior pseudo-counts.
     pub prior_map: Option<&'a StoredMap>,
-    /// Radio-map cells, for walks with WiFi.
-    pub cells: CellConfig,
 }
 
 /// What [`learn`] gives.
@@ -94,20 +92,15 @@ pub fn default_frame(prior_map: Option<&StoredMap>, walks: &[LearnWalk]) -> Loca
 }
 
 /// Learns the walks of `input` with `config` in the stages of the [module](self).
-pub fn learn(
-    input: &LearnInput,
-    config: &FootSlamConfig,
-    progress: &dyn Progress,
-) -> Result<Learned> {
+pub fn learn(input: &LearnInput, config: &LearnConfig, progress: &dyn Progress) -> Result<Learned> {
     config.validate()?;
-    input.cells.validate()?;
     // 1. prior
     let base = base_prior(input, config);
     // 2. walks
     let shared = base.shared(input, config);
     let (walks, iterations) = learn_batch(input.walks, &shared, progress)?;
     let estimates: Vec<&FootSlamEstimate> = walks.iter().map(|r| &r.estimate).collect();
-    let combined = combine(input, &estimates)?;
+    let combined = combine(input, &estimates, &config.cells)?;
     Ok(Learned {
         walks,
         iterations,
@@ -120,8 +113,12 @@ pub fn learn(
 
 /// Stages 3 and 4 of [`learn`] on the walks' answers (one per walk of `input`, in order,
 /// from [`learn`]'s stage 2 or from [`learn_one`] tasks after the FeetSLAM passes): the
-/// merged maps and the radio map.
-pub fn combine(input: &LearnInput, estimates: &[&FootSlamEstimate]) -> Result<Combined> {
+/// merged maps and the radio map on `cells`.
+pub fn combine(
+    input: &LearnInput,
+    estimates: &[&FootSlamEstimate],
+    cells: &CellConfig,
+) -> Result<Combined> {
     if estimates.len() != input.walks.len() {
         return Err(crate::Error::mismatch(
             format!(
@@ -163,7 +160,7 @@ pub fn combine(input: &LearnInput, estimates: &[&FootSlamEstimate]) -> Result<Co
                 merge_maps(&all)?
             }
         };
-        Some(radio_map(input.walks, estimates, &run_map, &input.cells)?)
+        Some(radio_map(input.walks, estimates, &run_map, cells)?)
     } else {
         None
     };
@@ -185,7 +182,7 @@ struct BasePrior {
 
 impl BasePrior {
     /// What every walk of `input`'s run shares.
-    fn shared<'a>(&'a self, input: &'a LearnInput, config: &'a FootSlamConfig) -> Shared<'a> {
+    fn shared<'a>(&'a self, input: &'a LearnInput, config: &'a LearnConfig) -> Shared<'a> {
         Shared {
             config,
             frame: &input.frame,
@@ -197,7 +194,8 @@ impl BasePrior {
 }
 
 /// Stage 1: the Dirichlet prior every walk of the run starts from.
-fn base_prior(input: &LearnInput, config: &FootSlamConfig) -> BasePrior {
+fn base_prior(input: &LearnInput, learn: &LearnConfig) -> BasePrior {
+    let config = &learn.footslam;
     let grid = HexGrid::new(config.hex_radius);
     let mut prior = EdgePrior::uniform(config.alpha);
     let outline_edges = input
@@ -205,7 +203,7 @@ fn base_prior(input: &LearnInput, config: &FootSlamConfig) -> BasePrior {
         .map_or(0, |o| prior.add_outline(&grid, o, config.outline_alpha));
     let (mut prior_map_hexagons, mut prior_map_walks) = (0, 0);
     if let Some(stored) = input.prior_map {
-        prior.add_counts(&stored.map, config.prior_weight);
+        prior.add_counts(&stored.map, learn.prior_weight);
         prior_map_hexagons = stored.map.cells.len();
         prior_map_walks = stored.walks;
     }
@@ -233,7 +231,7 @@ pub fn learn_one(
     walk: &LearnWalk,
     index: usize,
     others: Option<&HexMapSnapshot>,
-    config: &FootSlamConfig,
+    config: &LearnConfig,
     steps: Option<&dyn Progress>,
 ) -> Result<WalkRun> {
     config.validate()?;

@@ -2,6 +2,7 @@
 //! given start, GPS fixes or step headings; registered onto a prior map first when it has
 //! GPS), and a batch's FeetSLAM passes, each walk learned again on the others' merged maps.
 
+use super::learn_config::LearnConfig;
 use super::{ItemProgress, Progress};
 use crate::Result;
 use crate::filter::StartPose;
@@ -43,7 +44,7 @@ pub struct LearnWalk {
 
 /// What every walk of a run shares.
 pub(super) struct Shared<'a> {
-    pub(super) config: &'a FootSlamConfig,
+    pub(super) config: &'a LearnConfig,
     pub(super) frame: &'a LocalFrame,
     /// `α` with the outline and the prior map's counts.
     pub(super) prior: &'a EdgePrior,
@@ -54,7 +55,7 @@ pub(super) struct Shared<'a> {
 /// FeetSLAM passes after the first for `walks`: `config.iterations` for a batch whose walks
 /// share a frame (each starts at a known place), else 0. (Walks placed by GPS alone carry
 /// each its own GPS bias: they meet through a prior map's registration instead.)
-pub fn feetslam_passes(walks: &[LearnWalk], config: &FootSlamConfig) -> u32 {
+pub fn feetslam_passes(walks: &[LearnWalk], config: &LearnConfig) -> u32 {
     let one_frame = walks.iter().all(|w| w.start.is_some());
     if walks.len() > 1 && one_frame {
         config.iterations
@@ -97,7 +98,7 @@ pub(super) fn learn_walk_at(
     steps: Option<&dyn Progress>,
     references: Option<Arc<ReferenceScans>>,
 ) -> Result<WalkRun> {
-    let mut config = shared.config.clone();
+    let mut config = shared.config.footslam.clone();
     config.seed = config.seed.wrapping_add(i as u64);
     learn_walk(walk, config, shared, prior, steps, references)
 }
@@ -227,7 +228,7 @@ pub(super) fn learn_batch(
                 ))
             })
             .collect::<Result<Vec<_>>>()?;
-        let references = cross_walk_references(walks, &runs, shared.config);
+        let references = cross_walk_references(walks, &runs, &shared.config.footslam);
         runs = pass(Some(&priors), &references)?;
     }
     if bar {

@@ -18,10 +18,15 @@
 //!   [`track_report`] — its answer and report out.
 
 pub mod input_checks;
+pub mod job_checks;
 pub mod learn;
+pub mod learn_config;
+pub mod learn_job;
+pub mod learn_report;
 mod learn_reports;
 mod learn_walks;
 pub mod merge;
+mod named;
 pub mod plan;
 mod progress;
 pub mod quality;
@@ -42,8 +47,12 @@ pub use learn::{
     Combined, LearnInput, LearnWalk, Learned, LearnedRadio, WalkRun, combine, default_frame,
     feetslam_passes, learn, learn_one, learned_radio_map, others_map,
 };
+pub use learn_config::{LearnConfig, LearnOverrides};
+pub use learn_job::{LearnRequest, LearnWalkRequest, PreparedLearn, WalkLabels, prepare_learn};
+pub use learn_report::{HeadingReport, LearnRadioReport, LearnReport, WalkReport, WalkWifiReport};
 pub use learn_reports::{AxesReport, FieldReport, SmoothingReport};
 pub use merge::merge;
+pub use named::Named;
 pub use plan::{PlanRunConfig, Planned, plan};
 pub use progress::{ItemProgress, Progress, Silent};
 pub use quality::{
@@ -58,7 +67,7 @@ pub use survey::{
 };
 pub use track::{CloudSnapshot, RadioInput, SnapshotSteps, TrackInput, TrackRun, track};
 pub use track_job::{
-    Named, PreparedRadio, PreparedTrack, TrackOverrides, TrackRadioRequest, TrackRequest, prepare,
+    PreparedRadio, PreparedTrack, TrackOverrides, TrackRadioRequest, TrackRequest, prepare,
 };
 pub use track_records::{PlanFit, RecoveryEvent, StepRecord, StepRecords};
 pub use track_report::{PlanStats, RfReport, TrackAnswer, TrackReport, TrackSmoothingReport};

@@ -7,8 +7,8 @@
 //!    makes the output wrong as an error, no steps at all as an error;
 //! 4. **report** — `summary.json` as one typed struct ([`StepsReport`]).
 
+use super::named::Named;
 use super::steps::{DetectorFigures, StepsRun, steps};
-use super::track_job::Named;
 use super::{Quality, steps_quality};
 use crate::error::{Error, Result};
 use crate::inertial::frame_check::axes_flag;

@@ -14,11 +14,11 @@
 //! 5. **report** — `summary.json` as one typed struct ([`TrackReport`](super::TrackReport)).
 
 use super::Progress;
-use super::input_checks::{
-    SAME_ORIGIN_M, ScanMatch, missing_height_changes, partly_off_clock, scans_off_clock,
-};
+use super::input_checks::SAME_ORIGIN_M;
+use super::job_checks::{check_height_changes, check_scans_match, check_scans_on_clock};
+use super::named::Named;
 use super::track::{RadioInput, SnapshotSteps, TrackInput, TrackRun};
-use crate::error::{Error, Remedy, RemedyValue, Result};
+use crate::error::{Error, Result};
 use crate::filter::{RfLocaliser, RfMode, StartPose, TrackerConfig};
 use crate::geometry::LocalFrame;
 use crate::io::map_geojson::StoredMap;
@@ -88,25 +88,6 @@ impl TrackOverrides {
         }
         config.validate()?;
         Ok(config)
-    }
-}
-
-/// A parsed input and the name errors and the report give it (a path, or `<DataFrame>`).
-#[derive(Debug, Clone)]
-pub struct Named<T> {
-    /// The input.
-    pub value: T,
-    /// Its name.
-    pub label: String,
-}
-
-impl<T> Named<T> {
-    /// `value` named `label`.
-    pub fn new(value: T, label: impl Into<String>) -> Self {
-        Self {
-            value,
-            label: label.into(),
-        }
     }
 }
 
@@ -241,17 +222,12 @@ pub fn prepare(request: TrackRequest, progress: &dyn Progress) -> Result<Prepare
         None => None,
     };
     let steps = request.steps;
-    if let Some(problem) =
-        missing_height_changes(&plan, &plan_label, request.steps_have_dz, request.one_floor)
-    {
-        return Err(Error::Remedied {
-            problem: format!("{}: {problem}", steps.label),
-            remedy: Remedy {
-                option: "one_floor",
-                value: RemedyValue::Flag,
-            },
-        });
-    }
+    check_height_changes(
+        &steps.label,
+        request.steps_have_dz,
+        &Named::new(&plan, plan_label.as_str()),
+        request.one_floor,
+    )?;
     if let SnapshotSteps::At(list) = &request.snapshots
         && let Some(late) = list.iter().find(|&&k| k > steps.value.len())
     {
@@ -320,33 +296,12 @@ fn prepare_radio(
     progress: &dyn Progress,
 ) -> Result<PreparedRadio> {
     let (map, scans) = (radio.map, radio.scans);
-    if radio.duplicate_readings > 0 {
-        progress.warn(&format!(
-            "{}: {} row(s) repeated an access point already in their scan; kept the later \
-             reading of each",
-            scans.label, radio.duplicate_readings
-        ));
-    }
-    let steps = trace.steps();
-    if let (Some(first), Some(last)) = (steps.first(), steps.last()) {
-        if let Some(problem) = scans_off_clock(&scans.value, first.t, last.t) {
-            return Err(Error::mismatch(format!("{}: {problem}", scans.label), ""));
-        }
-        let times: Vec<f64> = scans.value.iter().map(|s| s.t).collect();
-        if let Some(w) = partly_off_clock(&times, "scans", first.t, last.t, 0.0) {
-            progress.warn(&format!("{}: {w}", scans.label));
-        }
-    }
-    let found = ScanMatch::of(&map.value, &scans.value);
-    if let Some(problem) = found.unmatched() {
-        return Err(Error::mismatch(
-            format!("{} and {}: {problem}", scans.label, map.label),
-            "",
-        ));
-    }
-    if let Some(w) = found.warning(&scans.label, &map.label) {
-        progress.warn(&w);
-    }
+    check_scans_on_clock(&scans, radio.duplicate_readings, trace, progress)?;
+    let matched = check_scans_match(
+        &Named::new(&map.value, map.label.as_str()),
+        &Named::new(scans.value.as_slice(), scans.label.as_str()),
+        progress,
+    )?;
     let localiser = RfLocaliser::new(&map.value, topology, &config.rf)
         .map_err(|e| within(&map.label, "cannot localise with this radio map", e))?;
     if let Some(why) = localiser.fallback() {
@@ -360,7 +315,7 @@ fn prepare_radio(
         wifi_label: scans.label,
         localiser,
         scans: scans.value,
-        matched: found.matched,
+        matched,
         duplicate_readings: radio.duplicate_readings,
     })
 }

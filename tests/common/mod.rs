@@ -25,7 +25,8 @@ use footslam::io::radio_map_geojson::{read_radio_map_geojson, write_radio_map_ge
 use footslam::io::steps_csv::write_steps;
 use footslam::io::truth_csv::{read_truth, write_truth};
 use footslam::io::{TimedPoint, read_gps_csv, read_steps, read_wifi, write_gps_csv, write_wifi};
-use footslam::map::{CellConfig, FloorPlan, HexMapSnapshot, RadioMap};
+use footslam::map::{FloorPlan, HexMapSnapshot, RadioMap};
+use footslam::pipeline::LearnConfig;
 use footslam::pipeline::{LearnInput, LearnWalk, Learned, Silent, TrackRun, WalkRun, learn};
 use footslam::sensor::{GpsFix, StepTrace, TruePath, TruePose, WifiScan};
 use geo::Polygon;
@@ -115,12 +116,16 @@ pub fn in_own_pool<T: Send>(work: impl FnOnce() -> T + Send) -> T {
 /// The walks learned with `config`, as `footslam learn` learns them (walk `i` with seed
 /// `seed + i`).
 pub fn learn_walks(walks: &[LearnWalk], anchors: Anchors, config: &FootSlamConfig) -> Learned {
+    learn_walks_with(walks, anchors, &LearnConfig::from(config.clone()))
+}
+
+/// The walks learned with the whole job's `config`, as [`learn_walks`].
+pub fn learn_walks_with(walks: &[LearnWalk], anchors: Anchors, config: &LearnConfig) -> Learned {
     let input = LearnInput {
         walks,
         frame: anchors.frame,
         outline: anchors.outline,
         prior_map: anchors.prior_map,
-        cells: CellConfig::default(),
     };
     in_own_pool(|| learn(&input, config, &Silent)).expect("learn")
 }
