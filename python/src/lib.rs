@@ -2,9 +2,10 @@
 //! IMU data, FootSLAM on one walk or a batch, merging maps, plans from learned maps, tracking
 //! on known floor plans and WiFi radio surveys — over numpy arrays, pandas frames or files.
 //!
-//! Each function reads its inputs as the command line reads its files (the same readers and
-//! checks, so the same errors), runs one [`footslam::pipeline`] function with the GIL
-//! released, and returns numpy arrays and GeoJSON dicts. Library errors become
+//! Each function reads its inputs into the job's request as the command line reads its
+//! files (the same readers), runs the job of [`footslam::pipeline`] — its prepare stage
+//! makes the same checks, so the same errors — with the GIL released, and returns numpy
+//! arrays, GeoJSON dicts and the job's report (`summary.json`) as a dict. Library errors become
 //! [`FootslamError`] (a `ValueError`) with the command line's message, a missing file
 //! `FileNotFoundError`, input of the wrong type `TypeError`.
 //!
@@ -17,7 +18,6 @@
 
 use pyo3::prelude::*;
 
-mod checks;
 mod inputs;
 mod learn;
 mod learn_inputs;
@@ -102,15 +102,6 @@ pub(crate) fn int_arg(
 /// line's).
 pub(crate) fn fail(message: impl Into<String>) -> PyErr {
     FootslamError::new_err(message.into())
-}
-
-/// A library error with `context` before its message, as the command line's
-/// `with_context` prints it (`context: message`).
-pub(crate) fn with_context(context: impl std::fmt::Display) -> impl Fn(footslam::Error) -> PyErr {
-    move |error| match error {
-        footslam::Error::Io { .. } => py_error(error),
-        other => fail(format!("{context}: {other}")),
-    }
 }
 
 /// Most worker threads per core (as the command line's `--threads`).

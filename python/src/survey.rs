@@ -1,20 +1,19 @@
 //! `footslam.survey`: a WiFi radio map from walks tracked on a known floor plan, as
 //! `footslam survey` makes it.
 
-use crate::checks::{check_height_changes, read_scans};
-use crate::inputs;
+use crate::inputs::{self, Document};
 use crate::outputs::{Column, columns, json_object};
 use crate::tables::{self, STEPS, Table, WIFI};
-use crate::{Reporter, detached, fail, py_error, with_context};
+use crate::{Reporter, detached, py_error};
 use footslam::filter::StartPose;
 use footslam::io::radio_map_geojson::radio_map_to_geojson;
-use footslam::map::FloorTopology;
-use footslam::model::wifi_distance::held_out_quantiles;
-use footslam::pipeline::{SurveyConfig, SurveyInput, SurveyWalk};
+use footslam::pipeline::{
+    Named, SurveyConfig, SurveyOverrides, SurveyReport, SurveyRequest, SurveyWalkRequest,
+    prepare_survey,
+};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
-use serde_json::json;
 
 /// One walk to survey, as given.
 struct WalkTables {
@@ -119,17 +118,14 @@ pub(crate) fn survey<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let seed = crate::int_arg("seed", seed, u64::MAX)?;
     let threads = crate::int_arg("threads", threads, 1 << 20)?.map(|n| n as usize);
-    let mut config: SurveyConfig = inputs::config(config)?;
-    if let Some(s) = seed {
-        config.tracker.seed = s;
-    }
-    if let Some(s) = inputs::start(start, "start")? {
-        config.tracker.start = Some(s);
-    }
-    if let Some(g) = cell {
-        config.cells.granularity = g;
-    }
-    config.validate().map_err(py_error)?;
+    let started = std::time::Instant::now();
+    let config: SurveyConfig = inputs::config(config)?;
+    let overrides = SurveyOverrides {
+        seed,
+        particles: None,
+        start: inputs::start(start, "start")?,
+        cell,
+    };
     let plan_doc = inputs::document(plan, "floor plan", "plan")?;
     let tables = walk_tables(walks)?;
     let earlier_docs = match merge.filter(|m| !m.is_none()) {
@@ -141,82 +137,29 @@ pub(crate) fn survey<'py>(
             .collect::<PyResult<Vec<_>>>()?,
         None => Vec::new(),
     };
-    if tables.is_empty() && earlier_docs.is_empty() {
-        return Err(fail(
-            "nothing to survey: give walks (steps and WiFi log pairs) or radio maps to merge",
-        ));
-    }
     let origin = inputs::origin(origin)?;
     let report = Reporter::new(progress)?;
-    let (collection, surveyed_walks, coverage, summary) = detached(py, threads, || {
-        let plan_label = plan_doc.label();
-        let (plan, frame) = plan_doc.floor_plan(origin).map_err(py_error)?;
-        let topology = FloorTopology::build(&plan, &config.tracker.topology).map_err(
-            with_context(format!("{plan_label}: not a usable floor plan")),
-        )?;
-        let mut walks = Vec::with_capacity(tables.len());
-        for w in &tables {
-            let trace = w.steps.steps().map_err(py_error)?;
-            check_height_changes(&w.steps, &plan_label, &plan, one_floor)?;
-            let (scans, warning) = read_scans(&w.wifi, &trace)?;
-            if let Some(w) = warning {
-                report.push(w);
-            }
-            walks.push(SurveyWalk {
-                trace,
-                scans,
-                start: w.start,
-            });
-        }
-        let earlier = earlier_docs
-            .iter()
-            .map(|d| d.radio_map(Some(frame)).map(|(m, _)| m))
-            .collect::<footslam::Result<Vec<_>>>()
-            .map_err(py_error)?;
-        let input = SurveyInput {
-            plan: &plan,
-            topology: &topology,
-            walks: &walks,
-            earlier: &earlier,
-        };
-        let surveyed = footslam::pipeline::survey(&input, &config, &report).map_err(py_error)?;
-        let map = &surveyed.map;
-        let (share, mean) = map.coverage();
-        let summary = json!({
-            "quality": surveyed.quality,
-            "cells": surveyed.cells.cells().len(),
-            "rooms": surveyed.cells.rooms().len(),
-            "granularity_m": config.cells.granularity,
-            "coverage": share,
-            "mean_scans_per_covered_cell": mean,
-            "epsilon": map.epsilon,
-            "epsilon_sqrt": map.epsilon_sqrt,
-            "ndist_leave_one_out_p50_p90_p99_max": held_out_quantiles(&surveyed.held),
-            "access_points": map.access_points().len(),
-            "origin": frame,
-            "version": env!("CARGO_PKG_VERSION"),
-        });
-        let surveyed_walks: Vec<serde_json::Value> = walks
-            .iter()
-            .zip(&surveyed.walks)
-            .map(|(walk, done)| {
-                json!({
-                    "start": done.start,
-                    "steps": walk.trace.len(),
-                    "scans": walk.scans.len(),
-                    "steps_to_localise": done.steps_to_localise,
-                    "steps_placed": done.steps_placed,
-                    "scans_added": done.scans_added,
-                    "scans_skipped": done.scans_skipped,
-                    "quality": done.quality,
-                })
+    let (collection, coverage, summary, config) = detached(py, threads, || {
+        let read = || -> footslam::Result<SurveyRequest> {
+            let (plan, frame) = plan_doc.floor_plan(origin)?;
+            Ok(SurveyRequest {
+                walks: read_walks(&tables, &plan, one_floor)?,
+                plan: Named::new(plan, plan_doc.label()),
+                frame,
+                one_floor,
+                earlier: earlier_maps(&earlier_docs, frame)?,
+                config,
+                overrides,
             })
-            .collect();
+        };
+        let prepared = prepare_survey(read().map_err(py_error)?, &report).map_err(py_error)?;
+        let surveyed = prepared.run(&report).map_err(py_error)?;
+        let summary = SurveyReport::new(&prepared, &surveyed, started);
         Ok((
-            radio_map_to_geojson(map, &frame),
-            surveyed_walks,
+            radio_map_to_geojson(&surveyed.map, &prepared.frame),
             surveyed.coverage,
             summary,
+            prepared.config,
         ))
     })?;
     let result = PyDict::new(py);
@@ -243,9 +186,42 @@ pub(crate) fn survey<'py>(
             ],
         )?,
     )?;
-    result.set_item("walks", json_object(py, &surveyed_walks)?)?;
+    result.set_item("walks", json_object(py, &summary.walks)?)?;
     result.set_item("summary", json_object(py, &summary)?)?;
     result.set_item("config", json_object(py, &config)?)?;
     report.emit(py)?;
     Ok(result)
+}
+
+/// The walks' tables parsed: steps (with whether they carry `dz`, where the plan has
+/// several levels and the walks may change floor) and WiFi logs.
+fn read_walks(
+    tables: &[WalkTables],
+    plan: &footslam::map::FloorPlan,
+    one_floor: bool,
+) -> footslam::Result<Vec<SurveyWalkRequest>> {
+    tables
+        .iter()
+        .map(|w| {
+            let log = w.wifi.wifi_log()?;
+            let several = plan.levels().len() > 1 && !one_floor;
+            Ok(SurveyWalkRequest {
+                steps: Named::new(w.steps.steps()?, w.steps.label()),
+                steps_have_dz: !several || w.steps.has_column("dz")?,
+                wifi: Named::new(log.scans, w.wifi.label()),
+                duplicate_readings: log.duplicate_readings,
+                start: w.start,
+            })
+        })
+        .collect()
+}
+
+/// The radio maps to merge, in `frame`.
+fn earlier_maps(
+    docs: &[Document],
+    frame: footslam::geometry::LocalFrame,
+) -> footslam::Result<Vec<footslam::map::RadioMap>> {
+    docs.iter()
+        .map(|d| d.radio_map(Some(frame)).map(|(m, _)| m))
+        .collect()
 }

@@ -82,7 +82,8 @@ def cli_error(done):
 
 
 # What may differ between two runs of one job: how long they took and the memory held.
-VARYING = {"runtime_s", "filter_runtime_s", "particle_steps_per_s", "peak_memory_bytes"}
+VARYING = {"runtime_s", "filter_runtime_s", "particle_steps_per_s", "peak_memory_bytes",
+           "speed_vs_real_time"}
 
 
 def same_report(got, expected, path="summary"):

@@ -164,7 +164,7 @@ def test_inputs_that_do_not_belong_together():
     prior = learned["walks"][0]["map"]
     with pytest.raises(footslam.FootslamError) as grid:
         footslam.learn(STEPS, particles=50, prior_map=prior, hex_radius=0.6)
-    assert "hexagons of radius 0.5 m, but this run uses 0.6 m: pass hex_radius=0.5" in str(
+    assert "hexagons of radius 0.5 m, but this run uses 0.6 m, or pass hex_radius=0.5" in str(
         grid.value
     )
     late = {"t": [5000.0, 5001.0], "lat": [48.1, 48.1], "lon": [11.5, 11.5]}

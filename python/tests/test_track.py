@@ -57,8 +57,9 @@ def test_survey_matches_the_cli(surveyed):
     walk = summary["walks"][0]
     for key in ["steps_to_localise", "steps_placed", "scans_added", "scans_skipped", "quality"]:
         assert got["walks"][0][key] == walk[key], key
-    assert got["summary"]["epsilon"] == summary["epsilon"]
-    assert got["summary"]["quality"] == summary["quality"]
+    assert same_report(got["summary"], summary)
+    assert got["walks"] == got["summary"]["walks"]
+    assert got["config"] == read_json(out / "config.json")
 
 
 def test_track_matches_the_cli(cli, sim, config_file, tmp_path):

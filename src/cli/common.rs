@@ -2,12 +2,10 @@
 
 use anyhow::{Context, Result, bail};
 use footslam::geometry::LocalFrame;
-use footslam::io::steps_csv::has_dz_column;
 use footslam::io::{WifiLog, read_wifi_log};
-use footslam::map::FloorPlan;
 use footslam::map::RadioMap;
-use footslam::pipeline::{ScanMatch, missing_height_changes, partly_off_clock, scans_off_clock};
-use footslam::sensor::{StepTrace, WifiScan};
+use footslam::pipeline::ScanMatch;
+use footslam::sensor::WifiScan;
 use std::path::{Path, PathBuf};
 
 /// Parses `LAT,LON` (degrees).
@@ -236,27 +234,6 @@ pub fn check_scans_match(
     Ok(found.matched)
 }
 
-/// On a plan of several levels the steps must carry height changes (`dz`): without them
-/// every step reads `dz = 0` and the walk could never change floor. `one_floor` (the user
-/// says the walk stays on its floor) allows it.
-pub fn check_height_changes(
-    steps_path: &Path,
-    plan_path: &Path,
-    plan: &FloorPlan,
-    one_floor: bool,
-) -> Result<()> {
-    // Only a plan of several levels needs the steps' file read again for its header.
-    let has_dz = plan.levels().len() <= 1 || one_floor || has_dz_column(steps_path)?;
-    let plan_label = plan_path.display().to_string();
-    if let Some(problem) = missing_height_changes(plan, &plan_label, has_dz, one_floor) {
-        bail!(
-            "{}: {problem}, or pass --one-floor if the walk stays on its start floor",
-            steps_path.display()
-        );
-    }
-    Ok(())
-}
-
 /// A WiFi log, with a warning when rows repeated an access point within a scan.
 pub fn read_wifi_warned(path: &Path) -> Result<WifiLog> {
     let log = read_wifi_log(path)?;
@@ -269,25 +246,6 @@ pub fn read_wifi_warned(path: &Path) -> Result<WifiLog> {
         ));
     }
     Ok(log)
-}
-
-/// WiFi scans, checked to overlap the walk in time: a log on another clock would place no
-/// scan (or every scan at one end of the walk). Returns the scans and how many rows
-/// repeated an access point within a scan (the later kept; a warning says so).
-pub fn read_scans(path: &Path, trace: &StepTrace) -> Result<(Vec<WifiScan>, usize)> {
-    let log = read_wifi_warned(path)?;
-    let steps = trace.steps();
-    let (Some(first), Some(last)) = (steps.first(), steps.last()) else {
-        return Ok((log.scans, log.duplicate_readings));
-    };
-    if let Some(problem) = scans_off_clock(&log.scans, first.t, last.t) {
-        bail!("{}: {problem}", path.display());
-    }
-    let times: Vec<f64> = log.scans.iter().map(|s| s.t).collect();
-    if let Some(problem) = partly_off_clock(&times, "scans", first.t, last.t, 0.0) {
-        warn(&format!("{}: {problem}", path.display()));
-    }
-    Ok((log.scans, log.duplicate_readings))
 }
 
 #[cfg(test)]

@@ -2,22 +2,21 @@
 //! walker on the known plan and adding its scans where it was (Woodman & Harle 2009).
 
 use super::batch_table::walks_table;
-use super::common::{
-    check_height_changes, output_dir, parse_origin, read_config, read_scans, require_file,
-};
+use super::common::{output_dir, parse_origin, read_config, require_file};
 use super::progress_bars::Bars;
 use super::radio_outputs::write_radio_map_files;
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use footslam::filter::StartPose;
 use footslam::geometry::LocalFrame;
 use footslam::io::floor_plan_geojson::read_floor_plan;
 use footslam::io::radio_map_geojson::read_radio_map_geojson;
-use footslam::io::{read_steps, read_walk_manifest};
-use footslam::map::{FloorPlan, FloorTopology, RadioMap};
-use footslam::model::wifi_distance::held_out_quantiles;
-use footslam::pipeline::{Quality, SurveyConfig, SurveyInput, SurveyWalk, Surveyed, survey};
-use serde::Serialize;
-use std::collections::BTreeMap;
+use footslam::io::steps_csv::has_dz_column;
+use footslam::io::{read_steps, read_walk_manifest, read_wifi_log};
+use footslam::map::{FloorPlan, RadioMap};
+use footslam::pipeline::{
+    Named, SurveyConfig, SurveyOverrides, SurveyReport, SurveyRequest, SurveyWalkRequest, Surveyed,
+    prepare_survey,
+};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -88,47 +87,6 @@ pub struct Args {
     threads: Option<usize>,
 }
 
-#[derive(Debug, Serialize)]
-struct WalkSummary {
-    steps_file: String,
-    wifi_file: String,
-    /// The walk's known start (its own from the manifest, else the shared one).
-    start: Option<StartPose>,
-    steps: usize,
-    scans: usize,
-    /// Rows of the WiFi log that repeated an access point within a scan (the later kept).
-    duplicate_readings: usize,
-    steps_to_localise: Option<usize>,
-    /// Steps whose place the survey knew (the whole-walk answer's certain steps, or the
-    /// filtered estimates from localisation on with `tracker.smoothing = false`).
-    steps_placed: usize,
-    scans_added: usize,
-    scans_skipped: usize,
-    /// How well the walk fitted the plan; a `poor` walk's scans are left out of the map.
-    quality: Quality,
-}
-
-#[derive(Debug, Serialize)]
-struct Summary {
-    /// The survey's verdict and its reasons (docs/robustness.md).
-    quality: Quality,
-    walks: Vec<WalkSummary>,
-    cells: usize,
-    rooms: usize,
-    granularity_m: f64,
-    coverage: f64,
-    mean_scans_per_covered_cell: f64,
-    epsilon: Option<f64>,
-    epsilon_sqrt: Option<f64>,
-    /// Per distance (`paper`, `sqrt`): quantiles of the held-out distances ε is chosen from.
-    ndist_leave_one_out_p50_p90_p99_max: BTreeMap<&'static str, [Option<f64>; 4]>,
-    access_points: usize,
-    runtime_s: f64,
-    walk_duration_s: f64,
-    speed_vs_real_time: f64,
-    peak_memory_bytes: Option<u64>,
-}
-
 /// The radio maps of `--radiomap`, to merge into the new one.
 fn read_earlier_maps(args: &Args, frame: LocalFrame) -> Result<Vec<RadioMap>> {
     args.merge
@@ -143,31 +101,11 @@ fn read_earlier_maps(args: &Args, frame: LocalFrame) -> Result<Vec<RadioMap>> {
 /// Runs `footslam survey`.
 pub fn run(args: Args) -> Result<()> {
     let started = Instant::now();
-    if args.steps.len() != args.wifi.len() {
-        bail!(
-            "give one --wifi per --steps (got {} step traces and {} WiFi logs)",
-            args.steps.len(),
-            args.wifi.len()
-        );
-    }
-    let config = survey_config(&args)?;
-    require_file(&args.plan, "floor plan")?;
-    let (plan, frame) = read_floor_plan(&args.plan, args.origin)?;
-    let topology = FloorTopology::build(&plan, &config.tracker.topology)
-        .with_context(|| format!("{}: not a usable floor plan", args.plan.display()))?;
-    let (files, walks) = read_walks(&args, &plan)?;
-    let earlier = read_earlier_maps(&args, frame)?;
-    let input = SurveyInput {
-        plan: &plan,
-        topology: &topology,
-        walks: &walks,
-        earlier: &earlier,
-    };
+    let bars = Bars::default();
+    let prepared = prepare_survey(read_request(&args)?, &bars)?;
     let pool = super::common::worker_pool(args.threads)?;
-    let surveyed = pool
-        .install(|| survey(&input, &config, &Bars::default()))
-        .with_context(|| format!("{}: cannot survey on this plan", args.plan.display()))?;
-    warn_left_out(&files, &surveyed);
+    let surveyed = pool.install(|| prepared.run(&bars))?;
+    warn_left_out(&prepared.labels, &surveyed);
 
     let mut folder = super::common::create_run_folder(&output_dir(args.out.clone(), "survey"))?;
     folder.protect(
@@ -179,62 +117,71 @@ pub fn run(args: Args) -> Result<()> {
             .chain(args.walks.iter())
             .chain(args.config.iter()),
     );
-    let pictures = (&frame, true, args.picture_extent);
-    write_radio_map_files(&folder, "", &plan, &surveyed.map, pictures)?;
+    let pictures = (&prepared.frame, true, args.picture_extent);
+    write_radio_map_files(&folder, "", &prepared.plan.value, &surveyed.map, pictures)?;
     let mut coverage = String::from("granularity_m,cells,coverage_percent,mean_scans_per_cell\n");
     for c in &surveyed.coverage {
         let (g, n, share, mean) = (c.granularity, c.cells, 100.0 * c.share, c.mean_scans);
         coverage.push_str(&format!("{g},{n},{share:.1},{mean:.2}\n"));
     }
     folder.write("coverage.csv", coverage.as_bytes())?;
-    folder.write_json("config.json", &config)?;
-    let summary = Summary::new(&files, &walks, &surveyed, &config, started);
-    folder.write("walks.csv", &walks_table(&summary.walks)?)?;
-    folder.write_json("summary.json", &summary)?;
+    folder.write_json("config.json", &prepared.config)?;
+    let report = SurveyReport::new(&prepared, &surveyed, started);
+    folder.write("walks.csv", &walks_table(&report.walks)?)?;
+    folder.write_json("summary.json", &report)?;
     let out = folder.commit()?;
-    summary.print(&out);
+    print_report(&report, &out);
     Ok(())
 }
 
 /// Warns of each walk whose scans were left out of the map (it does not fit the plan).
-fn warn_left_out(files: &[WalkFiles], surveyed: &Surveyed) {
-    for (f, w) in files.iter().zip(&surveyed.walks) {
+fn warn_left_out(labels: &[footslam::pipeline::SurveyWalkLabels], surveyed: &Surveyed) {
+    for (f, w) in labels.iter().zip(&surveyed.walks) {
         if w.left_out() {
             super::common::warn(&format!(
                 "{}: {}; its scans were left out of the radio map",
-                f.steps.display(),
+                f.steps,
                 w.quality.line()
             ));
         }
     }
 }
 
-/// The survey's configuration: the config file's (or the defaults) with the flags'
-/// overrides, validated.
-fn survey_config(args: &Args) -> Result<SurveyConfig> {
-    let mut config: SurveyConfig = match &args.config {
+/// The request of `survey`: the plan, the walks and the radio maps to merge read, the
+/// configuration file's and the flags over it.
+fn read_request(args: &Args) -> Result<SurveyRequest> {
+    if args.steps.len() != args.wifi.len() {
+        bail!(
+            "give one --wifi per --steps (got {} step traces and {} WiFi logs)",
+            args.steps.len(),
+            args.wifi.len()
+        );
+    }
+    let config: SurveyConfig = match &args.config {
         Some(p) => read_config(p)?,
         None => SurveyConfig::default(),
     };
-    if let Some(s) = args.seed {
-        config.tracker.seed = s;
-    }
-    if let Some(n) = args.particles {
-        config.tracker.kld.cap_particles(n);
-    }
-    if let Some(g) = args.cell {
-        config.cells.granularity = g;
-    }
-    config.tracker.validate()?;
-    config.cells.validate()?;
-    if !(config.epsilon_miss.is_finite() && (0.0..=0.5).contains(&config.epsilon_miss)) {
-        bail!("epsilon_miss = {} must be in [0, 0.5]", config.epsilon_miss);
-    }
-    Ok(config)
+    require_file(&args.plan, "floor plan")?;
+    let (plan, frame) = read_floor_plan(&args.plan, args.origin)?;
+    let walks = read_walks(args, &plan)?;
+    Ok(SurveyRequest {
+        plan: Named::new(plan, args.plan.display().to_string()),
+        frame,
+        walks,
+        one_floor: args.one_floor,
+        earlier: read_earlier_maps(args, frame)?,
+        config,
+        overrides: SurveyOverrides {
+            seed: args.seed,
+            particles: args.particles,
+            start: None,
+            cell: args.cell,
+        },
+    })
 }
 
-/// The walks of the `--steps`/`--wifi` pairs and the manifest: their files and contents.
-fn read_walks(args: &Args, plan: &FloorPlan) -> Result<(Vec<WalkFiles>, Vec<SurveyWalk>)> {
+/// The walks of the `--steps`/`--wifi` pairs and the manifest, read.
+fn read_walks(args: &Args, plan: &FloorPlan) -> Result<Vec<SurveyWalkRequest>> {
     let mut files: Vec<WalkFiles> = args
         .steps
         .iter()
@@ -245,7 +192,6 @@ fn read_walks(args: &Args, plan: &FloorPlan) -> Result<(Vec<WalkFiles>, Vec<Surv
             steps,
             wifi,
             start: args.start.get(i).copied(),
-            duplicate_readings: 0,
         })
         .collect();
     if !args.start.is_empty() && args.start.len() != args.steps.len() {
@@ -260,98 +206,42 @@ fn read_walks(args: &Args, plan: &FloorPlan) -> Result<(Vec<WalkFiles>, Vec<Surv
     if let Some(manifest) = &args.walks {
         files.extend(read_manifest(manifest)?);
     }
-    if files.is_empty() && args.merge.is_empty() {
-        bail!("nothing to survey: give --steps/--wifi pairs, --walks or --radiomap");
-    }
-    let mut walks = Vec::with_capacity(files.len());
-    for w in &mut files {
-        require_file(&w.steps, "step trace")?;
-        require_file(&w.wifi, "WiFi log")?;
-        let trace = read_steps(&w.steps)?;
-        check_height_changes(&w.steps, &args.plan, plan, args.one_floor)?;
-        let (scans, duplicate_readings) = read_scans(&w.wifi, &trace)?;
-        w.duplicate_readings = duplicate_readings;
-        walks.push(SurveyWalk {
-            trace,
-            scans,
-            start: w.start,
-        });
-    }
-    Ok((files, walks))
+    let label = |p: &PathBuf| p.display().to_string();
+    files
+        .iter()
+        .map(|w| {
+            require_file(&w.steps, "step trace")?;
+            require_file(&w.wifi, "WiFi log")?;
+            let log = read_wifi_log(&w.wifi)?;
+            // Only a plan of several levels needs the steps' header read again.
+            let several = plan.levels().len() > 1 && !args.one_floor;
+            Ok(SurveyWalkRequest {
+                steps: Named::new(read_steps(&w.steps)?, label(&w.steps)),
+                steps_have_dz: !several || has_dz_column(&w.steps)?,
+                wifi: Named::new(log.scans, label(&w.wifi)),
+                duplicate_readings: log.duplicate_readings,
+                start: w.start,
+            })
+        })
+        .collect()
 }
 
-impl Summary {
-    /// The run's summary from what the survey did.
-    fn new(
-        files: &[WalkFiles],
-        walks: &[SurveyWalk],
-        surveyed: &Surveyed,
-        config: &SurveyConfig,
-        started: Instant,
-    ) -> Self {
-        let map = &surveyed.map;
-        let (share, mean) = map.coverage();
-        let duration: f64 = walks
-            .iter()
-            .map(|w| {
-                let st = w.trace.steps();
-                st.last().map_or(0.0, |l| l.t - st[0].t)
-            })
-            .sum();
-        let runtime = started.elapsed().as_secs_f64();
-        Summary {
-            walks: files
-                .iter()
-                .zip(walks)
-                .zip(&surveyed.walks)
-                .map(|((files, walk), done)| WalkSummary {
-                    steps_file: files.steps.display().to_string(),
-                    wifi_file: files.wifi.display().to_string(),
-                    start: done.start,
-                    steps: walk.trace.len(),
-                    scans: walk.scans.len(),
-                    duplicate_readings: files.duplicate_readings,
-                    steps_to_localise: done.steps_to_localise,
-                    steps_placed: done.steps_placed,
-                    scans_added: done.scans_added,
-                    scans_skipped: done.scans_skipped,
-                    quality: done.quality.clone(),
-                })
-                .collect(),
-            quality: surveyed.quality.clone(),
-            cells: surveyed.cells.cells().len(),
-            rooms: surveyed.cells.rooms().len(),
-            granularity_m: config.cells.granularity,
-            coverage: share,
-            mean_scans_per_covered_cell: mean,
-            epsilon: map.epsilon,
-            epsilon_sqrt: map.epsilon_sqrt,
-            ndist_leave_one_out_p50_p90_p99_max: held_out_quantiles(&surveyed.held),
-            access_points: map.access_points().len(),
-            runtime_s: runtime,
-            walk_duration_s: duration,
-            speed_vs_real_time: duration / runtime.max(1e-9),
-            peak_memory_bytes: footslam::memory::peak_bytes(),
-        }
-    }
-
-    /// Prints the outcome and the output folder.
-    fn print(&self, out: &std::path::Path) {
-        let speed = if self.walks.is_empty() {
-            String::new()
-        } else {
-            format!(" ({:.0}× real time)", self.speed_vs_real_time)
-        };
-        info!(
-            "surveyed {} walk(s) into {} cells: {:.1} % covered, {:.1} scans per covered cell, {} access points{speed}",
-            self.walks.len(),
-            self.cells,
-            100.0 * self.coverage,
-            self.mean_scans_per_covered_cell,
-            self.access_points,
-        );
-        super::verbosity::done(out, Some(&self.quality.line()));
-    }
+/// Prints the outcome and the output folder.
+fn print_report(report: &SurveyReport, out: &std::path::Path) {
+    let speed = if report.walks.is_empty() {
+        String::new()
+    } else {
+        format!(" ({:.0}× real time)", report.speed_vs_real_time)
+    };
+    info!(
+        "surveyed {} walk(s) into {} cells: {:.1} % covered, {:.1} scans per covered cell, {} access points{speed}",
+        report.walks.len(),
+        report.cells,
+        100.0 * report.coverage,
+        report.mean_scans_per_covered_cell,
+        report.access_points,
+    );
+    super::verbosity::done(out, Some(&report.quality.line()));
 }
 
 /// One walk to survey: its files and, when known, its own start.
@@ -360,8 +250,6 @@ struct WalkFiles {
     steps: PathBuf,
     wifi: PathBuf,
     start: Option<StartPose>,
-    /// Rows of the WiFi log that repeated an access point within a scan (known once read).
-    duplicate_readings: usize,
 }
 
 /// The walks of a manifest CSV ([`read_walk_manifest`] with a WiFi log each).
@@ -373,7 +261,6 @@ fn read_manifest(path: &std::path::Path) -> Result<Vec<WalkFiles>> {
             steps: w.steps,
             wifi: w.wifi.unwrap_or_default(),
             start: w.start,
-            duplicate_readings: 0,
         })
         .collect())
 }

@@ -33,6 +33,7 @@ pub mod quality;
 pub mod steps;
 pub mod steps_job;
 pub mod survey;
+pub mod survey_job;
 pub mod track;
 pub mod track_job;
 mod track_records;
@@ -64,6 +65,10 @@ pub use steps_job::{StepsJob, StepsReport, StepsRequest, run_steps};
 pub use survey::{
     COVERAGE_GRANULARITIES, Coverage, SurveyConfig, SurveyInput, SurveyWalk, Surveyed,
     SurveyedWalk, survey,
+};
+pub use survey_job::{
+    PreparedSurvey, SurveyOverrides, SurveyReport, SurveyRequest, SurveyWalkLabels,
+    SurveyWalkReport, SurveyWalkRequest, prepare_survey,
 };
 pub use track::{CloudSnapshot, RadioInput, SnapshotSteps, TrackInput, TrackRun, track};
 pub use track_job::{
