@@ -14,6 +14,7 @@ numpy arrays, pandas DataFrames or files.
 * :mod:`footslam.batch` — buildings × walks on a Dask cluster
 * :func:`track` — one walk on a known floor plan
 * :func:`survey` — a WiFi radio map from walks on a known plan
+* :func:`fingerprint` — each WiFi scan placed by a radio map alone
 
 Tables are returned as dicts of 1-D numpy arrays (``pandas.DataFrame(result["track"])``),
 maps and plans as GeoJSON dicts (``geopandas.GeoDataFrame.from_features(result["map"])``).
@@ -27,6 +28,7 @@ from ._footslam import (
     FootslamWarning,
     __version__,
     feetslam_passes,
+    fingerprint,
     learn,
     learn_one,
     merge,
@@ -43,6 +45,7 @@ __all__ = [
     "FootslamWarning",
     "__version__",
     "feetslam_passes",
+    "fingerprint",
     "learn",
     "learn_one",
     "merge",

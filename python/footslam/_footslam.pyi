@@ -104,6 +104,9 @@ class LearnResult(TypedDict):
     radio_plan: Optional[FeatureCollection]
     """With WiFi: the learned plan the radio map's cells lie on."""
     summary: dict[str, Any]
+    """As ``summary.json``."""
+    config: dict[str, Any]
+    """As ``config.json``."""
 
 class Grid(TypedDict):
     level: int
@@ -293,3 +296,25 @@ def radio_map(
     """The radio map of walks learned apart, on the plan of their merged map (``learn``'s
     radio stage): with the merged map and ``learn_one``'s tracks, ``learn``'s
     ``radio_map``."""
+
+class FingerprintColumns(TypedDict):
+    t: Floats
+    x: Floats
+    y: Floats
+    level: Ints
+    ndist: Floats
+    """Distance to the nearest cell, dBm."""
+
+class FingerprintResult(TypedDict):
+    track: FingerprintColumns
+    summary: dict[str, Any]
+    config: dict[str, Any]
+
+def fingerprint(
+    radiomap: GeoJson,
+    wifi: Table,
+    *,
+    k: Optional[int] = None,
+    config: Optional[Config] = None,
+) -> FingerprintResult:
+    """Each WiFi scan placed by the radio map alone (``footslam fingerprint``)."""

@@ -171,6 +171,7 @@ fn _footslam(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(maps::merge, m)?)?;
     m.add_function(wrap_pyfunction!(maps::plan, m)?)?;
     m.add_function(wrap_pyfunction!(radio::radio_map, m)?)?;
+    m.add_function(wrap_pyfunction!(radio::fingerprint, m)?)?;
     m.add_function(wrap_pyfunction!(track::track, m)?)?;
     m.add_function(wrap_pyfunction!(survey::survey, m)?)?;
     Ok(())

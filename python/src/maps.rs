@@ -7,11 +7,12 @@ use crate::{detached, fail, py_error};
 use footslam::io::floor_plan_geojson::floor_plan_to_geojson;
 use footslam::io::map_geojson::{StoredMap, walks_map_to_geojson};
 use footslam::map::Occupancy;
-use footslam::pipeline::{PlanRunConfig, Planned, SAME_ORIGIN_M};
+use footslam::pipeline::{
+    MergeRequest, Named, PlanOverrides, PlanRequest, PlanRunConfig, Planned, run_merge, run_plan,
+};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use serde_json::json;
 
 /// The maps of a list (paths, GeoJSON dicts or GeoJSON text), read.
 fn read_maps(py: Python<'_>, maps: &Bound<'_, PyAny>) -> PyResult<(Vec<StoredMap>, Vec<String>)> {
@@ -57,42 +58,17 @@ pub(crate) fn merge<'py>(
     weights: Option<Vec<f64>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let (maps, labels) = read_maps(py, maps)?;
-    let weights = weights.unwrap_or_default();
-    if !weights.is_empty() && weights.len() != maps.len() {
-        return Err(fail(format!(
-            "{} weights for {} maps: give one weight per map",
-            weights.len(),
-            maps.len()
-        )));
-    }
-    if let Some(w) = weights.iter().find(|w| !(w.is_finite() && **w >= 0.0)) {
-        return Err(fail(format!("weights: {w} is not a finite weight ≥ 0")));
-    }
-    if !weights.is_empty() && weights.iter().all(|&w| w == 0.0) {
-        return Err(fail(
-            "weights are all 0: the merged map would be empty; give at least one map weight > 0",
-        ));
-    }
-    if let Some(first) = maps.first() {
-        let frame = first.frame;
-        for (label, m) in labels.iter().zip(&maps).skip(1) {
-            let off = frame.distance_to(&m.frame);
-            if off > SAME_ORIGIN_M {
-                return Err(fail(format!(
-                    "{label}: its origin ({}, {}) lies {off:.3} m from the first map's ({}, {}); \
-                     only maps in one frame merge (learn the walks with one origin)",
-                    m.frame.lat, m.frame.lon, frame.lat, frame.lon
-                )));
-            }
-        }
-    }
+    let maps = maps
+        .into_iter()
+        .zip(labels)
+        .map(|(m, label)| Named::new(m, label))
+        .collect();
+    let request = MergeRequest {
+        maps,
+        weights: weights.unwrap_or_default(),
+    };
     let collection = detached(py, None, || {
-        let weighted: Vec<_> = maps
-            .iter()
-            .enumerate()
-            .map(|(i, m)| (m, weights.get(i).copied().unwrap_or(1.0)))
-            .collect();
-        let merged = footslam::pipeline::merge(&weighted).map_err(py_error)?;
+        let merged = run_merge(request).map_err(py_error)?.merged;
         Ok(walks_map_to_geojson(
             &merged.map,
             &merged.frame,
@@ -172,26 +148,27 @@ pub(crate) fn plan<'py>(
     min_visits: Option<u32>,
     resolution: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let mut config: PlanRunConfig = inputs::config(config)?;
-    if let Some(k) = min_visits {
-        config.plan.min_visits = k;
-    }
-    if let Some(r) = resolution {
-        config.grid.resolution = r;
-    }
+    let config: PlanRunConfig = inputs::config(config)?;
+    let overrides = PlanOverrides {
+        min_visits,
+        resolution,
+    };
     let doc = inputs::document(map, "map", "map")?;
-    let label = doc.label();
-    let (stored, planned) = detached(py, None, || {
-        let stored = doc.stored_map().map_err(py_error)?;
-        let planned = footslam::pipeline::plan(&stored.map, &config).map_err(py_error)?;
-        Ok((stored, planned))
+    let job = detached(py, None, || {
+        let map = Named::new(doc.stored_map().map_err(py_error)?, doc.label());
+        let request = PlanRequest {
+            map,
+            config,
+            overrides,
+        };
+        run_plan(request).map_err(py_error)
     })?;
-    let Planned { learned, grids } = planned;
+    let Planned { learned, grids } = &job.planned;
     let result = PyDict::new(py);
-    let plan = floor_plan_to_geojson(&learned.plan, &stored.frame);
+    let plan = floor_plan_to_geojson(&learned.plan, &job.frame);
     result.set_item("plan", json_object(py, &plan)?)?;
     let mut out = Vec::with_capacity(grids.len());
-    for (level, grid) in &grids {
+    for (level, grid) in grids {
         let values: Vec<i8> = grid
             .cells
             .iter()
@@ -209,29 +186,7 @@ pub(crate) fn plan<'py>(
         out.push(g);
     }
     result.set_item("grids", out)?;
-    let main = &grids
-        .first()
-        .ok_or_else(|| fail(format!("{label}: the plan has no floor")))?
-        .1;
-    let (free, occupied, unknown) = main.counts();
-    let summary = json!({
-        "map_file": label,
-        "map_hexagons": stored.map.cells.len(),
-        "map_walks": stored.walks,
-        "hexagons_used": learned.hexagons,
-        "hexagons_left_out": learned.hexagons_left_out,
-        "polygons": learned.plan.polygons.len(),
-        "holes_filled": learned.holes_filled,
-        "pieces_dropped": learned.pieces_dropped,
-        "walkable_area_m2": learned.area_m2,
-        "grid_width": main.width,
-        "grid_height": main.height,
-        "grid_free": free,
-        "grid_occupied": occupied,
-        "grid_unknown": unknown,
-        "origin": stored.frame,
-    });
-    result.set_item("summary", json_object(py, &summary)?)?;
-    result.set_item("config", json_object(py, &config)?)?;
+    result.set_item("summary", json_object(py, &job.report)?)?;
+    result.set_item("config", json_object(py, &job.config)?)?;
     Ok(result)
 }

@@ -1,16 +1,20 @@
 //! `footslam.radio_map`: `learn`'s radio stage for walks learned apart (the batch runner's
 //! last step per building): the walks' scans placed on their learned tracks and added to the
-//! cells of the plan learned from the merged map.
+//! cells of the plan learned from the merged map. `footslam.fingerprint`: each scan placed
+//! by a radio map alone.
 
 use crate::inputs::{self, Document};
-use crate::outputs::json_object;
+use crate::outputs::{Column, columns, json_object};
 use crate::tables::{WIFI, table};
-use crate::{detached, fail, py_error};
-use footslam::filter::PathPoint;
+use crate::{Reporter, detached, fail, py_error};
+use footslam::filter::{FingerprintConfig, PathPoint};
 use footslam::io::floor_plan_geojson::floor_plan_to_geojson;
 use footslam::io::radio_map_geojson::radio_map_to_geojson;
 use footslam::map::{CellConfig, PlanConfig};
-use footslam::pipeline::{LearnRadioReport, learned_radio_map, scans_off_clock};
+use footslam::pipeline::{
+    FingerprintRequest, LearnRadioReport, Named, learned_radio_map, run_fingerprint,
+    scans_off_clock,
+};
 use footslam::sensor::WifiScan;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -124,5 +128,76 @@ pub(crate) fn radio_map<'py>(
         json_object(py, &floor_plan_to_geojson(&radio.plan.plan, &frame))?,
     )?;
     result.set_item("summary", json_object(py, &summary)?)?;
+    Ok(result)
+}
+
+/// Places each WiFi scan by the radio map alone (``footslam fingerprint``; weighted
+/// k-nearest fingerprints): the baseline that tracking with the radio map should beat.
+///
+/// Args:
+///     radiomap: the radio map (path or GeoJSON dict, ``radiomap.geojson`` of ``survey``
+///         or ``learn --wifi``).
+///     wifi: the WiFi log (``t,bssid,rssi[,ssid,freq]``): a CSV path, a pandas DataFrame or
+///         a dict of 1-D arrays.
+///     k: nearest cells averaged (overrides the configuration's).
+///     config: fingerprint configuration: a dict with the keys of ``config.json``, or a TOML
+///         or JSON file.
+///
+/// Returns:
+///     dict: ``track`` — columns ``t, x, y, level, ndist`` (one row per scan placed, local
+///     metres in the map's frame; ``ndist`` the distance to the nearest cell, dBm);
+///     ``summary`` — as ``summary.json``; ``config`` — as ``config.json``.
+///
+/// Raises:
+///     FootslamError: a log of another building than the map, bad configuration.
+///     FileNotFoundError: a path names no file.
+#[pyfunction]
+#[pyo3(signature = (radiomap, wifi, *, k=None, config=None))]
+pub(crate) fn fingerprint<'py>(
+    py: Python<'py>,
+    radiomap: &Bound<'py, PyAny>,
+    wifi: &Bound<'py, PyAny>,
+    k: Option<usize>,
+    config: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let config: FingerprintConfig = inputs::config(config)?;
+    let map_doc = inputs::document(radiomap, "radio map", "radiomap")?;
+    let log = table(wifi, &WIFI, "wifi")?;
+    let report = Reporter::default();
+    let job = detached(py, None, || {
+        let read = || -> footslam::Result<FingerprintRequest> {
+            let (map, _) = map_doc.radio_map(None)?;
+            let log_read = log.wifi_log()?;
+            Ok(FingerprintRequest {
+                map: Named::new(map, map_doc.label()),
+                wifi: Named::new(log_read.scans, log.label()),
+                duplicate_readings: log_read.duplicate_readings,
+                config,
+                k,
+            })
+        };
+        run_fingerprint(read().map_err(py_error)?, &report).map_err(py_error)
+    })?;
+    report.emit(py)?;
+    let f = &job.fixes;
+    let result = PyDict::new(py);
+    result.set_item(
+        "track",
+        columns(
+            py,
+            vec![
+                ("t", Column::F64(f.iter().map(|p| p.t).collect())),
+                ("x", Column::F64(f.iter().map(|p| p.x).collect())),
+                ("y", Column::F64(f.iter().map(|p| p.y).collect())),
+                (
+                    "level",
+                    Column::I64(f.iter().map(|p| i64::from(p.level)).collect()),
+                ),
+                ("ndist", Column::F64(f.iter().map(|p| p.ndist).collect())),
+            ],
+        )?,
+    )?;
+    result.set_item("summary", json_object(py, &job.report)?)?;
+    result.set_item("config", json_object(py, &job.config)?)?;
     Ok(result)
 }

@@ -145,6 +145,9 @@ def test_merge_and_plan_match_the_cli(cli, office, tmp_path):
     planned = footslam.plan(got["walks"][0]["map"])
     assert planned["plan"] == read_json(tmp_path / "plan" / "plan.geojson")
     summary = read_json(tmp_path / "plan" / "summary.json")
+    assert same_report(footslam.plan(map_path)["summary"], summary)
+    assert planned["summary"]["map_file"] == "map"  # a dict is named by its argument
+    assert planned["config"] == read_json(tmp_path / "plan" / "config.json")
     grid = planned["grids"][0]["occupancy"]
     assert grid.shape == (summary["grid_height"], summary["grid_width"])
     assert (grid == 0).sum() == summary["grid_free"]

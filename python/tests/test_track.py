@@ -164,3 +164,18 @@ def test_progress_is_reported_and_changes_nothing(sim):
                        progress=fails)
     with pytest.raises(TypeError, match="progress must be a callable"):
         footslam.track(office / "floor.geojson", office / "steps.csv", progress=3)
+
+
+def test_fingerprint_matches_the_cli(cli, surveyed, sim, tmp_path):
+    run, _ = surveyed
+    tower = sim / "tower"
+    cli("fingerprint", "--radiomap", run / "radiomap.geojson", "--wifi", tower / "wifi.csv",
+        "--k", 2, "--out", tmp_path)
+    got = footslam.fingerprint(run / "radiomap.geojson", tower / "wifi.csv", k=2)
+    expected = read_csv(tmp_path / "track.csv")
+    assert len(got["track"]["t"]) == len(expected["t"]) > 10
+    for c in ["t", "x", "y"]:
+        np.testing.assert_allclose(got["track"][c], expected[c], atol=6e-4)
+    assert same_report(got["summary"], read_json(tmp_path / "summary.json"))
+    assert got["config"] == read_json(tmp_path / "config.json")
+    assert got["summary"]["placed"] + got["summary"]["unplaced"] == got["summary"]["scans"]

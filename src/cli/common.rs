@@ -2,10 +2,6 @@
 
 use anyhow::{Context, Result, bail};
 use footslam::geometry::LocalFrame;
-use footslam::io::{WifiLog, read_wifi_log};
-use footslam::map::RadioMap;
-use footslam::pipeline::ScanMatch;
-use footslam::sensor::WifiScan;
 use std::path::{Path, PathBuf};
 
 /// Parses `LAT,LON` (degrees).
@@ -206,46 +202,6 @@ fn warn_capped(wanted: usize, cap: usize, cores: usize) {
 #[allow(clippy::print_stderr)]
 pub fn warn(message: &str) {
     eprintln!("warning: {message}");
-}
-
-/// Checks that a WiFi log and a radio map are of one building: an error when no scan hears
-/// an access point of the map, a warning when fewer than half do
-/// ([`footslam::pipeline::MIN_MATCHED_SHARE`]). Returns how many scans matched.
-pub fn check_scans_match(
-    map: &RadioMap,
-    scans: &[WifiScan],
-    map_path: &Path,
-    wifi_path: &Path,
-) -> Result<usize> {
-    let found = ScanMatch::of(map, scans);
-    if let Some(problem) = found.unmatched() {
-        bail!(
-            "{} and {}: {problem}",
-            wifi_path.display(),
-            map_path.display()
-        );
-    }
-    if let Some(warning) = found.warning(
-        &wifi_path.display().to_string(),
-        &map_path.display().to_string(),
-    ) {
-        warn(&warning);
-    }
-    Ok(found.matched)
-}
-
-/// A WiFi log, with a warning when rows repeated an access point within a scan.
-pub fn read_wifi_warned(path: &Path) -> Result<WifiLog> {
-    let log = read_wifi_log(path)?;
-    if log.duplicate_readings > 0 {
-        warn(&format!(
-            "{}: {} row(s) repeated an access point already in their scan; kept the later \
-             reading of each",
-            path.display(),
-            log.duplicate_readings
-        ));
-    }
-    Ok(log)
 }
 
 #[cfg(test)]

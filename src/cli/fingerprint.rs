@@ -1,12 +1,13 @@
 //! `footslam fingerprint`: each WiFi scan placed by the radio map alone (weighted k-nearest
 //! fingerprints) — the baseline that tracking with the radio map should beat.
 
-use super::common::{check_scans_match, output_dir, read_config, read_wifi_warned, require_file};
-use anyhow::{Result, bail};
-use footslam::filter::{FingerprintConfig, NearestFingerprint};
+use super::common::{output_dir, read_config, require_file};
+use super::progress_bars::Bars;
+use anyhow::Result;
+use footslam::filter::FingerprintConfig;
 use footslam::io::radio_map_geojson::read_radio_map_geojson;
-use footslam::io::{TrackPoint, write_track};
-use serde::Serialize;
+use footslam::io::{TrackPoint, read_wifi_log, write_track};
+use footslam::pipeline::{FingerprintRequest, Named, run_fingerprint};
 use std::path::PathBuf;
 
 /// Arguments of `footslam fingerprint`.
@@ -30,54 +31,27 @@ pub struct Args {
     out: Option<PathBuf>,
 }
 
-#[derive(Debug, Serialize)]
-struct Summary {
-    radiomap_file: String,
-    wifi_file: String,
-    scans: usize,
-    /// Rows of the WiFi log that repeated an access point within a scan (the later kept).
-    duplicate_readings: usize,
-    placed: usize,
-    /// Scans that share no access point with the map.
-    unplaced: usize,
-    version: &'static str,
-}
-
-/// The configuration file's (or the defaults) with `--k`.
-fn fingerprint_config(args: &Args) -> Result<FingerprintConfig> {
-    let mut config: FingerprintConfig = match &args.config {
-        Some(p) => read_config(p)?,
-        None => FingerprintConfig::default(),
-    };
-    if let Some(k) = args.k {
-        config.k = k;
-    }
-    Ok(config)
-}
-
 /// Runs `footslam fingerprint`.
 pub fn run(args: Args) -> Result<()> {
     require_file(&args.radiomap, "radio map")?;
     require_file(&args.wifi, "WiFi log")?;
-    let config = fingerprint_config(&args)?;
+    let config: FingerprintConfig = match &args.config {
+        Some(p) => read_config(p)?,
+        None => FingerprintConfig::default(),
+    };
     let (map, _) = read_radio_map_geojson(&args.radiomap, None)?;
-    let localiser = NearestFingerprint::new(&map, &config)?;
-    let log = read_wifi_warned(&args.wifi)?;
-    let scans = log.scans;
-    check_scans_match(&map, &scans, &args.radiomap, &args.wifi)?;
-    let fixes: Vec<_> = scans.iter().filter_map(|s| localiser.locate(s)).collect();
-    if fixes.is_empty() {
-        bail!(
-            "none of the {} scans of {} shares an access point with the radio map {}: is it \
-             the same building?",
-            scans.len(),
-            args.wifi.display(),
-            args.radiomap.display()
-        );
-    }
-    let out = output_dir(args.out, "fingerprint");
-    let folder = super::common::create_run_folder(&out)?;
-    let track: Vec<TrackPoint> = fixes
+    let log = read_wifi_log(&args.wifi)?;
+    let request = FingerprintRequest {
+        map: Named::new(map, args.radiomap.display().to_string()),
+        wifi: Named::new(log.scans, args.wifi.display().to_string()),
+        duplicate_readings: log.duplicate_readings,
+        config,
+        k: args.k,
+    };
+    let job = run_fingerprint(request, &Bars::default())?;
+    let folder = super::common::create_run_folder(&output_dir(args.out, "fingerprint"))?;
+    let track: Vec<TrackPoint> = job
+        .fixes
         .iter()
         .map(|f| TrackPoint {
             t: f.t,
@@ -88,24 +62,14 @@ pub fn run(args: Args) -> Result<()> {
         })
         .collect();
     write_track(&folder.path("track.csv"), &track)?;
-    folder.write_json("config.json", &config)?;
-    folder.write_json(
-        "summary.json",
-        &Summary {
-            radiomap_file: args.radiomap.display().to_string(),
-            wifi_file: args.wifi.display().to_string(),
-            scans: scans.len(),
-            duplicate_readings: log.duplicate_readings,
-            placed: fixes.len(),
-            unplaced: scans.len() - fixes.len(),
-            version: env!("CARGO_PKG_VERSION"),
-        },
-    )?;
+    folder.write_json("config.json", &job.config)?;
+    folder.write_json("summary.json", &job.report)?;
     let out = folder.commit()?;
+    let report = &job.report;
     info!(
         "placed {} of {} scans by the radio map alone: {}",
-        fixes.len(),
-        scans.len(),
+        report.placed,
+        report.scans,
         out.join("track.csv").display()
     );
     super::verbosity::done(&out, None);

@@ -1,10 +1,11 @@
 //! `footslam merge`: combine maps learned on several walks of one building.
 
 use super::common::{output_dir, require_file, warn};
-use super::learn_outputs::{MapPictures, write_learned_plan};
+use super::learn_outputs::MapPictures;
 use anyhow::{Result, bail};
-use footslam::io::map_geojson::{StoredMap, read_stored_map, write_walks_map_geojson};
-use footslam::pipeline::{SAME_ORIGIN_M, merge};
+use footslam::io::floor_plan_geojson::write_floor_plan;
+use footslam::io::map_geojson::{read_stored_map, write_walks_map_geojson};
+use footslam::pipeline::{MergeJob, MergeRequest, Named, run_merge};
 use std::path::PathBuf;
 
 /// Arguments of `footslam merge`.
@@ -31,18 +32,6 @@ pub struct Args {
     out: Option<PathBuf>,
 }
 
-/// `summary.json` of a merge.
-#[derive(Debug, serde::Serialize)]
-struct Summary<'a> {
-    maps: Vec<String>,
-    weights: &'a [f64],
-    walks: u32,
-    hexagons: usize,
-    /// Walkable area of `merged_plan.geojson`, m² (`None`: too little to make a plan of).
-    walkable_plan_m2: Option<f64>,
-    version: &'static str,
-}
-
 /// An error when `out` is one of the input maps (the same file, by any path): the merge
 /// would replace an input it has not finished reading from the user's point of view, and a
 /// failed merge would leave neither.
@@ -64,7 +53,6 @@ fn refuse_overwriting_an_input(out: &std::path::Path, maps: &[PathBuf]) -> Resul
 
 /// Runs `footslam merge`.
 pub fn run(args: Args) -> Result<()> {
-    check_weights(&args.weights, args.maps.len())?;
     let one_file = args.out.as_ref().filter(|o| {
         o.extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("geojson"))
@@ -79,16 +67,25 @@ pub fn run(args: Args) -> Result<()> {
         ));
     }
     warn_repeated(&args.maps);
-    let maps = read_maps(&args.maps)?;
-    let weighted: Vec<_> = maps
+    let maps = args
+        .maps
         .iter()
-        .enumerate()
-        .map(|(i, m)| (m, args.weights.get(i).copied().unwrap_or(1.0)))
-        .collect();
-    let merged = merge(&weighted)?;
+        .map(|path| {
+            require_file(path, "map")?;
+            Ok(Named::new(
+                read_stored_map(path)?,
+                path.display().to_string(),
+            ))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let job = run_merge(MergeRequest {
+        maps,
+        weights: args.weights.clone(),
+    })?;
+    let merged = &job.merged;
     info!(
         "merged {} maps ({} walks) into {} hexagons",
-        maps.len(),
+        args.maps.len(),
         merged.walks,
         merged.map.cells.len(),
     );
@@ -97,16 +94,18 @@ pub fn run(args: Args) -> Result<()> {
         info!("wrote {}", out.display());
         return Ok(());
     }
-    write_merged_folder(&args, &merged)
+    write_merged_folder(&args, &job)
 }
 
 /// The merge's run folder: the merged map, its plan and pictures, configuration and summary.
-fn write_merged_folder(args: &Args, merged: &StoredMap) -> Result<()> {
+fn write_merged_folder(args: &Args, job: &MergeJob) -> Result<()> {
     let mut folder = super::common::create_run_folder(&output_dir(args.out.clone(), "merge"))?;
     folder.protect(args.maps.iter());
-    let (map, frame) = (&merged.map, &merged.frame);
-    write_walks_map_geojson(&folder.path("merged.geojson"), map, frame, merged.walks)?;
-    let walkable_plan_m2 = write_learned_plan(&folder.path("merged_plan.geojson"), map, frame)?;
+    let (map, frame) = (&job.merged.map, &job.merged.frame);
+    write_walks_map_geojson(&folder.path("merged.geojson"), map, frame, job.merged.walks)?;
+    if let Some(plan) = &job.plan {
+        write_floor_plan(&folder.path("merged_plan.geojson"), &plan.plan, frame)?;
+    }
     let pictures = MapPictures {
         path: &[],
         path_label: "",
@@ -120,38 +119,9 @@ fn write_merged_folder(args: &Args, merged: &StoredMap) -> Result<()> {
         "config.json",
         &serde_json::json!({ "maps": &args.maps, "weights": &args.weights }),
     )?;
-    folder.write_json(
-        "summary.json",
-        &Summary {
-            maps: args.maps.iter().map(|p| p.display().to_string()).collect(),
-            weights: &args.weights,
-            walks: merged.walks,
-            hexagons: map.cells.len(),
-            walkable_plan_m2,
-            version: env!("CARGO_PKG_VERSION"),
-        },
-    )?;
+    folder.write_json("summary.json", &job.report)?;
     let out = folder.commit()?;
     super::verbosity::done(&out, None);
-    Ok(())
-}
-
-/// `--weights`: none, or one finite weight ≥ 0 per map, not all 0.
-fn check_weights(weights: &[f64], maps: usize) -> Result<()> {
-    if !weights.is_empty() && weights.len() != maps {
-        bail!(
-            "{} weights for {maps} maps: give one weight per map",
-            weights.len()
-        );
-    }
-    if let Some(w) = weights.iter().find(|w| !(w.is_finite() && **w >= 0.0)) {
-        bail!("--weights: {w} is not a finite weight ≥ 0");
-    }
-    if !weights.is_empty() && weights.iter().all(|&w| w == 0.0) {
-        bail!(
-            "--weights are all 0: the merged map would be empty; give at least one map weight > 0"
-        );
-    }
     Ok(())
 }
 
@@ -168,29 +138,4 @@ fn warn_repeated(paths: &[PathBuf]) {
         }
         seen.push(key);
     }
-}
-
-/// Reads the maps, which must share the first one's frame.
-fn read_maps(paths: &[PathBuf]) -> Result<Vec<StoredMap>> {
-    let mut maps = Vec::with_capacity(paths.len());
-    for path in paths {
-        require_file(path, "map")?;
-        maps.push(read_stored_map(path)?);
-    }
-    let frame = maps[0].frame;
-    for (path, f) in paths.iter().zip(maps.iter().map(|m| &m.frame)).skip(1) {
-        let off = frame.distance_to(f);
-        if off > SAME_ORIGIN_M {
-            bail!(
-                "{}: its origin ({}, {}) lies {off:.3} m from the first map's ({}, {}); \
-                 only maps in one frame merge (learn the walks with one --origin)",
-                path.display(),
-                f.lat,
-                f.lon,
-                frame.lat,
-                frame.lon
-            );
-        }
-    }
-    Ok(maps)
 }

@@ -8,9 +8,8 @@ use footslam::io::floor_plan_geojson::write_floor_plan;
 use footslam::io::map_geojson::read_stored_map;
 use footslam::io::{RunFolder, write_ros_map};
 use footslam::map::{LearnedPlan, OccupancyGrid};
-use footslam::pipeline::{PlanRunConfig, Planned, plan};
+use footslam::pipeline::{Named, PlanOverrides, PlanRequest, PlanRunConfig, run_plan};
 use footslam::render::plan_png::{PlanPicture, PlanPictureConfig, write_plan_png};
-use serde::Serialize;
 use std::path::PathBuf;
 
 /// Arguments of `footslam plan`.
@@ -34,77 +33,41 @@ pub struct Args {
     out: Option<PathBuf>,
 }
 
-#[derive(Debug, Serialize)]
-struct Summary {
-    map_file: String,
-    map_hexagons: usize,
-    map_walks: u32,
-    hexagons_used: usize,
-    hexagons_left_out: usize,
-    polygons: usize,
-    holes_filled: usize,
-    pieces_dropped: usize,
-    walkable_area_m2: f64,
-    grid_width: usize,
-    grid_height: usize,
-    grid_free: usize,
-    grid_occupied: usize,
-    grid_unknown: usize,
-    origin: LocalFrame,
-}
-
 /// Runs `footslam plan`.
 pub fn run(args: Args) -> Result<()> {
-    let mut config: PlanRunConfig = match &args.config {
+    let config: PlanRunConfig = match &args.config {
         Some(p) => read_config(p)?,
         None => PlanRunConfig::default(),
     };
-    if let Some(k) = args.min_visits {
-        config.plan.min_visits = k;
-    }
-    if let Some(r) = args.resolution {
-        config.grid.resolution = r;
-    }
     require_file(&args.map, "map")?;
-    let stored = read_stored_map(&args.map)?;
-    // One occupancy grid per floor: `map.pgm` for the main floor, `map-level+N.pgm` others.
-    let Planned { learned, grids } = plan(&stored.map, &config)?;
-    let grid = &grids[0].1;
+    let request = PlanRequest {
+        map: Named::new(read_stored_map(&args.map)?, args.map.display().to_string()),
+        config,
+        overrides: PlanOverrides {
+            min_visits: args.min_visits,
+            resolution: args.resolution,
+        },
+    };
+    let job = run_plan(request)?;
+    let (learned, grids) = (&job.planned.learned, &job.planned.grids);
     let mut folder = super::common::create_run_folder(&output_dir(args.out, "plan"))?;
     folder.protect(std::iter::once(&args.map).chain(args.config.iter()));
-    write_plan_files(&folder, "", &learned, &grids, &stored.frame)?;
-    folder.write_json("config.json", &config)?;
-    let (free, occupied, unknown) = grid.counts();
-    let summary = Summary {
-        map_file: args.map.display().to_string(),
-        map_hexagons: stored.map.cells.len(),
-        map_walks: stored.walks,
-        hexagons_used: learned.hexagons,
-        hexagons_left_out: learned.hexagons_left_out,
-        polygons: learned.plan.polygons.len(),
-        holes_filled: learned.holes_filled,
-        pieces_dropped: learned.pieces_dropped,
-        walkable_area_m2: learned.area_m2,
-        grid_width: grid.width,
-        grid_height: grid.height,
-        grid_free: free,
-        grid_occupied: occupied,
-        grid_unknown: unknown,
-        origin: stored.frame,
-    };
-    folder.write_json("summary.json", &summary)?;
+    write_plan_files(&folder, "", learned, grids, &job.frame)?;
+    folder.write_json("config.json", &job.config)?;
+    folder.write_json("summary.json", &job.report)?;
     let out = folder.commit()?;
+    let r = &job.report;
     info!(
         "walkable plan of {:.0} m² in {} polygon(s) from {} of {} hexagons ({} holes filled, {} stray pieces dropped); occupancy grid {} × {} at {} m",
-        learned.area_m2,
-        learned.plan.polygons.len(),
-        learned.hexagons,
-        stored.map.cells.len(),
-        learned.holes_filled,
-        learned.pieces_dropped,
-        grid.width,
-        grid.height,
-        grid.resolution
+        r.walkable_area_m2,
+        r.polygons,
+        r.hexagons_used,
+        r.map_hexagons,
+        r.holes_filled,
+        r.pieces_dropped,
+        r.grid_width,
+        r.grid_height,
+        job.config.grid.resolution
     );
     super::verbosity::done(&out, None);
     Ok(())

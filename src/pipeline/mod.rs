@@ -17,6 +17,7 @@
 //! * [`track_job`] — the `track` job: request in (overrides, prepare), and
 //!   [`track_report`] — its answer and report out.
 
+pub mod fingerprint_job;
 pub mod input_checks;
 pub mod job_checks;
 pub mod learn;
@@ -26,8 +27,10 @@ pub mod learn_report;
 mod learn_reports;
 mod learn_walks;
 pub mod merge;
+pub mod merge_job;
 mod named;
 pub mod plan;
+pub mod plan_job;
 mod progress;
 pub mod quality;
 pub mod steps;
@@ -39,6 +42,7 @@ pub mod track_job;
 mod track_records;
 pub mod track_report;
 
+pub use fingerprint_job::{FingerprintJob, FingerprintReport, FingerprintRequest, run_fingerprint};
 pub use input_checks::{
     GPS_LEAD_S, GridMismatch, MIN_MATCHED_SHARE, SAME_ORIGIN_M, ScanMatch, fixes_far_from_origin,
     fixes_off_clock, grid_mismatch, missing_height_changes, outline_off_walks, partly_off_clock,
@@ -53,8 +57,10 @@ pub use learn_job::{LearnRequest, LearnWalkRequest, PreparedLearn, WalkLabels, p
 pub use learn_report::{HeadingReport, LearnRadioReport, LearnReport, WalkReport, WalkWifiReport};
 pub use learn_reports::{AxesReport, FieldReport, SmoothingReport};
 pub use merge::merge;
+pub use merge_job::{MergeJob, MergeReport, MergeRequest, run_merge};
 pub use named::Named;
 pub use plan::{PlanRunConfig, Planned, plan};
+pub use plan_job::{PlanJob, PlanOverrides, PlanReport, PlanRequest, run_plan};
 pub use progress::{ItemProgress, Progress, Silent};
 pub use quality::{
     Quality, QualityConfig, Reason, TrackEvidence, Verdict, learn_quality, steps_quality,

@@ -1,0 +1,114 @@
+//! The `fingerprint` job, request in, report out: each WiFi scan placed by the radio map
+//! alone (weighted k-nearest fingerprints), the baseline that tracking with the radio map
+//! should beat.
+
+use super::Progress;
+use super::job_checks::check_scans_match;
+use super::named::Named;
+use crate::error::{Error, Result};
+use crate::filter::{FingerprintConfig, FingerprintFix, NearestFingerprint};
+use crate::map::RadioMap;
+use crate::sensor::WifiScan;
+use serde::Serialize;
+
+/// Everything `fingerprint` runs on, read and parsed by a face.
+#[derive(Debug, Clone)]
+pub struct FingerprintRequest {
+    /// The radio map.
+    pub map: Named<RadioMap>,
+    /// The WiFi log's scans, in time order.
+    pub wifi: Named<Vec<WifiScan>>,
+    /// Rows of the log that repeated an access point within a scan (the later kept).
+    pub duplicate_readings: usize,
+    /// The configuration file's (or the defaults).
+    pub config: FingerprintConfig,
+    /// `k`, the nearest cells averaged, over the configuration's.
+    pub k: Option<usize>,
+}
+
+/// `summary.json` of `fingerprint`.
+#[derive(Debug, Clone, Serialize)]
+pub struct FingerprintReport {
+    /// The radio map's name.
+    pub radiomap_file: String,
+    /// The WiFi log's name.
+    pub wifi_file: String,
+    /// Scans in the log.
+    pub scans: usize,
+    /// Rows of the WiFi log that repeated an access point within a scan (the later kept).
+    pub duplicate_readings: usize,
+    /// Scans placed.
+    pub placed: usize,
+    /// Scans that share no access point with the map.
+    pub unplaced: usize,
+    /// The toolkit's version.
+    pub version: &'static str,
+}
+
+/// What [`run_fingerprint`] gives.
+#[derive(Debug, Clone)]
+pub struct FingerprintJob {
+    /// The configuration run, `k` applied.
+    pub config: FingerprintConfig,
+    /// One place per scan placed, in time order.
+    pub fixes: Vec<FingerprintFix>,
+    /// Its report.
+    pub report: FingerprintReport,
+}
+
+/// Places each scan of the request by the radio map alone: an error when the log and the
+/// map share no access point, a warning to `progress` when most scans hear none of the
+/// map's (and when rows repeated an access point within a scan).
+pub fn run_fingerprint(
+    request: FingerprintRequest,
+    progress: &dyn Progress,
+) -> Result<FingerprintJob> {
+    let mut config = request.config;
+    if let Some(k) = request.k {
+        config.k = k;
+    }
+    let (map, wifi) = (&request.map, &request.wifi);
+    let localiser = NearestFingerprint::new(&map.value, &config)?;
+    if request.duplicate_readings > 0 {
+        progress.warn(&format!(
+            "{}: {} row(s) repeated an access point already in their scan; kept the later \
+             reading of each",
+            wifi.label, request.duplicate_readings
+        ));
+    }
+    check_scans_match(
+        &Named::new(&map.value, map.label.as_str()),
+        &Named::new(wifi.value.as_slice(), wifi.label.as_str()),
+        progress,
+    )?;
+    let fixes: Vec<FingerprintFix> = wifi
+        .value
+        .iter()
+        .filter_map(|s| localiser.locate(s))
+        .collect();
+    if fixes.is_empty() {
+        return Err(Error::mismatch(
+            format!(
+                "none of the {} scans of {} shares enough access points with the radio map {}",
+                wifi.value.len(),
+                wifi.label,
+                map.label
+            ),
+            "is it the same building?",
+        ));
+    }
+    let report = FingerprintReport {
+        radiomap_file: map.label.clone(),
+        wifi_file: wifi.label.clone(),
+        scans: wifi.value.len(),
+        duplicate_readings: request.duplicate_readings,
+        placed: fixes.len(),
+        unplaced: wifi.value.len() - fixes.len(),
+        version: env!("CARGO_PKG_VERSION"),
+    };
+    Ok(FingerprintJob {
+        config,
+        fixes,
+        report,
+    })
+}
