@@ -86,3 +86,79 @@ fn cli_run_functions_are_short() {
     assert!(found >= 10, "found only {found} run functions");
     assert!(long.is_empty(), "over {MAX_RUN_LINES} lines: {long:?}");
 }
+
+/// The longest function of a face (`src/cli/`, `python/src/`), in lines: a screen or
+/// less, since the faces only translate arguments into a job's request and its answer into
+/// outputs (issue 36).
+const MAX_FACE_FUNCTION_LINES: usize = 80;
+
+/// The functions of `text` (at any indentation) and their lengths in lines, from the line
+/// that names them to their closing brace at the same indentation.
+fn function_lengths(text: &str) -> Vec<(String, usize)> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut found = Vec::new();
+    let mut i = 0;
+    while i < lines.len() {
+        let line = lines[i];
+        let trimmed = line.trim_start();
+        let indent = &line[..line.len() - trimmed.len()];
+        let head = ["fn ", "pub fn ", "pub(crate) fn ", "pub(super) fn "]
+            .iter()
+            .find_map(|p| trimmed.strip_prefix(p));
+        let Some(head) = head else {
+            i += 1;
+            continue;
+        };
+        let name: String = head
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect();
+        // The signature ends at `{` (a body) or `;` (a declaration).
+        let mut j = i;
+        while j < lines.len() && !lines[j].ends_with('{') && !lines[j].ends_with(';') {
+            j += 1;
+        }
+        if j == lines.len() || lines[j].ends_with(';') {
+            i = j + 1;
+            continue;
+        }
+        let close = format!("{indent}}}");
+        let end = (j..lines.len()).find(|&k| lines[k] == close).unwrap_or(j);
+        found.push((name, end - i + 1));
+        i = end + 1;
+    }
+    found
+}
+
+#[test]
+fn face_functions_fit_a_screen() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    rust_files(&root.join("src/cli"), &mut files);
+    rust_files(&root.join("python/src"), &mut files);
+    let mut long = Vec::new();
+    let mut counted = 0;
+    for file in &files {
+        let text = std::fs::read_to_string(file).expect("read");
+        for (name, lines) in function_lengths(&text) {
+            counted += 1;
+            if lines > MAX_FACE_FUNCTION_LINES {
+                long.push(format!("{}: `{name}` ({lines} lines)", file.display()));
+            }
+        }
+    }
+    assert!(counted > 100, "found only {counted} functions");
+    assert!(
+        long.is_empty(),
+        "over {MAX_FACE_FUNCTION_LINES} lines: {long:?}"
+    );
+}
+
+#[test]
+fn function_lengths_count_from_the_name_to_the_closing_brace() {
+    let text = "fn a() {\n    x;\n}\n\nimpl A {\n    pub fn b(\n        y: u8,\n    ) -> u8 {\n        y\n    }\n    fn c();\n}\n";
+    assert_eq!(
+        function_lengths(text),
+        vec![("a".to_string(), 3), ("b".to_string(), 5)]
+    );
+}

@@ -7,7 +7,7 @@ use crate::{Reporter, detached, fail, py_error};
 use footslam::inertial::frame_check::parse_axes;
 use footslam::inertial::{Mount, StepsConfig};
 use footslam::io::ImuUnits;
-use footslam::pipeline::{Named, StepsRequest, run_steps};
+use footslam::pipeline::{Named, StepsRequest, StepsRun, run_steps};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -52,6 +52,38 @@ pub(crate) fn steps<'py>(
     gyro_flip: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let config: StepsConfig = inputs::config(config)?;
+    let (mount, units) = mount_and_units(mount, accel_unit, gyro_unit)?;
+    let flip = gyro_flip
+        .map(|axes| parse_axes(axes).map_err(|m| fail(format!("gyro_flip: {m}"))))
+        .transpose()?;
+    let table = tables::table(imu, &IMU, "imu")?;
+    let started = std::time::Instant::now();
+    let job = detached(py, None, || {
+        let request = StepsRequest {
+            recording: Named::new(table.imu(units).map_err(py_error)?, table.label()),
+            mount,
+            gyro_flip: flip,
+            config: config.clone(),
+        };
+        run_steps(request, started).map_err(py_error)
+    })?;
+    let run = &job.run;
+    let result = PyDict::new(py);
+    result.set_item("steps", step_columns(py, run)?)?;
+    result.set_item("path", points3(py, &run.path)?)?;
+    let report = Reporter::default();
+    for w in &job.report.warnings {
+        report.push(format!("{}: {w}", job.report.imu_file));
+    }
+    let summary = serde_json::to_value(&job.report).map_err(|e| fail(e.to_string()))?;
+    result.set_item("summary", json_object(py, &summary)?)?;
+    result.set_item("config", json_object(py, &config)?)?;
+    report.emit(py)?;
+    Ok(result)
+}
+
+/// The mount and the units named by `steps`' arguments.
+fn mount_and_units(mount: &str, accel_unit: &str, gyro_unit: &str) -> PyResult<(Mount, ImuUnits)> {
     let mount = match mount {
         "foot" => Mount::Foot,
         "phone" => Mount::Phone,
@@ -81,22 +113,12 @@ pub(crate) fn steps<'py>(
             }
         },
     };
-    let flip = gyro_flip
-        .map(|axes| parse_axes(axes).map_err(|m| fail(format!("gyro_flip: {m}"))))
-        .transpose()?;
-    let table = tables::table(imu, &IMU, "imu")?;
-    let started = std::time::Instant::now();
-    let job = detached(py, None, || {
-        let request = StepsRequest {
-            recording: Named::new(table.imu(units).map_err(py_error)?, table.label()),
-            mount,
-            gyro_flip: flip,
-            config: config.clone(),
-        };
-        run_steps(request, started).map_err(py_error)
-    })?;
-    let run = &job.run;
-    let result = PyDict::new(py);
+    Ok((mount, units))
+}
+
+/// The steps' columns, as `steps.csv` holds them (with the magnetic field's `field` and
+/// `field_up` when the recording had one; NaN: none at that step).
+fn step_columns<'py>(py: Python<'py>, run: &StepsRun) -> PyResult<Bound<'py, PyDict>> {
     let steps = run.trace.steps();
     let mut step_columns = vec![
         ("t", Column::F64(steps.iter().map(|s| s.t).collect())),
@@ -119,7 +141,6 @@ pub(crate) fn steps<'py>(
             ),
         ),
     ];
-    // The magnetic field over each step, as `steps.csv`'s `field` and `field_up` (NaN: none).
     if let Some(field) = run.field.as_ref().filter(|f| f.observed() > 0) {
         let value = |i: usize, up: bool| {
             field
@@ -137,15 +158,5 @@ pub(crate) fn steps<'py>(
             ));
         }
     }
-    result.set_item("steps", columns(py, step_columns)?)?;
-    result.set_item("path", points3(py, &run.path)?)?;
-    let report = Reporter::default();
-    for w in &job.report.warnings {
-        report.push(format!("{}: {w}", job.report.imu_file));
-    }
-    let summary = serde_json::to_value(&job.report).map_err(|e| fail(e.to_string()))?;
-    result.set_item("summary", json_object(py, &summary)?)?;
-    result.set_item("config", json_object(py, &config)?)?;
-    report.emit(py)?;
-    Ok(result)
+    columns(py, step_columns)
 }

@@ -8,7 +8,7 @@ use crate::{Reporter, detached, py_error};
 use footslam::filter::StartPose;
 use footslam::io::radio_map_geojson::radio_map_to_geojson;
 use footslam::pipeline::{
-    Named, SurveyConfig, SurveyOverrides, SurveyReport, SurveyRequest, SurveyWalkRequest,
+    Coverage, Named, SurveyConfig, SurveyOverrides, SurveyReport, SurveyRequest, SurveyWalkRequest,
     prepare_survey,
 };
 use pyo3::exceptions::PyTypeError;
@@ -164,28 +164,7 @@ pub(crate) fn survey<'py>(
     })?;
     let result = PyDict::new(py);
     result.set_item("radio_map", json_object(py, &collection)?)?;
-    let c = &coverage;
-    result.set_item(
-        "coverage",
-        columns(
-            py,
-            vec![
-                (
-                    "granularity_m",
-                    Column::F64(c.iter().map(|c| c.granularity).collect()),
-                ),
-                (
-                    "cells",
-                    Column::I64(c.iter().map(|c| c.cells as i64).collect()),
-                ),
-                ("coverage", Column::F64(c.iter().map(|c| c.share).collect())),
-                (
-                    "mean_scans",
-                    Column::F64(c.iter().map(|c| c.mean_scans).collect()),
-                ),
-            ],
-        )?,
-    )?;
+    result.set_item("coverage", coverage_columns(py, &coverage)?)?;
     result.set_item("walks", json_object(py, &summary.walks)?)?;
     result.set_item("summary", json_object(py, &summary)?)?;
     result.set_item("config", json_object(py, &config)?)?;
@@ -224,4 +203,26 @@ fn earlier_maps(
     docs.iter()
         .map(|d| d.radio_map(Some(frame)).map(|(m, _)| m))
         .collect()
+}
+
+/// The coverage table (the paper's Table 1) as columns.
+fn coverage_columns<'py>(py: Python<'py>, c: &[Coverage]) -> PyResult<Bound<'py, PyDict>> {
+    columns(
+        py,
+        vec![
+            (
+                "granularity_m",
+                Column::F64(c.iter().map(|c| c.granularity).collect()),
+            ),
+            (
+                "cells",
+                Column::I64(c.iter().map(|c| c.cells as i64).collect()),
+            ),
+            ("coverage", Column::F64(c.iter().map(|c| c.share).collect())),
+            (
+                "mean_scans",
+                Column::F64(c.iter().map(|c| c.mean_scans).collect()),
+            ),
+        ],
+    )
 }

@@ -1,16 +1,16 @@
 //! `footslam.track`: one walk located and tracked on a known floor plan, as `footslam
 //! track` runs it.
 
-use crate::inputs;
+use crate::inputs::{self, Document};
 use crate::outputs::{Column, columns, json_object};
-use crate::tables::{self, STEPS, WIFI};
+use crate::tables::{self, STEPS, Table, WIFI};
 use crate::{Reporter, detached, fail, py_error};
 use footslam::filter::{RfMode, TrackerConfig};
 use footslam::io::{SmoothedPoint, TrackPoint};
 use footslam::model::wifi_distance::Normalisation;
 use footslam::pipeline::{
-    Named, SnapshotSteps, TrackAnswer, TrackOverrides, TrackRadioRequest, TrackReport,
-    TrackRequest, prepare,
+    Named, PreparedTrack, SnapshotSteps, TrackAnswer, TrackOverrides, TrackRadioRequest,
+    TrackReport, TrackRequest, TrackRun, prepare,
 };
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -123,107 +123,32 @@ pub(crate) fn track<'py>(
         map_weight: hexmap_weight,
     };
     let config: TrackerConfig = inputs::config(config)?;
-    let (wifi, radio_map) = match (present(wifi), present(radio_map)) {
-        (Some(w), Some(r)) => (Some(w), Some(r)),
-        (None, None) => (None, None),
-        _ => {
-            return Err(fail(
-                "radio_map and wifi go together: RF-assisted tracking needs the radio map and \
-                 the walk's WiFi log",
-            ));
-        }
+    let (wifi, radio_map) = together(present(wifi), present(radio_map))?;
+    let docs = TrackDocs {
+        plan: inputs::document(plan, "floor plan", "plan")?,
+        steps: tables::table(steps, &STEPS, "steps")?,
+        hexmap: present(hexmap)
+            .map(|o| inputs::document(o, "learned map", "hexmap"))
+            .transpose()?,
+        radio_map: radio_map
+            .map(|o| inputs::document(o, "radio map", "radio_map"))
+            .transpose()?,
+        wifi: wifi.map(|o| tables::table(o, &WIFI, "wifi")).transpose()?,
+        origin: inputs::origin(origin)?,
     };
-    let plan_doc = inputs::document(plan, "floor plan", "plan")?;
-    let steps_table = tables::table(steps, &STEPS, "steps")?;
-    let hexmap_doc = present(hexmap)
-        .map(|o| inputs::document(o, "learned map", "hexmap"))
-        .transpose()?;
-    let radio_doc = radio_map
-        .map(|o| inputs::document(o, "radio map", "radio_map"))
-        .transpose()?;
-    let wifi_table = wifi.map(|o| tables::table(o, &WIFI, "wifi")).transpose()?;
-    let origin = inputs::origin(origin)?;
     let report = Reporter::new(progress)?;
     let started = std::time::Instant::now();
     let out = detached(py, threads, || {
-        let (plan, frame) = plan_doc.floor_plan(origin).map_err(py_error)?;
-        let map = match &hexmap_doc {
-            Some(doc) => Some(Named::new(doc.stored_map().map_err(py_error)?, doc.label())),
-            None => None,
-        };
-        let radio = match (&radio_doc, &wifi_table) {
-            (Some(doc), Some(table)) => {
-                let (map, _) = doc.radio_map(Some(frame)).map_err(py_error)?;
-                let log = table.wifi_log().map_err(py_error)?;
-                Some(TrackRadioRequest {
-                    map: Named::new(map, doc.label()),
-                    scans: Named::new(log.scans, table.label()),
-                    duplicate_readings: log.duplicate_readings,
-                })
-            }
-            _ => None,
-        };
-        let request = TrackRequest {
-            steps_have_dz: plan.levels().len() <= 1
-                || one_floor
-                || steps_table.has_column("dz").map_err(py_error)?,
-            plan: Named::new(plan, plan_doc.label()),
-            frame,
-            plan_margin,
-            steps: Named::new(steps_table.steps().map_err(py_error)?, steps_table.label()),
-            one_floor,
-            map,
-            radio,
-            snapshots: SnapshotSteps::Never,
-            config,
-            overrides,
-        };
+        let options = (plan_margin, one_floor, config, overrides);
+        let request = docs.request(options).map_err(py_error)?;
         let prepared = prepare(request, &report).map_err(py_error)?;
         let mut run = prepared.run(&report).map_err(py_error)?;
         let times: Vec<f64> = prepared.trace.steps().iter().map(|s| s.t).collect();
         let answer = TrackAnswer::read(&mut run, &times);
         let summary = TrackReport::new(&prepared, &run, &answer, started);
-        let records = run
-            .records
-            .steps
-            .iter()
-            .map(|r| {
-                let clusters = r.clusters().map_or(-1, |c| c as i64);
-                (r.particles() as i64, clusters, r.localised())
-            })
-            .collect();
-        Ok(TrackOut {
-            smoothed: answer.smoothing.is_some().then_some(answer.rows),
-            filtered: std::mem::take(&mut run.filtered),
-            records,
-            summary: serde_json::to_value(&summary).map_err(|e| fail(e.to_string()))?,
-            config: serde_json::to_value(&prepared.config).map_err(|e| fail(e.to_string()))?,
-        })
+        TrackOut::new(&prepared, run, answer, &summary)
     })?;
-    let result = PyDict::new(py);
-    let filtered = points(py, &out.filtered, None)?;
-    match &out.smoothed {
-        Some(rows) => {
-            let p: Vec<TrackPoint> = rows.iter().map(|r| r.point).collect();
-            result.set_item("track", points(py, &p, Some(rows))?)?;
-        }
-        None => result.set_item("track", points(py, &out.filtered, None)?)?,
-    }
-    result.set_item("filtered", filtered)?;
-    let r = &out.records;
-    result.set_item(
-        "steps",
-        columns(
-            py,
-            vec![
-                ("particles", Column::I64(r.iter().map(|r| r.0).collect())),
-                ("clusters", Column::I64(r.iter().map(|r| r.1).collect())),
-                ("localised", Column::Bool(r.iter().map(|r| r.2).collect())),
-            ],
-        )?,
-    )?;
-    result.set_item("summary", json_object(py, &out.summary)?)?;
-    result.set_item("config", json_object(py, &out.config)?)?;
+    let result = out.to_python(py)?;
     report.emit(py)?;
     Ok(result)
 }
@@ -283,4 +208,127 @@ fn points<'py>(
         cols.push(("share", Column::F64(rows.iter().map(|r| r.share).collect())));
     }
     columns(py, cols)
+}
+
+/// The documents and tables `track` reads, converted while the GIL is held.
+struct TrackDocs {
+    plan: Document,
+    steps: Table,
+    hexmap: Option<Document>,
+    radio_map: Option<Document>,
+    wifi: Option<Table>,
+    origin: Option<footslam::geometry::LocalFrame>,
+}
+
+impl TrackDocs {
+    /// The job's request: the documents and tables parsed, with the options `(plan_margin,
+    /// one_floor, config, overrides)`.
+    fn request(
+        &self,
+        options: (Option<f64>, bool, TrackerConfig, TrackOverrides),
+    ) -> footslam::Result<TrackRequest> {
+        let (plan_margin, one_floor, config, overrides) = options;
+        let (plan, frame) = self.plan.floor_plan(self.origin)?;
+        let map = match &self.hexmap {
+            Some(doc) => Some(Named::new(doc.stored_map()?, doc.label())),
+            None => None,
+        };
+        let radio = match (&self.radio_map, &self.wifi) {
+            (Some(doc), Some(table)) => {
+                let (map, _) = doc.radio_map(Some(frame))?;
+                let log = table.wifi_log()?;
+                Some(TrackRadioRequest {
+                    map: Named::new(map, doc.label()),
+                    scans: Named::new(log.scans, table.label()),
+                    duplicate_readings: log.duplicate_readings,
+                })
+            }
+            _ => None,
+        };
+        Ok(TrackRequest {
+            steps_have_dz: plan.levels().len() <= 1 || one_floor || self.steps.has_column("dz")?,
+            plan: Named::new(plan, self.plan.label()),
+            frame,
+            plan_margin,
+            steps: Named::new(self.steps.steps()?, self.steps.label()),
+            one_floor,
+            map,
+            radio,
+            snapshots: SnapshotSteps::Never,
+            config,
+            overrides,
+        })
+    }
+}
+
+impl TrackOut {
+    /// What `track` returns of a run of `prepared`, its answer and its report.
+    fn new(
+        prepared: &PreparedTrack,
+        mut run: TrackRun<'_>,
+        answer: TrackAnswer,
+        summary: &TrackReport,
+    ) -> PyResult<Self> {
+        let records = run
+            .records
+            .steps
+            .iter()
+            .map(|r| {
+                let clusters = r.clusters().map_or(-1, |c| c as i64);
+                (r.particles() as i64, clusters, r.localised())
+            })
+            .collect();
+        Ok(TrackOut {
+            smoothed: answer.smoothing.is_some().then_some(answer.rows),
+            filtered: std::mem::take(&mut run.filtered),
+            records,
+            summary: serde_json::to_value(summary).map_err(|e| fail(e.to_string()))?,
+            config: serde_json::to_value(&prepared.config).map_err(|e| fail(e.to_string()))?,
+        })
+    }
+
+    /// The dict `track` returns.
+    fn to_python<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let out = self;
+        let result = PyDict::new(py);
+        let filtered = points(py, &out.filtered, None)?;
+        match &out.smoothed {
+            Some(rows) => {
+                let p: Vec<TrackPoint> = rows.iter().map(|r| r.point).collect();
+                result.set_item("track", points(py, &p, Some(rows))?)?;
+            }
+            None => result.set_item("track", points(py, &out.filtered, None)?)?,
+        }
+        result.set_item("filtered", filtered)?;
+        let r = &out.records;
+        result.set_item(
+            "steps",
+            columns(
+                py,
+                vec![
+                    ("particles", Column::I64(r.iter().map(|r| r.0).collect())),
+                    ("clusters", Column::I64(r.iter().map(|r| r.1).collect())),
+                    ("localised", Column::Bool(r.iter().map(|r| r.2).collect())),
+                ],
+            )?,
+        )?;
+        result.set_item("summary", json_object(py, &out.summary)?)?;
+        result.set_item("config", json_object(py, &out.config)?)?;
+        Ok(result)
+    }
+}
+
+/// `wifi` and `radio_map`, both or neither.
+fn together<'a, 'py>(
+    wifi: Option<&'a Bound<'py, PyAny>>,
+    radio_map: Option<&'a Bound<'py, PyAny>>,
+) -> PyResult<(Option<&'a Bound<'py, PyAny>>, Option<&'a Bound<'py, PyAny>>)> {
+    match (wifi, radio_map) {
+        (Some(w), Some(r)) => Ok((Some(w), Some(r))),
+        (None, None) => Ok((None, None)),
+        _ => Err(fail(
+            "radio_map and wifi go together: RF-assisted tracking needs the radio map and the \
+             walk's WiFi log",
+        )),
+    }
 }

@@ -181,19 +181,19 @@ pub(super) fn write_walk(
     if !prefix.is_empty() {
         folder.write_json(&format!("{prefix}config.json"), config)?;
     }
-    write_trajectory(
-        &at("dead_reckoning.csv"),
-        walk.trace
-            .steps()
-            .iter()
-            .zip(&run.dead_reckoned)
-            .map(|(s, p)| TimedPoint {
-                t: s.t,
-                x: p.x,
-                y: p.y,
-            }),
-    )?;
+    write_dead_reckoning(&at("dead_reckoning.csv"), walk, run)?;
     Ok(WalkReport::new(walk, run, labels, plan.as_ref()))
+}
+
+/// Writes the walk's steps dead-reckoned from its start (`dead_reckoning.csv`).
+fn write_dead_reckoning(path: &std::path::Path, walk: &LearnWalk, run: &WalkRun) -> Result<()> {
+    let steps = walk.trace.steps().iter().zip(&run.dead_reckoned);
+    let points = steps.map(|(s, p)| TimedPoint {
+        t: s.t,
+        x: p.x,
+        y: p.y,
+    });
+    Ok(write_trajectory(path, points)?)
 }
 
 /// Writes the walkable plan of `map` ([`walkable_plan`], default settings) to `path` and
