@@ -76,8 +76,7 @@
 //! ```
 //! use footslam::filter::FootSlamConfig;
 //! use footslam::geometry::LocalFrame;
-//! use footslam::map::CellConfig;
-//! use footslam::pipeline::{LearnInput, LearnWalk, Silent, learn};
+//! use footslam::pipeline::{LearnConfig, LearnInput, LearnWalk, Silent, learn};
 //! use footslam::sim::{SimConfig, simulate};
 //!
 //! let mut sim_config = SimConfig { seed: 4, ..Default::default() };
@@ -88,9 +87,8 @@
 //!     frame: LocalFrame::default(),
 //!     outline: None,
 //!     prior_map: None,
-//!     cells: CellConfig::default(),
 //! };
-//! let config = FootSlamConfig { particles: 300, ..Default::default() };
+//! let config = LearnConfig::from(FootSlamConfig { particles: 300, ..Default::default() });
 //! let learned = learn(&input, &config, &Silent)?;
 //! assert_eq!(learned.walks[0].estimate.path.len(), walks[0].trace.len());
 //! # Ok::<(), footslam::Error>(())
