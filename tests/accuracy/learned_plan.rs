@@ -15,10 +15,8 @@
 //!   decoder and the YAML's fields matching the grid rebuilt from the plan the command
 //!   wrote; `learn` draws one map picture per floor.
 
-mod common;
-
+use crate::common::{Anchors, learn_walks, learned_track, recorded, recorded_truth, truth_track};
 use assert_cmd::Command;
-use common::{Anchors, learn_walks, learned_track, recorded, recorded_truth, truth_track};
 use footslam::eval::{Alignment, plan_overlap, position_errors};
 use footslam::filter::{FootSlamConfig, StartPose};
 use footslam::io::floor_plan_geojson::read_floor_plan;
