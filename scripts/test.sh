@@ -5,7 +5,7 @@
 # including the Dask batch runner on a local cluster).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# tests/viewer.rs loads `footslam view`'s page in headless Chromium (FOOTSLAM_SKIP_BROWSER=1
+# tests/it/viewer.rs loads `footslam view`'s page in headless Chromium (FOOTSLAM_SKIP_BROWSER=1
 # skips it): install Debian's package when it is missing and we may.
 if ! command -v chromium >/dev/null && [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
     apt-get update -qq && apt-get install -y -qq chromium

@@ -336,7 +336,7 @@ fn three_tower_walks_make_one_plan_level_per_floor() {
     // Three walks of the three-floor tower, each from its known start (floor included),
     // learned into one frame with the default particles (20,000) and merged: the merged
     // plan has one level per floor, and each learned level matches its true floor. Each
-    // walk is learned alone (no FeetSLAM passes: tests/feetslam.rs tests those): the
+    // walk is learned alone (no FeetSLAM passes: tests/accuracy/feetslam.rs tests those): the
     // passes cost two thirds of this test's time and moved its figures by less than their
     // spread (precision 0.946 / recall 0.829 alone, 0.953 / 0.818 after two passes).
     let sims: Vec<_> = [1u64, 2, 3]
