@@ -22,7 +22,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map_or(Ok(10), |a| a.parse())
         .map_err(|e| format!("seeds: {e}"))?;
     // Step lengths off by this factor for the whole walk: too long on even seeds, as much
-    // too short on odd ones (as `tests/track_accuracy.rs`).
+    // too short on odd ones (as `tests/accuracy/track_accuracy.rs`).
     let scale: f64 = std::env::args()
         .nth(2)
         .map_or(Ok(1.04), |a| a.parse())

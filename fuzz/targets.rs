@@ -4,7 +4,7 @@
 //! right answer to a malformed file.
 //!
 //! Shared by the fuzz targets (`fuzz/fuzz_targets/*.rs`, nightly, `cargo fuzz run NAME`)
-//! and by `tests/fuzz_replay.rs`, which replays the committed corpora
+//! and by `tests/it/fuzz_replay.rs`, which replays the committed corpora
 //! (`fuzz/corpus/NAME/`) on the stable toolchain in CI.
 
 #![allow(dead_code)]

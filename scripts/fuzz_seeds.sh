@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates the fuzz seed corpora (fuzz/corpus/NAME/) from the bundled data and the
 # toolkit's own outputs: a few small valid files per reader, which the fuzzer mutates and
-# tests/fuzz_replay.rs replays on the stable toolchain. Run from the repository root after
+# tests/it/fuzz_replay.rs replays on the stable toolchain. Run from the repository root after
 # `cargo build --release`.
 set -euo pipefail
 bin=target/release/footslam

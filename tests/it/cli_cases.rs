@@ -1,8 +1,8 @@
-//! The harness of the CLI's bad-input tables (`tests/bad_input.rs`,
-//! `tests/silent_wrongs.rs`): a case is a command line that must fail (or warn) with words
+//! The harness of the CLI's bad-input tables (`tests/it/bad_input.rs`,
+//! `tests/it/silent_wrongs.rs`): a case is a command line that must fail (or warn) with words
 //! its stderr must hold, never panic, and write nothing when it fails.
 //!
-//! Included by each test file as `mod cli_cases;`: a file uses some of it.
+//! A module of the fast tests' binary (`tests/it/main.rs`): each table uses some of it.
 #![allow(dead_code)]
 
 use assert_cmd::Command;

@@ -2,9 +2,7 @@
 //! drifts far, each step's field reading against the particles' own field maps must find
 //! the revisits that the steps alone miss, and must not hurt where there is nothing to find.
 
-mod common;
-
-use common::{Anchors, learn_walks, learned_track, recorded, truth_track, walk_of};
+use crate::common::{Anchors, learn_walks, learned_track, recorded, truth_track, walk_of};
 use footslam::eval::{Alignment, position_errors};
 use footslam::filter::FootSlamConfig;
 use footslam::pipeline::LearnWalk;

@@ -5,12 +5,10 @@
 //! speed against real time, and tracking with the map; and the command line's files, flags
 //! and messages on short walks.
 
-mod common;
-
-use assert_cmd::Command;
-use common::{
+use crate::common::{
     in_own_pool, recorded, recorded_plan, recorded_radio_map, recorded_scans, smoothed_track,
 };
+use assert_cmd::Command;
 use footslam::eval::rf_localisation::{SimulatedSurvey, radio_map_rms, simulate_survey};
 use footslam::filter::{EpsilonSource, RfConfig, RfLocaliser, RfMode, StartPose, TrackerConfig};
 use footslam::geometry::LocalFrame;

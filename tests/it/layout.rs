@@ -1,6 +1,8 @@
 //! The source tree stays one a newcomer can hold in their head (issue 15): no source file
 //! over `MAX_LINES` lines, and no import cycle between files or between top-level modules
-//! (`scripts/import_cycles.py`, which CI's Python runs).
+//! (`scripts/import_cycles.py`, which CI's Python runs). The integration tests are two
+//! binaries (`tests/it/`, `tests/accuracy/`, docs/testing.md) and every test file is a
+//! module of one of them.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -161,4 +163,44 @@ fn function_lengths_count_from_the_name_to_the_closing_brace() {
         function_lengths(text),
         vec![("a".to_string(), 3), ("b".to_string(), 5)]
     );
+}
+
+/// `Cargo.toml` turns off the discovery of test files (`autotests = false`): a file in
+/// `tests/` that is not a module of the two test binaries would never run.
+#[test]
+fn every_test_file_is_a_module_of_a_tier() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests");
+    let stray: Vec<PathBuf> = std::fs::read_dir(&root)
+        .expect("read tests")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "rs"))
+        .collect();
+    assert!(
+        stray.is_empty(),
+        "make these modules of tests/it/ (fast) or tests/accuracy/ (slow, statistical): {stray:?}"
+    );
+    let mut modules = 0;
+    for tier in ["it", "accuracy"] {
+        let dir = root.join(tier);
+        let main = std::fs::read_to_string(dir.join("main.rs")).expect("read main.rs");
+        let mut files = Vec::new();
+        rust_files(&dir, &mut files);
+        for file in files {
+            let name = file
+                .file_stem()
+                .expect("stem")
+                .to_string_lossy()
+                .into_owned();
+            if name == "main" {
+                continue;
+            }
+            modules += 1;
+            assert!(
+                main.lines().any(|l| l == format!("mod {name};")),
+                "{}: no `mod {name};` in tests/{tier}/main.rs, so it never runs",
+                file.display()
+            );
+        }
+    }
+    assert!(modules >= 30, "found only {modules} test modules");
 }

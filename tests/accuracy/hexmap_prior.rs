@@ -10,13 +10,11 @@
 //! not slow localisation by more than a few steps. The command line refuses a learned map
 //! in another frame than the plan's.
 
-mod common;
-
-use assert_cmd::Command;
-use common::{
+use crate::common::{
     Anchors, in_own_pool, learn_walks, recorded, recorded_plan, recorded_radio_map, recorded_scans,
     recorded_truth, smoothed_track, truth_track,
 };
+use assert_cmd::Command;
 use footslam::eval::{Alignment, position_errors};
 use footslam::filter::{FootSlamConfig, RfLocaliser, StartPose, TrackerConfig};
 use footslam::geometry::LocalFrame;

@@ -22,9 +22,7 @@
 //!
 //! Runs use 5,000 particles (a quarter of the default) to keep the tests short.
 
-mod common;
-
-use common::{
+use crate::common::{
     Anchors, learn_walks_with, learned_track, nearest_rank_p95, p95, recorded, recorded_fixes,
     recorded_truth, stored, truth_track,
 };

@@ -7,9 +7,7 @@
 //! p95 error after rigid alignment ≤ 1.5 m and ≤ a third of dead reckoning's, and at
 //! least 90 % of the visit-weighted learned hexagons in walkable space.
 
-mod common;
-
-use common::{Anchors, learn_walks, learned_track, recorded, truth_track, walk_of};
+use crate::common::{Anchors, learn_walks, learned_track, recorded, truth_track, walk_of};
 use footslam::eval::{Alignment, position_errors, walkable_fraction};
 use footslam::filter::FootSlamConfig;
 use footslam::io::TimedPoint;

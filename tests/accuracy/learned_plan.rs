@@ -15,12 +15,10 @@
 //!   decoder and the YAML's fields matching the grid rebuilt from the plan the command
 //!   wrote; `learn` draws one map picture per floor.
 
-mod common;
-
-use assert_cmd::Command;
-use common::{
+use crate::common::{
     Anchors, learn_walks, learn_walks_with, learned_track, recorded, recorded_truth, truth_track,
 };
+use assert_cmd::Command;
 use footslam::eval::{Alignment, plan_overlap, position_errors};
 use footslam::filter::{FootSlamConfig, StartPose};
 use footslam::io::floor_plan_geojson::read_floor_plan;
@@ -340,7 +338,7 @@ fn three_tower_walks_make_one_plan_level_per_floor() {
     // Three walks of the three-floor tower, each from its known start (floor included),
     // learned into one frame with the default particles (20,000) and merged: the merged
     // plan has one level per floor, and each learned level matches its true floor. Each
-    // walk is learned alone (no FeetSLAM passes: tests/feetslam.rs tests those): the
+    // walk is learned alone (no FeetSLAM passes: tests/accuracy/feetslam.rs tests those): the
     // passes cost two thirds of this test's time and moved its figures by less than their
     // spread (precision 0.946 / recall 0.829 alone, 0.953 / 0.818 after two passes).
     let sims: Vec<_> = [1u64, 2, 3]

@@ -2,9 +2,7 @@
 //! a message naming the files and the way out, and write nothing — never a confident answer
 //! with exit 0. One table, run end to end through the CLI on the bundled tower walk.
 
-mod cli_cases;
-
-use cli_cases::{Case, bundled, footslam, rewrite, run_case, with_field};
+use crate::cli_cases::{Case, bundled, footslam, rewrite, run_case, with_field};
 use std::path::Path;
 
 #[test]

@@ -2,9 +2,7 @@
 //! fail with a message naming the cause and the way out, or warn, end to end through the
 //! CLI. The IMU cases rewrite the test excerpts (`tests/data/`, see its README).
 
-mod cli_cases;
-
-use cli_cases::{Case, bundled, footslam, rewrite, run_case, with_field};
+use crate::cli_cases::{Case, bundled, footslam, rewrite, run_case, with_field};
 use std::path::{Path, PathBuf};
 
 fn excerpt(name: &str) -> PathBuf {

@@ -8,7 +8,8 @@
 //! tests' figures and thresholds were measured on that data when they ran the command line
 //! on the files, and a particle filter's run moves when its input moves by a millimetre.
 //!
-//! Included by each test file as `mod common;`: a file uses some of it.
+//! A module of the accuracy tests' binary (`tests/accuracy/main.rs`): each test module uses
+//! some of it.
 #![allow(dead_code)]
 
 /// The allocator the binary runs with: the filters allocate and free many small map nodes

@@ -3,7 +3,7 @@
 //! fuzzer runs (`fuzz/targets.rs`), on the stable toolchain: a reader that panics on one of
 //! them fails this test. See docs/robustness.md for the fuzzing runs.
 
-#[path = "../fuzz/targets.rs"]
+#[path = "../../fuzz/targets.rs"]
 mod targets;
 
 use std::path::Path;
