@@ -182,6 +182,8 @@ pub fn config(data: &[u8]) {
     }
     each!(
         footslam::filter::FootSlamConfig,
+        footslam::pipeline::LearnConfig,
+        footslam::pipeline::SurveyConfig,
         footslam::filter::TrackerConfig,
         footslam::inertial::StepsConfig,
         footslam::sim::SimConfig,

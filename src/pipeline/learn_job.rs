@@ -10,6 +10,40 @@
 //! 3. **learn** — [`learn`](super::learn()) on what was prepared
 //!    ([`PreparedLearn::run`]);
 //! 4. **report** — `summary.json` as one typed struct ([`LearnReport`](super::LearnReport)).
+//!
+//! ```
+//! use footslam::pipeline::{
+//!     LearnConfig, LearnOverrides, LearnReport, LearnRequest, LearnWalkRequest, Named, Silent,
+//!     WalkReport, prepare_learn,
+//! };
+//! use footslam::sim::{SimConfig, simulate};
+//!
+//! let started = std::time::Instant::now();
+//! let mut sim = SimConfig { seed: 4, ..Default::default() };
+//! sim.walk.laps = 1;
+//! let walk = LearnWalkRequest {
+//!     steps: Named::new(simulate(&sim)?.steps, "steps.csv"),
+//!     field: None,
+//!     gps: None,
+//!     wifi: None,
+//!     start: None,
+//! };
+//! let request = LearnRequest {
+//!     walks: vec![walk],
+//!     gps_t0: None,
+//!     prior_map: None,
+//!     outline: None,
+//!     origin: None,
+//!     config: LearnConfig::default(),
+//!     overrides: LearnOverrides { particles: Some(300), ..Default::default() },
+//! };
+//! let prepared = prepare_learn(request, &Silent)?;
+//! let learned = prepared.run(&Silent)?;
+//! let walks = vec![WalkReport::new(&prepared.walks[0], &learned.walks[0], &prepared.labels[0], None)];
+//! let report = LearnReport::new(&prepared, &learned, walks, started, 1);
+//! assert_eq!(report.single.as_ref().map(|w| w.steps_file.as_str()), Some("steps.csv"));
+//! # Ok::<(), footslam::Error>(())
+//! ```
 
 use super::Progress;
 use super::input_checks::{fixes_far_from_origin, outline_off_walks};
