@@ -318,11 +318,14 @@ impl TrackOut {
     }
 }
 
+/// An optional argument.
+type Arg<'a, 'py> = Option<&'a Bound<'py, PyAny>>;
+
 /// `wifi` and `radio_map`, both or neither.
 fn together<'a, 'py>(
-    wifi: Option<&'a Bound<'py, PyAny>>,
-    radio_map: Option<&'a Bound<'py, PyAny>>,
-) -> PyResult<(Option<&'a Bound<'py, PyAny>>, Option<&'a Bound<'py, PyAny>>)> {
+    wifi: Arg<'a, 'py>,
+    radio_map: Arg<'a, 'py>,
+) -> PyResult<(Arg<'a, 'py>, Arg<'a, 'py>)> {
     match (wifi, radio_map) {
         (Some(w), Some(r)) => Ok((Some(w), Some(r))),
         (None, None) => Ok((None, None)),

@@ -156,7 +156,7 @@ impl PreparedLearn {
     }
 
     /// Learns walk `walk` of the request alone as walk `index` of a batch
-    /// ([`learn_one`](super::learn_one)), with `others` in a FeetSLAM pass.
+    /// ([`learn_one`]), with `others` in a FeetSLAM pass.
     pub fn run_one(
         &self,
         walk: usize,

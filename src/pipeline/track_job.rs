@@ -6,7 +6,7 @@
 //! 2. **prepare** — the plan grown by its margin, the learned map on the plan's frame, the
 //!    steps' height changes on a plan of several floors, the topology, the WiFi log on the
 //!    steps' clock and of the radio map's building, the localiser ([`prepare`]): a failed
-//!    check is an error naming the input, with a [`Remedy`] where one
+//!    check is an error naming the input, with a [`Remedy`](crate::error::Remedy) where one
 //!    option fixes it;
 //! 3. **track** — [`track`](super::track()) on what was prepared;
 //! 4. **answer** — the smoothed whole-walk answer read into rows
