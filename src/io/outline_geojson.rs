@@ -12,6 +12,19 @@ use std::path::Path;
 
 /// A building's outline as read, in WGS84 (longitude, latitude): [`WorldOutline::project`]
 /// puts it in a run's frame once the run knows its frame.
+///
+/// ```
+/// use footslam::geometry::LocalFrame;
+/// use footslam::io::outline_geojson::world_outline_from_str;
+/// use geo::Area;
+/// let text = r#"{"type": "Polygon", "coordinates":
+///     [[[11, 48], [11.001, 48], [11.001, 48.001], [11, 48.001], [11, 48]]]}"#;
+/// let outline = world_outline_from_str(text, "outline.geojson")?;
+/// let frame = LocalFrame::new(48.0, 11.0).expect("a place on Earth");
+/// let area = outline.project(&frame)?.unsigned_area();
+/// assert!((8000.0..8400.0).contains(&area), "{area} m²");
+/// # Ok::<(), footslam::Error>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct WorldOutline {
     /// The exterior ring's positions, `[lon, lat]` degrees.

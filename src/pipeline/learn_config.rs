@@ -159,6 +159,14 @@ pub struct LearnOverrides {
 
 impl LearnOverrides {
     /// `config` with these overrides, validated.
+    ///
+    /// ```
+    /// use footslam::pipeline::{LearnConfig, LearnOverrides};
+    /// let o = LearnOverrides { particles: Some(500), prior_weight: Some(0.5), ..Default::default() };
+    /// let config = o.apply(LearnConfig::default())?;
+    /// assert_eq!((config.footslam.particles, config.prior_weight), (500, 0.5));
+    /// # Ok::<(), footslam::Error>(())
+    /// ```
     pub fn apply(&self, mut config: LearnConfig) -> Result<LearnConfig> {
         let filter = &mut config.footslam;
         if let Some(n) = self.particles {

@@ -19,6 +19,14 @@ pub struct PlanOverrides {
 
 impl PlanOverrides {
     /// `config` with these overrides.
+    ///
+    /// ```
+    /// use footslam::pipeline::{PlanOverrides, PlanRunConfig};
+    /// let o = PlanOverrides { min_visits: Some(3), resolution: None };
+    /// let config = o.apply(PlanRunConfig::default());
+    /// assert_eq!(config.plan.min_visits, 3);
+    /// assert_eq!(config.grid.resolution, PlanRunConfig::default().grid.resolution);
+    /// ```
     pub fn apply(&self, mut config: PlanRunConfig) -> PlanRunConfig {
         if let Some(k) = self.min_visits {
             config.plan.min_visits = k;

@@ -40,6 +40,16 @@ pub struct SurveyOverrides {
 
 impl SurveyOverrides {
     /// `config` with these overrides, validated.
+    ///
+    /// ```
+    /// use footslam::pipeline::{SurveyConfig, SurveyOverrides};
+    /// let o = SurveyOverrides { seed: Some(9), cell: Some(4.0), ..Default::default() };
+    /// let config = o.apply(SurveyConfig::default())?;
+    /// assert_eq!((config.tracker.seed, config.cells.granularity), (9, 4.0));
+    /// let bad = SurveyOverrides { cell: Some(-1.0), ..Default::default() };
+    /// assert!(bad.apply(SurveyConfig::default()).is_err());
+    /// # Ok::<(), footslam::Error>(())
+    /// ```
     pub fn apply(&self, mut config: SurveyConfig) -> Result<SurveyConfig> {
         if let Some(s) = self.seed {
             config.tracker.seed = s;

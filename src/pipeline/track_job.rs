@@ -55,6 +55,16 @@ pub struct TrackOverrides {
 
 impl TrackOverrides {
     /// `config` with these overrides, validated.
+    ///
+    /// ```
+    /// use footslam::filter::TrackerConfig;
+    /// use footslam::pipeline::TrackOverrides;
+    /// let o = TrackOverrides { seed: Some(3), online: true, ..Default::default() };
+    /// let config = o.apply(TrackerConfig::default())?;
+    /// assert_eq!(config.seed, 3);
+    /// assert!(!config.smoothing);
+    /// # Ok::<(), footslam::Error>(())
+    /// ```
     pub fn apply(&self, mut config: TrackerConfig) -> Result<TrackerConfig> {
         if let Some(s) = self.seed {
             config.seed = s;
