@@ -3,7 +3,7 @@
 //! ([`footslam::pipeline::LearnRequest`]): the configuration and its overrides, the walks
 //! (steps, GPS fixes and WiFi scans), the prior map, the origin and the outline.
 
-use crate::inputs::{self, Document};
+use crate::inputs;
 use crate::tables::{self, GPS, STEPS, Table, WIFI};
 use crate::{detached, py_error};
 use footslam::filter::StartPose;
@@ -160,13 +160,12 @@ pub(crate) fn read_request(
     let origin = inputs::origin(args.origin)?;
     let (gps_t0, overrides) = (args.gps_t0, args.overrides());
     detached(py, None, move || {
-        let named = |doc: &Document, value| Named::new(value, doc.label());
         let read = || -> footslam::Result<LearnRequest> {
             Ok(LearnRequest {
                 walks: tables.read(gps_t0)?,
                 gps_t0,
                 prior_map: match &prior_doc {
-                    Some(d) => Some(named(d, d.stored_map()?)),
+                    Some(d) => Some(Named::new(d.stored_map()?, d.label())),
                     None => None,
                 },
                 outline: match &outline_doc {

@@ -3,7 +3,7 @@
 //! should beat.
 
 use super::Progress;
-use super::job_checks::check_scans_match;
+use super::job_checks::{check_scans_match, warn_duplicate_readings};
 use super::named::Named;
 use crate::error::{Error, Result};
 use crate::filter::{FingerprintConfig, FingerprintFix, NearestFingerprint};
@@ -69,13 +69,7 @@ pub fn run_fingerprint(
     }
     let (map, wifi) = (&request.map, &request.wifi);
     let localiser = NearestFingerprint::new(&map.value, &config)?;
-    if request.duplicate_readings > 0 {
-        progress.warn(&format!(
-            "{}: {} row(s) repeated an access point already in their scan; kept the later \
-             reading of each",
-            wifi.label, request.duplicate_readings
-        ));
-    }
+    warn_duplicate_readings(&wifi.label, request.duplicate_readings, progress);
     check_scans_match(
         &Named::new(&map.value, map.label.as_str()),
         &Named::new(wifi.value.as_slice(), wifi.label.as_str()),

@@ -24,13 +24,7 @@ pub fn check_scans_on_clock(
     trace: &StepTrace,
     progress: &dyn Progress,
 ) -> Result<()> {
-    if duplicate_readings > 0 {
-        progress.warn(&format!(
-            "{}: {duplicate_readings} row(s) repeated an access point already in their scan; \
-             kept the later reading of each",
-            scans.label
-        ));
-    }
+    warn_duplicate_readings(&scans.label, duplicate_readings, progress);
     let steps = trace.steps();
     let (Some(first), Some(last)) = (steps.first(), steps.last()) else {
         return Ok(());
@@ -43,6 +37,18 @@ pub fn check_scans_on_clock(
         progress.warn(&format!("{}: {w}", scans.label));
     }
     Ok(())
+}
+
+/// Tells `progress` that `duplicate_readings` rows of the WiFi log `label` repeated an
+/// access point within their scan (the reader kept the later reading of each); nothing
+/// when there were none.
+pub fn warn_duplicate_readings(label: &str, duplicate_readings: usize, progress: &dyn Progress) {
+    if duplicate_readings > 0 {
+        progress.warn(&format!(
+            "{label}: {duplicate_readings} row(s) repeated an access point already in their \
+             scan; kept the later reading of each"
+        ));
+    }
 }
 
 /// A walk's GPS fixes on its steps' clock (`gpx`: read from a GPX file, whose UTC times
