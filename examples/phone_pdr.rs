@@ -164,7 +164,7 @@ fn evaluate(imu: &Path, wp: &Path, config: &PhoneConfig, totals: &mut Totals) ->
 fn synthetic_hour() -> Res<ImuRecording> {
     let samples = (0..360_000)
         .map(|i| {
-            let t = i as f64 * 0.01;
+            let t = f64::from(i) * 0.01;
             let walking = (t / 60.0) as u64 % 4 != 3; // three minutes walking, one standing
             let up = if walking {
                 3.0 * (2.0 * std::f64::consts::PI * 1.9 * t).sin()

@@ -330,6 +330,7 @@ fn line_suffix(line: usize) -> String {
 /// assert_eq!(short_number(2.5), "2.5");
 /// assert_eq!(short_number(1e308), "1e308");
 /// ```
+#[must_use]
 pub fn short_number(v: f64) -> String {
     let plain = v.to_string();
     if plain.len() > 24 {

@@ -5,6 +5,7 @@ use crate::error::{Error, Result};
 
 /// Memory the system can give a new allocation without swapping, bytes: `MemAvailable` of
 /// `/proc/meminfo` on Linux; `None` elsewhere or when it cannot be read (no check then).
+#[must_use]
 pub fn available_bytes() -> Option<u64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
     parse_mem_available(&text)
@@ -12,6 +13,7 @@ pub fn available_bytes() -> Option<u64> {
 
 /// The most memory this process has held so far, bytes: `VmHWM` of `/proc/self/status` on
 /// Linux; `None` elsewhere.
+#[must_use]
 pub fn peak_bytes() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;

@@ -6,7 +6,8 @@
 
 use rand_pcg::Pcg64Mcg;
 
-/// SplitMix64's finaliser: a bijective 64-bit mix (for deriving seeds).
+/// `SplitMix64`'s finaliser: a bijective 64-bit mix (for deriving seeds).
+#[must_use]
 pub const fn mix(mut z: u64) -> u64 {
     z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -15,6 +16,7 @@ pub const fn mix(mut z: u64) -> u64 {
 }
 
 /// The generator for particle `index` at step `step` of a run seeded with `seed`.
+#[must_use]
 pub fn stream(seed: u64, step: u64, index: u64) -> Pcg64Mcg {
     let a = mix(seed ^ mix(step ^ mix(index)));
     let b = mix(a ^ 0x5851_F42D_4C95_7F2D);
@@ -28,6 +30,7 @@ pub fn gauss(rng: &mut impl rand::Rng) -> f64 {
 
 /// A stream for whole-filter draws at `step` (e.g. resampling), distinct from every
 /// particle's stream.
+#[must_use]
 pub fn filter_stream(seed: u64, step: u64) -> Pcg64Mcg {
     stream(seed ^ 0xD1B5_4A32_D192_ED03, step, u64::MAX)
 }

@@ -16,6 +16,10 @@
 //! * `track.rs`: `track` — one walk on a known floor plan
 //! * `survey.rs`: `survey` — a WiFi radio map from walks on a known plan
 
+// The doc comments on the Python functions are their docstrings, written in reST (``x`` for
+// code, `x:` for a parameter), not rustdoc's Markdown.
+#![allow(clippy::doc_markdown)]
+
 use pyo3::prelude::*;
 
 mod inputs;

@@ -56,7 +56,7 @@ pub struct Args {
     /// its hexagons in walkable space (after the track's alignment).
     #[arg(long, requires = "plan", value_name = "FILE", help_heading = "Inputs")]
     map: Option<PathBuf>,
-    /// Learned walkable plan (learn's plan.geojson or merged_plan.geojson, or plan's): with
+    /// Learned walkable plan (learn's plan.geojson or `merged_plan.geojson`, or plan's): with
     /// `--plan`, also report its precision and its recall of the space the walk visited
     /// (the true walkable area within 0.75 m of the truth), by area, after the track's
     /// alignment.

@@ -29,10 +29,10 @@ pub struct Args {
 
 #[derive(Debug, clap::Subcommand)]
 enum Source {
-    /// Microsoft Indoor Location Competition 2.0: trace files (path_data_files/*.txt) and
-    /// a floor folder (geojson_map.json + floor_info.json).
+    /// Microsoft Indoor Location Competition 2.0: trace files (`path_data_files`/*.txt) and
+    /// a floor folder (`geojson_map.json` + `floor_info.json`).
     Ilc(IlcArgs),
-    /// IPIN competition smartphone logfile (GetSensorData app, `TAG;AppTimestamp;...`).
+    /// IPIN competition smartphone logfile (`GetSensorData` app, `TAG;AppTimestamp;...`).
     Ipin(IpinArgs),
 }
 
@@ -61,7 +61,7 @@ struct IlcArgs {
     /// named after the file stem.
     #[arg(long, num_args = 1.., value_name = "FILE", help_heading = "Inputs")]
     trace: Vec<PathBuf>,
-    /// Floor folder holding geojson_map.json and floor_info.json: writes floor.geojson.
+    /// Floor folder holding `geojson_map.json` and `floor_info.json`: writes floor.geojson.
     #[arg(long, value_name = "DIR", help_heading = "Inputs")]
     floor: Option<PathBuf>,
     /// The plan's walkable area. `corridors` (default): in the sample site's F1 all 237

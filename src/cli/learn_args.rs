@@ -36,7 +36,7 @@ pub struct Args {
     /// Radio-map cell granularity with WiFi, metres (default 3).
     #[arg(long, value_name = "METRES", help_heading = "Filter")]
     pub(super) cell: Option<f64>,
-    /// Building outline (GeoJSON Polygon, Feature or FeatureCollection of one), known to a
+    /// Building outline (GeoJSON Polygon, Feature or `FeatureCollection` of one), known to a
     /// few metres: crossing it becomes improbable (low Dirichlet prior `outline_alpha`).
     #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     pub(super) outline: Option<PathBuf>,

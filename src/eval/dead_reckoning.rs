@@ -21,6 +21,7 @@ pub struct WaypointDeadReckoning {
 }
 
 /// The trace dead-reckoned from the origin facing east: one point per step, at its time.
+#[must_use]
 pub fn dead_reckoning_track(trace: &StepTrace) -> Vec<TimedPoint> {
     trace
         .steps()
@@ -61,6 +62,7 @@ pub fn waypoint_dead_reckoning(
 /// Dead reckoning placed at the first waypoint at its time: the walker stands at the start
 /// until the first step; with `absolute`, the heading before the first step is the first
 /// step's measured heading less its turn, so the path follows the measured headings.
+#[must_use]
 pub fn dead_reckoning_from(trace: &StepTrace, first: &Waypoint, absolute: bool) -> Vec<TimedPoint> {
     let steps = trace.steps();
     let heading = match steps.first() {

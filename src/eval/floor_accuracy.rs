@@ -12,6 +12,7 @@ const SAME_TIME: f64 = 1e-3;
 /// Share of `track` points (time, level) whose level equals the level of the `truth` point
 /// with the same time (within a millisecond); points with no truth at their time are skipped.
 /// `None` when no point can be compared. Both series must be sorted by time.
+#[must_use]
 pub fn floor_accuracy(truth: &[TimedLevel], track: &[TimedLevel]) -> Option<f64> {
     let mut compared = 0usize;
     let mut right = 0usize;
@@ -29,6 +30,7 @@ pub fn floor_accuracy(truth: &[TimedLevel], track: &[TimedLevel]) -> Option<f64>
 
 /// [`floor_accuracy`] of two 2.5D tracks (e.g. the simulator's truth.csv and track's
 /// track.csv), compared by their points' levels.
+#[must_use]
 pub fn track_floor_accuracy(truth: &[TrackPoint], track: &[TrackPoint]) -> Option<f64> {
     let levels =
         |v: &[TrackPoint]| -> Vec<TimedLevel> { v.iter().map(|p| (p.t, p.level)).collect() };

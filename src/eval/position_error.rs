@@ -153,6 +153,7 @@ pub fn position_errors(
 
 /// The position of a series (time order) at time `t`, linearly interpolated; `None` outside
 /// its time span.
+#[must_use]
 pub fn interpolate_at(truth: &[TimedPoint], t: f64) -> Option<(f64, f64)> {
     let i = truth.partition_point(|p| p.t < t);
     let b = truth.get(i)?;

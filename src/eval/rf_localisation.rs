@@ -41,6 +41,7 @@ impl RfRun {
     /// The run lost the walker: never localised, or the track from the first single cluster
     /// on is not the walker's (median error over 1 m, or on the right floor less than 95 %
     /// of the time) — the true hypothesis did not survive.
+    #[must_use]
     pub fn lost(&self) -> bool {
         let s = &self.score;
         s.steps_to_localise.is_none()
@@ -50,12 +51,14 @@ impl RfRun {
 
     /// The first single cluster was not the right place (farther than 3 m or on another
     /// floor; [`TrackingScore::right_cluster`]), or never came.
+    #[must_use]
     pub fn first_fix_wrong(&self) -> bool {
         self.score.steps_to_localise.is_none() || !self.score.right_cluster
     }
 }
 
 /// Steps to localise, counting a walk never localised as all its steps (a lower bound).
+#[must_use]
 pub fn steps_or_all(score: &TrackingScore, steps: usize) -> usize {
     score.steps_to_localise.unwrap_or(steps)
 }
@@ -185,6 +188,7 @@ fn track_walk(
 /// the cell's points of a `spacing` grid, over the (cell, access point) pairs with at least
 /// `min_readings` readings and no misses (near the detection floor the mean of the readings
 /// heard is biased upwards); with the number of pairs.
+#[must_use]
 pub fn radio_map_rms(
     map: &RadioMap,
     cells: &CellMap,
@@ -210,6 +214,7 @@ pub fn radio_map_rms(
 /// points — that `to_map` (e.g. the inverse of a track's rigid alignment) moves the truth's
 /// points into; the levels are the truth's.
 #[allow(clippy::too_many_arguments)]
+#[must_use]
 pub fn radio_map_rms_in(
     map: &RadioMap,
     cells: &CellMap,

@@ -28,6 +28,7 @@ pub struct TrackingScore {
 }
 
 /// Scores `reports` (one per step) against `truth` (one pose per step).
+#[must_use]
 pub fn score_tracking(truth: &[TruePose], reports: &[TrackStep]) -> TrackingScore {
     let first = reports.iter().position(|r| r.localised);
     let right_cluster = first.is_some_and(|i| {
@@ -89,6 +90,7 @@ pub struct SmoothedScore {
 }
 
 /// Scores the smoothed answer `smoothed` (one per step, as `reports`) against `truth`.
+#[must_use]
 pub fn score_smoothed(
     truth: &[TruePose],
     reports: &[TrackStep],

@@ -11,6 +11,7 @@ use crate::map::{FloorPlan, HexMapSnapshot};
 /// Each hexagon weighs its number of passes, `⌈Σ counts / 2⌉`. `transform` maps the map's
 /// frame into the plan's (e.g. the rigid alignment from position evaluation); `None` when
 /// they share a frame. An empty map (or one without crossings) gives 0.
+#[must_use]
 pub fn walkable_fraction(
     map: &HexMapSnapshot,
     plan: &FloorPlan,

@@ -158,6 +158,7 @@ pub struct Cluster {
 /// lighter than `config.min_weight` are dropped from the list (their particles still count in
 /// the total). Empty when the points carry no weight. A filter that clusters every step keeps
 /// a [`MeanShift`] instead, whose buffers live from call to call.
+#[must_use]
 pub fn mean_shift(points: &[ClusterPoint], config: &ClusterConfig) -> Vec<Cluster> {
     MeanShift::default().cluster(points, config)
 }

@@ -130,6 +130,7 @@ impl Departure {
     /// Checks `learned` (one pose per step) against `dead_reckoned` (the same steps from the
     /// same start) with the walk's `steps` (their lengths give the distance walked);
     /// `other_evidence` names what beside the steps weighed the particles.
+    #[must_use]
     pub fn check(
         steps: &[Step],
         learned: &[Pose2],

@@ -326,26 +326,31 @@ impl FootSlam {
     }
 
     /// The configuration in force.
+    #[must_use]
     pub fn config(&self) -> &FootSlamConfig {
         &self.config
     }
 
     /// Steps processed so far.
+    #[must_use]
     pub fn steps_processed(&self) -> usize {
         self.steps.len()
     }
 
     /// Resamplings so far.
+    #[must_use]
     pub fn resamplings(&self) -> usize {
         self.resamplings
     }
 
     /// Effective sample size after each step (before any resampling at that step).
+    #[must_use]
     pub fn ess_history(&self) -> &[f64] {
         &self.ess_history
     }
 
     /// Current effective sample size `1 / Σ wᵢ²`.
+    #[must_use]
     pub fn effective_sample_size(&self) -> f64 {
         resample::effective_sample_size(&self.weights)
     }
@@ -355,6 +360,7 @@ impl FootSlam {
     /// the map's orientation. Every particle integrates the same measured heading changes,
     /// so their headings differ only by the start heading each drew and the heading noise
     /// of eq. (5); GPS fixes, compass readings, an outline or a prior map narrow it.
+    #[must_use]
     pub fn heading_spread(&self) -> f64 {
         let (c, s) = self
             .particles
@@ -368,28 +374,33 @@ impl FootSlam {
     }
 
     /// GPS fixes applied so far.
+    #[must_use]
     pub fn gps_fixes_used(&self) -> usize {
         self.gps.as_ref().map_or(0, |g| g.next)
     }
 
     /// Steps whose absolute heading weighted the particles so far.
+    #[must_use]
     pub fn headings_used(&self) -> usize {
         self.headings_used
     }
 
     /// WiFi scans that weighted the particles so far.
+    #[must_use]
     pub fn scans_used(&self) -> usize {
         self.wifi.as_ref().map_or(0, |w| w.next)
     }
 
     /// Straight steps that the building's axes weighed so far (0 when the walk showed no
     /// dominant directions).
+    #[must_use]
     pub fn axis_steps(&self) -> usize {
         self.axis_steps
     }
 
     /// Steps whose magnetic field reading weighed the particles so far (0 without readings
     /// or when they do not tell places apart).
+    #[must_use]
     pub fn field_steps(&self) -> usize {
         self.field_steps
     }

@@ -23,6 +23,7 @@ const MIN_HEADING_SIGMA: f64 = 0.052_359_877_6;
 /// `(θ, σ_θ)`: the start heading (radians from east) and its spread, or `None` when the
 /// fixes before the walker is `MIN_BASELINE` (10 m) from the start are too few (fewer than
 /// three) or the walker never gets that far while fixes come in.
+#[must_use]
 pub fn heading_from_fixes(fixes: &[GpsObservation], steps: &[Step]) -> Option<(f64, f64)> {
     let first = fixes.first()?;
     // Dead reckoning from (0, 0) heading 0, with the time of each step's end.
@@ -77,7 +78,7 @@ mod tests {
         let mut steps = Vec::new();
         for i in 0..40 {
             steps.push(Step {
-                t: 0.5 * (i + 1) as f64,
+                t: 0.5 * f64::from(i + 1),
                 length: 0.7,
                 dheading: if i == 20 {
                     std::f64::consts::FRAC_PI_2

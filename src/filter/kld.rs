@@ -141,11 +141,13 @@ impl KldConfig {
     }
 
     /// The most particles a step may keep: `max_step_particles`, at most `max_particles`.
+    #[must_use]
     pub fn step_cap(&self) -> usize {
         self.max_step_particles.min(self.max_particles)
     }
 
     /// Fox's `n_χ(k)` (eq. 13) for these `ε` and `δ`, before clamping to the particle limits.
+    #[must_use]
     pub fn required(&self, k: f64) -> f64 {
         required_particles(k, self.epsilon, standard_normal_quantile(1.0 - self.delta))
     }
@@ -153,6 +155,7 @@ impl KldConfig {
 
 /// Fox 2003, eq. (13): samples needed for `k` occupied bins, bound `epsilon` and the
 /// upper `1 − δ` quantile `z` of the standard normal distribution.
+#[must_use]
 pub fn required_particles(k: f64, epsilon: f64, z: f64) -> f64 {
     if k <= 1.0 {
         return 1.0;
@@ -164,6 +167,7 @@ pub fn required_particles(k: f64, epsilon: f64, z: f64) -> f64 {
 
 /// The standard normal quantile function (Acklam's rational approximation, relative error
 /// below 1.2e-9).
+#[must_use]
 pub fn standard_normal_quantile(p: f64) -> f64 {
     const A: [f64; 6] = [
         -3.969_683_028_665_376e1,
@@ -275,17 +279,20 @@ impl KldBins {
 
     /// True when bins are indices into a dense array (below 2²⁵ bins), so that a bin fits
     /// in a `u32`.
+    #[must_use]
     pub fn dense(&self) -> bool {
         matches!(self.store, Store::Dense { .. })
     }
 
     /// The configuration.
+    #[must_use]
     pub fn config(&self) -> &KldConfig {
         &self.config
     }
 
     /// The bin of a state; positions outside the box fall in its border bins.
     #[inline]
+    #[must_use]
     pub fn bin(&self, x: f32, y: f32, heading: f32, level: i32) -> u64 {
         let ix = (((x - self.min[0]) * self.inv_size).max(0.0) as u64).min(self.nx - 1);
         let iy = (((y - self.min[1]) * self.inv_size).max(0.0) as u64).min(self.ny - 1);
@@ -344,6 +351,7 @@ impl KldBins {
     }
 
     /// Number of occupied bins.
+    #[must_use]
     pub fn occupied(&self) -> usize {
         match &self.store {
             Store::Dense { touched, .. } => touched.len(),
@@ -352,12 +360,14 @@ impl KldBins {
     }
 
     /// Fox's stopping rule for `n` samples in `k` occupied bins: true when `n` suffices.
+    #[must_use]
     pub fn enough(&self, n: usize, k: usize) -> bool {
         n >= self.config.max_particles || self.satisfied(n, k)
     }
 
     /// Whether `n` samples over `k` occupied bins meet the KLD bound (and the minimum),
     /// regardless of the cap.
+    #[must_use]
     pub fn satisfied(&self, n: usize, k: usize) -> bool {
         n >= self.config.min_particles
             && n as f64 >= required_particles(k as f64, self.config.epsilon, self.z)

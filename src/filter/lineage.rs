@@ -18,6 +18,7 @@ pub struct Lineage {
 
 impl Lineage {
     /// The root of a particle that holds `index` from step 0.
+    #[must_use]
     pub fn root(index: u32) -> Arc<Self> {
         Arc::new(Self {
             parent: None,
@@ -27,6 +28,7 @@ impl Lineage {
     }
 
     /// A child of `parent` that holds `index` from step `from_step` on.
+    #[must_use]
     pub fn child(parent: &Arc<Self>, from_step: u32, index: u32) -> Arc<Self> {
         Arc::new(Self {
             parent: Some(Arc::clone(parent)),
@@ -36,6 +38,7 @@ impl Lineage {
     }
 
     /// The particle index held at each step `0..steps`, oldest first.
+    #[must_use]
     pub fn indices(self: &Arc<Self>, steps: usize) -> Vec<u32> {
         let mut out = vec![0u32; steps];
         let mut end = steps;

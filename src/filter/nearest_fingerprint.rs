@@ -131,6 +131,7 @@ impl NearestFingerprint {
 
     /// The scan's place, `None` when it shares fewer than `min_common` access points with the
     /// map.
+    #[must_use]
     pub fn locate(&self, scan: &WifiScan) -> Option<FingerprintFix> {
         let common = scan
             .readings

@@ -44,6 +44,7 @@ pub const OUTAGE: f64 = 10.0;
 /// before it and the fix after it (`fix_times` sorted; before the first fix and after the
 /// last the gap is open-ended, so it counts once the nearest fix is more than `OUTAGE`
 /// away). Without fixes there is no outage.
+#[must_use]
 pub fn in_outage(fix_times: &[f64], t: f64) -> bool {
     let i = fix_times.partition_point(|&f| f <= t);
     let before = i.checked_sub(1).map(|j| fix_times[j]);
@@ -58,6 +59,7 @@ pub fn in_outage(fix_times: &[f64], t: f64) -> bool {
 
 /// For each time in `times` (in order): the seconds since the time before it (0 for the
 /// first) when it falls in a GPS outage ([`in_outage`]), and 0 otherwise.
+#[must_use]
 pub fn unseen_seconds(times: &[f64], fix_times: &[f64]) -> Vec<f64> {
     times
         .iter()
@@ -80,6 +82,7 @@ pub struct OutlineZone {
 
 impl OutlineZone {
     /// The zone of `outline` known to `margin` metres.
+    #[must_use]
     pub fn new(outline: &Polygon<f64>, margin: f64) -> Self {
         Self {
             outline: outline.clone(),
@@ -89,6 +92,7 @@ impl OutlineZone {
     }
 
     /// True when `(x, y)` lies more than the margin outside the outline.
+    #[must_use]
     pub fn is_far_outside(&self, x: f64, y: f64) -> bool {
         self.side((x, y)) == -1
     }
@@ -149,6 +153,7 @@ fn crossings(path: &[(f64, f64)], unseen: &[f64], zone: &OutlineZone, s: (f64, f
 /// seconds each was walked in a GPS outage, [`unseen_seconds`]) given the outline `zone`,
 /// the cost `cost` of a crossing and a Gaussian bias prior of spread `sigma` per axis;
 /// `(0, 0)` when `sigma` is 0 or the path is too short.
+#[must_use]
 pub fn fit_outline_shift(
     path: &[(f64, f64)],
     unseen: &[f64],

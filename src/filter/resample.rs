@@ -37,6 +37,7 @@ impl Default for ResampleConfig {
 }
 
 /// Effective sample size `1 / Σ wᵢ²` of normalised weights.
+#[must_use]
 pub fn effective_sample_size(weights: &[f64]) -> f64 {
     let s: f64 = weights.iter().map(|w| w * w).sum();
     if s > 0.0 { 1.0 / s } else { 0.0 }

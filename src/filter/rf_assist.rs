@@ -60,6 +60,7 @@ pub enum RfMode {
 impl RfMode {
     /// Its name on the command line: `auto`, `evidence`, `containment`, `probabilistic` or
     /// `prior-only`.
+    #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             RfMode::Containment => "containment",
@@ -71,6 +72,7 @@ impl RfMode {
     }
 
     /// The mode [`RfMode::name`] names (`prior_only` too); `None` for any other text.
+    #[must_use]
     pub fn from_name(name: &str) -> Option<Self> {
         [
             RfMode::Auto,
@@ -213,6 +215,7 @@ pub enum EpsilonSource {
 
 impl EpsilonSource {
     /// The name used in summaries.
+    #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             EpsilonSource::Given => "given",
@@ -290,6 +293,7 @@ impl RfLocaliser {
 
     /// Why the evidence mode fell back to containment regions (the mode in use is then
     /// [`RfMode::Containment`]), if it did.
+    #[must_use]
     pub fn fallback(&self) -> Option<&str> {
         self.fallback.as_deref()
     }
@@ -300,32 +304,38 @@ impl RfLocaliser {
     }
 
     /// The configuration, with the mode in use (never [`RfMode::Auto`]).
+    #[must_use]
     pub fn config(&self) -> &RfConfig {
         &self.config
     }
 
     /// The region threshold in use, dBm.
+    #[must_use]
     pub fn epsilon(&self) -> f64 {
         self.epsilon
     }
 
     /// Where the threshold in use came from.
+    #[must_use]
     pub fn epsilon_source(&self) -> EpsilonSource {
         self.epsilon_source
     }
 
     /// The distance's divisor in use.
+    #[must_use]
     pub fn distance(&self) -> Normalisation {
         self.distance
     }
 
     /// `ndist(z, c_i)` of `scan` to every cell with the distance in use (eqs. 2–11); `None`
     /// for unknown cells.
+    #[must_use]
     pub fn ndist(&self, scan: &WifiScan) -> Vec<Option<f64>> {
         self.prints.ndist(scan)
     }
 
     /// Whether each cell is in the scan's region (eqs. 2, 12); unknown cells are.
+    #[must_use]
     pub fn in_region(&self, scan: &WifiScan) -> Vec<bool> {
         self.ndist(scan)
             .into_iter()

@@ -138,6 +138,7 @@ impl<'a> RfTracker<'a> {
     }
 
     /// The tracker, once started.
+    #[must_use]
     pub fn tracker(&self) -> Option<&Tracker<'a>> {
         self.tracker.as_ref()
     }

@@ -26,17 +26,20 @@ pub struct ScanTrail {
 
 impl ScanTrail {
     /// Positions held.
+    #[must_use]
     pub fn len(&self) -> usize {
         self.node.full.len() * CHUNK + self.node.tail.len()
     }
 
     /// Whether it holds none.
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
 
     /// The position at scan `j` (`j < len()`).
     #[inline]
+    #[must_use]
     pub fn get(&self, j: usize) -> (f32, f32) {
         let n = &self.node;
         match n.full.get(j / CHUNK) {

@@ -27,6 +27,7 @@ pub type Assignments = Vec<(usize, Option<usize>)>;
 /// `reports`, the first step at or after it: `(scan index, cell)`, the cell being that of
 /// the step's estimate (its surface found on the estimate's level, nearest its height), or
 /// `None` when the step has no estimate or it is in no cell.
+#[must_use]
 pub fn survey_assignments(
     cells: &CellMap,
     topology: &FloorTopology,
@@ -63,6 +64,7 @@ pub type PathPoint = (f64, f64, f64, i32);
 
 /// The [`PathPoint`]s of a walk whose poses after each step are known (FootSLAM's most
 /// probable path: one pose per step of `steps`), all on `level`.
+#[must_use]
 pub fn path_points(steps: &[Step], poses: &[Pose2], level: i32) -> Vec<PathPoint> {
     steps
         .iter()
@@ -94,6 +96,7 @@ pub fn path_steps(
 /// at or after it: `(scan index, cell)`. Several scans between two steps: the most recent
 /// one counts; scans completed by the first step belong to the time before it, except the
 /// latest of them (the most recent scan at that update).
+#[must_use]
 pub fn assign_scans(steps: &[PlacedStep], scans: &[WifiScan]) -> Assignments {
     let Some(first) = steps.first() else {
         return Vec::new();
@@ -118,6 +121,7 @@ pub fn assign_scans(steps: &[PlacedStep], scans: &[WifiScan]) -> Assignments {
 /// the place certain (then `localised`), and no estimate where it leaves several hypotheses —
 /// so every scan whose place the walk settles is placed, those before the filter's first fix
 /// included, and an ambiguous one is left out, not guessed.
+#[must_use]
 pub fn whole_walk_reports(reports: &[TrackStep], smoothed: &[SmoothedStep]) -> Vec<TrackStep> {
     reports
         .iter()
@@ -133,6 +137,7 @@ pub fn whole_walk_reports(reports: &[TrackStep], smoothed: &[SmoothedStep]) -> V
 
 /// Where a survey places a tracked walk's scans: the whole-walk answer where the tracker
 /// keeps its ancestry ([`whole_walk_reports`]), else the filtered `reports`.
+#[must_use]
 pub fn placed_steps(tracker: &Tracker, reports: Vec<TrackStep>) -> Vec<TrackStep> {
     match tracker.smoothed() {
         Some(smoothed) => whole_walk_reports(&reports, &smoothed[1..]),

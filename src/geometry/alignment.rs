@@ -16,12 +16,14 @@ pub struct RigidTransform {
 
 impl RigidTransform {
     /// Applies the transform to `(x, y)`.
+    #[must_use]
     pub fn apply(&self, (x, y): (f64, f64)) -> (f64, f64) {
         let (s, c) = self.angle.sin_cos();
         (c * x - s * y + self.tx, s * x + c * y + self.ty)
     }
 
     /// The transform that undoes this one: `inverse().apply(apply(p)) = p`.
+    #[must_use]
     pub fn inverse(&self) -> Self {
         let (s, c) = self.angle.sin_cos();
         Self {
@@ -32,6 +34,7 @@ impl RigidTransform {
     }
 
     /// The transform minimising `Σ |T(from_i) − to_i|²`; `None` for empty or unequal input.
+    #[must_use]
     pub fn fit(from: &[(f64, f64)], to: &[(f64, f64)]) -> Option<Self> {
         if from.is_empty() || from.len() != to.len() {
             return None;

@@ -9,6 +9,7 @@ use std::f64::consts::{PI, TAU};
 /// and amounts to adding or subtracting 2π at most once (the subtraction is exact by
 /// Sterbenz's lemma), so both paths give the same bits.
 #[inline]
+#[must_use]
 pub fn wrap_angle(a: f64) -> f64 {
     let x = a + PI;
     let r = if (0.0..TAU).contains(&x) {
@@ -26,6 +27,7 @@ pub fn wrap_angle(a: f64) -> f64 {
 
 /// Wraps an angle into `(−π, π]`: a turn of exactly half a circle counts as
 /// counter-clockwise (heading changes between steps).
+#[must_use]
 pub fn wrap_turn(a: f64) -> f64 {
     -wrap_angle(-a)
 }

@@ -35,6 +35,7 @@ pub struct HexGrid {
 
 impl HexGrid {
     /// A grid of hexagons with circumradius `radius` metres (must be finite and positive).
+    #[must_use]
     pub fn new(radius: f64) -> Self {
         debug_assert!(radius.is_finite() && radius > 0.0);
         let normals = std::array::from_fn(|k| {
@@ -49,16 +50,19 @@ impl HexGrid {
     }
 
     /// Circumradius, metres.
+    #[must_use]
     pub fn radius(&self) -> f64 {
         self.radius
     }
 
     /// Area of one hexagon, m².
+    #[must_use]
     pub fn cell_area(&self) -> f64 {
         1.5 * SQRT3 * self.radius * self.radius
     }
 
     /// The hexagon containing the point `(x, y)`.
+    #[must_use]
     pub fn hex_at(&self, x: f64, y: f64) -> Hex {
         let q = (SQRT3 / 3.0 * x - y / 3.0) / self.radius;
         let r = (2.0 / 3.0 * y) / self.radius;
@@ -66,12 +70,14 @@ impl HexGrid {
     }
 
     /// Centre of hexagon `h` in the local frame.
+    #[must_use]
     pub fn center(&self, h: Hex) -> (f64, f64) {
         let (q, r) = (f64::from(h.x), f64::from(h.y));
         (self.radius * SQRT3 * (q + r / 2.0), self.radius * 1.5 * r)
     }
 
     /// The six corners of `h`, counter-clockwise from the one at −30° (south of edge 0).
+    #[must_use]
     pub fn corners(&self, h: Hex) -> [(f64, f64); 6] {
         let (cx, cy) = self.center(h);
         std::array::from_fn(|i| {
@@ -81,6 +87,7 @@ impl HexGrid {
     }
 
     /// The neighbour of `h` across edge `k`.
+    #[must_use]
     pub fn neighbour(h: Hex, edge: u8) -> Hex {
         let (dq, dr) = NEIGHBOUR[usize::from(edge % 6)];
         Hex::new(h.x + dq, h.y + dr)
@@ -131,12 +138,14 @@ impl HexGrid {
     /// makes a product of per-edge factors independent of the heading `phi` of a straight
     /// track. A line at heading `phi` crosses `2/(3√3 r) · Σᵢ|cos(phi − 60°·i)|` edges per
     /// metre; the exponent is the heading-average of that sum, `6/π`, over its value at `phi`.
+    #[must_use]
     pub fn direction_exponent(phi: f64) -> f64 {
         Self::direction_exponent_of(phi.cos(), phi.sin())
     }
 
     /// [`Self::direction_exponent`] for a track along `(dx, dy)` (any non-zero length),
     /// without trigonometric calls: `|cos(phi − 60°·i)| = |dx·cos 60°i + dy·sin 60°i| / |d|`.
+    #[must_use]
     pub fn direction_exponent_of(dx: f64, dy: f64) -> f64 {
         const C: [(f64, f64); 3] = [(1.0, 0.0), (0.5, SQRT3 / 2.0), (-0.5, SQRT3 / 2.0)];
         let norm = dx.hypot(dy);

@@ -43,6 +43,7 @@ fn wrap_longitude(lon: f64) -> f64 {
 impl LocalFrame {
     /// A frame at `lat`, `lon` (degrees); `None` unless both are finite, the latitude within
     /// ±[`MAX_ORIGIN_LATITUDE`] and the longitude within ±180.
+    #[must_use]
     pub fn new(lat: f64, lon: f64) -> Option<Self> {
         (lat.is_finite()
             && lon.is_finite()
@@ -62,6 +63,7 @@ impl LocalFrame {
     }
 
     /// Local (x east, y north) metres to (lon, lat) degrees.
+    #[must_use]
     pub fn to_lon_lat(&self, x: f64, y: f64) -> (f64, f64) {
         let (m, n) = self.radii();
         let lat = self.lat + (y / m).to_degrees();
@@ -76,12 +78,14 @@ impl LocalFrame {
     }
 
     /// Distance in metres between this origin and `other`'s, measured in this frame.
+    #[must_use]
     pub fn distance_to(&self, other: &LocalFrame) -> f64 {
         let (x, y) = self.to_local(other.lon, other.lat);
         x.hypot(y)
     }
 
     /// (lon, lat) degrees to local (x east, y north) metres.
+    #[must_use]
     pub fn to_local(&self, lon: f64, lat: f64) -> (f64, f64) {
         let (m, n) = self.radii();
         (

@@ -2,6 +2,7 @@
 //! the toolkit reports).
 
 /// The `percent`-th percentile of ascending, non-empty `sorted` by the nearest-rank method.
+#[must_use]
 pub fn nearest_rank(sorted: &[f64], percent: usize) -> f64 {
     let rank = (percent * sorted.len()).div_ceil(100).max(1);
     sorted[rank.min(sorted.len()) - 1]

@@ -15,12 +15,14 @@ pub struct Pose2 {
 
 impl Pose2 {
     /// A pose from its parts.
+    #[must_use]
     pub const fn new(x: f64, y: f64, heading: f64) -> Self {
         Self { x, y, heading }
     }
 
     /// Applies one step (Woodman & Harle 2008, eq. 9–11): turn by `dheading`, then walk
     /// `length` along the new heading.
+    #[must_use]
     pub fn step(self, length: f64, dheading: f64) -> Self {
         let heading = self.heading + dheading; // eq. (9)
         Self {

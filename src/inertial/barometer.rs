@@ -54,6 +54,7 @@ impl BarometerConfig {
 }
 
 /// Pressure altitude of `pressure` hPa in the ISA, metres (the hypsometric formula).
+#[must_use]
 pub fn pressure_height(pressure: f64) -> f64 {
     ISA_SCALE_HEIGHT * (1.0 - (pressure / SEA_LEVEL_PRESSURE).powf(ISA_EXPONENT))
 }
@@ -67,6 +68,7 @@ pub struct Barometer {
 
 impl Barometer {
     /// A barometer filter; `config` must be valid.
+    #[must_use]
     pub fn new(config: &BarometerConfig) -> Self {
         Self {
             time_constant_s: config.time_constant_s,

@@ -389,7 +389,7 @@ mod tests {
         let mut samples = Vec::new();
         let mut k = 0;
         loop {
-            let t = k as f64 / rate;
+            let t = f64::from(k) / rate;
             k += 1;
             if t > duration {
                 break;
@@ -533,9 +533,9 @@ mod tests {
         // A minute at 100 Hz of a still sensor with a little deterministic noise.
         let samples = (0..6000)
             .map(|k| {
-                let n = |i: f64| (k as f64 * 0.37 + i).sin();
+                let n = |i: f64| (f64::from(k) * 0.37 + i).sin();
                 ImuSample {
-                    t: k as f64 * 0.01,
+                    t: f64::from(k) * 0.01,
                     accel: [0.02 * n(1.0), 0.02 * n(2.0), -9.81 + 0.02 * n(3.0)],
                     gyro: [0.003 * n(4.0), 0.003 * n(5.0), 0.003 * n(6.0)],
                     mag: None,

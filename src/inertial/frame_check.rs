@@ -51,6 +51,7 @@ pub enum QuaternionMistake {
 
 impl QuaternionMistake {
     /// The quaternion `[x, y, z, w]` as read, with the mistake undone.
+    #[must_use]
     pub fn undo(self, q: [f64; 4]) -> [f64; 4] {
         match self {
             Self::Conjugated => [-q[0], -q[1], -q[2], q[3]],
@@ -109,6 +110,7 @@ pub enum FrameFinding {
 
 impl FrameFinding {
     /// The finding in words, with the way out.
+    #[must_use]
     pub fn message(&self) -> String {
         match self {
             Self::MirroredGyro {
@@ -162,6 +164,7 @@ impl FrameFinding {
 }
 
 /// `x`, `y`, `z` letters of the axes set in `flip` (`--gyro-flip`'s value).
+#[must_use]
 pub fn axes_flag(flip: [bool; 3]) -> String {
     ["x", "y", "z"]
         .iter()
@@ -213,6 +216,7 @@ pub fn parse_axes(text: &str) -> Result<[bool; 3], String> {
 /// Checks a foot recording whose INS gave `residual` (mean stance velocity residual, m/s):
 /// `None` below [`FOOT_ZUPT_RESIDUAL_MAX`]; else the flip that explains it, or
 /// [`FrameFinding::Inconsistent`].
+#[must_use]
 pub fn check_foot_frame(
     recording: &ImuRecording,
     config: &FootConfig,
@@ -247,6 +251,7 @@ pub fn check_foot_frame(
 
 /// Per-axis gain and correlation of the quaternion's rotation against the gyroscope's over
 /// 0.1 s windows; `None` without a quaternion or with too little rotation.
+#[must_use]
 pub fn gyro_against_orientation(recording: &ImuRecording) -> Option<[(f64, f64); 3]> {
     gyro_against(recording, |q| q)
 }
@@ -366,7 +371,7 @@ mod tests {
         let dt = 0.01;
         let samples = (0..2000)
             .map(|k| {
-                let t = k as f64 * dt;
+                let t = f64::from(k) * dt;
                 let w = [
                     0.8 * (1.3 * t).sin(),
                     0.6 * (0.7 * t + 1.0).sin(),

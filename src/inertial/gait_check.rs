@@ -21,6 +21,7 @@ pub const MIN_GAIT_STEPS: usize = 10;
 
 /// A warning when `steps` steps of mean length `step_m` (a foot's stride is two steps) at
 /// `per_min` steps a minute, detected as `mount`, do not fit human walking.
+#[must_use]
 pub fn check_gait(mount: Mount, steps: usize, step_m: f64, per_min: f64) -> Option<String> {
     if steps < MIN_GAIT_STEPS || !(step_m.is_finite() && per_min.is_finite() && per_min > 0.0) {
         return None;

@@ -6,7 +6,7 @@
 //! ahead when the phone lies flat and its back (−z) points ahead when it stands upright; in
 //! between both lean forward. The walking direction is therefore the horizontal part of
 //! `f = R·(0, 1, −1)ᵀ` (R: sensor → east-north-up), which stays well defined from flat to
-//! upright (|f_h| ≥ 1 for any pitch in [0°, 90°]); heading `ψ = atan2(f_N, f_E)`, radians
+//! upright (|`f_h`| ≥ 1 for any pitch in [0°, 90°]); heading `ψ = atan2(f_N, f_E)`, radians
 //! counter-clockwise from east.
 //!
 //! **Gyro + magnetometer.** Gravity's direction `u` in the sensor frame comes from the
@@ -116,6 +116,7 @@ fn normalise(v: [f64; 3]) -> Option<[f64; 3]> {
 /// The horizontal forward vector `(f_E, f_N)` of a phone with orientation `q = [x, y, z, w]`
 /// (sensor → ENU): the east and north parts of `R·(0, 1, −1)ᵀ`. Its length (≥ 1 when the
 /// phone is held between flat and upright) weighs it in a step's mean direction.
+#[must_use]
 pub fn forward_from_quaternion(q: [f64; 4]) -> [f64; 2] {
     let [x, y, z, w] = q;
     // Columns 2 and 3 of the rotation matrix of a unit quaternion, east and north rows.
@@ -127,6 +128,7 @@ pub fn forward_from_quaternion(q: [f64; 4]) -> [f64; 2] {
 /// The tilt-compensated magnetometer's forward vector `(f_E, f_N)`: `up` is the (low-passed)
 /// specific force and `mag` the field, both in the sensor frame. None when the two are
 /// parallel or zero.
+#[must_use]
 pub fn forward_from_magnetometer(up: [f64; 3], mag: [f64; 3]) -> Option<[f64; 2]> {
     let u = normalise(up)?;
     let east = normalise(cross(mag, u))?;
@@ -135,6 +137,7 @@ pub fn forward_from_magnetometer(up: [f64; 3], mag: [f64; 3]) -> Option<[f64; 2]
 }
 
 /// Heading of a forward vector, radians CCW from east, turned by the declination.
+#[must_use]
 pub fn heading_of(forward: [f64; 2], declination: f64) -> f64 {
     wrap_turn(forward[1].atan2(forward[0]) - declination)
 }
@@ -156,6 +159,7 @@ pub struct HeadingFilter {
 
 impl HeadingFilter {
     /// A filter; `config` must be valid. Without a magnetometer the heading starts at 0.
+    #[must_use]
     pub fn new(config: &HeadingFusionConfig) -> Self {
         Self {
             config: config.clone(),
@@ -168,11 +172,13 @@ impl HeadingFilter {
     }
 
     /// The current heading ψ, radians.
+    #[must_use]
     pub fn heading(&self) -> f64 {
         self.psi
     }
 
     /// Magnetometer readings used in corrections and readings skipped for their strength.
+    #[must_use]
     pub fn magnetometer_use(&self) -> (usize, usize) {
         (self.used, self.skipped)
     }

@@ -35,16 +35,19 @@ fn magnitude_quantile(recording: &ImuRecording, pick: fn(&ImuSample) -> [f64; 3]
 }
 
 /// The 99th percentile of `|ω|` over the recording, rad/s.
+#[must_use]
 pub fn angular_rate_p99(recording: &ImuRecording) -> f64 {
     magnitude_quantile(recording, |s| s.gyro, 0.99)
 }
 
 /// The 90th percentile of the specific force's magnitude `|a|` over the recording, m/s².
+#[must_use]
 pub fn specific_force_p90(recording: &ImuRecording) -> f64 {
     magnitude_quantile(recording, |s| s.accel, 0.9)
 }
 
 /// A warning when the recording does not look like `mount`, `None` when it does.
+#[must_use]
 pub fn check_mount(recording: &ImuRecording, mount: Mount, strides: usize) -> Option<String> {
     let p99 = angular_rate_p99(recording);
     match mount {

@@ -62,18 +62,21 @@ pub struct StanceMask {
 pub const CLEAR_STANCE_DECADES: f64 = 0.2;
 
 /// Number of samples spanning `seconds` at sampling interval `dt`, at least `min`.
+#[must_use]
 pub fn samples_in(seconds: f64, dt: f64, min: usize) -> usize {
     ((seconds / dt).round() as usize).max(min)
 }
 
 impl<'a> ShoeDetector<'a> {
     /// The stance detector on `config`, with gravity `gravity` (m/s²).
+    #[must_use]
     pub fn new(config: &'a FootConfig, gravity: f64) -> Self {
         ShoeDetector { config, gravity }
     }
 
     /// The SHOE statistic `T_k` (eq. 11) of every sample; the window is centred on `k` and
     /// shrinks at the ends. `dt` is the median sampling interval.
+    #[must_use]
     pub fn statistic(&self, accel: &[[f64; 3]], gyro: &[[f64; 3]], dt: f64) -> Vec<f64> {
         debug_assert_eq!(accel.len(), gyro.len());
         let n = accel.len();
@@ -312,7 +315,7 @@ mod tests {
 
     #[test]
     fn cleaning_fills_holes_and_drops_blips() {
-        let t: Vec<f64> = (0..12).map(|i| i as f64 * 0.01).collect();
+        let t: Vec<f64> = (0..12).map(|i| f64::from(i) * 0.01).collect();
         let mut m = [
             true, true, true, false, true, true, false, false, true, false, false, false,
         ];

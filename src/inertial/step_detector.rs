@@ -123,6 +123,7 @@ pub struct StepDetector {
 
 impl StepDetector {
     /// A detector; `config` must be valid.
+    #[must_use]
     pub fn new(config: &StepDetectorConfig) -> Self {
         Self {
             config: config.clone(),
@@ -149,11 +150,13 @@ impl StepDetector {
     }
 
     /// Pairs rejected for coming sooner than the minimum step period.
+    #[must_use]
     pub fn rejected_too_soon(&self) -> usize {
         self.too_soon
     }
 
     /// The filtered magnitude after the last sample, m/s².
+    #[must_use]
     pub fn filtered(&self) -> f64 {
         self.stage[1]
     }
@@ -347,7 +350,7 @@ mod tests {
         d.restart(0.0, 9.81);
         let mut steps = 0;
         for i in 1..1000 {
-            let t = i as f64 * 0.01;
+            let t = f64::from(i) * 0.01;
             let m = 9.81 + 4.0 * (2.0 * PI * 5.0 * t).sin();
             steps += usize::from(d.update(t, 0.01, m).is_some());
         }
@@ -362,7 +365,7 @@ mod tests {
         // Up to a peak of 12.81 at 0.125 s, then down to 6.96 at 0.35 s, then the end.
         let mut found = None;
         for i in 1..=35 {
-            let t = i as f64 * 0.01;
+            let t = f64::from(i) * 0.01;
             found = found.or(d.update(t, 0.01, 9.81 + 3.0 * (2.0 * PI * 2.0 * t).sin()));
         }
         assert!(found.is_none());

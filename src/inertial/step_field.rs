@@ -32,6 +32,7 @@ fn up_component(q: [f64; 4], v: [f64; 3]) -> f64 {
 
 /// The field over each step of `trace`, from `recording`'s magnetometer; `None` when the
 /// recording has none. A step without a magnetometer sample has no reading.
+#[must_use]
 pub fn field_per_step(recording: &ImuRecording, trace: &StepTrace) -> Option<StepFields> {
     if !recording.has_magnetometer() || trace.is_empty() {
         return None;
@@ -99,12 +100,12 @@ mod tests {
     fn recording(orientation: Option<[f64; 4]>) -> ImuRecording {
         let samples = (0..200)
             .map(|i| {
-                let t = 1.7e9 + i as f64 * 0.02;
+                let t = 1.7e9 + f64::from(i) * 0.02;
                 // Lying flat, z up; the field 20 µT north and 40 µT down, changing with time.
                 let extra = if t < 1.7e9 + 2.0 { 0.0 } else { 5.0 };
                 ImuSample {
                     t,
-                    accel: [0.3 * (i as f64).sin(), 0.0, G],
+                    accel: [0.3 * f64::from(i).sin(), 0.0, G],
                     gyro: [0.0; 3],
                     mag: Some([0.0, 20.0, -40.0 - extra]),
                     orientation,
@@ -118,7 +119,7 @@ mod tests {
     fn trace() -> StepTrace {
         let steps = (1..7)
             .map(|k| Step {
-                t: 1.7e9 + 0.6 * k as f64,
+                t: 1.7e9 + 0.6 * f64::from(k),
                 length: 0.7,
                 dheading: 0.0,
                 dz: 0.0,
@@ -148,7 +149,7 @@ mod tests {
         let q = [h, 0.0, 0.0, h];
         let samples = (0..100)
             .map(|i| ImuSample {
-                t: i as f64 * 0.02,
+                t: f64::from(i) * 0.02,
                 accel: [0.0, G, 0.0],
                 gyro: [0.0; 3],
                 // World field (0, 20, −40) in the sensor frame: sensor y = up, sensor z = south.

@@ -24,6 +24,7 @@ pub struct NavState {
 
 impl NavState {
     /// At rest at `position` with the given attitude.
+    #[must_use]
     pub fn at_rest(position: Vector3<f64>, attitude: UnitQuaternion<f64>, gravity: f64) -> Self {
         Self {
             position,
@@ -54,6 +55,7 @@ impl NavState {
 /// The attitude of a sensor at rest whose mean specific force is `f` (any orientation): the
 /// shortest rotation taking `f` to `+z` (roll and pitch from gravity), then a turn about `z`
 /// that puts `heading_axis` (a sensor axis, see [`heading_axis`]) at yaw `yaw`.
+#[must_use]
 pub fn level(f: &Vector3<f64>, heading_axis: &Vector3<f64>, yaw: f64) -> UnitQuaternion<f64> {
     let up = Vector3::z();
     let tilt = UnitQuaternion::rotation_between(f, &up)
@@ -83,6 +85,7 @@ pub fn heading_axis(f: &Vector3<f64>) -> Vector3<f64> {
 }
 
 /// Yaw of the sensor axis `axis` under attitude `q`, radians CCW from the navigation `x`.
+#[must_use]
 pub fn heading_of(q: &UnitQuaternion<f64>, axis: &Vector3<f64>) -> f64 {
     let h = q * axis;
     h.y.atan2(h.x)

@@ -51,6 +51,7 @@ impl StrideModelConfig {
 
     /// The stride length of a step whose filtered magnitude swung from `a_max` down to
     /// `a_min` (m/s²), metres, capped at [`MAX_STEP_LENGTH`].
+    #[must_use]
     pub fn length(&self, a_max: f64, a_min: f64) -> f64 {
         let swing = (a_max - a_min).max(0.0);
         (self.weinberg_k * swing.powf(0.25)).min(MAX_STEP_LENGTH) // Weinberg

@@ -39,6 +39,7 @@ pub struct ZuptFilter {
 impl ZuptFilter {
     /// A filter with the given noise densities (m/s²/√Hz, rad/s/√Hz), zero-velocity
     /// measurement noise (m/s) and initial attitude uncertainty (radians, 1σ, each axis).
+    #[must_use]
     pub fn new(
         accel_noise_density: f64,
         gyro_noise_density: f64,

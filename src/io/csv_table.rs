@@ -116,6 +116,7 @@ impl CsvTable {
     }
 
     /// Where the rows come from.
+    #[must_use]
     pub fn source(&self) -> &CsvSource {
         &self.source
     }
@@ -134,6 +135,7 @@ impl CsvTable {
     }
 
     /// Index of an optional column.
+    #[must_use]
     pub fn optional_column(&self, name: &str) -> Option<usize> {
         self.headers.iter().position(|h| h == name)
     }
@@ -169,6 +171,7 @@ impl CsvTable {
 
 impl CsvRow<'_> {
     /// 1-based line number of this row.
+    #[must_use]
     pub fn line(&self) -> usize {
         self.line
     }
@@ -192,6 +195,7 @@ impl CsvRow<'_> {
     }
 
     /// The raw text of column `index`.
+    #[must_use]
     pub fn text(&self, index: usize) -> &str {
         self.record.get(index).unwrap_or("")
     }

@@ -26,6 +26,7 @@ use serde_json::json;
 use std::path::Path;
 
 /// The field map as a GeoJSON feature collection placed on the globe by `frame`.
+#[must_use]
 pub fn field_map_to_geojson(map: &FieldMapSnapshot, frame: &LocalFrame) -> FeatureCollection {
     let grid = HexGrid::new(map.radius);
     let features = map

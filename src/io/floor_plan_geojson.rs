@@ -35,6 +35,7 @@ pub use super::geojson_file::DEGREE_DECIMALS;
 use super::geojson_file::round_to;
 
 /// The plan as a GeoJSON feature collection placed on the globe by `frame`.
+#[must_use]
 pub fn floor_plan_to_geojson(plan: &FloorPlan, frame: &LocalFrame) -> FeatureCollection {
     let features = plan
         .polygons
@@ -158,6 +159,7 @@ fn to_positions(ring: &LineString<f64>, frame: &LocalFrame) -> Vec<Vec<f64>> {
 /// The `(lon, lat)` the writer stores for the local point `(x, y)`: placed by `frame`,
 /// rounded to [`DEGREE_DECIMALS`] decimals. A plan whose corners are already
 /// `frame.to_local(written_degrees(..))` reads back exactly.
+#[must_use]
 pub fn written_degrees(x: f64, y: f64, frame: &LocalFrame) -> (f64, f64) {
     let (lon, lat) = frame.to_lon_lat(x, y);
     (

@@ -1,4 +1,4 @@
-//! GeoJSON FeatureCollection files: read with the file and line named in errors, written
+//! GeoJSON `FeatureCollection` files: read with the file and line named in errors, written
 //! atomically, and the collection's `origin` foreign member (`{"lat", "lon"}`: the WGS84
 //! place of the local frame).
 
@@ -10,6 +10,7 @@ use serde_json::json;
 use std::path::Path;
 
 /// Foreign members holding `frame` as the `origin` member.
+#[must_use]
 pub fn origin_member(frame: &LocalFrame) -> JsonObject {
     let mut members = JsonObject::new();
     members.insert(
@@ -21,6 +22,7 @@ pub fn origin_member(frame: &LocalFrame) -> JsonObject {
 
 /// `v` rounded to `decimals` decimal places (dividing by the exact power of ten keeps the
 /// printed form short).
+#[must_use]
 pub fn round_to(v: f64, decimals: i32) -> f64 {
     let scale = 10f64.powi(decimals);
     (v * scale).round() / scale
@@ -32,6 +34,7 @@ pub const DEGREE_DECIMALS: i32 = 8;
 
 /// The closed, counter-clockwise `[lon, lat]` ring of hexagon `hex` of `grid`, moved by
 /// `offset` metres, placed on the globe by `frame`.
+#[must_use]
 pub fn hexagon_ring(
     grid: &crate::geometry::HexGrid,
     hex: hexx::Hex,
@@ -56,6 +59,7 @@ pub fn hexagon_ring(
 }
 
 /// A feature of one polygon with the exterior `ring` (`[lon, lat]` pairs) and `properties`.
+#[must_use]
 pub fn polygon_feature(ring: Vec<Vec<f64>>, properties: JsonObject) -> geojson::Feature {
     geojson::Feature {
         bbox: None,
@@ -114,12 +118,12 @@ pub fn read_json_text(path: &Path) -> Result<String> {
     })
 }
 
-/// Reads `path` as an RFC 7946 FeatureCollection.
+/// Reads `path` as an RFC 7946 `FeatureCollection`.
 pub fn read_feature_collection(path: &Path) -> Result<FeatureCollection> {
     feature_collection_from_str(&read_json_text(path)?, path)
 }
 
-/// Parses `text` as an RFC 7946 FeatureCollection; errors name `name` (a file's path, or a
+/// Parses `text` as an RFC 7946 `FeatureCollection`; errors name `name` (a file's path, or a
 /// name for text held in memory) and the line.
 pub fn feature_collection_from_str(text: &str, name: &Path) -> Result<FeatureCollection> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);

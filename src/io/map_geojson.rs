@@ -44,11 +44,13 @@ const MAX_LEVEL: i64 = 1000;
 const CENTRE_TOLERANCE: f64 = 0.05;
 
 /// The map as a GeoJSON feature collection placed on the globe by `frame`.
+#[must_use]
 pub fn map_to_geojson(map: &HexMapSnapshot, frame: &LocalFrame) -> FeatureCollection {
     walks_map_to_geojson(map, frame, 1)
 }
 
 /// As [`map_to_geojson`] for a map holding the counts of `walks` walks.
+#[must_use]
 pub fn walks_map_to_geojson(
     map: &HexMapSnapshot,
     frame: &LocalFrame,

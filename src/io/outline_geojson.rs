@@ -57,7 +57,7 @@ pub fn read_world_outline(path: &Path) -> Result<WorldOutline> {
     outline_from_text(&super::geojson_file::read_json_text(path)?, path)
 }
 
-/// Reads the outline from GeoJSON `text` (a Polygon, Feature or FeatureCollection of one,
+/// Reads the outline from GeoJSON `text` (a Polygon, Feature or `FeatureCollection` of one,
 /// as [`read_world_outline`] reads a file); errors name `name`.
 pub fn world_outline_from_str(text: &str, name: &str) -> Result<WorldOutline> {
     outline_from_text(text, Path::new(name))
@@ -124,7 +124,7 @@ fn outline_from_text(text: &str, path: &Path) -> Result<WorldOutline> {
     })
 }
 
-/// Writes `outline` (local coordinates placed by `frame`) as a FeatureCollection holding one
+/// Writes `outline` (local coordinates placed by `frame`) as a `FeatureCollection` holding one
 /// Polygon feature, atomically.
 pub fn write_outline(path: &Path, outline: &Polygon<f64>, frame: &LocalFrame) -> Result<()> {
     let mut properties = JsonObject::new();

@@ -27,6 +27,7 @@ const MAX_EPSILON: f64 = 200.0;
 use std::path::Path;
 
 /// The map as a feature collection placed on the globe by `frame`.
+#[must_use]
 pub fn radio_map_to_geojson(map: &RadioMap, frame: &LocalFrame) -> FeatureCollection {
     let features = map
         .cells

@@ -52,6 +52,7 @@ pub fn encode_pgm(grid: &OccupancyGrid) -> Result<Vec<u8>> {
 
 /// The `map.yaml` text for `grid` stored in the image file `image` (a name relative to the
 /// YAML file).
+#[must_use]
 pub fn ros_map_yaml(grid: &OccupancyGrid, image: &str) -> String {
     format!(
         "image: {image}\nmode: trinary\nresolution: {}\norigin: [{}, {}, 0.0]\nnegate: 0\n\

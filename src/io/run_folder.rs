@@ -135,16 +135,19 @@ impl RunFolder {
 
     /// How many files and folders of an earlier run the commit will replace (0: the
     /// destination is new or empty), for a notice before the run starts.
+    #[must_use]
     pub fn replacing(&self) -> usize {
         self.replacing
     }
 
     /// Where a file named `name` is to be written before commit.
+    #[must_use]
     pub fn path(&self, name: &str) -> PathBuf {
         self.staging.join(name)
     }
 
     /// The final folder.
+    #[must_use]
     pub fn destination(&self) -> &Path {
         &self.destination
     }

@@ -21,6 +21,7 @@ const DEGREE_DECIMALS: i32 = 8;
 pub const MAX_STEP_POINTS: usize = 100_000;
 
 /// The track as a feature collection (the Points of every step, whatever the length).
+#[must_use]
 pub fn track_to_geojson(track: &[TrackPoint], frame: &LocalFrame) -> FeatureCollection {
     let mut features = Vec::with_capacity(track.len() + 1);
     if track.len() >= 2 {

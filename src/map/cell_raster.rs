@@ -152,12 +152,14 @@ impl CellRaster {
     }
 
     /// Number of cells of the map rasterised.
+    #[must_use]
     pub fn cells(&self) -> usize {
         self.cells
     }
 
     /// The cell holding `(x, y)` on `level`, if any.
     #[inline]
+    #[must_use]
     pub fn cell_at(&self, level: i32, x: f32, y: f32) -> Option<usize> {
         if level < self.levels.0 || level > self.levels.1 {
             return None;
@@ -183,6 +185,7 @@ impl CellRaster {
     /// for cells with no square within `max_m` of a source (or with no square). Distances
     /// run between the centres of squares that belong to a cell, 8-connected (Dijkstra on
     /// the grid), so they follow the floor round walls and never cross levels.
+    #[must_use]
     pub fn walking_reach(&self, sources: &[bool], max_m: f64) -> Vec<Option<(usize, f64)>> {
         use std::cmp::Reverse;
         use std::collections::BinaryHeap;
@@ -287,6 +290,7 @@ pub struct CellField {
 impl CellField {
     /// `values[c]` on cell `c`, `elsewhere` off every cell (and on cells past the end of
     /// `values`; values past the raster's cells are dropped).
+    #[must_use]
     pub fn new(raster: Arc<CellRaster>, mut values: Vec<f32>, elsewhere: f32) -> Self {
         values.resize(raster.cells(), elsewhere);
         Self {
@@ -298,6 +302,7 @@ impl CellField {
 
     /// The value at `(x, y)` on `level`.
     #[inline]
+    #[must_use]
     pub fn at(&self, level: i32, x: f32, y: f32) -> f32 {
         self.raster
             .cell_at(level, x, y)

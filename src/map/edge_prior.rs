@@ -48,6 +48,7 @@ fn owned(h: Hex, edge: u8) -> (Hex, u8) {
 
 impl EdgePrior {
     /// `α` on every edge (the paper's prior).
+    #[must_use]
     pub fn uniform(alpha: f64) -> Self {
         Self {
             alpha,
@@ -58,26 +59,31 @@ impl EdgePrior {
     }
 
     /// True when every edge has the default `α`.
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.cells.is_empty()
     }
 
     /// True for an edge that crosses the outline given to [`EdgePrior::add_outline`].
+    #[must_use]
     pub fn is_outline_edge(&self, h: Hex, edge: u8) -> bool {
         self.outline.contains(&owned(h, edge))
     }
 
     /// True when an outline was added.
+    #[must_use]
     pub fn has_outline(&self) -> bool {
         !self.outline.is_empty()
     }
 
     /// The outline given to [`EdgePrior::add_outline`] (the last one).
+    #[must_use]
     pub fn outline(&self) -> Option<&Polygon<f64>> {
         self.outline_polygon.as_ref()
     }
 
     /// `α^e_h`.
+    #[must_use]
     pub fn alpha(&self, h: Hex, edge: u8) -> f64 {
         self.cells
             .get(&h)
@@ -85,6 +91,7 @@ impl EdgePrior {
     }
 
     /// `(α^e_h, Σ_e' α^e'_h)`: one edge's prior and the hexagon's total.
+    #[must_use]
     pub fn alpha_and_total(&self, h: Hex, edge: u8) -> (f64, f64) {
         match self.cells.get(&h) {
             Some(c) => (c[usize::from(edge % 6)], c[6]),

@@ -23,6 +23,7 @@ pub struct FieldCell {
 impl FieldCell {
     /// Steps since the last reading at step `k` (modulo 2¹⁶, so a reading 65,536 steps
     /// ago reads as recent: it then only skips one comparison).
+    #[must_use]
     pub fn steps_since(&self, k: u32) -> u16 {
         (k as u16).wrapping_sub(self.last_step)
     }
@@ -79,12 +80,14 @@ pub struct FieldMap {
 
 impl FieldMap {
     /// An empty map.
+    #[must_use]
     pub fn new() -> Self {
         Self::default()
     }
 
     /// The readings at hexagon `key` written so far (empty where none; the readings of the
     /// hexagon the particle is in are written when it leaves).
+    #[must_use]
     pub fn cell(&self, key: Hex) -> FieldCell {
         self.cells.get(key)
     }
@@ -135,6 +138,7 @@ impl FieldMap {
     }
 
     /// Every hexagon with readings (those held aside included), sorted by key.
+    #[must_use]
     pub fn snapshot(&self) -> Vec<FieldMapCell> {
         let mut all = self.clone();
         all.flush();
@@ -153,6 +157,7 @@ impl FieldMap {
     }
 
     /// Bytes held by nodes not shared with any other map.
+    #[must_use]
     pub fn unshared_bytes(&self) -> usize {
         self.cells.unshared_bytes()
     }

@@ -62,6 +62,7 @@ pub struct FloorPlan {
 
 impl FloorPlan {
     /// True when `(x, y)` lies on a walkable surface of `level` (any level when `None`).
+    #[must_use]
     pub fn is_walkable(&self, x: f64, y: f64, level: Option<i32>) -> bool {
         let p = geo::Point::new(x, y);
         self.polygons
@@ -71,6 +72,7 @@ impl FloorPlan {
     }
 
     /// The levels of its surfaces, ascending, each once.
+    #[must_use]
     pub fn levels(&self) -> Vec<i32> {
         let mut levels: Vec<i32> = self.polygons.iter().map(|p| p.level).collect();
         levels.sort_unstable();
@@ -79,6 +81,7 @@ impl FloorPlan {
     }
 
     /// Bounding box `(min_x, min_y, max_x, max_y)` of all surfaces, `None` when empty.
+    #[must_use]
     pub fn bounds(&self) -> Option<(f64, f64, f64, f64)> {
         use geo::BoundingRect;
         self.polygons

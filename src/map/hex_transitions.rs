@@ -28,11 +28,13 @@ use rustc_hash::FxHashMap;
 pub const LEVEL_STRIDE: i32 = 1 << 20;
 
 /// The stacked key of hexagon `h` on `level`: one key space for every level's map.
+#[must_use]
 pub fn level_key(level: i32, h: Hex) -> Hex {
     Hex::new(h.x, h.y.wrapping_add(level.wrapping_mul(LEVEL_STRIDE)))
 }
 
 /// The level and in-level hexagon of a stacked key ([`level_key`]'s inverse).
+#[must_use]
 pub fn split_level_key(key: Hex) -> (i32, Hex) {
     let level = (key.y + LEVEL_STRIDE / 2).div_euclid(LEVEL_STRIDE);
     (level, Hex::new(key.x, key.y - level * LEVEL_STRIDE))
@@ -57,12 +59,14 @@ pub struct HexCell {
 impl HexCell {
     /// Passes through the hexagon: each pass enters and leaves once, so half the edge
     /// crossings, rounded up.
+    #[must_use]
     pub fn visits(&self) -> u32 {
         self.counts.iter().sum::<u32>().div_ceil(2)
     }
 }
 
 /// Posterior-mean transition probabilities `(N_e + α) / (N + 6α)`; uniform when `N + 6α = 0`.
+#[must_use]
 pub fn transition_probabilities(counts: &[u32; 6], alpha: f64) -> [f64; 6] {
     let total: f64 = counts.iter().map(|&n| f64::from(n)).sum::<f64>() + 6.0 * alpha;
     if total > 0.0 {
@@ -73,6 +77,7 @@ pub fn transition_probabilities(counts: &[u32; 6], alpha: f64) -> [f64; 6] {
 }
 
 /// Passes through a hexagon with edge counts `counts`: `⌈Σ counts / 2⌉`.
+#[must_use]
 pub fn visits(counts: &[u32; 6]) -> u64 {
     counts
         .iter()
@@ -97,6 +102,7 @@ pub struct HexMapSnapshot {
 
 impl HexMapSnapshot {
     /// The floor height of `level`, metres (0 when the map does not say).
+    #[must_use]
     pub fn level_height(&self, level: i32) -> f64 {
         self.levels
             .iter()
@@ -105,6 +111,7 @@ impl HexMapSnapshot {
     }
 
     /// The distinct levels of the cells, ascending.
+    #[must_use]
     pub fn cell_levels(&self) -> Vec<i32> {
         let mut levels: Vec<i32> = self.cells.iter().map(|c| c.level).collect();
         levels.sort_unstable();
@@ -125,6 +132,7 @@ fn bump(c: &mut u16) {
 
 impl HexTransitionMap {
     /// An empty map.
+    #[must_use]
     pub fn new() -> Self {
         Self::default()
     }
@@ -134,6 +142,7 @@ impl HexTransitionMap {
     }
 
     /// `N^e_h`: crossings of edge `edge` of hexagon `h`, both directions.
+    #[must_use]
     pub fn edge_count(&self, h: Hex, edge: u8) -> u32 {
         if edge < 3 {
             u32::from(self.counters(h)[usize::from(edge)])
@@ -143,11 +152,13 @@ impl HexTransitionMap {
     }
 
     /// `N_h`: crossings of all six edges of `h`.
+    #[must_use]
     pub fn total_count(&self, h: Hex) -> u32 {
         u32::from(self.counters(h)[TOTAL])
     }
 
     /// The six edge counts of `h` in edge order.
+    #[must_use]
     pub fn edge_counts(&self, h: Hex) -> [u32; 6] {
         std::array::from_fn(|e| self.edge_count(h, e as u8))
     }
@@ -214,6 +225,7 @@ impl HexTransitionMap {
 
     /// Every hexagon with at least one crossing, sorted by (level, q, r), with its six
     /// counts (levels decoded from the stacked keys; `levels` left empty for the caller).
+    #[must_use]
     pub fn snapshot(&self, radius: f64, alpha: f64) -> HexMapSnapshot {
         let mut stored: FxHashMap<Hex, Counters> = FxHashMap::default();
         self.counts.for_each(|h, c| {
@@ -248,6 +260,7 @@ impl HexTransitionMap {
 
     /// Bytes held by nodes not shared with any other map (a lower bound on what this
     /// map alone keeps alive); shared nodes are not counted.
+    #[must_use]
     pub fn unshared_bytes(&self) -> usize {
         self.counts.unshared_bytes()
     }
@@ -255,6 +268,7 @@ impl HexTransitionMap {
 
 /// The hexagon map a path walks from `start` (every edge crossing counted, each step on its
 /// level of `levels`), with Dirichlet prior `alpha`: e.g. the map of a dead-reckoned path.
+#[must_use]
 pub fn map_of_path(
     start: Pose2,
     path: &[Pose2],

@@ -51,6 +51,7 @@ impl<T> Default for HexTree<T> {
 }
 
 /// Leaf-block coordinates and the index within the leaf of a hexagon.
+#[must_use]
 pub fn locate(h: Hex) -> (LeafKey, usize) {
     let u = (h.x as u32).wrapping_add(KEY_OFFSET);
     let v = (h.y as u32).wrapping_add(KEY_OFFSET);
@@ -58,6 +59,7 @@ pub fn locate(h: Hex) -> (LeafKey, usize) {
 }
 
 /// The hexagon in `slot` of leaf block `leaf` ([`locate`]'s inverse).
+#[must_use]
 pub fn hex_of((bx, by): LeafKey, slot: usize) -> Hex {
     let u = bx * 4 + (slot as u32 & 3);
     let v = by * 4 + (slot as u32 >> 2);
@@ -83,6 +85,7 @@ fn block_at((lx, ly): LeafKey, level: u8) -> LeafKey {
 
 impl<T: Copy + Default> HexTree<T> {
     /// An empty tree.
+    #[must_use]
     pub fn new() -> Self {
         Self::default()
     }
@@ -94,6 +97,7 @@ impl<T: Copy + Default> HexTree<T> {
     }
 
     /// The leaf of leaf block `leaf`, if stored.
+    #[must_use]
     pub fn leaf(&self, leaf: LeafKey) -> Option<&[T; LEAF]> {
         if block_at(leaf, self.level) != self.base {
             return None;

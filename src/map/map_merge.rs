@@ -113,6 +113,7 @@ pub fn merge_maps(maps: &[(&HexMapSnapshot, f64)]) -> Result<HexMapSnapshot> {
 
 /// `map` moved by the grid vector `by` (every hexagon's axial coordinates plus `by`, on
 /// every level).
+#[must_use]
 pub fn shift_map(map: &HexMapSnapshot, by: Hex) -> HexMapSnapshot {
     let mut cells: Vec<HexCell> = map
         .cells

@@ -18,6 +18,7 @@ use rustc_hash::FxHashMap;
 /// The grid shift `s` that best registers `map` onto `reference` (a hexagon `h` of `map`
 /// lies on `h + s` of `reference`), within `max_shift` metres, and the counts shared there.
 /// Levels meet by number; the shift is the same on every level.
+#[must_use]
 pub fn register_maps(
     map: &HexMapSnapshot,
     reference: &HexMapSnapshot,

@@ -198,6 +198,7 @@ impl OccupancyGrid {
     }
 
     /// The square holding `(x, y)`, if the grid covers it.
+    #[must_use]
     pub fn at(&self, x: f64, y: f64) -> Option<Occupancy> {
         let c = ((x - self.origin.0) / self.resolution).floor();
         let r = ((y - self.origin.1) / self.resolution).floor();
@@ -206,6 +207,7 @@ impl OccupancyGrid {
     }
 
     /// Squares of each kind: (free, occupied, unknown).
+    #[must_use]
     pub fn counts(&self) -> (usize, usize, usize) {
         self.cells.iter().fold((0, 0, 0), |(f, o, u), c| match c {
             Occupancy::Free => (f + 1, o, u),

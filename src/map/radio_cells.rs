@@ -202,22 +202,26 @@ impl CellMap {
     }
 
     /// The rooms.
+    #[must_use]
     pub fn rooms(&self) -> &[Room] {
         &self.rooms
     }
 
     /// The cells.
+    #[must_use]
     pub fn cells(&self) -> &[RadioCell] {
         &self.cells
     }
 
     /// The room of a surface.
+    #[must_use]
     pub fn room_of(&self, surface: u32) -> usize {
         self.surface_room[surface as usize]
     }
 
     /// The cell holding `(x, y)` on `surface` (the point's room's box; boxes are closed on
     /// their low sides), or `None` when that box holds no floor.
+    #[must_use]
     pub fn cell_at(&self, surface: u32, x: f64, y: f64) -> Option<usize> {
         let r = *self.surface_room.get(surface as usize)?;
         let room = &self.rooms[r];

@@ -32,11 +32,13 @@ impl ApStats {
     }
 
     /// Mean RSSI, dBm (`None` without readings).
+    #[must_use]
     pub fn mean(&self) -> Option<f64> {
         (self.n > 0).then(|| self.sum / f64::from(self.n))
     }
 
     /// Standard deviation of the readings, dB (`None` without readings).
+    #[must_use]
     pub fn std(&self) -> Option<f64> {
         let mean = self.mean()?;
         Some(
@@ -76,6 +78,7 @@ impl CellRadio {
     }
 
     /// Scans of the cell that did not hear `bssid`.
+    #[must_use]
     pub fn misses(&self, bssid: &str) -> u32 {
         self.scans - self.aps.get(bssid).map_or(0, |a| a.n)
     }
@@ -131,6 +134,7 @@ pub struct RadioMap {
 
 impl RadioMap {
     /// An empty map over the cells of `cells` (ids `"<room>-<column>-<row>"`).
+    #[must_use]
     pub fn empty(cells: &super::CellMap) -> Self {
         Self {
             cells: cells
@@ -148,6 +152,7 @@ impl RadioMap {
     }
 
     /// Every access point heard in any cell, sorted (a stable column order).
+    #[must_use]
     pub fn access_points(&self) -> Vec<&str> {
         let mut bssids: Vec<&str> = self
             .cells
@@ -161,6 +166,7 @@ impl RadioMap {
 
     /// The column of each access point in [`Self::access_points`]' order (a model's
     /// per-access-point vectors).
+    #[must_use]
     pub fn access_point_columns(&self) -> FxHashMap<String, usize> {
         self.access_points()
             .into_iter()
@@ -172,6 +178,7 @@ impl RadioMap {
     /// How many of `scans` hear at least one access point the map knows: a scan that hears
     /// none cannot be placed by the map, and a log where none does belongs to another
     /// building (or had its BSSIDs renamed).
+    #[must_use]
     pub fn scans_matched(&self, scans: &[WifiScan]) -> usize {
         let known = self.access_points();
         scans
@@ -232,6 +239,7 @@ impl RadioMap {
 
     /// Coverage as the paper defines it (sec. 4): the share of the floor area in cells with
     /// at least one scan; and the mean number of scans per such cell.
+    #[must_use]
     pub fn coverage(&self) -> (f64, f64) {
         use geo::Area;
         let total: f64 = self.cells.iter().map(|c| c.area.unsigned_area()).sum();

@@ -238,6 +238,7 @@ pub struct AxisEvidence {
 
 impl AxisEvidence {
     /// The evidence of `steps` (one walk, in time order).
+    #[must_use]
     pub fn new(steps: &[Step], config: &AxesConfig) -> Self {
         let mut heading = Vec::with_capacity(steps.len());
         let mut h = 0.0;
@@ -307,11 +308,13 @@ impl AxisEvidence {
 
     /// Whether eq. (4) holds: the turns show 4 or 8 dominant directions, whether the prior
     /// is enabled or not.
+    #[must_use]
     pub fn shows_axes(&self) -> bool {
         self.directions > 0
     }
 
     /// Whether step `index` (0-based) lies in a straight stretch; false past the walk.
+    #[must_use]
     pub fn is_straight(&self, index: usize) -> bool {
         self.straight.get(index).copied().unwrap_or(false)
     }
@@ -365,6 +368,7 @@ pub struct AxisLikelihood {
 impl AxisLikelihood {
     /// The model of a validated configuration for `directions` (4 or 8; anything else is
     /// taken as 4).
+    #[must_use]
     pub fn new(config: AxesConfig, directions: u8) -> Self {
         let m = if directions == 8 { 8.0 } else { 4.0 };
         let peak = (1.0 - config.outlier_share) / (config.sigma * (2.0 * PI).sqrt());
@@ -376,6 +380,7 @@ impl AxisLikelihood {
     }
 
     /// `ln(p(δ) / (m/2π))` of eq. (2) for `δ` in `[−π/m, π/m)`.
+    #[must_use]
     pub fn log_ratio(&self, delta: f64) -> f64 {
         let z = delta / self.config.sigma;
         (self.peak_ratio * (-0.5 * z * z).exp() + self.config.outlier_share).ln()
@@ -392,6 +397,7 @@ pub struct AxisState {
 impl AxisState {
     /// The particle's axis angle `a` in `[−π/m, π/m)` for `m` directions once its
     /// resultant reaches `min_axis_m`.
+    #[must_use]
     pub fn axis(&self, min_axis_m: f64, directions: f64) -> Option<f64> {
         let (c, s) = (f64::from(self.c), f64::from(self.s));
         (c.hypot(s) >= min_axis_m.max(1e-9)).then(|| s.atan2(c) / directions)

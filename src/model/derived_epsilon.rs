@@ -34,6 +34,7 @@ const FALLBACK_SPREAD: f64 = 4.0;
 /// `ε` for `norm` derived from `map`'s histograms (cells with at least `min_scans` and at
 /// least two scans), missing readings at `missing_rssi`, for a share `miss` of the walker's
 /// scans outside their own cell's region; `None` when no cell has two scans.
+#[must_use]
 pub fn derive_epsilon(
     map: &RadioMap,
     norm: Normalisation,

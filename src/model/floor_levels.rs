@@ -138,6 +138,7 @@ impl LevelTracker {
     }
 
     /// The levels known so far, sorted by number.
+    #[must_use]
     pub fn levels(&self) -> Vec<FloorLevel> {
         let mut levels = self.levels.clone();
         levels.sort_by_key(|l| l.level);
@@ -145,6 +146,7 @@ impl LevelTracker {
     }
 
     /// The height reached, metres.
+    #[must_use]
     pub fn height(&self) -> f64 {
         self.z
     }

@@ -119,6 +119,7 @@ pub struct GpsObservation {
 
 impl GpsObservation {
     /// A fix placed in the local frame `frame`.
+    #[must_use]
     pub fn from_fix(fix: &crate::sensor::GpsFix, frame: &crate::geometry::LocalFrame) -> Self {
         let (x, y) = frame.to_local(fix.lon, fix.lat);
         Self {
@@ -142,6 +143,7 @@ pub struct GpsLikelihood {
 
 impl GpsLikelihood {
     /// The model for a validated configuration.
+    #[must_use]
     pub fn new(config: GpsConfig) -> Self {
         let r = config.outlier_radius;
         Self {
@@ -152,6 +154,7 @@ impl GpsLikelihood {
     }
 
     /// `ln p(z | P)` of fix `z` for a particle at `(x, y)`, untempered.
+    #[must_use]
     pub fn log_likelihood(&self, z: &GpsObservation, (x, y): (f64, f64)) -> f64 {
         let d2 = (z.x - x).powi(2) + (z.y - y).powi(2);
         let s2 = z.sigma * z.sigma;
@@ -161,6 +164,7 @@ impl GpsLikelihood {
 
     /// The tempering exponent `min(1, Δt / τ)` of a fix `dt` seconds after the previous one
     /// (the first fix counts fully).
+    #[must_use]
     pub fn temper(&self, dt: Option<f64>) -> f64 {
         match dt {
             Some(dt) if self.config.correlation_time > 0.0 => {

@@ -144,6 +144,7 @@ pub struct HeadingLikelihood {
 
 impl HeadingLikelihood {
     /// The model for a validated configuration.
+    #[must_use]
     pub fn new(config: HeadingConfig) -> Self {
         let (s, e) = (config.sigma, config.outlier_probability);
         Self {
@@ -155,17 +156,20 @@ impl HeadingLikelihood {
     }
 
     /// The configuration.
+    #[must_use]
     pub fn config(&self) -> &HeadingConfig {
         &self.config
     }
 
     /// True when step headings are to be used.
+    #[must_use]
     pub fn enabled(&self) -> bool {
         self.config.enabled
     }
 
     /// `ln p(h | θ)` (eq. 1) of the measured heading `measured` (before the offset) for a
     /// particle heading `heading`, both radians counter-clockwise from east (any turn).
+    #[must_use]
     pub fn log_likelihood(&self, measured: f64, heading: f64) -> f64 {
         let e = wrap_angle(measured + self.config.offset - heading);
         (self.inlier_peak * (-e * e * self.half_precision).exp() + self.floor).ln()
@@ -174,6 +178,7 @@ impl HeadingLikelihood {
     /// The exponent `τ = min(1, ℓ / L)` of the reading taken on a step of length `ℓ`
     /// metres (eq. 3): a disturbance persists over `L` metres, so the readings within it
     /// count together as about one.
+    #[must_use]
     pub fn temper(&self, step_length: f64) -> f64 {
         let l = self.config.correlation_length;
         if l > 0.0 {
@@ -184,6 +189,7 @@ impl HeadingLikelihood {
     }
 
     /// The largest likelihood ratio between two particles for one reading (eq. 2).
+    #[must_use]
     pub fn max_ratio(&self) -> f64 {
         (self.inlier_peak + self.floor) / self.floor
     }
@@ -193,6 +199,7 @@ impl HeadingLikelihood {
     /// `heading` in `[−π, π)`, so the difference needs one conditional wrap (no
     /// trigonometry): one `exp` and one `ln` per particle.
     #[inline]
+    #[must_use]
     pub fn log_likelihood_f32(&self, constants: &HeadingConstants, heading: f32) -> f32 {
         let mut e = constants.measured - heading;
         if e >= std::f32::consts::PI {
@@ -204,6 +211,7 @@ impl HeadingLikelihood {
     }
 
     /// The constants of [`Self::log_likelihood_f32`] for one reading `measured`.
+    #[must_use]
     pub fn offset_measurement(&self, measured: f64) -> HeadingConstants {
         HeadingConstants {
             measured: wrap_angle(measured + self.config.offset) as f32,
@@ -220,6 +228,7 @@ impl HeadingLikelihood {
     /// readings among them do not pull it. Returns the heading and its spread
     /// (`σ / √n` for `n` readings within 2σ of it, at least 2°), or `None` without a
     /// reading.
+    #[must_use]
     pub fn start_heading(
         &self,
         steps: &[crate::sensor::Step],

@@ -244,16 +244,19 @@ impl FieldLikelihood {
     }
 
     /// Components weighed: 1 (magnitude) or 2 (magnitude and vertical part).
+    #[must_use]
     pub fn components(&self) -> usize {
         self.dims
     }
 
     /// Circumradius of the field map's hexagons, metres.
+    #[must_use]
     pub fn cell_radius(&self) -> f64 {
         self.grid.radius()
     }
 
     /// Eq. (3) for reading `y` against a hexagon's `n ≥ 1` readings of mean `mean`.
+    #[must_use]
     pub fn log_ratio(&self, y: [f32; 2], n: u16, mean: [f32; 2]) -> f64 {
         let (a, la, b, lb) = &self.table[usize::from(n.max(1)).min(N_TABLE) - 1];
         let mut d = [f64::from(y[0] - mean[0]), 0.0];
@@ -392,16 +395,19 @@ impl FieldEvidence {
     }
 
     /// The likelihood, when the readings are used.
+    #[must_use]
     pub fn reading_model(&self) -> Option<&FieldLikelihood> {
         self.model.as_ref().ok()
     }
 
     /// Whether the filter weighs the readings.
+    #[must_use]
     pub fn active(&self) -> bool {
         self.model.is_ok()
     }
 
     /// The reading of step `i` and the likelihood to weigh it with, when used.
+    #[must_use]
     pub fn reading(&self, i: usize) -> Option<(&FieldLikelihood, [f32; 2])> {
         let model = self.model.as_ref().ok()?;
         Some((model, self.readings.get(i).copied().flatten()?))

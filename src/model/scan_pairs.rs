@@ -287,6 +287,7 @@ impl PairLikelihood {
     }
 
     /// Eq. (2): `ln p(D | d)`.
+    #[must_use]
     pub fn log_density(&self, big_d: f64, d: f64) -> f64 {
         let (mu, sigma) = self.at(d);
         let z = (big_d - mu) / sigma;
@@ -432,11 +433,13 @@ impl ScanEvidence {
     }
 
     /// The scans' times, in order.
+    #[must_use]
     pub fn times(&self) -> &[f64] {
         &self.times
     }
 
     /// Informative pairs over all scans.
+    #[must_use]
     pub fn pairs(&self) -> usize {
         self.pairs.len()
     }

@@ -5,7 +5,7 @@
 //! After a pass, every walk's scans have a place: where that pass's answer put the walker
 //! at each scan's (latency-corrected) time. In the next pass a walk's scan `k`, taken by a
 //! particle at `x`, is weighed against the `M` most similar of the other walks' scans `r`
-//! (dissimilarity `D_kr`, eq. 1 of scan_pairs), each at its place `y_r` on the same floor,
+//! (dissimilarity `D_kr`, eq. 1 of `scan_pairs`), each at its place `y_r` on the same floor,
 //! exactly as eq. (3) weighs a walk's own earlier scans:
 //!
 //! `ln w_k = m_k^(−γ) · Σ_r [ln p_×(D_kr | |x − y_r|) − ln p_×(D_kr | d_far)]`   (1)
@@ -64,6 +64,7 @@ impl ReferenceScans {
     /// The references of `scans` (this walk's, in the order its filter applies them),
     /// which its previous pass placed at `places` (one per scan), among `others`. `None`
     /// when the pairs cannot calibrate eq. (2) or no scan has an informative reference.
+    #[must_use]
     pub fn new(
         scans: &[WifiScan],
         places: &[(f64, f64, i32)],
@@ -138,11 +139,13 @@ impl ReferenceScans {
     }
 
     /// References over all scans.
+    #[must_use]
     pub fn references(&self) -> usize {
         self.refs.len()
     }
 
     /// Eq. (1) for scan `k` taken at `at` on `level` (0 past the scans it was built for).
+    #[must_use]
     pub fn log_factor(&self, k: usize, at: (f32, f32), level: i32) -> f64 {
         let Some(&end) = self.offsets.get(k + 1) else {
             return 0.0;

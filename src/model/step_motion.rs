@@ -167,11 +167,13 @@ pub struct StepMotion {
 
 impl StepMotion {
     /// The model for a validated configuration.
+    #[must_use]
     pub fn new(config: StepMotionConfig) -> Self {
         Self { config }
     }
 
     /// The configuration.
+    #[must_use]
     pub fn config(&self) -> &StepMotionConfig {
         &self.config
     }

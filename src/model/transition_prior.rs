@@ -75,17 +75,20 @@ impl TransitionPrior {
     }
 
     /// Hexagons the prior knows.
+    #[must_use]
     pub fn len(&self) -> usize {
         self.cells.len()
     }
 
     /// True when the prior knows no hexagon (every factor is 1).
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.cells.is_empty()
     }
 
     /// `ln ∏ f(h, e)` over every edge crossed on the straight move from `from` to `to` on
     /// `level`.
+    #[must_use]
     pub fn log_factor(&self, from: (f64, f64), to: (f64, f64), level: i32) -> f32 {
         let mut sum = 0.0;
         self.grid.for_each_crossing(from, to, |c| {

@@ -39,6 +39,7 @@ impl Normalisation {
     pub const ALL: [Normalisation; 2] = [Normalisation::Paper, Normalisation::Sqrt];
 
     /// The divisor for a cell that hears `visible` access points (at least one).
+    #[must_use]
     pub fn divisor(self, visible: usize) -> f64 {
         let k = visible.max(1) as f64;
         match self {
@@ -48,6 +49,7 @@ impl Normalisation {
     }
 
     /// `map`'s region threshold calibrated for this distance, if any.
+    #[must_use]
     pub fn epsilon_of(self, map: &RadioMap) -> Option<f64> {
         match self {
             Normalisation::Paper => map.epsilon,
@@ -64,6 +66,7 @@ impl Normalisation {
     }
 
     /// Its name in configs and maps: `paper` or `sqrt`.
+    #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             Normalisation::Paper => "paper",
@@ -90,6 +93,7 @@ impl Fingerprints {
     /// The fingerprints of `map`'s cells; cells with fewer than `min_scans` scans (at least
     /// one) are unknown. Readings weaker than `missing_rssi` count as `missing_rssi`;
     /// distances are divided as `norm` says.
+    #[must_use]
     pub fn new(map: &RadioMap, missing_rssi: f64, min_scans: u32, norm: Normalisation) -> Self {
         let columns = map.access_point_columns();
         let cells = map
@@ -109,11 +113,13 @@ impl Fingerprints {
     }
 
     /// Number of access points of the map.
+    #[must_use]
     pub fn access_points(&self) -> usize {
         self.columns.len()
     }
 
     /// The scan as a vector over the map's access points (`missing` where not heard).
+    #[must_use]
     pub fn scan_vector(&self, scan: &WifiScan) -> Vec<f64> {
         scan_vector(&self.columns, self.missing, scan)
     }
@@ -125,6 +131,7 @@ impl Fingerprints {
 
     /// `ndist` of cell `from`'s fingerprint, read as a scan, to cell `to`'s (`None` unless
     /// both are known).
+    #[must_use]
     pub fn cell_ndist(&self, from: usize, to: usize) -> Option<f64> {
         let (z, _) = self.cells.get(from)?.as_ref()?;
         let (means, visible) = self.cells.get(to)?.as_ref()?;
@@ -132,6 +139,7 @@ impl Fingerprints {
     }
 
     /// `ndist(z, c_i)` for every cell (eqs. 2–11), `None` for unknown cells.
+    #[must_use]
     pub fn ndist(&self, scan: &WifiScan) -> Vec<Option<f64>> {
         let z = self.scan_vector(scan);
         self.cells
@@ -155,6 +163,7 @@ pub struct HeldOut {
 
 impl HeldOut {
     /// The normalised distance.
+    #[must_use]
     pub fn ndist(&self, norm: Normalisation) -> f64 {
         self.euclidean / norm.divisor(self.visible)
     }
@@ -162,6 +171,7 @@ impl HeldOut {
 
 /// Quantiles (p50, p90, p99, max) of held-out distances per distance divisor (`paper`,
 /// `sqrt`): the spread `ε` is chosen from, as `summary.json` reports it.
+#[must_use]
 pub fn held_out_quantiles(
     held: &[HeldOut],
 ) -> std::collections::BTreeMap<&'static str, [Option<f64>; 4]> {
@@ -184,6 +194,7 @@ pub fn held_out_quantiles(
 /// heading (so its body shadowing): against a fingerprint that still holds them, a scan
 /// looks closer to its cell than a later walker's scan will, and `ε` calibrated on it is
 /// too tight. Cells with no scan outside the visit are skipped.
+#[must_use]
 pub fn leave_one_out_ndist(
     map: &RadioMap,
     assignments: &[(usize, Option<usize>)],
@@ -274,6 +285,7 @@ pub fn calibrate_epsilon(distances: &[f64], miss: f64) -> Option<f64> {
 /// The normalised distance of eqs. 8 and 11 (with [`Normalisation::Paper`]): the Euclidean
 /// distance between the filled vectors `z` and `c`, divided as `norm` says by the number of
 /// access points visible from the cell.
+#[must_use]
 pub fn ndist(z: &[f64], c: &[f64], visible: usize, norm: Normalisation) -> f64 {
     euclidean(z, c) / norm.divisor(visible)
 }

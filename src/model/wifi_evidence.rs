@@ -377,12 +377,14 @@ impl RadioEvidence {
     }
 
     /// What the calibration found.
+    #[must_use]
     pub fn calibration(&self) -> &EvidenceCalibration {
         &self.calibration
     }
 
     /// `ln Λ` (tempered) of a scan on every cell, from the scan's `ndist` to every cell
     /// ([`Fingerprints::ndist`]); 0 for cells out of reach.
+    #[must_use]
     pub fn log_ratios(&self, ndist: &[Option<f64>]) -> Vec<f32> {
         self.judge
             .iter()
@@ -434,8 +436,8 @@ mod tests {
 
     #[test]
     fn the_ratio_falls_with_distance_and_is_clamped() {
-        let near: Vec<f64> = (0..200).map(|i| 4.0 + (i % 7) as f64).collect();
-        let far: Vec<f64> = (0..400).map(|i| 14.0 + (i % 13) as f64).collect();
+        let near: Vec<f64> = (0..200).map(|i| 4.0 + f64::from(i % 7)).collect();
+        let far: Vec<f64> = (0..400).map(|i| 14.0 + f64::from(i % 13)).collect();
         let config = EvidenceConfig {
             tempering: 1.0,
             ..Default::default()
@@ -458,8 +460,8 @@ mod tests {
 
     #[test]
     fn tempering_scales_the_evidence() {
-        let near: Vec<f64> = (0..200).map(|i| 4.0 + (i % 7) as f64).collect();
-        let far: Vec<f64> = (0..400).map(|i| 14.0 + (i % 13) as f64).collect();
+        let near: Vec<f64> = (0..200).map(|i| 4.0 + f64::from(i % 7)).collect();
+        let far: Vec<f64> = (0..400).map(|i| 14.0 + f64::from(i % 13)).collect();
         let full = LogRatio::fit(
             &near,
             &far,

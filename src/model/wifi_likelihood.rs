@@ -76,6 +76,7 @@ pub struct HistogramLikelihood {
 impl HistogramLikelihood {
     /// The likelihood over `map`'s cells; cells with fewer than `min_scans` scans (at least
     /// one) are unknown.
+    #[must_use]
     pub fn new(map: &RadioMap, config: &LikelihoodConfig, min_scans: u32) -> Self {
         let columns = map.access_point_columns();
         let cells = map
@@ -119,6 +120,7 @@ impl HistogramLikelihood {
     }
 
     /// `ln p(z | c_i)` for every cell (eq. 14), `None` for unknown cells.
+    #[must_use]
     pub fn log_likelihood(&self, scan: &WifiScan) -> Vec<Option<f64>> {
         let mut z: Vec<Option<f64>> = vec![None; self.columns.len()];
         for r in &scan.readings {

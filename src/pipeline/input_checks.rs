@@ -26,6 +26,7 @@ pub const MIN_MATCHED_SHARE: f64 = 0.5;
 /// Why `scans` cannot belong to a walk spanning `[start, end]` seconds: no scan falls in
 /// the span (a log on another clock would place no scan, or every scan at one end of the
 /// walk); `None` when one does.
+#[must_use]
 pub fn scans_off_clock(scans: &[WifiScan], start: f64, end: f64) -> Option<String> {
     (!scans.iter().any(|s| s.t >= start && s.t <= end)).then(|| {
         format!(
@@ -41,6 +42,7 @@ pub fn scans_off_clock(scans: &[WifiScan], start: f64, end: f64) -> Option<Strin
 /// span (or up to [`GPS_LEAD_S`] before it), as with a log on another clock or a GPX track
 /// whose UTC times were not put on the steps' clock; `None` when one does (or there are no
 /// fixes).
+#[must_use]
 pub fn fixes_off_clock(fixes: &[GpsFix], start: f64, end: f64) -> Option<String> {
     let (first, last) = (fixes.first()?, fixes.last()?);
     let within = fixes
@@ -79,6 +81,7 @@ pub const MIN_OUTLINE_AREA_M2: f64 = 10.0;
 /// the start, `lead` more) outside; `None` otherwise. A log offset by tens of seconds
 /// still overlaps the walk, so [`scans_off_clock`] cannot see it, but its records then
 /// weigh the wrong steps.
+#[must_use]
 pub fn partly_off_clock(
     times: &[f64],
     what: &str,
@@ -196,6 +199,7 @@ impl fmt::Display for GridMismatch {
 
 /// How a map on hexagons of `map_radius` in `map_frame` fails to lie on a run's grid
 /// (`run_radius`, `run_frame`); `None` when it lies on it.
+#[must_use]
 pub fn grid_mismatch(
     map_radius: f64,
     map_frame: &LocalFrame,
@@ -221,6 +225,7 @@ pub fn grid_mismatch(
 /// the walk could never change floor; `None` when the steps have them, the plan has one
 /// level, or the caller says the walk stays on its floor (`one_floor`). The face adds how
 /// to say so.
+#[must_use]
 pub fn missing_height_changes(
     plan: &FloorPlan,
     plan_label: &str,
@@ -250,6 +255,7 @@ pub struct ScanMatch {
 
 impl ScanMatch {
     /// The match of `scans` against `map`.
+    #[must_use]
     pub fn of(map: &RadioMap, scans: &[WifiScan]) -> Self {
         Self {
             matched: map.scans_matched(scans),
@@ -258,11 +264,13 @@ impl ScanMatch {
     }
 
     /// The share of the scans that match (0 for an empty log).
+    #[must_use]
     pub fn share(&self) -> f64 {
         self.matched as f64 / self.scans.max(1) as f64
     }
 
     /// The error when no scan matches: the log and the map are of different buildings.
+    #[must_use]
     pub fn unmatched(&self) -> Option<String> {
         (self.matched == 0).then(|| {
             format!(
@@ -275,6 +283,7 @@ impl ScanMatch {
 
     /// The warning when some but fewer than [`MIN_MATCHED_SHARE`] of the scans (of the log
     /// `wifi_label`) match the map (`map_label`).
+    #[must_use]
     pub fn warning(&self, wifi_label: &str, map_label: &str) -> Option<String> {
         (self.matched > 0 && self.share() < MIN_MATCHED_SHARE).then(|| {
             format!(

@@ -83,6 +83,7 @@ pub struct LearnedRadio {
 
 /// The frame of a run without a given origin: the prior map's, else the first GPS fix's,
 /// else the default (0, 0).
+#[must_use]
 pub fn default_frame(prior_map: Option<&StoredMap>, walks: &[LearnWalk]) -> LocalFrame {
     let first_fix = walks.iter().find_map(|w| w.fixes.first());
     prior_map

@@ -128,6 +128,7 @@ pub struct PreparedLearn {
 
 impl PreparedLearn {
     /// What [`learn`](super::learn()) learns from.
+    #[must_use]
     pub fn input(&self) -> LearnInput<'_> {
         LearnInput {
             walks: &self.walks,
@@ -145,6 +146,7 @@ impl PreparedLearn {
     /// The configuration `learned` ran with, as `config.json` holds it: one walk's as it
     /// ran (its seed, and its start from its anchors), a batch's shared one (each walk's own
     /// is in its [`WalkRun::config`]).
+    #[must_use]
     pub fn config_run(&self, learned: &Learned) -> LearnConfig {
         match learned.walks.as_slice() {
             [one] => LearnConfig {

@@ -237,6 +237,7 @@ pub struct LearnRadioReport {
 
 impl LearnRadioReport {
     /// The report of `radio`, made on `cells` of walks that held `scans` scans each.
+    #[must_use]
     pub fn new(scans: Vec<usize>, radio: &LearnedRadio, cells: &CellConfig) -> Self {
         let survey = &radio.survey;
         let map = &survey.map;
@@ -299,6 +300,7 @@ impl LearnReport {
     /// The report of `learned`, learned from `prepared`; `walks` holds each walk's report
     /// (made with its walkable plan, [`WalkReport::new`]). `started` is when the job began
     /// and `threads` the worker threads it ran on.
+    #[must_use]
     pub fn new(
         prepared: &PreparedLearn,
         learned: &Learned,

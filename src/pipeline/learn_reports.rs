@@ -63,6 +63,7 @@ impl WalkRun {
     /// Whether the start heading is tied to north (given, configured, from GPS fixes or
     /// from a compass), so that the learned map's y axis points north; `assumed` and
     /// `unknown` leave the map turned by the walker's first heading.
+    #[must_use]
     pub fn heading_is_absolute(&self) -> bool {
         matches!(
             self.start_source,
@@ -71,6 +72,7 @@ impl WalkRun {
     }
 
     /// The report of the magnetic field, when the steps carried it.
+    #[must_use]
     pub fn field_report(&self) -> Option<FieldReport> {
         let e = self.field.as_ref()?;
         Some(FieldReport {
@@ -83,6 +85,7 @@ impl WalkRun {
 
     /// The walk's verdict ([`learn_quality`]): its answer against dead reckoning and how far
     /// its final paths disagree.
+    #[must_use]
     pub fn quality(&self, config: &QualityConfig) -> Quality {
         learn_quality(
             &self.departure,
@@ -104,6 +107,7 @@ impl WalkRun {
     }
 
     /// The report of the building's axes.
+    #[must_use]
     pub fn axes_report(&self) -> AxesReport {
         let e = &self.axes;
         AxesReport {

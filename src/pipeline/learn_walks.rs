@@ -55,6 +55,7 @@ pub(super) struct Shared<'a> {
 /// FeetSLAM passes after the first for `walks`: `config.iterations` for a batch whose walks
 /// share a frame (each starts at a known place), else 0. (Walks placed by GPS alone carry
 /// each its own GPS bias: they meet through a prior map's registration instead.)
+#[must_use]
 pub fn feetslam_passes(walks: &[LearnWalk], config: &LearnConfig) -> u32 {
     let one_frame = walks.iter().all(|w| w.start.is_some());
     if walks.len() > 1 && one_frame {

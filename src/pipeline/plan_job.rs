@@ -27,6 +27,7 @@ impl PlanOverrides {
     /// assert_eq!(config.plan.min_visits, 3);
     /// assert_eq!(config.grid.resolution, PlanRunConfig::default().grid.resolution);
     /// ```
+    #[must_use]
     pub fn apply(&self, mut config: PlanRunConfig) -> PlanRunConfig {
         if let Some(k) = self.min_visits {
             config.plan.min_visits = k;

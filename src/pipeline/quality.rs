@@ -39,6 +39,7 @@ pub enum Verdict {
 
 impl Verdict {
     /// The verdict's name in `summary.json`.
+    #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             Self::Ok => "ok",
@@ -76,6 +77,7 @@ impl Default for Quality {
 
 impl Quality {
     /// The verdict of `reasons`: the worst of theirs.
+    #[must_use]
     pub fn of(mut reasons: Vec<Reason>) -> Self {
         reasons.sort_by_key(|r| std::cmp::Reverse(r.verdict));
         Self {
@@ -101,6 +103,7 @@ impl Quality {
     }
 
     /// The verdict in one line: `ok`, or `doubtful: reason; reason`.
+    #[must_use]
     pub fn line(&self) -> String {
         if self.reasons.is_empty() {
             return self.verdict.name().into();
@@ -170,6 +173,7 @@ pub struct TrackEvidence<'a> {
 }
 
 /// The verdict of a tracked walk.
+#[must_use]
 pub fn track_quality(e: &TrackEvidence, config: &QualityConfig) -> Quality {
     let mut reasons = Vec::new();
     let climb = e.fit.unexplained_climb_m;
@@ -248,6 +252,7 @@ pub fn track_quality(e: &TrackEvidence, config: &QualityConfig) -> Quality {
 
 /// The verdict of a learned walk from its answer against dead reckoning and the spread of
 /// its final paths (median over the steps, metres).
+#[must_use]
 pub fn learn_quality(
     departure: &Departure,
     spread_median_m: f64,
@@ -288,6 +293,7 @@ pub fn learn_quality(
 }
 
 /// The verdict of a step detection from its warnings (each makes the steps doubtful).
+#[must_use]
 pub fn steps_quality(warnings: &[String]) -> Quality {
     Quality::of(
         warnings

@@ -68,6 +68,7 @@ pub enum FrameVerdict {
 
 impl DetectorFigures {
     /// Mean step length (metres; a foot's stride is two steps) and steps a minute.
+    #[must_use]
     pub fn step_and_cadence(&self) -> (f64, f64) {
         match self {
             Self::Foot(f) => (0.5 * f.mean_stride_length_m, 2.0 * f.cadence_per_min),
@@ -79,6 +80,7 @@ impl DetectorFigures {
 impl StepsRun {
     /// The warnings on the recording the output depends on, in order: the mount, then the
     /// gait (the frame finding is judged apart, [`Self::frame_verdict`]).
+    #[must_use]
     pub fn recording_warnings(&self) -> Vec<String> {
         self.mount_warning
             .iter()
@@ -88,6 +90,7 @@ impl StepsRun {
     }
 
     /// The verdict on the frame finding.
+    #[must_use]
     pub fn frame_verdict(&self) -> FrameVerdict {
         match &self.frame {
             None => FrameVerdict::Fine,

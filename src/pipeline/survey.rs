@@ -102,6 +102,7 @@ pub struct SurveyedWalk {
 
 impl SurveyedWalk {
     /// Whether the walk's scans were left out of the map.
+    #[must_use]
     pub fn left_out(&self) -> bool {
         self.quality.verdict == Verdict::Poor
     }

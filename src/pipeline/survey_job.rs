@@ -134,6 +134,7 @@ pub struct PreparedSurvey {
 
 impl PreparedSurvey {
     /// What [`survey`](super::survey()) surveys.
+    #[must_use]
     pub fn input(&self) -> SurveyInput<'_> {
         SurveyInput {
             plan: &self.plan.value,
@@ -262,6 +263,7 @@ pub struct SurveyReport {
 
 impl SurveyReport {
     /// The report of `surveyed`, surveyed from `prepared` by a job begun at `started`.
+    #[must_use]
     pub fn new(
         prepared: &PreparedSurvey,
         surveyed: &Surveyed,

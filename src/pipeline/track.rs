@@ -113,6 +113,7 @@ pub struct TrackRun<'a> {
 impl TrackRun<'_> {
     /// The run's verdict ([`track_quality`]); `steps_certain` is the number of steps the
     /// whole-walk answer made certain (0 without smoothing).
+    #[must_use]
     pub fn quality(&self, steps_certain: usize, config: &QualityConfig) -> Quality {
         track_quality(
             &TrackEvidence {

@@ -184,6 +184,7 @@ pub struct PreparedTrack {
 
 impl PreparedTrack {
     /// What [`track`](super::track()) tracks on.
+    #[must_use]
     pub fn input(&self) -> TrackInput<'_> {
         TrackInput {
             topology: &self.topology,

@@ -18,6 +18,7 @@ impl StepRecord {
     const LOCALISED: u32 = 1 << 31;
 
     /// The record of a step's report.
+    #[must_use]
     pub fn new(report: &TrackStep) -> Self {
         let count = |n: usize, max: u32| n.min(max as usize) as u32;
         let localised = if report.localised { Self::LOCALISED } else { 0 };
@@ -28,16 +29,19 @@ impl StepRecord {
     }
 
     /// Particles after the step.
+    #[must_use]
     pub fn particles(self) -> usize {
         (self.particles_localised & !Self::LOCALISED) as usize
     }
 
     /// Whether the walker was localised (one dominant cluster) after the step.
+    #[must_use]
     pub fn localised(self) -> bool {
         self.particles_localised & Self::LOCALISED != 0
     }
 
     /// Clusters after the step (`None`: the step was not clustered).
+    #[must_use]
     pub fn clusters(self) -> Option<usize> {
         (self.clusters != u32::MAX).then_some(self.clusters as usize)
     }
@@ -121,11 +125,13 @@ impl StepRecords {
     }
 
     /// The first localised step (0-based).
+    #[must_use]
     pub fn first_localised(&self) -> Option<usize> {
         self.steps.iter().position(|r| r.localised())
     }
 
     /// Particles summed over the steps (the filter's work).
+    #[must_use]
     pub fn particle_steps(&self) -> usize {
         self.steps.iter().map(|r| r.particles()).sum()
     }

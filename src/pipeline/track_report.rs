@@ -64,6 +64,7 @@ impl TrackAnswer {
     }
 
     /// The steps the whole walk settles (one hypothesis): the answer's track.
+    #[must_use]
     pub fn certain(&self) -> Vec<TrackPoint> {
         self.rows
             .iter()
@@ -73,6 +74,7 @@ impl TrackAnswer {
     }
 
     /// The other steps' estimates, `(x, y, level)`.
+    #[must_use]
     pub fn uncertain(&self) -> Vec<(f32, f32, i32)> {
         self.rows
             .iter()
@@ -210,6 +212,7 @@ pub struct TrackReport {
 impl TrackReport {
     /// Stage 5: the report of `run` on `prepared` with its `answer`, the job having started
     /// at `started` (runtimes), on the current rayon pool (threads).
+    #[must_use]
     pub fn new(
         prepared: &PreparedTrack,
         run: &TrackRun,

@@ -183,6 +183,7 @@ pub struct MapPicture<'a> {
 
 impl<'a> MapPicture<'a> {
     /// A picture of `map` and `path` without references.
+    #[must_use]
     pub fn new(map: &'a HexMapSnapshot, path: &'a [(f64, f64)]) -> Self {
         Self {
             map,
@@ -247,7 +248,7 @@ struct Layout {
     max_y: f64,
     /// Pixels per metre actually used.
     scale: f64,
-    /// Pixel position of (min_x, max_y).
+    /// Pixel position of (`min_x`, `max_y`).
     left: f64,
     top: f64,
     /// Top of the legend strip, pixels.

@@ -231,6 +231,7 @@ fn draw_plan(pixmap: &mut Pixmap, layout: &Layout, row: usize, plan: &FloorPlan)
 }
 
 /// Viridis (perceptually uniform, dark blue to yellow) at `t` in [0, 1], for cell colours.
+#[must_use]
 pub fn viridis_rgb(t: f64) -> [u8; 3] {
     let c = super::canvas::viridis(t);
     [c.red(), c.green(), c.blue()]
@@ -248,7 +249,7 @@ fn height_shade(t: f64) -> ColorU8 {
 /// Dots blended into the pixels: each point adds a third of its colour, so dense clouds are
 /// saturated and sparse ones faint.
 fn draw_points(pixmap: &mut Pixmap, layout: &Layout, row: usize, cloud: &PlanPoints) {
-    let (w, h) = (pixmap.width() as i64, pixmap.height() as i64);
+    let (w, h) = (i64::from(pixmap.width()), i64::from(pixmap.height()));
     let [r, g, b] = cloud.colour.map(f32::from);
     let alpha = 0.35f32;
     // The blend of every channel value with the cloud's colour, once (a million-point

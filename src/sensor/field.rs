@@ -63,31 +63,37 @@ impl StepFields {
     }
 
     /// One entry per step.
+    #[must_use]
     pub fn fields(&self) -> &[Option<StepField>] {
         &self.fields
     }
 
     /// The reading of step `i`, if it has one.
+    #[must_use]
     pub fn get(&self, i: usize) -> Option<StepField> {
         self.fields.get(i).copied().flatten()
     }
 
     /// Steps (entries).
+    #[must_use]
     pub fn len(&self) -> usize {
         self.fields.len()
     }
 
     /// True without entries.
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.fields.is_empty()
     }
 
     /// Steps with a reading.
+    #[must_use]
     pub fn observed(&self) -> usize {
         self.fields.iter().flatten().count()
     }
 
     /// Steps whose reading has a vertical part.
+    #[must_use]
     pub fn with_vertical(&self) -> usize {
         self.fields
             .iter()

@@ -155,6 +155,7 @@ fn median_magnitude(vectors: impl Iterator<Item = [f64; 3]>) -> f64 {
 /// before any one row is (a row's value out of range would otherwise be blamed on its unit):
 /// accelerometer and gyroscope columns swapped (the rates hold gravity), or acceleration
 /// converted from g (`accel_factor`, the factor the reader applied) that was already in m/s².
+#[must_use]
 pub fn diagnose_columns(samples: &[ImuSample], accel_factor: f64) -> Option<String> {
     let accel = median_magnitude(samples.iter().map(|s| s.accel));
     let gyro = median_magnitude(samples.iter().map(|s| s.gyro));
@@ -253,17 +254,20 @@ impl ImuRecording {
     }
 
     /// The samples, in time order.
+    #[must_use]
     pub fn samples(&self) -> &[ImuSample] {
         &self.samples
     }
 
     /// How the recording was sampled.
+    #[must_use]
     pub fn report(&self) -> &SamplingReport {
         &self.report
     }
 
     /// The recording with the angular-rate axes named in `flip` negated (`flip[i]`: axis
     /// `x`, `y`, `z`), for gyroscopes whose axes are mirrored against the accelerometer's.
+    #[must_use]
     pub fn with_gyro_flipped(&self, flip: [bool; 3]) -> Self {
         let mut samples = self.samples.clone();
         for s in &mut samples {
@@ -280,16 +284,19 @@ impl ImuRecording {
     }
 
     /// True when every sample carries a magnetometer reading.
+    #[must_use]
     pub fn has_magnetometer(&self) -> bool {
         self.samples[0].mag.is_some()
     }
 
     /// True when every sample carries an orientation quaternion.
+    #[must_use]
     pub fn has_orientation(&self) -> bool {
         self.samples[0].orientation.is_some()
     }
 
     /// True when every sample carries air pressure.
+    #[must_use]
     pub fn has_pressure(&self) -> bool {
         self.samples[0].pressure.is_some()
     }
@@ -340,8 +347,10 @@ mod tests {
 
     #[test]
     fn reports_rate_gaps_and_duplicates() {
-        let mut s: Vec<_> = (0..100).map(|i| sample(1.7e9 + i as f64 * 0.01)).collect();
-        s.extend((0..10).map(|i| sample(1.7e9 + 2.0 + i as f64 * 0.01)));
+        let mut s: Vec<_> = (0..100)
+            .map(|i| sample(1.7e9 + f64::from(i) * 0.01))
+            .collect();
+        s.extend((0..10).map(|i| sample(1.7e9 + 2.0 + f64::from(i) * 0.01)));
         let r = ImuRecording::new(s, 3).expect("valid");
         let rep = r.report();
         assert_eq!(rep.samples, 110);
@@ -365,7 +374,7 @@ mod tests {
         let in_g: Vec<_> = (0..10)
             .map(|i| ImuSample {
                 accel: [0.0, 0.0, 1.0],
-                ..sample(i as f64)
+                ..sample(f64::from(i))
             })
             .collect();
         let e = ImuRecording::new(in_g, 0).unwrap_err();

@@ -1,5 +1,5 @@
 //! Pedestrian step events from a step detector or a foot-mounted INS (the "step vector
-//! measurement" Z^U_k of Robertson et al. 2009, Fig. 5).
+//! measurement" `Z^U_k` of Robertson et al. 2009, Fig. 5).
 
 use serde::{Deserialize, Serialize};
 
@@ -102,27 +102,32 @@ impl StepTrace {
     }
 
     /// The steps, in time order.
+    #[must_use]
     pub fn steps(&self) -> &[Step] {
         &self.steps
     }
 
     /// Number of steps.
+    #[must_use]
     pub fn len(&self) -> usize {
         self.steps.len()
     }
 
     /// Steps that carry an absolute heading.
+    #[must_use]
     pub fn with_heading(&self) -> usize {
         self.steps.iter().filter(|s| s.heading.is_some()).count()
     }
 
     /// True when there are no steps.
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.steps.is_empty()
     }
 
     /// Dead-reckoned poses from `start`, one per step (after the step), by
     /// Woodman & Harle eq. 9–11 ([`dead_reckon`]).
+    #[must_use]
     pub fn dead_reckon(&self, start: crate::geometry::Pose2) -> Vec<crate::geometry::Pose2> {
         dead_reckon(&self.steps, start)
     }
@@ -130,6 +135,7 @@ impl StepTrace {
 
 /// `steps` dead-reckoned from `start`, one pose per step (after the step), by Woodman &
 /// Harle eq. 9–11.
+#[must_use]
 pub fn dead_reckon(steps: &[Step], start: crate::geometry::Pose2) -> Vec<crate::geometry::Pose2> {
     let mut pose = start;
     steps
@@ -144,6 +150,7 @@ pub fn dead_reckon(steps: &[Step], start: crate::geometry::Pose2) -> Vec<crate::
 /// The share of the step from the step event at `previous` to the one at `t` walked at
 /// `at` (clamped to [0, 1]); 0 for the first step, whose measurements apply at the start
 /// pose.
+#[must_use]
 pub fn share_of_step(previous: Option<f64>, t: f64, at: f64) -> f64 {
     match previous {
         Some(t0) if t > t0 => ((at - t0) / (t - t0)).clamp(0.0, 1.0),
@@ -154,6 +161,7 @@ pub fn share_of_step(previous: Option<f64>, t: f64, at: f64) -> f64 {
 /// Where time `at` falls along `steps` (in time order): the index of the first step at or
 /// after it (`steps.len()` past the last) and the share of that step walked by then
 /// ([`share_of_step`]; 0 before the first step).
+#[must_use]
 pub fn step_at_time(steps: &[Step], at: f64) -> (usize, f64) {
     let k = steps.partition_point(|s| s.t < at);
     let along = match steps.get(k) {

@@ -37,6 +37,7 @@ impl TruePath {
     /// The walker at time `t`: the position linear between the poses around it (standing at
     /// `start` until the first step, at the last pose after it), with the next pose's level,
     /// height and heading.
+    #[must_use]
     pub fn pose_at(&self, start: &TruePose, t: f64) -> TruePose {
         let i = self.poses.partition_point(|p| p.t < t);
         let before = if i == 0 { start } else { &self.poses[i - 1] };
@@ -56,16 +57,19 @@ impl TruePath {
     }
 
     /// Number of poses (steps).
+    #[must_use]
     pub fn len(&self) -> usize {
         self.poses.len()
     }
 
     /// True when there are no poses.
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.poses.is_empty()
     }
 
     /// The poses as 2D poses.
+    #[must_use]
     pub fn to_pose2s(&self) -> Vec<Pose2> {
         self.poses
             .iter()
@@ -74,6 +78,7 @@ impl TruePath {
     }
 
     /// Length of the path from the origin through every pose, metres.
+    #[must_use]
     pub fn length(&self) -> f64 {
         let mut previous = (0.0, 0.0);
         self.poses

@@ -46,6 +46,7 @@ pub struct WifiScan {
 impl WifiScan {
     /// A scan at `t` of `(bssid, rssi)` readings without SSID or frequency (BSSIDs as given:
     /// no normalisation, no checks — for data already validated, and for tests).
+    #[must_use]
     pub fn from_readings(t: f64, readings: &[(&str, f64)]) -> Self {
         Self {
             t,
@@ -62,6 +63,7 @@ impl WifiScan {
     }
 
     /// The RSSI of `bssid` in this scan, if it was heard.
+    #[must_use]
     pub fn rssi(&self, bssid: &str) -> Option<f64> {
         self.readings
             .iter()
@@ -72,6 +74,7 @@ impl WifiScan {
 
 /// A BSSID as stored: trimmed, and lower case when it is a MAC address (`aa:bb:..`), so that
 /// logs from different tools agree. `None` when empty or holding a comma or quote.
+#[must_use]
 pub fn normalise_bssid(raw: &str) -> Option<String> {
     let b = raw.trim();
     if b.is_empty() || b.contains([',', '"']) {

@@ -140,6 +140,7 @@ impl Campus {
     }
 
     /// True outdoors (in the yard or beyond).
+    #[must_use]
     pub fn is_outdoors(&self, x: f64, y: f64) -> bool {
         let (lo, hi) = (self.outline.min(), self.outline.max());
         !(x > lo.x && x < hi.x && y > lo.y && y < hi.y)

@@ -69,6 +69,7 @@ impl Default for CompassSimConfig {
 impl CompassSimConfig {
     /// A phone's rotation-vector heading, as measured on the ILC site-1 traces
     /// (docs/error-models.md): 3.3° white noise, a 13° disturbance over 6.5 m, 2.3 % outliers.
+    #[must_use]
     pub fn phone() -> Self {
         Self {
             enabled: true,

@@ -62,6 +62,7 @@ impl GpsSimConfig {
     }
 
     /// The accuracy each fix states, metres.
+    #[must_use]
     pub fn stated_accuracy(&self) -> f64 {
         self.bias_sigma.hypot(self.noise_sigma).max(0.5)
     }

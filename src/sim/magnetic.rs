@@ -89,6 +89,7 @@ pub struct MagneticWorld {
 impl MagneticWorld {
     /// Anomalies over the area of `truth` (with a margin of three fading lengths), on each
     /// level it visits, drawn from `seed`.
+    #[must_use]
     pub fn around(truth: &TruePath, config: FieldSimConfig, seed: u64) -> Self {
         let mut levels: Vec<i32> = truth.poses.iter().map(|p| p.level).collect();
         levels.sort_unstable();
@@ -108,6 +109,7 @@ impl MagneticWorld {
 
     /// A building's field: anomalies over the plan's extent (with the margin) on each of its
     /// levels, drawn from `config.seed`, so that every walk of the building reads the same.
+    #[must_use]
     pub fn of_plan(plan: &FloorPlan, config: FieldSimConfig) -> Self {
         match plan.bounds() {
             Some(b) => Self::over(b, &plan.levels(), config, config.seed),
@@ -142,6 +144,7 @@ impl MagneticWorld {
     }
 
     /// The field vector (east, north, up) at `(x, y)` on `level`, µT.
+    #[must_use]
     pub fn field_at(&self, x: f64, y: f64, level: i32) -> [f64; 3] {
         let c = &self.config;
         let (s, k) = c.inclination.sin_cos();
@@ -163,6 +166,7 @@ impl MagneticWorld {
     }
 
     /// Each step's reading along `truth`, with the configured noise drawn from `seed`.
+    #[must_use]
     pub fn readings_along(&self, truth: &TruePath, seed: u64) -> StepFields {
         let mut rng = Pcg64Mcg::seed_from_u64(seed);
         let noise = self.config.noise_ut;
@@ -193,8 +197,8 @@ mod tests {
     fn the_field_is_a_place_signature() {
         let poses = (0..200)
             .map(|i| TruePose {
-                t: i as f64,
-                x: (i % 100) as f64 * 0.5,
+                t: f64::from(i),
+                x: f64::from(i % 100) * 0.5,
                 y: 0.0,
                 z: 0.0,
                 level: 0,

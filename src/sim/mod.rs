@@ -199,6 +199,7 @@ pub struct TowerSimulation {
 impl TowerSimulation {
     /// The true path as `(x, y, level)`, from the start before the first step to the last
     /// step.
+    #[must_use]
     pub fn true_points(&self) -> Vec<(f64, f64, i32)> {
         std::iter::once(&self.start)
             .chain(&self.truth.poses)
@@ -259,8 +260,9 @@ pub fn simulate_tower(config: &TowerSimConfig) -> Result<TowerSimulation> {
     })
 }
 
-/// The seed of independent stream `stream` of a run seeded with `seed` (SplitMix64's
+/// The seed of independent stream `stream` of a run seeded with `seed` (`SplitMix64`'s
 /// finaliser applied twice, so nearby seeds and streams give unrelated generators).
+#[must_use]
 pub fn stream_seed(seed: u64, stream: u64) -> u64 {
     crate::random::mix(seed ^ crate::random::mix(stream))
 }

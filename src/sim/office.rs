@@ -87,6 +87,7 @@ impl Office {
     }
 
     /// Length of one lap of the corridor's centre line, metres.
+    #[must_use]
     pub fn lap_length(&self) -> f64 {
         let (a, b) = self.config.centre_line_size();
         2.0 * (a + b)

@@ -90,6 +90,7 @@ impl OfficeConfig {
     }
 
     /// East–west and north–south extents `(a, b)` of the corridor's centre line, metres.
+    #[must_use]
     pub fn centre_line_size(&self) -> (f64, f64) {
         let c = self.corridor_width;
         (self.loop_width - c, self.loop_height - c)

@@ -27,6 +27,7 @@ fn norm(c: Coord<f64>) -> f64 {
 impl Route {
     /// The route through `waypoints` with each interior corner rounded with radius
     /// `min(radius, 0.45 × either adjacent segment's length)`.
+    #[must_use]
     pub fn rounded(waypoints: &[Coord<f64>], radius: f64) -> Self {
         let mut corners: Vec<Coord<f64>> = Vec::with_capacity(waypoints.len());
         for &w in waypoints {
@@ -73,17 +74,20 @@ impl Route {
     }
 
     /// Total length, metres.
+    #[must_use]
     pub fn length(&self) -> f64 {
         self.cumulative.last().copied().unwrap_or(0.0)
     }
 
     /// The polyline's points.
+    #[must_use]
     pub fn points(&self) -> &[Coord<f64>] {
         &self.points
     }
 
     /// The point at arc length `s` (clamped to the route) and the unit direction of travel
     /// there (east for a route of fewer than two points).
+    #[must_use]
     pub fn at(&self, s: f64) -> (Coord<f64>, Coord<f64>) {
         let east = Coord { x: 1.0, y: 0.0 };
         let Some(&first) = self.points.first() else {

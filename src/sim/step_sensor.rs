@@ -56,6 +56,7 @@ impl StepNoiseConfig {
     /// PyShoe hallway walks (robust σ 0.019 m, docs/error-models.md); 15° of drift over the
     /// walk (0.15°/stride over 100 strides: the spread of the hallway walks' drift rates is
     /// 0.14°/stride).
+    #[must_use]
     pub fn foot() -> Self {
         Self::default()
     }
@@ -65,6 +66,7 @@ impl StepNoiseConfig {
     /// measurement's upper bound), stride noise 0.10 m (the data bound it at ≤ 0.23 m),
     /// height noise 0.05 m (a barometer's); 30° of gyro drift over the walk (the traces are
     /// too short to measure it; their bound, 0.11°/step, allows more).
+    #[must_use]
     pub fn phone() -> Self {
         Self {
             length_sigma: 0.10,
@@ -77,6 +79,7 @@ impl StepNoiseConfig {
     }
 
     /// A perfect sensor: no noise, no drift, unit scale.
+    #[must_use]
     pub fn noise_free() -> Self {
         Self {
             length_sigma: 0.0,

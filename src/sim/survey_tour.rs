@@ -15,6 +15,7 @@ use geo::{Coord, Rect};
 
 /// The survey tour's waypoints (starting on level 0) for a building whose rooms are swept
 /// in lanes at most `lane_spacing` apart, at least `margin` from the walls.
+#[must_use]
 pub fn survey_waypoints(tower: &Tower, lane_spacing: f64, margin: f64) -> Vec<Coord<f64>> {
     let c = &tower.config;
     let floors = c.floors as i32;

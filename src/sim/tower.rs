@@ -173,6 +173,7 @@ impl Tower {
 
     /// The longest stride at `p` when it is in a stairwell beyond the floor landings: two
     /// treads (a foot-mounted sensor's stride spans one tread per foot); `None` elsewhere.
+    #[must_use]
     pub fn stride_limit(&self, p: Coord<f64>) -> Option<f64> {
         let c = &self.config;
         let beyond = (-p.x).max(p.x - c.corridor_length) - c.landing_depth;
@@ -181,6 +182,7 @@ impl Tower {
 
     /// Waypoints from the corridor's end at `level` through the stairwell at the west
     /// (`east = false`) or east end to the corridor's end one floor up (`up`) or down.
+    #[must_use]
     pub fn stair_waypoints(&self, east: bool, up: bool) -> Vec<Coord<f64>> {
         let c = &self.config;
         let (lane, end, half) = (

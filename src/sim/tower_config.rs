@@ -172,6 +172,7 @@ impl TowerConfig {
     }
 
     /// Height of one tread above the previous.
+    #[must_use]
     pub fn rise(&self) -> f64 {
         self.floor_height / (2.0 * self.treads as f64 + 2.0)
     }

@@ -351,6 +351,7 @@ fn off_plan(p: Coord<f64>) -> Error {
 
 /// Indices of the steps at which the true level differs from the previous step's (or the
 /// start's, for the first).
+#[must_use]
 pub fn floor_changes(start: &TruePose, truth: &TruePath) -> Vec<usize> {
     let mut level = start.level;
     let mut changes = Vec::new();
@@ -366,6 +367,7 @@ pub fn floor_changes(start: &TruePose, truth: &TruePath) -> Vec<usize> {
 /// The first step by which the walk has visited both the lowest and the highest of
 /// `levels` (inclusive), so that its floor sequence could only have started on one floor:
 /// before it, a building of identical floors cannot tell the floor. `Some(0)` for one floor.
+#[must_use]
 pub fn floor_resolved_at(start: &TruePose, truth: &TruePath, levels: (i32, i32)) -> Option<usize> {
     if levels.0 == levels.1 {
         return Some(0);

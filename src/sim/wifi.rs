@@ -242,6 +242,7 @@ impl RadioWorld {
     }
 
     /// The access points.
+    #[must_use]
     pub fn access_points(&self) -> &[AccessPoint] {
         &self.aps
     }
@@ -249,6 +250,7 @@ impl RadioWorld {
     /// The expected RSSI of access point `ap` at `(x, y)` on `level`, dBm: the mean of what a
     /// receiver there reads over temporal noise and over the walker's headings (so with the
     /// mean body loss, half of `body_loss_max`); not clipped at the detection floor.
+    #[must_use]
     pub fn expected_rssi(&self, ap: usize, x: f64, y: f64, level: i32) -> f64 {
         self.unobstructed_rssi(ap, x, y, level) - self.config.body_loss_max / 2.0
     }
@@ -302,6 +304,7 @@ impl RadioWorld {
 
     /// Scans along a walk, every `scan_interval` seconds (with jitter) from the start, at the
     /// walker's position interpolated between steps; drawn from `seed`.
+    #[must_use]
     pub fn scans_along(&self, start: &TruePose, truth: &TruePath, seed: u64) -> Vec<WifiScan> {
         let c = &self.config;
         let mut rng = Pcg64Mcg::seed_from_u64(seed);
@@ -325,6 +328,7 @@ pub type FieldPoint = (i32, f64, f64, Vec<f64>);
 
 /// The expected RSSI of every access point on a grid of `spacing` metres over the walkable
 /// area of every level, in level, y, x order.
+#[must_use]
 pub fn expected_field(
     world: &RadioWorld,
     topology: &FloorTopology,

@@ -37,6 +37,7 @@ pub enum LayerKind {
 impl LayerKind {
     /// Whether the layer is a path of timed positions (drawn as a line with a marker the
     /// time slider moves), not GeoJSON features.
+    #[must_use]
     pub fn is_path(self) -> bool {
         matches!(
             self,
@@ -72,6 +73,7 @@ pub struct PathPoint {
 
 impl PathPoint {
     /// The point at local `(x, y)` metres of `frame`, at time `t`, with nothing else known.
+    #[must_use]
     pub fn from_local(frame: &LocalFrame, t: f64, x: f64, y: f64) -> Self {
         let (lon, lat) = frame.to_lon_lat(x, y);
         Self {
@@ -92,7 +94,7 @@ const DEGREE_DECIMALS: i32 = crate::io::geojson_file::DEGREE_DECIMALS;
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum LayerData {
-    /// An RFC 7946 FeatureCollection as the file holds it, its foreign members kept (a
+    /// An RFC 7946 `FeatureCollection` as the file holds it, its foreign members kept (a
     /// radio map without its RSSI histograms).
     Geojson(serde_json::Value),
     /// Timed positions, in time order.
@@ -137,6 +139,7 @@ pub struct ViewRun {
 
 impl ViewRun {
     /// A run named `name` with no layers yet.
+    #[must_use]
     pub fn new(name: String, folder: PathBuf, origin: LocalFrame) -> Self {
         Self {
             name,
@@ -149,6 +152,7 @@ impl ViewRun {
     }
 
     /// The floor levels of all its layers, ascending.
+    #[must_use]
     pub fn levels(&self) -> Vec<i32> {
         let mut levels: Vec<i32> = self
             .layers

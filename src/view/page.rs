@@ -133,6 +133,7 @@ pub struct Page {
 
 impl Page {
     /// A page of `runs`, titled by their names; runs of one name are told apart by number.
+    #[must_use]
     pub fn new(mut runs: Vec<ViewRun>, basemap: Option<Basemap>) -> Self {
         for i in 1..runs.len() {
             let base = runs[i].name.clone();
@@ -152,6 +153,7 @@ impl Page {
     }
 
     /// Every file read for the page (the output folder must not replace them).
+    #[must_use]
     pub fn inputs(&self) -> Vec<&Path> {
         self.runs
             .iter()
@@ -161,6 +163,7 @@ impl Page {
 
     /// What the page shows, for the output folder's `summary.json`: each run's origin and
     /// layers (name, kind, file, levels, features), and the basemap.
+    #[must_use]
     pub fn summary(&self) -> serde_json::Value {
         let runs: Vec<serde_json::Value> = self
             .runs

@@ -14,6 +14,7 @@ use std::path::Path;
 pub type LevelsByTime = HashMap<i64, i32>;
 
 /// The key of time `t` (seconds) in [`LevelsByTime`].
+#[must_use]
 pub fn time_key(t: f64) -> i64 {
     (t * 1000.0).round() as i64
 }

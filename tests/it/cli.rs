@@ -382,7 +382,7 @@ fn eval_moves_a_track_into_the_truths_frame() {
     std::fs::write(track_dir.join("summary.json"), &anchored).expect("write");
     let (mut truth, mut track) = (String::from("t,x,y\n"), String::from("t,x,y\n"));
     for i in 0..20 {
-        let (x, y) = (i as f64 * 0.7, 3.0 + (i as f64 * 0.3).sin());
+        let (x, y) = (f64::from(i) * 0.7, 3.0 + (f64::from(i) * 0.3).sin());
         truth.push_str(&format!("{},{x},{y}\n", i + 1));
         let (lon, lat) = truth_frame.to_lon_lat(x, y);
         let (tx, ty) = track_frame.to_local(lon, lat);

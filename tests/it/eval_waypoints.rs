@@ -22,10 +22,10 @@ fn errors_at_waypoints_and_dead_reckoning_from_the_first() {
     let mut steps = String::from("t,length,dheading,dz,heading\n");
     let mut track = String::from("t,x,y\n");
     for k in 1..=10 {
-        let t = t0 + k as f64;
+        let t = t0 + f64::from(k);
         steps.push_str(&format!("{t},1.0,0.0,0.0,1.5707963\n"));
         // The track is off by 1 m east.
-        track.push_str(&format!("{t},11.0,{}\n", 5.0 + k as f64));
+        track.push_str(&format!("{t},11.0,{}\n", 5.0 + f64::from(k)));
     }
     let steps = write(dir.path(), "steps.csv", &steps);
     let track = write(dir.path(), "track.csv", &track);
@@ -106,7 +106,12 @@ fn picture_draws_the_track_over_the_waypoints() {
     let t0 = 1_574_000_000.0;
     let mut track = String::from("t,x,y\n");
     for k in 0..=20 {
-        track.push_str(&format!("{},{},{}\n", t0 + k as f64, 11.0, 5.0 + k as f64));
+        track.push_str(&format!(
+            "{},{},{}\n",
+            t0 + f64::from(k),
+            11.0,
+            5.0 + f64::from(k)
+        ));
     }
     let track = write(dir.path(), "track.csv", &track);
     let waypoints = write(

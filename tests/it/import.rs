@@ -17,7 +17,7 @@ fn excerpt() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/ilc_excerpt.txt")
 }
 
-/// A 200 m × 150 m floor (as ILC writes it: bbox in degrees, size in floor_info.json) with
+/// A 200 m × 150 m floor (as ILC writes it: bbox in degrees, size in `floor_info.json`) with
 /// one 30 m × 30 m shop at (10..40, 10..40) m.
 fn write_floor(dir: &Path) {
     std::fs::create_dir_all(dir).expect("mkdir");

@@ -1,4 +1,4 @@
-//! Every GeoJSON footslam writes validates as RFC 7946: a FeatureCollection without a `crs`
+//! Every GeoJSON footslam writes validates as RFC 7946: a `FeatureCollection` without a `crs`
 //! member, positions `[lon, lat]` in range (longitude first), closed polygon rings of at least
 //! four positions, exterior rings counter-clockwise and holes clockwise (sec. 3.1.6).
 //!

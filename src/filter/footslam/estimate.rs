@@ -15,6 +15,7 @@ impl FootSlam {
     ///
     /// With GPS and a prior map, the path and map are moved `κ·δ` towards the prior's frame
     /// (see [`FootSlam::with_anchors`]).
+    #[must_use]
     pub fn estimate(&self) -> FootSlamEstimate {
         let index = self
             .particles
@@ -92,6 +93,7 @@ impl FootSlam {
     /// Re-draws particle `index`'s whole path from the random streams its ancestors used;
     /// the motion does not depend on the map (eq. 5), so this reproduces it exactly (in the
     /// particle's own frame, before any move towards a prior map).
+    #[must_use]
     pub fn replay_path(&self, index: usize) -> Vec<Pose2> {
         let seed = self.config.seed;
         let indices = self.particles[index].lineage.indices(self.steps.len() + 1);

@@ -62,6 +62,7 @@ pub struct PathNode {
 
 impl PathNode {
     /// A node at `(x, y)` on `surface`.
+    #[must_use]
     pub fn new(x: f32, y: f32, surface: u32) -> Self {
         Self {
             x,
@@ -137,6 +138,7 @@ impl PathTree {
     /// step still has many distinct ancestors to average, and they have seen the walls of
     /// the next `lag` steps. The whole walk decides where that answer is trusted: only where
     /// the final ancestry holds one hypothesis and agrees with it (within `max_spread`).
+    #[must_use]
     pub fn new(lag: usize) -> Self {
         Self {
             lag,
@@ -145,6 +147,7 @@ impl PathTree {
     }
 
     /// Steps covered: `0..=last step` (0 before anything was added).
+    #[must_use]
     pub fn steps(&self) -> usize {
         self.first_step + self.segment_len()
     }
@@ -155,6 +158,7 @@ impl PathTree {
     }
 
     /// Largest number of nodes held at once (memory: 16 bytes each).
+    #[must_use]
     pub fn peak_nodes(&self) -> usize {
         self.peak_nodes
     }

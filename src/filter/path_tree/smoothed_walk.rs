@@ -22,6 +22,7 @@ pub struct SmoothedWalk<'a> {
 
 impl<'a> SmoothedWalk<'a> {
     /// The answers of `tree`, one per step `0..=steps` (0 = the prior).
+    #[must_use]
     pub fn new(tree: PathTree, topology: &'a FloorTopology, cluster: ClusterConfig) -> Self {
         let len = tree.steps();
         Self {
@@ -35,6 +36,7 @@ impl<'a> SmoothedWalk<'a> {
     }
 
     /// A walk of `steps` steps without answers (a tracker that never started).
+    #[must_use]
     pub fn empty(topology: &'a FloorTopology, cluster: ClusterConfig, steps: usize) -> Self {
         Self {
             tree: None,
@@ -50,6 +52,7 @@ impl<'a> SmoothedWalk<'a> {
     /// the walk's step `before` (1-based; 0: the tracker started with the walk, and the
     /// prior's answer is dropped): the answer after tracker step `g` becomes the walk's step
     /// `before + g` (1-based). Steps without an answer read `None`.
+    #[must_use]
     pub fn on_walk(self, before: usize, steps: usize) -> Self {
         Self {
             lead: before.saturating_sub(1),
@@ -60,11 +63,13 @@ impl<'a> SmoothedWalk<'a> {
     }
 
     /// Steps of the walk.
+    #[must_use]
     pub fn len(&self) -> usize {
         self.len
     }
 
     /// True for a walk of no steps.
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.len == 0
     }

@@ -32,6 +32,7 @@ impl PathTree {
 
     /// The smoothed belief at every step `0..self.steps()`: settled steps as they were fixed,
     /// the current segment from the current belief's ancestry.
+    #[must_use]
     pub fn smoothed(&self, topology: &FloorTopology, cluster: &ClusterConfig) -> Vec<SmoothedStep> {
         self.smoothed_iter(topology, cluster).collect()
     }

@@ -13,6 +13,7 @@ impl<'a> Tracker<'a> {
     /// The whole-walk answer: the smoothed belief after each step `0..=steps` (0 = the prior),
     /// from the ancestral lines of the current belief ([`crate::filter::path_tree`]); `None` when
     /// `config.smoothing` is off.
+    #[must_use]
     pub fn smoothed(&self) -> Option<Vec<SmoothedStep>> {
         let tree = self.tree.as_ref()?;
         Some(tree.smoothed(self.topology, &self.config.cluster))
@@ -72,6 +73,7 @@ impl<'a> Tracker<'a> {
 
     /// The step at which the ancestry outgrew `smoothing_max_nodes` and was dropped (the run
     /// then has no whole-walk answer).
+    #[must_use]
     pub fn smoothing_dropped_at(&self) -> Option<usize> {
         self.smoothing_dropped_at
     }

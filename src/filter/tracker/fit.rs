@@ -24,7 +24,7 @@ pub(super) struct Propagation {
     pub(super) alive: usize,
     /// Σ w over the alive particles, w = exp(eq. 17's log-weight).
     pub(super) weight: f64,
-    /// Σ w · δz_poly over the alive particles.
+    /// Σ w · `δz_poly` over the alive particles.
     pub(super) weighted_dz: f64,
 }
 

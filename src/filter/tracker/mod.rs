@@ -94,6 +94,7 @@ pub struct StepMeasurement<'m> {
 
 impl<'m> StepMeasurement<'m> {
     /// `field` judged where the step took each particle.
+    #[must_use]
     pub fn at_end(field: &'m CellField) -> Self {
         Self { field, at: 1.0 }
     }
@@ -253,43 +254,51 @@ impl<'a> Tracker<'a> {
     /// Prior draws (the start's and re-initialisations') that stopped at
     /// `kld.max_particles` before the KLD bound was met: the plan is too large for the cap
     /// to cover it at the bins' resolution, and the prior is thinner than KLD asks.
+    #[must_use]
     pub fn capped_draws(&self) -> usize {
         self.capped_draws
     }
 
     /// Steps whose extra measurement ([`Self::update_with`]) no particle was consistent with,
     /// so that it was ignored rather than let kill the belief.
+    #[must_use]
     pub fn measurements_ignored(&self) -> usize {
         self.ignored
     }
 
     /// Steps whose absolute heading weighted the particles (0 when the trace has none or
     /// `heading.enabled` is false).
+    #[must_use]
     pub fn headings_used(&self) -> usize {
         self.headings_used
     }
 
     /// The configuration.
+    #[must_use]
     pub fn config(&self) -> &TrackerConfig {
         &self.config
     }
 
     /// The floor plan's topology.
+    #[must_use]
     pub fn topology(&self) -> &FloorTopology {
         self.topology
     }
 
     /// The current particles (equally weighted).
+    #[must_use]
     pub fn particles(&self) -> &[TrackParticle] {
         &self.particles
     }
 
     /// Number of particles drawn from the prior.
+    #[must_use]
     pub fn initial_particles(&self) -> usize {
         self.initial
     }
 
     /// Bytes held per particle of the largest set so far, double buffers included.
+    #[must_use]
     pub fn bytes_per_particle(&self) -> f64 {
         let bytes = (self.particles.capacity() + self.proposal.capacity())
             * std::mem::size_of::<TrackParticle>()

@@ -3,7 +3,7 @@
 //!
 //! A floor folder holds `floor_info.json` (`{"map_info": {"width": W, "height": H}}`, metres)
 //! and `geojson_map.json` (WGS84; the first feature is the floor outline, Polygon or
-//! MultiPolygon; the others are shops and rooms). The competition's waypoints live in a
+//! `MultiPolygon`; the others are shops and rooms). The competition's waypoints live in a
 //! metre frame onto which the GeoJSON's bounding box maps linearly: `[min_lon, max_lon] →
 //! [0, W]` (x east), `[min_lat, max_lat] → [0, H]` (y north, no flip). [`read_ilc_floor`]
 //! takes every polygon into that frame and [`IlcFloor::plan`] builds a [`FloorPlan`] (level
@@ -298,7 +298,7 @@ fn read_json(path: &Path) -> Result<Value> {
     serde_json::from_str(&text).map_err(|e| Error::parse(path, e.line(), format!("not JSON: {e}")))
 }
 
-/// The polygons of a Polygon or MultiPolygon feature, `[lon, lat]` degrees.
+/// The polygons of a Polygon or `MultiPolygon` feature, `[lon, lat]` degrees.
 fn feature_polygons(feature: &Value) -> Result<Vec<Polygon<f64>>, String> {
     let geometry = feature.get("geometry").ok_or("no geometry")?;
     let kind = geometry.get("type").and_then(Value::as_str).unwrap_or("");

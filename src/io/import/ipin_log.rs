@@ -1,6 +1,6 @@
 //! Logfiles of the IPIN indoor localisation competition's smartphone track, as written by
-//! the GetSensorData Android app (LOPSI group, CAR-CSIC; field layouts from the header the
-//! app writes into every logfile, github.com/lopsi/GetSensorData_Android,
+//! the `GetSensorData` Android app (LOPSI group, CAR-CSIC; field layouts from the header the
+//! app writes into every logfile, `github.com/lopsi/GetSensorData_Android`,
 //! `MainActivity.java`): one line per reading, fields separated by `;`, `%` lines are
 //! comments. Times are `AppTimestamp`, seconds since the recording started, common to all
 //! sensors (kept in f64); `SensorTimestamp` is the sensor's own clock and is not used,
@@ -71,7 +71,7 @@ impl Default for IpinImportConfig {
 /// One ground-truth landmark of a logfile (`POSI`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct IpinPosition {
-    /// Time, seconds (AppTimestamp clock).
+    /// Time, seconds (`AppTimestamp` clock).
     pub t: f64,
     /// WGS84 latitude, degrees.
     pub lat: f64,
@@ -136,6 +136,7 @@ pub struct IpinLog {
 }
 
 /// Ground-truth positions as waypoints in `frame`'s metres, the floor number as level.
+#[must_use]
 pub fn positions_to_waypoints(positions: &[IpinPosition], frame: &LocalFrame) -> Vec<Waypoint> {
     positions
         .iter()
@@ -154,6 +155,7 @@ pub fn positions_to_waypoints(positions: &[IpinPosition], frame: &LocalFrame) ->
 impl IpinLog {
     /// The frame of the log's waypoints: `origin` when given, else the first ground-truth
     /// position's; `None` when neither is there.
+    #[must_use]
     pub fn waypoint_frame(&self, origin: Option<LocalFrame>) -> Option<LocalFrame> {
         origin.or_else(|| {
             self.positions
@@ -164,6 +166,7 @@ impl IpinLog {
 
     /// The ground-truth positions as waypoints in `frame`'s metres; `None` without a frame
     /// or without positions.
+    #[must_use]
     pub fn waypoints(&self, frame: Option<&LocalFrame>) -> Option<Vec<Waypoint>> {
         let frame = frame.filter(|_| !self.positions.is_empty())?;
         Some(positions_to_waypoints(&self.positions, frame))
@@ -492,6 +495,7 @@ impl Reader {
 /// and pressure, a WiFi scan per second (one reading stale), 1 Hz GNSS, a POSI every 2 s,
 /// and light and sound lines; walking east at 1 m/s from (`lat`, `lon`). For tests and
 /// examples.
+#[must_use]
 pub fn synthetic_ipin_log(seconds: u32, lat: f64, lon: f64) -> String {
     use std::fmt::Write as _;
     let mut s = String::from(

@@ -55,22 +55,26 @@ impl<const N: usize> SensorStream<N> {
     }
 
     /// Number of rows.
+    #[must_use]
     pub fn len(&self) -> usize {
         self.rows.len()
     }
 
     /// True when the stream has no rows.
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.rows.is_empty()
     }
 
     /// Rows that came before their predecessor (within the tolerance) and were sorted.
+    #[must_use]
     pub fn reordered(&self) -> usize {
         self.reordered
     }
 
     /// The rows `(t, value, line)` sorted by time (stable: rows sharing a time keep their
     /// file order).
+    #[must_use]
     pub fn rows_sorted(&self) -> Vec<(f64, [f64; N], usize)> {
         let mut rows = self.rows.clone();
         if self.reordered > 0 {
@@ -136,6 +140,7 @@ fn nlerp(a: [f64; 4], b: [f64; 4], w: f64) -> [f64; 4] {
 /// The unit quaternion `[x, y, z, w]` of an Android rotation vector's `x, y, z`, with
 /// `w = sqrt(max(0, 1 − x² − y² − z²))`; `None` when `|(x, y, z)|` exceeds 1 by more than
 /// 5 % (not a rotation vector).
+#[must_use]
 pub fn rotation_vector_quaternion(x: f64, y: f64, z: f64) -> Option<[f64; 4]> {
     let n2 = x * x + y * y + z * z;
     if !(n2.is_finite() && n2 <= 1.05 * 1.05) {
@@ -163,6 +168,7 @@ pub struct ImuStreams {
 
 impl ImuStreams {
     /// Rows sorted into place across all streams.
+    #[must_use]
     pub fn reordered(&self) -> usize {
         self.accel.reordered()
             + self.gyro.reordered()

@@ -23,6 +23,7 @@ pub struct WalkableShare {
 
 impl WalkableShare {
     /// The share of `waypoints` on `plan`'s walkable area.
+    #[must_use]
     pub fn of(plan: &FloorPlan, waypoints: &[Waypoint]) -> Self {
         let on = waypoints
             .iter()
@@ -35,11 +36,13 @@ impl WalkableShare {
     }
 
     /// Waypoints off the walkable area.
+    #[must_use]
     pub fn off(self) -> usize {
         self.total - self.on
     }
 
     /// Fewer than [`MIN_SHARE_ON`] of the waypoints on the walkable area.
+    #[must_use]
     pub fn suspect(self) -> bool {
         (self.on as f64) < MIN_SHARE_ON * self.total as f64
     }

@@ -111,54 +111,64 @@ impl FloorTopology {
     }
 
     /// Number of surfaces.
+    #[must_use]
     pub fn len(&self) -> usize {
         self.z.len()
     }
 
     /// True when the plan has no surface.
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.z.is_empty()
     }
 
     /// Height of `surface`, metres.
     #[inline]
+    #[must_use]
     pub fn z(&self, surface: u32) -> f32 {
         self.z[surface as usize]
     }
 
     /// Level of `surface`.
     #[inline]
+    #[must_use]
     pub fn level(&self, surface: u32) -> i32 {
         self.level[surface as usize]
     }
 
     /// Area of `surface`, square metres.
+    #[must_use]
     pub fn area(&self, surface: u32) -> f64 {
         self.area[surface as usize]
     }
 
     /// Walkable area of all surfaces, square metres.
+    #[must_use]
     pub fn total_area(&self) -> f64 {
         self.area.iter().sum()
     }
 
     /// Bounding box of the plan: min x, min y, max x, max y, metres.
+    #[must_use]
     pub fn bounds(&self) -> [f64; 4] {
         self.bounds
     }
 
     /// Lowest and highest level.
+    #[must_use]
     pub fn levels(&self) -> (i32, i32) {
         self.levels
     }
 
     /// Every wall, connection and barrier segment.
+    #[must_use]
     pub fn segments(&self) -> &[Segment] {
         &self.segments
     }
 
     /// The surface containing `(x, y)`: on `level` when given; among several (stacked
     /// levels) the one whose height is nearest `z_hint`, else the lowest.
+    #[must_use]
     pub fn locate(&self, x: f64, y: f64, level: Option<i32>, z_hint: Option<f64>) -> Option<u32> {
         let ids = self.grid.surfaces_at(x, y);
         let p = geo::Point::new(x, y);

@@ -17,6 +17,7 @@ impl FloorTopology {
     /// the step. Returns the surface `to` lies on, or `None` when the step crosses a wall or
     /// a barrier (or more than 64 connections).
     #[inline]
+    #[must_use]
     pub fn walk(&self, surface: u32, from: [f32; 2], to: [f32; 2]) -> Option<u32> {
         // The step stays one fixed segment; `t_c` is the fraction of it where the last
         // connection was crossed (a start a hair past a connection still crosses it).
