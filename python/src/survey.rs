@@ -216,7 +216,11 @@ fn coverage_columns<'py>(py: Python<'py>, c: &[Coverage]) -> PyResult<Bound<'py,
             ),
             (
                 "cells",
-                Column::I64(c.iter().map(|c| c.cells as i64).collect()),
+                Column::I64(
+                    c.iter()
+                        .map(|c| i64::try_from(c.cells).unwrap_or(i64::MAX))
+                        .collect(),
+                ),
             ),
             ("coverage", Column::F64(c.iter().map(|c| c.share).collect())),
             (

@@ -199,7 +199,11 @@ fn points<'py>(
         ));
         cols.push((
             "hypotheses",
-            Column::I64(rows.iter().map(|r| r.hypotheses as i64).collect()),
+            Column::I64(
+                rows.iter()
+                    .map(|r| i64::try_from(r.hypotheses).unwrap_or(i64::MAX))
+                    .collect(),
+            ),
         ));
         cols.push((
             "spread",
@@ -274,8 +278,9 @@ impl TrackOut {
             .steps
             .iter()
             .map(|r| {
-                let clusters = r.clusters().map_or(-1, |c| c as i64);
-                (r.particles() as i64, clusters, r.localised())
+                let count = |n: usize| i64::try_from(n).unwrap_or(i64::MAX);
+                let clusters = r.clusters().map_or(-1, count);
+                (count(r.particles()), clusters, r.localised())
             })
             .collect();
         Ok(TrackOut {

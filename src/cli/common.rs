@@ -69,7 +69,7 @@ pub fn output_dir(out: Option<PathBuf>, command: &str) -> PathBuf {
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(0, |d| d.as_secs());
         let (days, rem) = (secs / 86_400, secs % 86_400);
-        let (y, m, d) = civil_from_days(days as i64);
+        let (y, m, d) = civil_from_days(days.cast_signed());
         PathBuf::from("outputs").join(format!(
             "{command}-{y:04}{m:02}{d:02}-{:02}{:02}{:02}",
             rem / 3600,

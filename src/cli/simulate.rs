@@ -175,7 +175,7 @@ fn tower_summary(
     truth: &[(f64, f64, i32)],
     origin: LocalFrame,
 ) -> TowerSummary {
-    let levels = (0, config.building.floors as i32 - 1);
+    let levels = (0, config.building.level_count() - 1);
     TowerSummary {
         steps: sim.steps.len(),
         duration_s: sim.truth.poses.last().map_or(0.0, |p| p.t),

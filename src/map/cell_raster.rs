@@ -219,20 +219,23 @@ impl CellRaster {
                 continue;
             }
             let (level_base, within) = (i / per_level * per_level, i % per_level);
-            let (x, y) = ((within % nx) as isize, (within / nx) as isize);
+            let (x, y) = (within % nx, within / nx);
             for (dx, dy, cost) in MOVES {
-                let (x2, y2) = (x + dx, y + dy);
-                if x2 < 0 || y2 < 0 || x2 >= nx as isize || y2 >= ny as isize {
+                let (Some(x2), Some(y2)) = (x.checked_add_signed(dx), y.checked_add_signed(dy))
+                else {
+                    continue;
+                };
+                if x2 >= nx || y2 >= ny {
                     continue;
                 }
-                let j = level_base + y2 as usize * nx + x2 as usize;
+                let j = level_base + y2 * nx + x2;
                 if self.squares[j] == NONE {
                     continue;
                 }
                 // A diagonal move may not cut a corner of the floor.
                 if dx != 0 && dy != 0 {
-                    let a = level_base + y as usize * nx + x2 as usize;
-                    let b = level_base + y2 as usize * nx + x as usize;
+                    let a = level_base + y * nx + x2;
+                    let b = level_base + y2 * nx + x;
                     if self.squares[a] == NONE || self.squares[b] == NONE {
                         continue;
                     }

@@ -53,8 +53,8 @@ impl<T> Default for HexTree<T> {
 /// Leaf-block coordinates and the index within the leaf of a hexagon.
 #[must_use]
 pub fn locate(h: Hex) -> (LeafKey, usize) {
-    let u = (h.x as u32).wrapping_add(KEY_OFFSET);
-    let v = (h.y as u32).wrapping_add(KEY_OFFSET);
+    let u = h.x.cast_unsigned().wrapping_add(KEY_OFFSET);
+    let v = h.y.cast_unsigned().wrapping_add(KEY_OFFSET);
     ((u >> 2, v >> 2), ((u & 3) + 4 * (v & 3)) as usize)
 }
 
@@ -64,8 +64,8 @@ pub fn hex_of((bx, by): LeafKey, slot: usize) -> Hex {
     let u = bx * 4 + (slot as u32 & 3);
     let v = by * 4 + (slot as u32 >> 2);
     Hex::new(
-        u.wrapping_sub(KEY_OFFSET) as i32,
-        v.wrapping_sub(KEY_OFFSET) as i32,
+        u.wrapping_sub(KEY_OFFSET).cast_signed(),
+        v.wrapping_sub(KEY_OFFSET).cast_signed(),
     )
 }
 

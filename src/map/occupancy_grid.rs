@@ -156,20 +156,21 @@ impl OccupancyGrid {
         let k = (config.wall / r).round() as isize;
         if k > 0 {
             let free: Vec<bool> = cells.iter().map(|c| *c == Occupancy::Free).collect();
-            let at = |c: isize, rw: isize| -> Option<usize> {
-                (c >= 0 && rw >= 0 && (c as usize) < width && (rw as usize) < height)
-                    .then(|| rw as usize * width + c as usize)
+            // The square `(dc, dr)` from `(col, row)`, if on the grid.
+            let at = |col: usize, row: usize, dc: isize, dr: isize| -> Option<usize> {
+                let (c, rw) = (col.checked_add_signed(dc)?, row.checked_add_signed(dr)?);
+                (c < width && rw < height).then_some(rw * width + c)
             };
-            for row in 0..height as isize {
-                for col in 0..width as isize {
-                    let Some(i) = at(col, row) else { continue };
+            for row in 0..height {
+                for col in 0..width {
+                    let i = row * width + col;
                     if !free[i] {
                         continue;
                     }
                     // Only squares on the edge of the free area have non-free neighbours.
                     let edge = [(1, 0), (-1, 0), (0, 1), (0, -1)]
                         .iter()
-                        .any(|(dc, dr)| at(col + dc, row + dr).is_none_or(|j| !free[j]));
+                        .any(|&(dc, dr)| at(col, row, dc, dr).is_none_or(|j| !free[j]));
                     if !edge {
                         continue;
                     }
@@ -178,7 +179,7 @@ impl OccupancyGrid {
                             if dc * dc + dr * dr > k * k {
                                 continue;
                             }
-                            if let Some(j) = at(col + dc, row + dr)
+                            if let Some(j) = at(col, row, dc, dr)
                                 && !free[j]
                             {
                                 cells[j] = Occupancy::Occupied;

@@ -18,7 +18,7 @@ use geo::{Coord, Rect};
 #[must_use]
 pub fn survey_waypoints(tower: &Tower, lane_spacing: f64, margin: f64) -> Vec<Coord<f64>> {
     let c = &tower.config;
-    let floors = c.floors as i32;
+    let floors = c.level_count();
     let length = c.corridor_length;
     let mut w = vec![Coord { x: 0.5, y: 0.0 }];
     for level in 0..floors {

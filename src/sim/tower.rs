@@ -88,8 +88,7 @@ impl Tower {
         let mut polygons = Vec::new();
         let mut rooms = Vec::new();
         let h = c.floor_height;
-        for k in 0..c.floors {
-            let level = k as i32;
+        for (k, level) in (0..c.floors).zip(0i32..) {
             let z = k as f64 * h;
             let surface = |rect: Rect<f64>, z: f64, name: String| FloorPolygon {
                 polygon: rect.to_polygon(),

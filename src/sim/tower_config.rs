@@ -86,6 +86,13 @@ impl Default for TowerConfig {
 }
 
 impl TowerConfig {
+    /// The number of floors as a count of levels (levels `0..level_count()`); `validate`
+    /// bounds it to 50.
+    #[must_use]
+    pub fn level_count(&self) -> i32 {
+        i32::try_from(self.floors).unwrap_or(i32::MAX)
+    }
+
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range("building.floors", self.floors as f64, 1.0..=50.0, "")?;

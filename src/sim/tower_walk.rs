@@ -182,7 +182,7 @@ fn plan_tour(
     needed: f64,
     rng: &mut Pcg64Mcg,
 ) -> (i32, Vec<Coord<f64>>) {
-    let floors = tower.config.floors as i32;
+    let floors = tower.config.level_count();
     let mut level = rng.random_range(0..floors);
     let start_level = level;
     let on_level = |l: i32| -> Vec<usize> {
