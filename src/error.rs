@@ -163,6 +163,13 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 /// start), else an [`Error::Config`] naming `field`, the value and the range, in `unit`
 /// (e.g. `"m"`, or `""`).
 ///
+/// # Errors
+///
+/// [`Error::Config`] when `value` is NaN, infinite or outside `range`; its reason states the
+/// range and unit (`must be in (0, 1)`, `must be at least 0.05 m`).
+///
+/// # Examples
+///
 /// ```
 /// use footslam::error::check_range;
 /// use std::ops::Bound::Excluded;

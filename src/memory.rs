@@ -34,6 +34,11 @@ fn parse_mem_available(text: &str) -> Option<u64> {
 
 /// An error when `bytes` for `what` (e.g. `100000000 particles`) exceed `available`
 /// (`None`: unknown, no check); `fix` says what to change.
+///
+/// # Errors
+///
+/// [`Error::TooLarge`] when `available` is known and `bytes` exceeds it; the message gives both
+/// in GB and ends with `fix`.
 pub fn check_fits(what: &str, bytes: u64, available: Option<u64>, fix: &str) -> Result<()> {
     match available {
         Some(free) if bytes > free => Err(Error::too_large(

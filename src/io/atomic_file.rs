@@ -8,6 +8,12 @@ use std::path::Path;
 
 /// Writes `bytes` to `path` atomically: a temporary file in the same folder, synced, then
 /// renamed over `path`.
+///
+/// # Errors
+///
+/// [`Error::Io`] when no temporary file can be created in `path`'s folder (missing, read-only),
+/// or writing, syncing or renaming it fails. `path` is then left as it was and the temporary
+/// file removed.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     write_atomically_with(path, |w| w.write_all(bytes))
 }
@@ -15,6 +21,11 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
 /// Writes `path` atomically from `write`, which streams the content into a buffered
 /// temporary file in the same folder; the file is synced and renamed over `path` only when
 /// `write` has finished. Long outputs are never held in memory whole.
+///
+/// # Errors
+///
+/// As [`write_atomically`], and when `write` returns an error (an [`Error::Io`] on `path`
+/// carrying it). `path` is then left as it was and the temporary file removed.
 pub fn write_atomically_with(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,

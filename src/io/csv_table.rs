@@ -59,12 +59,22 @@ pub struct CsvRow<'a> {
 
 impl CsvTable {
     /// Opens `path` and reads its header row.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Io`] when `path` cannot be opened; [`Error::Parse`] on line 1 when the header row
+    /// cannot be read, is empty, is JSON rather than CSV, or names a column twice.
     pub fn open(path: &Path) -> Result<Self> {
         let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
         Self::from_reader(Box::new(file), CsvSource::File(path.to_path_buf()))
     }
 
     /// Reads `text` (a header row, then data rows) as a table called `name` in errors.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidData`] on `<name> header` when the header row is empty, is JSON rather than
+    /// CSV, or names a column twice.
     pub fn from_text(text: impl Into<String>, name: &str) -> Result<Self> {
         let bytes = std::io::Cursor::new(text.into().into_bytes());
         Self::from_reader(Box::new(bytes), CsvSource::Memory(name.to_owned()))
@@ -122,6 +132,10 @@ impl CsvTable {
     }
 
     /// Index of a required column.
+    ///
+    /// # Errors
+    ///
+    /// The header has no column `name`: an error on the header line that lists the columns it has.
     pub fn column(&self, name: &str) -> Result<usize> {
         self.optional_column(name).ok_or_else(|| {
             self.error(
@@ -141,6 +155,12 @@ impl CsvTable {
     }
 
     /// Calls `f` on every data row, in order; stops at the first error.
+    ///
+    /// # Errors
+    ///
+    /// A row that cannot be read or is malformed CSV (more or fewer fields than the header, bytes
+    /// that are not UTF-8): an error naming its line. Otherwise the first error `f` returns,
+    /// unchanged.
     pub fn for_each_row(&mut self, mut f: impl FnMut(&CsvRow<'_>) -> Result<()>) -> Result<()> {
         let mut record = csv::StringRecord::new();
         loop {
@@ -184,6 +204,12 @@ impl CsvRow<'_> {
     /// Fails unless time `t` is a plausible time in seconds
     /// ([`crate::sensor::step::check_time`]) and comes strictly after `previous` (the
     /// previous row's time).
+    ///
+    /// # Errors
+    ///
+    /// An error at this row when `t` is beyond ±[`MAX_TIME_S`](crate::sensor::step::MAX_TIME_S)
+    /// (not seconds) or is not after `previous`. A NaN `t` passes: read it with
+    /// [`time`](Self::time) or [`number`](Self::number), which refuse one.
     pub fn ensure_after(&self, previous: Option<f64>, t: f64) -> Result<()> {
         crate::sensor::step::check_time(t).map_err(|m| self.error(m))?;
         match previous {
@@ -201,6 +227,11 @@ impl CsvRow<'_> {
     }
 
     /// A required finite number in column `index` named `name`.
+    ///
+    /// # Errors
+    ///
+    /// An error at this row naming column `name` when the cell is empty, is not a number, or is
+    /// NaN or infinite.
     pub fn number(&self, index: usize, name: &str) -> Result<f64> {
         let text = self.text(index);
         let v: f64 = text
@@ -214,6 +245,11 @@ impl CsvRow<'_> {
 
     /// A required coordinate of the local frame in column `index` named `name`: a finite
     /// number of metres no farther than [`MAX_LOCAL_COORDINATE_M`] from the origin.
+    ///
+    /// # Errors
+    ///
+    /// As [`number`](Self::number), and when the value lies more than [`MAX_LOCAL_COORDINATE_M`]
+    /// from the origin.
     pub fn coordinate(&self, index: usize, name: &str) -> Result<f64> {
         let v = self.number(index, name)?;
         if v.abs() > MAX_LOCAL_COORDINATE_M {
@@ -230,6 +266,11 @@ impl CsvRow<'_> {
 
     /// A required time stamp in column `index` named `name`: a finite number of seconds no
     /// larger than [`crate::sensor::step::MAX_TIME_S`].
+    ///
+    /// # Errors
+    ///
+    /// As [`number`](Self::number), and when the value is beyond
+    /// ±[`MAX_TIME_S`](crate::sensor::step::MAX_TIME_S) (milliseconds, or a corrupt value).
     pub fn time(&self, index: usize, name: &str) -> Result<f64> {
         let t = self.number(index, name)?;
         crate::sensor::step::check_time(t)
@@ -238,6 +279,11 @@ impl CsvRow<'_> {
     }
 
     /// An optional number: `None` when the column is absent or the cell empty.
+    ///
+    /// # Errors
+    ///
+    /// As [`number`](Self::number) when the column is present and the cell not empty: the cell is
+    /// not a finite number.
     pub fn optional_number(&self, index: Option<usize>, name: &str) -> Result<Option<f64>> {
         match index {
             Some(i) if !self.text(i).is_empty() => self.number(i, name).map(Some),

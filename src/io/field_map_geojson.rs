@@ -59,6 +59,11 @@ pub fn field_map_to_geojson(map: &FieldMapSnapshot, frame: &LocalFrame) -> Featu
 }
 
 /// Writes [`field_map_to_geojson`] to `path` atomically.
+///
+/// # Errors
+///
+/// [`Error::Io`](crate::Error::Io) when `path` cannot be written, as
+/// [`write_geojson`](crate::io::write_geojson); an existing file is then left as it was.
 pub fn write_field_map_geojson(
     path: &Path,
     map: &FieldMapSnapshot,

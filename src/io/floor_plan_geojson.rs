@@ -51,12 +51,32 @@ pub fn floor_plan_to_geojson(plan: &FloorPlan, frame: &LocalFrame) -> FeatureCol
 }
 
 /// Writes [`floor_plan_to_geojson`] to `path` atomically.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be written, as
+/// [`write_atomically`](crate::io::write_atomically); an existing file is then left as it was.
 pub fn write_floor_plan(path: &Path, plan: &FloorPlan, frame: &LocalFrame) -> Result<()> {
     crate::io::write_geojson(path, &floor_plan_to_geojson(plan, frame))
 }
 
 /// Reads a floor plan and the frame its local coordinates are in: `origin` when given (it
 /// overrides the file's), else the file's `origin` member, else an error.
+///
+/// # Errors
+///
+/// * [`Error::Io`] when `path` cannot be read; [`Error::Parse`] naming the line when it is not a
+///   GeoJSON `FeatureCollection`.
+/// * [`Error::Parse`] on the file when there is no frame: no `origin` given and no valid
+///   `origin` member ([`collection_frame`](crate::io::geojson_file::collection_frame)).
+/// * [`Error::Parse`] naming the feature (and its `name`) when its geometry is missing or of
+///   another type; `level`, `z`, `name`, `room` or `barrier` has the wrong type; a ring is
+///   open or has under 4 positions, or a barrier line under 2; a position is not finite
+///   degrees in range; or a polygon is not valid (e.g. self-intersecting) or has more than
+///   [`MAX_POLYGON_VERTICES`] vertices.
+/// * [`Error::Parse`] on the file when the plan breaks
+///   [`FloorPlan::check_limits`](crate::map::FloorPlan::check_limits): no surface, too large or
+///   too small, too many levels, a surface too high, or a surface given twice.
 pub fn read_floor_plan(path: &Path, origin: Option<LocalFrame>) -> Result<(FloorPlan, LocalFrame)> {
     let collection = crate::io::geojson_file::read_feature_collection(path)?;
     floor_plan_from_collection(&collection, path, origin)
@@ -64,6 +84,10 @@ pub fn read_floor_plan(path: &Path, origin: Option<LocalFrame>) -> Result<(Floor
 
 /// Reads a floor plan from GeoJSON `text` (the file format) as [`read_floor_plan`] reads a
 /// file; errors name `name`.
+///
+/// # Errors
+///
+/// As [`read_floor_plan`], naming `name`, except that there is no file to read.
 pub fn floor_plan_from_str(
     text: &str,
     name: &str,

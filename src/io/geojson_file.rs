@@ -74,6 +74,11 @@ pub fn polygon_feature(ring: Vec<Vec<f64>>, properties: JsonObject) -> geojson::
 
 /// The frame of a collection read from `path`: `given` when there is one (it overrides the
 /// file's), else the collection's `origin` member, else an error saying what to pass.
+///
+/// # Errors
+///
+/// Only when `given` is `None`: [`Error::Parse`] on `path` when the collection has no `origin`
+/// member, or the member is not one [`read_origin`] accepts.
 pub fn collection_frame(
     path: &Path,
     collection: &FeatureCollection,
@@ -96,6 +101,11 @@ pub fn collection_frame(
 }
 
 /// The frame an `origin` member names.
+///
+/// # Errors
+///
+/// A message when `origin` lacks a numeric `lat` or `lon`, or they are not a place an origin
+/// may have ([`LocalFrame::new`]: latitude within ±89°, longitude within ±180°).
 pub fn read_origin(origin: &JsonValue) -> Result<LocalFrame, String> {
     let number = |name: &str| {
         origin
@@ -110,6 +120,10 @@ pub fn read_origin(origin: &JsonValue) -> Result<LocalFrame, String> {
 
 /// The text of a JSON file without a leading byte-order mark (editors on Windows write one;
 /// RFC 8259 lets a parser ignore it, and the CSV readers do).
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be read or is not UTF-8.
 pub fn read_json_text(path: &Path) -> Result<String> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
     Ok(match text.strip_prefix('\u{feff}') {
@@ -119,12 +133,22 @@ pub fn read_json_text(path: &Path) -> Result<String> {
 }
 
 /// Reads `path` as an RFC 7946 `FeatureCollection`.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be read or is not UTF-8; as
+/// [`feature_collection_from_str`] when its text is not a `FeatureCollection`.
 pub fn read_feature_collection(path: &Path) -> Result<FeatureCollection> {
     feature_collection_from_str(&read_json_text(path)?, path)
 }
 
 /// Parses `text` as an RFC 7946 `FeatureCollection`; errors name `name` (a file's path, or a
 /// name for text held in memory) and the line.
+///
+/// # Errors
+///
+/// [`Error::Parse`] naming `name` and the line when `text` is not JSON, or is JSON but not a
+/// GeoJSON `FeatureCollection` (another GeoJSON object, a missing or malformed member).
 pub fn feature_collection_from_str(text: &str, name: &Path) -> Result<FeatureCollection> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     serde_json::from_str(text).map_err(|e| {
@@ -137,6 +161,11 @@ pub fn feature_collection_from_str(text: &str, name: &Path) -> Result<FeatureCol
 }
 
 /// Writes a GeoJSON feature collection to `path` atomically.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be written, as [`write_atomically`]; an existing file is
+/// then left as it was.
 pub fn write_geojson(path: &Path, collection: &geojson::FeatureCollection) -> Result<()> {
     let text = serde_json::to_string(collection).map_err(|e| Error::io(path, e.into()))?;
     write_atomically(path, text.as_bytes())

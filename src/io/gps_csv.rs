@@ -7,12 +7,25 @@ use crate::sensor::gps::{DEFAULT_ACCURACY, GpsFix, check_fix};
 use std::path::Path;
 
 /// Reads and validates GPS fixes; errors name the file and line.
+///
+/// # Errors
+///
+/// [`Error::Io`](crate::Error::Io) when `path` cannot be opened, else
+/// [`Error::Parse`](crate::Error::Parse) naming the line: a missing `t`, `lat` or `lon` column, a
+/// value that is not a finite number, a time beyond 1e11 s, a fix that fails [`check_fix`]
+/// (latitude beyond ±89°, longitude beyond ±180°, the receivers' `0,0` for no fix, accuracy
+/// outside (0, 1000] m, a time not after the previous fix's), or no data rows.
 pub fn read_gps_csv(path: &Path) -> Result<Vec<GpsFix>> {
     gps_from_table(CsvTable::open(path)?)
 }
 
 /// Reads and validates GPS fixes from CSV `text` (the file format's header and rows), as
 /// [`read_gps_csv`] reads a file; errors name the table `name` and the 0-based data row.
+///
+/// # Errors
+///
+/// As [`read_gps_csv`], as [`Error::InvalidData`](crate::Error::InvalidData) naming `name` and
+/// the row.
 pub fn gps_from_str(text: &str, name: &str) -> Result<Vec<GpsFix>> {
     gps_from_table(CsvTable::from_text(text, name)?)
 }
@@ -43,6 +56,11 @@ fn gps_from_table(mut table: CsvTable) -> Result<Vec<GpsFix>> {
 }
 
 /// Writes fixes as CSV `t,lat,lon,accuracy` (degrees to 1e-8°, about a millimetre).
+///
+/// # Errors
+///
+/// [`Error::Io`](crate::Error::Io) when `path` cannot be written, as
+/// [`write_atomically`](crate::io::write_atomically); an existing file is then left as it was.
 pub fn write_gps_csv(path: &Path, fixes: &[GpsFix]) -> Result<()> {
     let mut text = String::from("t,lat,lon,accuracy\n");
     for f in fixes {

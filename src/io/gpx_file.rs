@@ -16,6 +16,13 @@ pub const HDOP_METRES: f64 = DEFAULT_ACCURACY;
 
 /// Reads the track points of a GPX file as fixes on the steps' clock (`t = UTC − t0`, with
 /// `t0` in Unix seconds). Errors name the file and, for a bad point, its index.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be opened; [`Error::Parse`] on the file when it is not
+/// valid GPX, holds no track point, or a track point (named by index) has no `<time>` or fails
+/// [`check_fix`] (position out of range or `0,0`, an HDOP giving an accuracy outside
+/// (0, 1000] m, a time not after the previous point's).
 pub fn read_gpx(path: &Path, t0: f64) -> Result<Vec<GpsFix>> {
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     let gpx = gpx::read(std::io::BufReader::new(file)).map_err(|e| {
@@ -62,6 +69,11 @@ pub fn read_gpx(path: &Path, t0: f64) -> Result<Vec<GpsFix>> {
 
 /// Unix seconds of an RFC 3339 UTC time such as `2024-05-01T10:00:00Z` (or a plain number
 /// of Unix seconds).
+///
+/// # Errors
+///
+/// A message when `text` is a number that is not finite, or neither a number nor an RFC 3339
+/// time with a zone (`Z` or `+02:00`).
 pub fn parse_utc_time(text: &str) -> Result<f64, String> {
     if let Ok(v) = text.trim().parse::<f64>() {
         return if v.is_finite() {

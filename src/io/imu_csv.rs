@@ -34,6 +34,10 @@ impl ImuUnits {
 }
 
 /// Reads and validates an IMU recording in the format's units (m/s², rad/s).
+///
+/// # Errors
+///
+/// As [`read_imu_in`] with [`ImuUnits::SI`].
 pub fn read_imu(path: &Path) -> Result<ImuRecording> {
     read_imu_in(path, ImuUnits::SI)
 }
@@ -42,6 +46,18 @@ pub fn read_imu(path: &Path) -> Result<ImuRecording> {
 /// `units`, converting them to m/s² and rad/s. The converted recording's median specific
 /// force must look like gravity ([`ImuRecording::new`]): a file in g (median ≈ 1) is an
 /// error that says so, rather than a walk integrated with a tenth of gravity.
+///
+/// # Errors
+///
+/// [`Error::Io`](crate::Error::Io) when `path` cannot be opened, else
+/// [`Error::Parse`](crate::Error::Parse) naming the line (or the whole file):
+/// * a column of `t,ax,ay,az,gx,gy,gz` is missing, or only some of `mx,my,mz` or `qx,qy,qz,qw`
+///   are present, or filled on a row;
+/// * a value is not a finite number, or a time comes before the previous row's;
+/// * there are no data rows, or a sample is out of range ([`check_sample`]);
+/// * the columns look swapped or in other `units`, or the recording fails
+///   [`ImuRecording::new`]: fewer than two samples, a median acceleration not gravity's, or a
+///   sampling rate no IMU has (times not in seconds).
 pub fn read_imu_in(path: &Path, units: ImuUnits) -> Result<ImuRecording> {
     imu_from_table(CsvTable::open(path)?, units)
 }
@@ -49,6 +65,11 @@ pub fn read_imu_in(path: &Path, units: ImuUnits) -> Result<ImuRecording> {
 /// Reads and validates an IMU recording from CSV `text` (the file format's header and
 /// rows) in `units`, as [`read_imu_in`] reads a file; errors name the table `name` and the
 /// 0-based data row.
+///
+/// # Errors
+///
+/// As [`read_imu_in`], as [`Error::InvalidData`](crate::Error::InvalidData) naming `name` and
+/// the row.
 pub fn imu_from_str(text: &str, name: &str, units: ImuUnits) -> Result<ImuRecording> {
     imu_from_table(CsvTable::from_text(text, name)?, units)
 }
@@ -185,6 +206,12 @@ impl<const N: usize> Channel<N> {
 }
 
 /// Writes an IMU recording as CSV with the optional columns it carries.
+///
+/// # Errors
+///
+/// [`Error::Io`](crate::Error::Io) when `path` cannot be written, as
+/// [`write_atomically_with`](crate::io::write_atomically_with); an existing file is then left
+/// as it was.
 pub fn write_imu(path: &Path, recording: &ImuRecording) -> Result<()> {
     let mut header = String::from("t,ax,ay,az,gx,gy,gz");
     if recording.has_magnetometer() {

@@ -78,11 +78,21 @@ pub fn walks_map_to_geojson(
 }
 
 /// Writes [`map_to_geojson`] to `path` atomically.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be written, as [`write_geojson`](crate::io::write_geojson);
+/// an existing file is then left as it was.
 pub fn write_map_geojson(path: &Path, map: &HexMapSnapshot, frame: &LocalFrame) -> Result<()> {
     super::write_geojson(path, &map_to_geojson(map, frame))
 }
 
 /// Writes [`walks_map_to_geojson`] to `path` atomically.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be written, as [`write_geojson`](crate::io::write_geojson);
+/// an existing file is then left as it was.
 pub fn write_walks_map_geojson(
     path: &Path,
     map: &HexMapSnapshot,
@@ -104,6 +114,10 @@ pub struct StoredMap {
 }
 
 /// Reads a map written by [`write_map_geojson`] or [`write_walks_map_geojson`].
+///
+/// # Errors
+///
+/// As [`read_map_geojson`], and [`Error::Parse`] when the `walks` member is not an integer ≥ 1.
 pub fn read_stored_map(path: &Path) -> Result<StoredMap> {
     let collection = crate::io::geojson_file::read_feature_collection(path)?;
     stored_map_from_collection(collection, path)
@@ -111,6 +125,10 @@ pub fn read_stored_map(path: &Path) -> Result<StoredMap> {
 
 /// Reads a map from GeoJSON `text` (the format [`write_walks_map_geojson`] writes), as
 /// [`read_stored_map`] reads a file; errors name `name`.
+///
+/// # Errors
+///
+/// As [`read_stored_map`], naming `name`, except that there is no file to read.
 pub fn stored_map_from_str(text: &str, name: &str) -> Result<StoredMap> {
     let path = Path::new(name);
     let collection = crate::io::geojson_file::feature_collection_from_str(text, path)?;
@@ -136,6 +154,16 @@ fn stored_map_from_collection(collection: FeatureCollection, path: &Path) -> Res
 /// Cells are restored from `q`, `r` and `counts`; each polygon must lie on its hexagon
 /// (within 5 % of a radius), which catches files whose `origin` or `hex_radius` was edited.
 /// Errors name the file and the zero-based feature index.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be read; [`Error::Parse`] naming the line when it is not a
+/// GeoJSON `FeatureCollection`, else naming the file (and the feature):
+/// * `origin`, `hex_radius` or `alpha` is missing or out of range, `edge_order` is not
+///   [`EDGE_ORDER`], or `levels` is malformed or out of range;
+/// * a feature's `q`, `r`, `counts` (six non-negative integers) or `level` is missing or
+///   malformed, or its polygon is not a closed ring centred on its hexagon;
+/// * a hexagon appears twice on one level.
 pub fn read_map_geojson(path: &Path) -> Result<(HexMapSnapshot, LocalFrame)> {
     let collection = crate::io::geojson_file::read_feature_collection(path)?;
     map_and_members(collection, path).map(|(map, frame, _)| (map, frame))

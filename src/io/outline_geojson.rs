@@ -35,6 +35,12 @@ pub struct WorldOutline {
 
 impl WorldOutline {
     /// The outline in the local frame `frame`: a valid polygon, or an error naming the file.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Parse`] naming the outline's file when its ring has under 4 positions, is open,
+    /// holds a position that is not finite degrees in range, or is not a valid polygon (e.g.
+    /// self-intersecting).
     pub fn project(&self, frame: &LocalFrame) -> Result<Polygon<f64>> {
         let whole = |m: String| Error::parse(&self.name, 0, m);
         let polygon =
@@ -48,23 +54,43 @@ impl WorldOutline {
 }
 
 /// Reads the outline polygon in the local frame `frame`; errors name the file and problem.
+///
+/// # Errors
+///
+/// As [`read_world_outline`], then as [`WorldOutline::project`].
 pub fn read_outline(path: &Path, frame: &LocalFrame) -> Result<Polygon<f64>> {
     read_world_outline(path)?.project(frame)
 }
 
 /// Reads the outline of a GeoJSON file, in WGS84; errors name the file and problem.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be read; [`Error::Parse`] when it is not GeoJSON (naming
+/// the line), a `Feature` has no geometry, a `FeatureCollection` holds other than exactly one
+/// polygon feature, the geometry is not a Polygon or one-part `MultiPolygon`, or its exterior
+/// ring has more than [`MAX_POLYGON_VERTICES`](super::floor_plan_geojson::MAX_POLYGON_VERTICES)
+/// positions. The positions themselves are checked by [`WorldOutline::project`].
 pub fn read_world_outline(path: &Path) -> Result<WorldOutline> {
     outline_from_text(&super::geojson_file::read_json_text(path)?, path)
 }
 
 /// Reads the outline from GeoJSON `text` (a Polygon, Feature or `FeatureCollection` of one,
 /// as [`read_world_outline`] reads a file); errors name `name`.
+///
+/// # Errors
+///
+/// As [`read_world_outline`], naming `name`, except that there is no file to read.
 pub fn world_outline_from_str(text: &str, name: &str) -> Result<WorldOutline> {
     outline_from_text(text, Path::new(name))
 }
 
 /// Reads the outline polygon from GeoJSON `text` in the local frame `frame`; errors name
 /// `name`.
+///
+/// # Errors
+///
+/// As [`world_outline_from_str`], then as [`WorldOutline::project`].
 pub fn outline_from_str(text: &str, name: &str, frame: &LocalFrame) -> Result<Polygon<f64>> {
     world_outline_from_str(text, name)?.project(frame)
 }
@@ -126,6 +152,11 @@ fn outline_from_text(text: &str, path: &Path) -> Result<WorldOutline> {
 
 /// Writes `outline` (local coordinates placed by `frame`) as a `FeatureCollection` holding one
 /// Polygon feature, atomically.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be written, as
+/// [`write_atomically`](crate::io::write_atomically); an existing file is then left as it was.
 pub fn write_outline(path: &Path, outline: &Polygon<f64>, frame: &LocalFrame) -> Result<()> {
     let mut properties = JsonObject::new();
     properties.insert("name".into(), json!("outline"));

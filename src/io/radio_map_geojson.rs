@@ -89,11 +89,21 @@ pub fn radio_map_to_geojson(map: &RadioMap, frame: &LocalFrame) -> FeatureCollec
 }
 
 /// Writes [`radio_map_to_geojson`] to `path` atomically.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be written, as [`write_geojson`](crate::io::write_geojson);
+/// an existing file is then left as it was.
 pub fn write_radio_map_geojson(path: &Path, map: &RadioMap, frame: &LocalFrame) -> Result<()> {
     super::write_geojson(path, &radio_map_to_geojson(map, frame))
 }
 
 /// Writes the long-format CSV: `cell,level,bssid,n,mean,std,misses`.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be written, as
+/// [`write_atomically`](crate::io::write_atomically); an existing file is then left as it was.
 pub fn write_radio_map_csv(path: &Path, map: &RadioMap) -> Result<()> {
     let mut text = String::from("cell,level,bssid,n,mean,std,misses\n");
     for cell in &map.cells {
@@ -118,6 +128,18 @@ pub fn write_radio_map_csv(path: &Path, map: &RadioMap) -> Result<()> {
 
 /// Reads a radio map and its frame: `origin` when given (it overrides the file's), else the
 /// file's `origin` member, else an error. Errors name the file and feature.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be read; [`Error::Parse`] naming the line when it is not a
+/// GeoJSON `FeatureCollection`, else naming the file (and the feature):
+/// * no frame: no `origin` given and no valid `origin` member;
+/// * a geometry that is not a Polygon or `MultiPolygon` of closed rings of at least 4 finite
+///   positions in range, or a `cell`, `level` or `scans` property missing or malformed;
+/// * an access point whose `n` exceeds the cell's `scans`, whose `mean` is not in
+///   [-120, 0] dBm, or whose `hist` has a bin that is not such an RSSI or counts that do not
+///   add up to `n`;
+/// * a cell id given twice, or an `epsilon` or `epsilon_sqrt` outside (0, 200] dBm.
 pub fn read_radio_map_geojson(
     path: &Path,
     origin: Option<LocalFrame>,
@@ -128,6 +150,10 @@ pub fn read_radio_map_geojson(
 
 /// Reads a radio map from GeoJSON `text` (the format of `radiomap.geojson`), as
 /// [`read_radio_map_geojson`] reads a file; errors name `name`.
+///
+/// # Errors
+///
+/// As [`read_radio_map_geojson`], naming `name`, except that there is no file to read.
 pub fn radio_map_from_str(
     text: &str,
     name: &str,

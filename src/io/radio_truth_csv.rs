@@ -8,6 +8,11 @@ use crate::sensor::AccessPoint;
 use std::path::Path;
 
 /// Writes the access points.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be written, as
+/// [`write_atomically`](crate::io::write_atomically); an existing file is then left as it was.
 pub fn write_access_points(path: &Path, aps: &[AccessPoint]) -> Result<()> {
     let mut text = String::from("bssid,x,y,level\n");
     for a in aps {
@@ -18,6 +23,12 @@ pub fn write_access_points(path: &Path, aps: &[AccessPoint]) -> Result<()> {
 
 /// Writes the expected field: one row per grid point, one column per access point (in the
 /// order of `aps`).
+///
+/// # Errors
+///
+/// [`Error::InvalidData`] when a row does not hold one finite value per access point (nothing
+/// is written); [`Error::Io`] when `path` cannot be written, as
+/// [`write_atomically`](crate::io::write_atomically).
 pub fn write_radio_field(
     path: &Path,
     aps: &[AccessPoint],

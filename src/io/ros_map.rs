@@ -23,6 +23,15 @@ pub const OCCUPIED: u8 = 0;
 pub const UNKNOWN: u8 = 205;
 
 /// The PGM bytes of `grid`.
+///
+/// # Errors
+///
+/// [`Error::TooLarge`] when the grid is wider or taller than `u32::MAX` squares. (The
+/// encoder's [`Error::Encode`] cannot occur: the pixels always match the dimensions.)
+///
+/// # Panics
+///
+/// When `grid.cells` holds fewer than `width × height` squares.
 pub fn encode_pgm(grid: &OccupancyGrid) -> Result<Vec<u8>> {
     let mut pixels = Vec::with_capacity(grid.width * grid.height);
     for row in (0..grid.height).rev() {
@@ -63,6 +72,16 @@ pub fn ros_map_yaml(grid: &OccupancyGrid, image: &str) -> String {
 
 /// Writes `grid` as `pgm` and `yaml` (each completely or not at all); the YAML names the
 /// image by its file name, so keep the two side by side.
+///
+/// # Errors
+///
+/// [`Error::Output`] when `pgm` has no file name or one that is not UTF-8; as [`encode_pgm`];
+/// [`Error::Io`] when either file cannot be written. The PGM is written first and stays when
+/// the YAML then fails.
+///
+/// # Panics
+///
+/// As [`encode_pgm`]: when `grid.cells` holds fewer than `width × height` squares.
 pub fn write_ros_map(pgm: &Path, yaml: &Path, grid: &OccupancyGrid) -> Result<()> {
     let name = pgm
         .file_name()

@@ -64,6 +64,14 @@ pub struct RunFolder {
 impl RunFolder {
     /// Starts a run whose outputs will land in `destination`: created if missing, replaced
     /// whole at commit if an earlier run wrote it, refused if it holds anything else.
+    ///
+    /// # Errors
+    ///
+    /// * [`Error::Io`] when `destination`'s parent cannot be created or `destination` cannot be
+    ///   listed;
+    /// * [`Error::Output`] when `destination` is a file, is a non-empty folder without a
+    ///   `summary.json` (not an earlier run's), is being written by another live process, or its
+    ///   staging folder cannot be made.
     pub fn create(destination: &Path) -> Result<Self> {
         let parent = destination
             .parent()
@@ -153,12 +161,21 @@ impl RunFolder {
     }
 
     /// Writes `bytes` as `name`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Io`] naming the staged file when it cannot be written (e.g. `name` lies in a
+    /// sub-folder not made with [`RunFolder::create_dir`]).
     pub fn write(&self, name: &str, bytes: &[u8]) -> Result<()> {
         let p = self.path(name);
         std::fs::write(&p, bytes).map_err(|e| Error::io(p, e))
     }
 
     /// Creates the sub-folder `name` (for runs with several parts).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Io`] naming the staged folder when it cannot be created.
     pub fn create_dir(&self, name: &str) -> Result<()> {
         let p = self.path(name);
         std::fs::create_dir_all(&p).map_err(|e| Error::io(p, e))
@@ -166,6 +183,12 @@ impl RunFolder {
 
     /// Writes `value` as pretty JSON into `name`.
     /// (Streamed: a long run's summary is never held as text.)
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Io`] when the staged file cannot be created or its last bytes cannot be written;
+    /// [`Error::Encode`] when `value` cannot be serialised (e.g. a map with non-string keys) and
+    /// also when writing fails midway, since `serde_json` reports the write's error as its own.
     pub fn write_json<T: serde::Serialize>(&self, name: &str, value: &T) -> Result<()> {
         let p = self.path(name);
         let file = std::fs::File::create(&p).map_err(|e| Error::io(&p, e))?;
@@ -209,6 +232,15 @@ impl RunFolder {
     /// Replaces the destination folder's contents with the staged files and folders.
     /// Nothing is moved when an output would replace a protected input, or the destination
     /// holds one ([`RunFolder::protect`]).
+    ///
+    /// # Errors
+    ///
+    /// * [`Error::Output`], with nothing moved, when an output would replace a protected input or
+    ///   a file beside one, or the destination holds an input; also when a destination that did
+    ///   not exist at [`RunFolder::create`] has appeared and is not empty.
+    /// * [`Error::Io`] when a folder cannot be listed, an earlier run's entry cannot be removed or
+    ///   a staged entry cannot be moved; the destination may then hold part of the old run's
+    ///   files, or part of the new one's.
     pub fn commit(mut self) -> Result<PathBuf> {
         if let Some((input, name)) = self.replaced_input()? {
             return Err(Error::output(

@@ -9,24 +9,47 @@ use crate::sensor::step::{Step, StepTrace, check_step};
 use std::path::Path;
 
 /// Reads and validates a step trace; errors name the file and line.
+///
+/// # Errors
+///
+/// As [`read_steps_with_field`].
 pub fn read_steps(path: &Path) -> Result<StepTrace> {
     Ok(read_steps_with_field(path)?.0)
 }
 
 /// Reads and validates a step trace and, when the file has a `field` column, the magnetic
 /// field over each step (an empty cell: no reading); errors name the file and line.
+///
+/// # Errors
+///
+/// [`Error::Io`](crate::Error::Io) when `path` cannot be opened, else
+/// [`Error::Parse`](crate::Error::Parse) naming the line: a missing `t`, `length` or `dheading`
+/// column (or a `field_up` column without `field`), a value that is not a finite number, a time
+/// beyond 1e11 s, a step that fails [`check_step`] (length, turn, heading or `dz` out of range,
+/// a time not after the previous step's), a reading that fails [`check_field`] or has
+/// `field_up` without `field`, or no data rows.
 pub fn read_steps_with_field(path: &Path) -> Result<(StepTrace, Option<StepFields>)> {
     steps_from_table(CsvTable::open(path)?)
 }
 
 /// Reads and validates a step trace from CSV `text` (the file format's header and rows),
 /// as [`read_steps`] reads a file; errors name the table `name` and the 0-based data row.
+///
+/// # Errors
+///
+/// As [`read_steps`], as [`Error::InvalidData`](crate::Error::InvalidData) naming `name` and
+/// the row.
 pub fn steps_from_str(text: &str, name: &str) -> Result<StepTrace> {
     Ok(steps_with_field_from_str(text, name)?.0)
 }
 
 /// Reads a step trace and its magnetic field from CSV `text`, as [`read_steps_with_field`]
 /// reads a file.
+///
+/// # Errors
+///
+/// As [`read_steps_with_field`], as [`Error::InvalidData`](crate::Error::InvalidData) naming
+/// `name` and the row.
 pub fn steps_with_field_from_str(
     text: &str,
     name: &str,
@@ -94,11 +117,22 @@ fn steps_from_table(mut table: CsvTable) -> Result<(StepTrace, Option<StepFields
 /// Whether a step trace has height changes: a `dz` column with at least one value (without
 /// one every step reads `dz = 0`, which a multi-floor plan must not take for "stayed on the
 /// floor"; a column whose every cell is empty says no more than none).
+///
+/// # Errors
+///
+/// [`Error::Io`](crate::Error::Io) when `path` cannot be opened;
+/// [`Error::Parse`](crate::Error::Parse) when the header cannot be read, is empty, is JSON or
+/// names a column twice, or (with a `dz` column) a row is malformed CSV. The values are not
+/// checked.
 pub fn has_dz_column(path: &Path) -> Result<bool> {
     has_dz_values(CsvTable::open(path)?)
 }
 
 /// [`has_dz_column`] of a CSV text named `name` in messages.
+///
+/// # Errors
+///
+/// As [`has_dz_column`], as [`Error::InvalidData`](crate::Error::InvalidData) naming `name`.
 pub fn has_dz_column_in_str(text: &str, name: &str) -> Result<bool> {
     has_dz_values(CsvTable::from_text(text, name)?)
 }
@@ -116,6 +150,12 @@ fn has_dz_values(mut table: CsvTable) -> Result<bool> {
 }
 
 /// Writes a step trace as CSV (`t,length,dheading,dz` and `heading` when any step has one).
+///
+/// # Errors
+///
+/// [`Error::Io`](crate::Error::Io) when `path` cannot be written, as
+/// [`write_atomically_with`](crate::io::write_atomically_with); an existing file is then left
+/// as it was.
 pub fn write_steps(path: &Path, trace: &StepTrace) -> Result<()> {
     write_steps_with_field(path, trace, None)
 }
@@ -123,6 +163,11 @@ pub fn write_steps(path: &Path, trace: &StepTrace) -> Result<()> {
 /// Writes a step trace as [`write_steps`] does, with the magnetic field over each step
 /// (`field`, and `field_up` when any reading has one) when `field` is given; `field` must
 /// hold one entry per step.
+///
+/// # Errors
+///
+/// [`Error::Io`](crate::Error::Io) when `path` cannot be written, as [`write_steps`]. A `field`
+/// that does not hold one entry per step is not an error: it is left out.
 pub fn write_steps_with_field(
     path: &Path,
     trace: &StepTrace,

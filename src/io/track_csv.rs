@@ -23,6 +23,13 @@ pub struct TrackPoint {
 
 /// Reads `t,x,y,z,level` rows (extra columns ignored); times must be strictly increasing and
 /// `level` an integer. An empty track (header only) is valid: a walker never localised.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be opened, else [`Error::Parse`] naming the line: a missing
+/// `t`, `x`, `y`, `z` or `level` column, a value that is not a finite number, a coordinate more
+/// than 1,000 km from the origin, a `level` that is not an integer, or a time beyond 1e11 s or
+/// not after the previous row's.
 pub fn read_track(path: &Path) -> Result<Vec<TrackPoint>> {
     let mut table = CsvTable::open(path)?;
     let columns = ["t", "x", "y", "z", "level"].map(|c| table.column(c));
@@ -65,6 +72,12 @@ pub struct SmoothedPoint {
 }
 
 /// Writes `t,x,y,z,level` rows (millimetre precision).
+///
+/// # Errors
+///
+/// [`Error::InvalidData`] when a point's `t`, `x`, `y` or `z` is not finite (nothing is
+/// written); [`Error::Io`] when `path` cannot be written, as
+/// [`write_atomically_with`](crate::io::write_atomically_with).
 pub fn write_track(path: &Path, points: &[TrackPoint]) -> Result<()> {
     check_finite(points.iter(), path)?;
     crate::io::write_atomically_with(path, |w| {
@@ -82,6 +95,12 @@ pub fn write_track(path: &Path, points: &[TrackPoint]) -> Result<()> {
 /// `t,x,y,z,level` reads it as a track. The points are streamed (a long walk's smoothed
 /// track is computed as it is written); a non-finite one stops the writing and nothing is
 /// written.
+///
+/// # Errors
+///
+/// [`Error::InvalidData`] when a point's `t`, `x`, `y` or `z` is not finite (nothing is
+/// written); [`Error::Io`] when `path` cannot be written, as
+/// [`write_atomically_with`](crate::io::write_atomically_with).
 pub fn write_smoothed_track(
     path: &Path,
     points: impl IntoIterator<Item = SmoothedPoint>,

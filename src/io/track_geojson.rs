@@ -40,6 +40,12 @@ pub fn track_to_geojson(track: &[TrackPoint], frame: &LocalFrame) -> FeatureColl
 /// Writes the track to `path` atomically, streaming it: the bytes of
 /// [`track_to_geojson`] for tracks up to [`MAX_STEP_POINTS`] steps, the line alone (with
 /// `step_points_omitted`) beyond.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be written, as
+/// [`write_atomically_with`](crate::io::write_atomically_with); an existing file is then left
+/// as it was. Points that are not finite are not refused: `serde_json` writes them as `null`.
 pub fn write_track_geojson(path: &Path, track: &[TrackPoint], frame: &LocalFrame) -> Result<()> {
     let points = track.len() <= MAX_STEP_POINTS;
     let omitted = if points { 0 } else { track.len() };

@@ -17,6 +17,13 @@ pub struct TimedPoint {
 }
 
 /// Reads `t,x,y` rows (extra columns ignored); times must be strictly increasing.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be opened, else [`Error::Parse`] naming the line: a missing
+/// `t`, `x` or `y` column, a value that is not a finite number, a coordinate more than
+/// 1,000 km from the origin, a time beyond 1e11 s or not after the previous row's, or no data
+/// rows.
 pub fn read_trajectory(path: &Path) -> Result<Vec<TimedPoint>> {
     read_rows(path, false).map(|(points, _)| points)
 }
@@ -25,6 +32,11 @@ pub fn read_trajectory(path: &Path) -> Result<Vec<TimedPoint>> {
 /// (`footslam track`'s smoothed answer marks 0 the steps whose place the whole walk leaves
 /// ambiguous: their position is the likeliest hypothesis, not a fix); returns the rows kept
 /// and how many were left out. A file without the column is read whole.
+///
+/// # Errors
+///
+/// As [`read_trajectory`], and [`Error::Parse`] when a `certain` cell holds a number other than
+/// 0 or 1, or every row has `certain` 0.
 pub fn read_certain_trajectory(path: &Path) -> Result<(Vec<TimedPoint>, usize)> {
     read_rows(path, true)
 }
@@ -75,6 +87,12 @@ fn read_rows(path: &Path, certain_only: bool) -> Result<(Vec<TimedPoint>, usize)
 
 /// Writes `t,x,y,<extra>` rows (millimetre precision): a trajectory with one more value per
 /// row, e.g. learn's `spread_m`.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be written, as
+/// [`write_atomically_with`](crate::io::write_atomically_with). Values that are not finite are
+/// not refused: they are written as `NaN` or `inf`, which [`read_trajectory`] then refuses.
 pub fn write_trajectory_with(
     path: &Path,
     extra: &str,
@@ -90,6 +108,12 @@ pub fn write_trajectory_with(
 }
 
 /// Writes `t,x,y` rows (millimetre precision).
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be written, as
+/// [`write_atomically_with`](crate::io::write_atomically_with). Values that are not finite are
+/// not refused: they are written as `NaN` or `inf`, which [`read_trajectory`] then refuses.
 pub fn write_trajectory(path: &Path, points: impl IntoIterator<Item = TimedPoint>) -> Result<()> {
     crate::io::write_atomically_with(path, |w| {
         w.write_all(b"t,x,y\n")?;

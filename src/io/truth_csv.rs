@@ -12,6 +12,11 @@ use crate::sensor::{TruePath, TruePose};
 use std::path::Path;
 
 /// Writes `truth` as CSV (millisecond times, 0.1 mm positions, microradian headings).
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be written, as
+/// [`write_atomically`](crate::io::write_atomically); an existing file is then left as it was.
 pub fn write_truth(path: &Path, truth: &TruePath) -> Result<()> {
     let mut text = String::from("t,x,y,z,level,heading\n");
     for p in &truth.poses {
@@ -25,6 +30,13 @@ pub fn write_truth(path: &Path, truth: &TruePath) -> Result<()> {
 
 /// Reads a true path; times must be strictly increasing and levels integers. Errors name the
 /// file and line.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be opened, else [`Error::Parse`] naming the line: a missing
+/// `t`, `x` or `y` column, a value that is not a finite number, an `x`, `y` or `z` more than
+/// 1,000 km from the origin, a `level` that is not a 32-bit integer, a time beyond 1e11 s or
+/// not after the previous row's, or no data rows.
 pub fn read_truth(path: &Path) -> Result<TruePath> {
     let mut table = CsvTable::open(path)?;
     let (t, x, y) = (table.column("t")?, table.column("x")?, table.column("y")?);

@@ -29,6 +29,13 @@ pub struct ManifestWalk {
 
 /// Reads a walk manifest; with `wifi_required` (a survey) every row must name a WiFi log.
 /// Errors name the file and line. The files it names are not opened here.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be opened, else [`Error::Parse`] naming the line: no `steps`
+/// column (nor `wifi` with `wifi_required`), a row without a step trace (or WiFi log), a
+/// `start` that is not `X,Y[,HEADING[,LEVEL]]` of finite numbers and an integer level, or no
+/// rows.
 pub fn read_walk_manifest(path: &Path, wifi_required: bool) -> Result<Vec<ManifestWalk>> {
     let base = path.parent().unwrap_or(Path::new("."));
     let mut table = CsvTable::open(path)?;
@@ -78,6 +85,11 @@ pub fn read_walk_manifest(path: &Path, wifi_required: bool) -> Result<Vec<Manife
 /// Writes a walk manifest that [`read_walk_manifest`] reads back: the paths as given
 /// (relative to the manifest's folder, `/` between parts), a column only where some walk
 /// has it, each start as `X,Y[,HEADING[,LEVEL]]` (metres to the millimetre).
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be written, as
+/// [`write_atomically`](crate::io::write_atomically); an existing file is then left as it was.
 pub fn write_walk_manifest(path: &Path, walks: &[ManifestWalk]) -> Result<()> {
     let has_gps = walks.iter().any(|w| w.gps.is_some());
     let has_wifi = walks.iter().any(|w| w.wifi.is_some());

@@ -21,6 +21,13 @@ pub struct Waypoint {
 }
 
 /// Reads waypoints; times must not decrease. Errors name the file and line.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be opened, else [`Error::Parse`] naming the line: a missing
+/// `t`, `x` or `y` column, a value that is not a finite number, a time beyond 1e11 s or before
+/// the previous row's, a coordinate more than 1,000 km from the origin, a `level` that is not
+/// an integer within ±1000, or no data rows.
 pub fn read_waypoints(path: &Path) -> Result<Vec<Waypoint>> {
     let mut table = CsvTable::open(path)?;
     let (t, x, y) = (table.column("t")?, table.column("x")?, table.column("y")?);
@@ -66,6 +73,11 @@ pub fn read_waypoints(path: &Path) -> Result<Vec<Waypoint>> {
 }
 
 /// Writes waypoints as CSV (`t,x,y` and `level` when any waypoint has one).
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be written, as
+/// [`write_atomically`](crate::io::write_atomically); an existing file is then left as it was.
 pub fn write_waypoints(path: &Path, waypoints: &[Waypoint]) -> Result<()> {
     let with_level = waypoints.iter().any(|w| w.level.is_some());
     let mut text = String::from(if with_level {

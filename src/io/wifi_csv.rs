@@ -24,22 +24,41 @@ pub struct WifiLog {
 
 /// Reads a WiFi log into scans, in time order (see [`read_wifi_log`] for the count of
 /// repeated readings).
+///
+/// # Errors
+///
+/// As [`read_wifi_log`].
 pub fn read_wifi(path: &Path) -> Result<Vec<WifiScan>> {
     Ok(read_wifi_log(path)?.scans)
 }
 
 /// Reads a WiFi log: its scans and how many repeated readings were left out.
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be opened, else [`Error::Parse`] naming the line: a missing
+/// `t`, `bssid` or `rssi` column, a value that is not a finite number, a time beyond 1e11 s or
+/// before the previous row's, a `bssid` that is empty or holds a comma or quote, an `rssi`
+/// outside [-120, 0] dBm or a `freq` outside [100, 100000] MHz, or no data rows.
 pub fn read_wifi_log(path: &Path) -> Result<WifiLog> {
     wifi_from_table(CsvTable::open(path)?)
 }
 
 /// Reads a WiFi log from CSV `text` (the file format's header and rows), as [`read_wifi`]
 /// reads a file; errors name the table `name` and the 0-based data row.
+///
+/// # Errors
+///
+/// As [`read_wifi`], as [`Error::InvalidData`] naming `name` and the row.
 pub fn wifi_from_str(text: &str, name: &str) -> Result<Vec<WifiScan>> {
     Ok(wifi_from_table(CsvTable::from_text(text, name)?)?.scans)
 }
 
 /// Reads a WiFi log from CSV `text`, as [`read_wifi_log`] reads a file.
+///
+/// # Errors
+///
+/// As [`read_wifi_log`], as [`Error::InvalidData`] naming `name` and the row.
 pub fn wifi_log_from_str(text: &str, name: &str) -> Result<WifiLog> {
     wifi_from_table(CsvTable::from_text(text, name)?)
 }
@@ -108,6 +127,12 @@ fn wifi_from_table(mut table: CsvTable) -> Result<WifiLog> {
 
 /// Writes scans as CSV (`t,bssid,rssi,ssid,freq`; empty ssid/freq when unknown), one row per
 /// reading, scans in order.
+///
+/// # Errors
+///
+/// [`Error::InvalidData`] when an SSID holds a comma, quote or newline (nothing is written);
+/// [`Error::Io`] when `path` cannot be written, as
+/// [`write_atomically`](crate::io::write_atomically).
 pub fn write_wifi(path: &Path, scans: &[WifiScan]) -> Result<()> {
     let mut text = String::from("t,bssid,rssi,ssid,freq\n");
     for scan in scans {

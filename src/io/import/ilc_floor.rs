@@ -97,6 +97,15 @@ pub struct PlanReport {
 
 /// Reads `floor_info.json` and `geojson_map.json` from `dir`. Errors name the file (and the
 /// zero-based feature).
+///
+/// # Errors
+///
+/// [`Error::Io`] when a file cannot be read, else [`Error::Parse`] naming it:
+/// * `floor_info.json`: not JSON, or `map_info`'s `width` or `height` is not a number of
+///   metres in (0, 100000);
+/// * `geojson_map.json`: not JSON, no features, a feature (named by index) that is not a
+///   Polygon or `MultiPolygon` of rings of at least 3 finite positions, a bounding box with no
+///   extent, outside WGS84 degrees or within a degree of a pole, or an outline with no area.
 pub fn read_ilc_floor(dir: &Path) -> Result<IlcFloor> {
     let info_path = dir.join("floor_info.json");
     let map_path = dir.join("geojson_map.json");
@@ -196,6 +205,12 @@ pub fn read_ilc_floor(dir: &Path) -> Result<IlcFloor> {
 
 impl IlcFloor {
     /// The floor plan for `walkable`, level 0, z 0, in the waypoints' metres.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidData`] when the walkable area does not stay a valid polygon at the GeoJSON
+    /// writer's precision; [`Error::NotEnough`] when no part of at least [`MIN_PART_AREA`] is left
+    /// (e.g. with `Corridors`, shops covering the whole outline).
     pub fn plan(&self, walkable: Walkable) -> Result<(FloorPlan, PlanReport)> {
         let area = match walkable {
             Walkable::Outline => self.outline.clone(),

@@ -65,6 +65,11 @@ impl Default for IlcImportConfig {
 
 impl IlcImportConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] naming `ilc.max_wifi_age_s` when it is not a positive, finite number of
+    /// seconds.
     pub fn validate(&self) -> Result<()> {
         if self.max_wifi_age_s.is_finite() && self.max_wifi_age_s > 0.0 {
             Ok(())
@@ -193,6 +198,19 @@ struct Reader {
 }
 
 /// Reads an ILC trace file. Errors name the file and line.
+///
+/// # Errors
+///
+/// * [`Error::Config`] when `config` fails [`IlcImportConfig::validate`].
+/// * [`Error::Io`] when `path` cannot be read.
+/// * [`Error::Parse`] naming the line: a row that is not `unix_ms<TAB>TYPE_...`, a time that is
+///   not Unix milliseconds, a converted type with the wrong number of values, a value that is
+///   not a finite number or is beyond the sensor's range, a rotation vector not of unit length,
+///   an empty BSSID, or a row more than
+///   [`REORDER_TOLERANCE_S`](super::sensor_streams::REORDER_TOLERANCE_S) before the same
+///   sensor's previous row.
+/// * [`Error::Parse`] on the file: no data rows, no accelerometer or gyroscope rows; or samples
+///   that do not make an [`ImuRecording`] (named by the accelerometer row's line).
 pub fn read_ilc_trace(path: &Path, config: &IlcImportConfig) -> Result<IlcTrace> {
     config.validate()?;
     let mut reader = Reader::default();

@@ -189,6 +189,20 @@ struct Reader {
 }
 
 /// Reads an IPIN logfile. Errors name the file and line.
+///
+/// # Errors
+///
+/// * [`Error::Config`] naming `ipin.max_wifi_age_s` when it is not a positive, finite number
+///   of seconds.
+/// * [`Error::Io`] when `path` cannot be read.
+/// * [`Error::Parse`] naming the line: a line that is not `TAG;AppTimestamp;...`, a converted
+///   tag with the wrong number of fields, a value that is not a finite number, a negative
+///   time, a value out of range (sensor axes, pressure, rotation vector, GNSS fix, POSI
+///   position, floor or building), a WIFI line without a MAC address, or a line more than
+///   [`REORDER_TOLERANCE_S`](super::sensor_streams::REORDER_TOLERANCE_S) before the same
+///   sensor's previous line.
+/// * [`Error::Parse`] on the file: no data lines, no ACCE or GYRO lines; or samples that do not
+///   make an [`ImuRecording`] (named by the ACCE line).
 pub fn read_ipin_log(path: &Path, config: &IpinImportConfig) -> Result<IpinLog> {
     if !(config.max_wifi_age_s.is_finite() && config.max_wifi_age_s > 0.0) {
         return Err(crate::error::Error::config(

@@ -28,6 +28,12 @@ pub struct LogLines {
 
 /// Reads `path` line by line: lines starting with `comment` go to `on_comment` (without the
 /// marker), other non-blank lines to `on_line` (without a trailing `\r`).
+///
+/// # Errors
+///
+/// [`Error::Io`] when `path` cannot be read; [`Error::Parse`] naming the line, with the
+/// message, at the first line `on_line` refuses (reading stops there). Bytes that are not
+/// UTF-8 are replaced, not refused.
 pub fn read_log_lines(
     path: &Path,
     comment: char,
@@ -69,6 +75,10 @@ pub fn read_log_lines(
 }
 
 /// A finite number from a log's field; the error names `what`.
+///
+/// # Errors
+///
+/// A message naming `what` when `field` (trimmed) is not a number, or is NaN or infinite.
 pub fn number(field: &str, what: &str) -> Result<f64, String> {
     match field.trim().parse::<f64>() {
         Ok(v) if v.is_finite() => Ok(v),
@@ -78,6 +88,11 @@ pub fn number(field: &str, what: &str) -> Result<f64, String> {
 }
 
 /// A 3-axis sensor's three finite values within ±`max`.
+///
+/// # Errors
+///
+/// As [`number`] for each of the first three fields, and when a value is beyond ±`max`. Fewer
+/// than three fields are not refused: the missing axes read 0.
 pub fn axes(fields: &[&str], what: &str, max: f64) -> Result<[f64; 3], String> {
     let mut v = [0.0; 3];
     for (slot, (field, axis)) in v.iter_mut().zip(fields.iter().zip(["x", "y", "z"])) {

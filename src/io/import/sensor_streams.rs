@@ -31,6 +31,11 @@ pub struct SensorStream<const N: usize> {
 
 impl<const N: usize> SensorStream<N> {
     /// Adds a row; the error says why it is out of order (the caller names the line).
+    ///
+    /// # Errors
+    ///
+    /// A message when `t` or a value is NaN or infinite, or `t` is more than
+    /// [`REORDER_TOLERANCE_S`] before the latest time so far (naming that row's line).
     pub fn push(&mut self, t: f64, value: [f64; N], line: usize) -> Result<(), String> {
         if !t.is_finite() || value.iter().any(|v| !v.is_finite()) {
             return Err("values must be finite numbers (found NaN or infinity)".into());
@@ -181,6 +186,14 @@ impl ImuStreams {
 /// The recording on the accelerometer's clock. Accelerometer and gyroscope must have rows
 /// (the caller says which is missing: this returns `Err((0, message))` then); other errors
 /// carry the 1-based line of the accelerometer row whose sample is invalid.
+///
+/// # Errors
+///
+/// `(0, message)` when the accelerometer or the gyroscope has no rows; else `(line, message)`
+/// when the samples do not make an [`ImuRecording`] ([`ImuRecording::new`]: a value out of
+/// range, fewer than two samples, a median acceleration not gravity's, a sampling rate no IMU
+/// has), `line` being the accelerometer row of the sample at fault (the first row for a fault
+/// of the whole recording).
 pub fn assemble_imu(streams: &ImuStreams) -> Result<ImuRecording, (usize, String)> {
     for (stream, name) in [
         (&streams.accel, "accelerometer"),

@@ -50,6 +50,10 @@ impl WalkableShare {
 
 /// The share of `waypoints` on each choice of `floor`'s walkable area, outline first, where
 /// `plan` is the floor's plan for `chosen` (not built again).
+///
+/// # Errors
+///
+/// As [`IlcFloor::plan`], for the choice other than `chosen`, whose plan is built here.
 pub fn walkable_shares(
     floor: &IlcFloor,
     chosen: Walkable,
