@@ -38,6 +38,14 @@ pub fn dead_reckoning_track(trace: &StepTrace) -> Vec<TimedPoint> {
 /// Dead reckoning's errors at `waypoints` (not empty), its path started at the first one:
 /// with the steps' absolute heading when their first step carries one (measured with
 /// `alignment`), else rigidly aligned.
+///
+/// # Errors
+///
+/// As [`waypoint_errors`]: [`Error::NotEnough`](crate::Error::NotEnough) when `waypoints` is empty
+/// or a rigid alignment (steps without an absolute heading) rests on too few or too close
+/// waypoints; [`Error::Mismatch`](crate::Error::Mismatch) when no waypoint falls within the walk's
+/// time span (another clock?); [`Error::InvalidData`](crate::Error::InvalidData) for a waypoint
+/// that is not finite.
 pub fn waypoint_dead_reckoning(
     waypoints: &[Waypoint],
     trace: &StepTrace,

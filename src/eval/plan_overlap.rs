@@ -32,8 +32,13 @@ pub struct PlanOverlap {
 /// [`PlanOverlap`] of `learned` (moved into the truth's frame by `transform` when given, e.g.
 /// a track's rigid alignment) against `truth`, with `visited` the walks' true positions
 /// `(x, y, level)`. Learned level `l` stands for true level `l + level_offset` (a learned
-/// plan's level 0 is the walks' first floor). An error when either area is empty or
-/// `resolution`/`reach` is not a positive finite number.
+/// plan's level 0 is the walks' first floor).
+///
+/// # Errors
+///
+/// [`Error::Config`] when `resolution` or `reach` is not a positive number; [`Error::NotEnough`]
+/// when both plans are empty, or no square of the learned plan is walkable or none of the truth's
+/// is visited.
 pub fn plan_overlap(
     learned: &FloorPlan,
     truth: &FloorPlan,

@@ -77,10 +77,14 @@ fn rms_spread(points: &[(f64, f64)]) -> f64 {
 
 /// Errors of `track` against `truth` (both in time order, local metres).
 ///
-/// Fails when either is empty, not strictly increasing in time or not finite, when no
-/// track point lies within the truth's time span, or when a rigid alignment would rest on
-/// fewer than [`MIN_RIGID_POINTS`] points or on a truth that spreads less than
-/// [`MIN_RIGID_SPREAD_M`].
+/// # Errors
+///
+/// - [`Error::NotEnough`] when either series is empty, or a rigid alignment would rest on fewer
+///   than [`MIN_RIGID_POINTS`] matched points or on a truth that spreads less than
+///   [`MIN_RIGID_SPREAD_M`].
+/// - [`Error::InvalidData`] naming a point that is not finite or not strictly after the one before
+///   it.
+/// - [`Error::Mismatch`] when no track point lies within the truth's time span (another clock?).
 pub fn position_errors(
     truth: &[TimedPoint],
     track: &[TimedPoint],

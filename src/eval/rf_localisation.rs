@@ -80,6 +80,11 @@ pub struct SimulatedSurvey {
 
 /// Simulates `count` 30-minute survey tours (`TourKind::Survey`) of `base`'s building with
 /// seeds `first_seed..`, and surveys them from their known starts with the default tracker.
+///
+/// # Errors
+///
+/// As [`simulate_tower`] for `base` (a section out of range, or a preset's layout bug), and as
+/// [`survey_simulations`] on the tours.
 pub fn simulate_survey(
     base: &TowerSimConfig,
     first_seed: u64,
@@ -116,6 +121,11 @@ pub fn simulate_survey(
 /// into one map over `cells` and calibrates the map's thresholds (`epsilon`,
 /// `epsilon_sqrt`) on all of them for a per-scan miss rate `miss` (missing readings at
 /// `missing_rssi`).
+///
+/// # Errors
+///
+/// As [`Tracker::new`] with each walk's known start: `config` out of range, or a start that is not
+/// on `topology`'s plan (a walk of another building).
 pub fn survey_simulations(
     sims: &[TowerSimulation],
     topology: &FloorTopology,
@@ -144,6 +154,12 @@ pub fn survey_simulations(
 
 /// Localises `sim`'s walk from an unknown start with one seed: without the radio map, and
 /// with each of `rfs`.
+///
+/// # Errors
+///
+/// As [`Tracker::new`] and [`RfTracker::new`]: `config` out of range, or a plan with no walkable
+/// surface; or as [`RfTracker::update`] when the tracker started by the first scan cannot place a
+/// particle.
 pub fn compare_localisation(
     sim: &TowerSimulation,
     topology: &FloorTopology,

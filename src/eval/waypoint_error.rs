@@ -50,6 +50,14 @@ pub struct WaypointErrors {
 
 /// Errors of `track` (time order, local metres) at `waypoints` (time order; of waypoints that
 /// share a time the first counts).
+///
+/// # Errors
+///
+/// - [`Error::NotEnough`] when `waypoints` or `track` is empty, or a rigid alignment would rest on
+///   too few or too close waypoints (as [`position_errors`]).
+/// - [`Error::Mismatch`] when no waypoint lies within the track's time span (with [`HOLD_BEFORE_S`]
+///   and [`HOLD_S`]): another clock?
+/// - [`Error::InvalidData`] for a waypoint or track point that is not finite.
 pub fn waypoint_errors(
     waypoints: &[Waypoint],
     track: &[TimedPoint],

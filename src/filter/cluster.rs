@@ -67,6 +67,12 @@ impl Default for ClusterConfig {
 
 impl ClusterConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `radius` or `max_spread` is outside
+    /// [0.1, 1000] m, `max_dz` outside [0.01, 100] m, `max_dheading` outside [0.05, π] radians,
+    /// `min_weight` outside [0, 0.5), or `max_particles` above 10 000 000.
     pub fn validate(&self) -> Result<()> {
         if !(self.radius.is_finite() && (0.1..=1000.0).contains(&self.radius)) {
             return Err(crate::error::Error::config(

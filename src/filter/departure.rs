@@ -63,6 +63,12 @@ impl Default for DepartureConfig {
 
 impl DepartureConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `revisit_radius_m` is outside [0.05, 100] m,
+    /// `revisit_min_walked_m` or `min_departure_m` outside [0, 10 000] m, or `drift` or
+    /// `max_implausible_share` outside [0, 1].
     pub fn validate(&self) -> crate::error::Result<()> {
         use crate::error::check_range;
         check_range(

@@ -183,6 +183,11 @@ pub struct FootSlam {
 impl FootSlam {
     /// A filter with all particles at the start pose (Algorithm step 1) and `E_0` drawn
     /// from its initial distribution.
+    ///
+    /// # Errors
+    ///
+    /// As [`Self::with_anchors`] without anchors: `config` out of range, or more particles than the
+    /// machine's available memory holds.
     pub fn new(config: FootSlamConfig) -> Result<Self> {
         Self::with_anchors(config, Anchors::default())
     }
@@ -201,6 +206,16 @@ impl FootSlam {
     /// least-squares combination of one bias and a mean of `n` independent ones), so that
     /// successive walks average their GPS biases: the path moves by `κ·δ`, the map by the
     /// grid vector nearest it.
+    ///
+    /// # Errors
+    ///
+    /// - [`Error::Config`](crate::Error::Config) when `config` fails [`FootSlamConfig::validate`]
+    ///   or `start_level` is beyond ±1000.
+    /// - [`Error::InvalidData`](crate::Error::InvalidData) when the GPS fixes are not in increasing
+    ///   time order, or a level of `anchors.levels` is given twice or at a height that is not
+    ///   finite.
+    /// - [`Error::TooLarge`](crate::Error::TooLarge) when the particles would not fit in the memory
+    ///   the machine has available.
     pub fn with_anchors(config: FootSlamConfig, anchors: Anchors) -> Result<Self> {
         config.validate()?;
         let mut motion_config = config.motion;

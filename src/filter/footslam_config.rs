@@ -115,6 +115,14 @@ impl Default for FootSlamConfig {
 
 impl FootSlamConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) naming the first field out of its range: `particles`
+    /// outside 1..=10⁸, `hex_radius` outside [0.05, 10] m, `alpha` outside (0, 1000],
+    /// `outline_alpha` outside (0, `alpha`], a start or spread that is not finite,
+    /// `resample.ess_threshold` outside [0, 1], or a field of a section that fails its own
+    /// `validate` (`gps`, `motion`, `wifi`, …).
     pub fn validate(&self) -> Result<()> {
         if !(1..=100_000_000).contains(&self.particles) {
             return Err(crate::error::Error::config(
@@ -211,6 +219,11 @@ impl Default for SmoothingConfig {
 
 impl SmoothingConfig {
     /// Checks every field; names the offending one.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `draws` is above 100 000 or `mode_radius_m` is
+    /// outside (0, 10 000] m.
     pub fn validate(&self) -> crate::error::Result<()> {
         if self.draws > 100_000 {
             return Err(crate::error::Error::config(

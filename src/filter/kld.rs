@@ -87,6 +87,13 @@ impl Default for KldConfig {
 
 impl KldConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `epsilon` is outside (0, 1), `delta` outside
+    /// (0, 0.5), `bin_size` outside [0.05, 100] m, `bin_heading` outside (0, 2π] radians,
+    /// `min_particles` is 0 or above `max_particles`, `max_step_particles` outside [1, 2·10⁸], or
+    /// `max_particles` above 2·10⁸.
     pub fn validate(&self) -> Result<()> {
         if !(self.epsilon.is_finite() && self.epsilon > 0.0 && self.epsilon < 1.0) {
             return Err(crate::error::Error::config(
@@ -245,6 +252,10 @@ pub struct KldBins {
 impl KldBins {
     /// Bins covering `bounds` (min x, min y, max x, max y, metres) and levels
     /// `levels.0..=levels.1`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `config` fails [`KldConfig::validate`].
     pub fn new(config: &KldConfig, bounds: [f64; 4], levels: (i32, i32)) -> Result<Self> {
         config.validate()?;
         let s = config.bin_size;

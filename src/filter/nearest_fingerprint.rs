@@ -53,6 +53,11 @@ impl Default for FingerprintConfig {
 
 impl FingerprintConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `k` is outside [1, 100], `delta` is not a positive number of dBm, or
+    /// `missing_rssi` is outside [−130, −30] dBm.
     pub fn validate(&self) -> Result<()> {
         use crate::error::check_range;
         check_range("fingerprint.k", self.k as f64, 1.0..=100.0, "")?;
@@ -97,7 +102,12 @@ pub struct NearestFingerprint {
 }
 
 impl NearestFingerprint {
-    /// A localiser on `map`; fails when the map has no cell with scans.
+    /// A localiser on `map`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `config` fails [`FingerprintConfig::validate`]; [`Error::NotEnough`]
+    /// when no cell of `map` holds `min_scans` scans (at least one).
     pub fn new(map: &RadioMap, config: &FingerprintConfig) -> Result<Self> {
         config.validate()?;
         if !map

@@ -165,6 +165,12 @@ impl Default for RfConfig {
 
 impl RfConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] naming the first field out of its range (e.g. `epsilon` outside
+    /// [0.01, 200] dBm, `missing_rssi` outside [−150, −20] dBm, `raster` outside [0.05, 5] m),
+    /// including the fields of `evidence` ([`EvidenceConfig::validate`]) and `likelihood`.
     pub fn validate(&self) -> Result<()> {
         if let Some(e) = self.epsilon {
             crate::error::check_range("rf.epsilon", e, 0.01..=200.0, "dBm")?;
@@ -245,6 +251,18 @@ pub struct RfLocaliser {
 
 impl RfLocaliser {
     /// Prepares `map` (cells in the plan's local frame) for tracking on `topology`.
+    ///
+    /// # Errors
+    ///
+    /// - [`Error::Config`] when `config` fails [`RfConfig::validate`], or (as `rf.epsilon`) when
+    ///   none is given, the map carries no calibrated threshold for the distance and none can be
+    ///   derived (no cell holds two scans).
+    /// - As [`CellRaster::on_plan`]: [`Error::Mismatch`] when no cell of the map lies on
+    ///   `topology`'s plan, [`Error::TooLarge`] for too fine a `raster`.
+    /// - [`Error::NotEnough`] when the map holds no access point readings.
+    ///
+    /// In evidence mode a map too sparsely surveyed to calibrate the evidence is no error: the
+    /// localiser falls back to containment and says why.
     pub fn new(map: &RadioMap, topology: &FloorTopology, config: &RfConfig) -> Result<Self> {
         config.validate()?;
         let (distance, epsilon, epsilon_source) = threshold(map, config)?;

@@ -51,6 +51,12 @@ pub struct RfTracker<'a> {
 impl<'a> RfTracker<'a> {
     /// A tracker on `topology` using `rf`'s radio map with `scans` (in time order, on the
     /// step trace's clock).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `config` fails [`TrackerConfig::validate`]; [`Error::InvalidData`]
+    /// when `scans` are not in time order; and, when the tracker starts at once (a known start, or
+    /// evidence mode), the errors of [`Tracker::new`].
     pub fn new(
         topology: &'a FloorTopology,
         config: &TrackerConfig,
@@ -149,6 +155,12 @@ impl<'a> RfTracker<'a> {
     }
 
     /// Processes one step with the latest scan at or before it.
+    ///
+    /// # Errors
+    ///
+    /// As [`Tracker::update`]: [`Error::InvalidData`] for a step whose length, heading change or
+    /// height change is not finite; and, at the scan that starts the tracker, the errors of
+    /// [`Tracker::new_in_region`] (no particle can be placed on the plan).
     pub fn update(&mut self, step: &Step) -> Result<TrackStep> {
         while self.next_scan < self.scans.len() && self.scans[self.next_scan].t <= step.t {
             self.next_scan += 1;

@@ -187,8 +187,13 @@ pub struct PathSurvey {
 /// learned from their map (`learn --wifi`: no plan drawn by anyone, no tracker): every scan
 /// goes to the cell of `plan` of the first step at or after it, and `ε` is calibrated on the
 /// walks' own scans as [`calibrate_map`] does (`missing_rssi`, `miss`). `walks` holds per
-/// walk its `(t, x, y, level)` per step and its scans in time order. An error when the plan
-/// has no usable cell or no scan falls in a cell.
+/// walk its `(t, x, y, level)` per step and its scans in time order.
+///
+/// # Errors
+///
+/// As [`FloorTopology::build`] for a plan with an invalid surface or barrier, and as
+/// [`CellMap::build`] for an invalid `cells`; [`Error::NotEnough`] when no scan falls in a cell of
+/// the plan.
 pub fn survey_paths(
     plan: &FloorPlan,
     walks: &[(Vec<PathPoint>, &[WifiScan])],

@@ -198,6 +198,12 @@ impl Default for TrackerConfig {
 
 impl TrackerConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) naming the first field out of its range (e.g.
+    /// `length_sigma` outside [0, 2] m, `smoothing_max_nodes` below 1000, a `start` coordinate
+    /// beyond ±10⁷ m), including the fields of `heading`, `rf`, `kld`, `cluster` and `topology`.
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range("length_sigma", self.length_sigma, 0.0..=2.0, "metres")?;
         crate::error::check_range("dheading_sigma", self.dheading_sigma, 0.0..=1.0, "radians")?;

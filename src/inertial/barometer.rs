@@ -39,6 +39,10 @@ impl Default for BarometerConfig {
 
 impl BarometerConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `time_constant_s` is outside [0, 60] s.
     pub fn validate(&self) -> Result<()> {
         let t = self.time_constant_s;
         if t.is_finite() && (0.0..=60.0).contains(&t) {

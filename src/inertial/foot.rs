@@ -60,8 +60,14 @@ struct Anchor {
 
 /// Strides of a foot-mounted recording: one event per stride, the INS path at each stance
 /// (the first point is the first stance) and the figures. A recording without any stance
-/// gives no strides. Errors: an invalid `config`, or a first stance whose specific force is
-/// not gravity (accelerations not in m/s²).
+/// gives no strides.
+///
+/// # Errors
+///
+/// - [`Error::Config`] when `config` fails [`FootConfig::validate`].
+/// - [`Error::InvalidData`] when, without `config.gravity`, the first stance's mean specific force
+///   is outside 5–15 m/s² (accelerations in g?); or, as a safeguard, when a stride fails
+///   [`check_step`](crate::sensor::step::check_step) (long strides are split).
 pub fn detect_strides(
     recording: &ImuRecording,
     config: &FootConfig,

@@ -113,6 +113,12 @@ impl Default for FootConfig {
 
 impl FootConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) for the first field that is not finite or is out of
+    /// its range (e.g. `window_s` outside [0.005, 1] s, `threshold_ceiling` below
+    /// `threshold_floor`, `gravity` outside [9.7, 9.9] m/s²), with the range.
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range("foot.window_s", self.window_s, 0.005..=1.0, "s")?;
         crate::error::check_range("foot.accel_sigma", self.accel_sigma, 1e-4..=10.0, "m/s²")?;

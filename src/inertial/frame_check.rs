@@ -189,6 +189,11 @@ fn axes_words(flip: [bool; 3]) -> String {
 }
 
 /// Parses `--gyro-flip`'s value: any of `x`, `y`, `z`, each at most once.
+///
+/// # Errors
+///
+/// A message when `text` names a character other than `x`, `y`, `z`, names an axis twice, or is
+/// empty.
 pub fn parse_axes(text: &str) -> Result<[bool; 3], String> {
     let mut flip = [false; 3];
     for c in text.chars() {

@@ -59,6 +59,12 @@ impl Default for HeadingFusionConfig {
 
 impl HeadingFusionConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `declination` is beyond ±π radians,
+    /// `magnetometer_time_constant_s` outside [0.01, 3600] s, `tilt_time_constant_s` outside
+    /// [0.01, 10] s, or `magnetic_field_range` is not two finite µT values `0 ≤ low < high`.
     pub fn validate(&self) -> Result<()> {
         if !(self.declination.is_finite() && self.declination.abs() <= std::f64::consts::PI) {
             return Err(crate::error::Error::config(

@@ -110,6 +110,11 @@ pub struct StepsConfig {
 
 impl StepsConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) from [`FootConfig::validate`] or
+    /// [`PhoneConfig::validate`], naming the first field out of its range.
     pub fn validate(&self) -> crate::Result<()> {
         self.foot.validate()?;
         self.phone.validate()

@@ -73,6 +73,12 @@ impl Default for PhoneConfig {
 
 impl PhoneConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] from the first section that fails its `validate` ([`StepDetectorConfig`],
+    /// [`StrideModelConfig`], [`HeadingFusionConfig`], [`BarometerConfig`]), or when `max_gap_s` is
+    /// outside [0.001, 60] s.
     pub fn validate(&self) -> Result<()> {
         self.steps.validate()?;
         self.stride.validate()?;
@@ -257,6 +263,12 @@ impl Walk {
 }
 
 /// Steps of a hand-held phone recording.
+///
+/// # Errors
+///
+/// [`Error::Config`] when `config` fails [`PhoneConfig::validate`]; [`Error::InvalidData`], as a
+/// safeguard, when a detected step fails [`check_step`](crate::sensor::step::check_step) (lengths
+/// and height changes are already capped).
 pub fn detect_steps(
     recording: &ImuRecording,
     config: &PhoneConfig,

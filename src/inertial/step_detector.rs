@@ -56,6 +56,12 @@ impl Default for StepDetectorConfig {
 
 impl StepDetectorConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `low_pass_hz` is outside [0.5, 20] Hz,
+    /// `min_swing` outside [0.05, 50] m/s², `adaptive_fraction` outside [0, 1], `min_step_period_s`
+    /// outside [0.05, 2] s, or `max_step_period_s` below `min_step_period_s` or above 30 s.
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range(
             "phone.steps.low_pass_hz",

@@ -37,6 +37,10 @@ impl Default for StrideModelConfig {
 
 impl StrideModelConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `weinberg_k` is outside [0.05, 2] m/(m/s²)^¼.
     pub fn validate(&self) -> Result<()> {
         if self.weinberg_k.is_finite() && (0.05..=2.0).contains(&self.weinberg_k) {
             Ok(())
@@ -61,6 +65,11 @@ impl StrideModelConfig {
 /// The calibrated constant after a walk of known length: `K_new = K_old · D / D̂`, with `D`
 /// the true and `D̂` the measured length (metres). The model is linear in `K`, so one walk
 /// suffices; average over several walks to beat the step-to-step noise.
+///
+/// # Errors
+///
+/// [`Error::Config`] when `k_old` or `true_length` is not a positive number; [`Error::NotEnough`]
+/// when `measured_length` is not (no steps detected).
 pub fn calibrate_constant(k_old: f64, true_length: f64, measured_length: f64) -> Result<f64> {
     let positive = (Excluded(0.0), Unbounded);
     check_range("stride constant", k_old, positive, "")?;

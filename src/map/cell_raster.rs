@@ -35,7 +35,15 @@ pub struct CellRaster {
 impl CellRaster {
     /// Rasterises `map`'s cells over `bounds` (min x, min y, max x, max y, local metres) for
     /// levels `levels.0..=levels.1` with squares of `resolution` metres. Cells on other
-    /// levels or outside the bounds are left out; an error when no cell falls inside.
+    /// levels or outside the bounds are left out.
+    ///
+    /// # Errors
+    ///
+    /// - [`Error::InvalidData`] when `resolution` is not a positive number, a bound is not finite,
+    ///   or the bounds or levels are reversed.
+    /// - [`Error::TooLarge`] beyond 2³⁰ squares over all levels.
+    /// - [`Error::Mismatch`] when no square falls in a cell: a map of another building, or in
+    ///   another frame.
     pub fn build(
         map: &RadioMap,
         bounds: [f64; 4],
@@ -143,6 +151,11 @@ impl CellRaster {
     }
 
     /// [`Self::build`] over the whole of `topology`'s plan: its bounds and levels.
+    ///
+    /// # Errors
+    ///
+    /// As [`Self::build`]: `resolution` not a positive number, a raster beyond 2³⁰ squares, or no
+    /// cell of `map` on the plan.
     pub fn on_plan(
         map: &RadioMap,
         topology: &super::FloorTopology,

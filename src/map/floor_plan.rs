@@ -95,6 +95,13 @@ impl FloorPlan {
     /// ([`PLAN_MAX_EXTENT`], [`PLAN_MIN_EXTENT`], [`PLAN_MAX_HEIGHT`], [`PLAN_MAX_LEVELS`]), and
     /// that no surface is given twice (a duplicate doubles its share of the particles). The
     /// message says what is wrong and the limit.
+    ///
+    /// # Errors
+    ///
+    /// The message, when the plan has no surface, spans more than [`PLAN_MAX_EXTENT`] or less than
+    /// [`PLAN_MIN_EXTENT`], reaches farther than [`PLAN_MAX_EXTENT`] from its origin, has a surface
+    /// higher than [`PLAN_MAX_HEIGHT`] or more than [`PLAN_MAX_LEVELS`] levels, or gives a surface
+    /// twice.
     pub fn check_limits(&self) -> Result<(), String> {
         let Some((x0, y0, x1, y1)) = self.bounds() else {
             return Err("the plan has no walkable surface".into());

@@ -73,6 +73,12 @@ impl Default for PlanConfig {
 
 impl PlanConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] for the first field out of its range: `min_visits` outside [1, 10⁶],
+    /// `grow` outside [0, 10] m, `hole_area` or `min_area` outside [0, 10⁶] m², `simplify` outside
+    /// [0, 100], `z` outside [−1000, 10 000] m, `level` beyond ±1000.
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range("plan.min_visits", f64::from(self.min_visits), 1.0..=1e6, "")?;
         crate::error::check_range("plan.grow", self.grow, 0.0..=10.0, "m")?;
@@ -109,8 +115,12 @@ pub struct LearnedPlan {
 }
 
 /// The walkable plan of `map` (see the module documentation), one plan level per level of
-/// the map (`config.level` plus the map's level, at `config.z` plus its height); an error
-/// when no hexagon passes `min_visits` or nothing of the area survives `min_area`.
+/// the map (`config.level` plus the map's level, at `config.z` plus its height).
+///
+/// # Errors
+///
+/// [`Error::Config`] when `config` fails [`PlanConfig::validate`]; [`Error::NotEnough`] when no
+/// hexagon has `min_visits` visits, or when every walkable piece is smaller than `min_area`.
 pub fn walkable_plan(map: &HexMapSnapshot, config: &PlanConfig) -> Result<LearnedPlan> {
     config.validate()?;
     let walkable = map
@@ -228,8 +238,12 @@ fn level_pieces(
 /// are where the walks that made it stopped, not walls, and a new walker steps past them
 /// (into the far side of a room the walks only crossed). The surfaces of each level are
 /// dissolved and buffered, named `walkable N` per level, largest first. Only for plans with
-/// one height per level (learned plans): an error names a level with several heights
-/// (stairs, a stepped floor), which growing would merge.
+/// one height per level (learned plans).
+///
+/// # Errors
+///
+/// [`Error::Config`] when `margin` is outside [0, 5] m; [`Error::InvalidData`] naming a level whose
+/// surfaces lie at several heights (stairs, a stepped floor), which growing would merge.
 pub fn grow_plan(plan: &FloorPlan, margin: f64) -> Result<FloorPlan> {
     crate::error::check_range("plan margin", margin, 0.0..=5.0, "m")?;
     if margin == 0.0 {

@@ -27,6 +27,11 @@ const RADIUS_TOLERANCE: f64 = 1e-9;
 /// is the weighted mean of the maps' heights for it, each map's heights first moved onto
 /// those of the maps before it by their mean difference on the levels they share (each
 /// walk measures heights from its own first floor).
+///
+/// # Errors
+///
+/// [`Error::NotEnough`] when `maps` is empty; [`Error::Mismatch`] when a map's hexagon radius
+/// differs from the first map's; [`Error::InvalidData`] when a weight is negative or not finite.
 pub fn merge_maps(maps: &[(&HexMapSnapshot, f64)]) -> Result<HexMapSnapshot> {
     let (first, _) = maps
         .first()

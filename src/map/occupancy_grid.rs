@@ -43,6 +43,11 @@ impl Default for OccupancyConfig {
 
 impl OccupancyConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `resolution` is outside [0.005, 10] m, `wall` outside [0, 10] m or
+    /// `border` outside [0, 1000] m.
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range("grid.resolution", self.resolution, 0.005..=10.0, "m")?;
         crate::error::check_range("grid.wall", self.wall, 0.0..=10.0, "m")?;
@@ -81,8 +86,13 @@ pub struct OccupancyGrid {
 }
 
 impl OccupancyGrid {
-    /// The grid of `plan`'s polygons on `level` (see the module documentation); an error
-    /// when the level has no polygon or the grid would exceed 2²⁸ squares.
+    /// The grid of `plan`'s polygons on `level` (see the module documentation).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `config` fails [`OccupancyConfig::validate`]; [`Error::NotEnough`]
+    /// when the plan has no polygon on `level`; [`Error::TooLarge`] when the grid would exceed 2²⁸
+    /// squares.
     pub fn from_plan(plan: &FloorPlan, level: i32, config: &OccupancyConfig) -> Result<Self> {
         config.validate()?;
         let polygons: Vec<_> = plan

@@ -52,6 +52,11 @@ impl Default for CellConfig {
 
 impl CellConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `granularity` is outside [0.25, 100] m or `door_width` outside
+    /// [0, 10] m.
     pub fn validate(&self) -> Result<()> {
         if !(self.granularity.is_finite() && (0.25..=100.0).contains(&self.granularity)) {
             return Err(crate::error::Error::config(
@@ -111,6 +116,11 @@ pub struct CellMap {
 
 impl CellMap {
     /// Divides every room of `plan` (whose `topology` tells the connections) into cells.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `config` fails [`CellConfig::validate`]; [`Error::Mismatch`] when
+    /// `topology` has another number of surfaces than `plan` (built from another plan).
     pub fn build(plan: &FloorPlan, topology: &FloorTopology, config: &CellConfig) -> Result<Self> {
         config.validate()?;
         if plan.polygons.len() != topology.len() {

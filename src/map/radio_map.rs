@@ -193,6 +193,12 @@ impl RadioMap {
 
     /// Adds `other`'s readings cell by cell; both maps must have the same cell ids in the
     /// same order (maps of one plan at one granularity).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Mismatch`], leaving `self` unchanged, when the maps' cells differ in number or ids,
+    /// or a cell of `other` lies on another level or more than 0.5 m from its namesake (a map of
+    /// another plan or frame).
     pub fn merge(&mut self, other: &RadioMap) -> Result<()> {
         if self.cells.len() != other.cells.len()
             || self

@@ -125,6 +125,12 @@ impl Default for AxesConfig {
 
 impl AxesConfig {
     /// Checks every field; names the offending one.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) for the first field that is not finite or is out of
+    /// its range (e.g. `sigma` outside (0, π/4] radians, `min_alignment` outside [−1, 1],
+    /// `straight_window` above 1000 steps), with the range.
     pub fn validate(&self) -> crate::error::Result<()> {
         let fields = [
             (

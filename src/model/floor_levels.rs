@@ -74,6 +74,11 @@ impl Default for LevelConfig {
 
 impl LevelConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `tolerance` is outside [0.1, 50] m, `settle_distance` outside
+    /// [0, 1000] m or `flat_band` outside [0.01, 10] m.
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range("levels.tolerance", self.tolerance, 0.1..=50.0, "m")?;
         crate::error::check_range(
@@ -105,6 +110,11 @@ pub struct LevelTracker {
 impl LevelTracker {
     /// A tracker on level `start` at height 0, knowing `seeded` levels beforehand (those of
     /// [`find_levels`] on the same walk; level `start` at height 0 is added if missing).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `config` fails [`LevelConfig::validate`] or `start` is beyond ±1000;
+    /// [`Error::InvalidData`] when a seeded level is given twice or at a height that is not finite.
     pub fn new(config: LevelConfig, start: i32, seeded: &[FloorLevel]) -> Result<Self> {
         config.validate()?;
         crate::error::check_range("start_level", f64::from(start), -1000.0..=1000.0, "")?;
@@ -217,6 +227,10 @@ impl LevelTracker {
 
 /// The levels of a whole walk that starts on level `start`, sorted by number (always
 /// `start` at height 0; only it when levels are disabled or the walk stays on one floor).
+///
+/// # Errors
+///
+/// [`Error::Config`] when `config` fails [`LevelConfig::validate`] or `start` is beyond ±1000.
 pub fn find_levels(steps: &[Step], config: LevelConfig, start: i32) -> Result<Vec<FloorLevel>> {
     let mut tracker = LevelTracker::new(config, start, &[])?;
     for s in steps {

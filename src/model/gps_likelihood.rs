@@ -59,6 +59,12 @@ impl Default for GpsConfig {
 
 impl GpsConfig {
     /// Checks every field; returns the offending field's name, value and rule.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `outlier_probability` is outside [0, 1),
+    /// `outlier_radius` outside [1, 100 000] m, `correlation_time` outside [0, 3600] s,
+    /// `bias_sigma` outside [0, 1000] m or `length_scale_sigma0` outside [0, 0.3].
     pub fn validate(&self) -> crate::error::Result<()> {
         let e = self.outlier_probability;
         if !(e.is_finite() && (0.0..1.0).contains(&e)) {

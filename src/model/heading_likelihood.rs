@@ -93,6 +93,12 @@ impl Default for HeadingConfig {
 
 impl HeadingConfig {
     /// Checks every field; returns the offending field's name, value and rule.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `sigma` is outside [0.1°, π] radians,
+    /// `outlier_probability` outside (0, 1), `offset` beyond ±2π radians or `correlation_length`
+    /// outside [0, 1000] m.
     pub fn validate(&self) -> crate::error::Result<()> {
         let s = self.sigma;
         if !(s.is_finite() && (0.1f64.to_radians()..=PI).contains(&s)) {

@@ -109,6 +109,12 @@ impl Default for FieldConfig {
 
 impl FieldConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) for the first field that is not finite or is out of
+    /// its range (e.g. `cell_radius_m` outside [0.1, 10] m, `tempering` outside [0, 1],
+    /// `min_contrast` outside [1, 100]), with the range.
     pub fn validate(&self) -> crate::error::Result<()> {
         use crate::error::check_range;
         check_range("field.cell_radius_m", self.cell_radius_m, 0.1..=10.0, "m")?;

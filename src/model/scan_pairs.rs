@@ -117,6 +117,12 @@ impl Default for ScanPairConfig {
 
 impl ScanPairConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) for the first field that is not finite or is out of
+    /// its range (e.g. `floor_rssi` outside [−150, −30] dBm, `latency_max_s` outside [0, 30] s),
+    /// with the range.
     pub fn validate(&self) -> crate::error::Result<()> {
         use crate::error::check_range;
         check_range("wifi.min_gap_s", self.min_gap_s, 0.0..=3600.0, "s")?;
@@ -217,6 +223,10 @@ impl PairLikelihood {
     /// in each distance bin, bins with too few pairs interpolated from their neighbours (or
     /// extrapolated, the nearest bin's `μ` and `σ` beyond the last), `μ` made non-decreasing
     /// with distance. `None` with fewer than two populated bins.
+    ///
+    /// # Panics
+    ///
+    /// Never: the one `expect` unwraps a bin just found fitted.
     pub fn calibrate(pairs: &[(f64, f64)], outlier_share: f64) -> Option<Self> {
         let mut bins: Vec<Vec<(f64, f64)>> = vec![Vec::new(); BIN_EDGES.len()];
         for &(d, big_d) in pairs {
@@ -361,6 +371,13 @@ impl ScanEvidence {
     /// The evidence of `scans` (in time order) for a walk of `steps`: eq. (2) calibrated on
     /// pairs less than `calibration_window_s` apart placed by dead reckoning, then each
     /// scan's informative earlier scans.
+    ///
+    /// # Errors
+    ///
+    /// Why the scans cannot be used: [`ScanPairsUnused::Disabled`] when `config.enabled` is false,
+    /// [`ScanPairsUnused::TooFewScans`] with fewer than two scans, [`ScanPairsUnused::TooFewPairs`]
+    /// when fewer than `min_calibration_pairs` pairs of scans (not both empty) lie within
+    /// `calibration_window_s`, or when no latency spreads them over two distance bins of ten pairs.
     pub fn new(
         scans: &[WifiScan],
         steps: &[Step],

@@ -70,6 +70,12 @@ impl Default for StepMotionConfig {
 
 impl StepMotionConfig {
     /// Checks every field; returns the offending field's name and rule.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) for the first field that is not finite or is out of
+    /// its range (each from 0 up to a bound far beyond any sensor, e.g. `length_sigma` to 1 m,
+    /// `dheading_sigma` to π radians, `duck_max` to π/2 radians), with the range.
     pub fn validate(&self) -> crate::error::Result<()> {
         // Upper bounds far beyond any sensor: a stride known to a metre, a heading change
         // to 180°, a drift of 6° per step; beyond them the samples are meaningless.

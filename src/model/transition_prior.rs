@@ -52,6 +52,10 @@ pub struct TransitionPrior {
 
 impl TransitionPrior {
     /// The prior of `map` (see the module documentation).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `config.weight` is outside [0, 10].
     pub fn new(map: &HexMapSnapshot, config: TransitionPriorConfig) -> Result<Self> {
         let w = config.weight;
         crate::error::check_range("transitions.weight", w, 0.0..=10.0, "")?;

@@ -81,6 +81,12 @@ impl Default for EvidenceConfig {
 
 impl EvidenceConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `bands_cells` do not increase from 0.5 within 50 cells, `far_cells`
+    /// is below the last band or above 200, `max_log_ratio` is outside [0, 20], `tempering` or
+    /// `auto_below_coverage` outside [0, 1], or `min_pairs` below 2.
     pub fn validate(&self) -> Result<()> {
         use crate::error::check_range;
         let mut lower = 0.5;
@@ -242,8 +248,13 @@ pub struct RadioEvidence {
 
 impl RadioEvidence {
     /// Calibrates eq. (1) on `map` (whose fingerprints are `prints`) and finds each cell's
-    /// judge along the floor of `raster`. An error when the map holds too few surveyed cells
-    /// to calibrate a band.
+    /// judge along the floor of `raster`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `config` fails [`EvidenceConfig::validate`]; [`Error::NotEnough`]
+    /// when the map's surveyed cells give fewer than `min_pairs` pairs in the first band or far
+    /// apart.
     pub fn calibrate(
         map: &RadioMap,
         prints: &Fingerprints,

@@ -56,9 +56,16 @@ pub struct FingerprintJob {
     pub report: FingerprintReport,
 }
 
-/// Places each scan of the request by the radio map alone: an error when the log and the
-/// map share no access point, a warning to `progress` when most scans hear none of the
-/// map's (and when rows repeated an access point within a scan).
+/// Places each scan of the request by the radio map alone, with a warning to `progress` when
+/// most scans hear none of the map's access points (and when rows repeated an access point
+/// within a scan).
+///
+/// # Errors
+///
+/// [`Error::Config`] when the request's configuration (with its `k`) is out of range;
+/// [`Error::NotEnough`] when no cell of the map holds scans; [`Error::Mismatch`] when no scan of
+/// the log hears an access point of the map, or none shares enough of them to be placed
+/// (another building?).
 pub fn run_fingerprint(
     request: FingerprintRequest,
     progress: &dyn Progress,

@@ -14,10 +14,15 @@ use crate::io::map_geojson::StoredMap;
 use crate::map::{FloorPlan, RadioMap};
 use crate::sensor::{GpsFix, StepTrace, WifiScan};
 
-/// A walk's WiFi scans on its steps' clock: an error when no scan falls in the walk (a log
-/// on another clock would place none, or every one at an end of the walk), a warning when
-/// a part lies off it, and one when `duplicate_readings` rows repeated an access point
-/// within their scan (the later reading kept).
+/// A walk's WiFi scans on its steps' clock: a warning when a part lies off it, and one when
+/// `duplicate_readings` rows repeated an access point within their scan (the later reading
+/// kept).
+///
+/// # Errors
+///
+/// [`Error::Mismatch`] when no scan falls within the walk's time span (a log on another clock would
+/// place none, or every one at an end of the walk), an empty log included. A walk without steps
+/// passes.
 pub fn check_scans_on_clock(
     scans: &Named<Vec<WifiScan>>,
     duplicate_readings: usize,
@@ -52,7 +57,13 @@ pub fn warn_duplicate_readings(label: &str, duplicate_readings: usize, progress:
 }
 
 /// A walk's GPS fixes on its steps' clock (`gpx`: read from a GPX file, whose UTC times
-/// `gps_t0` places): an error when none falls in the walk, a warning when a part lies off it.
+/// `gps_t0` places): a warning when a part lies off it.
+///
+/// # Errors
+///
+/// When no fix falls within the walk's time span (or up to [`GPS_LEAD_S`] before it):
+/// [`Error::Remedied`] with the `gps_t0` option for fixes read from a GPX file, else
+/// [`Error::Mismatch`]. No fixes, or a walk without steps, pass.
 pub fn check_fixes_on_clock(
     fixes: &Named<Vec<GpsFix>>,
     gpx: bool,
@@ -86,8 +97,13 @@ pub fn check_fixes_on_clock(
     Ok(())
 }
 
-/// A prior map on the run's hexagon grid (`radius` metres, `frame`): else an error with
-/// the option that puts the run on the map's grid.
+/// A prior map on the run's hexagon grid (`radius` metres, `frame`).
+///
+/// # Errors
+///
+/// [`Error::Remedied`] with the option that puts the run on the map's grid: `hex_radius`
+/// (the map's) when its hexagons have another size, `origin` (the map's) when its origin lies more
+/// than [`SAME_ORIGIN_M`](super::input_checks::SAME_ORIGIN_M) from `frame`'s.
 pub fn check_same_grid(map: &Named<StoredMap>, radius: f64, frame: &LocalFrame) -> Result<()> {
     let stored = &map.value;
     let Some(mismatch) = grid_mismatch(stored.map.radius, &stored.frame, radius, frame) else {
@@ -111,6 +127,11 @@ pub fn check_same_grid(map: &Named<StoredMap>, radius: f64, frame: &LocalFrame) 
 
 /// On a plan of several levels the steps (`steps_label`; `has_dz`: with height changes)
 /// must carry height changes, unless the walk stays on its floor (`one_floor`).
+///
+/// # Errors
+///
+/// [`Error::Remedied`] with the `one_floor` option when `plan` has several levels but the steps
+/// carry no height changes (`has_dz` false) and `one_floor` is not set.
 pub fn check_height_changes(
     steps_label: &str,
     has_dz: bool,
@@ -129,8 +150,13 @@ pub fn check_height_changes(
     }
 }
 
-/// A WiFi log and a radio map of one building: an error when no scan hears an access point
-/// of the map, a warning when fewer than half do. Returns how many scans matched.
+/// A WiFi log and a radio map of one building: a warning when fewer than half the scans
+/// hear an access point of the map. Returns how many scans matched.
+///
+/// # Errors
+///
+/// [`Error::Mismatch`] when no scan hears an access point of the map (the log and the map are of
+/// different buildings), an empty log included.
 pub fn check_scans_match(
     map: &Named<&RadioMap>,
     scans: &Named<&[WifiScan]>,

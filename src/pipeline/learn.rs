@@ -93,6 +93,16 @@ pub fn default_frame(prior_map: Option<&StoredMap>, walks: &[LearnWalk]) -> Loca
 }
 
 /// Learns the walks of `input` with `config` in the stages of the [module](self).
+///
+/// # Errors
+///
+/// - [`Error::Config`](crate::Error::Config) when `config` fails [`LearnConfig::validate`].
+/// - [`Error::TooLarge`](crate::Error::TooLarge) when a walk's particles would not fit in the
+///   memory the machine has available.
+/// - [`Error::InvalidData`](crate::Error::InvalidData) when a walk's GPS fixes are not in
+///   increasing time order.
+/// - As [`combine`]: a prior map on another hexagon radius than the run's, or walks with scans
+///   whose learned map is too small to cut radio-map cells from, or whose scans fall in none.
 pub fn learn(input: &LearnInput, config: &LearnConfig, progress: &dyn Progress) -> Result<Learned> {
     config.validate()?;
     // 1. prior
@@ -115,6 +125,13 @@ pub fn learn(input: &LearnInput, config: &LearnConfig, progress: &dyn Progress) 
 /// Stages 3 and 4 of [`learn`] on the walks' answers (one per walk of `input`, in order,
 /// from [`learn`]'s stage 2 or from [`learn_one`] tasks after the FeetSLAM passes): the
 /// merged maps and the radio map on `cells`.
+///
+/// # Errors
+///
+/// - [`Error::Mismatch`](crate::Error::Mismatch) when `estimates` is not one answer per walk, or
+///   the prior map's hexagon radius is not the walks' maps'.
+/// - As [`learned_radio_map`] when a walk has scans: the run's map too small to cut cells from,
+///   `cells` out of range, or no scan in a cell.
 pub fn combine(
     input: &LearnInput,
     estimates: &[&FootSlamEstimate],
@@ -226,6 +243,11 @@ fn base_prior(input: &LearnInput, learn: &LearnConfig) -> BasePrior {
 /// merges them. `steps` hears of the walk's steps (e.g. an [`ItemProgress`] of a shard's
 /// bar).
 ///
+/// # Errors
+///
+/// As that walk in [`learn`]: `config` out of range ([`LearnConfig::validate`]), particles beyond
+/// the machine's available memory, or GPS fixes out of time order.
+///
 /// [`ItemProgress`]: super::ItemProgress
 pub fn learn_one(
     input: &LearnInput,
@@ -266,6 +288,13 @@ fn radio_map(
 /// level)` per step — a learned path — and its scans in time order) added to the cells of
 /// the plan learned from `map` (everything the run learned, in the paths' frame), `ε`
 /// calibrated on the walks' own scans. [`learn`]'s stage 4, for walks learned apart.
+///
+/// # Errors
+///
+/// [`Error::NotEnough`](crate::Error::NotEnough) when no walkable plan can be cut from `map` (too
+/// few visits, too small an area) or no scan falls in a cell of it;
+/// [`Error::Config`](crate::Error::Config) when `cells` fails
+/// [`CellConfig::validate`](crate::map::CellConfig::validate).
 pub fn learned_radio_map(
     paths: &[(Vec<PathPoint>, &[WifiScan])],
     map: &HexMapSnapshot,

@@ -64,6 +64,13 @@ impl From<FootSlamConfig> for LearnConfig {
 
 impl LearnConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `footslam` fails
+    /// [`FootSlamConfig::validate`](crate::filter::FootSlamConfig::validate), `prior_weight` is
+    /// outside [0, 1000], `iterations` exceeds 20, or `cells` fails
+    /// [`CellConfig::validate`](crate::map::CellConfig::validate).
     pub fn validate(&self) -> Result<()> {
         self.footslam.validate()?;
         if !(self.prior_weight.is_finite() && (0.0..=1000.0).contains(&self.prior_weight)) {
@@ -159,6 +166,13 @@ pub struct LearnOverrides {
 
 impl LearnOverrides {
     /// `config` with these overrides, validated.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when the result fails [`LearnConfig::validate`] (e.g. `particles: Some(0)`
+    /// or a `hex_radius` outside [0.05, 10] m).
+    ///
+    /// # Examples
     ///
     /// ```
     /// use footslam::pipeline::{LearnConfig, LearnOverrides};

@@ -139,6 +139,11 @@ impl PreparedLearn {
     }
 
     /// Learns the walks ([`learn`](super::learn())).
+    ///
+    /// # Errors
+    ///
+    /// As [`learn`](super::learn()): particles beyond the machine's available memory, or GPS fixes
+    /// out of time order (the rest was checked by [`prepare_learn`]).
     pub fn run(&self, progress: &dyn Progress) -> Result<Learned> {
         learn(&self.input(), &self.config, progress)
     }
@@ -159,6 +164,15 @@ impl PreparedLearn {
 
     /// Learns walk `walk` of the request alone as walk `index` of a batch
     /// ([`learn_one`]), with `others` in a FeetSLAM pass.
+    ///
+    /// # Errors
+    ///
+    /// As [`learn_one`]: particles beyond the machine's available memory, or GPS fixes out of time
+    /// order.
+    ///
+    /// # Panics
+    ///
+    /// If `walk` is not the index of a walk of the request.
     pub fn run_one(
         &self,
         walk: usize,
@@ -181,6 +195,18 @@ impl PreparedLearn {
 /// Stage 2: checks that the request's inputs belong together and makes the run's. What the
 /// user should know but that does not stop the run (a log partly off the walk's clock,
 /// repeated readings) goes to `progress` as warnings.
+///
+/// # Errors
+///
+/// Each names the input or option at fault:
+///
+/// - [`Error::Config`] when the configuration with its overrides fails [`LearnConfig::validate`].
+/// - [`Error::BadOption`] when `gps_t0` is given but no walk has a GPX file.
+/// - [`Error::Remedied`] or [`Error::Mismatch`] when a walk's fixes or scans all lie off its steps'
+///   clock ([`check_fixes_on_clock`], [`check_scans_on_clock`]).
+/// - [`Error::Mismatch`] when a walk's fixes lie far from the origin, or the outline is far from
+///   the walks' starts or too small; [`Error::Parse`] when the outline is not a valid polygon.
+/// - [`Error::Remedied`] when the prior map is on another grid ([`check_same_grid`]).
 pub fn prepare_learn(request: LearnRequest, progress: &dyn Progress) -> Result<PreparedLearn> {
     let config = request.overrides.apply(request.config)?;
     if request.gps_t0.is_some()

@@ -66,6 +66,11 @@ pub fn feetslam_passes(walks: &[LearnWalk], config: &LearnConfig) -> u32 {
 }
 
 /// The merged map of every map of `maps` but the `i`-th: walk `i`'s prior in a FeetSLAM pass.
+///
+/// # Errors
+///
+/// As [`merge_maps`]: [`Error::NotEnough`](crate::Error::NotEnough) when `maps` holds no map but
+/// the `i`-th, [`Error::Mismatch`](crate::Error::Mismatch) when the maps' hexagon radii differ.
 pub fn others_map(maps: &[&HexMapSnapshot], i: usize) -> Result<HexMapSnapshot> {
     let others: Vec<_> = maps
         .iter()

@@ -8,8 +8,14 @@ use crate::map::merge_maps;
 use crate::{Error, Result};
 
 /// Merges `maps`, each with its weight (a map of weight 0 is left out; its walks do not
-/// count), into one map in their frame, holding the walks of the maps that count. An error
-/// when the maps lie in different frames or on different grids, or every weight is 0.
+/// count), into one map in their frame, holding the walks of the maps that count.
+///
+/// # Errors
+///
+/// - [`Error::NotEnough`] when `maps` is empty or every weight is 0.
+/// - [`Error::Mismatch`] when a map's origin lies more than [`SAME_ORIGIN_M`] from the first map's,
+///   or its hexagon radius differs.
+/// - [`Error::InvalidData`] when a weight is negative or not finite.
 pub fn merge(maps: &[(&StoredMap, f64)]) -> Result<StoredMap> {
     let (first, _) = maps
         .first()

@@ -45,8 +45,13 @@ pub struct MergeJob {
     pub report: MergeReport,
 }
 
-/// Merges the request's maps: an error naming the map or option at fault when the weights
-/// are not one finite weight ≥ 0 per map (not all 0), or a map lies in another frame.
+/// Merges the request's maps.
+///
+/// # Errors
+///
+/// [`Error::BadOption`] (`weights`) unless the weights are absent or one finite weight ≥ 0 per map,
+/// not all 0; [`Error::Mismatch`] naming a map in another frame than the first, or as [`merge`] on
+/// another hexagon radius; [`Error::NotEnough`] when the request holds no map.
 pub fn run_merge(request: MergeRequest) -> Result<MergeJob> {
     let weights = &request.weights;
     let maps = &request.maps;

@@ -31,6 +31,12 @@ pub struct Planned {
 }
 
 /// The walkable plan and occupancy grids of `map`, in the stages of the [module](self).
+///
+/// # Errors
+///
+/// As [`walkable_plan`]: `config.plan` out of range, or no hexagon with `min_visits` visits or no
+/// piece of `min_area`; as [`OccupancyGrid::from_plan`](crate::map::OccupancyGrid::from_plan):
+/// `config.grid` out of range, or a grid beyond 2²⁸ squares.
 pub fn plan(map: &HexMapSnapshot, config: &PlanRunConfig) -> Result<Planned> {
     let learned = walkable_plan(map, &config.plan)?;
     let mut levels = learned.plan.levels();

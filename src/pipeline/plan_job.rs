@@ -99,6 +99,12 @@ pub struct PlanJob {
 }
 
 /// The walkable plan and grids of the request's map, and the report.
+///
+/// # Errors
+///
+/// As [`plan`](super::plan()): the configuration with its overrides out of range, a map with no
+/// hexagon visited `min_visits` times or no walkable piece of `min_area`, or a grid beyond 2²⁸
+/// squares.
 pub fn run_plan(request: PlanRequest) -> Result<PlanJob> {
     let config = request.overrides.apply(request.config);
     let stored = &request.map.value;

@@ -112,6 +112,12 @@ impl FrameVerdict {
     /// The verdict in words: `Ok` with the warnings to show (none when fine), or `Err` with
     /// why the output would be wrong. `flipped` follows the finding's message (e.g. how the
     /// caller flipped the gyroscope, `""` when it did not).
+    ///
+    /// # Errors
+    ///
+    /// The finding's message (with `flipped`) when the verdict is [`FrameVerdict::Reject`]: a
+    /// gyroscope that must be flipped, timestamps not in seconds, or an orientation quaternion with
+    /// a mistake, whichever the output depends on.
     pub fn messages(self, flipped: &str) -> std::result::Result<Vec<String>, String> {
         match self {
             Self::Fine => Ok(Vec::new()),
@@ -126,6 +132,12 @@ impl FrameVerdict {
 }
 
 /// Detects the steps of `recording` as `mount`, in the stages of the [module](self).
+///
+/// # Errors
+///
+/// [`Error::Config`](crate::Error::Config) when `config` fails
+/// [`StepsConfig::validate`](crate::inertial::StepsConfig::validate); as [`detect_strides`] for a
+/// foot: a first stance whose specific force is not gravity (accelerations in g?).
 pub fn steps(recording: &ImuRecording, mount: Mount, config: &StepsConfig) -> Result<StepsRun> {
     config.validate()?;
     let mut run = detect_and_check(recording, mount, config)?;

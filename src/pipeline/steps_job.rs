@@ -77,6 +77,13 @@ pub struct StepsReport {
 }
 
 /// Runs the `steps` job on `request`, the job having started at `started` (its runtime).
+///
+/// # Errors
+///
+/// [`Error::Config`] when the configuration is out of range; [`Error::InvalidData`] naming the
+/// recording when its steps cannot be detected or the frame check rejects it
+/// ([`FrameVerdict::messages`](super::FrameVerdict::messages)); [`Error::NotEnough`] when no step
+/// or stride is detected.
 pub fn run_steps(request: StepsRequest, started: Instant) -> Result<StepsJob> {
     request.config.validate()?;
     let Named {

@@ -51,6 +51,13 @@ impl Default for SurveyConfig {
 
 impl SurveyConfig {
     /// Checks every part.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `tracker` fails
+    /// [`TrackerConfig::validate`](crate::filter::TrackerConfig::validate), `cells` fails
+    /// [`CellConfig::validate`](crate::map::CellConfig::validate), or `epsilon_miss` is outside
+    /// [0, 0.5].
     pub fn validate(&self) -> Result<()> {
         self.tracker.validate()?;
         self.cells.validate()?;
@@ -140,6 +147,14 @@ pub struct Surveyed {
 }
 
 /// Surveys the walks of `input` with `config` in the stages of the [module](self).
+///
+/// # Errors
+///
+/// - [`Error::Config`] when `config` fails [`SurveyConfig::validate`].
+/// - As [`Tracker::new`](crate::filter::Tracker::new) for each walk: a start off the plan, or a
+///   plan with no walkable surface; [`Error::InvalidData`] for a step that is not finite.
+/// - [`Error::Mismatch`] when no walk fits the plan (and no earlier map is merged), the topology is
+///   not the plan's, or an earlier radio map is not of this plan at this cell granularity.
 pub fn survey(
     input: &SurveyInput,
     config: &SurveyConfig,

@@ -41,6 +41,12 @@ pub struct SurveyOverrides {
 impl SurveyOverrides {
     /// `config` with these overrides, validated.
     ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when the result fails [`SurveyConfig::validate`] (e.g. a negative `cell`).
+    ///
+    /// # Examples
+    ///
     /// ```
     /// use footslam::pipeline::{SurveyConfig, SurveyOverrides};
     /// let o = SurveyOverrides { seed: Some(9), cell: Some(4.0), ..Default::default() };
@@ -145,6 +151,11 @@ impl PreparedSurvey {
     }
 
     /// Surveys the walks ([`survey`](super::survey())).
+    ///
+    /// # Errors
+    ///
+    /// Every error of [`survey`](super::survey()), as an [`Error::InvalidData`] naming the plan: a
+    /// walk that fits no part of it, a start off it, or an earlier radio map of another plan.
     pub fn run(&self, progress: &dyn Progress) -> Result<Surveyed> {
         survey(&self.input(), &self.config, progress).map_err(|e| {
             Error::invalid(&self.plan.label, format!("cannot survey on this plan: {e}"))
@@ -155,6 +166,18 @@ impl PreparedSurvey {
 /// Stage 2: checks that the request's inputs belong together and builds the plan's
 /// topology. What the user should know but that does not stop the run (a log partly off
 /// the walk's clock, repeated readings) goes to `progress` as warnings.
+///
+/// # Errors
+///
+/// Each names the input or option at fault:
+///
+/// - [`Error::Config`] when the configuration with its overrides fails [`SurveyConfig::validate`].
+/// - [`Error::NotEnough`] when the request holds neither walks nor earlier radio maps.
+/// - [`Error::InvalidData`] naming the plan when it is not a usable floor plan
+///   ([`FloorTopology::build`]).
+/// - [`Error::Remedied`] (`one_floor`) when the plan has several levels but a walk's steps carry no
+///   height changes.
+/// - [`Error::Mismatch`] when a walk's WiFi log has no scan within its steps' time span.
 pub fn prepare_survey(request: SurveyRequest, progress: &dyn Progress) -> Result<PreparedSurvey> {
     let config = request.overrides.apply(request.config)?;
     if request.walks.is_empty() && request.earlier.is_empty() {

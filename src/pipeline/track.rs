@@ -133,6 +133,12 @@ impl TrackRun<'_> {
 /// `snapshots`. The stages are those of the [module](self). Warns through `progress` when
 /// the prior stopped at `kld.max_particles` before its bound was met. The result borrows
 /// `input`, not the trace.
+///
+/// # Errors
+///
+/// As [`Tracker::new`] or [`RfTracker::new`](crate::filter::RfTracker::new): `config` out of range,
+/// a start off the plan, or a plan with no walkable surface; as their `update`: a step that is not
+/// finite, or (with a radio map) no particle placeable at the first scan.
 pub fn track<'a>(
     input: &TrackInput<'a>,
     trace: &StepTrace,

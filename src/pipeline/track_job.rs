@@ -56,6 +56,14 @@ pub struct TrackOverrides {
 impl TrackOverrides {
     /// `config` with these overrides, validated.
     ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when the result fails
+    /// [`TrackerConfig::validate`](crate::filter::TrackerConfig::validate) (e.g. an `rf_epsilon`
+    /// outside [0.01, 200] dBm).
+    ///
+    /// # Examples
+    ///
     /// ```
     /// use footslam::filter::TrackerConfig;
     /// use footslam::pipeline::TrackOverrides;
@@ -197,6 +205,11 @@ impl PreparedTrack {
     }
 
     /// Tracks the walk ([`track`](super::track())).
+    ///
+    /// # Errors
+    ///
+    /// As [`track`](super::track()): a start off the plan, a plan with no walkable surface, or
+    /// (with a radio map) no particle placeable at the first scan.
     pub fn run(&self, progress: &dyn Progress) -> Result<TrackRun<'_>> {
         super::track(
             &self.input(),
@@ -212,6 +225,21 @@ impl PreparedTrack {
 /// the user should know but that does not stop the run (a log partly off the walk's clock,
 /// few scans of the map's building, a radio map too sparse for evidence) goes to `progress`
 /// as warnings.
+///
+/// # Errors
+///
+/// Each names the input or option at fault:
+///
+/// - [`Error::Config`] when the configuration with its overrides fails [`TrackerConfig::validate`],
+///   or a learned map is given with `map_weight` outside [0, 10].
+/// - [`Error::BadOption`] (`plan_margin`) outside [0, 5] m or on a plan with several heights on a
+///   level.
+/// - [`Error::Mismatch`] when the learned map is not in the plan's frame, or the WiFi log is off
+///   the steps' clock or hears no access point of the radio map.
+/// - [`Error::Remedied`] (`one_floor`) when the plan has several levels but the steps carry no
+///   height changes.
+/// - [`Error::InvalidData`] for a snapshot step beyond the walk, a plan that is not a usable floor
+///   plan, or a radio map that cannot localise ([`RfLocaliser::new`]).
 pub fn prepare(request: TrackRequest, progress: &dyn Progress) -> Result<PreparedTrack> {
     let config = request.overrides.apply(request.config)?;
     let Named {

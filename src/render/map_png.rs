@@ -80,6 +80,13 @@ impl Default for PictureConfig {
 
 impl PictureConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `pixels_per_metre` is outside (0, 1000], `margin_px` above 100,
+    /// `max_side_px` outside 1000..=16384, `line_width_px` outside (0, 20], `text_scale` outside
+    /// 1..=4, `outline_margin_m` outside [0, 1000] m, or an `extent` is not `x0 < x1, y0 < y1`
+    /// within 1000 km of the origin.
     pub fn validate(&self) -> Result<()> {
         let (ppm, w) = (self.pixels_per_metre, self.line_width_px);
         require(
@@ -228,6 +235,12 @@ impl<'a> MapPicture<'a> {
 const OUTLINE_GREY: ColorU8 = ColorU8::from_rgba(90, 90, 90, 255);
 
 /// Renders `picture` as PNG bytes.
+///
+/// # Errors
+///
+/// [`Error::Config`] when `config` fails [`PictureConfig::validate`]; [`Error::InvalidData`] when a
+/// point of the path or the truth is not finite or the map's hexagon radius is not positive;
+/// [`Error::Encode`] when the picture cannot be allocated or encoded.
 pub fn render_map_png(picture: &MapPicture, config: &PictureConfig) -> Result<Vec<u8>> {
     let pixmap = render(picture, config)?;
     pixmap
@@ -236,6 +249,11 @@ pub fn render_map_png(picture: &MapPicture, config: &PictureConfig) -> Result<Ve
 }
 
 /// Renders `picture` and writes it to `path` atomically.
+///
+/// # Errors
+///
+/// As [`render_map_png`], and [`Error::Io`] when `path` cannot be written (its folder missing or
+/// read-only).
 pub fn write_map_png(path: &Path, picture: &MapPicture, config: &PictureConfig) -> Result<()> {
     crate::io::write_atomically(path, &render_map_png(picture, config)?)
 }

@@ -118,6 +118,13 @@ impl Default for PlanPictureConfig {
 
 impl PlanPictureConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `pixels_per_metre` is outside (0, 500],
+    /// `margin_px` above 200, `max_width_px` or `max_height_px` outside 400..=16384, `min_width_px`
+    /// above 16384, `crop_margin_m` outside [0, 1000] m, `text_scale` outside 1..=4, or an `extent`
+    /// is not `x0 < x1, y0 < y1` within 1000 km of the origin.
     pub fn validate(&self) -> Result<()> {
         let ppm = self.pixels_per_metre;
         if !(ppm.is_finite() && ppm > 0.0 && ppm <= 500.0) {

@@ -20,6 +20,15 @@ use std::path::Path;
 use tiny_skia::{Color, ColorU8, FillRule, PathBuilder, Pixmap, PixmapPaint, Transform};
 
 /// Renders `pictures` stacked top to bottom into one PNG.
+///
+/// # Errors
+///
+/// - [`Error::Config`] when `config` fails [`PlanPictureConfig::validate`].
+/// - [`Error::NotEnough`] when `pictures` is empty.
+/// - [`Error::InvalidData`] when the plans' extent is not finite.
+/// - [`Error::TooLarge`] beyond 4×10⁸ pixels (too many snapshots).
+/// - [`Error::Encode`] when the picture or a panel cannot be allocated, or the PNG cannot be
+///   encoded.
 pub fn render_plan_png(pictures: &[PlanPicture], config: &PlanPictureConfig) -> Result<Vec<u8>> {
     config.validate()?;
     if pictures.is_empty() {
@@ -172,6 +181,11 @@ fn draw_panel(layout: &Layout, level: i32, picture: &PlanPicture) -> Result<Pixm
 }
 
 /// Renders `pictures` and writes them to `path` atomically.
+///
+/// # Errors
+///
+/// As [`render_plan_png`], and [`Error::Io`] when `path` cannot be written (its folder missing or
+/// read-only).
 pub fn write_plan_png(
     path: &Path,
     pictures: &[PlanPicture],

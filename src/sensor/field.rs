@@ -23,6 +23,11 @@ pub struct StepField {
 }
 
 /// Why a step's field reading is implausible, if it is.
+///
+/// # Errors
+///
+/// A message naming the value and the rule when the magnitude or the vertical part is not finite,
+/// the magnitude is outside [0, [`MAX_FIELD`]] µT, or the vertical part exceeds the magnitude.
 pub fn check_field(field: &StepField) -> Result<(), String> {
     if !field.magnitude.is_finite() || field.vertical.is_some_and(|v| !v.is_finite()) {
         return Err("magnetic field values must be finite numbers (found NaN or infinity)".into());
@@ -53,6 +58,10 @@ pub struct StepFields {
 
 impl StepFields {
     /// Readings checked with [`check_field`]; the error names the 0-based step index.
+    ///
+    /// # Errors
+    ///
+    /// The first reading that fails [`check_field`], as its 0-based step index and the message.
     pub fn new(fields: Vec<Option<StepField>>) -> Result<Self, (usize, String)> {
         for (i, f) in fields.iter().enumerate() {
             if let Some(f) = f {

@@ -22,6 +22,12 @@ pub struct GpsFix {
 }
 
 /// Why a fix is implausible, if it is.
+///
+/// # Errors
+///
+/// A message naming the value and the rule when a value is not finite, the latitude is beyond ±90°
+/// or within 1° of a pole, the longitude beyond ±180°, the fix is the receiver's (0°, 0°) "no fix",
+/// the accuracy outside (0, [`MAX_ACCURACY`]] m, or the time not after `previous_t`.
 pub fn check_fix(fix: &GpsFix, previous_t: Option<f64>) -> Result<(), String> {
     if ![fix.t, fix.lat, fix.lon, fix.accuracy]
         .iter()

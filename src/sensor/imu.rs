@@ -36,6 +36,12 @@ pub const MAX_MAG: f64 = 2_000.0;
 pub const PRESSURE_RANGE: std::ops::RangeInclusive<f64> = 250.0..=1_100.0;
 
 /// Why a sample is unusable, if it is.
+///
+/// # Errors
+///
+/// A message naming the value and the rule when the time or a value is not finite, an axis exceeds
+/// [`MAX_ACCEL`], [`MAX_GYRO`] (with a hint at degrees per second) or [`MAX_MAG`], the orientation
+/// quaternion's norm is outside [0.9, 1.1], or the pressure is outside [`PRESSURE_RANGE`].
 pub fn check_sample(s: &ImuSample) -> Result<(), String> {
     if !s.t.is_finite() {
         return Err("time must be a finite number".into());
@@ -194,6 +200,14 @@ pub struct ImuRecording {
 impl ImuRecording {
     /// A recording from samples; `duplicate_times` is how many rows the reader dropped for
     /// repeating a time (reported). The error names the 0-based sample index.
+    ///
+    /// # Errors
+    ///
+    /// A 0-based sample index and a message when there are fewer than two samples, a sample fails
+    /// [`check_sample`], times do not strictly increase, the magnetometer, orientation or pressure
+    /// is given in some samples only, the median acceleration magnitude is outside
+    /// [`GRAVITY_RANGE`] (in g?), or the sampling rate is outside [`RATE_RANGE_HZ`]
+    /// (times not in seconds?).
     pub fn new(samples: Vec<ImuSample>, duplicate_times: usize) -> Result<Self, (usize, String)> {
         if samples.len() < 2 {
             return Err((

@@ -35,6 +35,10 @@ pub const MAX_STEP_DZ: f64 = 1.0;
 pub const MAX_TIME_S: f64 = 1e11;
 
 /// Why a time stamp `t` (seconds) is implausible, if it is.
+///
+/// # Errors
+///
+/// A message with the likely unit mistake when `|t|` exceeds [`MAX_TIME_S`].
 pub fn check_time(t: f64) -> Result<(), String> {
     if t.abs() > MAX_TIME_S {
         return Err(format!(
@@ -45,6 +49,13 @@ pub fn check_time(t: f64) -> Result<(), String> {
 }
 
 /// Why a step is implausible, if it is.
+///
+/// # Errors
+///
+/// A message naming the value and the rule when a value is not finite, the time fails
+/// [`check_time`], the length is outside [0, [`MAX_STEP_LENGTH`]] m, the heading change or the
+/// absolute heading exceeds a full turn (degrees?), `dz` exceeds [`MAX_STEP_DZ`], or the time is
+/// not after `previous_t`.
 pub fn check_step(step: &Step, previous_t: Option<f64>) -> Result<(), String> {
     let finite = [step.t, step.length, step.dheading, step.dz];
     if finite.iter().any(|v| !v.is_finite()) || step.heading.is_some_and(|h| !h.is_finite()) {
@@ -92,6 +103,11 @@ pub fn check_step(step: &Step, previous_t: Option<f64>) -> Result<(), String> {
 
 impl StepTrace {
     /// A trace from steps, checked with [`check_step`]; the error names the 0-based index.
+    ///
+    /// # Errors
+    ///
+    /// The first step that fails [`check_step`] (against the step before it), as its 0-based index
+    /// and the message.
     pub fn new(steps: Vec<Step>) -> Result<Self, (usize, String)> {
         let mut previous = None;
         for (i, s) in steps.iter().enumerate() {

@@ -91,6 +91,11 @@ pub fn normalise_bssid(raw: &str) -> Option<String> {
 }
 
 /// Why a reading is implausible, if it is.
+///
+/// # Errors
+///
+/// A message naming the value and the rule when the RSSI is not within [[`MIN_RSSI`],
+/// [`MAX_RSSI`]] dBm, or a frequency is given outside 100–100 000 MHz.
 pub fn check_reading(reading: &WifiReading) -> Result<(), String> {
     if !(reading.rssi.is_finite() && (MIN_RSSI..=MAX_RSSI).contains(&reading.rssi)) {
         return Err(format!(

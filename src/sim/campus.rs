@@ -46,6 +46,12 @@ impl Default for CampusConfig {
 
 impl CampusConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `yard_width` is outside [5, 500] m, `lobby_width` outside
+    /// [0.8, 10] m, `door_width` outside [0.6, 10] m or wider than the lobby, or `outline_error`
+    /// outside [0, 10] m.
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range("campus.yard_width", self.yard_width, 5.0..=500.0, "m")?;
         crate::error::check_range("campus.lobby_width", self.lobby_width, 0.8..=10.0, "m")?;
@@ -81,6 +87,12 @@ pub struct Campus {
 
 impl Campus {
     /// Builds the campus around the office of `office`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `config` fails [`CampusConfig::validate`], `office` fails
+    /// [`Office::new`], or no gap between the south side's outer rooms is wide enough for the
+    /// lobby.
     pub fn new(office: &OfficeConfig, config: &CampusConfig) -> Result<Self> {
         config.validate()?;
         let office = Office::new(office)?;

@@ -116,6 +116,13 @@ pub struct CampusSimulation {
 
 /// Runs the campus simulation described by `config`, placing GPS fixes on the globe with
 /// `frame` (the plan's frame); equal configurations give equal results.
+///
+/// # Errors
+///
+/// - [`Error::Config`](crate::Error::Config) when `walks` is outside [1, 1000], or a section of
+///   `config` fails its `validate` (the walk, noise, GPS, compass, office or campus).
+/// - [`Error::Simulation`](crate::Error::Simulation) when a simulated route leaves the floor or a
+///   simulated step is implausible: a layout the preset got wrong, not the caller.
 pub fn simulate_campus(config: &CampusSimConfig, frame: &LocalFrame) -> Result<CampusSimulation> {
     crate::error::check_range("walks", config.walks as f64, 1.0..=1000.0, "")?;
     config.walk.validate()?;

@@ -82,6 +82,11 @@ impl CompassSimConfig {
     }
 
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when a `*_sigma` is outside [0, 3.2] radians, `disturbance_length` outside
+    /// [0.1, 1000] m, or `outlier_probability` outside [0, 0.5].
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range("compass.noise_sigma", self.noise_sigma, 0.0..=3.2, "rad")?;
         crate::error::check_range(
@@ -115,6 +120,12 @@ impl CompassSimConfig {
 /// `trace` with each step's absolute heading as the compass `config` reads it along
 /// `truth` (which starts at `start`); `outdoors(x, y)` says where the field is clean.
 /// Returns `trace` unchanged when the compass is disabled.
+///
+/// # Errors
+///
+/// [`Error::Config`] when `config` fails [`CompassSimConfig::validate`] (even when disabled);
+/// [`Error::Simulation`] if a step with its reading is implausible (a safeguard: readings are
+/// wrapped to ±π).
 pub fn read_compass(
     trace: StepTrace,
     start: &TruePose,

@@ -47,6 +47,12 @@ impl Default for GpsSimConfig {
 
 impl GpsSimConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `rate` is outside [0.01, 20] Hz, `bias_sigma`
+    /// or `noise_sigma` outside [0, 100] m, `bias_time` outside [1, 100 000] s, or
+    /// `outlier_probability` outside [0, 0.5].
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range("gps.rate", self.rate, 0.01..=20.0, "Hz")?;
         crate::error::check_range("gps.bias_sigma", self.bias_sigma, 0.0..=100.0, "m")?;
@@ -111,6 +117,10 @@ impl GpsRecord {
 /// The fixes of a walk from `start` (at time `start.t`) along `truth`, taken every `1/rate`
 /// seconds while `outdoors(x, y)` holds at the true position, placed on the globe by
 /// `frame`; drawn from a generator seeded with `seed`.
+///
+/// # Errors
+///
+/// [`Error::Config`](crate::Error::Config) when `config` fails [`GpsSimConfig::validate`].
 pub fn receive_fixes(
     start: &TruePose,
     truth: &TruePath,

@@ -57,6 +57,13 @@ impl Default for FieldSimConfig {
 
 impl FieldSimConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `earth_ut` is outside [0, 200] µT,
+    /// `inclination` outside [−1.6, 1.6] radians, `anomaly_ut` outside [0, 500] µT,
+    /// `anomaly_length_m` outside [0.05, 100] m, `anomaly_spacing_m` outside [0.5, 1000] m, or
+    /// `noise_ut` outside [0, 50] µT.
     pub fn validate(&self) -> crate::error::Result<()> {
         use crate::error::check_range;
         check_range("field.earth_ut", self.earth_ut, 0.0..=200.0, "µT")?;
@@ -166,6 +173,13 @@ impl MagneticWorld {
     }
 
     /// Each step's reading along `truth`, with the configured noise drawn from `seed`.
+    ///
+    /// # Panics
+    ///
+    /// If a reading is not finite or its magnitude exceeds
+    /// [`MAX_FIELD`](crate::sensor::field::MAX_FIELD) (2000 µT): a `truth` that is not finite, a
+    /// configuration outside [`FieldSimConfig::validate`]'s ranges (not checked here), or anomalies
+    /// so long and close that they add up beyond it.
     #[must_use]
     pub fn readings_along(&self, truth: &TruePath, seed: u64) -> StepFields {
         let mut rng = Pcg64Mcg::seed_from_u64(seed);

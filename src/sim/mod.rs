@@ -107,6 +107,11 @@ pub struct SimConfig {
 
 impl SimConfig {
     /// Checks every component's configuration.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) from the first section that fails its `validate`:
+    /// [`OfficeConfig`], [`WalkConfig`], [`StepNoiseConfig`], [`FieldSimConfig`].
     pub fn validate(&self) -> crate::error::Result<()> {
         self.office.validate()?;
         self.walk.validate()?;
@@ -129,6 +134,17 @@ pub struct Simulation {
 }
 
 /// Runs the simulation described by `config`; equal configurations give equal results.
+///
+/// # Errors
+///
+/// [`Error::Config`](crate::Error::Config) when `config` fails [`SimConfig::validate`] or the
+/// office's rooms do not fit ([`Office::new`]); [`Error::Simulation`](crate::Error::Simulation)
+/// when the walk leaves the floor or a measured step is implausible (a preset's bug).
+///
+/// # Panics
+///
+/// With `field.enabled`, as [`MagneticWorld::readings_along`]: when the anomalies add up to more
+/// than 2000 µT.
 pub fn simulate(config: &SimConfig) -> Result<Simulation> {
     config.validate()?;
     let office = Office::new(&config.office)?;
@@ -209,6 +225,11 @@ impl TowerSimulation {
 
     /// The expected RSSI of every access point on a grid of `spacing` metres over the
     /// building's walkable surfaces ([`expected_field`]).
+    ///
+    /// # Errors
+    ///
+    /// As [`FloorTopology::build`](crate::map::FloorTopology::build) on `self.plan`: a surface that
+    /// is not a valid polygon.
     pub fn expected_field(&self, spacing: f64) -> Result<Vec<FieldPoint>> {
         let topology =
             crate::map::FloorTopology::build(&self.plan, &crate::map::TopologyConfig::default())?;
@@ -218,6 +239,18 @@ impl TowerSimulation {
 
 /// Runs the multi-floor simulation described by `config`; equal configurations give equal
 /// results.
+///
+/// # Errors
+///
+/// [`Error::Config`](crate::Error::Config) when a section of `config` fails its `validate`
+/// ([`TowerConfig`], [`TowerWalkConfig`], [`StepNoiseConfig`], [`WifiSimConfig`],
+/// [`FieldSimConfig`]); [`Error::Simulation`](crate::Error::Simulation) when the walk leaves the
+/// building or a measured step is implausible (a preset's bug).
+///
+/// # Panics
+///
+/// With `field.enabled`, as [`MagneticWorld::readings_along`]: when the anomalies add up to more
+/// than 2000 µT.
 pub fn simulate_tower(config: &TowerSimConfig) -> Result<TowerSimulation> {
     config.building.validate()?;
     config.walk.validate()?;
@@ -269,6 +302,11 @@ pub fn stream_seed(seed: u64, stream: u64) -> u64 {
 
 /// The steps of a default office simulation seeded with `seed`, with as many laps as
 /// needed to reach `steps` steps, cut to exactly that many (for benches and scaling runs).
+///
+/// # Errors
+///
+/// As [`simulate`]; [`Error::Config`](crate::Error::Config) (`walk.laps`) when `steps` needs more
+/// than 1000 laps (about 150 000 steps).
 pub fn office_walk_steps(steps: usize, seed: u64) -> Result<Vec<crate::sensor::Step>> {
     let mut config = SimConfig {
         seed,

@@ -33,12 +33,21 @@ pub struct Office {
 }
 
 /// The office floor plan for `config` (see the module docs for its placement).
+///
+/// # Errors
+///
+/// As [`Office::new`].
 pub fn office_floor(config: &OfficeConfig) -> Result<FloorPlan> {
     Office::new(config).map(|o| o.plan)
 }
 
 impl Office {
     /// Builds the office for a validated `config`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `config` fails [`OfficeConfig::validate`], or a
+    /// side has more rooms (`rooms_per_long_side`, `rooms_per_short_side`) than fit along it.
     pub fn new(config: &OfficeConfig) -> Result<Self> {
         config.validate()?;
         let c = config.corridor_width;

@@ -50,6 +50,12 @@ impl Default for OfficeConfig {
 impl OfficeConfig {
     /// Checks the dimensions: all positive and finite, doors narrower than rooms and
     /// corridors, and the inner rooms fitting inside the loop.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] naming the first dimension out of its range (e.g. `corridor_width` outside
+    /// [0.5, 20] m), a door at least as wide as a room, an `entry_depth` over half the
+    /// `room_depth`, or a loop too small for the rooms inside it.
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range("office.loop_width", self.loop_width, 1.0..=1000.0, "m")?;
         crate::error::check_range("office.loop_height", self.loop_height, 1.0..=1000.0, "m")?;

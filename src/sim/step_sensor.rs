@@ -92,6 +92,13 @@ impl StepNoiseConfig {
     }
 
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `length_sigma` is outside [0, 0.5] m, `length_scale` outside
+    /// [0.5, 1.5], `dheading_sigma` outside [0, 0.5] radians, `drift_total` outside
+    /// [0, 100] radians, `drift_rate_walk_sigma` outside [0, 0.01] radians, or `dz_sigma` outside
+    /// [0, 0.2] m.
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range("noise.length_sigma", self.length_sigma, 0.0..=0.5, "m")?;
         crate::error::check_range("noise.length_scale", self.length_scale, 0.5..=1.5, "")?;
@@ -120,6 +127,10 @@ impl StepNoiseConfig {
 /// origin for the first step) to pose `k` plus noise, and its heading change is the true change
 /// of direction (from heading 0 for the first step) plus noise plus the drift increment. With
 /// [`StepNoiseConfig::noise_free`], dead-reckoning the trace from the origin reproduces `truth`.
+///
+/// # Errors
+///
+/// As [`measure_steps_from`].
 pub fn measure_steps(truth: &TruePath, config: &StepNoiseConfig, seed: u64) -> Result<StepTrace> {
     let origin = TruePose {
         t: 0.0,
@@ -134,6 +145,12 @@ pub fn measure_steps(truth: &TruePath, config: &StepNoiseConfig, seed: u64) -> R
 
 /// As [`measure_steps`], for a walk that starts at `start` (position, height and the heading
 /// before the first step) instead of the origin facing east.
+///
+/// # Errors
+///
+/// [`Error::Config`] when `config` fails [`StepNoiseConfig::validate`]; [`Error::Simulation`] when
+/// a measured step fails [`check_step`](crate::sensor::step::check_step), e.g. a height change
+/// beyond 1 m between successive poses of `truth`, or poses not in time order.
 pub fn measure_steps_from(
     truth: &TruePath,
     start: &TruePose,

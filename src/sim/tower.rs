@@ -81,6 +81,10 @@ pub struct Tower {
 
 impl Tower {
     /// Builds the building for `config`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `config` fails [`TowerConfig::validate`].
     pub fn new(config: &TowerConfig) -> Result<Self> {
         config.validate()?;
         let c = config;

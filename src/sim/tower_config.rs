@@ -94,6 +94,13 @@ impl TowerConfig {
     }
 
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) naming the first field out of its range (e.g.
+    /// `floors` outside [1, 50]), or a layout that cannot be built: `max_room_width` below
+    /// `min_room_width`, a door without 0.2 m of wall each side, a corridor too short for two rooms
+    /// a side, treads rising more than 0.45 m, or two stair lanes too wide for the building.
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range("building.floors", self.floors as f64, 1.0..=50.0, "")?;
         crate::error::check_range("building.floor_height", self.floor_height, 2.0..=10.0, "m")?;

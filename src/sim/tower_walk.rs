@@ -116,6 +116,12 @@ impl TowerWalkConfig {
     }
 
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] naming the first field out of its range: `minutes` outside [0.1, 600], a
+    /// probability outside [0, 1], `room_margin` outside [0.3, 5] m, `lane_spacing` outside
+    /// [0.5, 20] m, …, or a gait field (e.g. `step_frequency` outside [0.2, 5] Hz).
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range("walk.minutes", self.minutes, 0.1..=600.0, "min")?;
         crate::error::check_range(
@@ -145,6 +151,12 @@ impl TowerWalkConfig {
 
 /// A tour of `tower` drawn from a generator seeded with `seed`: the start pose (before the
 /// first step) and one true pose per step.
+///
+/// # Errors
+///
+/// [`Error::Config`] when `config` fails [`TowerWalkConfig::validate`]; [`Error::Simulation`] when
+/// the route leaves `topology`'s plan (a `topology` not built from `tower`'s plan, or a layout
+/// bug).
 pub fn simulate_tower_walk(
     tower: &Tower,
     topology: &FloorTopology,

@@ -69,6 +69,12 @@ impl WalkConfig {
     }
 
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) naming the first field out of its range: `laps`
+    /// outside [1, 1000], `max_rooms_per_lap` below `min_rooms_per_lap`, `revisit_probability`
+    /// outside [0, 1], …, or a gait field (e.g. `step_length_mean` outside [0.2, 2] m).
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range("walk.laps", self.laps as f64, 1.0..=1000.0, "")?;
         crate::error::check_range(

@@ -23,6 +23,11 @@ use rand_pcg::Pcg64Mcg;
 
 /// Walks `config.laps` laps of `office` with room visits, drawing from a generator seeded with
 /// `seed`. Poses follow the [`TruePath`] convention (the walk starts at the origin facing east).
+///
+/// # Errors
+///
+/// [`Error::Config`] when `config` fails [`WalkConfig::validate`]; [`Error::Simulation`] when the
+/// route leaves the office's floor (a layout bug).
 pub fn simulate_walk(office: &Office, config: &WalkConfig, seed: u64) -> Result<TruePath> {
     config.validate()?;
     let mut rng = Pcg64Mcg::seed_from_u64(seed);

@@ -104,6 +104,12 @@ impl Default for WifiSimConfig {
 
 impl WifiSimConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] naming the first field out of its range (e.g. `aps_per_floor` outside
+    /// [1, 1000], `rssi_at_1m` outside [−80, 0] dBm, `detection_floor` outside [−120, −30] dBm,
+    /// `scan_interval` outside [0.1, 600] s).
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range(
             "wifi.aps_per_floor",
@@ -171,6 +177,11 @@ impl RadioWorld {
     /// Places `aps_per_floor` access points on every level of the plan (uniformly over each
     /// floor's walkable area, at least 5 m apart where possible) and draws their shadowing,
     /// all from `seed`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `config` fails [`WifiSimConfig::validate`]; [`Error::NotEnough`] when
+    /// the plan has no walkable surface.
     pub fn new(topology: &FloorTopology, config: &WifiSimConfig, seed: u64) -> Result<Self> {
         config.validate()?;
         if topology.is_empty() {

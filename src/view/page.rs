@@ -72,6 +72,10 @@ pub enum Basemap {
 
 impl Basemap {
     /// Tiles from `url`, which must hold `{z}`, `{x}` and `{y}`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidData`] when `url` lacks one of `{z}`, `{x}`, `{y}`.
     pub fn tiles(url: &str, attribution: &str) -> Result<Self> {
         if !["{z}", "{x}", "{y}"].iter().all(|p| url.contains(p)) {
             return Err(Error::invalid(
@@ -88,6 +92,11 @@ impl Basemap {
 
     /// The image file `path` (PNG, JPEG, GIF, WebP or SVG) over `extent` (`X0,Y0,X1,Y1`:
     /// west, south, east, north in local metres of `frame`).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidData`] when `path` has another extension or `extent` is not west < east and
+    /// south < north; [`Error::Io`] when `path` cannot be read.
     pub fn image(path: &Path, extent: [f64; 4], frame: &LocalFrame) -> Result<Self> {
         let extension = path
             .extension()
@@ -188,6 +197,11 @@ impl Page {
 
 /// Writes the page into `folder`: `index.html`, `data.js`, `viewer.js`, `viewer.css`,
 /// `leaflet/` and the basemap image if there is one.
+///
+/// # Errors
+///
+/// [`Error::Io`] naming the file or folder that cannot be written; [`Error::Encode`] when the
+/// page's data cannot be serialised as JSON.
 pub fn write_page(folder: &RunFolder, page: &Page) -> Result<()> {
     folder.create_dir("leaflet/images")?;
     for (name, bytes) in ASSETS {

@@ -22,6 +22,14 @@ pub fn time_key(t: f64) -> i64 {
 /// Reads `path` (`t,x,y` and optional `level`, `spread`/`spread_m`, `certain` columns) in
 /// `frame`; a row without a `level` takes its level from `levels` when its time is there.
 /// Times must not decrease.
+///
+/// # Errors
+///
+/// [`Error::Io`](crate::Error::Io) when `path` cannot be read;
+/// [`Error::Parse`](crate::Error::Parse) naming the line when a `t`, `x` or `y` column is missing,
+/// a value is not a finite number, a time is implausible or comes before the previous row's, a
+/// coordinate is too far from the origin for a local frame, a `level` is not a whole number within
+/// ±1000, or a `spread` is negative.
 pub fn read_path_csv(
     path: &Path,
     frame: &LocalFrame,
@@ -71,6 +79,11 @@ pub fn read_path_csv(
 }
 
 /// Reads waypoints (`t,x,y[,level]`, [`crate::io::read_waypoints`]) in `frame`.
+///
+/// # Errors
+///
+/// As [`crate::io::read_waypoints`]: the file cannot be read, or a line is malformed or out of time
+/// order (file and line named).
 pub fn read_waypoints_path(path: &Path, frame: &LocalFrame) -> Result<Vec<PathPoint>> {
     Ok(crate::io::read_waypoints(path)?
         .into_iter()
@@ -83,6 +96,11 @@ pub fn read_waypoints_path(path: &Path, frame: &LocalFrame) -> Result<Vec<PathPo
 
 /// Reads GPS fixes (`t,lat,lon[,accuracy]`, [`crate::io::read_gps_csv`]), each fix's
 /// accuracy as its spread.
+///
+/// # Errors
+///
+/// As [`crate::io::read_gps_csv`]: the file cannot be read, or a line is malformed or its fix fails
+/// [`check_fix`](crate::sensor::gps::check_fix) (file and line named).
 pub fn read_gps_path(path: &Path) -> Result<Vec<PathPoint>> {
     Ok(crate::io::read_gps_csv(path)?
         .into_iter()

@@ -47,8 +47,15 @@ pub const VIEWABLE_FILES: [(&str, LayerKind, &str); 14] = [
 const TRACK_GEOJSON: &str = "track.geojson";
 
 /// Reads the run folder `folder` and its parts' folders (`walk-N/`, an importer's traces)
-/// into layers. Errors: the folder does not exist or is not a folder, holds nothing to view
-/// (the message lists what was looked for), or a file is malformed (file and line named).
+/// into layers.
+///
+/// # Errors
+///
+/// - [`Error::Io`] when `folder` does not exist, is not a folder, or a file or sub-folder in it
+///   cannot be read.
+/// - [`Error::NotEnough`] when it holds nothing to view (the message lists what was looked for).
+/// - [`Error::Parse`] naming the file and line of a malformed file (a summary, GeoJSON or CSV file,
+///   or an unreadable origin).
 pub fn read_run(folder: &Path) -> Result<ViewRun> {
     check_folder(folder)?;
     let origin = folder_origin(folder, None)?;
@@ -358,6 +365,10 @@ fn step_points(path: &Path) -> Result<Vec<PathPoint>> {
 }
 
 /// A `--truth` file (`t,x,y[,level]`, local metres of `frame`) as a layer.
+///
+/// # Errors
+///
+/// As [`read_path_csv`]: the file cannot be read, or a line is malformed or out of time order.
 pub fn read_truth_layer(path: &Path, frame: &LocalFrame) -> Result<Layer> {
     Ok(given_layer(
         path,
@@ -367,6 +378,11 @@ pub fn read_truth_layer(path: &Path, frame: &LocalFrame) -> Result<Layer> {
 }
 
 /// A `--waypoints` file (`t,x,y[,level]`, local metres of `frame`) as a layer.
+///
+/// # Errors
+///
+/// As [`read_waypoints_path`]: the file cannot be read, or a line is malformed or out of time
+/// order.
 pub fn read_waypoints_layer(path: &Path, frame: &LocalFrame) -> Result<Layer> {
     Ok(given_layer(
         path,

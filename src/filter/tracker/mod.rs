@@ -175,6 +175,10 @@ pub struct Tracker<'a> {
 impl<'a> Tracker<'a> {
     /// A tracker on `topology` with its prior drawn (uniform over every surface and heading,
     /// or about `config.start`) by KLD-sampling.
+    ///
+    /// # Errors
+    ///
+    /// As [`Self::new_in_region`].
     pub fn new(topology: &'a FloorTopology, config: &TrackerConfig) -> Result<Self> {
         Self::new_in_region(topology, config, None)
     }
@@ -182,6 +186,14 @@ impl<'a> Tracker<'a> {
     /// A tracker whose uniform prior — at the start (unless `config.start` is known) and at
     /// every global re-initialisation — is drawn only where `region` is finite (Woodman &
     /// Harle 2009, eq. 2), or over the whole plan when no particle can be placed there.
+    ///
+    /// # Errors
+    ///
+    /// - [`Error::Config`] when `config` fails [`TrackerConfig::validate`].
+    /// - [`Error::NotEnough`] when the plan has no walkable surface, or no prior particle can be
+    ///   placed on one.
+    /// - [`Error::Mismatch`] when `config.start` is not on a walkable surface of the plan
+    ///   (another frame?).
     pub fn new_in_region(
         topology: &'a FloorTopology,
         config: &TrackerConfig,
@@ -315,6 +327,11 @@ impl<'a> Tracker<'a> {
 
     /// Processes one step event (Algorithm 1 for every particle, then KLD-resampling and
     /// clustering).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidData`] when the step's length, heading change or height change is not finite
+    /// (a step of a [`StepTrace`](crate::sensor::StepTrace) always is).
     pub fn update(&mut self, step: &Step) -> Result<TrackStep> {
         self.update_with(step, None)
     }
@@ -324,6 +341,11 @@ impl<'a> Tracker<'a> {
     /// log-weight (e.g. a WiFi containment region, eqs. 12–13 of the 2009 paper, or a
     /// likelihood, eq. 14) before resampling. A measurement no particle is consistent with is
     /// ignored (counted in [`Self::measurements_ignored`]).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidData`] when the step's length, heading change or height change is not
+    /// finite, as [`Self::update`].
     pub fn update_with(
         &mut self,
         step: &Step,

@@ -33,6 +33,11 @@ impl Default for TopologyConfig {
 
 impl TopologyConfig {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when `connection_tolerance` is outside [0, 1] m,
+    /// `max_connection_dz` outside [0, 100] m or `cell_size` outside [0.1, 1000] m.
     pub fn validate(&self) -> Result<()> {
         crate::error::check_range(
             "topology.connection_tolerance",

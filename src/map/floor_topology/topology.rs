@@ -34,6 +34,15 @@ pub struct FloorTopology {
 impl FloorTopology {
     /// Builds the topology of `plan`, rejecting plans whose surfaces are not valid polygons
     /// (non-finite coordinates, self-intersecting or unclosed rings, no area).
+    ///
+    /// # Errors
+    ///
+    /// - [`Error::Config`](crate::Error::Config) when `config` fails [`TopologyConfig::validate`].
+    /// - [`Error::TooLarge`](crate::Error::TooLarge) with 2³¹ surfaces or more.
+    /// - [`Error::InvalidData`](crate::Error::InvalidData) naming the first surface whose height or
+    ///   a coordinate is not finite (or beyond 10 000 km), whose ring has fewer than three corners,
+    ///   is not a valid polygon or has no area; or the first barrier with a coordinate that is not
+    ///   finite.
     pub fn build(plan: &FloorPlan, config: &TopologyConfig) -> Result<Self> {
         config.validate()?;
         if plan.polygons.len() > MAX_SURFACES {
