@@ -14,6 +14,37 @@ use rand_distr::StandardNormal;
 use std::sync::Arc;
 
 /// What anchors a walk to the world, beyond its steps (all optional).
+///
+/// GPS fixes orient a walk whose start heading is unknown:
+///
+/// ```
+/// use footslam::filter::{Anchors, FootSlam, FootSlamConfig};
+/// use footslam::model::GpsObservation;
+/// use footslam::sensor::Step;
+///
+/// // 30 one-metre steps north, and a fix every 5 s at the walker's place.
+/// let steps: Vec<Step> = (1..=30)
+///     .map(|i| Step { t: f64::from(i), length: 1.0, dheading: 0.0, dz: 0.0, heading: None })
+///     .collect();
+/// let gps: Vec<GpsObservation> = (1..=6)
+///     .map(|k| f64::from(5 * k))
+///     .map(|t| GpsObservation { t, x: 0.0, y: t, sigma: 2.0 })
+///     .collect();
+/// let config = FootSlamConfig {
+///     particles: 300,
+///     seed: 4,
+///     start_heading_sigma: std::f64::consts::PI, // any start heading
+///     ..Default::default()
+/// };
+/// let mut slam = FootSlam::with_anchors(config, Anchors { gps, ..Default::default() })?;
+/// for step in &steps {
+///     slam.update(step);
+/// }
+/// assert_eq!(slam.gps_fixes_used(), 6);
+/// let end = *slam.estimate().path.last().expect("a pose per step");
+/// assert!(end.x.abs() < 5.0 && end.y > 25.0, "{end:?}");
+/// # Ok::<(), footslam::Error>(())
+/// ```
 #[derive(Debug, Clone, Default)]
 pub struct Anchors {
     /// GPS fixes in the local frame on the steps' clock, in time order.

@@ -92,6 +92,38 @@ pub struct FingerprintFix {
 }
 
 /// Weighted k-nearest-fingerprint positioning on a radio map.
+///
+/// A scan placed by the cells whose fingerprints are nearest to it:
+///
+/// ```
+/// use footslam::filter::{FingerprintConfig, NearestFingerprint};
+/// use footslam::map::{CellRadio, RadioMap, RadioMapCell};
+/// use footslam::sensor::WifiScan;
+///
+/// // Four 3 m cells along a corridor, one scan each of the access points at its two ends.
+/// let cells = (0..4)
+///     .map(|i| {
+///         let x = 3.0 * f64::from(i) + 1.5; // the cell's centre
+///         let mut radio = CellRadio::default();
+///         let readings = [("west", -40.0 - 3.0 * x), ("east", -76.0 + 3.0 * x)];
+///         radio.add_scan(&WifiScan::from_readings(0.0, &readings));
+///         let area = geo::Rect::new((x - 1.5, 0.0), (x + 1.5, 2.0)).to_polygon().into();
+///         RadioMapCell { id: format!("0-{i}-0"), level: 0, area, radio }
+///     })
+///     .collect();
+/// let map = RadioMap { cells, ..Default::default() };
+///
+/// let config = FingerprintConfig { k: 2, ..Default::default() };
+/// let localiser = NearestFingerprint::new(&map, &config)?;
+/// // A scan taken at x = 5.5 m, between the second and third cells' centres.
+/// let scan = WifiScan::from_readings(7.0, &[("west", -56.5), ("east", -59.5)]);
+/// let fix = localiser.locate(&scan).expect("the map knows both access points");
+/// assert!((fix.x - 5.5).abs() < 1.0 && (fix.y - 1.0).abs() < 1e-9);
+/// assert_eq!((fix.t, fix.level), (7.0, 0));
+/// // A scan of access points the map never heard is not placed.
+/// assert!(localiser.locate(&WifiScan::from_readings(8.0, &[("other", -50.0)])).is_none());
+/// # Ok::<(), footslam::Error>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct NearestFingerprint {
     prints: Fingerprints,

@@ -26,6 +26,26 @@ pub struct Crossing {
 }
 
 /// A hexagon grid of a given circumradius, with world ↔ hexagon conversions.
+///
+/// Points to hexagons, neighbours across edges, and the edges a straight step crosses:
+///
+/// ```
+/// use footslam::geometry::{Hex, HexGrid};
+///
+/// let grid = HexGrid::new(0.5); // hexagons of 0.5 m circumradius
+/// let h = grid.hex_at(3.2, 1.1);
+/// let (cx, cy) = grid.center(h);
+/// assert_eq!(grid.hex_at(cx, cy), h);
+/// assert!((cx - 3.2).hypot(cy - 1.1) <= 0.5);
+/// // Edge 0 faces east: the neighbour across it lies one hexagon width (√3·r) east.
+/// let (ex, ey) = grid.center(HexGrid::neighbour(Hex::ZERO, 0));
+/// assert!((ex - 3f64.sqrt() * 0.5).abs() < 1e-12 && ey.abs() < 1e-12);
+/// // A 5 m walk east crosses an edge every 0.87 m, each the east edge of the hexagon left.
+/// let mut crossings = Vec::new();
+/// grid.for_each_crossing((0.0, 0.0), (5.0, 0.0), |c| crossings.push(c));
+/// assert_eq!(crossings.len(), 6);
+/// assert!(crossings.iter().all(|c| c.edge == 0 && c.to == HexGrid::neighbour(c.from, 0)));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HexGrid {
     radius: f64,

@@ -10,6 +10,24 @@ const WGS84_A: f64 = 6_378_137.0;
 const WGS84_E2: f64 = 6.694_379_990_14e-3;
 
 /// A local east-north frame anchored at a WGS84 latitude/longitude (degrees).
+///
+/// Local metres to WGS84 degrees and back:
+///
+/// ```
+/// use footslam::geometry::LocalFrame;
+///
+/// let frame = LocalFrame::new(48.15, 11.57).expect("a valid origin");
+/// // 100 m east and 50 m south of the origin, to (lon, lat) and back.
+/// let (lon, lat) = frame.to_lon_lat(100.0, -50.0);
+/// assert!(lon > 11.57 && lat < 48.15);
+/// let (x, y) = frame.to_local(lon, lat);
+/// assert!((x - 100.0).abs() < 1e-6 && (y + 50.0).abs() < 1e-6);
+/// // A degree of latitude is about 111 km.
+/// let (_, north) = frame.to_local(11.57, 49.15);
+/// assert!((north - 111_200.0).abs() < 300.0);
+/// // At a pole east and north are undefined.
+/// assert!(LocalFrame::new(90.0, 0.0).is_none());
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct LocalFrame {
     /// Latitude of the origin, degrees.

@@ -20,6 +20,37 @@
 //! geometry (see [`crate::map::floor_topology`]): surfaces that share a boundary
 //! (collinear within 5 cm) and differ in height by at most 0.5 m connect; a stair is a chain
 //! of tread polygons each a rise above the previous.
+//!
+//! A plan to GeoJSON and back (to the file's millimetre):
+//!
+//! ```
+//! use footslam::geometry::LocalFrame;
+//! use footslam::io::floor_plan_geojson::{floor_plan_from_str, floor_plan_to_geojson};
+//! use footslam::map::{FloorPlan, FloorPolygon};
+//!
+//! let frame = LocalFrame::new(51.5, -0.12).expect("a valid origin");
+//! let stair_landing = FloorPolygon {
+//!     polygon: geo::Rect::new((0.0, 0.0), (4.0, 3.0)).to_polygon(),
+//!     level: 1,
+//!     z: 3.2,
+//!     name: Some("landing".into()),
+//!     room: None,
+//! };
+//! let plan = FloorPlan { polygons: vec![stair_landing], barriers: Vec::new() };
+//! let text = floor_plan_to_geojson(&plan, &frame).to_string();
+//!
+//! let (read, read_frame) = floor_plan_from_str(&text, "floor.geojson", None)?;
+//! assert_eq!(read_frame, frame); // the file's `origin` member
+//! let surface = &read.polygons[0];
+//! assert_eq!((surface.level, surface.z, surface.name.as_deref()), (1, 3.2, Some("landing")));
+//! assert!(read.is_walkable(3.99, 2.99, Some(1)) && !read.is_walkable(4.01, 1.0, Some(1)));
+//!
+//! // Without an `origin` member the frame must be given.
+//! let bare = r#"{"type": "FeatureCollection", "features": []}"#;
+//! let err = floor_plan_from_str(bare, "bare.geojson", None).unwrap_err();
+//! assert!(err.to_string().starts_with("bare.geojson: no top-level `origin`"), "{err}");
+//! # Ok::<(), footslam::Error>(())
+//! ```
 
 use crate::error::{Error, Result};
 use crate::geometry::LocalFrame;

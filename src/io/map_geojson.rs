@@ -103,6 +103,35 @@ pub fn write_walks_map_geojson(
 }
 
 /// A map read back with its frame and the number of walks it holds.
+///
+/// A map to GeoJSON and back, exactly:
+///
+/// ```
+/// use footslam::geometry::{LocalFrame, Pose2};
+/// use footslam::io::map_geojson::{map_to_geojson, stored_map_from_str, walks_map_to_geojson};
+/// use footslam::map::map_of_path;
+///
+/// let path: Vec<Pose2> = (1..=8).map(|i| Pose2::new(0.6 * f64::from(i), 0.0, 0.0)).collect();
+/// let map = map_of_path(Pose2::default(), &path, &[0; 8], 0.5, 0.8);
+/// let frame = LocalFrame::new(47.37, 8.54).expect("a valid origin");
+///
+/// // One hexagon polygon per visited cell, in WGS84.
+/// let geojson = map_to_geojson(&map, &frame);
+/// assert_eq!(geojson.features.len(), map.cells.len());
+/// let text = geojson.to_string();
+/// assert!(text.contains("\"hex_radius\":0.5") && text.contains("\"edge_order\""));
+///
+/// let stored = stored_map_from_str(&text, "map.geojson")?;
+/// assert_eq!((stored.map, stored.frame, stored.walks), (map.clone(), frame, 1));
+/// // A merged map says how many walks its counts hold.
+/// let text = walks_map_to_geojson(&map, &frame, 3).to_string();
+/// assert_eq!(stored_map_from_str(&text, "merged.geojson")?.walks, 3);
+/// // A file that is not a map is refused, named.
+/// let plan = r#"{"type": "FeatureCollection", "features": []}"#;
+/// let err = stored_map_from_str(plan, "plan.geojson").unwrap_err();
+/// assert!(err.to_string().starts_with("plan.geojson"), "{err}");
+/// # Ok::<(), footslam::Error>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct StoredMap {
     /// The counts.

@@ -1,6 +1,31 @@
 //! Step traces as CSV: header `t,length,dheading[,dz][,heading][,field[,field_up]]`
 //! (seconds, metres, radians counter-clockwise, metres, radians from east, and the magnetic
 //! field over the step: magnitude and upward component, µT); extra columns are ignored.
+//!
+//! A trace read from text or a file, written, and bad input refused with its place:
+//!
+//! ```
+//! use footslam::io::read_steps;
+//! use footslam::io::steps_csv::{steps_from_str, write_steps};
+//!
+//! let trace = steps_from_str("t,length,dheading\n0.5,0.7,0\n1.0,0.72,0.1\n", "steps")?;
+//! assert_eq!(trace.len(), 2);
+//! assert_eq!(trace.steps()[1].dheading, 0.1);
+//! assert_eq!(trace.steps()[1].dz, 0.0); // no `dz` column: no height change
+//!
+//! let dir = tempfile::tempdir().expect("a temporary folder");
+//! let path = dir.path().join("steps.csv");
+//! write_steps(&path, &trace)?;
+//! assert_eq!(read_steps(&path)?, trace);
+//!
+//! // A file's errors name its line; a text's, its 0-based data row.
+//! std::fs::write(&path, "t,length,dheading\n0.5,0.7,0\n0.4,0.7,0\n").expect("written");
+//! let err = read_steps(&path).unwrap_err().to_string();
+//! assert!(err.contains("steps.csv:3:") && err.contains("not after"), "{err}");
+//! let err = steps_from_str("t,length,dheading\n0.5,7.0,0\n", "steps").unwrap_err();
+//! assert_eq!(err.to_string(), "steps row 0: step length 7 m is outside [0, 3] m");
+//! # Ok::<(), footslam::Error>(())
+//! ```
 
 use super::csv_table::CsvTable;
 use crate::error::Result;

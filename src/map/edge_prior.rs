@@ -25,6 +25,31 @@ use hexx::Hex;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 /// Per-edge Dirichlet priors, `α` everywhere but where an outline or a prior map says more.
+///
+/// An earlier walk's counts as pseudo-counts, and a rough outline as a soft wall:
+///
+/// ```
+/// use footslam::geometry::{Hex, HexGrid, Pose2};
+/// use footslam::map::{EdgePrior, map_of_path};
+///
+/// // The map of an earlier walk: 5 m east along y = 0.
+/// let path: Vec<Pose2> = (1..=5).map(|i| Pose2::new(f64::from(i), 0.0, 0.0)).collect();
+/// let earlier = map_of_path(Pose2::default(), &path, &[0; 5], 0.5, 0.8);
+///
+/// // α + w·N on the edges it crossed, α elsewhere.
+/// let mut prior = EdgePrior::uniform(0.8);
+/// assert_eq!(prior.add_counts(&earlier, 0.5), 6);
+/// assert!((prior.alpha(Hex::ZERO, 0) - (0.8 + 0.5)).abs() < 1e-12);
+/// assert_eq!(prior.alpha(Hex::ZERO, 1), 0.8);
+///
+/// // Every edge crossing the outline gets the low prior.
+/// let grid = HexGrid::new(0.5);
+/// let outline = geo::Rect::new((-1.0, -3.0), (6.0, 3.0)).to_polygon();
+/// assert!(prior.add_outline(&grid, &outline, 0.01) > 0);
+/// let at_the_wall = grid.hex_at(5.9, 0.0);
+/// assert!((0..6).any(|e| prior.is_outline_edge(at_the_wall, e)));
+/// assert!(!(0..6).any(|e| prior.is_outline_edge(Hex::ZERO, e)));
+/// ```
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct EdgePrior {
     alpha: f64,

@@ -52,6 +52,34 @@ pub struct Barrier {
 }
 
 /// A building's walkable floor surfaces and extra walls.
+///
+/// A hall with a glass wall across it ([`Barrier`]): the floor under it stays walkable, but
+/// no step crosses it.
+///
+/// ```
+/// use footslam::map::{Barrier, FloorPlan, FloorPolygon, FloorTopology, TopologyConfig};
+///
+/// let plan = FloorPlan {
+///     polygons: vec![FloorPolygon {
+///         polygon: geo::Rect::new((0.0, 0.0), (10.0, 4.0)).to_polygon(),
+///         level: 0,
+///         z: 0.0,
+///         name: Some("hall".into()),
+///         room: None,
+///     }],
+///     // Across the hall at x = 5, open for its last metre.
+///     barriers: vec![Barrier { line: vec![(5.0, 0.0), (5.0, 3.0)].into(), level: 0 }],
+/// };
+/// assert!(plan.is_walkable(5.0, 1.0, Some(0)));
+/// assert!(!plan.is_walkable(5.0, 1.0, Some(1)));
+/// assert_eq!(plan.bounds(), Some((0.0, 0.0, 10.0, 4.0)));
+/// assert!(plan.check_limits().is_ok());
+///
+/// let topology = FloorTopology::build(&plan, &TopologyConfig::default())?;
+/// assert_eq!(topology.walk(0, [2.0, 1.0], [8.0, 1.0]), None);
+/// assert_eq!(topology.walk(0, [2.0, 3.5], [8.0, 3.5]), Some(0));
+/// # Ok::<(), footslam::Error>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct FloorPlan {
     /// The surfaces.

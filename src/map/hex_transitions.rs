@@ -121,6 +121,34 @@ impl HexMapSnapshot {
 }
 
 /// A particle's transition map: shared, copy-on-write edge-crossing counts.
+///
+/// Crossings counted, and a transition probability read with the Dirichlet prior:
+///
+/// ```
+/// use footslam::geometry::{Hex, HexGrid};
+/// use footslam::map::HexTransitionMap;
+/// use footslam::map::hex_transitions::transition_probabilities;
+///
+/// let mut map = HexTransitionMap::new();
+/// let h = Hex::new(2, -1);
+/// // Three crossings east out of `h`, one back in: an edge has one count for both sides.
+/// for _ in 0..3 {
+///     map.record_crossing(h, 0);
+/// }
+/// let east = HexGrid::neighbour(h, 0);
+/// let (n_e, n_h) = map.record_crossing(east, 3); // the counts before it, as eq. (6) reads them
+/// assert_eq!((n_e, n_h), (3, 3));
+/// assert_eq!(map.edge_count(east, 3), 4);
+/// assert_eq!(map.edge_counts(h), [4, 0, 0, 0, 0, 0]);
+///
+/// // Posterior-mean probabilities (N_e + α) / (N + 6α) with α = 0.8.
+/// let snapshot = map.snapshot(0.5, 0.8);
+/// let cell = snapshot.cells.iter().find(|c| c.hex == h).expect("visited");
+/// let p = transition_probabilities(&cell.counts, snapshot.alpha);
+/// assert!((p[0] - 4.8 / 8.8).abs() < 1e-12);
+/// assert!((p[3] - 0.8 / 8.8).abs() < 1e-12); // never walked, still possible
+/// assert!((p.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+/// ```
 #[derive(Debug, Clone, Default)]
 pub struct HexTransitionMap {
     counts: HexTree<Counters>,

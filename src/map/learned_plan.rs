@@ -98,6 +98,34 @@ impl PlanConfig {
 }
 
 /// A walkable plan and how it was made.
+///
+/// The walkable plan of a loop of corridors, walked twice:
+///
+/// ```
+/// use footslam::geometry::Pose2;
+/// use footslam::map::{PlanConfig, map_of_path, walkable_plan};
+///
+/// // Twice round a 12 m × 6 m block, a step every metre, a left turn at each corner.
+/// let (mut pose, mut path) = (Pose2::default(), Vec::new());
+/// for _ in 0..2 {
+///     for metres in [12, 6, 12, 6] {
+///         for _ in 0..metres {
+///             pose = pose.step(1.0, 0.0);
+///             path.push(pose);
+///         }
+///         pose.heading += std::f64::consts::FRAC_PI_2;
+///     }
+/// }
+/// let map = map_of_path(Pose2::default(), &path, &vec![0; path.len()], 0.5, 0.8);
+///
+/// let learned = walkable_plan(&map, &PlanConfig::default())?;
+/// assert_eq!(learned.plan.levels(), [0]);
+/// assert!(learned.plan.is_walkable(6.0, 0.0, Some(0))); // the corridors
+/// assert!(learned.plan.is_walkable(12.0, 3.0, Some(0)));
+/// assert!(!learned.plan.is_walkable(6.0, 3.0, Some(0))); // the block, never walked
+/// assert!(learned.area_m2 > 30.0 && learned.area_m2 < 72.0);
+/// # Ok::<(), footslam::Error>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct LearnedPlan {
     /// The plan: one polygon per walkable piece, per level.

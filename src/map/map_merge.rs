@@ -6,6 +6,29 @@
 //! at one origin do) combine by adding their crossing counts edge by edge, each map's counts
 //! scaled by its weight: the counts are sufficient statistics of the Dirichlet-multinomial
 //! map, so the sum is the map all the walks would have learned together.
+//!
+//! Two walks of one corridor merged, and a map of another grid refused:
+//!
+//! ```
+//! use footslam::geometry::Pose2;
+//! use footslam::map::{map_of_path, merge_maps};
+//!
+//! let path: Vec<Pose2> = (1..=10).map(|i| Pose2::new(f64::from(i), 0.0, 0.0)).collect();
+//! let start = Pose2::default();
+//! let a = map_of_path(start, &path, &[0; 10], 0.5, 0.8);
+//! let b = map_of_path(start, &path, &[0; 10], 0.5, 0.8);
+//!
+//! // Counts add up edge by edge; a map of weight 0 is left out.
+//! let merged = merge_maps(&[(&a, 1.0), (&b, 1.0)])?;
+//! assert_eq!(merged.cells.len(), a.cells.len());
+//! assert_eq!(merged.cells[0].counts, a.cells[0].counts.map(|n| 2 * n));
+//! assert_eq!(merge_maps(&[(&a, 1.0), (&b, 0.0)])?.cells, a.cells);
+//!
+//! let coarse = map_of_path(start, &path, &[0; 10], 1.0, 0.8);
+//! let err = merge_maps(&[(&a, 1.0), (&coarse, 1.0)]).unwrap_err();
+//! assert!(err.to_string().contains("radius"));
+//! # Ok::<(), footslam::Error>(())
+//! ```
 
 use super::floor_plan::FloorLevel;
 use super::hex_transitions::{HexCell, HexMapSnapshot};

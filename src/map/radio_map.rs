@@ -120,6 +120,52 @@ fn cell_offset(a: &RadioMapCell, b: &RadioMapCell) -> f64 {
 }
 
 /// A radio map: cells with their readings.
+///
+/// A plan's cells, scans counted where they were taken, coverage and a merge:
+///
+/// ```
+/// use footslam::map::{CellConfig, CellMap, FloorPlan, FloorPolygon, FloorTopology, RadioMap};
+/// use footslam::map::TopologyConfig;
+/// use footslam::sensor::WifiScan;
+///
+/// let room = |x0: f64| FloorPolygon {
+///     polygon: geo::Rect::new((x0, 0.0), (x0 + 6.0, 3.0)).to_polygon(),
+///     level: 0,
+///     z: 0.0,
+///     name: None,
+///     room: None,
+/// };
+/// // Two 6 m × 3 m rooms, each cut into two 3 m cells.
+/// let plan = FloorPlan { polygons: vec![room(0.0), room(10.0)], barriers: Vec::new() };
+/// let topology = FloorTopology::build(&plan, &TopologyConfig::default())?;
+/// let cells = CellMap::build(&plan, &topology, &CellConfig::default())?;
+/// assert_eq!((cells.rooms().len(), cells.cells().len()), (2, 4));
+///
+/// let mut map = RadioMap::empty(&cells);
+/// for (x, scan) in [
+///     (1.0, WifiScan::from_readings(0.0, &[("ap-west", -40.0), ("ap-east", -85.0)])),
+///     (1.5, WifiScan::from_readings(1.0, &[("ap-west", -42.0)])),
+///     (4.0, WifiScan::from_readings(2.0, &[("ap-west", -50.0), ("ap-east", -80.0)])),
+///     (13.0, WifiScan::from_readings(3.0, &[("ap-east", -45.0)])),
+/// ] {
+///     let surface = topology.locate(x, 1.5, None, None).expect("on the floor");
+///     let cell = cells.cell_at(surface, x, 1.5).expect("a cell");
+///     map.cells[cell].radio.add_scan(&scan);
+/// }
+/// assert_eq!(map.access_points(), ["ap-east", "ap-west"]);
+/// let first = &map.cells[0].radio;
+/// assert_eq!((first.scans, first.misses("ap-east")), (2, 1));
+/// assert_eq!(first.aps["ap-west"].mean(), Some(-41.0));
+/// // Three of the four equal cells hold scans, 4/3 scans each.
+/// let (share, scans_per_cell) = map.coverage();
+/// assert!((share - 0.75).abs() < 1e-12 && (scans_per_cell - 4.0 / 3.0).abs() < 1e-12);
+///
+/// // Maps of one plan surveyed apart merge by adding their counts.
+/// let mut both = map.clone();
+/// both.merge(&map)?;
+/// assert_eq!(both.cells[0].radio.scans, 4);
+/// # Ok::<(), footslam::Error>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct RadioMap {
     /// The cells.

@@ -138,6 +138,25 @@ impl GpsObservation {
 }
 
 /// The GPS likelihood with its configuration.
+///
+/// A fix placed in the local frame, and what it says about particles near and far:
+///
+/// ```
+/// use footslam::geometry::LocalFrame;
+/// use footslam::model::{GpsConfig, GpsLikelihood, GpsObservation};
+/// use footslam::sensor::GpsFix;
+///
+/// let frame = LocalFrame::new(52.52, 13.40).expect("a valid origin");
+/// let fix = GpsFix { t: 10.0, lat: 52.52, lon: 13.40, accuracy: 4.0 };
+/// let z = GpsObservation::from_fix(&fix, &frame);
+/// assert!(z.x.abs() < 1e-9 && z.y.abs() < 1e-9 && z.sigma == 4.0);
+///
+/// let gps = GpsLikelihood::new(GpsConfig::default());
+/// let at = |d: f64| gps.log_likelihood(&z, (d, 0.0));
+/// assert!(at(0.0) > at(5.0) && at(5.0) > at(20.0));
+/// // An outlier costs every particle about the same: the uniform floor.
+/// assert!((at(500.0) - at(5000.0)).abs() < 1e-9);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GpsLikelihood {
     config: GpsConfig,

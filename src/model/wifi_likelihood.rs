@@ -64,6 +64,36 @@ struct Histogram {
 }
 
 /// The histograms of a radio map's cells, ready for eq. 14.
+///
+/// A scan is likelier in the cell whose histograms it resembles:
+///
+/// ```
+/// use footslam::map::{CellRadio, RadioMap, RadioMapCell};
+/// use footslam::model::wifi_likelihood::{HistogramLikelihood, LikelihoodConfig};
+/// use footslam::sensor::WifiScan;
+///
+/// // Two cells, one near access point `a`, one near `b`, three scans each.
+/// let cell = |id: &str, x0: f64, readings: &[(f64, f64)]| {
+///     let mut radio = CellRadio::default();
+///     for &(a, b) in readings {
+///         radio.add_scan(&WifiScan::from_readings(0.0, &[("a", a), ("b", b)]));
+///     }
+///     let area = geo::Rect::new((x0, 0.0), (x0 + 3.0, 3.0)).to_polygon().into();
+///     RadioMapCell { id: id.into(), level: 0, area, radio }
+/// };
+/// let near_a = cell("0-0-0", 0.0, &[(-40.0, -80.0), (-43.0, -78.0), (-41.0, -82.0)]);
+/// let near_b = cell("1-0-0", 3.0, &[(-79.0, -44.0), (-81.0, -40.0), (-77.0, -42.0)]);
+/// let map = RadioMap { cells: vec![near_a, near_b], ..Default::default() };
+///
+/// let likelihood = HistogramLikelihood::new(&map, &LikelihoodConfig::default(), 1);
+/// let scan = WifiScan::from_readings(10.0, &[("a", -42.0), ("b", -79.0)]);
+/// let ln_p = likelihood.log_likelihood(&scan);
+/// let (in_a, in_b) = (ln_p[0].expect("surveyed"), ln_p[1].expect("surveyed"));
+/// assert!(in_a > in_b + 1.0);
+/// // Cells with fewer scans than asked for are unknown, not unlikely.
+/// let strict = HistogramLikelihood::new(&map, &LikelihoodConfig::default(), 4);
+/// assert_eq!(strict.log_likelihood(&scan), [None, None]);
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct HistogramLikelihood {
     config: LikelihoodConfig,

@@ -1,6 +1,34 @@
 //! Maps learned on several walks of one building, in one frame, combined into one: their
 //! edge counts summed with weights (FeetSLAM's combination; counts are associative sums, so
 //! maps learned apart — on other threads, machines or days — merge as if learned together).
+//!
+//! Maps of three walks in one frame, merged in two rounds or one:
+//!
+//! ```
+//! use footslam::geometry::{LocalFrame, Pose2};
+//! use footslam::io::map_geojson::StoredMap;
+//! use footslam::map::map_of_path;
+//! use footslam::pipeline::merge;
+//!
+//! let frame = LocalFrame::new(47.37, 8.54).expect("a valid origin");
+//! let walk = |y: f64| {
+//!     let path: Vec<Pose2> = (1..=10).map(|i| Pose2::new(f64::from(i), y, 0.0)).collect();
+//!     let map = map_of_path(Pose2::new(0.0, y, 0.0), &path, &[0; 10], 0.5, 0.8);
+//!     StoredMap { map, frame, walks: 1 }
+//! };
+//! // Two walks along one corridor, one along the next.
+//! let (a, b, c) = (walk(0.0), walk(0.0), walk(5.0));
+//! let ab = merge(&[(&a, 1.0), (&b, 1.0)])?;
+//! let abc = merge(&[(&ab, 1.0), (&c, 1.0)])?;
+//! assert_eq!(abc.walks, 3);
+//! assert_eq!(abc.map.cells.len(), a.map.cells.len() + c.map.cells.len());
+//! assert_eq!(abc.map, merge(&[(&a, 1.0), (&b, 1.0), (&c, 1.0)])?.map);
+//!
+//! // Maps placed by different origins do not merge.
+//! let elsewhere = StoredMap { frame: LocalFrame::new(47.38, 8.54).expect("valid"), ..walk(0.0) };
+//! assert!(merge(&[(&a, 1.0), (&elsewhere, 1.0)]).is_err());
+//! # Ok::<(), footslam::Error>(())
+//! ```
 
 use super::input_checks::SAME_ORIGIN_M;
 use crate::io::map_geojson::StoredMap;

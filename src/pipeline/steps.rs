@@ -7,6 +7,42 @@
 //! 2. **check** — whether the recording looks like the mount ([`check_mount`]), whether
 //!    its axes agree with each other ([`check_foot_frame`], [`check_phone_frame`]), and
 //!    whether the steps fit human walking ([`check_gait`]).
+//!
+//! A phone's recording to steps:
+//!
+//! ```
+//! use footslam::inertial::{HeadingSource, Mount, StepsConfig};
+//! use footslam::pipeline::steps;
+//! use footslam::sensor::{ImuRecording, ImuSample};
+//! use std::f64::consts::PI;
+//!
+//! // A phone held flat, facing north, for 10 s of walking at two steps a second (100 Hz):
+//! // the vertical acceleration swings once a step.
+//! let samples: Vec<ImuSample> = (0..1000)
+//!     .map(|i| {
+//!         let t = f64::from(i) / 100.0;
+//!         ImuSample {
+//!             t,
+//!             accel: [0.0, 0.0, 9.81 + 3.0 * (2.0 * PI * 2.0 * t).sin()],
+//!             gyro: [0.0; 3],
+//!             mag: None,
+//!             orientation: Some([0.0, 0.0, 0.0, 1.0]), // sensor axes = east, north, up
+//!             pressure: None,
+//!         }
+//!     })
+//!     .collect();
+//! let recording = ImuRecording::new(samples, 0).expect("a valid recording");
+//! let run = steps(&recording, Mount::Phone, &StepsConfig::default())?;
+//! assert!((19..=21).contains(&run.trace.len()));
+//! assert_eq!(run.heading_source, HeadingSource::RotationVector);
+//! let (_, cadence) = run.figures.step_and_cadence();
+//! assert!((cadence - 120.0).abs() < 5.0);
+//! // The front end's path heads north: the headings are absolute.
+//! let end = run.path.last().expect("the start and a point per step");
+//! assert!(end[1] > 5.0 && end[0].abs() < 0.5);
+//! assert!(run.recording_warnings().is_empty());
+//! # Ok::<(), footslam::Error>(())
+//! ```
 
 use crate::Result;
 use crate::inertial::{

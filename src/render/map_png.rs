@@ -163,6 +163,30 @@ fn require(
 
 /// What to draw: a map and the path that built it, with optional references. All
 /// coordinates are in the map's local frame (x east, y north, metres).
+///
+/// A map and its walk drawn into memory:
+///
+/// ```
+/// use footslam::geometry::Pose2;
+/// use footslam::map::map_of_path;
+/// use footslam::render::map_png::{MapPicture, PictureConfig, render_map_png};
+///
+/// let path: Vec<Pose2> = (1..=20).map(|i| Pose2::new(0.5 * f64::from(i), 0.0, 0.0)).collect();
+/// let map = map_of_path(Pose2::default(), &path, &[0; 20], 0.5, 0.8);
+/// let points: Vec<(f64, f64)> = path.iter().map(|p| (p.x, p.y)).collect();
+///
+/// let picture = MapPicture { path_label: "walk", ..MapPicture::new(&map, &points) };
+/// let png = render_map_png(&picture, &PictureConfig::default())?;
+/// let image = image::load_from_memory(&png).expect("a PNG").to_rgb8();
+/// // 20 pixels a metre over the 10 m walk, 40 of margin each side; the path in dark red.
+/// assert!(image.width() >= 10 * 20 + 2 * 40);
+/// assert!(image.pixels().any(|p| p.0 == [178, 24, 43]));
+///
+/// let config = PictureConfig { pixels_per_metre: 5000.0, ..Default::default() };
+/// let err = render_map_png(&picture, &config).unwrap_err();
+/// assert!(err.to_string().contains("picture.pixels_per_metre"));
+/// # Ok::<(), footslam::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy)]
 pub struct MapPicture<'a> {
     /// The learned map.

@@ -191,6 +191,35 @@ pub const GAP_FACTOR: f64 = 5.0;
 
 /// A validated IMU recording: at least two samples, times strictly increasing, values finite
 /// and within the documented ranges; optional channels present in every sample or in none.
+///
+/// A recording checked and its sampling measured:
+///
+/// ```
+/// use footslam::sensor::{ImuRecording, ImuSample};
+///
+/// // Ten seconds of a phone lying still at 50 Hz, two of them lost.
+/// let still = |i: u32| ImuSample {
+///     t: f64::from(i) / 50.0,
+///     accel: [0.0, 0.0, 9.81],
+///     gyro: [0.0; 3],
+///     mag: None,
+///     orientation: None,
+///     pressure: None,
+/// };
+/// let mut samples: Vec<ImuSample> = (0..500).map(still).collect();
+/// samples.drain(200..300);
+/// let recording = ImuRecording::new(samples, 0).expect("a valid recording");
+/// let report = recording.report();
+/// assert_eq!(report.samples, 400);
+/// assert!((report.rate_hz - 50.0).abs() < 1e-6);
+/// assert_eq!(report.gaps, 1);
+/// assert!((report.longest_gap_s - 2.02).abs() < 1e-9);
+///
+/// // Acceleration in g instead of m/s² is refused, the likely mistake named.
+/// let in_g = (0..100).map(|i| ImuSample { accel: [0.0, 0.0, 1.0], ..still(i) }).collect();
+/// let (_, problem) = ImuRecording::new(in_g, 0).unwrap_err();
+/// assert!(problem.contains("in g?"), "{problem}");
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct ImuRecording {
     samples: Vec<ImuSample>,

@@ -20,6 +20,28 @@ pub struct Step {
 
 /// A validated sequence of steps: times strictly increasing, all values finite, lengths in
 /// `[0, MAX_STEP_LENGTH]`.
+///
+/// Steps checked as a trace is made, and dead-reckoned:
+///
+/// ```
+/// use footslam::geometry::Pose2;
+/// use footslam::sensor::{Step, StepTrace};
+/// use std::f64::consts::FRAC_PI_2;
+///
+/// let step = |t: f64, dheading: f64| Step { t, length: 1.0, dheading, dz: 0.0, heading: None };
+/// let trace = StepTrace::new(vec![step(0.0, 0.0), step(0.5, 0.0), step(1.0, FRAC_PI_2)])
+///     .expect("valid steps");
+/// // Two metres east, then a left turn and one metre north.
+/// let poses = trace.dead_reckon(Pose2::default());
+/// assert!((poses[2].x - 2.0).abs() < 1e-12 && (poses[2].y - 1.0).abs() < 1e-12);
+///
+/// // The error names the step (0-based) and the rule.
+/// let (index, problem) = StepTrace::new(vec![step(1.0, 0.0), step(1.0, 0.0)]).unwrap_err();
+/// assert_eq!(index, 1);
+/// assert!(problem.contains("strictly increasing"));
+/// let (_, problem) = StepTrace::new(vec![step(0.0, 90.0)]).unwrap_err();
+/// assert!(problem.contains("degrees?"));
+/// ```
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct StepTrace {
     steps: Vec<Step>,

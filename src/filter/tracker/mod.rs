@@ -121,6 +121,45 @@ pub struct TrackStep {
 }
 
 /// The particle filter of Woodman & Harle 2008 on a [`FloorTopology`].
+///
+/// A walk from a known start, out of a corridor into a room:
+///
+/// ```
+/// use footslam::filter::{StartPose, Tracker, TrackerConfig};
+/// use footslam::map::{FloorPlan, FloorPolygon, FloorTopology};
+/// use footslam::sensor::Step;
+/// use std::f64::consts::FRAC_PI_2;
+///
+/// let surface = |x0: f64, y0: f64, x1: f64, y1: f64| FloorPolygon {
+///     polygon: geo::Rect::new((x0, y0), (x1, y1)).to_polygon(),
+///     level: 0,
+///     z: 0.0,
+///     name: None,
+///     room: None,
+/// };
+/// // A corridor (surface 0) and a room north of it (surface 1) open to it over 4 m.
+/// let plan = FloorPlan {
+///     polygons: vec![surface(0.0, 0.0, 10.0, 2.0), surface(3.0, 2.0, 7.0, 6.0)],
+///     barriers: Vec::new(),
+/// };
+/// let start = StartPose { x: 1.0, y: 1.0, heading: Some(0.0), level: Some(0) };
+/// let config = TrackerConfig { start: Some(start), ..Default::default() };
+/// let topology = FloorTopology::build(&plan, &config.topology)?;
+/// let mut tracker = Tracker::new(&topology, &config)?;
+///
+/// // Four steps east, a left turn, three steps north.
+/// let turns = [0.0, 0.0, 0.0, 0.0, FRAC_PI_2, 0.0, 0.0];
+/// let mut estimate = None;
+/// for (i, dheading) in turns.into_iter().enumerate() {
+///     let step = Step { t: i as f64, length: 1.0, dheading, dz: 0.0, heading: None };
+///     estimate = tracker.update(&step)?.estimate;
+/// }
+/// let estimate = estimate.expect("one cluster");
+/// assert!((estimate.x - 5.0).abs() < 0.75 && (estimate.y - 4.0).abs() < 0.75);
+/// // Every particle left went through the opening: those that met a wall died.
+/// assert!(tracker.particles().iter().all(|p| p.surface == 1));
+/// # Ok::<(), footslam::Error>(())
+/// ```
 #[derive(Debug)]
 pub struct Tracker<'a> {
     topology: &'a FloorTopology,

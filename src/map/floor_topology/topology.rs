@@ -15,6 +15,37 @@ use geo::{Area, BoundingRect, Contains, Intersects, Validation};
 const MAX_SURFACES: usize = (BARRIER_FLAG - 1) as usize;
 
 /// The walkable surfaces' heights, levels, edges and spatial index.
+///
+/// A corridor and a room that share a stretch of wall: the shared stretch is a connection,
+/// the rest walls.
+///
+/// ```
+/// use footslam::map::{FloorPlan, FloorPolygon, FloorTopology, SegmentKind, TopologyConfig};
+///
+/// let surface = |x0: f64, y0: f64, x1: f64, y1: f64| FloorPolygon {
+///     polygon: geo::Rect::new((x0, y0), (x1, y1)).to_polygon(),
+///     level: 0,
+///     z: 0.0,
+///     name: None,
+///     room: None,
+/// };
+/// // A corridor (surface 0) and a room north of it (surface 1) open to it over 4 m.
+/// let plan = FloorPlan {
+///     polygons: vec![surface(0.0, 0.0, 10.0, 2.0), surface(3.0, 2.0, 7.0, 6.0)],
+///     barriers: Vec::new(),
+/// };
+/// let topology = FloorTopology::build(&plan, &TopologyConfig::default())?;
+/// assert_eq!(topology.len(), 2);
+/// assert_eq!(topology.locate(5.0, 4.0, None, None), Some(1));
+/// let segments = topology.segments().iter();
+/// let connections = segments.filter(|s| matches!(s.kind, SegmentKind::Connection { .. }));
+/// assert_eq!(connections.count(), 1);
+///
+/// // A step through the opening ends in the room; one through a wall is refused.
+/// assert_eq!(topology.walk(0, [5.0, 1.0], [5.0, 4.0]), Some(1));
+/// assert_eq!(topology.walk(0, [1.0, 1.0], [1.0, 4.0]), None);
+/// # Ok::<(), footslam::Error>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct FloorTopology {
     z: Vec<f32>,
