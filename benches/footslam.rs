@@ -121,7 +121,7 @@ fn signals(c: &mut Criterion) {
     let field = Arc::new(FieldEvidence::new(
         &config.field,
         &steps,
-        &world.readings_along(&truth, 2),
+        &world.readings_along(&truth, 2).expect("readings"),
     ));
     assert!(field.active(), "the simulated field tells places apart");
     let mut g = c.benchmark_group("signals");

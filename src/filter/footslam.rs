@@ -127,38 +127,7 @@ struct OutageCheck {
 
 /// The FootSLAM Rao-Blackwellised particle filter.
 ///
-/// Three laps round a block, learned without a map (the walk's own revisits are the only
-/// anchor; see [`Anchors`] for GPS and priors):
-///
-/// ```
-/// use footslam::filter::{FootSlam, FootSlamConfig};
-/// use footslam::sensor::Step;
-/// use std::f64::consts::FRAC_PI_2;
-///
-/// // Round a 6 m × 3.75 m block three times: 0.75 m steps, a left turn at each corner.
-/// let mut steps = Vec::new();
-/// for _lap in 0..3 {
-///     for side in [8, 5, 8, 5] {
-///         for i in 0..side {
-///             let dheading = if i == 0 { FRAC_PI_2 } else { 0.0 };
-///             let t = 0.5 * steps.len() as f64;
-///             steps.push(Step { t, length: 0.75, dheading, dz: 0.0, heading: None });
-///         }
-///     }
-/// }
-/// let mut slam = FootSlam::new(FootSlamConfig { particles: 200, seed: 1, ..Default::default() })?;
-/// for step in &steps {
-///     slam.update(step);
-/// }
-/// assert_eq!(slam.steps_processed(), steps.len());
-/// let best = slam.estimate();
-/// assert_eq!(best.path.len(), steps.len());
-/// // The walk ends where it began, and its map's hexagons were passed on every lap.
-/// let end = best.path.last().expect("a pose per step");
-/// assert!(end.x.hypot(end.y) < 1.5);
-/// assert!(best.map.cells.iter().any(|c| c.visits() >= 3));
-/// # Ok::<(), footslam::Error>(())
-/// ```
+#[doc = include_str!("footslam/example.md")]
 #[derive(Debug)]
 pub struct FootSlam {
     config: FootSlamConfig,

@@ -407,7 +407,8 @@ pub fn check_phone_frame(recording: &ImuRecording) -> Option<FrameFinding> {
         // Every axis agrees, some weakly: a noisy quaternion, judged by the gains below.
     }
     // Each estimate's gain on the middle axis; the time base is wrong when both are out of
-    // range on the same side (the one nearer 1 is reported).
+    // range on the same side. The least-squares gain is reported: on a clean recording it is
+    // the nearer (timestamps ×2 on a museum walk: 2.1, the root-mean-square ratio 1.87).
     let middle = |k: usize| {
         let mut g = axes.map(|a| a.gains()[k]);
         g.sort_by(f64::total_cmp);
@@ -415,17 +416,10 @@ pub fn check_phone_frame(recording: &ImuRecording) -> Option<FrameFinding> {
     };
     let (least_squares, rms) = (middle(0), middle(1));
     let (lo, hi) = (*GAIN_RANGE.start(), *GAIN_RANGE.end());
-    if least_squares > hi && rms > hi {
-        Some(FrameFinding::TimeBase {
-            gain: least_squares.min(rms),
-        })
-    } else if least_squares < lo && rms < lo {
-        Some(FrameFinding::TimeBase {
-            gain: least_squares.max(rms),
-        })
-    } else {
-        None
-    }
+    let wrong = (least_squares > hi && rms > hi) || (least_squares < lo && rms < lo);
+    wrong.then_some(FrameFinding::TimeBase {
+        gain: least_squares,
+    })
 }
 
 #[cfg(test)]

@@ -229,6 +229,40 @@ impl RunFolder {
         Ok(None)
     }
 
+    /// Staged inside an earlier run's folder: sets the earlier run's entries aside (renames
+    /// within the folder), moves the new ones up, then deletes the earlier ones. A failed
+    /// rename puts every entry back where it was, so the folder holds one run or the other,
+    /// never a mix.
+    fn replace_inside(&self) -> Result<()> {
+        let dest = &self.destination;
+        let aside = dest.join(format!("{INSIDE}{}{PREVIOUS}", std::process::id()));
+        std::fs::create_dir(&aside).map_err(|e| Error::io(&aside, e))?;
+        let names = |dir: &Path| -> Result<Vec<std::ffi::OsString>> {
+            let entries = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
+            entries
+                .map(|e| e.map(|e| e.file_name()).map_err(|e| Error::io(dir, e)))
+                .collect()
+        };
+        let earlier: Vec<_> = names(dest)?
+            .into_iter()
+            .filter(|n| dest.join(n) != self.staging && dest.join(n) != aside)
+            .collect();
+        let fresh = names(&self.staging)?;
+        let moved = move_entries(&earlier, dest, &aside).and_then(|()| {
+            move_entries(&fresh, &self.staging, dest).inspect_err(|_| {
+                let _ = move_entries(&earlier, &aside, dest);
+            })
+        });
+        if let Err(e) = moved {
+            let _ = std::fs::remove_dir(&aside);
+            return Err(e);
+        }
+        // The new run is in place; a leftover of the earlier one is removed by the next run
+        // into this folder (`hold`).
+        let _ = std::fs::remove_dir_all(&aside);
+        Ok(())
+    }
+
     /// Replaces the destination folder's contents with the staged files and folders.
     /// Nothing is moved when an output would replace a protected input, or the destination
     /// holds one ([`RunFolder::protect`]).
@@ -238,9 +272,9 @@ impl RunFolder {
     /// * [`Error::Output`], with nothing moved, when an output would replace a protected input or
     ///   a file beside one, or the destination holds an input; also when a destination that did
     ///   not exist at [`RunFolder::create`] has appeared and is not empty.
-    /// * [`Error::Io`] when a folder cannot be listed, an earlier run's entry cannot be removed or
-    ///   a staged entry cannot be moved; the destination may then hold part of the old run's
-    ///   files, or part of the new one's.
+    /// * [`Error::Io`] when a folder cannot be listed or an entry cannot be moved. An earlier
+    ///   run's folder is then put back as it was: it holds the old run or the new one, never a
+    ///   mix (short of the process being killed between two renames).
     pub fn commit(mut self) -> Result<PathBuf> {
         if let Some((input, name)) = self.replaced_input()? {
             return Err(Error::output(
@@ -265,29 +299,7 @@ impl RunFolder {
             ));
         }
         if self.staging.parent() == Some(self.destination.as_path()) {
-            // Staged inside: clear the earlier run's entries, then move the new ones up.
-            let entries = std::fs::read_dir(&self.destination)
-                .map_err(|e| Error::io(&self.destination, e))?;
-            for entry in entries {
-                let entry = entry.map_err(|e| Error::io(&self.destination, e))?;
-                if entry.path() == self.staging {
-                    continue;
-                }
-                let path = entry.path();
-                let removed = if path.is_dir() && !path.is_symlink() {
-                    std::fs::remove_dir_all(&path)
-                } else {
-                    std::fs::remove_file(&path)
-                };
-                removed.map_err(|e| Error::io(&path, e))?;
-            }
-            let staged =
-                std::fs::read_dir(&self.staging).map_err(|e| Error::io(&self.staging, e))?;
-            for entry in staged {
-                let entry = entry.map_err(|e| Error::io(&self.staging, e))?;
-                let to = self.destination.join(entry.file_name());
-                std::fs::rename(entry.path(), &to).map_err(|e| Error::io(&to, e))?;
-            }
+            self.replace_inside()?;
             let _ = std::fs::remove_dir_all(&self.staging);
         } else {
             // Staged beside a destination that did not exist (another process may have
@@ -311,6 +323,24 @@ impl RunFolder {
 
 /// Prefix of the staging folder inside an existing destination.
 const INSIDE: &str = ".footslam.staging.";
+
+/// Moves each of `names` from folder `from` to folder `to`; on a failure, moves the ones
+/// already moved back and returns the failure.
+fn move_entries(names: &[std::ffi::OsString], from: &Path, to: &Path) -> Result<()> {
+    for (k, name) in names.iter().enumerate() {
+        if let Err(e) = std::fs::rename(from.join(name), to.join(name)) {
+            for back in &names[..k] {
+                let _ = std::fs::rename(to.join(back), from.join(back));
+            }
+            return Err(Error::io(&to.join(name), e));
+        }
+    }
+    Ok(())
+}
+
+/// Suffix of the folder inside the destination that holds an earlier run's entries while a
+/// commit replaces them (`.footslam.staging.PID.previous`).
+const PREVIOUS: &str = ".previous";
 
 /// Whether `folder` is empty or an earlier run's (it holds a `summary.json`); staging
 /// folders of other runs do not count.
@@ -341,7 +371,7 @@ fn hold(dir: &Path, prefix: &str, destination: &Path) -> Result<()> {
         let Some(pid) = file
             .to_str()
             .and_then(|f| f.strip_prefix(prefix))
-            .and_then(|p| p.parse::<u32>().ok())
+            .and_then(|p| p.strip_suffix(PREVIOUS).unwrap_or(p).parse::<u32>().ok())
             .filter(|&p| p != own)
         else {
             continue;
@@ -409,6 +439,28 @@ mod tests {
         assert_eq!(read("summary.json"), "second");
         assert_eq!(read("walk-1/track.csv"), "second");
         assert!(!out.join("walk-1/old.csv").exists());
+        // Nothing of the earlier run is left aside.
+        let hidden = std::fs::read_dir(&out)
+            .expect("list")
+            .flatten()
+            .filter(|e| e.file_name().to_string_lossy().starts_with('.'))
+            .count();
+        assert_eq!(hidden, 0);
+    }
+
+    #[test]
+    fn a_move_that_fails_halfway_puts_back_what_it_moved() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let (from, to) = (dir.path().join("from"), dir.path().join("to"));
+        std::fs::create_dir_all(from.join("b")).expect("dir");
+        std::fs::create_dir(&to).expect("dir");
+        std::fs::write(from.join("a.csv"), "a").expect("write");
+        // The second name does not exist: its rename fails after the first one's.
+        let names = ["a.csv", "missing", "b"].map(std::ffi::OsString::from);
+        let err = move_entries(&names, &from, &to).expect_err("a name is missing");
+        assert!(err.to_string().contains("missing"), "{err}");
+        assert!(from.join("a.csv").is_file() && from.join("b").is_dir());
+        assert_eq!(std::fs::read_dir(&to).expect("list").count(), 0);
     }
 
     #[test]

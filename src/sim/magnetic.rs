@@ -174,14 +174,14 @@ impl MagneticWorld {
 
     /// Each step's reading along `truth`, with the configured noise drawn from `seed`.
     ///
-    /// # Panics
+    /// # Errors
     ///
-    /// If a reading is not finite or its magnitude exceeds
-    /// [`MAX_FIELD`](crate::sensor::field::MAX_FIELD) (2000 µT): a `truth` that is not finite, a
-    /// configuration outside [`FieldSimConfig::validate`]'s ranges (not checked here), or anomalies
-    /// so long and close that they add up beyond it.
-    #[must_use]
-    pub fn readings_along(&self, truth: &TruePath, seed: u64) -> StepFields {
+    /// [`Error::Simulation`](crate::Error::Simulation) naming the step when a reading is not
+    /// finite or its magnitude exceeds [`MAX_FIELD`](crate::sensor::field::MAX_FIELD)
+    /// (2000 µT): a `truth` that is not finite, a configuration outside
+    /// [`FieldSimConfig::validate`]'s ranges (not checked here), or anomalies so strong and
+    /// close that they add up beyond it.
+    pub fn readings_along(&self, truth: &TruePath, seed: u64) -> crate::error::Result<StepFields> {
         let mut rng = Pcg64Mcg::seed_from_u64(seed);
         let noise = self.config.noise_ut;
         let fields = truth
@@ -198,7 +198,12 @@ impl MagneticWorld {
                 })
             })
             .collect();
-        StepFields::new(fields).expect("finite readings within range")
+        StepFields::new(fields).map_err(|(i, problem)| {
+            crate::error::Error::Simulation(format!(
+                "the simulated magnetic field at step {i}: {problem}; weaken or space out the \
+                 anomalies (field.anomaly_ut, field.anomaly_spacing_m)"
+            ))
+        })
     }
 }
 
@@ -221,7 +226,7 @@ mod tests {
             .collect();
         let truth = TruePath { poses };
         let world = MagneticWorld::around(&truth, FieldSimConfig::default(), 7);
-        let f = world.readings_along(&truth, 1);
+        let f = world.readings_along(&truth, 1).expect("readings");
         let m = |i: usize| f.get(i).unwrap().magnitude;
         // The same place twice (a lap apart) agrees far better than places 10 m apart.
         let same: f64 = (0..100).map(|i| (m(i) - m(i + 100)).abs()).sum::<f64>() / 100.0;
@@ -229,5 +234,17 @@ mod tests {
         assert!(same < 1.0 && other > 3.0 * same, "{same} {other}");
         assert_eq!(world.field_at(3.0, 0.0, 0), world.field_at(3.0, 0.0, 0));
         assert_ne!(world.field_at(3.0, 0.0, 0), world.field_at(3.0, 0.0, 1));
+        // Anomalies strong and dense enough to add up past 2000 µT: an error naming the
+        // step, not a panic.
+        let wild = FieldSimConfig {
+            anomaly_ut: 500.0,
+            anomaly_spacing_m: 0.5,
+            anomaly_length_m: 10.0,
+            ..FieldSimConfig::default()
+        };
+        let err = MagneticWorld::around(&truth, wild, 7)
+            .readings_along(&truth, 1)
+            .expect_err("beyond any real field");
+        assert!(err.to_string().contains("anomaly_ut"), "{err}");
     }
 }

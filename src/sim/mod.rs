@@ -139,12 +139,8 @@ pub struct Simulation {
 ///
 /// [`Error::Config`](crate::Error::Config) when `config` fails [`SimConfig::validate`] or the
 /// office's rooms do not fit ([`Office::new`]); [`Error::Simulation`](crate::Error::Simulation)
-/// when the walk leaves the floor or a measured step is implausible (a preset's bug).
-///
-/// # Panics
-///
-/// With `field.enabled`, as [`MagneticWorld::readings_along`]: when the anomalies add up to more
-/// than 2000 µT.
+/// when the walk leaves the floor or a measured step is implausible (a preset's bug), or when
+/// the simulated magnetic field's anomalies add up beyond 2000 µT.
 pub fn simulate(config: &SimConfig) -> Result<Simulation> {
     config.validate()?;
     let office = Office::new(&config.office)?;
@@ -154,10 +150,14 @@ pub fn simulate(config: &SimConfig) -> Result<Simulation> {
         &config.noise,
         stream_seed(config.seed, NOISE_STREAM),
     )?;
-    let field = config.field.enabled.then(|| {
-        MagneticWorld::of_plan(&office.plan, config.field)
-            .readings_along(&truth, stream_seed(config.seed, MAGNETOMETER_STREAM))
-    });
+    let field = config
+        .field
+        .enabled
+        .then(|| {
+            MagneticWorld::of_plan(&office.plan, config.field)
+                .readings_along(&truth, stream_seed(config.seed, MAGNETOMETER_STREAM))
+        })
+        .transpose()?;
     Ok(Simulation {
         plan: office.plan,
         truth,
@@ -245,12 +245,8 @@ impl TowerSimulation {
 /// [`Error::Config`](crate::Error::Config) when a section of `config` fails its `validate`
 /// ([`TowerConfig`], [`TowerWalkConfig`], [`StepNoiseConfig`], [`WifiSimConfig`],
 /// [`FieldSimConfig`]); [`Error::Simulation`](crate::Error::Simulation) when the walk leaves the
-/// building or a measured step is implausible (a preset's bug).
-///
-/// # Panics
-///
-/// With `field.enabled`, as [`MagneticWorld::readings_along`]: when the anomalies add up to more
-/// than 2000 µT.
+/// building or a measured step is implausible (a preset's bug), or when the simulated magnetic
+/// field's anomalies add up beyond 2000 µT.
 pub fn simulate_tower(config: &TowerSimConfig) -> Result<TowerSimulation> {
     config.building.validate()?;
     config.walk.validate()?;
@@ -278,10 +274,14 @@ pub fn simulate_tower(config: &TowerSimConfig) -> Result<TowerSimulation> {
         stream_seed(config.wifi.radio_seed, RADIO_STREAM),
     )?;
     let wifi = radio.scans_along(&start, &truth, stream_seed(config.seed, SCAN_STREAM));
-    let field = config.field.enabled.then(|| {
-        MagneticWorld::of_plan(&tower.plan, config.field)
-            .readings_along(&truth, stream_seed(config.seed, MAGNETOMETER_STREAM))
-    });
+    let field = config
+        .field
+        .enabled
+        .then(|| {
+            MagneticWorld::of_plan(&tower.plan, config.field)
+                .readings_along(&truth, stream_seed(config.seed, MAGNETOMETER_STREAM))
+        })
+        .transpose()?;
     Ok(TowerSimulation {
         plan: tower.plan,
         start,

@@ -23,7 +23,9 @@ fn p95(seed: u64, field: impl Fn(&StepFields) -> Option<StepFields>) -> f64 {
     let sim = simulate(&config).expect("simulate");
     let steps = recorded(&sim.steps);
     let world = MagneticWorld::around(&sim.truth, FieldSimConfig::default(), seed + 1000);
-    let readings = world.readings_along(&sim.truth, seed + 2000);
+    let readings = world
+        .readings_along(&sim.truth, seed + 2000)
+        .expect("readings");
     let walk = LearnWalk {
         field: field(&readings),
         ..walk_of(&steps)
