@@ -332,7 +332,7 @@ fn move_entries(names: &[std::ffi::OsString], from: &Path, to: &Path) -> Result<
             for back in &names[..k] {
                 let _ = std::fs::rename(to.join(back), from.join(back));
             }
-            return Err(Error::io(&to.join(name), e));
+            return Err(Error::io(to.join(name), e));
         }
     }
     Ok(())
