@@ -207,10 +207,12 @@ impl CsvRow<'_> {
     ///
     /// # Errors
     ///
-    /// An error at this row when `t` is beyond ±[`MAX_TIME_S`](crate::sensor::step::MAX_TIME_S)
-    /// (not seconds) or is not after `previous`. A NaN `t` passes: read it with
-    /// [`time`](Self::time) or [`number`](Self::number), which refuse one.
+    /// An error at this row when `t` is NaN, beyond
+    /// ±[`MAX_TIME_S`](crate::sensor::step::MAX_TIME_S) (not seconds) or not after `previous`.
     pub fn ensure_after(&self, previous: Option<f64>, t: f64) -> Result<()> {
+        if t.is_nan() {
+            return Err(self.error("the time is not a number".to_owned()));
+        }
         crate::sensor::step::check_time(t).map_err(|m| self.error(m))?;
         match previous {
             Some(p) if t <= p => Err(self.error(format!(

@@ -90,36 +90,85 @@ fn read_rows(path: &Path, certain_only: bool) -> Result<(Vec<TimedPoint>, usize)
 ///
 /// # Errors
 ///
-/// [`Error::Io`] when `path` cannot be written, as
-/// [`write_atomically_with`](crate::io::write_atomically_with). Values that are not finite are
-/// not refused: they are written as `NaN` or `inf`, which [`read_trajectory`] then refuses.
+/// [`Error::InvalidData`] naming the file when a point's `t`, `x` or `y` is not finite
+/// (nothing is written: [`read_trajectory`] would refuse it); [`Error::Io`] when `path`
+/// cannot be written, as [`write_atomically_with`](crate::io::write_atomically_with).
 pub fn write_trajectory_with(
     path: &Path,
     extra: &str,
     rows: impl IntoIterator<Item = (TimedPoint, f64)>,
 ) -> Result<()> {
-    crate::io::write_atomically_with(path, |w| {
+    let mut bad = None;
+    let written = crate::io::write_atomically_with(path, |w| {
         writeln!(w, "t,x,y,{extra}")?;
         for (p, v) in rows {
+            if !(p.t.is_finite() && p.x.is_finite() && p.y.is_finite()) {
+                bad = Some(p);
+                return Err(std::io::Error::other("a trajectory point is not finite"));
+            }
             writeln!(w, "{:.3},{:.3},{:.3},{:.3}", p.t, p.x, p.y, v)?;
         }
         Ok(())
-    })
+    });
+    match bad {
+        Some(p) => Err(not_finite(&p, path)),
+        None => written,
+    }
+}
+
+/// The error for a point that is not finite.
+fn not_finite(p: &TimedPoint, path: &Path) -> Error {
+    Error::invalid(
+        path.display().to_string(),
+        format!(
+            "the point at t = {} s, ({}, {}), is not finite: nothing was written",
+            p.t, p.x, p.y
+        ),
+    )
 }
 
 /// Writes `t,x,y` rows (millimetre precision).
 ///
 /// # Errors
 ///
-/// [`Error::Io`] when `path` cannot be written, as
-/// [`write_atomically_with`](crate::io::write_atomically_with). Values that are not finite are
-/// not refused: they are written as `NaN` or `inf`, which [`read_trajectory`] then refuses.
+/// As [`write_trajectory_with`].
 pub fn write_trajectory(path: &Path, points: impl IntoIterator<Item = TimedPoint>) -> Result<()> {
-    crate::io::write_atomically_with(path, |w| {
+    let mut bad = None;
+    let written = crate::io::write_atomically_with(path, |w| {
         w.write_all(b"t,x,y\n")?;
         for p in points {
+            if !(p.t.is_finite() && p.x.is_finite() && p.y.is_finite()) {
+                bad = Some(p);
+                return Err(std::io::Error::other("a trajectory point is not finite"));
+            }
             writeln!(w, "{:.3},{:.3},{:.3}", p.t, p.x, p.y)?;
         }
         Ok(())
-    })
+    });
+    match bad {
+        Some(p) => Err(not_finite(&p, path)),
+        None => written,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_point_that_is_not_finite_is_refused_and_nothing_is_written() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("path.csv");
+        let point = |t: f64, x: f64| TimedPoint { t, x, y: 1.0 };
+        write_trajectory(&path, [point(0.0, 0.0), point(1.0, 2.0)]).expect("written");
+        assert_eq!(read_trajectory(&path).expect("read back").len(), 2);
+        let err =
+            write_trajectory(&path, [point(0.0, 0.0), point(1.0, f64::NAN)]).expect_err("NaN");
+        assert!(err.to_string().contains("not finite"), "{err}");
+        let err = write_trajectory_with(&path, "spread_m", [(point(f64::INFINITY, 0.0), 0.5)])
+            .expect_err("inf");
+        assert!(err.to_string().contains("nothing was written"), "{err}");
+        // The earlier file stands.
+        assert_eq!(read_trajectory(&path).expect("read back").len(), 2);
+    }
 }
