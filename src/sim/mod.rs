@@ -133,6 +133,23 @@ pub struct Simulation {
     pub field: Option<StepFields>,
 }
 
+/// The magnetometer's readings along `truth` in a field simulated over `plan`, when
+/// `field.enabled`.
+fn field_readings(
+    plan: &FloorPlan,
+    field: FieldSimConfig,
+    truth: &TruePath,
+    seed: u64,
+) -> Result<Option<StepFields>> {
+    field
+        .enabled
+        .then(|| {
+            MagneticWorld::of_plan(plan, field)
+                .readings_along(truth, stream_seed(seed, MAGNETOMETER_STREAM))
+        })
+        .transpose()
+}
+
 /// Runs the simulation described by `config`; equal configurations give equal results.
 ///
 /// # Errors
@@ -150,14 +167,7 @@ pub fn simulate(config: &SimConfig) -> Result<Simulation> {
         &config.noise,
         stream_seed(config.seed, NOISE_STREAM),
     )?;
-    let field = config
-        .field
-        .enabled
-        .then(|| {
-            MagneticWorld::of_plan(&office.plan, config.field)
-                .readings_along(&truth, stream_seed(config.seed, MAGNETOMETER_STREAM))
-        })
-        .transpose()?;
+    let field = field_readings(&office.plan, config.field, &truth, config.seed)?;
     Ok(Simulation {
         plan: office.plan,
         truth,
@@ -274,14 +284,7 @@ pub fn simulate_tower(config: &TowerSimConfig) -> Result<TowerSimulation> {
         stream_seed(config.wifi.radio_seed, RADIO_STREAM),
     )?;
     let wifi = radio.scans_along(&start, &truth, stream_seed(config.seed, SCAN_STREAM));
-    let field = config
-        .field
-        .enabled
-        .then(|| {
-            MagneticWorld::of_plan(&tower.plan, config.field)
-                .readings_along(&truth, stream_seed(config.seed, MAGNETOMETER_STREAM))
-        })
-        .transpose()?;
+    let field = field_readings(&tower.plan, config.field, &truth, config.seed)?;
     Ok(TowerSimulation {
         plan: tower.plan,
         start,
