@@ -44,7 +44,7 @@ use super::resample::{self, ResampleMethod};
 use super::scan_trail::ScanTrail;
 use crate::error::Result;
 use crate::geometry::{Hex, HexGrid, Pose2};
-use crate::map::{EdgePrior, FieldMap, FieldMapSnapshot, HexMapSnapshot, HexTransitionMap};
+use crate::map::{EdgePrior, FieldMap, FieldMapSnapshot, HexMapForest, HexMapSnapshot, ParticleHexMap};
 use crate::model::{
     AxisEvidence, AxisLikelihood, AxisState, FieldEvidence, GpsLikelihood, HeadingLikelihood,
     LevelTracker, StepErrorState, StepMotion,
@@ -60,8 +60,10 @@ use std::sync::Arc;
 struct Particle {
     pose: Pose2,
     error: StepErrorState,
-    map: HexTransitionMap,
-    lineage: Arc<Lineage>,
+    /// Its map, in [`FootSlam::maps`].
+    map: ParticleHexMap,
+    /// Its newest segment in [`FootSlam::lineage`].
+    ancestry: u32,
     /// `ln ∏ₖ` of eq. (6)'s factors over the particle's whole path (its ancestors' steps
     /// included): the unnormalised posterior of the path under the likelihood proposal,
     /// never reset by resampling.
@@ -166,11 +168,18 @@ pub struct FootSlam {
     /// Spread of the GPS bias left for the outline fit, metres (0: no fit).
     outline_fit_sigma: f64,
     particles: Vec<Particle>,
+    /// The store of the particles' maps' shared nodes.
+    maps: HexMapForest,
+    /// The particles' ancestry.
+    lineage: Lineage,
     /// Normalised log weights, `ln wᵢ`.
     log_weights: Vec<f64>,
     /// Scratch buffers reused every step.
     weights: Vec<f64>,
     parents: Vec<usize>,
+    children: Vec<u32>,
+    inherited: Vec<ParticleHexMap>,
+    ancestry: Vec<u32>,
     residuals: Vec<f64>,
     next: Vec<Particle>,
     /// Step measurements seen, needed to replay paths.
@@ -262,6 +271,8 @@ impl FootSlam {
             crate::memory::available_bytes(),
             "use fewer particles (`particles`, --particles)",
         )?;
+        let mut lineage = Lineage::new();
+        let roots: Vec<u32> = (0..n).map(|i| lineage.root(i as u32)).collect();
         let particles: Vec<Particle> = (0..n)
             .into_par_iter()
             .map(|i| {
@@ -271,8 +282,8 @@ impl FootSlam {
                 Particle {
                     error,
                     pose,
-                    map: HexTransitionMap::new(),
-                    lineage: Lineage::root(i as u32),
+                    map: ParticleHexMap::default(),
+                    ancestry: roots[i],
                     path_log_likelihood: 0.0,
                     wifi_log_likelihood: 0.0,
                     trail: ScanTrail::default(),
@@ -330,9 +341,14 @@ impl FootSlam {
             log_weights: vec![-(n as f64).ln(); n],
             weights: vec![1.0 / n as f64; n],
             parents: Vec::with_capacity(n),
+            children: Vec::new(),
+            inherited: Vec::new(),
+            ancestry: Vec::new(),
             residuals: Vec::new(),
             next: Vec::with_capacity(n),
             particles,
+            maps: HexMapForest::new(),
+            lineage,
             steps: Vec::new(),
             outage_check,
             ess_history: Vec::new(),
@@ -463,7 +479,7 @@ impl FootSlam {
         let (seed, motion, grid) = (self.config.seed, self.motion, self.grid);
         let (alpha, correct) = (self.config.alpha, self.config.direction_correction);
         let prior = self.prior.as_ref();
-        let offset = self.offset;
+        let (offset, maps) = (self.offset, &self.maps);
         let (gps, fixes) = (self.gps.as_ref().map(|g| g.likelihood), &self.step_fixes);
         let compass = self.heading.zip(z.heading);
         self.headings_used += usize::from(compass.is_some());
@@ -497,8 +513,8 @@ impl FootSlam {
                     offset,
                     level,
                 };
-                let mut log_factor =
-                    log_map_factor(&grid, &mut p.map, edges, correct, p.pose, pose);
+                let record = |h, e| maps.record_crossing(&mut p.map, h, e);
+                let mut log_factor = log_map_factor(&grid, record, edges, correct, p.pose, pose);
                 // GPS fixes that fell during the step, at the point walked by then.
                 if let Some(gps) = gps {
                     log_factor += log_gps_factor(&gps, fixes, p.pose, pose);
@@ -562,16 +578,20 @@ impl FootSlam {
             .iter()
             .copied()
             .fold(f64::NEG_INFINITY, f64::max);
-        let sum: f64 = self.log_weights.iter().map(|&l| (l - max).exp()).sum();
-        let log_sum = max + sum.ln();
-        for (w, l) in self.weights.iter_mut().zip(self.log_weights.iter_mut()) {
+        // The exponentials in parallel, their sum in index order.
+        let (weights, log_weights) = (&mut self.weights, &mut self.log_weights);
+        let shifted = |(w, &l): (&mut f64, &f64)| *w = (l - max).exp();
+        weights.par_iter_mut().zip(&*log_weights).for_each(shifted);
+        let log_sum = max + weights.iter().sum::<f64>().ln();
+        let normalised = |(w, l): (&mut f64, &mut f64)| {
             *l -= log_sum;
             *w = l.exp();
-        }
+        };
+        weights.par_iter_mut().zip(log_weights).for_each(normalised);
         debug_assert!((self.weights.iter().sum::<f64>() - 1.0).abs() < 1e-6);
     }
 
-    /// Resamples after step `k`; survivors share maps (one reference count each) and
+    /// Resamples after step `k`; survivors share maps ([`HexMapForest::inherit`]) and
     /// extend their ancestry only when their index changes.
     fn resample(&mut self, k: u64) {
         let n = self.particles.len();
@@ -585,22 +605,34 @@ impl FootSlam {
             }
         }
         let from_step = (k + 1) as u32;
+        self.maps.inherit(
+            &mut self.particles,
+            |p| &mut p.map,
+            &self.parents,
+            &mut self.children,
+            &mut self.inherited,
+        );
         let particles = &self.particles;
+        self.ancestry.clear();
+        self.ancestry.extend(self.parents.iter().enumerate().map(|(i, &j)| {
+            let id = particles[j].ancestry;
+            if i == j {
+                id
+            } else {
+                self.lineage.child(id, from_step, i as u32)
+            }
+        }));
         self.parents
             .par_iter()
-            .enumerate()
-            .map(|(i, &j)| {
+            .zip(self.inherited.par_drain(..))
+            .zip(&self.ancestry)
+            .map(|((&j, map), &ancestry)| {
                 let p = &particles[j];
-                let lineage = if i == j {
-                    Arc::clone(&p.lineage)
-                } else {
-                    Lineage::child(&p.lineage, from_step, i as u32)
-                };
                 Particle {
                     pose: p.pose,
                     error: p.error,
-                    map: p.map.clone(),
-                    lineage,
+                    map,
+                    ancestry,
                     path_log_likelihood: p.path_log_likelihood,
                     wifi_log_likelihood: p.wifi_log_likelihood,
                     trail: p.trail.clone(),
@@ -610,7 +642,9 @@ impl FootSlam {
             })
             .collect_into_vec(&mut self.next);
         std::mem::swap(&mut self.particles, &mut self.next);
-        self.next.clear();
+        // The old generation goes in parallel: its ancestry, trails and field maps.
+        self.next.par_drain(..).for_each(drop);
+        (self.lineage).collect_garbage(&mut self.particles, |p| &mut p.ancestry);
         let uniform = -(n as f64).ln();
         self.log_weights.fill(uniform);
         self.weights.fill(1.0 / n as f64);

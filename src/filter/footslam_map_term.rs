@@ -3,7 +3,7 @@
 //! of sec. 3.
 
 use crate::geometry::{Hex, HexGrid, Pose2};
-use crate::map::{EdgePrior, HexTransitionMap, level_key};
+use crate::map::{EdgePrior, level_key};
 
 /// The Dirichlet prior of eq. (6): `α` on every edge, or per-edge values.
 #[derive(Debug, Clone, Copy)]
@@ -28,12 +28,13 @@ impl MapPrior<'_> {
 
 /// Eq. (6) for one step: the product over every edge crossed between `from` and `to` of
 /// `(N^ẽ_h̃ + α^ẽ_h̃) / (N_h̃ + Σ_e α^e_h̃)` with the counts so far, raised to the direction
-/// correction (sec. 3); each crossing is counted in `map` right after it is weighed (step
-/// 2e), so a step over several edges multiplies one factor per edge. Returns the log of the
-/// product.
+/// correction (sec. 3); each crossing is counted in the map right after it is weighed (step
+/// 2e: `record` counts edge `e` out of `h` in the particle's map and returns its counts
+/// before, `(N^e_h, N_h)`), so a step over several edges multiplies one factor per edge.
+/// Returns the log of the product.
 pub(super) fn log_map_factor(
     grid: &HexGrid,
-    map: &mut HexTransitionMap,
+    mut record: impl FnMut(Hex, u8) -> (u32, u32),
     prior: MapPrior<'_>,
     correct: bool,
     from: Pose2,
@@ -42,7 +43,7 @@ pub(super) fn log_map_factor(
     let mut log_factor = 0.0;
     grid.for_each_crossing((from.x, from.y), (to.x, to.y), |c| {
         let h = level_key(prior.level, c.from);
-        let (n_e, n_h) = map.record_crossing(h, c.edge); // step (e), counts before it
+        let (n_e, n_h) = record(h, c.edge); // step (e), counts before it
         let (alpha_e, alpha_h) = prior.alpha_and_total(h, c.edge);
         log_factor += ((f64::from(n_e) + alpha_e) / (f64::from(n_h) + alpha_h)).ln(); // eq. (6)
     });

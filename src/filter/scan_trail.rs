@@ -18,17 +18,20 @@ struct Node {
     tail: Vec<(f32, f32)>,
 }
 
-/// One particle's positions at the scans so far (cheap to clone: one reference count).
+/// One particle's positions at the scans so far (cheap to clone: one reference count;
+/// an empty trail, a walk without scans, holds nothing and counts nothing).
 #[derive(Debug, Clone, Default)]
 pub struct ScanTrail {
-    node: Arc<Node>,
+    node: Option<Arc<Node>>,
 }
 
 impl ScanTrail {
     /// Positions held.
     #[must_use]
     pub fn len(&self) -> usize {
-        self.node.full.len() * CHUNK + self.node.tail.len()
+        self.node
+            .as_ref()
+            .map_or(0, |n| n.full.len() * CHUNK + n.tail.len())
     }
 
     /// Whether it holds none.
@@ -41,7 +44,9 @@ impl ScanTrail {
     #[inline]
     #[must_use]
     pub fn get(&self, j: usize) -> (f32, f32) {
-        let n = &self.node;
+        let Some(n) = &self.node else {
+            panic!("scan {j} of an empty trail")
+        };
         match n.full.get(j / CHUNK) {
             Some(chunk) => chunk[j % CHUNK],
             None => n.tail[j % CHUNK],
@@ -51,7 +56,7 @@ impl ScanTrail {
     /// Appends the position at the next scan (copying the particle's own chunk first if a
     /// relative shares it).
     pub fn push(&mut self, at: (f32, f32)) {
-        let node = Arc::make_mut(&mut self.node);
+        let node = Arc::make_mut(self.node.get_or_insert_default());
         node.tail.push(at);
         if node.tail.len() == CHUNK {
             let chunk: [(f32, f32); CHUNK] = std::array::from_fn(|i| node.tail[i]);

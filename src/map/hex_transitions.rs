@@ -19,6 +19,7 @@
 //! ±2¹⁹ hexagon rows (±390 km at 0.5 m), far beyond any building.
 
 use super::floor_plan::FloorLevel;
+use super::hex_forest::{ForestMap, HexForest};
 use super::hex_tree::{HexTree, LEAF, LeafKey, locate};
 use crate::geometry::{HexGrid, Pose2};
 use hexx::Hex;
@@ -41,7 +42,8 @@ pub fn split_level_key(key: Hex) -> (i32, Hex) {
 }
 
 /// Per-hexagon counters: crossings of owned edges 0, 1, 2 and the total over all six.
-type Counters = [u16; 4];
+pub type HexCounters = [u16; 4];
+type Counters = HexCounters;
 const TOTAL: usize = 3;
 
 /// One hexagon of a learned map, as exported.
@@ -200,37 +202,7 @@ impl HexTransitionMap {
     /// as eq. (6) needs them. Counters saturate at `u16::MAX`. One descent of the tree
     /// when both hexagons share a leaf, two otherwise.
     pub fn record_crossing(&mut self, from: Hex, edge: u8) -> (u32, u32) {
-        let to = HexGrid::neighbour(from, edge);
-        let ((leaf_from, slot_from), (leaf_to, slot_to)) = (locate(from), locate(to));
-        // The slot owning the edge and the edge's index there.
-        let (owner_slot, owned) = if edge < 3 {
-            (slot_from, usize::from(edge))
-        } else {
-            (slot_to, usize::from(edge - 3))
-        };
-        if leaf_from == leaf_to {
-            let cells = self.leaf_mut(leaf_from);
-            let before = (cells[owner_slot][owned], cells[slot_from][TOTAL]);
-            bump(&mut cells[owner_slot][owned]);
-            bump(&mut cells[slot_from][TOTAL]);
-            bump(&mut cells[slot_to][TOTAL]);
-            return (u32::from(before.0), u32::from(before.1));
-        }
-        let c = &mut self.leaf_mut(leaf_from)[slot_from];
-        let n_h = c[TOTAL];
-        bump(&mut c[TOTAL]);
-        let mut n_e = 0;
-        if edge < 3 {
-            n_e = c[owned];
-            bump(&mut c[owned]);
-        }
-        let c = &mut self.leaf_mut(leaf_to)[slot_to];
-        bump(&mut c[TOTAL]);
-        if edge >= 3 {
-            n_e = c[owned];
-            bump(&mut c[owned]);
-        }
-        (u32::from(n_e), u32::from(n_h))
+        count_crossing(&mut self.counts, from, edge)
     }
 
     /// Adds `n` crossings of an edge at once (used to seed a map from prior counts).
@@ -255,35 +227,7 @@ impl HexTransitionMap {
     /// counts (levels decoded from the stacked keys; `levels` left empty for the caller).
     #[must_use]
     pub fn snapshot(&self, radius: f64, alpha: f64) -> HexMapSnapshot {
-        let mut stored: FxHashMap<Hex, Counters> = FxHashMap::default();
-        self.counts.for_each(|h, c| {
-            if c[TOTAL] > 0 {
-                stored.insert(h, *c);
-            }
-        });
-        let get = |h: Hex| stored.get(&h).copied().unwrap_or([0; 4]);
-        let mut cells: Vec<HexCell> = stored
-            .keys()
-            .map(|&h| {
-                let own = get(h);
-                let counts = std::array::from_fn(|e| {
-                    if e < 3 {
-                        u32::from(own[e])
-                    } else {
-                        u32::from(get(HexGrid::neighbour(h, e as u8))[e - 3])
-                    }
-                });
-                let (level, hex) = split_level_key(h);
-                HexCell { hex, level, counts }
-            })
-            .collect();
-        cells.sort_by_key(|c| (c.level, c.hex.x, c.hex.y));
-        HexMapSnapshot {
-            radius,
-            alpha,
-            cells,
-            levels: Vec::new(),
-        }
+        snapshot_of(|f| self.counts.for_each(f), radius, alpha)
     }
 
     /// Bytes held by nodes not shared with any other map (a lower bound on what this
@@ -291,6 +235,114 @@ impl HexTransitionMap {
     #[must_use]
     pub fn unshared_bytes(&self) -> usize {
         self.counts.unshared_bytes()
+    }
+}
+
+/// Where a map's counters live, for [`count_crossing`]: a tree of its own, or a map of a
+/// [`HexForest`].
+trait CounterLeaves {
+    /// The mutable leaf of leaf block `leaf`, copied or created as needed.
+    fn leaf_mut(&mut self, leaf: LeafKey) -> &mut [Counters; LEAF];
+}
+
+impl CounterLeaves for HexTree<Counters> {
+    fn leaf_mut(&mut self, leaf: LeafKey) -> &mut [Counters; LEAF] {
+        HexTree::leaf_mut(self, leaf)
+    }
+}
+
+impl CounterLeaves for (&HexForest<Counters>, &mut ForestMap<Counters>) {
+    fn leaf_mut(&mut self, leaf: LeafKey) -> &mut [Counters; LEAF] {
+        self.0.leaf_mut(self.1, leaf)
+    }
+}
+
+/// [`HexTransitionMap::record_crossing`] in any [`CounterLeaves`].
+fn count_crossing(leaves: &mut impl CounterLeaves, from: Hex, edge: u8) -> (u32, u32) {
+    let to = HexGrid::neighbour(from, edge);
+    let ((leaf_from, slot_from), (leaf_to, slot_to)) = (locate(from), locate(to));
+    // The slot owning the edge and the edge's index there.
+    let (owner_slot, owned) = if edge < 3 {
+        (slot_from, usize::from(edge))
+    } else {
+        (slot_to, usize::from(edge - 3))
+    };
+    if leaf_from == leaf_to {
+        let cells = leaves.leaf_mut(leaf_from);
+        let before = (cells[owner_slot][owned], cells[slot_from][TOTAL]);
+        bump(&mut cells[owner_slot][owned]);
+        bump(&mut cells[slot_from][TOTAL]);
+        bump(&mut cells[slot_to][TOTAL]);
+        return (u32::from(before.0), u32::from(before.1));
+    }
+    let c = &mut leaves.leaf_mut(leaf_from)[slot_from];
+    let n_h = c[TOTAL];
+    bump(&mut c[TOTAL]);
+    let mut n_e = 0;
+    if edge < 3 {
+        n_e = c[owned];
+        bump(&mut c[owned]);
+    }
+    let c = &mut leaves.leaf_mut(leaf_to)[slot_to];
+    bump(&mut c[TOTAL]);
+    if edge >= 3 {
+        n_e = c[owned];
+        bump(&mut c[owned]);
+    }
+    (u32::from(n_e), u32::from(n_h))
+}
+
+/// Many particles' transition maps in one store ([`HexForest`]; FootSLAM's particles).
+pub type HexMapForest = HexForest<Counters>;
+/// One particle's transition map in a [`HexMapForest`].
+pub type ParticleHexMap = ForestMap<Counters>;
+
+impl HexForest<Counters> {
+    /// [`HexTransitionMap::record_crossing`] in `map`.
+    pub fn record_crossing(&self, map: &mut ParticleHexMap, from: Hex, edge: u8) -> (u32, u32) {
+        count_crossing(&mut (self, map), from, edge)
+    }
+
+    /// [`HexTransitionMap::snapshot`] of `map`.
+    pub fn snapshot(&self, map: &ParticleHexMap, radius: f64, alpha: f64) -> HexMapSnapshot {
+        snapshot_of(|f| self.for_each(map, f), radius, alpha)
+    }
+}
+
+/// The snapshot of the map whose stored counters `for_each` visits.
+fn snapshot_of(
+for_each: impl FnOnce(&mut dyn FnMut(Hex, &Counters)),
+radius: f64,
+alpha: f64,
+) -> HexMapSnapshot {
+    let mut stored: FxHashMap<Hex, Counters> = FxHashMap::default();
+    for_each(&mut |h, c| {
+        if c[TOTAL] > 0 {
+            stored.insert(h, *c);
+        }
+    });
+    let get = |h: Hex| stored.get(&h).copied().unwrap_or([0; 4]);
+    let mut cells: Vec<HexCell> = stored
+        .keys()
+        .map(|&h| {
+            let own = get(h);
+            let counts = std::array::from_fn(|e| {
+                if e < 3 {
+                    u32::from(own[e])
+                } else {
+                    u32::from(get(HexGrid::neighbour(h, e as u8))[e - 3])
+                }
+            });
+            let (level, hex) = split_level_key(h);
+            HexCell { hex, level, counts }
+        })
+        .collect();
+    cells.sort_by_key(|c| (c.level, c.hex.x, c.hex.y));
+    HexMapSnapshot {
+        radius,
+        alpha,
+        cells,
+        levels: Vec::new(),
     }
 }
 

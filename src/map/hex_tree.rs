@@ -19,7 +19,7 @@ pub const LEAF: usize = 16;
 /// walks around the origin need a shallow tree.
 const KEY_OFFSET: u32 = 0xAAAA_AAAA;
 /// The deepest tree: 4^15 leaves of 4 hexagons cover the whole `u32` key range.
-const MAX_LEVEL: u8 = 15;
+pub(super) const MAX_LEVEL: u8 = 15;
 
 #[derive(Debug, Clone)]
 enum Node<T> {
@@ -69,12 +69,12 @@ pub fn hex_of((bx, by): LeafKey, slot: usize) -> Hex {
     )
 }
 
-fn child_index((lx, ly): LeafKey, level: u8) -> usize {
+pub(super) fn child_index((lx, ly): LeafKey, level: u8) -> usize {
     let shift = 2 * (u32::from(level) - 1);
     (((lx >> shift) & 3) + 4 * ((ly >> shift) & 3)) as usize
 }
 
-fn block_at((lx, ly): LeafKey, level: u8) -> LeafKey {
+pub(super) fn block_at((lx, ly): LeafKey, level: u8) -> LeafKey {
     let shift = 2 * u32::from(level);
     if shift >= 32 {
         (0, 0)

@@ -7,6 +7,7 @@
 //!
 //! Learned hexagon maps (FootSLAM):
 //! * [`hex_tree`] — one record per hexagon in a persistent quadtree, shared copy-on-write
+//! * [`hex_forest`] — many particles' hexagon maps in one store: shared nodes, own nodes written in place
 //! * [`hex_transitions`] — the per-particle hexagon transition map
 //! * [`field_map`] — the per-particle magnetic field map (MagSLAM), shared copy-on-write
 //! * [`edge_prior`] — the Dirichlet prior of every hexagon edge (outline, earlier maps)
@@ -24,6 +25,7 @@ pub mod edge_prior;
 pub mod field_map;
 pub mod floor_plan;
 pub mod floor_topology;
+pub mod hex_forest;
 pub mod hex_transitions;
 pub mod hex_tree;
 pub mod learned_plan;
@@ -39,8 +41,8 @@ pub use field_map::{FieldCell, FieldMap, FieldMapCell, FieldMapSnapshot};
 pub use floor_plan::{Barrier, FloorLevel, FloorPlan, FloorPolygon};
 pub use floor_topology::{FloorTopology, Segment, SegmentKind, TopologyConfig};
 pub use hex_transitions::{
-    HexCell, HexMapSnapshot, HexTransitionMap, LEVEL_STRIDE, level_key, map_of_path,
-    split_level_key,
+    HexCell, HexCounters, HexMapForest, HexMapSnapshot, HexTransitionMap, LEVEL_STRIDE,
+    ParticleHexMap, level_key, map_of_path, split_level_key,
 };
 pub use learned_plan::{LearnedPlan, PlanConfig, grow_plan, walkable_plan};
 pub use map_merge::{merge_maps, shift_map};

@@ -51,9 +51,11 @@ impl FootSlam {
         }
         let shift = self.grid.hex_at(dx, dy);
         let prior_shift = shift - self.offset;
-        let mut map = self.particles[index]
-            .map
-            .snapshot(self.config.hex_radius, self.config.alpha);
+        let mut map = self.maps.snapshot(
+            &self.particles[index].map,
+            self.config.hex_radius,
+            self.config.alpha,
+        );
         let levels = self.level_tracker.levels();
         if levels.len() > 1 || self.config.start_level != 0 {
             map.levels = levels;
@@ -96,7 +98,8 @@ impl FootSlam {
     #[must_use]
     pub fn replay_path(&self, index: usize) -> Vec<Pose2> {
         let seed = self.config.seed;
-        let indices = self.particles[index].lineage.indices(self.steps.len() + 1);
+        let ancestry = self.particles[index].ancestry;
+        let indices = self.lineage.indices(ancestry, self.steps.len() + 1);
         let mut rng = stream(seed, 0, u64::from(indices[0]));
         let mut error = self.motion.sample_initial(&mut rng);
         let mut pose = sample_start(&self.config, &mut rng);
