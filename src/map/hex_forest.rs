@@ -19,10 +19,14 @@
 //! (in parallel, each into its own range) and every child gets the root alone. Particles
 //! with no child drop their own nodes in two frees.
 //!
-//! **Freeing** ([`HexForest::collect_garbage`]): store nodes that no map reaches any more are
-//! found by marking from every map (in parallel, one bit per node) once the store has grown
-//! to [`GROWTH`] times what the last collection kept; the live nodes then slide down in
-//! place, keeping their order, and every link is renumbered. Nothing is freed node by node.
+//! Each map also remembers its two most recently written leaf blocks and their own leaves,
+//! so that most crossings (which stay within a block of 4×4 hexagons) skip the descent.
+//!
+//! **Freeing** ([`HexForest::collect`], run by [`HexForest::inherit`] when the store would
+//! grow past [`GROWTH`] times what the last collection kept): store nodes that no surviving
+//! map reaches any more are found by marking from every such map (in parallel, one bit per
+//! node); the live nodes then slide down in place, keeping their order, and every link is
+//! renumbered. Nothing is freed node by node.
 //!
 //! Which nodes are where never changes what a map holds, so results do not depend on it.
 
