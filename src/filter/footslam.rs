@@ -44,7 +44,9 @@ use super::resample::{self, ResampleMethod};
 use super::scan_trail::ScanTrail;
 use crate::error::Result;
 use crate::geometry::{Hex, HexGrid, Pose2};
-use crate::map::{EdgePrior, FieldMap, FieldMapSnapshot, HexMapForest, HexMapSnapshot, ParticleHexMap};
+use crate::map::{
+    EdgePrior, FieldMap, FieldMapSnapshot, HexMapForest, HexMapSnapshot, ParticleHexMap,
+};
 use crate::model::{
     AxisEvidence, AxisLikelihood, AxisState, FieldEvidence, GpsLikelihood, HeadingLikelihood,
     LevelTracker, StepErrorState, StepMotion,
@@ -614,14 +616,15 @@ impl FootSlam {
         );
         let particles = &self.particles;
         self.ancestry.clear();
-        self.ancestry.extend(self.parents.iter().enumerate().map(|(i, &j)| {
-            let id = particles[j].ancestry;
-            if i == j {
-                id
-            } else {
-                self.lineage.child(id, from_step, i as u32)
-            }
-        }));
+        self.ancestry
+            .extend(self.parents.iter().enumerate().map(|(i, &j)| {
+                let id = particles[j].ancestry;
+                if i == j {
+                    id
+                } else {
+                    self.lineage.child(id, from_step, i as u32)
+                }
+            }));
         self.parents
             .par_iter()
             .zip(self.inherited.par_drain(..))

@@ -180,7 +180,11 @@ mod tests {
             let got: Vec<_> = ids.iter().map(|&id| tree.indices(id, 45)).collect();
             assert_eq!(got, want, "step {k}");
         }
-        assert!(tree.len() < 40, "dead lines dropped: {} segments", tree.len());
+        assert!(
+            tree.len() < 40,
+            "dead lines dropped: {} segments",
+            tree.len()
+        );
         assert!(!want.is_empty());
     }
 

@@ -47,7 +47,7 @@ const INDEX: Link = IS_LEAF - 1;
 type Branch = [Link; LEAF];
 
 /// The store's collection threshold: it collects when it holds this many times the bytes it
-/// kept at the previous collection (or [`MIN_COLLECT_BYTES`]).
+/// kept at the previous collection (or `MIN_COLLECT_BYTES`, 4 MiB).
 pub const GROWTH: usize = 2;
 /// The store collects no garbage below this size.
 const MIN_COLLECT_BYTES: usize = 4 << 20;
@@ -217,7 +217,8 @@ impl<T: Copy + Default + Send + Sync> HexForest<T> {
     /// The record of `h` in `map` (the default where none is stored).
     pub fn get(&self, map: &ForestMap<T>, h: Hex) -> T {
         let (leaf, slot) = locate(h);
-        self.leaf(map, leaf).map_or_else(T::default, |cells| cells[slot])
+        self.leaf(map, leaf)
+            .map_or_else(T::default, |cells| cells[slot])
     }
 
     /// `link` as one of `map`'s own nodes at `level`: itself when own, else a copy of the
@@ -324,7 +325,10 @@ impl<T: Copy + Default + Send + Sync> HexForest<T> {
             self.offsets.push(at);
             if c > 1 {
                 let m = map(p);
-                at = (at.0 + m.branches.len() as Link, at.1 + m.leaves.len() as Link);
+                at = (
+                    at.0 + m.branches.len() as Link,
+                    at.1 + m.leaves.len() as Link,
+                );
             }
         }
         self.offsets.push(at);

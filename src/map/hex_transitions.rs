@@ -311,9 +311,9 @@ impl HexForest<Counters> {
 
 /// The snapshot of the map whose stored counters `for_each` visits.
 fn snapshot_of(
-for_each: impl FnOnce(&mut dyn FnMut(Hex, &Counters)),
-radius: f64,
-alpha: f64,
+    for_each: impl FnOnce(&mut dyn FnMut(Hex, &Counters)),
+    radius: f64,
+    alpha: f64,
 ) -> HexMapSnapshot {
     let mut stored: FxHashMap<Hex, Counters> = FxHashMap::default();
     for_each(&mut |h, c| {

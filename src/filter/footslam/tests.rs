@@ -186,17 +186,38 @@ fn revisiting_particles_gain_weight() {
     };
     let a = Pose2::new(0.0, 0.0, 0.0);
     let b = Pose2::new(0.866, 0.0, 0.0);
-    let first = log_map_factor(&grid, |h, e| map.record_crossing(h, e), uniform, false, a, b);
+    let first = log_map_factor(
+        &grid,
+        |h, e| map.record_crossing(h, e),
+        uniform,
+        false,
+        a,
+        b,
+    );
     assert!(
         (first - (0.8f64 / 4.8).ln()).abs() < 1e-12,
         "an unknown hexagon gives 1/6"
     );
-    let back = log_map_factor(&grid, |h, e| map.record_crossing(h, e), uniform, false, b, a);
+    let back = log_map_factor(
+        &grid,
+        |h, e| map.record_crossing(h, e),
+        uniform,
+        false,
+        b,
+        a,
+    );
     // Leaving b through the edge entered: (1 + 0.8) / (1 + 4.8).
     assert!((back - (1.8f64 / 5.8).ln()).abs() < 1e-12);
     let c = Pose2::new(0.2, 0.2, 0.0);
     assert_eq!(
-        log_map_factor(&grid, |h, e| map.record_crossing(h, e), uniform, false, a, c),
+        log_map_factor(
+            &grid,
+            |h, e| map.record_crossing(h, e),
+            uniform,
+            false,
+            a,
+            c
+        ),
         0.0,
         "no crossing, no update"
     );

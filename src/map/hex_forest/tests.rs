@@ -43,9 +43,7 @@ fn maps_match_copy_on_write_trees_through_resampling_and_collection() {
             }
         }
         // Resample: some particles die, others have several children.
-        let parents: Vec<usize> = (0..n)
-            .map(|_| rng.random_range(0..n / 2) * 2 % n)
-            .collect();
+        let parents: Vec<usize> = (0..n).map(|_| rng.random_range(0..n / 2) * 2 % n).collect();
         let mut next = Vec::new();
         forest.inherit(&mut maps, |m| m, &parents, &mut children, &mut next);
         maps = next;
@@ -94,7 +92,10 @@ fn collection_keeps_what_maps_reach_and_frees_the_rest() {
     assert!(maps[0].own_bytes() > 0);
     for (m, nine) in maps.iter().zip([Some(9), Some(0)]) {
         assert_eq!(forest.get(m, Hex::new(63, 0)), 0, "slot 0 of the leaf only");
-        assert_eq!(forest.leaf(m, locate(Hex::new(63, 0)).0).map(|l| l[0]), Some(64));
+        assert_eq!(
+            forest.leaf(m, locate(Hex::new(63, 0)).0).map(|l| l[0]),
+            Some(64)
+        );
         assert_eq!(forest.leaf(m, locate(Hex::new(0, 0)).0).map(|l| l[1]), nine);
     }
     maps.clear();
