@@ -21,6 +21,7 @@ mod fuzz_replay;
 mod import;
 mod layout;
 mod mount_configs;
+mod outputs_unchanged;
 mod phone_pdr;
 mod pipeline;
 mod properties;

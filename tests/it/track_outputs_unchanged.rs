@@ -65,14 +65,14 @@ const CASES: [(&str, &[&str]); 4] = [
 ];
 
 /// FNV-1a, 64 bits: a digest that needs no dependency.
-fn fnv1a(bytes: &[u8]) -> u64 {
+pub fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
         (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
     })
 }
 
 /// The bytes of an output as compared: `summary.json` without its volatile lines.
-fn comparable(name: &str, bytes: Vec<u8>) -> Vec<u8> {
+pub fn comparable(name: &str, bytes: Vec<u8>) -> Vec<u8> {
     if name != "summary.json" {
         return bytes;
     }

@@ -9,48 +9,22 @@
 //!
 //! **What is compared.** Every file a run writes, by size and FNV-1a 64-bit digest, except
 //! the lines of `summary.json` that measure the run rather than its answer (run times,
-//! throughput, peak memory, the thread count: [`VOLATILE`]).
+//! throughput, peak memory, the thread count), as `track`'s golden test compares them
+//! ([`fnv1a`] and [`comparable`] are its).
 //!
-//! **How the digests were made.** With `FOOTSLAM_WRITE_GOLDEN=1 cargo test --release --test
-//! outputs_unchanged` on commit 753b6f1 (main before the arena maps of issue 37), x86-64
-//! Linux. Regenerate them only for a change meant to alter the answer, and say so in the
-//! commit; a speed change must leave them alone. A failure names the file that changed
+//! **How the digests were made.** With `FOOTSLAM_BLESS=1 cargo test --release --workspace
+//! --test it learn_is_unchanged` on commit 44d822c (main before the arena maps of issue 37),
+//! x86-64 Linux. Regenerate them only for a change meant to alter the answer, and say so in
+//! the commit; a speed change must leave them alone. A failure names the file that changed
 //! and keeps the run's folder under `target/outputs_unchanged/` for a look.
 
-use assert_cmd::Command;
+use crate::cli_cases::footslam;
+use crate::track_outputs_unchanged::{comparable, fnv1a};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// Keys of `summary.json` that measure the run, not its answer.
-const VOLATILE: [&str; 5] = [
-    "\"filter_runtime_s\"",
-    "\"particle_steps_per_s\"",
-    "\"runtime_s\"",
-    "\"threads\"",
-    "\"peak_memory_bytes\"",
-];
-
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// FNV-1a, 64 bits.
-fn fnv1a(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
-    })
-}
-
-/// The bytes compared of an output file: `summary.json` without its [`VOLATILE`] lines.
-fn comparable(name: &str, bytes: Vec<u8>) -> Vec<u8> {
-    if name != "summary.json" {
-        return bytes;
-    }
-    let text = String::from_utf8(bytes).expect("summary.json is UTF-8");
-    text.lines()
-        .filter(|l| !VOLATILE.iter().any(|k| l.trim_start().starts_with(k)))
-        .flat_map(|l| l.bytes().chain([b'\n']))
-        .collect()
 }
 
 /// `size digest` of every file of `dir`, by name.
@@ -78,21 +52,19 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 /// Runs `footslam ARGS` in `dir`.
-fn footslam(dir: &Path, args: &[&str]) {
-    Command::cargo_bin("footslam")
-        .expect("binary")
-        .current_dir(dir)
-        .args(args)
-        .assert()
-        .success();
+fn run(dir: &Path, args: &[&str]) {
+    footslam().current_dir(dir).args(args).assert().success();
 }
 
 /// Compares the digests of folder `out` with `tests/golden/<golden>.txt` (or writes them
-/// there with `FOOTSLAM_WRITE_GOLDEN` set), naming every file that differs.
+/// there with `FOOTSLAM_BLESS` set), naming every file that differs.
 fn check(out: &Path, golden: &str) {
     let got = digests(out);
-    let file = root().join("tests").join("golden").join(format!("{golden}.txt"));
-    if std::env::var_os("FOOTSLAM_WRITE_GOLDEN").is_some() {
+    let file = root()
+        .join("tests")
+        .join("golden")
+        .join(format!("{golden}.txt"));
+    if std::env::var_os("FOOTSLAM_BLESS").is_some() {
         let text: String = got.iter().map(|(n, d)| format!("{n} {d}\n")).collect();
         std::fs::write(&file, text).expect("write golden");
         return;
@@ -108,9 +80,9 @@ fn check(out: &Path, golden: &str) {
     for (name, digest) in &want {
         match got.get(name) {
             None => wrong.push(format!("{name}: no longer written")),
-            Some(d) if d != digest => wrong.push(format!(
-                "{name}: size and digest {d}, golden {digest}"
-            )),
+            Some(d) if d != digest => {
+                wrong.push(format!("{name}: size and digest {d}, golden {digest}"))
+            }
             Some(_) => {}
         }
     }
@@ -130,7 +102,7 @@ fn the_default_learn_is_unchanged() {
     let dir = scratch("office");
     let out = dir.join("out");
     let out = out.to_str().expect("path");
-    footslam(&root(), &["learn", "-q", "--threads", "2", "--out", out]);
+    run(&root(), &["learn", "-q", "--threads", "2", "--out", out]);
     check(Path::new(out), "learn_office");
 }
 
@@ -152,7 +124,7 @@ fn the_tower_learn_is_unchanged_on_one_and_two_threads() {
             "--out",
             out,
         ];
-        footslam(&root(), &args);
+        run(&root(), &args);
     }
     assert_eq!(
         digests(&dir.join("threads-1")),
@@ -165,11 +137,11 @@ fn the_tower_learn_is_unchanged_on_one_and_two_threads() {
 #[test]
 fn the_magnetic_learn_is_unchanged() {
     let dir = scratch("magnetic");
-    footslam(
+    run(
         &dir,
         &["simulate", "--magnetometer", "--seed", "3", "--out", "sim"],
     );
-    footslam(
+    run(
         &dir,
         &[
             "learn",
