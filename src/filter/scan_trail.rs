@@ -41,6 +41,10 @@ impl ScanTrail {
     }
 
     /// The position at scan `j` (`j < len()`).
+    ///
+    /// # Panics
+    ///
+    /// If `j >= len()` (any `j` of an empty trail).
     #[inline]
     #[must_use]
     pub fn get(&self, j: usize) -> (f32, f32) {

@@ -141,6 +141,7 @@ impl<T: Copy> ForestMap<T> {
     }
 
     /// Bytes of the nodes only this map holds (its vectors' capacity).
+    #[must_use]
     pub fn own_bytes(&self) -> usize {
         self.branches.capacity() * size_of::<Branch>()
             + self.leaves.capacity() * size_of::<[T; LEAF]>()
@@ -172,16 +173,19 @@ impl<T: Copy> ForestMap<T> {
 
 impl<T: Copy + Default + Send + Sync> HexForest<T> {
     /// An empty store.
+    #[must_use]
     pub fn new() -> Self {
         Self::default()
     }
 
     /// Bytes of the store's nodes.
+    #[must_use]
     pub fn bytes(&self) -> usize {
         self.branches.len() * size_of::<Branch>() + self.leaves.len() * size_of::<[T; LEAF]>()
     }
 
     /// Garbage collections so far.
+    #[must_use]
     pub fn collections(&self) -> usize {
         self.collections
     }
@@ -195,6 +199,7 @@ impl<T: Copy + Default + Send + Sync> HexForest<T> {
     }
 
     /// The leaf of leaf block `leaf` in `map`, if stored.
+    #[must_use]
     pub fn leaf<'a>(&'a self, map: &'a ForestMap<T>, leaf: LeafKey) -> Option<&'a [T; LEAF]> {
         if map.root == NONE || block_at(leaf, map.level) != map.base {
             return None;
@@ -215,6 +220,7 @@ impl<T: Copy + Default + Send + Sync> HexForest<T> {
     }
 
     /// The record of `h` in `map` (the default where none is stored).
+    #[must_use]
     pub fn get(&self, map: &ForestMap<T>, h: Hex) -> T {
         let (leaf, slot) = locate(h);
         self.leaf(map, leaf)
@@ -305,6 +311,11 @@ impl<T: Copy + Default + Send + Sync> HexForest<T> {
     /// map of `parents[i]` in `old` (reached through `map`). A parent's only child takes its
     /// map whole; a parent of several first moves its own nodes into the store, and each
     /// child gets its root. `children` is scratch.
+    ///
+    /// # Panics
+    ///
+    /// If an index of `parents` is not one of `old`, or if the store would hold 2³⁰
+    /// branches or 2³⁰ leaves or more.
     pub fn inherit<P: Send>(
         &mut self,
         old: &mut [P],

@@ -304,6 +304,7 @@ impl HexForest<Counters> {
     }
 
     /// [`HexTransitionMap::snapshot`] of `map`.
+    #[must_use]
     pub fn snapshot(&self, map: &ParticleHexMap, radius: f64, alpha: f64) -> HexMapSnapshot {
         snapshot_of(|f| self.for_each(map, f), radius, alpha)
     }

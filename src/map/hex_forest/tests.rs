@@ -33,7 +33,7 @@ fn maps_match_copy_on_write_trees_through_resampling_and_collection() {
                     Hex::new(rng.random_range(-90_000..90_000), rng.random_range(-9..9))
                 } else {
                     Hex::new(
-                        rng.random_range(-30..30) + i as i32,
+                        rng.random_range(-30..30) + i32::try_from(i).unwrap(),
                         rng.random_range(-20..20),
                     )
                 };
@@ -71,7 +71,8 @@ fn collection_keeps_what_maps_reach_and_frees_the_rest() {
     let mut maps = vec![ForestMap::default(); 4];
     for (i, m) in maps.iter_mut().enumerate() {
         for q in 0..64 {
-            forest.leaf_mut(m, locate(Hex::new(q, 4 * i as i32)).0)[0] = q as u32 + 1;
+            forest.leaf_mut(m, locate(Hex::new(q, 4 * i32::try_from(i).unwrap())).0)[0] =
+                q as u32 + 1;
         }
     }
     let mut children = Vec::new();
