@@ -76,8 +76,9 @@ struct Particle {
     trail: ScanTrail,
     /// The building's axes it learned from its straight steps so far.
     axes: AxisState,
-    /// Its map of the magnetic field.
-    field: FieldMap,
+    /// Its map of the magnetic field, from its first reading on (none in a walk without
+    /// magnetometer readings: 8 bytes a particle, not a map's 64).
+    field: Option<Box<FieldMap>>,
 }
 
 /// The filter's answer: the most probable particle's map and whole path.
@@ -179,8 +180,6 @@ pub struct FootSlam {
     weights: Vec<f64>,
     parents: Vec<usize>,
     children: Vec<u32>,
-    inherited: Vec<ParticleHexMap>,
-    ancestry: Vec<u32>,
     residuals: Vec<f64>,
     next: Vec<Particle>,
     /// Step measurements seen, needed to replay paths.
@@ -289,7 +288,7 @@ impl FootSlam {
                     wifi_log_likelihood: 0.0,
                     trail: ScanTrail::default(),
                     axes: AxisState::default(),
-                    field: FieldMap::new(),
+                    field: None,
                 }
             })
             .collect();
@@ -343,8 +342,6 @@ impl FootSlam {
             weights: vec![1.0 / n as f64; n],
             parents: Vec::with_capacity(n),
             children: Vec::new(),
-            inherited: Vec::new(),
-            ancestry: Vec::new(),
             residuals: Vec::new(),
             next: Vec::with_capacity(n),
             particles,
@@ -546,7 +543,13 @@ impl FootSlam {
                 // The step's field reading against the particle's own field map
                 // (magnetic_field eq. 3), then added to it.
                 if let Some((model, y)) = field {
-                    log_factor += model.weigh_and_learn(&mut p.field, &pose, level, k as u32, y);
+                    log_factor += model.weigh_and_learn(
+                        p.field.get_or_insert_default(),
+                        &pose,
+                        level,
+                        k as u32,
+                        y,
+                    );
                 }
                 *log_w += log_factor;
                 p.path_log_likelihood += log_factor;

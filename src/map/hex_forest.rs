@@ -307,23 +307,25 @@ impl<T: Copy + Default + Send + Sync> HexForest<T> {
         }
     }
 
-    /// The maps of the next generation after resampling, into `out`: child `i` inherits the
-    /// map of `parents[i]` in `old` (reached through `map`). A parent's only child takes its
-    /// map whole; a parent of several first moves its own nodes into the store, and each
-    /// child gets its root. `children` is scratch.
+    /// The maps of the next generation after resampling: child `new[i]` inherits the map of
+    /// `old[parents[i]]` (each reached through `map` and `new_map`; the children's maps are
+    /// overwritten). A parent's only child takes its map whole; a parent of several first
+    /// moves its own nodes into the store, and each child gets its root. `children` is
+    /// scratch.
     ///
     /// # Panics
     ///
-    /// If an index of `parents` is not one of `old`, or if the store would hold 2³⁰
-    /// branches or 2³⁰ leaves or more.
-    pub fn inherit<P: Send>(
+    /// If `new` and `parents` differ in length, if an index of `parents` is not one of
+    /// `old`, or if the store would hold 2³⁰ branches or 2³⁰ leaves or more.
+    pub fn inherit<P: Send, Q>(
         &mut self,
         old: &mut [P],
         map: impl Fn(&mut P) -> &mut ForestMap<T> + Sync,
         parents: &[usize],
         children: &mut Vec<u32>,
-        out: &mut Vec<ForestMap<T>>,
+        (new, new_map): (&mut [Q], impl Fn(&mut Q) -> &mut ForestMap<T>),
     ) {
+        assert_eq!(new.len(), parents.len(), "one child per parent index");
         children.clear();
         children.resize(old.len(), 0);
         for &j in parents {
@@ -350,15 +352,14 @@ impl<T: Copy + Default + Send + Sync> HexForest<T> {
         }
         self.share(old, &map, children);
         // The last child of a parent takes its map, the others copy its root.
-        out.clear();
-        for &j in parents {
+        for (child, &j) in new.iter_mut().zip(parents) {
             let m = map(&mut old[j]);
             children[j] -= 1;
-            out.push(if children[j] == 0 {
+            *new_map(child) = if children[j] == 0 {
                 std::mem::take(m)
             } else {
                 m.clone()
-            });
+            };
         }
     }
 

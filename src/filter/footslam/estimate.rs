@@ -3,7 +3,7 @@
 use super::{FootSlam, FootSlamEstimate, sample_start};
 use crate::filter::outline_fit::{fit_outline_shift, unseen_seconds};
 use crate::geometry::Pose2;
-use crate::map::FieldMapSnapshot;
+use crate::map::{FieldMap, FieldMapSnapshot};
 use crate::random::stream;
 
 impl FootSlam {
@@ -87,7 +87,8 @@ impl FootSlam {
                     radius: model.cell_radius(),
                     components: model.components(),
                     offset: (dx, dy),
-                    cells: self.particles[index].field.snapshot(),
+                    cells: (self.particles[index].field.as_deref())
+                        .map_or_else(|| FieldMap::new().snapshot(), FieldMap::snapshot),
                 }),
         }
     }

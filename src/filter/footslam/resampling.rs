@@ -4,6 +4,7 @@
 
 use super::{FootSlam, Particle};
 use crate::filter::resample::{self, ResampleMethod};
+use crate::map::ParticleHexMap;
 use crate::random::filter_stream;
 use rand::RngExt;
 use rayon::prelude::*;
@@ -30,8 +31,8 @@ impl FootSlam {
         debug_assert!((self.weights.iter().sum::<f64>() - 1.0).abs() < 1e-6);
     }
 
-    /// Resamples after step `k`; survivors share maps ([`crate::map::HexMapForest::inherit`]) and
-    /// extend their ancestry only when their index changes.
+    /// Resamples after step `k`; survivors share maps ([`crate::map::HexMapForest::inherit`])
+    /// and extend their ancestry only when their index changes.
     pub(super) fn resample(&mut self, k: u64) {
         let n = self.particles.len();
         let u0 = filter_stream(self.config.seed, k).random::<f64>();
@@ -43,36 +44,17 @@ impl FootSlam {
                 resample::residual(&self.weights, n, u0, &mut self.parents, &mut self.residuals);
             }
         }
-        let from_step = (k + 1) as u32;
-        self.maps.inherit(
-            &mut self.particles,
-            |p| &mut p.map,
-            &self.parents,
-            &mut self.children,
-            &mut self.inherited,
-        );
+        // The next generation, maps and ancestry apart.
         let particles = &self.particles;
-        self.ancestry.clear();
-        self.ancestry
-            .extend(self.parents.iter().enumerate().map(|(i, &j)| {
-                let id = particles[j].ancestry;
-                if i == j {
-                    id
-                } else {
-                    self.lineage.child(id, from_step, i as u32)
-                }
-            }));
         self.parents
             .par_iter()
-            .zip(self.inherited.par_drain(..))
-            .zip(&self.ancestry)
-            .map(|((&j, map), &ancestry)| {
+            .map(|&j| {
                 let p = &particles[j];
                 Particle {
                     pose: p.pose,
                     error: p.error,
-                    map,
-                    ancestry,
+                    map: ParticleHexMap::default(),
+                    ancestry: p.ancestry,
                     path_log_likelihood: p.path_log_likelihood,
                     wifi_log_likelihood: p.wifi_log_likelihood,
                     trail: p.trail.clone(),
@@ -81,6 +63,20 @@ impl FootSlam {
                 }
             })
             .collect_into_vec(&mut self.next);
+        self.maps.inherit(
+            &mut self.particles,
+            |p| &mut p.map,
+            &self.parents,
+            &mut self.children,
+            (&mut self.next, |p| &mut p.map),
+        );
+        // A particle whose index changed starts a segment of ancestry.
+        let from_step = (k + 1) as u32;
+        for (i, p) in self.next.iter_mut().enumerate() {
+            if self.parents[i] != i {
+                p.ancestry = self.lineage.child(p.ancestry, from_step, i as u32);
+            }
+        }
         std::mem::swap(&mut self.particles, &mut self.next);
         // The old generation goes in parallel: its ancestry, trails and field maps.
         self.next.par_drain(..).for_each(drop);

@@ -44,8 +44,9 @@ fn maps_match_copy_on_write_trees_through_resampling_and_collection() {
         }
         // Resample: some particles die, others have several children.
         let parents: Vec<usize> = (0..n).map(|_| rng.random_range(0..n / 2) * 2 % n).collect();
-        let mut next = Vec::new();
-        forest.inherit(&mut maps, |m| m, &parents, &mut children, &mut next);
+        let mut next = vec![ForestMap::default(); n];
+        let new = &mut next[..];
+        forest.inherit(&mut maps, |m| m, &parents, &mut children, (new, |m| m));
         maps = next;
         trees = parents.iter().map(|&j| trees[j].clone()).collect();
         if round % 7 == 6 {
@@ -76,8 +77,9 @@ fn collection_keeps_what_maps_reach_and_frees_the_rest() {
         }
     }
     let mut children = Vec::new();
-    let mut next = Vec::new();
-    forest.inherit(&mut maps, |m| m, &[0, 0, 1, 1], &mut children, &mut next);
+    let mut next = vec![ForestMap::default(); 4];
+    let new = &mut next[..];
+    forest.inherit(&mut maps, |m| m, &[0, 0, 1, 1], &mut children, (new, |m| m));
     maps = next;
     let shared = forest.bytes();
     assert!(shared > 0, "parents of two share their nodes");
