@@ -8,9 +8,12 @@
 //! The segments live in one vector, linked by index (a parent always before its children),
 //! and a particle holds the index of its newest segment: resampling appends one segment
 //! per particle whose index changed and touches nothing else. Segments no particle
-//! descends from are dropped in bulk ([`Lineage::collect_garbage`]) once the vector has
-//! doubled since the last collection: marked from the particles' segments up their chains,
-//! the kept ones slide down in order and the links are renumbered.
+//! descends from are dropped in bulk ([`Lineage::collect_garbage`], before a resampling
+//! appends its segments) once the vector has doubled since the last collection, or would
+//! otherwise have to grow: marked from the particles' segments up their chains, the kept
+//! ones slide down in order and the links are renumbered. The vector grows only right
+//! after a collection, to what the next one needs, never by doubling while full: a copy
+//! of a full vector would hold it twice.
 
 /// The link of a root segment.
 const ROOT: u32 = u32::MAX;
@@ -97,13 +100,33 @@ impl Lineage {
         out
     }
 
-    /// Drops the segments that no particle of `items` (through `id`, its newest segment)
-    /// descends from, if the tree has doubled since the last collection (and holds more
-    /// than a segment per particle); renumbers the kept ones and the particles' links.
-    pub fn collect_garbage<P>(&mut self, items: &mut [P], id: impl Fn(&mut P) -> &mut u32) {
-        if self.segments.len() < 2 * self.kept.max(items.len()) {
-            return;
+    /// Makes room for `incoming` new segments: drops the segments that no particle of
+    /// `items` (through `id`, its newest segment) descends from if the tree has doubled
+    /// since the last collection (and holds more than a segment per particle) or has no
+    /// room left, renumbering the kept ones and the particles' links; then, if it still
+    /// has no room, grows to room for what the next collection will find.
+    pub fn collect_garbage<P>(
+        &mut self,
+        items: &mut [P],
+        id: impl Fn(&mut P) -> &mut u32,
+        incoming: usize,
+    ) {
+        let floor = self.kept.max(items.len());
+        let full = self.segments.len() + incoming > self.segments.capacity();
+        if full || self.segments.len() >= 2 * floor {
+            self.collect(items, id);
         }
+        if self.segments.len() + incoming > self.segments.capacity() {
+            // The next collection comes at twice what this one kept; a quarter more
+            // spares a growth each time the tree grows a little.
+            let room = 2 * self.kept.max(items.len()) + self.kept.max(items.len()) / 4;
+            let target = room.max(self.segments.len()) + incoming;
+            self.segments.reserve_exact(target - self.segments.len());
+        }
+    }
+
+    /// The collection of [`Self::collect_garbage`].
+    fn collect<P>(&mut self, items: &mut [P], id: impl Fn(&mut P) -> &mut u32) {
         let mut marks = vec![0u64; self.segments.len().div_ceil(64)];
         for p in items.iter_mut() {
             let mut node = *id(p);
@@ -176,7 +199,7 @@ mod tests {
                 })
                 .collect();
             want = ids.iter().map(|&id| tree.indices(id, 45)).collect();
-            tree.collect_garbage(&mut ids, |id| id);
+            tree.collect_garbage(&mut ids, |id| id, 4);
             let got: Vec<_> = ids.iter().map(|&id| tree.indices(id, 45)).collect();
             assert_eq!(got, want, "step {k}");
         }
@@ -186,6 +209,28 @@ mod tests {
             tree.len()
         );
         assert!(!want.is_empty());
+    }
+
+    #[test]
+    fn the_vector_grows_only_to_what_the_next_collection_needs() {
+        // 100 particles that all take a new index at every step, all from one line.
+        let n = 100;
+        let mut tree = Lineage::new();
+        let mut ids: Vec<u32> = (0..n).map(|i| tree.root(i)).collect();
+        let mut floor = n as usize;
+        for k in 1..600u32 {
+            let mut next = vec![ids[(k % n) as usize]; n as usize];
+            tree.collect_garbage(&mut next, |id| id, n as usize);
+            floor = floor.max(tree.kept);
+            ids = (0..n).map(|i| tree.child(next[i as usize], k, i)).collect();
+            let most = 2 * floor + floor / 4 + n as usize;
+            assert!(
+                tree.segments.capacity() <= most,
+                "step {k}: room for {} segments, {most} at most",
+                tree.segments.capacity()
+            );
+        }
+        assert_eq!(tree.indices(ids[7], 600)[599], 7);
     }
 
     #[test]

@@ -70,7 +70,9 @@ impl FootSlam {
             &mut self.children,
             (&mut self.next, |p| &mut p.map),
         );
-        // A particle whose index changed starts a segment of ancestry.
+        // A particle whose index changed starts a segment of ancestry (room made first: what
+        // no particle of the next generation descends from goes).
+        (self.lineage).collect_garbage(&mut self.next, |p| &mut p.ancestry, n);
         let from_step = (k + 1) as u32;
         for (i, p) in self.next.iter_mut().enumerate() {
             if self.parents[i] != i {
@@ -78,9 +80,8 @@ impl FootSlam {
             }
         }
         std::mem::swap(&mut self.particles, &mut self.next);
-        // The old generation goes in parallel: its ancestry, trails and field maps.
+        // The old generation goes in parallel: its maps' own nodes, trails and field maps.
         self.next.par_drain(..).for_each(drop);
-        (self.lineage).collect_garbage(&mut self.particles, |p| &mut p.ancestry);
         let uniform = -(n as f64).ln();
         self.log_weights.fill(uniform);
         self.weights.fill(1.0 / n as f64);
