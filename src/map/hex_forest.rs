@@ -63,10 +63,13 @@ fn is_own(link: Link) -> bool {
     link != NONE && link & OWN != 0
 }
 
-/// Appends `node`, growing by half (small maps hold little slack), and returns its index.
+/// Appends `node`, growing by one node, and returns its index. A map's own nodes hold no
+/// slack: after a few steps without a resampling they are the largest part of a particle's
+/// memory (up to 1 KB; BENCHMARKS.md), and the allocator's reallocation grows most blocks
+/// in place (its size classes leave room).
 fn push<N>(nodes: &mut Vec<N>, node: N) -> Link {
     if nodes.len() == nodes.capacity() {
-        nodes.reserve_exact((nodes.len() / 2).max(1));
+        nodes.reserve_exact(1);
     }
     debug_assert!(nodes.len() < INDEX as usize, "more than 2³⁰ nodes");
     nodes.push(node);
