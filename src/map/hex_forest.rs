@@ -50,7 +50,7 @@ type Branch = [Link; LEAF];
 /// in per cent, of the bytes it kept at the previous collection (or `MIN_COLLECT_BYTES`,
 /// 4 MiB). At 150 rather than 200 the store peaks at 1.5 times its live nodes, not twice
 /// (BENCHMARKS.md: about 100 bytes a particle less at 100,000 particles × 700 steps, for
-/// about 5 % more CPU time in collections).
+/// 5–8 % more CPU time).
 pub const GROWTH_PERCENT: usize = 150;
 /// The store collects no garbage below this size.
 const MIN_COLLECT_BYTES: usize = 4 << 20;
