@@ -12,7 +12,7 @@ use super::learn_args::Args;
 use super::learn_inputs::{Found, WalkArgs, find_walks, read_request};
 use super::learn_outputs::{MapFrame, MapPictures, write_learned_plan, write_walk};
 use super::progress_bars::Bars;
-use super::radio_outputs::write_radio_map_files;
+use super::radio_outputs::{Heatmaps, print_heatmaps, write_radio_map_files};
 use anyhow::Result;
 use footslam::filter::departure::Trust;
 use footslam::io::RunFolder;
@@ -47,7 +47,9 @@ pub fn run(args: Args) -> Result<()> {
 
     let mut folder = super::common::create_run_folder(&output_dir(args.out.clone(), "learn"))?;
     protect_inputs(&mut folder, &args, &found);
-    let walks = write_outputs(&folder, &prepared, &learned, args.picture_extent)?;
+    let heatmaps = args.heatmaps.unwrap_or(Heatmaps::DEFAULT);
+    let pictures = (args.picture_extent, heatmaps);
+    let walks = pool.install(|| write_outputs(&folder, &prepared, &learned, pictures))?;
     let threads = pool.current_num_threads();
     let report = LearnReport::new(&prepared, &learned, walks, started, threads);
     folder.write_json("config.json", &prepared.config_run(&learned))?;
@@ -88,7 +90,7 @@ fn write_outputs(
     folder: &RunFolder,
     prepared: &PreparedLearn,
     learned: &Learned,
-    picture_extent: Option<[f64; 4]>,
+    (picture_extent, heatmaps): (Option<[f64; 4]>, Heatmaps),
 ) -> Result<Vec<WalkReport>> {
     let frame = &prepared.frame;
     let map_frame = MapFrame::of(prepared, picture_extent);
@@ -118,8 +120,10 @@ fn write_outputs(
         merged_pictures(&map_frame).write(&|name| folder.path(name), "merged", merged)?;
     }
     if let Some(radio) = &learned.combined.radio {
-        let pictures = (frame, map_frame.anchored, picture_extent);
-        write_radio_map_files(folder, "", &radio.plan.plan, &radio.survey.map, pictures)?;
+        let pictures = (frame, map_frame.anchored, picture_extent, heatmaps);
+        let drawn =
+            write_radio_map_files(folder, "", &radio.plan.plan, &radio.survey.map, pictures)?;
+        print_heatmaps(drawn, &radio.survey.map);
     }
     if batch {
         folder.write("walks.csv", &walks_table(&reports)?)?;

@@ -84,6 +84,10 @@ pub struct Args {
     /// them).
     #[arg(long, value_parser = super::common::parse_extent, allow_hyphen_values = true, value_name = "X0,Y0,X1,Y1", help_heading = "Outputs")]
     pub(super) picture_extent: Option<[f64; 4]>,
+    /// With `--wifi`: heatmaps for the N access points heard in the most cells, or `all`
+    /// [default: 24].
+    #[arg(long, value_parser = super::radio_outputs::parse_heatmaps, value_name = "N|all", help_heading = "Outputs")]
+    pub(super) heatmaps: Option<super::radio_outputs::Heatmaps>,
     /// Worker threads (default: all cores; at most 4 per core). Results do not depend on it.
     #[arg(long, value_name = "N", help_heading = "Filter")]
     pub(super) threads: Option<usize>,

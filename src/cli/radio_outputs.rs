@@ -1,6 +1,6 @@
 //! The files of a radio map, written alike by `survey` (on a drawn plan) and `learn --wifi`
-//! (on the plan learned from the walks): `radiomap.geojson`, `radiomap.csv` and one heatmap
-//! per access point.
+//! (on the plan learned from the walks): `radiomap.geojson`, `radiomap.csv` and a heatmap for
+//! each of the access points heard in the most cells (`--heatmaps`).
 
 use anyhow::Result;
 use footslam::geometry::LocalFrame;
@@ -11,22 +11,70 @@ use footslam::render::plan_png::{
     ColourBar, PlanCell, PlanMarker, PlanPicture, PlanPictureConfig, viridis_rgb, write_plan_png,
 };
 use geo::Centroid;
+use rayon::prelude::*;
 
 /// Heatmap colours run from this RSSI (dark) to [`HEATMAP_TOP`] (bright), dBm.
 const HEATMAP_FLOOR: f64 = -96.0;
 /// The brightest heatmap colour, dBm.
 const HEATMAP_TOP: f64 = -30.0;
 
+/// How many access points get a heatmap (`--heatmaps N|all`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Heatmaps {
+    /// The `N` heard in the most cells.
+    Most(usize),
+    /// Every access point of the map.
+    All,
+}
+
+impl Heatmaps {
+    /// The default: a real floor's survey hears hundreds to thousands of access points
+    /// (1,987 on a mall floor), and one picture each would be most of the run's time and
+    /// disk; the 24 heard most widely show the floor's radio field.
+    pub(super) const DEFAULT: Self = Self::Most(24);
+}
+
+/// Parses `--heatmaps`: a count or `all`.
+pub(super) fn parse_heatmaps(s: &str) -> Result<Heatmaps, String> {
+    if s.eq_ignore_ascii_case("all") {
+        return Ok(Heatmaps::All);
+    }
+    s.parse::<usize>()
+        .map(Heatmaps::Most)
+        .map_err(|_| format!("expected a number of access points or `all`, got `{s}`"))
+}
+
+/// The access points given a heatmap: by cells that heard them (most first), then readings,
+/// then BSSID; all of them for [`Heatmaps::All`].
+fn heatmap_access_points(map: &RadioMap, which: Heatmaps) -> Vec<&str> {
+    let mut heard: rustc_hash::FxHashMap<&str, (u32, u32)> = rustc_hash::FxHashMap::default();
+    for c in &map.cells {
+        for (bssid, stats) in &c.radio.aps {
+            let e = heard.entry(bssid.as_str()).or_default();
+            e.0 += 1;
+            e.1 += stats.n;
+        }
+    }
+    let mut bssids: Vec<(&str, (u32, u32))> = heard.into_iter().collect();
+    bssids.sort_unstable_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+    let keep = match which {
+        Heatmaps::All => bssids.len(),
+        Heatmaps::Most(n) => n.min(bssids.len()),
+    };
+    bssids.into_iter().take(keep).map(|(b, _)| b).collect()
+}
+
 /// Writes `{prefix}radiomap.geojson`, `{prefix}radiomap.csv`, `{prefix}radiomap.png` (scans
 /// per cell over `plan`) and `{prefix}heatmap-BSSID.png` (mean RSSI per cell of one access
-/// point, named by [`heatmap_name`]).
+/// point, named by [`heatmap_name`]) for the access points `heatmaps` selects, drawn in
+/// parallel. Returns how many heatmaps it wrote.
 pub(super) fn write_radio_map_files(
     folder: &RunFolder,
     prefix: &str,
     plan: &FloorPlan,
     map: &RadioMap,
-    (frame, north_up, extent): (&LocalFrame, bool, Option<[f64; 4]>),
-) -> Result<()> {
+    (frame, north_up, extent, heatmaps): (&LocalFrame, bool, Option<[f64; 4]>, Heatmaps),
+) -> Result<usize> {
     let at = |name: &str| folder.path(&format!("{prefix}{name}"));
     // The part of the plan the pictures show: `--picture-extent`, else what they draw.
     let pictures = PlanPictureConfig {
@@ -36,63 +84,86 @@ pub(super) fn write_radio_map_files(
     write_radio_map_geojson(&at("radiomap.geojson"), map, frame)?;
     write_radio_map_csv(&at("radiomap.csv"), map)?;
     write_coverage_png(&at("radiomap.png"), plan, map, (north_up, &pictures))?;
+    // File names first (in order: two BSSIDs may differ only in characters a file name
+    // cannot hold), then the pictures in parallel.
     let mut names = std::collections::BTreeSet::new();
-    for &bssid in &map.access_points() {
-        let heat: Vec<PlanCell> = map
-            .cells
-            .iter()
-            .filter_map(|c| {
-                let mean = c.radio.aps.get(bssid)?.mean()?;
-                let t = ((mean - HEATMAP_FLOOR) / (HEATMAP_TOP - HEATMAP_FLOOR)).clamp(0.0, 1.0);
-                Some(PlanCell {
-                    area: &c.area,
-                    level: c.level,
-                    colour: viridis_rgb(t),
+    let chosen: Vec<(&str, String)> = heatmap_access_points(map, heatmaps)
+        .into_iter()
+        .map(|bssid| {
+            let mut name = heatmap_name(bssid);
+            while !names.insert(name.clone()) {
+                name = name.replace(".png", "_.png");
+            }
+            (bssid, name)
+        })
+        .collect();
+    chosen
+        .par_iter()
+        .try_for_each(|(bssid, name)| -> Result<()> {
+            let bssid: &str = bssid;
+            let heat: Vec<PlanCell> = map
+                .cells
+                .iter()
+                .filter_map(|c| {
+                    let mean = c.radio.aps.get(bssid)?.mean()?;
+                    let t =
+                        ((mean - HEATMAP_FLOOR) / (HEATMAP_TOP - HEATMAP_FLOOR)).clamp(0.0, 1.0);
+                    Some(PlanCell {
+                        area: &c.area,
+                        level: c.level,
+                        colour: viridis_rgb(t),
+                    })
                 })
-            })
-            .collect();
-        // The access point's place is unknown to the map: mark the cell that hears it
-        // strongest (with at least two readings where possible).
-        let strongest = map
-            .cells
-            .iter()
-            .filter_map(|c| Some((c, c.radio.aps.get(bssid)?)))
-            .filter_map(|(c, s)| Some((c, s.mean()?, s.n)))
-            .max_by(|a, b| (a.2 >= 2).cmp(&(b.2 >= 2)).then(a.1.total_cmp(&b.1)));
-        let markers = strongest
-            .and_then(|(c, mean, _)| {
-                let p = c.area.centroid()?;
-                Some(PlanMarker {
-                    x: p.x(),
-                    y: p.y(),
-                    level: c.level,
-                    label: format!("strongest: {mean:.0} dBm"),
+                .collect();
+            // The access point's place is unknown to the map: mark the cell that hears it
+            // strongest (with at least two readings where possible).
+            let strongest = map
+                .cells
+                .iter()
+                .filter_map(|c| Some((c, c.radio.aps.get(bssid)?)))
+                .filter_map(|(c, s)| Some((c, s.mean()?, s.n)))
+                .max_by(|a, b| (a.2 >= 2).cmp(&(b.2 >= 2)).then(a.1.total_cmp(&b.1)));
+            let markers = strongest
+                .and_then(|(c, mean, _)| {
+                    let p = c.area.centroid()?;
+                    Some(PlanMarker {
+                        x: p.x(),
+                        y: p.y(),
+                        level: c.level,
+                        label: format!("strongest: {mean:.0} dBm"),
+                    })
                 })
-            })
-            .into_iter()
-            .collect();
-        let picture = PlanPicture {
-            plan,
-            title: Some(format!("{bssid}: mean RSSI per cell")),
-            paths: Vec::new(),
-            points: Vec::new(),
-            cells: heat,
-            markers,
-            north_up,
-            colour_bar: Some(ColourBar {
-                low: format!("{HEATMAP_FLOOR} dBm"),
-                high: format!("{HEATMAP_TOP} dBm"),
-                colour: viridis_rgb,
-            }),
-        };
-        let mut name = heatmap_name(bssid);
-        // Two BSSIDs that differ only in characters a file name cannot hold.
-        while !names.insert(name.clone()) {
-            name = name.replace(".png", "_.png");
-        }
-        write_plan_png(&at(&name), &[picture], &pictures)?;
+                .into_iter()
+                .collect();
+            let picture = PlanPicture {
+                plan,
+                title: Some(format!("{bssid}: mean RSSI per cell")),
+                paths: Vec::new(),
+                points: Vec::new(),
+                cells: heat,
+                markers,
+                north_up,
+                colour_bar: Some(ColourBar {
+                    low: format!("{HEATMAP_FLOOR} dBm"),
+                    high: format!("{HEATMAP_TOP} dBm"),
+                    colour: viridis_rgb,
+                }),
+            };
+            write_plan_png(&at(name), &[picture], &pictures)?;
+            Ok(())
+        })?;
+    Ok(chosen.len())
+}
+
+/// Says how many access points got a heatmap, when not all of them did.
+pub(super) fn print_heatmaps(drawn: usize, map: &RadioMap) {
+    let heard = map.access_points().len();
+    if drawn < heard {
+        info!(
+            "heatmaps: {drawn} of the {heard} access points (those heard in the most cells; \
+             --heatmaps all for every one)"
+        );
     }
-    Ok(())
 }
 
 /// The heatmap file of access point `bssid`: `heatmap-` and the BSSID with every character

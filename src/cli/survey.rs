@@ -4,7 +4,7 @@
 use super::batch_table::walks_table;
 use super::common::{output_dir, parse_origin, read_config, require_file};
 use super::progress_bars::Bars;
-use super::radio_outputs::write_radio_map_files;
+use super::radio_outputs::{Heatmaps, parse_heatmaps, write_radio_map_files};
 use anyhow::{Result, bail};
 use footslam::filter::StartPose;
 use footslam::geometry::LocalFrame;
@@ -79,6 +79,10 @@ pub struct Args {
     /// metres (default: the cells drawn, with 10 m around them, within the plan).
     #[arg(long, value_parser = super::common::parse_extent, allow_hyphen_values = true, value_name = "X0,Y0,X1,Y1", help_heading = "Outputs")]
     picture_extent: Option<[f64; 4]>,
+    /// Heatmaps for the N access points heard in the most cells, or `all` (a real floor
+    /// hears hundreds to thousands) [default: 24].
+    #[arg(long, value_parser = parse_heatmaps, value_name = "N|all", help_heading = "Outputs")]
+    heatmaps: Option<Heatmaps>,
     /// Output folder (default: a new folder under `outputs/`).
     #[arg(short = 'o', long, value_name = "DIR", help_heading = "Outputs")]
     out: Option<PathBuf>,
@@ -117,8 +121,11 @@ pub fn run(args: Args) -> Result<()> {
             .chain(args.walks.iter())
             .chain(args.config.iter()),
     );
-    let pictures = (&prepared.frame, true, args.picture_extent);
-    write_radio_map_files(&folder, "", &prepared.plan.value, &surveyed.map, pictures)?;
+    let heatmaps = args.heatmaps.unwrap_or(Heatmaps::DEFAULT);
+    let pictures = (&prepared.frame, true, args.picture_extent, heatmaps);
+    let plan = &prepared.plan.value;
+    let drawn =
+        pool.install(|| write_radio_map_files(&folder, "", plan, &surveyed.map, pictures))?;
     let mut coverage = String::from("granularity_m,cells,coverage_percent,mean_scans_per_cell\n");
     for c in &surveyed.coverage {
         let (g, n, share, mean) = (c.granularity, c.cells, 100.0 * c.share, c.mean_scans);
@@ -130,6 +137,7 @@ pub fn run(args: Args) -> Result<()> {
     folder.write("walks.csv", &walks_table(&report.walks)?)?;
     folder.write_json("summary.json", &report)?;
     let out = folder.commit()?;
+    super::radio_outputs::print_heatmaps(drawn, &surveyed.map);
     print_report(&report, &out);
     Ok(())
 }

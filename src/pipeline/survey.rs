@@ -21,6 +21,7 @@ use crate::map::{CellConfig, CellMap, FloorPlan, FloorTopology, RadioMap};
 use crate::model::wifi_distance::HeldOut;
 use crate::sensor::{StepTrace, WifiScan};
 use crate::{Error, Result};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Granularities of the coverage table (the paper's Table 1), metres.
@@ -169,39 +170,50 @@ pub fn survey(
     // 1. track: per walk, the filter's reports, and the steps its scans are placed by.
     let total: u64 = input.walks.iter().map(|w| w.trace.len() as u64).sum();
     progress.start("surveying", total);
-    let mut runs: Vec<(Vec<TrackStep>, Vec<TrackStep>)> = Vec::with_capacity(input.walks.len());
-    let mut qualities = Vec::with_capacity(input.walks.len());
     // Several walks: each walk's steps beside the total.
     let several = input.walks.len() > 1;
-    for (k, walk) in input.walks.iter().enumerate() {
-        let tracker_config = TrackerConfig {
-            seed: config.tracker.seed.wrapping_add(k as u64),
-            start: starts[k],
-            ..config.tracker.clone()
-        };
-        let mut tracker = Tracker::new(input.topology, &tracker_config)?;
-        let mut reports = Vec::with_capacity(walk.trace.len());
-        if several {
-            progress.item_start(k, &format!("walk {}", k + 1), walk.trace.len() as u64);
-        }
-        for step in walk.trace.steps() {
-            reports.push(tracker.update(step)?);
-            progress.advance(1);
+    // The walks are independent (walk k's seed is the survey's plus k), so they run in
+    // parallel; the results do not depend on the number of threads.
+    let tracked: Vec<Result<TrackedWalk>> = input
+        .walks
+        .par_iter()
+        .enumerate()
+        .map(|(k, walk)| {
+            let tracker_config = TrackerConfig {
+                seed: config.tracker.seed.wrapping_add(k as u64),
+                start: starts[k],
+                ..config.tracker.clone()
+            };
+            let mut tracker = Tracker::new(input.topology, &tracker_config)?;
+            let mut reports = Vec::with_capacity(walk.trace.len());
             if several {
-                progress.item_advance(k, 1);
+                progress.item_start(k, &format!("walk {}", k + 1), walk.trace.len() as u64);
             }
-        }
-        if several {
-            progress.item_finish(k);
-        }
-        let mut placed = placed_steps(&tracker, reports.clone());
-        let quality = walk_quality(&reports, &placed, &tracker);
-        if quality.verdict == Verdict::Poor {
-            // A walk that does not fit the plan places its scans in the wrong cells.
-            for step in &mut placed {
-                step.estimate = None;
+            for step in walk.trace.steps() {
+                reports.push(tracker.update(step)?);
+                progress.advance(1);
+                if several {
+                    progress.item_advance(k, 1);
+                }
             }
-        }
+            if several {
+                progress.item_finish(k);
+            }
+            let mut placed = placed_steps(&tracker, reports.clone());
+            let quality = walk_quality(&reports, &placed, &tracker);
+            if quality.verdict == Verdict::Poor {
+                // A walk that does not fit the plan places its scans in the wrong cells.
+                for step in &mut placed {
+                    step.estimate = None;
+                }
+            }
+            Ok((reports, placed, quality))
+        })
+        .collect();
+    let mut runs: Vec<(Vec<TrackStep>, Vec<TrackStep>)> = Vec::with_capacity(input.walks.len());
+    let mut qualities = Vec::with_capacity(input.walks.len());
+    for walk in tracked {
+        let (reports, placed, quality) = walk?;
         qualities.push(quality);
         runs.push((reports, placed));
     }
@@ -335,6 +347,9 @@ fn survey_quality(walks: &[SurveyedWalk]) -> Quality {
     }
     quality
 }
+
+/// One surveyed walk: the filter's reports, the steps its scans are placed by, its quality.
+type TrackedWalk = (Vec<TrackStep>, Vec<TrackStep>, Quality);
 
 /// Stage 2 at one granularity: the cells, the map of every walk's scans, each walk's scans
 /// (added, skipped) and where they went.

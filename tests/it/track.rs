@@ -369,6 +369,62 @@ fn survey_builds_a_radio_map_from_tracked_walks() {
         out.join(format!("heatmap-{bssid}.png")).is_file(),
         "{bssid}"
     );
+    // `--heatmaps 2`: the two access points heard in the most cells (then most readings,
+    // then by BSSID); the same map on one thread as on two (walks run in parallel).
+    let mut widest: Vec<(usize, u32, String)> = map
+        .access_points()
+        .into_iter()
+        .map(|b| {
+            let stats = map.cells.iter().filter_map(|c| c.radio.aps.get(b));
+            let (cells, readings) = stats.fold((0, 0), |(c, n), s| (c + 1, n + s.n));
+            (cells, readings, b.to_string())
+        })
+        .collect();
+    widest.sort_by(|a, b| b.0.cmp(&a.0).then(b.1.cmp(&a.1)).then(a.2.cmp(&b.2)));
+    assert!(widest.len() > 2, "{widest:?}");
+    let two = dir.path().join("survey-two");
+    let mut survey = footslam();
+    survey
+        .arg("survey")
+        .arg("--plan")
+        .arg(a.join("floor.geojson"));
+    for walk in [&a, &b] {
+        survey.arg("--steps").arg(walk.join("steps.csv"));
+        survey.arg("--wifi").arg(walk.join("wifi.csv"));
+    }
+    survey
+        .args(["--heatmaps", "2", "--threads", "1", "--out"])
+        .arg(&two)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains(format!(
+            "heatmaps: 2 of the {} access points",
+            widest.len()
+        )));
+    let mut drawn: Vec<String> = std::fs::read_dir(&two)
+        .expect("survey folder")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with("heatmap-"))
+        .collect();
+    drawn.sort();
+    let mut want: Vec<String> = widest[..2]
+        .iter()
+        .map(|(_, _, b)| format!("heatmap-{}.png", b.replace(':', "-")))
+        .collect();
+    want.sort();
+    assert_eq!(drawn, want);
+    assert_eq!(
+        std::fs::read(two.join("radiomap.geojson")).expect("map"),
+        std::fs::read(out.join("radiomap.geojson")).expect("map"),
+        "one thread and all threads survey the same map"
+    );
+    footslam()
+        .args(["survey", "--heatmaps", "some"])
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains(
+            "a number of access points or `all`",
+        ));
     // One WiFi log per step trace.
     footslam()
         .arg("survey")
