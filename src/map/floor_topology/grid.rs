@@ -237,11 +237,17 @@ impl SegmentGrid {
         rows
     }
 
-    /// The surfaces whose bounding box meets the cell holding `(x, y)`.
-    pub(super) fn surfaces_at(&self, x: f64, y: f64) -> &[u32] {
+    /// The cell holding `(x, y)` (`j · nx + i`; a point off the grid is clamped to it).
+    #[inline]
+    pub(super) fn cell_of(&self, x: f64, y: f64) -> usize {
         let (ix0, _) = self.span(x as f32, x as f32, 0);
         let (iy0, _) = self.span(y as f32, y as f32, 1);
-        let cell = iy0 * self.nx + ix0;
+        iy0 * self.nx + ix0
+    }
+
+    /// The surfaces whose bounding box meets cell `cell`.
+    #[inline]
+    pub(super) fn surfaces_in(&self, cell: usize) -> &[u32] {
         &self.surface_ids
             [self.surface_offsets[cell] as usize..self.surface_offsets[cell + 1] as usize]
     }

@@ -30,12 +30,14 @@
 //!   ([`Segment`]), and barrier walls
 //! * `grid` — the grid index of segments (per surface) and surfaces (compressed rows of
 //!   `f32` records)
+//! * `locate` — the surfaces holding each grid cell no boundary crosses, known in advance
 //! * `walk` — a step walked through walls and connections (Algorithm 1)
 //! * `sampling` — points drawn uniformly over the walkable area
 
 mod config;
 mod connections;
 mod grid;
+mod locate;
 mod sampling;
 mod segments;
 #[cfg(test)]

@@ -353,3 +353,131 @@ fn the_indexed_walk_matches_a_scan_of_every_segment_on_the_tower() {
     }
     assert!(crossed > 300, "{crossed} steps changed surface");
 }
+
+/// `locate` by testing every surface of `plan` (the answer before the locate index).
+fn locate_by_every_surface(
+    plan: &FloorPlan,
+    (x, y): (f64, f64),
+    level: Option<i32>,
+    z_hint: Option<f64>,
+) -> Option<u32> {
+    let p = geo::Point::new(x, y);
+    (0..plan.polygons.len() as u32)
+        .filter(|&s| level.is_none_or(|l| l == plan.polygons[s as usize].level))
+        .filter(|&s| {
+            let poly = &plan.polygons[s as usize].polygon;
+            poly.contains(&p) || poly.intersects(&p)
+        })
+        .min_by(|&a, &b| {
+            let key = |s: u32| {
+                let z = f64::from(plan.polygons[s as usize].z as f32);
+                z_hint.map_or(z, |h| (z - h).abs())
+            };
+            key(a).total_cmp(&key(b)).then(a.cmp(&b))
+        })
+}
+
+#[test]
+fn locate_matches_a_test_of_every_surface() {
+    // A hall with a hole and slanted walls, a room on a diagonal, the tower's stacked floors
+    // and stairs, and a plan far from the origin.
+    let slanted = geo::Polygon::new(
+        LineString::from(vec![
+            (0.0, 0.0),
+            (30.3, 2.1),
+            (33.7, 17.9),
+            (12.2, 25.5),
+            (-4.1, 13.3),
+        ]),
+        vec![LineString::from(vec![
+            (8.0, 8.0),
+            (16.5, 9.1),
+            (14.0, 15.0),
+        ])],
+    );
+    let diamond = geo::Polygon::new(
+        LineString::from(vec![(34.0, 10.0), (40.0, 4.0), (46.0, 10.0), (40.0, 16.0)]),
+        vec![],
+    );
+    let hall = FloorPlan {
+        polygons: vec![
+            FloorPolygon {
+                polygon: slanted,
+                ..rect(0.0, 0.0, 1.0, 1.0, 0.0, 0)
+            },
+            FloorPolygon {
+                polygon: diamond,
+                ..rect(0.0, 0.0, 1.0, 1.0, 0.0, 0)
+            },
+            rect(33.7, 9.0, 34.0, 11.0, 0.0, 0),
+        ],
+        ..Default::default()
+    };
+    let far = FloorPlan {
+        polygons: vec![
+            rect(5_000.0, -3_000.0, 5_012.5, -2_990.0, 0.0, 0),
+            rect(5_012.5, -2_996.0, 5_020.0, -2_994.0, 0.0, 0),
+        ],
+        ..Default::default()
+    };
+    let tower = crate::sim::Tower::new(&Default::default())
+        .expect("tower")
+        .plan;
+    let mut rng = crate::random::stream(11, 0, 0);
+    for (k, plan) in [hall, far, tower, two_rooms()].into_iter().enumerate() {
+        let t = build(&plan);
+        let b = t.bounds;
+        let mut points: Vec<(f64, f64)> = (0..40_000)
+            .map(|_| {
+                let x = rng.random_range(b[0] - 5.0..b[2] + 5.0);
+                let y = rng.random_range(b[1] - 5.0..b[3] + 5.0);
+                (x, y)
+            })
+            .collect();
+        // Corners, points on edges and a hair off them, off the grid, not finite.
+        for f in &plan.polygons {
+            for l in f
+                .polygon
+                .exterior()
+                .lines()
+                .chain(f.polygon.interiors()[..].iter().flat_map(|r| r.lines()))
+            {
+                for k in 0..=4 {
+                    let u = f64::from(k) / 4.0;
+                    let (x, y) = (l.start.x + u * l.dx(), l.start.y + u * l.dy());
+                    points.extend([(x, y), (x + 1e-7, y), (x, y - 1e-7), (x - 2e-3, y + 2e-3)]);
+                }
+            }
+        }
+        points.extend([
+            (b[0] - 1e4, b[1]),
+            (b[2] + 0.5, b[3] + 0.5),
+            (f64::NAN, 1.0),
+        ]);
+        let levels = [None, Some(0), Some(1), Some(2)];
+        for (n, &(x, y)) in points.iter().enumerate() {
+            let level = levels[n % levels.len()];
+            let z_hint = (n % 3 == 0).then(|| f64::from((n % 7) as u32));
+            assert_eq!(
+                t.locate(x, y, level, z_hint),
+                locate_by_every_surface(&plan, (x, y), level, z_hint),
+                "({x}, {y}) level {level:?} z {z_hint:?}"
+            );
+        }
+        // Many points drawn within the plan's bounds are answered from the index (the hall
+        // 84 %, the far plan 65 %, the tower's stacked floors 46 %; not the two 4 m rooms
+        // of 1 m cells, 31 %).
+        if k == 3 {
+            continue;
+        }
+        let within: Vec<_> = points[..40_000]
+            .iter()
+            .filter(|&&(x, y)| x >= b[0] && x <= b[2] && y >= b[1] && y <= b[3])
+            .collect();
+        let known = within
+            .iter()
+            .filter(|&&&(x, y)| t.locator.inside(t.grid.cell_of(x, y), x, y).is_some())
+            .count();
+        assert!(5 * known > 2 * within.len(), "{known} of {}", within.len());
+    }
+}

@@ -5,6 +5,7 @@
 
 use super::config::TopologyConfig;
 use super::grid::{BARRIER_FLAG, SegmentGrid};
+use super::locate::LocateIndex;
 use super::sampling::Triangles;
 use super::segments::{Segment, barrier_segments, boundary_segments};
 use crate::error::{Error, Result};
@@ -54,10 +55,12 @@ pub struct FloorTopology {
     bboxes: Vec<[f64; 4]>,
     polygons: Vec<geo::Polygon<f64>>,
     pub(super) levels: (i32, i32),
-    bounds: [f64; 4],
+    pub(super) bounds: [f64; 4],
     segments: Vec<Segment>,
     /// The spatial index of segments and surfaces.
     pub(super) grid: SegmentGrid,
+    /// The surfaces holding each grid cell no boundary crosses.
+    pub(super) locator: LocateIndex,
     /// Triangles of all surfaces with cumulative areas (for `sample_uniform`).
     triangles: Triangles,
 }
@@ -136,6 +139,7 @@ impl FloorTopology {
         let polygons: Vec<geo::Polygon<f64>> =
             plan.polygons.iter().map(|f| f.polygon.clone()).collect();
         let triangles = Triangles::new(&polygons);
+        let locator = LocateIndex::build(&grid, &polygons);
         Ok(Self {
             z,
             level,
@@ -146,6 +150,7 @@ impl FloorTopology {
             bounds,
             segments,
             grid,
+            locator,
             triangles,
         })
     }
@@ -210,11 +215,25 @@ impl FloorTopology {
     /// levels) the one whose height is nearest `z_hint`, else the lowest.
     #[must_use]
     pub fn locate(&self, x: f64, y: f64, level: Option<i32>, z_hint: Option<f64>) -> Option<u32> {
-        let ids = self.grid.surfaces_at(x, y);
+        let cell = self.grid.cell_of(x, y);
+        let nearest = |a: &u32, b: &u32| {
+            let key = |s: u32| {
+                let z = f64::from(self.z[s as usize]);
+                z_hint.map_or(z, |h| (z - h).abs())
+            };
+            key(*a).total_cmp(&key(*b)).then(a.cmp(b))
+        };
+        let on_level = |&s: &u32| level.is_none_or(|l| l == self.level[s as usize]);
+        // Most points: the surfaces holding the point's whole cell, known in advance.
+        if let Some(inside) = self.locator.inside(cell, x, y) {
+            return inside.iter().copied().filter(on_level).min_by(nearest);
+        }
         let p = geo::Point::new(x, y);
-        ids.iter()
+        self.grid
+            .surfaces_in(cell)
+            .iter()
             .copied()
-            .filter(|&s| level.is_none_or(|l| l == self.level[s as usize]))
+            .filter(on_level)
             .filter(|&s| {
                 let b = self.bboxes[s as usize];
                 x >= b[0] && x <= b[2] && y >= b[1] && y <= b[3]
@@ -223,13 +242,7 @@ impl FloorTopology {
                 let poly = &self.polygons[s as usize];
                 poly.contains(&p) || poly.intersects(&p)
             })
-            .min_by(|&a, &b| {
-                let key = |s: u32| {
-                    let z = f64::from(self.z[s as usize]);
-                    z_hint.map_or(z, |h| (z - h).abs())
-                };
-                key(a).total_cmp(&key(b)).then(a.cmp(&b))
-            })
+            .min_by(nearest)
     }
 
     /// A point drawn uniformly over the whole walkable area (holes excluded) and its surface.
