@@ -97,62 +97,68 @@ pub(super) fn write_radio_map_files(
             (bssid, name)
         })
         .collect();
-    chosen
-        .par_iter()
-        .try_for_each(|(bssid, name)| -> Result<()> {
-            let bssid: &str = bssid;
-            let heat: Vec<PlanCell> = map
-                .cells
-                .iter()
-                .filter_map(|c| {
-                    let mean = c.radio.aps.get(bssid)?.mean()?;
-                    let t =
-                        ((mean - HEATMAP_FLOOR) / (HEATMAP_TOP - HEATMAP_FLOOR)).clamp(0.0, 1.0);
-                    Some(PlanCell {
-                        area: &c.area,
-                        level: c.level,
-                        colour: viridis_rgb(t),
-                    })
-                })
-                .collect();
-            // The access point's place is unknown to the map: mark the cell that hears it
-            // strongest (with at least two readings where possible).
-            let strongest = map
-                .cells
-                .iter()
-                .filter_map(|c| Some((c, c.radio.aps.get(bssid)?)))
-                .filter_map(|(c, s)| Some((c, s.mean()?, s.n)))
-                .max_by(|a, b| (a.2 >= 2).cmp(&(b.2 >= 2)).then(a.1.total_cmp(&b.1)));
-            let markers = strongest
-                .and_then(|(c, mean, _)| {
-                    let p = c.area.centroid()?;
-                    Some(PlanMarker {
-                        x: p.x(),
-                        y: p.y(),
-                        level: c.level,
-                        label: format!("strongest: {mean:.0} dBm"),
-                    })
-                })
-                .into_iter()
-                .collect();
-            let picture = PlanPicture {
-                plan,
-                title: Some(format!("{bssid}: mean RSSI per cell")),
-                paths: Vec::new(),
-                points: Vec::new(),
-                cells: heat,
-                markers,
-                north_up,
-                colour_bar: Some(ColourBar {
-                    low: format!("{HEATMAP_FLOOR} dBm"),
-                    high: format!("{HEATMAP_TOP} dBm"),
-                    colour: viridis_rgb,
-                }),
-            };
-            write_plan_png(&at(name), &[picture], &pictures)?;
-            Ok(())
-        })?;
+    chosen.par_iter().try_for_each(|(bssid, name)| {
+        let picture = heatmap_picture(plan, map, bssid, north_up);
+        write_plan_png(&at(name), &[picture], &pictures)
+    })?;
     Ok(chosen.len())
+}
+
+/// The heatmap of access point `bssid`: each cell that heard it coloured by its mean RSSI,
+/// the strongest cell marked.
+fn heatmap_picture<'a>(
+    plan: &'a FloorPlan,
+    map: &'a RadioMap,
+    bssid: &str,
+    north_up: bool,
+) -> PlanPicture<'a> {
+    let heat: Vec<PlanCell> = map
+        .cells
+        .iter()
+        .filter_map(|c| {
+            let mean = c.radio.aps.get(bssid)?.mean()?;
+            let t = ((mean - HEATMAP_FLOOR) / (HEATMAP_TOP - HEATMAP_FLOOR)).clamp(0.0, 1.0);
+            Some(PlanCell {
+                area: &c.area,
+                level: c.level,
+                colour: viridis_rgb(t),
+            })
+        })
+        .collect();
+    // The access point's place is unknown to the map: mark the cell that hears it
+    // strongest (with at least two readings where possible).
+    let strongest = map
+        .cells
+        .iter()
+        .filter_map(|c| Some((c, c.radio.aps.get(bssid)?)))
+        .filter_map(|(c, s)| Some((c, s.mean()?, s.n)))
+        .max_by(|a, b| (a.2 >= 2).cmp(&(b.2 >= 2)).then(a.1.total_cmp(&b.1)));
+    let markers = strongest
+        .and_then(|(c, mean, _)| {
+            let p = c.area.centroid()?;
+            Some(PlanMarker {
+                x: p.x(),
+                y: p.y(),
+                level: c.level,
+                label: format!("strongest: {mean:.0} dBm"),
+            })
+        })
+        .into_iter()
+        .collect();
+    PlanPicture {
+        plan,
+        title: Some(format!("{bssid}: mean RSSI per cell")),
+        paths: Vec::new(),
+        points: Vec::new(),
+        cells: heat,
+        markers,
+        north_up,
+        colour_bar: Some(ColourBar {
+            low: format!("{HEATMAP_FLOOR} dBm"),
+            high: format!("{HEATMAP_TOP} dBm"),
+            colour: viridis_rgb,
+        }),
+    }
 }
 
 /// Says how many access points got a heatmap, when not all of them did.
