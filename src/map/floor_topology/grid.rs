@@ -281,26 +281,32 @@ impl SegmentGrid {
         );
         let cell = 1.0 / f64::from(self.inv_cell);
         let origin_y = f64::from(self.origin[1]);
-        let dy = b[1] - a[1];
         (y0..=y1).map(move |y| {
             let band = (
                 origin_y + y as f64 * cell - PAD,
                 origin_y + (y + 1) as f64 * cell + PAD,
             );
-            // The stretch of the segment inside the band (all of it when nearly flat).
-            let (t0, t1) = if dy.abs() < 1e-9 {
-                (0.0, 1.0)
-            } else {
-                let (u, v) = ((band.0 - a[1]) / dy, (band.1 - a[1]) / dy);
-                (u.min(v).max(0.0), u.max(v).min(1.0))
-            };
-            let (t0, t1) = if t0 <= t1 { (t0, t1) } else { (0.0, 1.0) };
-            let xa = a[0] + t0 * (b[0] - a[0]);
-            let xb = a[0] + t1 * (b[0] - a[0]);
-            let (x0, x1) = self.span((xa.min(xb) - PAD) as f32, (xa.max(xb) + PAD) as f32, 0);
+            let (xa, xb) = stretch_in_band(a, b, band);
+            let (x0, x1) = self.span((xa - PAD) as f32, (xb + PAD) as f32, 0);
             (item, y, x0, x1)
         })
     }
+}
+
+/// The least and greatest `x` of the stretch of segment `a`–`b` between heights `band.0`
+/// and `band.1` (of all of it when it is nearly flat or misses the band).
+pub(super) fn stretch_in_band(a: [f64; 2], b: [f64; 2], band: (f64, f64)) -> (f64, f64) {
+    let dy = b[1] - a[1];
+    let (t0, t1) = if dy.abs() < 1e-9 {
+        (0.0, 1.0)
+    } else {
+        let (u, v) = ((band.0 - a[1]) / dy, (band.1 - a[1]) / dy);
+        (u.min(v).max(0.0), u.max(v).min(1.0))
+    };
+    let (t0, t1) = if t0 <= t1 { (t0, t1) } else { (0.0, 1.0) };
+    let xa = a[0] + t0 * (b[0] - a[0]);
+    let xb = a[0] + t1 * (b[0] - a[0]);
+    (xa.min(xb), xa.max(xb))
 }
 
 /// Compressed rows: for items given as row spans `(item, row, x0, x1)` (the cells

@@ -15,7 +15,7 @@
 //! it lies inside its cell's square (a point off the grid, clamped to an edge cell, is
 //! tested).
 
-use super::grid::SegmentGrid;
+use super::grid::{SegmentGrid, stretch_in_band};
 
 /// Segments closer than this to a cell's square mark it as crossed, metres.
 const MARGIN: f64 = 1e-3;
@@ -149,23 +149,14 @@ fn for_each_cell_near(
         index(a[1].min(b[1]) - MARGIN, origin[1], ny),
         index(a[1].max(b[1]) + MARGIN, origin[1], ny),
     );
-    let dy = b[1] - a[1];
     for j in j0..=j1 {
         let band = (
             origin[1] + j as f64 * cell - MARGIN,
             origin[1] + (j + 1) as f64 * cell + MARGIN,
         );
-        // The stretch of the segment inside the band (all of it when nearly flat).
-        let (t0, t1) = if dy.abs() < 1e-9 {
-            (0.0, 1.0)
-        } else {
-            let (u, v) = ((band.0 - a[1]) / dy, (band.1 - a[1]) / dy);
-            (u.min(v).max(0.0), u.max(v).min(1.0))
-        };
-        let (t0, t1) = if t0 <= t1 { (t0, t1) } else { (0.0, 1.0) };
-        let (xa, xb) = (a[0] + t0 * (b[0] - a[0]), a[0] + t1 * (b[0] - a[0]));
-        let i0 = index(xa.min(xb) - MARGIN, origin[0], nx);
-        let i1 = index(xa.max(xb) + MARGIN, origin[0], nx);
+        let (xa, xb) = stretch_in_band(a, b, band);
+        let i0 = index(xa - MARGIN, origin[0], nx);
+        let i1 = index(xb + MARGIN, origin[0], nx);
         for i in i0..=i1 {
             f(j * nx + i);
         }
