@@ -51,7 +51,9 @@ pub use footslam::{Anchors, FootSlam, FootSlamConfig, FootSlamEstimate, Smoothin
 pub use footslam_config::FOOTSLAM_HEADING_CORRELATION;
 pub use kld::KldConfig;
 pub use lineage::Lineage;
-pub use nearest_fingerprint::{FingerprintConfig, FingerprintFix, NearestFingerprint};
+pub use nearest_fingerprint::{
+    FingerprintConfig, FingerprintFix, FingerprintMethod, NearestFingerprint,
+};
 pub use path_tree::{PathTree, SmoothedStep, SmoothedWalk};
 pub use recovery::{Recovery, RecoveryConfig};
 pub use resample::{ResampleConfig, ResampleMethod};

@@ -1,11 +1,21 @@
-//! The radio map used alone: weighted k-nearest-neighbour fingerprinting (RADAR, Bahl &
-//! Padmanabhan 2000), the baseline a map-aided tracker must beat. Each scan is placed at the
-//! mean of the centroids of the `k` cells whose fingerprints are nearest to it (the radio
-//! map's `ndist`, [`crate::model::wifi_distance`]), weighted by `1 / (ndist + δ)`; the level
-//! is the nearest cell's.
+//! The radio map used alone, the baseline a map-aided tracker must beat. Two methods:
+//!
+//! * `interpolated` (the default): the `k` most likely cells of the interpolated radio map
+//!   ([`crate::model::radio_interpolation`], a Gaussian process per access point after Ferris,
+//!   Hähnel & Fox 2006), each reading Gaussian about the cell's predicted mean with its
+//!   predicted variance; candidates are every cell the survey predicts, surveyed or not, so a
+//!   scan taken between surveyed places lands between them. The scan is placed at the mean
+//!   of their centroids; the level is the most likely cell's.
+//! * `ndist`: weighted k-nearest-neighbour fingerprinting (RADAR, Bahl & Padmanabhan 2000)
+//!   over the surveyed cells alone: the mean of the centroids of the `k` cells whose
+//!   fingerprints are nearest to it (the radio map's `ndist`,
+//!   [`crate::model::wifi_distance`]), weighted by `1 / (ndist + δ)`; the level is the nearest
+//!   cell's.
 
 use crate::error::{Error, Result};
 use crate::map::RadioMap;
+use crate::model::radio_interpolation::{InterpolationConfig, RadioInterpolation};
+use crate::model::radio_variogram::VariogramFit;
 use crate::model::wifi_distance::{Fingerprints, Normalisation};
 use crate::sensor::WifiScan;
 use geo::Centroid;
@@ -21,6 +31,8 @@ use serde::{Deserialize, Serialize};
 /// | `min_scans`    | 1       | cells with fewer scans are not candidates                  |
 /// | `distance`     | `sqrt`  | `ndist`'s divisor: `paper` (k) or `sqrt` (√k)              |
 /// | `min_common`   | 1       | fewest of a scan's access points the map must know         |
+/// | `method`       | `interpolated` | `interpolated` (likeliest cells of the GP map) or `ndist` |
+/// | `interpolation`| see [`InterpolationConfig`] | the interpolated map's parameters   |
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct FingerprintConfig {
@@ -36,6 +48,20 @@ pub struct FingerprintConfig {
     pub distance: Normalisation,
     /// A scan that shares fewer access points with the map is not placed.
     pub min_common: usize,
+    /// How cells are ranked.
+    pub method: FingerprintMethod,
+    /// The interpolated map's parameters (method `interpolated`).
+    pub interpolation: InterpolationConfig,
+}
+
+/// How [`NearestFingerprint`] ranks the cells.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FingerprintMethod {
+    /// By likelihood on the interpolated radio map, surveyed and predicted cells alike.
+    Interpolated,
+    /// By `ndist` to the surveyed cells' fingerprints, weighted `1 / (ndist + δ)`.
+    Ndist,
 }
 
 impl Default for FingerprintConfig {
@@ -47,6 +73,8 @@ impl Default for FingerprintConfig {
             min_scans: 1,
             distance: Normalisation::Sqrt,
             min_common: 1,
+            method: FingerprintMethod::Interpolated,
+            interpolation: InterpolationConfig::default(),
         }
     }
 }
@@ -56,10 +84,12 @@ impl FingerprintConfig {
     ///
     /// # Errors
     ///
-    /// [`Error::Config`] when `k` is outside [1, 100], `delta` is not a positive number of dBm, or
-    /// `missing_rssi` is outside [−130, −30] dBm.
+    /// [`Error::Config`] when `k` is outside [1, 100], `delta` is not a positive number of dBm,
+    /// `missing_rssi` is outside [−130, −30] dBm, or `interpolation` fails
+    /// [`InterpolationConfig::validate`].
     pub fn validate(&self) -> Result<()> {
         use crate::error::check_range;
+        self.interpolation.validate()?;
         check_range("fingerprint.k", self.k as f64, 1.0..=100.0, "")?;
         check_range(
             "fingerprint.delta",
@@ -87,7 +117,7 @@ pub struct FingerprintFix {
     pub y: f64,
     /// Level of the nearest cell.
     pub level: i32,
-    /// `ndist` to the nearest cell, dBm.
+    /// `ndist` to the nearest surveyed cell's fingerprint, dBm (NaN when none is comparable).
     pub ndist: f64,
 }
 
@@ -130,6 +160,8 @@ pub struct NearestFingerprint {
     /// Centroid and level of each cell.
     centres: Vec<(f64, f64, i32)>,
     bssids: rustc_hash::FxHashSet<String>,
+    /// The interpolated map (method `interpolated`).
+    interpolation: Option<RadioInterpolation>,
     config: FingerprintConfig,
 }
 
@@ -139,7 +171,7 @@ impl NearestFingerprint {
     /// # Errors
     ///
     /// [`Error::Config`] when `config` fails [`FingerprintConfig::validate`]; [`Error::NotEnough`]
-    /// when no cell of `map` holds `min_scans` scans (at least one).
+    /// when no cell of `map` holds `min_scans` scans (at least one) with an area.
     pub fn new(map: &RadioMap, config: &FingerprintConfig) -> Result<Self> {
         config.validate()?;
         if !map
@@ -163,12 +195,28 @@ impl NearestFingerprint {
                 (p.0, p.1, c.level)
             })
             .collect();
+        let interpolation = match config.method {
+            FingerprintMethod::Interpolated => Some(RadioInterpolation::new(
+                map,
+                config.missing_rssi,
+                config.min_scans,
+                &config.interpolation,
+            )?),
+            FingerprintMethod::Ndist => None,
+        };
         Ok(Self {
+            interpolation,
             prints: Fingerprints::new(map, config.missing_rssi, config.min_scans, config.distance),
             centres,
             bssids: map.access_points().into_iter().map(str::to_owned).collect(),
             config: config.clone(),
         })
+    }
+
+    /// The interpolated map's kernel (method `interpolated`).
+    #[must_use]
+    pub fn interpolation_fit(&self) -> Option<VariogramFit> {
+        self.interpolation.as_ref().map(|i| *i.fit())
     }
 
     /// The scan's place, `None` when it shares fewer than `min_common` access points with the
@@ -192,7 +240,24 @@ impl NearestFingerprint {
             .filter(|&(_, i)| self.centres[i].0.is_finite())
             .collect();
         ranked.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let (best, first) = *ranked.first()?;
+        let nearest = ranked.first().map_or(f64::NAN, |r| r.0);
+        let (x, y, level) = match &self.interpolation {
+            Some(gp) => self.most_likely(gp, scan)?,
+            None => self.nearest_weighted(&ranked)?,
+        };
+        Some(FingerprintFix {
+            t: scan.t,
+            x,
+            y,
+            level,
+            ndist: nearest,
+        })
+    }
+
+    /// The mean centre of the `k` cells nearest in `ndist` (`ranked`, nearest first) on the
+    /// nearest one's level, weighted `1 / (ndist + δ)`.
+    fn nearest_weighted(&self, ranked: &[(f64, usize)]) -> Option<(f64, f64, i32)> {
+        let &(_, first) = ranked.first()?;
         let level = self.centres[first].2;
         let (mut sx, mut sy, mut sw) = (0.0, 0.0, 0.0);
         for &(d, i) in ranked
@@ -205,13 +270,32 @@ impl NearestFingerprint {
             sy += w * self.centres[i].1;
             sw += w;
         }
-        Some(FingerprintFix {
-            t: scan.t,
-            x: sx / sw,
-            y: sy / sw,
-            level,
-            ndist: best,
-        })
+        Some((sx / sw, sy / sw, level))
+    }
+
+    /// The mean centre of the `k` most likely cells of the interpolated map on the most
+    /// likely one's level.
+    fn most_likely(&self, gp: &RadioInterpolation, scan: &WifiScan) -> Option<(f64, f64, i32)> {
+        let mut ranked: Vec<(f64, usize)> = gp
+            .log_likelihoods(scan)
+            .into_iter()
+            .enumerate()
+            .filter_map(|(i, l)| l.filter(|l| l.is_finite()).map(|l| (l, i)))
+            .filter(|&(_, i)| self.centres[i].0.is_finite())
+            .collect();
+        ranked.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        let &(_, first) = ranked.first()?;
+        let level = self.centres[first].2;
+        let chosen: Vec<usize> = ranked
+            .iter()
+            .map(|&(_, i)| i)
+            .filter(|&i| self.centres[i].2 == level)
+            .take(self.config.k)
+            .collect();
+        let n = chosen.len() as f64;
+        let x = chosen.iter().map(|&i| self.centres[i].0).sum::<f64>() / n;
+        let y = chosen.iter().map(|&i| self.centres[i].1).sum::<f64>() / n;
+        Some((x, y, level))
     }
 }
 
@@ -246,6 +330,7 @@ mod tests {
         };
         let config = FingerprintConfig {
             k: 2,
+            method: FingerprintMethod::Ndist,
             ..Default::default()
         };
         let nf = NearestFingerprint::new(&map, &config).expect("localiser");
@@ -268,6 +353,52 @@ mod tests {
         assert!(
             nf.locate(&WifiScan::from_readings(7.0, &[("other", -50.0)]))
                 .is_none()
+        );
+    }
+
+    #[test]
+    fn interpolated_map_places_a_scan_between_surveyed_places() {
+        // A corridor of 2 m cells from 1 to 59 m; surveyed only at 1–13 m and 47–59 m, where
+        // two access points fall and rise 1 dB a metre.
+        let rssi = |x: f64| [("west", -40.0 - x), ("east", -100.0 + x)];
+        let cells = (0..30)
+            .map(|i| {
+                let x = 1.0 + 2.0 * f64::from(i);
+                let mut c = cell(&format!("0-{i}-0"), x, 0, &rssi(x));
+                if (7..23).contains(&i) {
+                    c.radio = CellRadio::default();
+                }
+                c
+            })
+            .collect();
+        let map = RadioMap {
+            cells,
+            ..Default::default()
+        };
+        let config = FingerprintConfig {
+            k: 1,
+            ..Default::default()
+        };
+        let nf = NearestFingerprint::new(&map, &config).expect("localiser");
+        let fit = nf.interpolation_fit().expect("interpolated");
+        assert!(fit.pairs > 0 && fit.length_scale > 0.0, "{fit:?}");
+        // A scan at 27 m, 14 m from any surveyed cell: placed in the gap, where the surveyed
+        // cells alone (method `ndist`) can only put it at the gap's edge.
+        let scan = WifiScan::from_readings(1.0, &rssi(27.0));
+        let fix = nf.locate(&scan).expect("fix");
+        assert!((fix.x - 27.0).abs() < 8.0, "{fix:?}");
+        let ndist = NearestFingerprint::new(
+            &map,
+            &FingerprintConfig {
+                method: FingerprintMethod::Ndist,
+                ..config
+            },
+        )
+        .expect("localiser");
+        let edge = ndist.locate(&scan).expect("fix");
+        assert!(
+            (edge.x - 27.0).abs() > (fix.x - 27.0).abs(),
+            "{edge:?} {fix:?}"
         );
     }
 }

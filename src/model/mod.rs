@@ -10,6 +10,9 @@
 //! * [`scan_pairs`] — WiFi scans as evidence of revisits inside FootSLAM (scan to scan)
 //! * [`scan_references`] — other walks' scans as evidence in a FeetSLAM batch's later passes
 //! * [`wifi_distance`] — the normalised RSSI distance between a scan and a radio-map cell
+//! * [`radio_interpolation`] — the radio map between surveyed cells: a Gaussian process per
+//!   access point, with its variance, and honest ignorance far from the survey
+//! * [`radio_variogram`] — its kernel, fitted on the survey's pooled variogram
 //! * [`wifi_likelihood`] — the probabilistic WiFi measurement (eq. 14)
 //! * [`derived_epsilon`] — a radio map's region threshold derived from the map itself
 
@@ -19,6 +22,8 @@ pub mod floor_levels;
 pub mod gps_likelihood;
 pub mod heading_likelihood;
 pub mod magnetic_field;
+pub mod radio_interpolation;
+pub mod radio_variogram;
 pub mod scan_pairs;
 pub mod scan_references;
 pub mod step_motion;
@@ -34,6 +39,8 @@ pub use heading_likelihood::{HeadingConfig, HeadingConstants, HeadingLikelihood}
 pub use magnetic_field::{
     FieldCalibration, FieldConfig, FieldEvidence, FieldLikelihood, FieldUnused,
 };
+pub use radio_interpolation::{InterpolationConfig, RadioInterpolation};
+pub use radio_variogram::VariogramFit;
 pub use scan_pairs::{PairLikelihood, ScanEvidence, ScanPairConfig, ScanPairsUnused};
 pub use scan_references::{PlacedScan, ReferenceScans};
 pub use step_motion::{StepErrorState, StepMotion, StepMotionConfig};

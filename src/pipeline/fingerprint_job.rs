@@ -41,6 +41,8 @@ pub struct FingerprintReport {
     pub placed: usize,
     /// Scans that share no access point with the map.
     pub unplaced: usize,
+    /// The interpolated map's kernel, fitted on the map's survey (method `interpolated`).
+    pub interpolation: Option<crate::model::VariogramFit>,
     /// The toolkit's version.
     pub version: &'static str,
 }
@@ -105,6 +107,7 @@ pub fn run_fingerprint(
         duplicate_readings: request.duplicate_readings,
         placed: fixes.len(),
         unplaced: wifi.value.len() - fixes.len(),
+        interpolation: localiser.interpolation_fit(),
         version: env!("CARGO_PKG_VERSION"),
     };
     Ok(FingerprintJob {

@@ -1,0 +1,401 @@
+//! A radio map that knows what it does not know: per access point, a Gaussian process over
+//! the surveyed cells' mean RSSI (Ferris, Hähnel & Fox 2006, "Gaussian processes for signal
+//! strength-based location estimation"), predicted at every cell of the map with its
+//! variance; cells far from any survey get the prior — the access point's mean over the
+//! survey with its whole variance — and are *unknown*.
+//!
+//! **Data.** A surveyed cell `i` with `n_i` scans has, per access point `a`, the value
+//! `y_ia` = mean RSSI over its scans, scans that did not hear `a` counted at the fill
+//! `r_miss` (as [`crate::model::wifi_distance`] fills them). The prior is `μ_a` and `σ²_a`,
+//! the mean and variance of `y_·a` over the surveyed cells.
+//!
+//! **Kernel, calibrated on the survey.** In units of `σ_a` every access point shares one
+//! kernel `k(d) = exp(−d/ℓ)` (exponential; `d` the distance between cell centres, cells of
+//! other levels unrelated) and one per-scan noise ratio `λ`: the semivariogram pooled over
+//! the access points (Cressie 1993, eq. 2.2.8), `γ(h) = ½ E[(z_ia − z_ja)²]` over pairs of
+//! surveyed cells `h` apart (`z = (y − μ_a)/σ_a`), is fitted by pair-weighted least squares
+//! as `γ(h) = λ·E[1/n] + 1 − exp(−h/ℓ)` ([`fit_variogram`](super::radio_variogram)).
+//!
+//! **Prediction, local.** Each cell `c` is predicted from its `M` nearest surveyed cells on
+//! its level (simple kriging with a known mean; Rasmussen & Williams 2006, eqs. 2.23–2.24,
+//! on a local neighbourhood): with `K_ij = k(d_ij) + δ_ij λ/n_j` and `k_j = k(d_cj)`,
+//! `w = K⁻¹k`, the mean is `m_ca = μ_a + Σ_j w_j (y_ja − μ_a)` and the share of the prior
+//! variance left is `v_c = 1 − kᵀw`. The weights do not depend on the access point, so one
+//! `M × M` solve per cell serves them all. A single scan at `c` reads `a` with variance
+//! `s²_ca = σ²_a (v_c + λ) + s²_0`, `s²_0` the readings' resolution.
+//!
+//! **Ignorance.** A cell with `v_c` above `max_share` is unknown: the data explain less than
+//! that share of the prior, it is no candidate and has no likelihood.
+
+use crate::error::{Error, Result};
+use crate::map::RadioMap;
+use crate::sensor::WifiScan;
+use geo::Centroid;
+use nalgebra::{DMatrix, DVector};
+use rustc_hash::FxHashMap;
+use serde::{Deserialize, Serialize};
+
+use super::radio_variogram::{Survey, VariogramFit, fit_variogram};
+
+/// Parameters of [`RadioInterpolation`]; every default in one place.
+///
+/// | field            | default | meaning                                                      |
+/// |------------------|---------|--------------------------------------------------------------|
+/// | `neighbours`     | 12      | nearest surveyed cells a cell is predicted from (`M`)        |
+/// | `max_share`      | 0.5     | cells whose variance left exceeds this share are unknown     |
+/// | `reading_floor`  | 1 dB²   | variance every reading has at least (`s²_0`, 1 dB readings)  |
+/// | `length_scale`   | fitted  | the kernel's `ℓ`, metres (`None`: fitted on the survey)      |
+/// | `noise_ratio`    | fitted  | per-scan noise over signal variance `λ` (`None`: fitted)     |
+/// | `variogram_bin`  | 3 m     | width of the variogram's distance bins                       |
+/// | `variogram_max`  | 60 m    | pairs farther apart do not enter the variogram               |
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct InterpolationConfig {
+    /// Nearest surveyed cells a cell is predicted from.
+    pub neighbours: usize,
+    /// Cells whose variance left exceeds this share of the prior's are unknown.
+    pub max_share: f64,
+    /// Variance every reading has at least, dB².
+    pub reading_floor: f64,
+    /// The kernel's length scale, metres; `None`: fitted on the survey.
+    pub length_scale: Option<f64>,
+    /// Per-scan noise variance over signal variance; `None`: fitted on the survey.
+    pub noise_ratio: Option<f64>,
+    /// Width of the variogram's distance bins, metres.
+    pub variogram_bin: f64,
+    /// Pairs of cells farther apart do not enter the variogram, metres.
+    pub variogram_max: f64,
+}
+
+impl Default for InterpolationConfig {
+    fn default() -> Self {
+        Self {
+            neighbours: 12,
+            max_share: 0.5,
+            reading_floor: 1.0,
+            length_scale: None,
+            noise_ratio: None,
+            variogram_bin: 3.0,
+            variogram_max: 60.0,
+        }
+    }
+}
+
+impl InterpolationConfig {
+    /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `neighbours` is outside [1, 64], `max_share` outside (0, 1],
+    /// `reading_floor` not positive, a given `length_scale` or `noise_ratio` not positive, or
+    /// the variogram's bin not positive or above its maximum distance.
+    pub fn validate(&self) -> Result<()> {
+        use crate::error::check_range;
+        use std::ops::Bound::{Excluded, Included, Unbounded};
+        check_range(
+            "interpolation.neighbours",
+            self.neighbours as f64,
+            1.0..=64.0,
+            "",
+        )?;
+        check_range(
+            "interpolation.max_share",
+            self.max_share,
+            (Excluded(0.0), Included(1.0)),
+            "",
+        )?;
+        let positive = (Excluded(0.0), Unbounded);
+        check_range(
+            "interpolation.reading_floor",
+            self.reading_floor,
+            positive,
+            "dB²",
+        )?;
+        if let Some(l) = self.length_scale {
+            check_range("interpolation.length_scale", l, positive, "m")?;
+        }
+        if let Some(r) = self.noise_ratio {
+            check_range("interpolation.noise_ratio", r, positive, "")?;
+        }
+        check_range(
+            "interpolation.variogram_max",
+            self.variogram_max,
+            positive,
+            "m",
+        )?;
+        check_range(
+            "interpolation.variogram_bin",
+            self.variogram_bin,
+            (Excluded(0.0), Included(self.variogram_max)),
+            "m",
+        )
+    }
+}
+
+/// The per-access-point Gaussian-process radio map of a [`RadioMap`].
+#[derive(Debug, Clone)]
+pub struct RadioInterpolation {
+    columns: FxHashMap<String, usize>,
+    /// Prior mean and variance per access point.
+    prior_mean: Vec<f64>,
+    prior_var: Vec<f64>,
+    /// Per cell: the share of the prior variance left, `v_c` (1 without data).
+    share: Vec<f64>,
+    /// Predicted means, row-major (cell, access point), dBm; rows of unknown cells unused.
+    means: Vec<f32>,
+    /// Per known cell: the log-likelihood of a scan that hears nothing.
+    silent: Vec<Option<f64>>,
+    fit: VariogramFit,
+    missing: f64,
+    config: InterpolationConfig,
+}
+
+/// Centre and level of each cell (NaN centre without area).
+pub(crate) fn cell_centres(map: &RadioMap) -> Vec<(f64, f64, i32)> {
+    map.cells
+        .iter()
+        .map(|c| {
+            c.area
+                .centroid()
+                .map_or((f64::NAN, f64::NAN, c.level), |p| (p.x(), p.y(), c.level))
+        })
+        .collect()
+}
+
+fn survey_of(
+    map: &RadioMap,
+    columns: &FxHashMap<String, usize>,
+    missing: f64,
+    min_scans: u32,
+) -> Survey {
+    let centres_all = cell_centres(map);
+    let n_ap = columns.len();
+    let mut s = Survey {
+        cells: Vec::new(),
+        centres: Vec::new(),
+        scans: Vec::new(),
+        values: Vec::new(),
+        mean: vec![0.0; n_ap],
+        var: vec![0.0; n_ap],
+    };
+    for (i, c) in map.cells.iter().enumerate() {
+        if c.radio.scans < min_scans.max(1) || !centres_all[i].0.is_finite() {
+            continue;
+        }
+        let scans = f64::from(c.radio.scans);
+        let start = s.values.len();
+        s.values.resize(start + n_ap, missing);
+        for (bssid, stats) in &c.radio.aps {
+            let (Some(&col), Some(mean)) = (columns.get(bssid), stats.mean()) else {
+                continue;
+            };
+            let heard = f64::from(stats.n);
+            s.values[start + col] = (heard * mean.max(missing) + (scans - heard) * missing) / scans;
+        }
+        s.cells.push(i);
+        s.centres.push(centres_all[i]);
+        s.scans.push(scans);
+    }
+    let n = s.cells.len().max(1) as f64;
+    for row in s.values.chunks(n_ap.max(1)) {
+        for (m, y) in s.mean.iter_mut().zip(row) {
+            *m += y / n;
+        }
+    }
+    for row in s.values.chunks(n_ap.max(1)) {
+        for ((v, m), y) in s.var.iter_mut().zip(&s.mean).zip(row) {
+            *v += (y - m).powi(2) / n;
+        }
+    }
+    s
+}
+
+impl RadioInterpolation {
+    /// The interpolated map of `map`: surveyed cells are those with at least `min_scans`
+    /// scans (and at least one); readings weaker than `missing_rssi` and scans that did not
+    /// hear an access point count as `missing_rssi`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `config` fails [`InterpolationConfig::validate`];
+    /// [`Error::NotEnough`] when no cell of `map` is surveyed.
+    pub fn new(
+        map: &RadioMap,
+        missing_rssi: f64,
+        min_scans: u32,
+        config: &InterpolationConfig,
+    ) -> Result<Self> {
+        config.validate()?;
+        let columns = map.access_point_columns();
+        let survey = survey_of(map, &columns, missing_rssi, min_scans);
+        if survey.cells.is_empty() {
+            return Err(Error::not_enough(
+                "the radio map has no surveyed cell to interpolate from",
+                "survey the building first",
+            ));
+        }
+        let mut fit = fit_variogram(&survey, config.variogram_bin, config.variogram_max);
+        if let Some(l) = config.length_scale {
+            fit.length_scale = l;
+        }
+        if let Some(r) = config.noise_ratio {
+            fit.noise_ratio = r;
+        }
+        let centres = cell_centres(map);
+        let n_ap = columns.len();
+        let mut share = vec![1.0; map.cells.len()];
+        let mut means = vec![0_f32; map.cells.len() * n_ap];
+        for (c, &(x, y, level)) in centres.iter().enumerate() {
+            let row = &mut means[c * n_ap..(c + 1) * n_ap];
+            for (m, &mu) in row.iter_mut().zip(&survey.mean) {
+                *m = mu as f32;
+            }
+            if !x.is_finite() {
+                continue;
+            }
+            let (nb, w, v) = krige(&survey, &fit, config.neighbours, (x, y, level));
+            share[c] = v;
+            for (&j, &wj) in nb.iter().zip(&w) {
+                let yj = &survey.values[j * n_ap..(j + 1) * n_ap];
+                for ((m, &y), &mu) in row.iter_mut().zip(yj).zip(&survey.mean) {
+                    *m += (wj * (y - mu)) as f32;
+                }
+            }
+        }
+        let mut me = Self {
+            columns,
+            prior_mean: survey.mean,
+            prior_var: survey.var,
+            share,
+            means,
+            silent: Vec::new(),
+            fit,
+            missing: missing_rssi,
+            config: config.clone(),
+        };
+        me.silent = (0..map.cells.len())
+            .map(|c| {
+                me.is_known(c).then(|| {
+                    (0..n_ap)
+                        .map(|a| me.reading_log_likelihood(c, a, missing_rssi))
+                        .sum()
+                })
+            })
+            .collect();
+        Ok(me)
+    }
+
+    /// The kernel fitted (or configured).
+    #[must_use]
+    pub fn fit(&self) -> &VariogramFit {
+        &self.fit
+    }
+
+    /// True when cell `c` is predicted (its variance left at most `max_share`).
+    #[must_use]
+    pub fn is_known(&self, c: usize) -> bool {
+        self.share
+            .get(c)
+            .is_some_and(|&v| v <= self.config.max_share)
+    }
+
+    /// The share of the prior variance left at cell `c`, `v_c` in [0, 1] (1 without data).
+    #[must_use]
+    pub fn variance_share(&self, c: usize) -> f64 {
+        self.share.get(c).copied().unwrap_or(1.0)
+    }
+
+    /// Predicted mean RSSI of `bssid` at cell `c` and its variance for one scan (dBm, dB²);
+    /// `None` for an access point the map never heard or a cell it does not have.
+    #[must_use]
+    pub fn predict(&self, c: usize, bssid: &str) -> Option<(f64, f64)> {
+        let &a = self.columns.get(bssid)?;
+        (c < self.share.len()).then(|| (self.mean(c, a), self.variance(c, a)))
+    }
+
+    fn mean(&self, c: usize, a: usize) -> f64 {
+        f64::from(self.means[c * self.prior_mean.len() + a])
+    }
+
+    /// `s²_ca = σ²_a (v_c + λ) + s²_0`.
+    fn variance(&self, c: usize, a: usize) -> f64 {
+        self.prior_var[a] * (self.share[c] + self.fit.noise_ratio) + self.config.reading_floor
+    }
+
+    /// `ln N(z; m_ca, s²_ca)`.
+    fn reading_log_likelihood(&self, c: usize, a: usize, z: f64) -> f64 {
+        let s2 = self.variance(c, a);
+        -0.5 * ((z - self.mean(c, a)).powi(2) / s2 + (std::f64::consts::TAU * s2).ln())
+    }
+
+    /// `ln p(z | c)` of `scan` at every cell, independent readings over every access point
+    /// of the map (unheard ones at the fill); `None` for unknown cells.
+    #[must_use]
+    pub fn log_likelihoods(&self, scan: &WifiScan) -> Vec<Option<f64>> {
+        let heard: Vec<(usize, f64)> = scan
+            .readings
+            .iter()
+            .filter_map(|r| Some((*self.columns.get(&r.bssid)?, r.rssi.max(self.missing))))
+            .collect();
+        self.silent
+            .iter()
+            .enumerate()
+            .map(|(c, base)| {
+                base.map(|b| {
+                    b + heard
+                        .iter()
+                        .map(|&(a, z)| {
+                            self.reading_log_likelihood(c, a, z)
+                                - self.reading_log_likelihood(c, a, self.missing)
+                        })
+                        .sum::<f64>()
+                })
+            })
+            .collect()
+    }
+}
+
+/// Simple-kriging weights of the `m` nearest surveyed cells of `at`'s level: their survey
+/// indices, the weights `w = K⁻¹k` and the variance share left `v = 1 − kᵀw`.
+fn krige(
+    survey: &Survey,
+    fit: &VariogramFit,
+    m: usize,
+    at: (f64, f64, i32),
+) -> (Vec<usize>, Vec<f64>, f64) {
+    let dist = |a: (f64, f64, i32), b: (f64, f64, i32)| (a.0 - b.0).hypot(a.1 - b.1);
+    let mut near: Vec<(f64, usize)> = survey
+        .centres
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.2 == at.2)
+        .map(|(j, &c)| (dist(at, c), j))
+        .collect();
+    near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    near.truncate(m);
+    if near.is_empty() {
+        return (Vec::new(), Vec::new(), 1.0);
+    }
+    let nb: Vec<usize> = near.iter().map(|&(_, j)| j).collect();
+    let kern = |d: f64| (-d / fit.length_scale).exp();
+    let big_k = DMatrix::from_fn(nb.len(), nb.len(), |i, j| {
+        let noise = if i == j {
+            fit.noise_ratio / survey.scans[nb[i]]
+        } else {
+            0.0
+        };
+        kern(dist(survey.centres[nb[i]], survey.centres[nb[j]])) + noise
+    });
+    let k = DVector::from_iterator(nb.len(), near.iter().map(|&(d, _)| kern(d)));
+    // K is a kernel matrix plus a positive diagonal: positive definite.
+    let Some(chol) = big_k.cholesky() else {
+        return (Vec::new(), Vec::new(), 1.0);
+    };
+    let w = chol.solve(&k);
+    let v = (1.0 - k.dot(&w)).clamp(0.0, 1.0);
+    (nb, w.iter().copied().collect(), v)
+}
+
+#[cfg(test)]
+#[path = "radio_interpolation_tests.rs"]
+mod tests;
