@@ -177,6 +177,8 @@ fn survey_of(
         values: Vec::new(),
         mean: vec![0.0; n_ap],
         var: vec![0.0; n_ap],
+        within_ss: vec![0.0; n_ap],
+        within_dof: 0.0,
     };
     for (i, c) in map.cells.iter().enumerate() {
         if c.radio.scans < min_scans.max(1) || !centres_all[i].0.is_finite() {
@@ -191,7 +193,9 @@ fn survey_of(
             };
             let heard = f64::from(stats.n);
             s.values[start + col] = (heard * mean.max(missing) + (scans - heard) * missing) / scans;
+            s.within_ss[col] += within_cell_squares(stats, scans, missing);
         }
+        s.within_dof += scans - 1.0;
         s.cells.push(i);
         s.centres.push(centres_all[i]);
         s.scans.push(scans);
@@ -208,6 +212,21 @@ fn survey_of(
         }
     }
     s
+}
+
+/// Squared deviations of one cell's per-scan values of one access point from their mean
+/// (the histogram's 1 dB bins, misses and weaker readings at `missing`).
+fn within_cell_squares(stats: &crate::map::ApStats, scans: f64, missing: f64) -> f64 {
+    let misses = scans - f64::from(stats.n);
+    let values = || {
+        stats
+            .hist
+            .iter()
+            .map(|(&bin, &count)| (f64::from(bin).max(missing), f64::from(count)))
+            .chain(std::iter::once((missing, misses)))
+    };
+    let mean = values().map(|(v, k)| v * k).sum::<f64>() / scans;
+    values().map(|(v, k)| k * (v - mean).powi(2)).sum()
 }
 
 impl RadioInterpolation {
