@@ -24,8 +24,9 @@
 //! `M × M` solve per cell serves them all. A single scan at `c` reads `a` with variance
 //! `s²_ca = σ²_a (v_c + λ) + s²_0`, `s²_0` the readings' resolution.
 //!
-//! **Ignorance.** A cell with `v_c` above `max_share` is unknown: the data explain less than
-//! that share of the prior, it is no candidate and has no likelihood.
+//! **Ignorance.** A cell nobody surveyed with `v_c` above `max_share` is unknown: the data
+//! explain less than that share of the prior, it is no candidate and has no likelihood. A
+//! surveyed cell is always known (it was measured, however noisily).
 
 use crate::error::{Error, Result};
 use crate::map::RadioMap;
@@ -135,6 +136,8 @@ impl InterpolationConfig {
 /// The per-access-point Gaussian-process radio map of a [`RadioMap`].
 #[derive(Debug, Clone)]
 pub struct RadioInterpolation {
+    /// Per cell: surveyed (always known: it was measured).
+    surveyed: Vec<bool>,
     columns: FxHashMap<String, usize>,
     /// Prior mean and variance per access point.
     prior_mean: Vec<f64>,
@@ -281,7 +284,12 @@ impl RadioInterpolation {
                 }
             }
         }
+        let mut surveyed = vec![false; map.cells.len()];
+        for &c in &survey.cells {
+            surveyed[c] = true;
+        }
         let mut me = Self {
+            surveyed,
             columns,
             prior_mean: survey.mean,
             prior_var: survey.var,
@@ -310,12 +318,14 @@ impl RadioInterpolation {
         &self.fit
     }
 
-    /// True when cell `c` is predicted (its variance left at most `max_share`).
+    /// True when cell `c` is surveyed or predicted (its variance left at most `max_share`).
     #[must_use]
     pub fn is_known(&self, c: usize) -> bool {
-        self.share
-            .get(c)
-            .is_some_and(|&v| v <= self.config.max_share)
+        self.surveyed.get(c).copied().unwrap_or(false)
+            || self
+                .share
+                .get(c)
+                .is_some_and(|&v| v <= self.config.max_share)
     }
 
     /// The share of the prior variance left at cell `c`, `v_c` in [0, 1] (1 without data).
