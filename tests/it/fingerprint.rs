@@ -55,6 +55,41 @@ fn places_scans_near_the_truth_and_refuses_another_building() {
     // Placed on the map's own walk: 3 m cells, median within a cell, every scan on its floor.
     assert!(v["track"]["p50"].as_f64().expect("p50") < 3.0, "{v}");
     assert!(v["floor_accuracy"].as_f64().expect("floors") > 0.9, "{v}");
+    // The default ranks cells on the interpolated map, whose kernel was fitted on the survey.
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(fp.join("summary.json")).expect("summary"))
+            .expect("json");
+    let fit = &summary["interpolation"];
+    assert!(fit["length_scale"].as_f64().expect("ℓ") > 0.0, "{summary}");
+    assert!(fit["pairs"].as_u64().expect("pairs") > 0, "{summary}");
+
+    // The weighted k-nearest method stays selectable, and places the walk as well.
+    let config = dir.path().join("ndist.toml");
+    std::fs::write(&config, "method = \"ndist\"\n").expect("write");
+    let nd = dir.path().join("nd");
+    footslam()
+        .arg("fingerprint")
+        .arg("--radiomap")
+        .arg(survey.join("radiomap.geojson"))
+        .arg("--wifi")
+        .arg(tower("wifi.csv"))
+        .arg("--config")
+        .arg(&config)
+        .arg("--out")
+        .arg(&nd)
+        .assert()
+        .success();
+    let out = footslam()
+        .args(["eval", "--json", "--truth"])
+        .arg(tower("truth.csv"))
+        .arg("--track")
+        .arg(nd.join("track.csv"))
+        .assert()
+        .success();
+    let v: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).expect("json");
+    assert!(v["track"]["p50"].as_f64().expect("p50") < 3.0, "{v}");
+    let summary = std::fs::read_to_string(nd.join("summary.json")).expect("summary");
+    assert!(summary.contains("\"interpolation\": null"), "{summary}");
 
     // A log of another building (no access point in common) is an error naming both files.
     let other = dir.path().join("other.csv");
