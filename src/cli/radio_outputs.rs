@@ -3,10 +3,12 @@
 //! each of the access points heard in the most cells (`--heatmaps`).
 
 use anyhow::Result;
+use footslam::filter::FingerprintConfig;
 use footslam::geometry::LocalFrame;
 use footslam::io::RunFolder;
 use footslam::io::radio_map_geojson::{write_radio_map_csv, write_radio_map_geojson};
-use footslam::map::{FloorPlan, RadioMap};
+use footslam::map::{ApStats, FloorPlan, RadioMap};
+use footslam::model::RadioInterpolation;
 use footslam::render::plan_png::{
     ColourBar, PlanCell, PlanMarker, PlanPicture, PlanPictureConfig, viridis_rgb, write_plan_png,
 };
@@ -97,31 +99,48 @@ pub(super) fn write_radio_map_files(
             (bssid, name)
         })
         .collect();
+    // Between surveyed cells, the interpolated map `fingerprint` uses (its defaults).
+    let fingerprint = FingerprintConfig::default();
+    let (missing, min_scans) = (fingerprint.missing_rssi, fingerprint.min_scans);
+    let interpolation =
+        RadioInterpolation::new(map, missing, min_scans, &fingerprint.interpolation).ok();
     chosen.par_iter().try_for_each(|(bssid, name)| {
-        let picture = heatmap_picture(plan, map, bssid, north_up);
+        let picture = heatmap_picture(plan, map, interpolation.as_ref(), bssid, north_up);
         write_plan_png(&at(name), &[picture], &pictures)
     })?;
     Ok(chosen.len())
 }
 
-/// The heatmap of access point `bssid`: each cell that heard it coloured by its mean RSSI,
-/// the strongest cell marked.
+/// The heatmap of access point `bssid`: each cell that heard it coloured by its mean RSSI;
+/// with `interpolation`, each cell nobody surveyed that the interpolated map knows by its
+/// predicted mean, paler (cells it does not know stay blank); the strongest cell marked.
 fn heatmap_picture<'a>(
     plan: &'a FloorPlan,
     map: &'a RadioMap,
+    interpolation: Option<&RadioInterpolation>,
     bssid: &str,
     north_up: bool,
 ) -> PlanPicture<'a> {
+    let colour = |mean: f64| {
+        viridis_rgb(((mean - HEATMAP_FLOOR) / (HEATMAP_TOP - HEATMAP_FLOOR)).clamp(0.0, 1.0))
+    };
     let heat: Vec<PlanCell> = map
         .cells
         .iter()
-        .filter_map(|c| {
-            let mean = c.radio.aps.get(bssid)?.mean()?;
-            let t = ((mean - HEATMAP_FLOOR) / (HEATMAP_TOP - HEATMAP_FLOOR)).clamp(0.0, 1.0);
+        .enumerate()
+        .filter_map(|(i, c)| {
+            let colour = match c.radio.aps.get(bssid).and_then(ApStats::mean) {
+                Some(mean) => colour(mean),
+                None if c.radio.scans == 0 => {
+                    let interpolation = interpolation.filter(|m| m.is_known(i))?;
+                    paler(colour(interpolation.predict(i, bssid)?.0))
+                }
+                None => return None,
+            };
             Some(PlanCell {
                 area: &c.area,
                 level: c.level,
-                colour: viridis_rgb(t),
+                colour,
             })
         })
         .collect();
@@ -147,7 +166,11 @@ fn heatmap_picture<'a>(
         .collect();
     PlanPicture {
         plan,
-        title: Some(format!("{bssid}: mean RSSI per cell")),
+        title: Some(if interpolation.is_some() {
+            format!("{bssid}: mean RSSI per cell (paler: predicted between surveyed cells)")
+        } else {
+            format!("{bssid}: mean RSSI per cell")
+        }),
         paths: Vec::new(),
         points: Vec::new(),
         cells: heat,
@@ -159,6 +182,11 @@ fn heatmap_picture<'a>(
             colour: viridis_rgb,
         }),
     }
+}
+
+/// `rgb` halfway to white: a predicted value beside measured ones.
+fn paler(rgb: [u8; 3]) -> [u8; 3] {
+    rgb.map(|v| v + (255 - v) / 2)
 }
 
 /// Says how many access points got a heatmap, when not all of them did.
@@ -241,7 +269,74 @@ fn write_coverage_png(
 
 #[cfg(test)]
 mod tests {
-    use super::heatmap_name;
+    use super::{heatmap_name, heatmap_picture, paler};
+    use footslam::filter::FingerprintConfig;
+    use footslam::map::{CellRadio, FloorPlan, RadioMap, RadioMapCell};
+    use footslam::model::{InterpolationConfig, RadioInterpolation};
+    use footslam::sensor::WifiScan;
+
+    #[test]
+    fn heatmaps_show_predicted_cells_paler_and_unknown_ones_blank() {
+        // A corridor of 3 m cells along x, surveyed at both ends (cells 0–2 and 6–8) by one
+        // access point that fades along it; cells 3–5 in the gap, cell 40 far away.
+        let cells: Vec<RadioMapCell> = (0..9)
+            .chain([40])
+            .map(|i| {
+                let x = 3.0 * f64::from(i) + 1.5;
+                let mut radio = CellRadio::default();
+                if !(3..=5).contains(&i) && i < 40 {
+                    for k in 0..3 {
+                        let rssi = -40.0 - 1.5 * x + f64::from(k);
+                        radio.add_scan(&WifiScan::from_readings(0.0, &[("ap", rssi)]));
+                    }
+                }
+                let area = geo::Rect::new((x - 1.5, 0.0), (x + 1.5, 3.0))
+                    .to_polygon()
+                    .into();
+                RadioMapCell {
+                    id: format!("0-{i}-0"),
+                    level: 0,
+                    area,
+                    radio,
+                }
+            })
+            .collect();
+        let map = RadioMap {
+            cells,
+            ..Default::default()
+        };
+        let plan = FloorPlan::default();
+        // Six cells are too few to fit a kernel: it is given.
+        let fp = FingerprintConfig::default();
+        let kernel = InterpolationConfig {
+            length_scale: Some(20.0),
+            noise_ratio: Some(0.1),
+            ..fp.interpolation
+        };
+        let interpolation = RadioInterpolation::new(&map, fp.missing_rssi, fp.min_scans, &kernel)
+            .expect("interpolation");
+        let measured = heatmap_picture(&plan, &map, None, "ap", true);
+        assert_eq!(measured.cells.len(), 6, "the surveyed cells only");
+        let picture = heatmap_picture(&plan, &map, Some(&interpolation), "ap", true);
+        // The gap's three cells are added, paler than any surveyed cell's colour would be
+        // (each channel at least halfway to white); the far cell stays blank.
+        assert_eq!(picture.cells.len(), 9);
+        let gap: Vec<_> = picture
+            .cells
+            .iter()
+            .filter(|c| {
+                let x = geo::Centroid::centroid(c.area).expect("centre").x();
+                (9.0..18.0).contains(&x)
+            })
+            .collect();
+        assert_eq!(gap.len(), 3);
+        assert!(
+            gap.iter().all(|c| c.colour.iter().all(|&v| v >= 127)),
+            "{:?}",
+            gap[0].colour
+        );
+        assert_eq!(paler([0, 100, 255]), [127, 177, 255]);
+    }
 
     #[test]
     fn heatmaps_are_named_by_bssid() {

@@ -15,7 +15,8 @@
 //! **How the digests were made.** With `FOOTSLAM_BLESS=1 cargo test --release --workspace
 //! --test it learn_is_unchanged` on commit 44d822c (main before the arena maps of issue 37),
 //! x86-64 Linux. Regenerate them only for a change meant to alter the answer, and say so in
-//! the commit; a speed change must leave them alone. A failure names the file that changed
+//! the commit; a speed change must leave them alone. Since: the tower's heatmaps (2026-11-29:
+//! cells nobody surveyed drawn paler by the interpolated map's prediction). A failure names the file that changed
 //! and keeps the run's folder under `target/outputs_unchanged/` for a look.
 
 use crate::cli_cases::footslam;
