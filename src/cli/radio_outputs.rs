@@ -167,7 +167,7 @@ fn heatmap_picture<'a>(
     PlanPicture {
         plan,
         title: Some(if interpolation.is_some() {
-            format!("{bssid}: mean RSSI per cell (paler: predicted between surveyed cells)")
+            format!("{bssid}: mean RSSI (paler: predicted)")
         } else {
             format!("{bssid}: mean RSSI per cell")
         }),
