@@ -30,28 +30,31 @@ fn places_scans_near_the_truth_and_refuses_another_building() {
         .arg(&survey)
         .assert()
         .success();
+    // The walk's scans placed on the map (with `config`), scored against its truth.
+    let place = |out: &Path, config: Option<&Path>| {
+        let mut fingerprint = footslam();
+        fingerprint.arg("fingerprint").arg("--radiomap");
+        fingerprint.arg(survey.join("radiomap.geojson"));
+        fingerprint.arg("--wifi").arg(tower("wifi.csv"));
+        if let Some(config) = config {
+            fingerprint.arg("--config").arg(config);
+        }
+        fingerprint.arg("--out").arg(out).assert().success();
+        let eval = footslam()
+            .args(["eval", "--json", "--truth"])
+            .arg(tower("truth.csv"))
+            .arg("--track")
+            .arg(out.join("track.csv"))
+            .assert()
+            .success();
+        let v: serde_json::Value = serde_json::from_slice(&eval.get_output().stdout).expect("json");
+        v
+    };
     let fp = dir.path().join("fp");
-    footslam()
-        .arg("fingerprint")
-        .arg("--radiomap")
-        .arg(survey.join("radiomap.geojson"))
-        .arg("--wifi")
-        .arg(tower("wifi.csv"))
-        .arg("--out")
-        .arg(&fp)
-        .assert()
-        .success();
+    let v = place(&fp, None);
     for name in ["track.csv", "summary.json", "config.json"] {
         assert!(fp.join(name).is_file(), "{name}");
     }
-    let out = footslam()
-        .args(["eval", "--json", "--truth"])
-        .arg(tower("truth.csv"))
-        .arg("--track")
-        .arg(fp.join("track.csv"))
-        .assert()
-        .success();
-    let v: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).expect("json");
     // Placed on the map's own walk: 3 m cells, median within a cell, every scan on its floor.
     assert!(v["track"]["p50"].as_f64().expect("p50") < 3.0, "{v}");
     assert!(v["floor_accuracy"].as_f64().expect("floors") > 0.9, "{v}");
@@ -67,26 +70,7 @@ fn places_scans_near_the_truth_and_refuses_another_building() {
     let config = dir.path().join("ndist.toml");
     std::fs::write(&config, "method = \"ndist\"\n").expect("write");
     let nd = dir.path().join("nd");
-    footslam()
-        .arg("fingerprint")
-        .arg("--radiomap")
-        .arg(survey.join("radiomap.geojson"))
-        .arg("--wifi")
-        .arg(tower("wifi.csv"))
-        .arg("--config")
-        .arg(&config)
-        .arg("--out")
-        .arg(&nd)
-        .assert()
-        .success();
-    let out = footslam()
-        .args(["eval", "--json", "--truth"])
-        .arg(tower("truth.csv"))
-        .arg("--track")
-        .arg(nd.join("track.csv"))
-        .assert()
-        .success();
-    let v: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).expect("json");
+    let v = place(&nd, Some(&config));
     assert!(v["track"]["p50"].as_f64().expect("p50") < 3.0, "{v}");
     let summary = std::fs::read_to_string(nd.join("summary.json")).expect("summary");
     assert!(summary.contains("\"interpolation\": null"), "{summary}");
