@@ -18,7 +18,6 @@ use crate::model::radio_interpolation::{InterpolationConfig, RadioInterpolation}
 use crate::model::radio_variogram::VariogramFit;
 use crate::model::wifi_distance::{Fingerprints, Normalisation};
 use crate::sensor::WifiScan;
-use geo::Centroid;
 use serde::{Deserialize, Serialize};
 
 /// Parameters of [`NearestFingerprint`]; every default in one place.
@@ -184,17 +183,7 @@ impl NearestFingerprint {
                 "survey the building first",
             ));
         }
-        let centres = map
-            .cells
-            .iter()
-            .map(|c| {
-                let p = c
-                    .area
-                    .centroid()
-                    .map_or((f64::NAN, f64::NAN), |p| (p.x(), p.y()));
-                (p.0, p.1, c.level)
-            })
-            .collect();
+        let centres = map.cell_centres();
         let interpolation = match config.method {
             FingerprintMethod::Interpolated => Some(RadioInterpolation::new(
                 map,
@@ -239,18 +228,21 @@ impl NearestFingerprint {
             .filter_map(|(i, d)| d.filter(|d| d.is_finite()).map(|d| (d, i)))
             .filter(|&(_, i)| self.centres[i].0.is_finite())
             .collect();
-        ranked.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let nearest = ranked.first().map_or(f64::NAN, |r| r.0);
+        // The nearest distance is reported either way; only `ndist` places by the ranking.
+        let nearest = ranked.iter().map(|r| r.0).min_by(f64::total_cmp);
         let (x, y, level) = match &self.interpolation {
             Some(gp) => self.most_likely(gp, scan)?,
-            None => self.nearest_weighted(&ranked)?,
+            None => {
+                ranked.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                self.nearest_weighted(&ranked)?
+            }
         };
         Some(FingerprintFix {
             t: scan.t,
             x,
             y,
             level,
-            ndist: nearest,
+            ndist: nearest.unwrap_or(f64::NAN),
         })
     }
 

@@ -197,6 +197,21 @@ impl RadioMap {
         }
     }
 
+    /// Centre (local metres) and level of each cell, in order; a cell without area has a NaN
+    /// centre.
+    #[must_use]
+    pub fn cell_centres(&self) -> Vec<(f64, f64, i32)> {
+        use geo::Centroid;
+        self.cells
+            .iter()
+            .map(|c| {
+                c.area
+                    .centroid()
+                    .map_or((f64::NAN, f64::NAN, c.level), |p| (p.x(), p.y(), c.level))
+            })
+            .collect()
+    }
+
     /// Every access point heard in any cell, sorted (a stable column order).
     #[must_use]
     pub fn access_points(&self) -> Vec<&str> {

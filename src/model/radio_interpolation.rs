@@ -31,7 +31,6 @@
 use crate::error::{Error, Result};
 use crate::map::RadioMap;
 use crate::sensor::WifiScan;
-use geo::Centroid;
 use nalgebra::{DMatrix, DVector};
 use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
@@ -153,25 +152,13 @@ pub struct RadioInterpolation {
     config: InterpolationConfig,
 }
 
-/// Centre and level of each cell (NaN centre without area).
-pub(crate) fn cell_centres(map: &RadioMap) -> Vec<(f64, f64, i32)> {
-    map.cells
-        .iter()
-        .map(|c| {
-            c.area
-                .centroid()
-                .map_or((f64::NAN, f64::NAN, c.level), |p| (p.x(), p.y(), c.level))
-        })
-        .collect()
-}
-
+/// The surveyed cells of `map` (their centres `centres_all`) as the interpolation's data.
 fn survey_of(
     map: &RadioMap,
+    centres_all: &[(f64, f64, i32)],
     columns: &FxHashMap<String, usize>,
-    missing: f64,
-    min_scans: u32,
+    (missing, min_scans): (f64, u32),
 ) -> Survey {
-    let centres_all = cell_centres(map);
     let n_ap = columns.len();
     let mut s = Survey {
         cells: Vec::new(),
@@ -249,7 +236,8 @@ impl RadioInterpolation {
     ) -> Result<Self> {
         config.validate()?;
         let columns = map.access_point_columns();
-        let survey = survey_of(map, &columns, missing_rssi, min_scans);
+        let centres = map.cell_centres();
+        let survey = survey_of(map, &centres, &columns, (missing_rssi, min_scans));
         if survey.cells.is_empty() {
             return Err(Error::not_enough(
                 "the radio map has no surveyed cell to interpolate from",
@@ -263,7 +251,6 @@ impl RadioInterpolation {
         if let Some(r) = config.noise_ratio {
             fit.noise_ratio = r;
         }
-        let centres = cell_centres(map);
         let n_ap = columns.len();
         let mut share = vec![1.0; map.cells.len()];
         let mut means = vec![0_f32; map.cells.len() * n_ap];
@@ -400,8 +387,14 @@ fn krige(
         .filter(|(_, c)| c.2 == at.2)
         .map(|(j, &c)| (dist(at, c), j))
         .collect();
-    near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    // The m nearest (distance, then index: a total order), sorted: a selection, not a sort
+    // of every surveyed cell, at each of the map's cells.
+    let order = |a: &(f64, usize), b: &(f64, usize)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
+    if m > 0 && near.len() > m {
+        near.select_nth_unstable_by(m - 1, order);
+    }
     near.truncate(m);
+    near.sort_by(order);
     if near.is_empty() {
         return (Vec::new(), Vec::new(), 1.0);
     }

@@ -70,17 +70,25 @@ pub(crate) fn fit_variogram(survey: &Survey, bin: f64, max_distance: f64) -> Var
     let bins = (max_distance / bin).ceil() as usize;
     let mut sum = vec![0.0; bins];
     let mut pairs = vec![0_usize; bins];
-    let z =
-        |i: usize, a: usize| (survey.values[i * n_ap + a] - survey.mean[a]) / survey.var[a].sqrt();
+    // Each cell's standardised values of the access points used, once (not per pair).
+    let k = used.len();
+    let z: Vec<f64> = (0..survey.cells.len())
+        .flat_map(|i| {
+            used.iter().map(move |&a| {
+                (survey.values[i * n_ap + a] - survey.mean[a]) / survey.var[a].sqrt()
+            })
+        })
+        .collect();
     for i in 0..survey.cells.len() {
         for j in i + 1..survey.cells.len() {
             let (p, q) = (survey.centres[i], survey.centres[j]);
             let h = (p.0 - q.0).hypot(p.1 - q.1);
-            if p.2 != q.2 || h >= max_distance || used.is_empty() {
+            if p.2 != q.2 || h >= max_distance || k == 0 {
                 continue;
             }
             let b = ((h / bin) as usize).min(bins - 1);
-            let sq: f64 = used.iter().map(|&a| (z(i, a) - z(j, a)).powi(2)).sum();
+            let (zi, zj) = (&z[i * k..(i + 1) * k], &z[j * k..(j + 1) * k]);
+            let sq: f64 = zi.iter().zip(zj).map(|(x, y)| (x - y).powi(2)).sum();
             sum[b] += 0.5 * sq / used.len() as f64;
             pairs[b] += 1;
         }
