@@ -21,8 +21,12 @@
 use crate::error::{Error, Result};
 use crate::map::{CellField, CellRaster, FloorTopology, RadioMap};
 use crate::model::derived_epsilon::derive_epsilon;
+use crate::model::radio_interpolation::InterpolationConfig;
 use crate::model::wifi_distance::{Fingerprints, Normalisation};
-use crate::model::wifi_evidence::{EvidenceCalibration, EvidenceConfig, RadioEvidence};
+use crate::model::wifi_evidence::{
+    EvidenceCalibration, EvidenceConfig, EvidenceSource, RadioEvidence,
+};
+use crate::model::wifi_evidence_interpolated::{InterpolatedCalibration, InterpolatedEvidence};
 use crate::model::wifi_likelihood::{HistogramLikelihood, LikelihoodConfig};
 use crate::sensor::WifiScan;
 use serde::{Deserialize, Serialize};
@@ -103,6 +107,7 @@ impl RfMode {
 /// | `raster`           | 0.25 m   | grid of the point-to-cell lookup                         |
 /// | `likelihood`       | see [`LikelihoodConfig`] | eq. 14's histogram smoothing              |
 /// | `evidence`         | see [`EvidenceConfig`] | the evidence mode's calibration              |
+/// | `interpolation`    | see [`InterpolationConfig`] | the interpolated map the evidence reads (`evidence.source = "interpolated"`) |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RfConfig {
@@ -141,6 +146,8 @@ pub struct RfConfig {
     pub likelihood: LikelihoodConfig,
     /// The radio evidence ([`RfMode::Evidence`]).
     pub evidence: EvidenceConfig,
+    /// The interpolated radio map the evidence reads ([`EvidenceSource::Interpolated`]).
+    pub interpolation: InterpolationConfig,
 }
 
 impl Default for RfConfig {
@@ -159,6 +166,7 @@ impl Default for RfConfig {
             raster: 0.25,
             likelihood: LikelihoodConfig::default(),
             evidence: EvidenceConfig::default(),
+            interpolation: InterpolationConfig::default(),
         }
     }
 }
@@ -187,6 +195,7 @@ impl RfConfig {
         )?;
         crate::error::check_range("rf.raster", self.raster, 0.05..=5.0, "metres")?;
         self.evidence.validate()?;
+        self.interpolation.validate()?;
         crate::error::check_range(
             "rf.likelihood.kernel_sigma",
             self.likelihood.kernel_sigma,
@@ -204,6 +213,23 @@ impl RfConfig {
             None => Ok(()),
         }
     }
+}
+
+/// The radio evidence a localiser calibrated.
+#[derive(Debug, Clone)]
+enum Evidence {
+    Ndist(RadioEvidence),
+    Interpolated(Box<InterpolatedEvidence>),
+}
+
+/// What the radio evidence's calibration found, by what it compares a scan with.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "source", rename_all = "snake_case")]
+pub enum EvidenceReport {
+    /// The nearest surveyed cell's fingerprint ([`EvidenceSource::Ndist`]).
+    Ndist(EvidenceCalibration),
+    /// The interpolated map ([`EvidenceSource::Interpolated`]).
+    Interpolated(InterpolatedCalibration),
 }
 
 /// Where a localiser's region threshold `ε` came from.
@@ -244,7 +270,7 @@ pub struct RfLocaliser {
     /// The histograms' likelihood, built for [`RfMode::Probabilistic`] only.
     likelihood: Option<HistogramLikelihood>,
     /// The radio evidence, built for [`RfMode::Evidence`] only.
-    evidence: Option<RadioEvidence>,
+    evidence: Option<Evidence>,
     /// Why the evidence mode asked for fell back to containment regions.
     fallback: Option<String>,
 }
@@ -285,7 +311,20 @@ impl RfLocaliser {
             };
         }
         if config.mode == RfMode::Evidence {
-            match RadioEvidence::calibrate(map, &prints, &raster, &config.evidence) {
+            let calibrated = match config.evidence.source {
+                EvidenceSource::Ndist => {
+                    RadioEvidence::calibrate(map, &prints, &raster, &config.evidence)
+                        .map(Evidence::Ndist)
+                }
+                EvidenceSource::Interpolated => InterpolatedEvidence::calibrate(
+                    map,
+                    (config.missing_rssi, config.min_scans),
+                    &config.interpolation,
+                    &config.evidence,
+                )
+                .map(|e| Evidence::Interpolated(Box::new(e))),
+            };
+            match calibrated {
                 Ok(e) => evidence = Some(e),
                 Err(Error::NotEnough { problem, .. }) => {
                     fallback = Some(problem);
@@ -317,8 +356,12 @@ impl RfLocaliser {
     }
 
     /// The radio evidence's calibration ([`RfMode::Evidence`] only).
-    pub fn evidence(&self) -> Option<&EvidenceCalibration> {
-        self.evidence.as_ref().map(RadioEvidence::calibration)
+    #[must_use]
+    pub fn evidence(&self) -> Option<EvidenceReport> {
+        self.evidence.as_ref().map(|e| match e {
+            Evidence::Ndist(e) => EvidenceReport::Ndist(e.calibration().clone()),
+            Evidence::Interpolated(e) => EvidenceReport::Interpolated(e.calibration().clone()),
+        })
     }
 
     /// The configuration, with the mode in use (never [`RfMode::Auto`]).
@@ -370,7 +413,10 @@ impl RfLocaliser {
             // Every place stays possible; the evidence weighs them. A re-initialisation
             // draws where the scan does not speak against the place (at least the
             // likeliest cells).
-            let ratios = evidence.log_ratios(&self.ndist(scan));
+            let ratios = match evidence {
+                Evidence::Ndist(e) => e.log_ratios(&self.ndist(scan)),
+                Evidence::Interpolated(e) => e.log_ratios(scan),
+            };
             let best = ratios.iter().copied().fold(f32::NEG_INFINITY, f32::max);
             let bar = best.min(0.0);
             let region = ratios

@@ -30,6 +30,7 @@ pub mod step_motion;
 pub mod transition_prior;
 pub mod wifi_distance;
 pub mod wifi_evidence;
+pub mod wifi_evidence_interpolated;
 pub mod wifi_likelihood;
 
 pub use building_axes::{AxesConfig, AxisEvidence, AxisLikelihood, AxisState};
@@ -45,4 +46,5 @@ pub use scan_pairs::{PairLikelihood, ScanEvidence, ScanPairConfig, ScanPairsUnus
 pub use scan_references::{PlacedScan, ReferenceScans};
 pub use step_motion::{StepErrorState, StepMotion, StepMotionConfig};
 pub use transition_prior::{TransitionPrior, TransitionPriorConfig};
-pub use wifi_evidence::{EvidenceCalibration, EvidenceConfig, RadioEvidence};
+pub use wifi_evidence::{EvidenceCalibration, EvidenceConfig, EvidenceSource, RadioEvidence};
+pub use wifi_evidence_interpolated::{InterpolatedCalibration, InterpolatedEvidence};

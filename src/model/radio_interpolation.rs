@@ -48,7 +48,7 @@ use super::radio_variogram::{Survey, VariogramFit, fit_variogram};
 /// | `noise_ratio`    | fitted  | per-scan noise over signal variance `λ` (`None`: fitted)     |
 /// | `variogram_bin`  | 3 m     | width of the variogram's distance bins                       |
 /// | `variogram_max`  | 60 m    | pairs farther apart do not enter the variogram               |
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct InterpolationConfig {
     /// Nearest surveyed cells a cell is predicted from.
@@ -147,6 +147,10 @@ pub struct RadioInterpolation {
     means: Vec<f32>,
     /// Per known cell: the log-likelihood of a scan that hears nothing.
     silent: Vec<Option<f64>>,
+    /// The same under the prior (every access point at its prior mean and whole variance).
+    prior_silent: f64,
+    /// The data the map was predicted from (for [`Self::held_out_scans`]).
+    survey: Survey,
     fit: VariogramFit,
     missing: f64,
     config: InterpolationConfig,
@@ -262,7 +266,7 @@ impl RadioInterpolation {
             if !x.is_finite() {
                 continue;
             }
-            let (nb, w, v) = krige(&survey, &fit, config.neighbours, (x, y, level));
+            let (nb, w, v) = krige(&survey, &fit, config.neighbours, (x, y, level), None);
             share[c] = v;
             for (&j, &wj) in nb.iter().zip(&w) {
                 let yj = &survey.values[j * n_ap..(j + 1) * n_ap];
@@ -278,15 +282,20 @@ impl RadioInterpolation {
         let mut me = Self {
             surveyed,
             columns,
-            prior_mean: survey.mean,
-            prior_var: survey.var,
+            prior_mean: survey.mean.clone(),
+            prior_var: survey.var.clone(),
             share,
             means,
             silent: Vec::new(),
+            prior_silent: 0.0,
+            survey,
             fit,
             missing: missing_rssi,
-            config: config.clone(),
+            config: *config,
         };
+        me.prior_silent = (0..n_ap)
+            .map(|a| me.prior_log_likelihood(a, missing_rssi))
+            .sum();
         me.silent = (0..map.cells.len())
             .map(|c| {
                 me.is_known(c).then(|| {
@@ -344,47 +353,141 @@ impl RadioInterpolation {
         -0.5 * ((z - self.mean(c, a)).powi(2) / s2 + (std::f64::consts::TAU * s2).ln())
     }
 
+    /// `ln N(z; μ_a, σ²_a (1 + λ) + s²_0)`: a reading under the prior, as at a cell the
+    /// survey explains none of.
+    fn prior_log_likelihood(&self, a: usize, z: f64) -> f64 {
+        let s2 = self.prior_var[a] * (1.0 + self.fit.noise_ratio) + self.config.reading_floor;
+        -0.5 * ((z - self.prior_mean[a]).powi(2) / s2 + (std::f64::consts::TAU * s2).ln())
+    }
+
+    /// The readings of `scan` the map can use: (access point column, RSSI floored at the
+    /// fill).
+    #[must_use]
+    pub fn readings(&self, scan: &WifiScan) -> Vec<(usize, f64)> {
+        scan.readings
+            .iter()
+            .filter_map(|r| Some((*self.columns.get(&r.bssid)?, r.rssi.max(self.missing))))
+            .collect()
+    }
+
     /// `ln p(z | c)` of `scan` at every cell, independent readings over every access point
     /// of the map (unheard ones at the fill); `None` for unknown cells.
     #[must_use]
     pub fn log_likelihoods(&self, scan: &WifiScan) -> Vec<Option<f64>> {
-        let heard: Vec<(usize, f64)> = scan
-            .readings
-            .iter()
-            .filter_map(|r| Some((*self.columns.get(&r.bssid)?, r.rssi.max(self.missing))))
-            .collect();
+        let heard = self.readings(scan);
         self.silent
             .iter()
             .enumerate()
-            .map(|(c, base)| {
-                base.map(|b| {
-                    b + heard
-                        .iter()
-                        .map(|&(a, z)| {
-                            self.reading_log_likelihood(c, a, z)
-                                - self.reading_log_likelihood(c, a, self.missing)
-                        })
-                        .sum::<f64>()
+            .map(|(c, base)| base.map(|b| b + self.heard_terms(c, &heard)))
+            .collect()
+    }
+
+    /// `Σ_heard ln N(z_a; m_ca, s²_ca) − ln N(r_miss; m_ca, s²_ca)`: what the heard readings
+    /// change from a silent scan's log-likelihood at cell `c`.
+    fn heard_terms(&self, c: usize, heard: &[(usize, f64)]) -> f64 {
+        // The normalising terms cancel: −½ ((z − m)² − (r_miss − m)²) / s².
+        heard
+            .iter()
+            .map(|&(a, z)| {
+                let m = self.mean(c, a);
+                -0.5 * ((z - m).powi(2) - (self.missing - m).powi(2)) / self.variance(c, a)
+            })
+            .sum()
+    }
+
+    /// `ln p(z | c) − ln p(z | prior)` of the readings `heard` ([`Self::readings`]) at every
+    /// cell: how much better the map's prediction at `c` explains the scan than the access
+    /// points' prior does; `None` for unknown cells.
+    #[must_use]
+    pub fn log_ratios(&self, heard: &[(usize, f64)]) -> Vec<Option<f64>> {
+        let prior = self.prior_silent
+            + heard
+                .iter()
+                .map(|&(a, z)| {
+                    self.prior_log_likelihood(a, z) - self.prior_log_likelihood(a, self.missing)
                 })
+                .sum::<f64>();
+        self.silent
+            .iter()
+            .enumerate()
+            .map(|(c, base)| base.map(|b| b + self.heard_terms(c, heard) - prior))
+            .collect()
+    }
+
+    /// Each surveyed cell's fingerprint as a scan, and how its own place explains it when the
+    /// map is predicted without it (leave-one-out): the stand-ins of scans taken where nobody
+    /// surveyed, for calibrating [`Self::log_ratios`] on the survey itself.
+    #[must_use]
+    pub fn held_out_scans(&self) -> Vec<HeldOutScan> {
+        let s = &self.survey;
+        let n_ap = self.prior_mean.len();
+        (0..s.cells.len())
+            .map(|i| {
+                let y = &s.values[i * n_ap..(i + 1) * n_ap];
+                let readings: Vec<(usize, f64)> = y
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, v)| **v > self.missing)
+                    .map(|(a, &v)| (a, v))
+                    .collect();
+                let (nb, w, v) = krige(s, &self.fit, self.config.neighbours, s.centres[i], Some(i));
+                let own = (v <= self.config.max_share).then(|| {
+                    (0..n_ap)
+                        .map(|a| {
+                            let mu = self.prior_mean[a];
+                            let m = mu
+                                + nb.iter()
+                                    .zip(&w)
+                                    .map(|(&j, &wj)| wj * (s.values[j * n_ap + a] - mu))
+                                    .sum::<f64>();
+                            let s2 = self.prior_var[a] * (v + self.fit.noise_ratio)
+                                + self.config.reading_floor;
+                            let ll = -0.5
+                                * ((y[a] - m).powi(2) / s2 + (std::f64::consts::TAU * s2).ln());
+                            ll - self.prior_log_likelihood(a, y[a])
+                        })
+                        .sum()
+                });
+                HeldOutScan {
+                    cell: s.cells[i],
+                    scans: s.scans[i] as u32,
+                    readings,
+                    own_log_ratio: own,
+                }
             })
             .collect()
     }
 }
 
-/// Simple-kriging weights of the `m` nearest surveyed cells of `at`'s level: their survey
+/// A surveyed cell's fingerprint as a scan ([`RadioInterpolation::held_out_scans`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeldOutScan {
+    /// The cell (index in the map).
+    pub cell: usize,
+    /// Its scans (a fingerprint of one scan is a scan).
+    pub scans: u32,
+    /// Its access points' mean RSSI where it heard them: (column, dBm).
+    pub readings: Vec<(usize, f64)>,
+    /// `ln p(y | c) − ln p(y | prior)` at the cell itself, predicted without it; `None`
+    /// where the cell would be unknown without its own data.
+    pub own_log_ratio: Option<f64>,
+}
+
+/// Simple-kriging weights of the `m` nearest surveyed cells of `at`'s level (but `except`): their survey
 /// indices, the weights `w = K⁻¹k` and the variance share left `v = 1 − kᵀw`.
 fn krige(
     survey: &Survey,
     fit: &VariogramFit,
     m: usize,
     at: (f64, f64, i32),
+    except: Option<usize>,
 ) -> (Vec<usize>, Vec<f64>, f64) {
     let dist = |a: (f64, f64, i32), b: (f64, f64, i32)| (a.0 - b.0).hypot(a.1 - b.1);
     let mut near: Vec<(f64, usize)> = survey
         .centres
         .iter()
         .enumerate()
-        .filter(|(_, c)| c.2 == at.2)
+        .filter(|&(j, c)| c.2 == at.2 && Some(j) != except)
         .map(|(j, &c)| (dist(at, c), j))
         .collect();
     // The m nearest (distance, then index: a total order), sorted: a selection, not a sort

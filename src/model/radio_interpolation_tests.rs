@@ -126,3 +126,32 @@ fn configs_are_validated_and_an_empty_map_refused() {
     let empty = corridor(&[1.0, 3.0], &[]);
     assert!(RadioInterpolation::new(&empty, -96.0, 1, &fixed()).is_err());
 }
+
+#[test]
+fn log_ratios_are_the_log_likelihoods_less_one_constant_and_held_out_cells_predict_themselves() {
+    let xs: Vec<f64> = (0..20).map(|i| 1.0 + 2.0 * f64::from(i)).collect();
+    let map = corridor(&xs, &(0..20).step_by(2).collect::<Vec<_>>());
+    let gp = RadioInterpolation::new(&map, -96.0, 1, &fixed()).expect("interpolation");
+    let scan = WifiScan::from_readings(0.0, &[("west", -52.0), ("east", -84.0)]);
+    let ll = gp.log_likelihoods(&scan);
+    let lr = gp.log_ratios(&gp.readings(&scan));
+    let offsets: Vec<f64> = ll
+        .iter()
+        .zip(&lr)
+        .filter_map(|(a, b)| Some(a.as_ref()? - b.as_ref()?))
+        .collect();
+    assert_eq!(offsets.len(), 20);
+    assert!(
+        offsets.iter().all(|o| (o - offsets[0]).abs() < 1e-6),
+        "{offsets:?}"
+    );
+    // Each surveyed cell, left out, is still predicted from its neighbours better than by
+    // the prior; its fingerprint as a scan holds both access points.
+    let held = gp.held_out_scans();
+    assert_eq!(held.len(), 10);
+    for h in &held[1..9] {
+        assert_eq!((h.scans, h.readings.len()), (2, 2));
+        let own = h.own_log_ratio.expect("predicted by its neighbours");
+        assert!(own > 0.0, "cell {}: {own}", h.cell);
+    }
+}

@@ -18,6 +18,7 @@
 use serde::Serialize;
 
 /// The surveyed cells as the interpolation sees them.
+#[derive(Debug, Clone)]
 pub(crate) struct Survey {
     /// Index in the map of each surveyed cell.
     pub cells: Vec<usize>,

@@ -46,9 +46,12 @@ use serde::{Deserialize, Serialize};
 /// | `tempering`      | 0.5              | exponent on `Λ`: consecutive scans of a walk are not independent |
 /// | `min_pairs`      | 20               | fewest pairs a band needs to be calibrated (a band with fewer is left out, and so are those beyond it) |
 /// | `auto_below_coverage` | 0.6         | `rf.mode = "auto"` uses the evidence on maps whose surveyed share of cells is below this, containment regions above |
+/// | `source`         | ndist            | what a scan is compared with: the nearest surveyed cell's fingerprint (eq. 1 here), or (`interpolated`) the interpolated map's prediction at each place ([`crate::model::wifi_evidence_interpolated`]; on the ILC mall floor it places walks worse, docs/radio-survey.md) |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct EvidenceConfig {
+    /// What a scan is compared with.
+    pub source: EvidenceSource,
     /// Upper centre distances of the bands, in cells, increasing.
     pub bands_cells: [f64; BANDS],
     /// Least centre distance of an "elsewhere" pair, in cells.
@@ -63,12 +66,26 @@ pub struct EvidenceConfig {
     pub auto_below_coverage: f64,
 }
 
+/// What radio evidence compares a scan with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EvidenceSource {
+    /// The fingerprint of the surveyed cell nearest each place along the floor, by `ndist`
+    /// (eq. 1 here).
+    #[default]
+    Ndist,
+    /// The interpolated radio map's prediction at each place
+    /// ([`crate::model::wifi_evidence_interpolated`]).
+    Interpolated,
+}
+
 /// Bands of distance from a surveyed cell.
 pub const BANDS: usize = 4;
 
 impl Default for EvidenceConfig {
     fn default() -> Self {
         Self {
+            source: EvidenceSource::default(),
             bands_cells: [1.5, 3.0, 5.0, 8.0],
             far_cells: 12.0,
             max_log_ratio: 3.0,
@@ -137,25 +154,34 @@ const TABLE_STEP: f64 = 0.25;
 /// Largest number of pairs a density is estimated from (an even subsample beyond).
 const MAX_PAIRS: usize = 20_000;
 
-/// `ln Λ(D)` tabulated on `D = 0, TABLE_STEP, …`; the last value holds beyond.
+/// `ln Λ(D)` tabulated on `D = 0, step, …`; the first value holds below, the last beyond.
 #[derive(Debug, Clone, PartialEq)]
-struct LogRatio {
+pub(crate) struct LogRatio {
     values: Vec<f32>,
+    step: f64,
 }
 
 impl LogRatio {
-    /// Eq. (1) from the near and far pairs' distances (each non-empty).
+    /// Eq. (1) from the near and far pairs' distances (each non-empty), in dB.
     fn fit(near: &[f64], far: &[f64], config: &EvidenceConfig) -> Self {
-        let top = near.iter().chain(far).copied().fold(0.0, f64::max) + 5.0;
-        let n = (top / TABLE_STEP).ceil() as usize + 1;
-        let (p_near, p_far) = (Density::of(near), Density::of(far));
+        Self::fit_on(near, far, config, TABLE_STEP)
+    }
+
+    /// Eq. (1) from samples of any non-negative distance-like statistic `D` (smaller: more
+    /// alike) tabulated every `step` (the densities' least bandwidth is two steps).
+    pub(crate) fn fit_on(near: &[f64], far: &[f64], config: &EvidenceConfig, step: f64) -> Self {
+        let margin = 20.0 * step;
+        let top = near.iter().chain(far).copied().fold(0.0, f64::max) + margin;
+        let n = (top / step).ceil() as usize + 1;
+        let least = 2.0 * step;
+        let (p_near, p_far) = (Density::of(near, least), Density::of(far, least));
         // A floor on both densities: one pair's worth spread over the whole range, so an
         // empty tail is "rare", not "impossible" (the same for both, so that where neither
         // has pairs the ratio is 1).
         let floor = 1.0 / ((near.len() + far.len()) as f64 * top);
         let raw: Vec<f64> = (0..n)
             .map(|i| {
-                let d = i as f64 * TABLE_STEP;
+                let d = i as f64 * step;
                 ((p_near.at(d) + floor) / (p_far.at(d) + floor)).ln()
             })
             .collect();
@@ -178,11 +204,12 @@ impl LogRatio {
                     as f32,
             );
         }
-        Self { values }
+        Self { values, step }
     }
 
-    fn at(&self, d: f64) -> f32 {
-        let i = ((d / TABLE_STEP).round().max(0.0) as usize).min(self.values.len() - 1);
+    /// `ln Λ` (tempered, clamped) at `D = d`.
+    pub(crate) fn at(&self, d: f64) -> f32 {
+        let i = ((d / self.step).round().max(0.0) as usize).min(self.values.len() - 1);
         self.values[i]
     }
 }
@@ -194,13 +221,13 @@ struct Density<'a> {
 }
 
 impl<'a> Density<'a> {
-    fn of(samples: &'a [f64]) -> Self {
+    fn of(samples: &'a [f64], least_bandwidth: f64) -> Self {
         let n = samples.len() as f64;
         let mean = samples.iter().sum::<f64>() / n;
         let sd = (samples.iter().map(|s| (s - mean).powi(2)).sum::<f64>() / n).sqrt();
         Self {
             samples,
-            bandwidth: (1.06 * sd * n.powf(-0.2)).max(0.5),
+            bandwidth: (1.06 * sd * n.powf(-0.2)).max(least_bandwidth),
         }
     }
 
@@ -412,7 +439,7 @@ impl RadioEvidence {
 }
 
 /// The map's cell size: the median of its cells' longer bounding-box sides.
-fn cell_size(map: &RadioMap) -> f64 {
+pub(crate) fn cell_size(map: &RadioMap) -> f64 {
     let sides: Vec<f64> = map
         .cells
         .iter()
@@ -427,14 +454,14 @@ fn cell_size(map: &RadioMap) -> f64 {
 }
 
 /// The nearest-rank median of non-empty samples.
-fn median(samples: &[f64]) -> f64 {
+pub(crate) fn median(samples: &[f64]) -> f64 {
     let mut sorted = samples.to_vec();
     sorted.sort_by(f64::total_cmp);
     nearest_rank(&sorted, 50)
 }
 
 /// Keeps at most [`MAX_PAIRS`] samples, evenly spaced.
-fn thin(samples: &mut Vec<f64>) {
+pub(crate) fn thin(samples: &mut Vec<f64>) {
     if samples.len() > MAX_PAIRS {
         let n = samples.len();
         *samples = (0..MAX_PAIRS).map(|i| samples[i * n / MAX_PAIRS]).collect();

@@ -6,10 +6,10 @@ use super::track::TrackRun;
 use super::track_job::PreparedTrack;
 use super::track_records::{PlanFit, RecoveryEvent};
 use super::{Quality, QualityConfig};
+use crate::filter::rf_assist::EvidenceReport;
 use crate::filter::{EpsilonSource, RfMode};
 use crate::geometry::LocalFrame;
 use crate::io::{SmoothedPoint, TrackPoint};
-use crate::model::EvidenceCalibration;
 use crate::model::wifi_distance::Normalisation;
 use serde::Serialize;
 use std::time::Instant;
@@ -125,7 +125,7 @@ pub struct RfReport {
     /// Scans no particle was consistent with (ignored).
     pub measurements_ignored: usize,
     /// The radio evidence's calibration (evidence mode).
-    pub evidence: Option<EvidenceCalibration>,
+    pub evidence: Option<EvidenceReport>,
     /// Why the radio evidence fell back to containment regions, if it did.
     pub evidence_fallback: Option<String>,
 }
@@ -239,7 +239,7 @@ impl TrackReport {
                 epsilon_source: r.localiser.epsilon_source(),
                 started_at_step: particles.iter().position(|&n| n > 0).map(|i| i + 1),
                 measurements_ignored: run.measurements_ignored,
-                evidence: r.localiser.evidence().cloned(),
+                evidence: r.localiser.evidence(),
                 evidence_fallback: r.localiser.fallback().map(str::to_owned),
             }),
             headings_used: run.headings_used > 0,
