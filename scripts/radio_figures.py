@@ -19,7 +19,8 @@ walk with imu.csv, wifi.csv and waypoints.csv):
    and scored the same way.
 
 Prints and writes (WORK/radio_figures.json) median / p90 / answered share per method, the
-radio map's coverage and the per-walk table.
+radio map against the test walks' scans at their true positions (the share in surveyed
+cells, the RMSE of their readings against the cells' means), and the per-walk table.
 
     scripts/radio_figures.py IMPORTED WORK [--binary PATH] [--share 0.6] [--seed 0]
         [--track-arg=--config --track-arg=FILE] [--jobs 2] [--fresh]
@@ -73,6 +74,78 @@ def truth_at(wps, t):
     a, b = wps[i - 1], wps[i]
     u = (t - a[0]) / (b[0] - a[0]) if b[0] > a[0] else 0.0
     return (a[1] + u * (b[1] - a[1]), a[2] + u * (b[2] - a[2]))
+
+
+def local_frame(origin):
+    """WGS84 (lon, lat) degrees to the map's local east/north metres (the toolkit's tangent
+    plane at `origin`: meridional and prime-vertical radii of curvature)."""
+    a, e2 = 6_378_137.0, 6.69437999014e-3
+    lat0, lon0 = origin["lat"], origin["lon"]
+    s = math.sin(math.radians(lat0))
+    m = a * (1 - e2) / (1 - e2 * s * s) ** 1.5
+    n = a / math.sqrt(1 - e2 * s * s)
+    c = math.cos(math.radians(lat0))
+    return lambda lon, lat: (math.radians(lon - lon0) * n * c, math.radians(lat - lat0) * m)
+
+
+def inside(pt, ring):
+    x, y = pt
+    hit = False
+    for (x1, y1), (x2, y2) in zip(ring, ring[1:] + ring[:1]):
+        if (y1 > y) != (y2 > y) and x < x1 + (y - y1) * (x2 - x1) / (y2 - y1):
+            hit = not hit
+    return hit
+
+
+def radiomap_accuracy(radiomap, imported, tests):
+    """The radio map against the test walks' scans at their true positions (linear between
+    waypoints): coverage = share of the scans whose cell holds a survey scan; RMSE of the
+    readings heard both in the scan and in that cell (scan RSSI − the cell's mean), and the
+    shares of the scan's readings the cell never heard and of the cell's access points the
+    scan did not hear."""
+    with open(radiomap) as f:
+        g = json.load(f)
+    to_local = local_frame(g["origin"])
+    cells = []
+    for feat in g["features"]:
+        pr = feat["properties"]
+        if pr.get("scans", 0) <= 0:
+            continue
+        geom = feat["geometry"]
+        polygons = geom["coordinates"] if geom["type"] == "MultiPolygon" else [geom["coordinates"]]
+        aps = {b: v["mean"] for b, v in pr["aps"].items()}
+        for polygon in polygons:
+            ring = [to_local(c[0], c[1]) for c in polygon[0]]
+            xs, ys = [p[0] for p in ring], [p[1] for p in ring]
+            cells.append(((min(xs), min(ys), max(xs), max(ys)), ring, aps))
+    scans = covered = 0
+    sq, both, scan_only, cell_only = [], 0, 0, 0
+    for w in tests:
+        wps = read_waypoints(os.path.join(imported, w, "waypoints.csv"))
+        for t, fp in read_scans(os.path.join(imported, w, "wifi.csv")):
+            pos = truth_at(wps, t)
+            if pos is None:
+                continue
+            scans += 1
+            cell = next((c for c in cells if c[0][0] <= pos[0] <= c[0][2] and c[0][1] <= pos[1] <= c[0][3]
+                         and inside(pos, c[1])), None)
+            if cell is None:
+                continue
+            covered += 1
+            aps = cell[2]
+            for b, r in fp.items():
+                if b in aps:
+                    sq.append((r - aps[b]) ** 2)
+                    both += 1
+                else:
+                    scan_only += 1
+            cell_only += sum(1 for b in aps if b not in fp)
+    return {"held_out_scans": scans, "scans_in_surveyed_cells": covered,
+            "coverage": covered / scans if scans else float("nan"),
+            "rmse_db": math.sqrt(sum(sq) / len(sq)) if sq else float("nan"),
+            "readings_compared": both,
+            "scan_readings_unknown_to_cell": scan_only / max(1, both + scan_only),
+            "cell_aps_unheard_by_scan": cell_only / max(1, both + cell_only)}
 
 
 def percentile(xs, q):
@@ -211,6 +284,7 @@ def main():
     bar.finish()
     expected = sum(r["waypoints"] for r in results)
     figures = {"survey_walks": len(survey), "test_walks": len(tests), "peer_database_scans": len(db),
+               "radiomap_vs_held_out_scans": radiomap_accuracy(radiomap, a.imported, tests),
                "survey_summary": survey_summary, "methods": {}, "per_walk": []}
     for key, name in (("track", "track --wifi --radiomap, unknown start, every row"),
                       ("track_certain", "the same, certain rows only"),
@@ -225,6 +299,11 @@ def main():
     with open(os.path.join(a.work, "radio_figures.json"), "w") as f:
         json.dump(figures, f, indent=2)
     print(f"{len(survey)} survey walks, {len(tests)} test walks, {expected} waypoints, peer database {len(db)} scans")
+    acc = figures["radiomap_vs_held_out_scans"]
+    print(f"radio map against the test walks' {acc['held_out_scans']} scans at their true positions: "
+          f"{acc['coverage']:.0%} in surveyed cells, RMSE {acc['rmse_db']:.1f} dB over {acc['readings_compared']} readings "
+          f"({acc['scan_readings_unknown_to_cell']:.0%} of those cells' scan readings unknown to the cell, "
+          f"{acc['cell_aps_unheard_by_scan']:.0%} of the cells' access points unheard)")
     for r in figures["per_walk"]:
         print(f"{r['walk']}: {r['waypoints']:3} wps, track {r['track']:6.1f} m ({r['answered']} answered), fingerprint {r['fingerprint']:6.1f}, peer {r['peer']:6.1f}")
     print(f"\n{'':42} {'waypoints':>9} {'answered':>8} {'median':>8} {'p90':>8}")
