@@ -220,21 +220,18 @@ impl NearestFingerprint {
         if common < self.config.min_common.max(1) {
             return None;
         }
-        let mut ranked: Vec<(f64, usize)> = self
-            .prints
-            .ndist(scan)
-            .into_iter()
-            .enumerate()
-            .filter_map(|(i, d)| d.filter(|d| d.is_finite()).map(|d| (d, i)))
-            .filter(|&(_, i)| self.centres[i].0.is_finite())
-            .collect();
+        let ranked = self.placeable(self.prints.ndist(scan));
         // The nearest distance is reported either way; only `ndist` places by the ranking.
         let nearest = ranked.iter().map(|r| r.0).min_by(f64::total_cmp);
         let (x, y, level) = match &self.interpolation {
-            Some(gp) => self.most_likely(gp, scan)?,
+            // The likeliest cells, unweighted.
+            Some(gp) => {
+                let neg_ll = gp.log_likelihoods(scan).into_iter().map(|l| l.map(|l| -l));
+                self.centre_of_first(self.placeable(neg_ll), |_| 1.0)?
+            }
             None => {
-                ranked.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-                self.nearest_weighted(&ranked)?
+                let delta = self.config.delta;
+                self.centre_of_first(ranked, |d| 1.0 / (d + delta))?
             }
         };
         Some(FingerprintFix {
@@ -246,48 +243,38 @@ impl NearestFingerprint {
         })
     }
 
-    /// The mean centre of the `k` cells nearest in `ndist` (`ranked`, nearest first) on the
-    /// nearest one's level, weighted `1 / (ndist + δ)`.
-    fn nearest_weighted(&self, ranked: &[(f64, usize)]) -> Option<(f64, f64, i32)> {
+    /// `(value, cell)` of every cell with a finite value and a centre.
+    fn placeable(&self, values: impl IntoIterator<Item = Option<f64>>) -> Vec<(f64, usize)> {
+        values
+            .into_iter()
+            .enumerate()
+            .filter_map(|(i, v)| v.filter(|v| v.is_finite()).map(|v| (v, i)))
+            .filter(|&(_, i)| self.centres[i].0.is_finite())
+            .collect()
+    }
+
+    /// The mean centre, weighted `weight(value)`, of the `k` cells of least value (`ranked`
+    /// sorted here: value, then cell) on the level of the least.
+    fn centre_of_first(
+        &self,
+        mut ranked: Vec<(f64, usize)>,
+        weight: impl Fn(f64) -> f64,
+    ) -> Option<(f64, f64, i32)> {
+        ranked.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let &(_, first) = ranked.first()?;
         let level = self.centres[first].2;
         let (mut sx, mut sy, mut sw) = (0.0, 0.0, 0.0);
-        for &(d, i) in ranked
+        for &(v, i) in ranked
             .iter()
             .filter(|&&(_, i)| self.centres[i].2 == level)
             .take(self.config.k)
         {
-            let w = 1.0 / (d + self.config.delta);
+            let w = weight(v);
             sx += w * self.centres[i].0;
             sy += w * self.centres[i].1;
             sw += w;
         }
         Some((sx / sw, sy / sw, level))
-    }
-
-    /// The mean centre of the `k` most likely cells of the interpolated map on the most
-    /// likely one's level.
-    fn most_likely(&self, gp: &RadioInterpolation, scan: &WifiScan) -> Option<(f64, f64, i32)> {
-        let mut ranked: Vec<(f64, usize)> = gp
-            .log_likelihoods(scan)
-            .into_iter()
-            .enumerate()
-            .filter_map(|(i, l)| l.filter(|l| l.is_finite()).map(|l| (l, i)))
-            .filter(|&(_, i)| self.centres[i].0.is_finite())
-            .collect();
-        ranked.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-        let &(_, first) = ranked.first()?;
-        let level = self.centres[first].2;
-        let chosen: Vec<usize> = ranked
-            .iter()
-            .map(|&(_, i)| i)
-            .filter(|&i| self.centres[i].2 == level)
-            .take(self.config.k)
-            .collect();
-        let n = chosen.len() as f64;
-        let x = chosen.iter().map(|&i| self.centres[i].0).sum::<f64>() / n;
-        let y = chosen.iter().map(|&i| self.centres[i].1).sum::<f64>() / n;
-        Some((x, y, level))
     }
 }
 

@@ -138,9 +138,6 @@ pub struct RadioInterpolation {
     /// Per cell: surveyed (always known: it was measured).
     surveyed: Vec<bool>,
     columns: FxHashMap<String, usize>,
-    /// Prior mean and variance per access point.
-    prior_mean: Vec<f64>,
-    prior_var: Vec<f64>,
     /// Per cell: the share of the prior variance left, `v_c` (1 without data).
     share: Vec<f64>,
     /// Predicted means, row-major (cell, access point), dBm; rows of unknown cells unused.
@@ -149,7 +146,8 @@ pub struct RadioInterpolation {
     silent: Vec<Option<f64>>,
     /// The same under the prior (every access point at its prior mean and whole variance).
     prior_silent: f64,
-    /// The data the map was predicted from (for [`Self::held_out_scans`]).
+    /// The data the map was predicted from: the prior (its `mean` and `var` per access
+    /// point) and, for [`Self::held_out_scans`], the surveyed cells.
     survey: Survey,
     fit: VariogramFit,
     missing: f64,
@@ -260,20 +258,13 @@ impl RadioInterpolation {
         let mut means = vec![0_f32; map.cells.len() * n_ap];
         for (c, &(x, y, level)) in centres.iter().enumerate() {
             let row = &mut means[c * n_ap..(c + 1) * n_ap];
-            for (m, &mu) in row.iter_mut().zip(&survey.mean) {
-                *m = mu as f32;
-            }
             if !x.is_finite() {
+                kriged_means(&survey, &[], &[], row);
                 continue;
             }
             let (nb, w, v) = krige(&survey, &fit, config.neighbours, (x, y, level), None);
             share[c] = v;
-            for (&j, &wj) in nb.iter().zip(&w) {
-                let yj = &survey.values[j * n_ap..(j + 1) * n_ap];
-                for ((m, &y), &mu) in row.iter_mut().zip(yj).zip(&survey.mean) {
-                    *m += (wj * (y - mu)) as f32;
-                }
-            }
+            kriged_means(&survey, &nb, &w, row);
         }
         let mut surveyed = vec![false; map.cells.len()];
         for &c in &survey.cells {
@@ -282,8 +273,6 @@ impl RadioInterpolation {
         let mut me = Self {
             surveyed,
             columns,
-            prior_mean: survey.mean.clone(),
-            prior_var: survey.var.clone(),
             share,
             means,
             silent: Vec::new(),
@@ -339,25 +328,29 @@ impl RadioInterpolation {
     }
 
     fn mean(&self, c: usize, a: usize) -> f64 {
-        f64::from(self.means[c * self.prior_mean.len() + a])
+        f64::from(self.means[c * self.survey.mean.len() + a])
     }
 
     /// `s²_ca = σ²_a (v_c + λ) + s²_0`.
     fn variance(&self, c: usize, a: usize) -> f64 {
-        self.prior_var[a] * (self.share[c] + self.fit.noise_ratio) + self.config.reading_floor
+        self.scan_variance(a, self.share[c])
+    }
+
+    /// A scan's variance of access point `a` where the share `v` of its prior variance is
+    /// left: `σ²_a (v + λ) + s²_0` (`v = 1`: the prior, as at a cell the survey explains none
+    /// of).
+    fn scan_variance(&self, a: usize, v: f64) -> f64 {
+        self.survey.var[a] * (v + self.fit.noise_ratio) + self.config.reading_floor
     }
 
     /// `ln N(z; m_ca, s²_ca)`.
     fn reading_log_likelihood(&self, c: usize, a: usize, z: f64) -> f64 {
-        let s2 = self.variance(c, a);
-        -0.5 * ((z - self.mean(c, a)).powi(2) / s2 + (std::f64::consts::TAU * s2).ln())
+        gaussian_log_density(z, self.mean(c, a), self.variance(c, a))
     }
 
-    /// `ln N(z; μ_a, σ²_a (1 + λ) + s²_0)`: a reading under the prior, as at a cell the
-    /// survey explains none of.
+    /// `ln N(z; μ_a, σ²_a (1 + λ) + s²_0)`: a reading under the prior.
     fn prior_log_likelihood(&self, a: usize, z: f64) -> f64 {
-        let s2 = self.prior_var[a] * (1.0 + self.fit.noise_ratio) + self.config.reading_floor;
-        -0.5 * ((z - self.prior_mean[a]).powi(2) / s2 + (std::f64::consts::TAU * s2).ln())
+        gaussian_log_density(z, self.survey.mean[a], self.scan_variance(a, 1.0))
     }
 
     /// The readings of `scan` the map can use: (access point column, RSSI floored at the
@@ -374,24 +367,24 @@ impl RadioInterpolation {
     /// of the map (unheard ones at the fill); `None` for unknown cells.
     #[must_use]
     pub fn log_likelihoods(&self, scan: &WifiScan) -> Vec<Option<f64>> {
-        let heard = self.readings(scan);
+        self.log_likelihoods_of(&self.readings(scan))
+    }
+
+    /// [`Self::log_likelihoods`] of the readings `heard` ([`Self::readings`]).
+    fn log_likelihoods_of(&self, heard: &[(usize, f64)]) -> Vec<Option<f64>> {
         self.silent
             .iter()
             .enumerate()
-            .map(|(c, base)| base.map(|b| b + self.heard_terms(c, &heard)))
+            .map(|(c, base)| base.map(|b| b + self.heard_terms(c, heard)))
             .collect()
     }
 
     /// `Σ_heard ln N(z_a; m_ca, s²_ca) − ln N(r_miss; m_ca, s²_ca)`: what the heard readings
     /// change from a silent scan's log-likelihood at cell `c`.
     fn heard_terms(&self, c: usize, heard: &[(usize, f64)]) -> f64 {
-        // The normalising terms cancel: −½ ((z − m)² − (r_miss − m)²) / s².
         heard
             .iter()
-            .map(|&(a, z)| {
-                let m = self.mean(c, a);
-                -0.5 * ((z - m).powi(2) - (self.missing - m).powi(2)) / self.variance(c, a)
-            })
+            .map(|&(a, z)| heard_change(z, self.missing, self.mean(c, a), self.variance(c, a)))
             .sum()
     }
 
@@ -404,14 +397,15 @@ impl RadioInterpolation {
             + heard
                 .iter()
                 .map(|&(a, z)| {
-                    self.prior_log_likelihood(a, z) - self.prior_log_likelihood(a, self.missing)
+                    let (mu, s2) = (self.survey.mean[a], self.scan_variance(a, 1.0));
+                    heard_change(z, self.missing, mu, s2)
                 })
                 .sum::<f64>();
-        self.silent
-            .iter()
-            .enumerate()
-            .map(|(c, base)| base.map(|b| b + self.heard_terms(c, heard) - prior))
-            .collect()
+        let mut ll = self.log_likelihoods_of(heard);
+        for l in ll.iter_mut().flatten() {
+            *l -= prior;
+        }
+        ll
     }
 
     /// Each surveyed cell's fingerprint as a scan, and how its own place explains it when the
@@ -420,7 +414,8 @@ impl RadioInterpolation {
     #[must_use]
     pub fn held_out_scans(&self) -> Vec<HeldOutScan> {
         let s = &self.survey;
-        let n_ap = self.prior_mean.len();
+        let n_ap = s.mean.len();
+        let mut row = vec![0_f32; n_ap];
         (0..s.cells.len())
             .map(|i| {
                 let y = &s.values[i * n_ap..(i + 1) * n_ap];
@@ -432,19 +427,12 @@ impl RadioInterpolation {
                     .collect();
                 let (nb, w, v) = krige(s, &self.fit, self.config.neighbours, s.centres[i], Some(i));
                 let own = (v <= self.config.max_share).then(|| {
+                    kriged_means(s, &nb, &w, &mut row);
                     (0..n_ap)
                         .map(|a| {
-                            let mu = self.prior_mean[a];
-                            let m = mu
-                                + nb.iter()
-                                    .zip(&w)
-                                    .map(|(&j, &wj)| wj * (s.values[j * n_ap + a] - mu))
-                                    .sum::<f64>();
-                            let s2 = self.prior_var[a] * (v + self.fit.noise_ratio)
-                                + self.config.reading_floor;
-                            let ll = -0.5
-                                * ((y[a] - m).powi(2) / s2 + (std::f64::consts::TAU * s2).ln());
-                            ll - self.prior_log_likelihood(a, y[a])
+                            let m = f64::from(row[a]);
+                            gaussian_log_density(y[a], m, self.scan_variance(a, v))
+                                - self.prior_log_likelihood(a, y[a])
                         })
                         .sum()
                 });
@@ -456,6 +444,32 @@ impl RadioInterpolation {
                 }
             })
             .collect()
+    }
+}
+
+/// `ln N(z; m, s²)`.
+fn gaussian_log_density(z: f64, m: f64, s2: f64) -> f64 {
+    -0.5 * ((z - m).powi(2) / s2 + (std::f64::consts::TAU * s2).ln())
+}
+
+/// `ln N(z; m, s²) − ln N(r_miss; m, s²)`: what hearing a reading `z` changes from not
+/// hearing it (the normalising terms cancel).
+fn heard_change(z: f64, missing: f64, m: f64, s2: f64) -> f64 {
+    -0.5 * ((z - m).powi(2) - (missing - m).powi(2)) / s2
+}
+
+/// The predicted means `m_a = μ_a + Σ_j w_j (y_ja − μ_a)` of every access point from the
+/// surveyed cells `nb` weighted `w` (none: the prior), into `row`.
+fn kriged_means(survey: &Survey, nb: &[usize], w: &[f64], row: &mut [f32]) {
+    let n_ap = survey.mean.len();
+    for (m, &mu) in row.iter_mut().zip(&survey.mean) {
+        *m = mu as f32;
+    }
+    for (&j, &wj) in nb.iter().zip(w) {
+        let yj = &survey.values[j * n_ap..(j + 1) * n_ap];
+        for ((m, &y), &mu) in row.iter_mut().zip(yj).zip(&survey.mean) {
+            *m += (wj * (y - mu)) as f32;
+        }
     }
 }
 

@@ -96,7 +96,6 @@ impl InterpolatedEvidence {
         let gp = RadioInterpolation::new(map, missing_rssi, min_scans, interpolation)?;
         let cell_m = cell_size(map);
         let centres = map.cell_centres();
-        let known: Vec<bool> = (0..map.cells.len()).map(|c| gp.is_known(c)).collect();
         let held_out = gp.held_out_scans();
         let elsewhere_cells = config.far_cells;
         let (mut here, mut far) = (Vec::new(), Vec::new());
@@ -121,10 +120,11 @@ impl InterpolatedEvidence {
                 here.push(statistic(own, k));
             }
             let (x0, y0, level) = centres[scan.cell];
+            // Known cells only: the others have no ratio.
             for (c, r) in gp.log_ratios(&scan.readings).into_iter().enumerate() {
                 let (x, y, l) = centres[c];
                 let apart = l != level || (x - x0).hypot(y - y0) >= elsewhere_cells * cell_m;
-                if let (Some(r), true) = (r, apart && known[c]) {
+                if let (Some(r), true) = (r, apart) {
                     far.push(statistic(r, k));
                 }
             }
@@ -148,7 +148,7 @@ impl InterpolatedEvidence {
         let calibration = InterpolatedCalibration {
             cells: map.cells.len(),
             surveyed_cells: held_out.len(),
-            known_cells: known.iter().filter(|&&k| k).count(),
+            known_cells: (0..map.cells.len()).filter(|&c| gp.is_known(c)).count(),
             length_scale_m: gp.fit().length_scale,
             noise_ratio: gp.fit().noise_ratio,
             stand_in_max_scans: most_scans,
