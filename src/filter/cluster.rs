@@ -177,6 +177,7 @@ pub struct MeanShift {
     unit: Vec<Unit>,
     grid: Grid,
     seed_keys: Vec<(SeedBin, u32)>,
+    shifts: Shifts,
 }
 
 impl MeanShift {
@@ -200,15 +201,26 @@ impl MeanShift {
             &mut self.seed_keys,
         );
         let grid = &self.grid;
+        let shifts = &mut self.shifts;
+        shifts.known.clear();
         let modes = merge_modes(
-            seeds.into_iter().map(|s| shift(s, grid, config)).collect(),
+            seeds
+                .into_iter()
+                .map(|s| shifts.shift(s, grid, config))
+                .collect(),
             config,
         );
         let mut sums = vec![Sums::default(); modes.len()];
-        let index = ModeIndex::new(&modes, r);
-        for (p, u) in points.iter().zip(unit).filter(|(p, _)| p.weight > 0.0) {
-            if let Some(i) = index.nearest(p, &modes, config) {
-                sums[i].add(p, u);
+        let weighted = points.iter().zip(unit).filter(|(p, _)| p.weight > 0.0);
+        if let [_] = modes[..] {
+            // One mode is every particle's nearest (a localised belief's usual case).
+            weighted.for_each(|(p, u)| sums[0].add(p, u));
+        } else {
+            let index = ModeIndex::new(&modes, r);
+            for (p, u) in weighted {
+                if let Some(i) = index.nearest(p, &modes, config) {
+                    sums[i].add(p, u);
+                }
             }
         }
         let mut clusters: Vec<Cluster> = sums
@@ -455,38 +467,6 @@ fn seeds(
     modes
 }
 
-/// Mean shift of one mode to convergence.
-fn shift(mut m: Mode, grid: &Grid, config: &ClusterConfig) -> Mode {
-    let r2 = config.radius * config.radius;
-    for _ in 0..MAX_ITERATIONS {
-        let mut s = Moments::default();
-        let (cx, cy) = Grid::key(m.x, m.y, grid.cell);
-        for dx in -1..=1 {
-            for p in grid.column(cx + dx, cy - 1, cy + 1) {
-                let (dx, dy) = (p.x - m.x, p.y - m.y);
-                if dx * dx + dy * dy <= r2
-                    && (p.z - m.z).abs() < config.max_dz
-                    && heading_gap(p.heading, m.heading) <= config.max_dheading
-                {
-                    s.add_member(p);
-                }
-            }
-        }
-        if s.w <= 0.0 {
-            break;
-        }
-        let next = s.mode();
-        let moved = (next.x - m.x).hypot(next.y - m.y)
-            + (next.z - m.z).abs()
-            + heading_gap(next.heading, m.heading);
-        m = next;
-        if moved < CONVERGED {
-            break;
-        }
-    }
-    m
-}
-
 /// Modes closer than the kernel to a denser mode are that mode. The kept modes are binned
 /// by the kernel radius, so each mode is compared with those of the 3 × 3 cells around it
 /// only (a belief spread over a large open plan has as many modes as points).
@@ -601,6 +581,10 @@ impl ModeIndex {
         best.map(|(_, i)| i)
     }
 }
+
+#[path = "cluster_shift.rs"]
+mod shift;
+use shift::Shifts;
 
 #[cfg(test)]
 #[path = "cluster_tests.rs"]

@@ -111,3 +111,35 @@ fn groups_walking_towards_each_other_are_two_hypotheses() {
     };
     assert_eq!(mean_shift(&points, &config).len(), 1);
 }
+
+#[test]
+fn remembered_paths_end_where_each_seed_shifted_alone_ends() {
+    let config = ClusterConfig::default();
+    let mut rng = crate::random::stream(9, 0, 0);
+    let mut remembered = 0;
+    for spread in [0.3, 1.0, 3.0, 8.0] {
+        let mut points = blob(&mut rng, 800, (0.0, 0.0, 0.0), 0, spread);
+        points.extend(blob(&mut rng, 300, (9.0, 4.0, 0.0), 0, spread));
+        let unit: Vec<Unit> = points.iter().map(Unit::of).collect();
+        let mut grid = Grid::default();
+        grid.build(&points, &unit, config.radius);
+        let seeds = seeds(
+            &points,
+            &unit,
+            config.radius / 2.0,
+            config.max_dheading,
+            &mut Vec::new(),
+        );
+        let mut shared = Shifts::default();
+        for s in seeds {
+            let alone = Shifts::default().shift(s, &grid, &config);
+            let known = shared.known.len();
+            let with_paths = shared.shift(s, &grid, &config);
+            remembered += usize::from(shared.known.len() < known + 3);
+            assert_eq!(with_paths.key(), alone.key(), "spread {spread}");
+            assert_eq!(with_paths.density.to_bits(), alone.density.to_bits());
+        }
+    }
+    // The seeds' paths do meet: most seeds end on a remembered path.
+    assert!(remembered > 10, "{remembered}");
+}

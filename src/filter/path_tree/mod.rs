@@ -299,30 +299,16 @@ impl PathTree {
     /// first, stopping at the first generation that loses nothing (the ones before it were
     /// pruned against it already; the chain never loses a node).
     fn prune(&mut self) {
-        let remap = &mut self.remap;
         for g in (1..self.generations.len()).rev() {
             let (before, after) = self.generations.split_at_mut(g);
             let (parents, children) = (&mut before[g - 1], &mut after[0]);
-            // `remap[i]`: 0 for a parent with children, then its new index; NO_PARENT else.
-            remap.clear();
-            remap.resize(parents.len(), NO_PARENT);
-            for c in children.iter() {
-                if c.parent != NO_PARENT {
-                    remap[c.parent as usize] = 0;
-                }
-            }
-            if !remap.contains(&NO_PARENT) {
+            let lost = match prune_sorted(parents, children) {
+                Some(lost) => lost,
+                None => prune_any(parents, children, &mut self.remap),
+            };
+            if !lost {
                 break;
             }
-            let mut kept = 0u32;
-            for (i, r) in remap.iter_mut().enumerate() {
-                if *r == 0 {
-                    *r = kept;
-                    parents[kept as usize] = parents[i];
-                    kept += 1;
-                }
-            }
-            parents.truncate(kept as usize);
             if parents.capacity() > 2 * parents.len() {
                 // Move the few kept nodes out and keep the large buffer for the next
                 // generation (fresh large buffers cost a page fault per 4 KiB).
@@ -332,15 +318,81 @@ impl PathTree {
                     self.spare = large;
                 }
             }
-            for c in children.iter_mut() {
-                if c.parent != NO_PARENT {
-                    c.parent = remap[c.parent as usize];
-                }
-            }
         }
     }
 
     fn note_size(&mut self) {
         self.peak_nodes = self.peak_nodes.max(self.nodes());
     }
+}
+
+/// Prunes `parents` against `children` whose parent links are in increasing order (as
+/// systematic resampling writes them, and as pruning keeps them): the kept parents are the
+/// distinct links in order, so one pass copies each kept parent down to its new place and
+/// relinks its children — no scratch, two passes over the children (one to count, one to
+/// compact). Returns whether a parent was dropped, or `None` (nothing changed) when the links
+/// are not in order or one has no parent.
+fn prune_sorted(parents: &mut Vec<PathNode>, children: &mut [PathNode]) -> Option<bool> {
+    let m = parents.len();
+    let mut distinct = 0usize;
+    let mut previous = None;
+    for c in children.iter() {
+        let p = c.parent;
+        if p as usize >= m {
+            return None;
+        }
+        match previous {
+            Some(q) if p < q => return None,
+            Some(q) if p == q => {}
+            _ => distinct += 1,
+        }
+        previous = Some(p);
+    }
+    if distinct == m {
+        return Some(false);
+    }
+    // `kept` ≤ the parent's index: each kept parent moves down over dropped ones only.
+    let mut kept = 0u32;
+    let mut previous = NO_PARENT;
+    for c in children.iter_mut() {
+        if c.parent != previous {
+            previous = c.parent;
+            parents[kept as usize] = parents[previous as usize];
+            kept += 1;
+        }
+        c.parent = kept - 1;
+    }
+    parents.truncate(kept as usize);
+    Some(true)
+}
+
+/// Prunes `parents` against `children` linked in any order, through `remap` (scratch).
+/// Returns whether a parent was dropped.
+fn prune_any(parents: &mut Vec<PathNode>, children: &mut [PathNode], remap: &mut Vec<u32>) -> bool {
+    // `remap[i]`: 0 for a parent with children, then its new index; NO_PARENT else.
+    remap.clear();
+    remap.resize(parents.len(), NO_PARENT);
+    for c in children.iter() {
+        if c.parent != NO_PARENT {
+            remap[c.parent as usize] = 0;
+        }
+    }
+    if !remap.contains(&NO_PARENT) {
+        return false;
+    }
+    let mut kept = 0u32;
+    for (i, r) in remap.iter_mut().enumerate() {
+        if *r == 0 {
+            *r = kept;
+            parents[kept as usize] = parents[i];
+            kept += 1;
+        }
+    }
+    parents.truncate(kept as usize);
+    for c in children.iter_mut() {
+        if c.parent != NO_PARENT {
+            c.parent = remap[c.parent as usize];
+        }
+    }
+    true
 }

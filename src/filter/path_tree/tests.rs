@@ -131,3 +131,67 @@ fn a_cut_settles_the_steps_before_it() {
     assert!(s[4].estimate.is_none() && s[5].estimate.is_none());
     assert_eq!(s[3].estimate.expect("kept").x, 41.0);
 }
+
+/// Children linked to random parents: `sorted` in increasing order (as resampling links
+/// them) or shuffled; some parents left childless.
+fn random_links(rng: &mut rand_pcg::Pcg64Mcg, parents: usize, sorted: bool) -> Vec<PathNode> {
+    use rand::RngExt;
+    let children = rng.random_range(0..3 * parents + 2);
+    let mut links: Vec<u32> = (0..children)
+        .map(|_| rng.random_range(0..parents as u32))
+        .collect();
+    if sorted {
+        links.sort_unstable();
+    }
+    links
+        .into_iter()
+        .enumerate()
+        .map(|(i, p)| PathNode {
+            parent: p,
+            ..node(i as f32)
+        })
+        .collect()
+}
+
+#[test]
+fn pruning_in_order_matches_pruning_through_the_remap() {
+    let mut rng = crate::random::stream(7, 0, 0);
+    for case in 0..400 {
+        let m = 1 + case % 37;
+        let parents: Vec<PathNode> = (0..m).map(|i| node(100.0 + i as f32)).collect();
+        let children = random_links(&mut rng, m, true);
+        let (mut p1, mut c1) = (parents.clone(), children.clone());
+        let (mut p2, mut c2) = (parents.clone(), children);
+        let lost = prune_sorted(&mut p1, &mut c1).expect("links in order");
+        assert_eq!(
+            lost,
+            prune_any(&mut p2, &mut c2, &mut Vec::new()),
+            "case {case}"
+        );
+        assert_eq!((p1, c1), (p2, c2), "case {case}");
+    }
+}
+
+#[test]
+fn links_out_of_order_are_left_to_the_remap() {
+    let mut rng = crate::random::stream(8, 0, 0);
+    let parents: Vec<PathNode> = (0..20).map(|i| node(i as f32)).collect();
+    let mut children = random_links(&mut rng, 20, true);
+    children.reverse();
+    children.push(PathNode {
+        parent: 19,
+        ..node(0.0)
+    });
+    children.push(PathNode {
+        parent: 0,
+        ..node(0.0)
+    });
+    let (mut p, mut c) = (parents.clone(), children.clone());
+    assert_eq!(prune_sorted(&mut p, &mut c), None);
+    assert_eq!((p, c), (parents.clone(), children));
+    // A child without a parent, too.
+    let mut orphan = vec![PathNode::new(0.0, 0.0, 0)];
+    let mut p = parents.clone();
+    assert_eq!(prune_sorted(&mut p, &mut orphan), None);
+    assert_eq!(p, parents);
+}

@@ -348,20 +348,23 @@ impl<'a> Tracker<'a> {
         self.initial
     }
 
-    /// Bytes held per particle of the largest set so far, double buffers included.
+    /// Bytes held per particle, double buffers included: the belief and the proposal, each
+    /// particle's log-weight and KLD bin, and its resampling ancestor when the path tree is
+    /// kept. Every buffer is as long as the largest set so far (none is shrunk).
     #[must_use]
     pub fn bytes_per_particle(&self) -> f64 {
-        let bytes = (self.particles.capacity() + self.proposal.capacity())
-            * std::mem::size_of::<TrackParticle>()
-            + self.log_weights.capacity() * 4
-            + self.bin_index.capacity() * 4
-            + self.ancestors.capacity() * 4;
-        let n = self
-            .particles
-            .capacity()
-            .max(self.proposal.capacity())
-            .max(1);
-        bytes as f64 / n as f64
+        fn per_particle<T>(v: &Vec<T>) -> usize {
+            if v.capacity() > 0 {
+                std::mem::size_of::<T>()
+            } else {
+                0
+            }
+        }
+        (per_particle(&self.particles)
+            + per_particle(&self.proposal)
+            + per_particle(&self.log_weights)
+            + per_particle(&self.bin_index)
+            + per_particle(&self.ancestors)) as f64
     }
 
     /// Processes one step event (Algorithm 1 for every particle, then KLD-resampling and
