@@ -17,6 +17,7 @@ use crate::io::TrackPoint;
 use crate::map::FloorTopology;
 use crate::model::TransitionPrior;
 use crate::sensor::{Step, StepTrace, WifiScan};
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// The steps after which [`track`] keeps the particle cloud.
@@ -247,9 +248,10 @@ fn snapshot(tracker: &Tracker, step: usize, what: &'static str, track_len: usize
     CloudSnapshot {
         step,
         what,
+        // In parallel: the prior's snapshot is a million points.
         points: tracker
             .particles()
-            .iter()
+            .par_iter()
             .map(|p| (p.x, p.y, topology.level(p.surface)))
             .collect(),
         track_len,
