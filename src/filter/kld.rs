@@ -380,8 +380,20 @@ impl KldBins {
     /// regardless of the cap.
     #[must_use]
     pub fn satisfied(&self, n: usize, k: usize) -> bool {
-        n >= self.config.min_particles
-            && n as f64 >= required_particles(k as f64, self.config.epsilon, self.z)
+        self.satisfied_given(n, self.required(k))
+    }
+
+    /// [`Self::satisfied`] with `n_χ(k)` given ([`Self::required`]): a sequential draw
+    /// computes it again only when `k` grows.
+    #[must_use]
+    pub fn satisfied_given(&self, n: usize, required: f64) -> bool {
+        n >= self.config.min_particles && n as f64 >= required
+    }
+
+    /// Fox's `n_χ(k)` (eq. 13) for these bins' `ε` and `δ`.
+    #[must_use]
+    pub fn required(&self, k: usize) -> f64 {
+        required_particles(k as f64, self.config.epsilon, self.z)
     }
 
     /// The sample size for the belief whose masses were [`add`](Self::add)ed since the last

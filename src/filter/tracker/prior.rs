@@ -108,6 +108,7 @@ impl<'a> Tracker<'a> {
         let (mut candidates, mut kept) = (0usize, 0usize);
         let mut settled = false;
         self.bins.clear();
+        let mut required = self.bins.required(0);
         'outer: loop {
             let first = taken.len();
             buffers
@@ -127,8 +128,12 @@ impl<'a> Tracker<'a> {
                     t.0 += 1;
                     if !settled {
                         let level = self.topology.level(p.surface);
-                        self.bins.mark(self.bins.bin(p.x, p.y, p.heading, level));
-                        settled = self.bins.enough(candidates, self.bins.occupied());
+                        if self.bins.mark(self.bins.bin(p.x, p.y, p.heading, level)) {
+                            required = self.bins.required(self.bins.occupied());
+                        }
+                        // `KldBins::enough`, with n_χ(k) computed once per new bin.
+                        settled =
+                            candidates >= max || self.bins.satisfied_given(candidates, required);
                     }
                     if keep {
                         kept += 1;
