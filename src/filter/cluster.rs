@@ -177,6 +177,7 @@ pub struct MeanShift {
     unit: Vec<Unit>,
     grid: Grid,
     seed_keys: Vec<(SeedBin, u32)>,
+    seed_packed: Vec<u64>,
     shifts: Shifts,
 }
 
@@ -199,6 +200,7 @@ impl MeanShift {
             r / 2.0,
             config.max_dheading,
             &mut self.seed_keys,
+            &mut self.seed_packed,
         );
         let grid = &self.grid;
         let shifts = &mut self.shifts;
@@ -379,7 +381,9 @@ struct Grid {
     starts: Vec<u32>,
     members: Vec<Member>,
     /// Scratch: `(cell, point index)` of every weighted point.
-    order: Vec<((i64, i64), u32)>,
+    order: Vec<([i64; 2], u32)>,
+    /// Scratch of the sorting.
+    packed: Vec<u64>,
 }
 
 impl Grid {
@@ -391,14 +395,18 @@ impl Grid {
                 .iter()
                 .enumerate()
                 .filter(|(_, p)| p.weight > 0.0)
-                .map(|(i, p)| (Self::key(f64::from(p.x), f64::from(p.y), cell), i as u32)),
+                .map(|(i, p)| {
+                    let (kx, ky) = Self::key(f64::from(p.x), f64::from(p.y), cell);
+                    ([kx, ky], i as u32)
+                }),
         );
-        // Keys are unique (the index is part of them): unstable sorting is in point order.
-        self.order.sort_unstable();
+        // Keys are unique (the index is part of them): the sorted order is in point order.
+        sort_keys(&mut self.order, &mut self.packed);
         self.keys.clear();
         self.starts.clear();
         self.members.clear();
-        for &(key, i) in &self.order {
+        for &([kx, ky], i) in &self.order {
+            let key = (kx, ky);
             if self.keys.last() != Some(&key) {
                 self.keys.push(key);
                 self.starts.push(self.members.len() as u32);
@@ -430,17 +438,18 @@ impl Grid {
 }
 
 /// A seeding bin: cell x, cell y, metre of height, heading sector.
-type SeedBin = (i64, i64, i64, i64);
+type SeedBin = [i64; 4];
 
 /// Bin seeding: the weighted mean of the particles of each occupied bin of edge `cell`
 /// (per metre of height, per `sector` of heading), in bin order; each bin's particles are
-/// summed in their order. `keys` is scratch.
+/// summed in their order. `keys` and `packed` are scratch.
 fn seeds(
     points: &[ClusterPoint],
     unit: &[Unit],
     cell: f64,
     sector: f64,
     keys: &mut Vec<(SeedBin, u32)>,
+    packed: &mut Vec<u64>,
 ) -> Vec<Mode> {
     keys.clear();
     keys.extend(
@@ -452,10 +461,10 @@ fn seeds(
                 let (kx, ky) = Grid::key(f64::from(p.x), f64::from(p.y), cell);
                 let kz = f64::from(p.z).floor() as i64;
                 let kh = ((f64::from(p.heading) + std::f64::consts::PI) / sector).floor() as i64;
-                ((kx, ky, kz, kh), i as u32)
+                ([kx, ky, kz, kh], i as u32)
             }),
     );
-    keys.sort_unstable();
+    sort_keys(keys, packed);
     let mut modes = Vec::new();
     for run in keys.chunk_by(|a, b| a.0 == b.0) {
         let mut m = Moments::default();
@@ -585,6 +594,10 @@ impl ModeIndex {
 #[path = "cluster_shift.rs"]
 mod shift;
 use shift::Shifts;
+
+#[path = "cluster_sort.rs"]
+mod sort;
+use sort::sort_keys;
 
 #[cfg(test)]
 #[path = "cluster_tests.rs"]

@@ -129,6 +129,7 @@ fn remembered_paths_end_where_each_seed_shifted_alone_ends() {
             config.radius / 2.0,
             config.max_dheading,
             &mut Vec::new(),
+            &mut Vec::new(),
         );
         let mut shared = Shifts::default();
         for s in seeds {
