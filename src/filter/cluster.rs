@@ -202,16 +202,7 @@ impl MeanShift {
             &mut self.seed_keys,
             &mut self.seed_packed,
         );
-        let grid = &self.grid;
-        let shifts = &mut self.shifts;
-        shifts.known.clear();
-        let modes = merge_modes(
-            seeds
-                .into_iter()
-                .map(|s| shifts.shift(s, grid, config))
-                .collect(),
-            config,
-        );
+        let modes = merge_modes(self.shifts.shift_all(seeds, &self.grid, config), config);
         let mut sums = vec![Sums::default(); modes.len()];
         let weighted = points.iter().zip(unit).filter(|(p, _)| p.weight > 0.0);
         if let [_] = modes[..] {

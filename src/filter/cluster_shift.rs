@@ -35,6 +35,21 @@ pub(super) struct Shifts {
 }
 
 impl Shifts {
+    /// Every seed shifted to convergence, in order; the paths remembered are this call's
+    /// only (another belief's points would end them elsewhere).
+    pub(super) fn shift_all(
+        &mut self,
+        seeds: Vec<Mode>,
+        grid: &Grid,
+        config: &ClusterConfig,
+    ) -> Vec<Mode> {
+        self.known.clear();
+        seeds
+            .into_iter()
+            .map(|s| self.shift(s, grid, config))
+            .collect()
+    }
+
     /// Mean shift of one mode to convergence (at most [`MAX_ITERATIONS`] iterations).
     pub(super) fn shift(&mut self, mut m: Mode, grid: &Grid, config: &ClusterConfig) -> Mode {
         let r2 = config.radius * config.radius;

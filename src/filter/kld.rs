@@ -373,7 +373,14 @@ impl KldBins {
     /// Fox's stopping rule for `n` samples in `k` occupied bins: true when `n` suffices.
     #[must_use]
     pub fn enough(&self, n: usize, k: usize) -> bool {
-        n >= self.config.max_particles || self.satisfied(n, k)
+        self.enough_given(n, self.required(k))
+    }
+
+    /// [`Self::enough`] with `n_χ(k)` given ([`Self::required`]): a sequential draw
+    /// computes it again only when `k` grows.
+    #[must_use]
+    pub fn enough_given(&self, n: usize, required: f64) -> bool {
+        n >= self.config.max_particles || self.satisfied_given(n, required)
     }
 
     /// Whether `n` samples over `k` occupied bins meet the KLD bound (and the minimum),
@@ -383,8 +390,7 @@ impl KldBins {
         self.satisfied_given(n, self.required(k))
     }
 
-    /// [`Self::satisfied`] with `n_χ(k)` given ([`Self::required`]): a sequential draw
-    /// computes it again only when `k` grows.
+    /// [`Self::satisfied`] with `n_χ(k)` given ([`Self::required`]).
     #[must_use]
     pub fn satisfied_given(&self, n: usize, required: f64) -> bool {
         n >= self.config.min_particles && n as f64 >= required

@@ -131,9 +131,7 @@ impl<'a> Tracker<'a> {
                         if self.bins.mark(self.bins.bin(p.x, p.y, p.heading, level)) {
                             required = self.bins.required(self.bins.occupied());
                         }
-                        // `KldBins::enough`, with n_χ(k) computed once per new bin.
-                        settled =
-                            candidates >= max || self.bins.satisfied_given(candidates, required);
+                        settled = self.bins.enough_given(candidates, required);
                     }
                     if keep {
                         kept += 1;
