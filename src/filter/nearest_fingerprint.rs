@@ -6,6 +6,9 @@
 //!   predicted variance; candidates are every cell the survey predicts, surveyed or not, so a
 //!   scan taken between surveyed places lands between them. The scan is placed at the mean
 //!   of their centroids; the level is the most likely cell's.
+//! * `pathloss`: the `k` most likely cells under a log-distance path-loss model per access
+//!   point ([`crate::model::radio_pathloss`]), every cell of the map a candidate: it reaches
+//!   beyond the survey, where later walks mostly go.
 //! * `ndist`: weighted k-nearest-neighbour fingerprinting (RADAR, Bahl & Padmanabhan 2000)
 //!   over the surveyed cells alone: the mean of the centroids of the `k` cells whose
 //!   fingerprints are nearest to it (the radio map's `ndist`,
@@ -15,6 +18,7 @@
 use crate::error::{Error, Result};
 use crate::map::RadioMap;
 use crate::model::radio_interpolation::{InterpolationConfig, RadioInterpolation};
+use crate::model::radio_pathloss::{PathLossConfig, PathLossMap};
 use crate::model::radio_variogram::VariogramFit;
 use crate::model::wifi_distance::{Fingerprints, Normalisation};
 use crate::sensor::WifiScan;
@@ -30,8 +34,9 @@ use serde::{Deserialize, Serialize};
 /// | `min_scans`    | 1       | cells with fewer scans are not candidates                  |
 /// | `distance`     | `sqrt`  | `ndist`'s divisor: `paper` (k) or `sqrt` (√k)              |
 /// | `min_common`   | 1       | fewest of a scan's access points the map must know         |
-/// | `method`       | `interpolated` | `interpolated` (likeliest cells of the GP map) or `ndist` |
+/// | `method`       | `interpolated` | `interpolated` (likeliest cells of the GP map), `pathloss` or `ndist` |
 /// | `interpolation`| see [`InterpolationConfig`] | the interpolated map's parameters   |
+/// | `pathloss`     | see [`PathLossConfig`] | the path-loss model's parameters         |
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct FingerprintConfig {
@@ -51,6 +56,8 @@ pub struct FingerprintConfig {
     pub method: FingerprintMethod,
     /// The interpolated map's parameters (method `interpolated`).
     pub interpolation: InterpolationConfig,
+    /// The path-loss model's parameters (method `pathloss`).
+    pub pathloss: PathLossConfig,
 }
 
 /// How [`NearestFingerprint`] ranks the cells.
@@ -59,6 +66,9 @@ pub struct FingerprintConfig {
 pub enum FingerprintMethod {
     /// By likelihood on the interpolated radio map, surveyed and predicted cells alike.
     Interpolated,
+    /// By likelihood under a path-loss model per access point, every cell a candidate.
+    #[serde(rename = "pathloss")]
+    PathLoss,
     /// By `ndist` to the surveyed cells' fingerprints, weighted `1 / (ndist + δ)`.
     Ndist,
 }
@@ -72,8 +82,9 @@ impl Default for FingerprintConfig {
             min_scans: 1,
             distance: Normalisation::Sqrt,
             min_common: 1,
-            method: FingerprintMethod::Interpolated,
+            method: FingerprintMethod::PathLoss,
             interpolation: InterpolationConfig::default(),
+            pathloss: PathLossConfig::default(),
         }
     }
 }
@@ -89,6 +100,7 @@ impl FingerprintConfig {
     pub fn validate(&self) -> Result<()> {
         use crate::error::check_range;
         self.interpolation.validate()?;
+        self.pathloss.validate()?;
         check_range("fingerprint.k", self.k as f64, 1.0..=100.0, "")?;
         check_range(
             "fingerprint.delta",
@@ -161,6 +173,8 @@ pub struct NearestFingerprint {
     bssids: rustc_hash::FxHashSet<String>,
     /// The interpolated map (method `interpolated`).
     interpolation: Option<RadioInterpolation>,
+    /// The path-loss model (method `pathloss`).
+    pathloss: Option<PathLossMap>,
     config: FingerprintConfig,
 }
 
@@ -191,10 +205,15 @@ impl NearestFingerprint {
                 config.min_scans,
                 &config.interpolation,
             )?),
-            FingerprintMethod::Ndist => None,
+            FingerprintMethod::Ndist | FingerprintMethod::PathLoss => None,
+        };
+        let pathloss = match config.method {
+            FingerprintMethod::PathLoss => Some(PathLossMap::fit(map, &config.pathloss)?),
+            _ => None,
         };
         Ok(Self {
             interpolation,
+            pathloss,
             prints: Fingerprints::new(map, config.missing_rssi, config.min_scans, config.distance),
             centres,
             bssids: map.access_points().into_iter().map(str::to_owned).collect(),
@@ -206,6 +225,12 @@ impl NearestFingerprint {
     #[must_use]
     pub fn interpolation_fit(&self) -> Option<VariogramFit> {
         self.interpolation.as_ref().map(|i| *i.fit())
+    }
+
+    /// What the path-loss model's fit found (method `pathloss`).
+    #[must_use]
+    pub fn pathloss_summary(&self) -> Option<crate::model::PathLossSummary> {
+        self.pathloss.as_ref().map(PathLossMap::summary)
     }
 
     /// The scan's place, `None` when it shares fewer than `min_common` access points with the
@@ -223,13 +248,17 @@ impl NearestFingerprint {
         let ranked = self.placeable(self.prints.ndist(scan));
         // The nearest distance is reported either way; only `ndist` places by the ranking.
         let nearest = ranked.iter().map(|r| r.0).min_by(f64::total_cmp);
-        let (x, y, level) = match &self.interpolation {
+        let (x, y, level) = match (&self.interpolation, &self.pathloss) {
             // The likeliest cells, unweighted.
-            Some(gp) => {
+            (Some(gp), _) => {
                 let neg_ll = gp.log_likelihoods(scan).into_iter().map(|l| l.map(|l| -l));
                 self.centre_of_first(self.placeable(neg_ll), |_| 1.0)?
             }
-            None => {
+            (None, Some(pl)) => {
+                let neg_ll = pl.log_likelihoods(scan)?.into_iter().map(|l| l.map(|l| -l));
+                self.centre_of_first(self.placeable(neg_ll), |_| 1.0)?
+            }
+            (None, None) => {
                 let delta = self.config.delta;
                 self.centre_of_first(ranked, |d| 1.0 / (d + delta))?
             }

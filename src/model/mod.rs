@@ -13,6 +13,7 @@
 //! * [`radio_interpolation`] — the radio map between surveyed cells: a Gaussian process per
 //!   access point, with its variance, and honest ignorance far from the survey
 //! * [`radio_variogram`] — its kernel, fitted on the survey's pooled variogram
+//! * [`radio_pathloss`] — the radio map beyond the survey: a path-loss model per access point
 //! * [`wifi_likelihood`] — the probabilistic WiFi measurement (eq. 14)
 //! * [`derived_epsilon`] — a radio map's region threshold derived from the map itself
 
@@ -23,6 +24,7 @@ pub mod gps_likelihood;
 pub mod heading_likelihood;
 pub mod magnetic_field;
 pub mod radio_interpolation;
+pub mod radio_pathloss;
 pub mod radio_variogram;
 pub mod scan_pairs;
 pub mod scan_references;
@@ -41,6 +43,7 @@ pub use magnetic_field::{
     FieldCalibration, FieldConfig, FieldEvidence, FieldLikelihood, FieldUnused,
 };
 pub use radio_interpolation::{InterpolationConfig, RadioInterpolation};
+pub use radio_pathloss::{PathLossConfig, PathLossMap, PathLossSummary};
 pub use radio_variogram::VariogramFit;
 pub use scan_pairs::{PairLikelihood, ScanEvidence, ScanPairConfig, ScanPairsUnused};
 pub use scan_references::{PlacedScan, ReferenceScans};

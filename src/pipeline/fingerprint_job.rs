@@ -43,6 +43,8 @@ pub struct FingerprintReport {
     pub unplaced: usize,
     /// The interpolated map's kernel, fitted on the map's survey (method `interpolated`).
     pub interpolation: Option<crate::model::VariogramFit>,
+    /// The path-loss model's fit on the map's survey (method `pathloss`).
+    pub pathloss: Option<crate::model::PathLossSummary>,
     /// The toolkit's version.
     pub version: &'static str,
 }
@@ -108,6 +110,7 @@ pub fn run_fingerprint(
         placed: fixes.len(),
         unplaced: wifi.value.len() - fixes.len(),
         interpolation: localiser.interpolation_fit(),
+        pathloss: localiser.pathloss_summary(),
         version: env!("CARGO_PKG_VERSION"),
     };
     Ok(FingerprintJob {

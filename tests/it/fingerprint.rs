@@ -58,13 +58,25 @@ fn places_scans_near_the_truth_and_refuses_another_building() {
     // Placed on the map's own walk: 3 m cells, median within a cell, every scan on its floor.
     assert!(v["track"]["p50"].as_f64().expect("p50") < 3.0, "{v}");
     assert!(v["floor_accuracy"].as_f64().expect("floors") > 0.9, "{v}");
-    // The default ranks cells on the interpolated map, whose kernel was fitted on the survey.
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(fp.join("summary.json")).expect("summary"))
-            .expect("json");
-    let fit = &summary["interpolation"];
-    assert!(fit["length_scale"].as_f64().expect("ℓ") > 0.0, "{summary}");
-    assert!(fit["pairs"].as_u64().expect("pairs") > 0, "{summary}");
+    // The default ranks cells by a path-loss model per access point, fitted on the survey.
+    let summary = |dir: &Path| -> serde_json::Value {
+        let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary");
+        serde_json::from_str(&text).expect("json")
+    };
+    let fit = &summary(&fp)["pathloss"];
+    assert!(fit["access_points"].as_u64().expect("APs") > 0, "{fit}");
+    let n = fit["median_exponent"].as_f64().expect("n");
+    assert!((1.5..=5.0).contains(&n), "{fit}");
+
+    // The interpolated map stays selectable, and places the walk as well.
+    let config = dir.path().join("gp.toml");
+    std::fs::write(&config, "method = \"interpolated\"\n").expect("write");
+    let gp = dir.path().join("gp");
+    let v = place(&gp, Some(&config));
+    assert!(v["track"]["p50"].as_f64().expect("p50") < 3.0, "{v}");
+    let fit = &summary(&gp)["interpolation"];
+    assert!(fit["length_scale"].as_f64().expect("ℓ") > 0.0, "{fit}");
+    assert!(fit["pairs"].as_u64().expect("pairs") > 0, "{fit}");
 
     // The weighted k-nearest method stays selectable, and places the walk as well.
     let config = dir.path().join("ndist.toml");
