@@ -330,15 +330,18 @@ impl PathLossMap {
                 heard[b] += cell.radio.aps.get(*bssid).map_or(0.0, |s| f64::from(s.n));
             }
         }
-        // Laplace-smoothed shares, non-decreasing in the predicted mean.
-        let mut best = 0.0f64;
-        let (mut ln_heard, mut ln_missed) = (Vec::with_capacity(bins), Vec::with_capacity(bins));
-        for (h, n) in heard.iter().zip(&scans) {
-            best = best.max((h + 1.0) / (n + 2.0));
-            let p = best.clamp(1e-4, 1.0 - 1e-4);
-            ln_heard.push(p.ln());
-            ln_missed.push((1.0 - p).ln());
-        }
+        // The shares, non-decreasing in the predicted mean (pooled adjacent violators over
+        // the bins with scans, each weighted by its scans; bins without take their lower
+        // neighbour's, the lowest ones the first share), kept off 0 and 1 by one reading.
+        let shares = monotone_shares(&heard, &scans);
+        let floor = 1.0 / (scans.iter().sum::<f64>() + 2.0);
+        let (ln_heard, ln_missed) = shares
+            .iter()
+            .map(|&p| {
+                let p = p.clamp(floor, 1.0 - floor);
+                (p.ln(), (1.0 - p).ln())
+            })
+            .unzip();
         Detection {
             ln_heard,
             ln_missed,
@@ -380,6 +383,37 @@ impl PathLossMap {
                 .collect(),
         )
     }
+}
+
+/// The least-squares non-decreasing fit of `heard[i] / scans[i]` weighted by `scans[i]` (pool
+/// adjacent violators), over the bins with scans; a bin without scans takes the share of the
+/// nearest bin below that has some (the lowest ones, the first share; all 0 without scans).
+fn monotone_shares(heard: &[f64], scans: &[f64]) -> Vec<f64> {
+    // Blocks of (share, weight, bins with scans).
+    let mut blocks: Vec<(f64, f64, usize)> = Vec::new();
+    for (&h, &n) in heard.iter().zip(scans) {
+        if n <= 0.0 {
+            continue;
+        }
+        blocks.push((h / n, n, 1));
+        while blocks.len() > 1 && blocks[blocks.len() - 2].0 > blocks[blocks.len() - 1].0 {
+            let (p2, w2, k2) = blocks.pop().expect("two blocks");
+            let (p1, w1, k1) = blocks.pop().expect("two blocks");
+            blocks.push(((p1 * w1 + p2 * w2) / (w1 + w2), w1 + w2, k1 + k2));
+        }
+    }
+    let mut fitted = blocks.iter().flat_map(|&(p, _, k)| std::iter::repeat_n(p, k));
+    let first = blocks.first().map_or(0.0, |b| b.0);
+    let mut last = first;
+    scans
+        .iter()
+        .map(|&n| {
+            if n > 0.0 {
+                last = fitted.next().unwrap_or(last);
+            }
+            last
+        })
+        .collect()
 }
 
 /// Eq. (2) for one access point.
@@ -557,6 +591,20 @@ mod tests {
         assert!((px - x).hypot(py - y) < 6.0, "placed at ({px}, {py})");
         // A scan of access points nobody modelled: no likelihood.
         assert!(map.log_likelihoods(&WifiScan::from_readings(0.0, &[("x", -50.0)])).is_none());
+    }
+
+    #[test]
+    fn detection_shares_are_pooled_where_they_fall() {
+        // Bins: empty, 1/10, 5/10, 3/10 (a violation, pooled with the one before: 8/20),
+        // empty, 9/10.
+        let heard = [0.0, 1.0, 5.0, 3.0, 0.0, 9.0];
+        let scans = [0.0, 10.0, 10.0, 10.0, 0.0, 10.0];
+        let shares = monotone_shares(&heard, &scans);
+        let want = [0.1, 0.1, 0.4, 0.4, 0.4, 0.9];
+        for (got, want) in shares.iter().zip(want) {
+            assert!((got - want).abs() < 1e-12, "{shares:?}");
+        }
+        assert_eq!(monotone_shares(&[0.0; 3], &[0.0; 3]), vec![0.0; 3]);
     }
 
     #[test]
