@@ -27,6 +27,8 @@ use crate::model::wifi_evidence::{
     EvidenceCalibration, EvidenceConfig, EvidenceSource, RadioEvidence,
 };
 use crate::model::wifi_evidence_interpolated::{InterpolatedCalibration, InterpolatedEvidence};
+use crate::model::wifi_evidence_pathloss::{PathLossCalibration, PathLossEvidence};
+use crate::model::radio_pathloss::PathLossConfig;
 use crate::model::wifi_likelihood::{HistogramLikelihood, LikelihoodConfig};
 use crate::sensor::WifiScan;
 use serde::{Deserialize, Serialize};
@@ -148,6 +150,8 @@ pub struct RfConfig {
     pub evidence: EvidenceConfig,
     /// The interpolated radio map the evidence reads ([`EvidenceSource::Interpolated`]).
     pub interpolation: InterpolationConfig,
+    /// The path-loss model the evidence reads ([`EvidenceSource::PathLoss`]).
+    pub pathloss: PathLossConfig,
 }
 
 impl Default for RfConfig {
@@ -167,6 +171,7 @@ impl Default for RfConfig {
             likelihood: LikelihoodConfig::default(),
             evidence: EvidenceConfig::default(),
             interpolation: InterpolationConfig::default(),
+            pathloss: PathLossConfig::default(),
         }
     }
 }
@@ -196,6 +201,7 @@ impl RfConfig {
         crate::error::check_range("rf.raster", self.raster, 0.05..=5.0, "metres")?;
         self.evidence.validate()?;
         self.interpolation.validate()?;
+        self.pathloss.validate()?;
         crate::error::check_range(
             "rf.likelihood.kernel_sigma",
             self.likelihood.kernel_sigma,
@@ -220,6 +226,10 @@ impl RfConfig {
 enum Evidence {
     Ndist(RadioEvidence),
     Interpolated(Box<InterpolatedEvidence>),
+    PathLoss(Box<PathLossEvidence>),
+    /// Both on the cells in reach of the survey (marked), the path-loss model alone on the
+    /// others.
+    Combined(RadioEvidence, Box<PathLossEvidence>, Vec<bool>),
 }
 
 /// What the radio evidence's calibration found, by what it compares a scan with.
@@ -230,6 +240,17 @@ pub enum EvidenceReport {
     Ndist(EvidenceCalibration),
     /// The interpolated map ([`EvidenceSource::Interpolated`]).
     Interpolated(InterpolatedCalibration),
+    /// The path-loss model ([`EvidenceSource::PathLoss`]).
+    #[serde(rename = "pathloss")]
+    PathLoss(PathLossCalibration),
+    /// `ndist` and the path-loss model in reach of the survey, the path-loss model beyond
+    /// ([`EvidenceSource::Combined`]).
+    Combined {
+        /// The `ndist` evidence's calibration.
+        ndist: EvidenceCalibration,
+        /// The path-loss evidence's calibration.
+        pathloss: PathLossCalibration,
+    },
 }
 
 /// Where a localiser's region threshold `ε` came from.
@@ -323,6 +344,23 @@ impl RfLocaliser {
                     &config.evidence,
                 )
                 .map(|e| Evidence::Interpolated(Box::new(e))),
+                EvidenceSource::PathLoss => {
+                    PathLossEvidence::calibrate(map, &config.pathloss, &config.evidence)
+                        .map(|e| Evidence::PathLoss(Box::new(e)))
+                }
+                EvidenceSource::Combined => {
+                    RadioEvidence::calibrate(map, &prints, &raster, &config.evidence).and_then(
+                        |nd| {
+                            let pl = PathLossEvidence::calibrate(
+                                map,
+                                &config.pathloss,
+                                &config.evidence,
+                            )?;
+                            let reach = nd.in_reach();
+                            Ok(Evidence::Combined(nd, Box::new(pl), reach))
+                        },
+                    )
+                }
             };
             match calibrated {
                 Ok(e) => evidence = Some(e),
@@ -361,6 +399,11 @@ impl RfLocaliser {
         self.evidence.as_ref().map(|e| match e {
             Evidence::Ndist(e) => EvidenceReport::Ndist(e.calibration().clone()),
             Evidence::Interpolated(e) => EvidenceReport::Interpolated(e.calibration().clone()),
+            Evidence::PathLoss(e) => EvidenceReport::PathLoss(e.calibration().clone()),
+            Evidence::Combined(nd, pl, _) => EvidenceReport::Combined {
+                ndist: nd.calibration().clone(),
+                pathloss: pl.calibration().clone(),
+            },
         })
     }
 
@@ -416,6 +459,16 @@ impl RfLocaliser {
             let ratios = match evidence {
                 Evidence::Ndist(e) => e.log_ratios(&self.ndist(scan)),
                 Evidence::Interpolated(e) => e.log_ratios(scan),
+                Evidence::PathLoss(e) => e.log_ratios(scan),
+                Evidence::Combined(nd, pl, reach) => {
+                    let near = nd.log_ratios(&self.ndist(scan));
+                    let far = pl.log_ratios(scan);
+                    near.into_iter()
+                        .zip(far)
+                        .zip(reach)
+                        .map(|((n, f), &r)| if r { n + f } else { f })
+                        .collect()
+                }
             };
             let best = ratios.iter().copied().fold(f32::NEG_INFINITY, f32::max);
             let bar = best.min(0.0);

@@ -33,6 +33,7 @@ pub mod transition_prior;
 pub mod wifi_distance;
 pub mod wifi_evidence;
 pub mod wifi_evidence_interpolated;
+pub mod wifi_evidence_pathloss;
 pub mod wifi_likelihood;
 
 pub use building_axes::{AxesConfig, AxisEvidence, AxisLikelihood, AxisState};
@@ -51,3 +52,4 @@ pub use step_motion::{StepErrorState, StepMotion, StepMotionConfig};
 pub use transition_prior::{TransitionPrior, TransitionPriorConfig};
 pub use wifi_evidence::{EvidenceCalibration, EvidenceConfig, EvidenceSource, RadioEvidence};
 pub use wifi_evidence_interpolated::{InterpolatedCalibration, InterpolatedEvidence};
+pub use wifi_evidence_pathloss::{PathLossCalibration, PathLossEvidence};

@@ -14,7 +14,8 @@
 //!   `μ_a(p) = A_a + s_a · log10(max(|p − g_a|, d_0))`, with `g_a` the access point's
 //!   position, `A_a` its level at 1 m and `s_a = −10 n_a` its slope.
 //! * **Fit** (eq. 2): every cell centre within `max_offset_m` of the cell where the access
-//!   point is loudest, on that cell's level, surveyed or not, is a candidate `g`; at each,
+//!   point is loudest, on that cell's level, surveyed or not, is a candidate `g` (searched
+//!   coarse to fine: one per `search_step_m` square, then all near the best); at each,
 //!   `A` and `s` are the weighted least-squares line of the cells' mean readings against
 //!   `log10 d` (weights: the readings per cell), `s` clamped to
 //!   `[−10 n_max, −10 n_min]`; `g_a` is the candidate of least weighted squared residual,
@@ -26,10 +27,13 @@
 //!   `μ` (Laplace-smoothed, then made non-decreasing in `μ`). It absorbs how often real scans
 //!   miss an access point in range (17 % of a cell's loud access points on the ILC floor) and
 //!   how far the model errs at range.
-//! * **Scan likelihood** at cell `c` (eq. 4):
-//!   `ln p(z | c) = Σ_{a heard} [ln N(r_a; μ_a(c), σ²_a + σ²_scan) + ln P_h(μ_a(c))]
-//!   + Σ_{a modelled, not heard} ln(1 − P_h(μ_a(c)))`, with `σ²_scan` a single scan's
-//!   spread about the cell means (`scan_variance`).
+//! * **Scan likelihood** at cell `c` (eq. 4), with `σ²_scan` a single scan's spread about
+//!   the cell means (`scan_variance`):
+//!
+//!   ```text
+//!   ln p(z | c) = Σ_{a heard} [ln N(r_a; μ_a(c), σ²_a + σ²_scan) + ln P_h(μ_a(c))]
+//!               + Σ_{a modelled, not heard} ln(1 − P_h(μ_a(c)))
+//!   ```
 //!
 //! Levels: a cell `k` levels from the access point's is `k · level_m` further (in the
 //! distance of eq. 1) and `k · F_a` dB weaker, `F_a` fitted with `A_a` and `s_a` where the
@@ -51,13 +55,14 @@ use serde::{Deserialize, Serialize};
 /// | `max_exponent`     | 5        | greatest exponent (slope −50 dB a decade)                 |
 /// | `min_cells`        | 4        | fewest cells an access point is read in to be modelled    |
 /// | `max_offset_m`     | 60 m     | farthest an access point is placed from its loudest cell  |
+/// | `search_step_m`    | 8 m      | the coarse search's square (then every cell near its 3 best) |
 /// | `reference_m`      | 1 m      | `d_0`: distances below count as this                      |
 /// | `variance_floor`   | 4 dB²    | least residual variance of an access point's fit          |
 /// | `scan_variance`    | 9 dB²    | a single scan's spread about the cell means               |
 /// | `detection_bin_db` | 2 dB     | bins of the predicted mean for the detection curve        |
 /// | `level_m`          | 4 m      | distance added per level between cell and access point    |
 /// | `level_loss_db`    | 15 dB    | loss per level where the survey cannot measure it         |
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PathLossConfig {
     /// Least path-loss exponent.
@@ -68,6 +73,9 @@ pub struct PathLossConfig {
     pub min_cells: usize,
     /// Farthest an access point is placed from the cell where it is loudest, metres.
     pub max_offset_m: f64,
+    /// Side of the coarse search's squares, metres: one candidate each, then every
+    /// candidate within 1.5 sides of the best.
+    pub search_step_m: f64,
     /// Distances below this count as this, metres.
     pub reference_m: f64,
     /// Least residual variance of an access point's fit, dB².
@@ -90,6 +98,7 @@ impl Default for PathLossConfig {
             max_exponent: 5.0,
             min_cells: 4,
             max_offset_m: 60.0,
+            search_step_m: 8.0,
             reference_m: 1.0,
             variance_floor: 4.0,
             scan_variance: 9.0,
@@ -118,6 +127,7 @@ impl PathLossConfig {
         )?;
         check_range("pathloss.min_cells", self.min_cells as f64, 3.0..=1e4, "")?;
         check_range("pathloss.max_offset_m", self.max_offset_m, 1.0..=1e4, "metres")?;
+        check_range("pathloss.search_step_m", self.search_step_m, 0.1..=1e3, "metres")?;
         check_range("pathloss.reference_m", self.reference_m, 0.01..=100.0, "metres")?;
         check_range("pathloss.variance_floor", self.variance_floor, 0.01..=1e4, "dB²")?;
         check_range("pathloss.scan_variance", self.scan_variance, 0.0..=1e4, "dB²")?;
@@ -132,6 +142,8 @@ impl PathLossConfig {
     }
 }
 
+/// Coarse candidates refined around (the fit's residual can have several basins).
+const REFINED: usize = 3;
 /// Greatest loss per level, dB.
 const MAX_LEVEL_LOSS: f64 = 40.0;
 
@@ -256,7 +268,7 @@ impl PathLossMap {
                 ln_missed: vec![0.0],
             },
             all_missed: Vec::new(),
-            config: config.clone(),
+            config: *config,
         };
         out.detection = out.detection_curve(map, &bssids);
         out.all_missed = (0..out.centres.len())
@@ -275,6 +287,15 @@ impl PathLossMap {
     #[must_use]
     pub fn access_points(&self) -> usize {
         self.models.len()
+    }
+
+    /// How many of the scan's access points are modelled.
+    #[must_use]
+    pub fn heard(&self, scan: &WifiScan) -> usize {
+        scan.readings
+            .iter()
+            .filter(|r| self.columns.contains_key(&r.bssid))
+            .count()
     }
 
     /// What the fit found, for a run's summary.
@@ -416,19 +437,24 @@ fn monotone_shares(heard: &[f64], scans: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// Eq. (2) for one access point.
+/// Eq. (2) for one access point: a coarse search (the first candidate of each
+/// `search_step_m` square), then every candidate within 1.5 squares of the [`REFINED`] best
+/// coarse ones.
 fn fit_one(centres: &[(f64, f64, i32)], readings: &Readings, config: &PathLossConfig) -> ApModel {
     let &(loudest, ..) = readings
         .iter()
         .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
         .expect("an access point has readings");
     let (lx, ly, level) = centres[loudest];
-    let mut best: Option<(f64, ApModel)> = None;
+    let candidates: Vec<usize> = (0..centres.len())
+        .filter(|&g| {
+            let (gx, gy, glevel) = centres[g];
+            glevel == level && gx.is_finite() && (gx - lx).hypot(gy - ly) <= config.max_offset_m
+        })
+        .collect();
     let mut rows = Vec::with_capacity(readings.len());
-    for &(gx, gy, glevel) in centres {
-        if glevel != level || !gx.is_finite() || (gx - lx).hypot(gy - ly) > config.max_offset_m {
-            continue;
-        }
+    let mut fit_at = |g: usize| {
+        let (gx, gy, glevel) = centres[g];
         rows.clear();
         rows.extend(readings.iter().map(|&(c, rssi, w)| {
             let (x, y, l) = centres[c];
@@ -442,14 +468,34 @@ fn fit_one(centres: &[(f64, f64, i32)], readings: &Readings, config: &PathLossCo
             }
         }));
         let (model, sse) = regress(&rows, config);
-        if best.as_ref().is_none_or(|(b, _)| sse < *b) {
-            let model = ApModel {
-                x: gx,
-                y: gy,
-                level: glevel,
-                ..model
-            };
-            best = Some((sse, model));
+        let model = ApModel {
+            x: gx,
+            y: gy,
+            level: glevel,
+            ..model
+        };
+        (sse, model)
+    };
+    let step = config.search_step_m;
+    let mut squares = rustc_hash::FxHashSet::default();
+    let mut coarse: Vec<(f64, ApModel)> = candidates
+        .iter()
+        .filter(|&&g| {
+            let (x, y, _) = centres[g];
+            squares.insert(((x / step).floor() as i64, (y / step).floor() as i64))
+        })
+        .map(|&g| fit_at(g))
+        .collect();
+    coarse.sort_by(|a, b| a.0.total_cmp(&b.0));
+    coarse.truncate(REFINED);
+    let mut best: Option<(f64, ApModel)> = coarse.first().copied();
+    for &g in &candidates {
+        let (gx, gy, _) = centres[g];
+        if coarse.iter().any(|(_, m)| (gx - m.x).hypot(gy - m.y) <= 1.5 * step) {
+            let fit = fit_at(g);
+            if best.as_ref().is_none_or(|(b, _)| fit.0 < *b) {
+                best = Some(fit);
+            }
         }
     }
     best.map_or(

@@ -77,6 +77,14 @@ pub enum EvidenceSource {
     /// The interpolated radio map's prediction at each place
     /// ([`crate::model::wifi_evidence_interpolated`]).
     Interpolated,
+    /// A path-loss model per access point, everywhere on the floor
+    /// ([`crate::model::wifi_evidence_pathloss`]).
+    #[serde(rename = "pathloss")]
+    PathLoss,
+    /// Within walking reach of a surveyed cell both `ndist` and the path-loss model (their
+    /// log-ratios added: the nearest fingerprint and the access points' geometry read the
+    /// scan differently), beyond it the path-loss model alone.
+    Combined,
 }
 
 /// Bands of distance from a surveyed cell.
@@ -418,6 +426,12 @@ impl RadioEvidence {
     #[must_use]
     pub fn calibration(&self) -> &EvidenceCalibration {
         &self.calibration
+    }
+
+    /// Whether each cell is within walking reach of a surveyed cell (judged by it).
+    #[must_use]
+    pub fn in_reach(&self) -> Vec<bool> {
+        self.judge.iter().map(Option::is_some).collect()
     }
 
     /// `ln Λ` (tempered) of a scan on every cell, from the scan's `ndist` to every cell
