@@ -398,6 +398,7 @@ mod tests {
         };
         let config = FingerprintConfig {
             k: 1,
+            method: FingerprintMethod::Interpolated,
             ..Default::default()
         };
         let nf = NearestFingerprint::new(&map, &config).expect("localiser");
@@ -413,6 +414,22 @@ mod tests {
         let scan = WifiScan::from_readings(1.0, &readings);
         let fix = nf.locate(&scan).expect("fix");
         assert!((24.0..=30.0).contains(&fix.x), "{fix:?} {fit:?}");
+        // The path-loss model (the default method) places it in the gap too.
+        let pathloss = NearestFingerprint::new(
+            &map,
+            &FingerprintConfig {
+                k: 1,
+                ..Default::default()
+            },
+        )
+        .expect("localiser");
+        assert!(
+            pathloss
+                .pathloss_summary()
+                .is_some_and(|s| s.access_points == 6)
+        );
+        let fix = pathloss.locate(&scan).expect("fix");
+        assert!((24.0..=30.0).contains(&fix.x), "{fix:?}");
         let ndist = NearestFingerprint::new(
             &map,
             &FingerprintConfig {

@@ -22,13 +22,13 @@ use crate::error::{Error, Result};
 use crate::map::{CellField, CellRaster, FloorTopology, RadioMap};
 use crate::model::derived_epsilon::derive_epsilon;
 use crate::model::radio_interpolation::InterpolationConfig;
+use crate::model::radio_pathloss::PathLossConfig;
 use crate::model::wifi_distance::{Fingerprints, Normalisation};
 use crate::model::wifi_evidence::{
     EvidenceCalibration, EvidenceConfig, EvidenceSource, RadioEvidence,
 };
 use crate::model::wifi_evidence_interpolated::{InterpolatedCalibration, InterpolatedEvidence};
 use crate::model::wifi_evidence_pathloss::{PathLossCalibration, PathLossEvidence};
-use crate::model::radio_pathloss::PathLossConfig;
 use crate::model::wifi_likelihood::{HistogramLikelihood, LikelihoodConfig};
 use crate::sensor::WifiScan;
 use serde::{Deserialize, Serialize};
@@ -253,6 +253,16 @@ pub enum EvidenceReport {
     },
 }
 
+/// The combined evidence's `ln Λ` per cell: `near + far` on the cells in reach of the
+/// survey, `far` (the path-loss model's) on the others.
+fn combine(near: &[f32], far: &[f32], reach: &[bool]) -> Vec<f32> {
+    near.iter()
+        .zip(far)
+        .zip(reach)
+        .map(|((&n, &f), &r)| if r { n + f } else { f })
+        .collect()
+}
+
 /// Where a localiser's region threshold `ε` came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -348,19 +358,17 @@ impl RfLocaliser {
                     PathLossEvidence::calibrate(map, &config.pathloss, &config.evidence)
                         .map(|e| Evidence::PathLoss(Box::new(e)))
                 }
-                EvidenceSource::Combined => {
-                    RadioEvidence::calibrate(map, &prints, &raster, &config.evidence).and_then(
-                        |nd| {
-                            let pl = PathLossEvidence::calibrate(
-                                map,
-                                &config.pathloss,
-                                &config.evidence,
-                            )?;
-                            let reach = nd.in_reach();
-                            Ok(Evidence::Combined(nd, Box::new(pl), reach))
-                        },
-                    )
-                }
+                EvidenceSource::Combined => RadioEvidence::calibrate(
+                    map,
+                    &prints,
+                    &raster,
+                    &config.evidence,
+                )
+                .and_then(|nd| {
+                    let pl = PathLossEvidence::calibrate(map, &config.pathloss, &config.evidence)?;
+                    let reach = nd.in_reach();
+                    Ok(Evidence::Combined(nd, Box::new(pl), reach))
+                }),
             };
             match calibrated {
                 Ok(e) => evidence = Some(e),
@@ -460,15 +468,11 @@ impl RfLocaliser {
                 Evidence::Ndist(e) => e.log_ratios(&self.ndist(scan)),
                 Evidence::Interpolated(e) => e.log_ratios(scan),
                 Evidence::PathLoss(e) => e.log_ratios(scan),
-                Evidence::Combined(nd, pl, reach) => {
-                    let near = nd.log_ratios(&self.ndist(scan));
-                    let far = pl.log_ratios(scan);
-                    near.into_iter()
-                        .zip(far)
-                        .zip(reach)
-                        .map(|((n, f), &r)| if r { n + f } else { f })
-                        .collect()
-                }
+                Evidence::Combined(nd, pl, reach) => combine(
+                    &nd.log_ratios(&self.ndist(scan)),
+                    &pl.log_ratios(scan),
+                    reach,
+                ),
             };
             let best = ratios.iter().copied().fold(f32::NEG_INFINITY, f32::max);
             let bar = best.min(0.0);
@@ -548,4 +552,18 @@ fn threshold(map: &RadioMap, config: &RfConfig) -> Result<(Normalisation, f64, E
     )
     .ok_or(crate::error::Error::config("rf.epsilon", "none", "the radio map carries no calibrated threshold and none can be derived from it (no cell holds two scans to show how readings spread): give one with --rf-epsilon (rf.epsilon), e.g. the paper's 9.5 dBm with --rf-distance paper, or survey the building with `footslam survey`, which calibrates it"))?;
     Ok((distance, derived, EpsilonSource::Derived))
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn combined_evidence_adds_both_in_reach_and_keeps_the_path_loss_beyond() {
+        let near = [0.5, -1.0, 0.0, 0.0];
+        let far = [0.25, 0.25, -0.5, 1.0];
+        let reach = [true, true, false, false];
+        assert_eq!(
+            super::combine(&near, &far, &reach),
+            vec![0.75, -0.75, -0.5, 1.0]
+        );
+    }
 }

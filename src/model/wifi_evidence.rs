@@ -46,7 +46,7 @@ use serde::{Deserialize, Serialize};
 /// | `tempering`      | 0.5              | exponent on `Λ`: consecutive scans of a walk are not independent |
 /// | `min_pairs`      | 20               | fewest pairs a band needs to be calibrated (a band with fewer is left out, and so are those beyond it) |
 /// | `auto_below_coverage` | 0.6         | `rf.mode = "auto"` uses the evidence on maps whose surveyed share of cells is below this, containment regions above |
-/// | `source`         | ndist            | what a scan is compared with: the nearest surveyed cell's fingerprint (eq. 1 here), or (`interpolated`) the interpolated map's prediction at each place ([`crate::model::wifi_evidence_interpolated`]; on the ILC mall floor it places walks worse, docs/radio-survey.md) |
+/// | `source`         | combined         | what a scan is compared with: `ndist`, the nearest surveyed cell's fingerprint (eq. 1 here); `pathloss`, a path-loss model per access point everywhere ([`crate::model::wifi_evidence_pathloss`]); `combined`, both added within reach of the survey and the path-loss model beyond; or `interpolated`, the interpolated map's prediction at each place ([`crate::model::wifi_evidence_interpolated`]; on the ILC mall floor it places walks worse, docs/radio-survey.md) |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct EvidenceConfig {
@@ -72,7 +72,6 @@ pub struct EvidenceConfig {
 pub enum EvidenceSource {
     /// The fingerprint of the surveyed cell nearest each place along the floor, by `ndist`
     /// (eq. 1 here).
-    #[default]
     Ndist,
     /// The interpolated radio map's prediction at each place
     /// ([`crate::model::wifi_evidence_interpolated`]).
@@ -84,6 +83,7 @@ pub enum EvidenceSource {
     /// Within walking reach of a surveyed cell both `ndist` and the path-loss model (their
     /// log-ratios added: the nearest fingerprint and the access points' geometry read the
     /// scan differently), beyond it the path-loss model alone.
+    #[default]
     Combined,
 }
 

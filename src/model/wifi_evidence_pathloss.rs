@@ -73,7 +73,11 @@ pub struct PathLossEvidence {
 /// scan hears no modelled access point.
 fn statistics(model: &PathLossMap, scan: &WifiScan) -> Option<Vec<Option<f64>>> {
     let ll = model.log_likelihoods(scan)?;
-    let best = ll.iter().flatten().copied().fold(f64::NEG_INFINITY, f64::max);
+    let best = ll
+        .iter()
+        .flatten()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max);
     let k = (model.heard(scan).max(1) as f64).sqrt();
     Some(ll.into_iter().map(|l| l.map(|l| (l - best) / k)).collect())
 }
@@ -102,7 +106,11 @@ impl PathLossEvidence {
             .iter()
             .filter(|&&c| map.cells[c].radio.scans == 1)
             .count();
-        let most_scans = if singles >= config.min_pairs { 1 } else { u32::MAX };
+        let most_scans = if singles >= config.min_pairs {
+            1
+        } else {
+            u32::MAX
+        };
         let mut stand_ins: Vec<usize> = surveyed
             .iter()
             .copied()
@@ -110,7 +118,9 @@ impl PathLossEvidence {
             .collect();
         if stand_ins.len() > MAX_STAND_INS {
             let n = stand_ins.len();
-            stand_ins = (0..MAX_STAND_INS).map(|i| stand_ins[i * n / MAX_STAND_INS]).collect();
+            stand_ins = (0..MAX_STAND_INS)
+                .map(|i| stand_ins[i * n / MAX_STAND_INS])
+                .collect();
         }
         let far_m = config.far_cells * cell_m;
         let scored: Vec<(Option<f64>, Vec<f64>)> = stand_ins
@@ -224,7 +234,12 @@ mod tests {
             })
             .filter(|(_, r)| *r > -90.0)
             .enumerate()
-            .map(|(i, (b, r))| (b, (r + wobble * if i % 2 == 0 { 1.0 } else { -1.0 }).round()))
+            .map(|(i, (b, r))| {
+                (
+                    b,
+                    (r + wobble * if i % 2 == 0 { 1.0 } else { -1.0 }).round(),
+                )
+            })
             .collect();
         let refs: Vec<(&str, f64)> = readings.iter().map(|(b, r)| (b.as_str(), *r)).collect();
         WifiScan::from_readings(0.0, &refs)
@@ -242,7 +257,9 @@ mod tests {
                 RadioMapCell {
                     id: format!("0-{i}-0"),
                     level: 0,
-                    area: Rect::new((x - 1.5, 0.0), (x + 1.5, 3.0)).to_polygon().into(),
+                    area: Rect::new((x - 1.5, 0.0), (x + 1.5, 3.0))
+                        .to_polygon()
+                        .into(),
                     radio,
                 }
             })

@@ -379,13 +379,26 @@ fn survey_and_track_write_the_radio_figures_and_refuse_what_they_cannot_use() {
         .stdout(predicate::str::contains("evidence measurements"));
     let rf = &json(&run.join("summary.json"))["rf"];
     assert_eq!(rf["mode"], "evidence", "{rf}");
+    // The default evidence: the nearest fingerprint within reach of the survey, the
+    // path-loss model everywhere.
     let evidence = &rf["evidence"];
+    assert_eq!(evidence["source"], "combined", "{evidence}");
+    let ndist = &evidence["ndist"];
     assert!(
-        evidence["bands_used"].as_u64().expect("bands") >= 1,
+        ndist["bands_used"].as_u64().expect("bands") >= 1,
         "{evidence}"
     );
     assert!(
-        evidence["cells_in_reach"].as_u64() < evidence["cells"].as_u64(),
+        ndist["cells_in_reach"].as_u64() < ndist["cells"].as_u64(),
+        "{evidence}"
+    );
+    let pathloss = &evidence["pathloss"];
+    assert!(
+        pathloss["model"]["access_points"].as_u64().expect("APs") > 0,
+        "{evidence}"
+    );
+    assert!(
+        pathloss["median_here"].as_f64() > pathloss["median_elsewhere"].as_f64(),
         "{evidence}"
     );
     let steps = std::fs::read_to_string(other.join("steps.csv"))

@@ -40,9 +40,12 @@
 //! access point is read on several levels (clamped to [0, 40] dB), else `level_loss_db`
 //! (ITU-R P.1238's order for one concrete floor).
 
+mod fit;
+
 use crate::error::{Error, Result};
 use crate::map::RadioMap;
 use crate::sensor::WifiScan;
+use fit::{fit_one, monotone_shares};
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
@@ -126,11 +129,36 @@ impl PathLossConfig {
             "",
         )?;
         check_range("pathloss.min_cells", self.min_cells as f64, 3.0..=1e4, "")?;
-        check_range("pathloss.max_offset_m", self.max_offset_m, 1.0..=1e4, "metres")?;
-        check_range("pathloss.search_step_m", self.search_step_m, 0.1..=1e3, "metres")?;
-        check_range("pathloss.reference_m", self.reference_m, 0.01..=100.0, "metres")?;
-        check_range("pathloss.variance_floor", self.variance_floor, 0.01..=1e4, "dB²")?;
-        check_range("pathloss.scan_variance", self.scan_variance, 0.0..=1e4, "dB²")?;
+        check_range(
+            "pathloss.max_offset_m",
+            self.max_offset_m,
+            1.0..=1e4,
+            "metres",
+        )?;
+        check_range(
+            "pathloss.search_step_m",
+            self.search_step_m,
+            0.1..=1e3,
+            "metres",
+        )?;
+        check_range(
+            "pathloss.reference_m",
+            self.reference_m,
+            0.01..=100.0,
+            "metres",
+        )?;
+        check_range(
+            "pathloss.variance_floor",
+            self.variance_floor,
+            0.01..=1e4,
+            "dB²",
+        )?;
+        check_range(
+            "pathloss.scan_variance",
+            self.scan_variance,
+            0.0..=1e4,
+            "dB²",
+        )?;
         check_range(
             "pathloss.detection_bin_db",
             self.detection_bin_db,
@@ -138,7 +166,12 @@ impl PathLossConfig {
             "dB",
         )?;
         check_range("pathloss.level_m", self.level_m, 0.0..=100.0, "metres")?;
-        check_range("pathloss.level_loss_db", self.level_loss_db, 0.0..=MAX_LEVEL_LOSS, "dB")
+        check_range(
+            "pathloss.level_loss_db",
+            self.level_loss_db,
+            0.0..=MAX_LEVEL_LOSS,
+            "dB",
+        )
     }
 }
 
@@ -377,7 +410,11 @@ impl PathLossMap {
         let heard: Vec<(&ApModel, f64)> = scan
             .readings
             .iter()
-            .filter_map(|r| self.columns.get(&r.bssid).map(|&i| (&self.models[i], r.rssi)))
+            .filter_map(|r| {
+                self.columns
+                    .get(&r.bssid)
+                    .map(|&i| (&self.models[i], r.rssi))
+            })
             .collect();
         if heard.is_empty() {
             return None;
@@ -406,260 +443,5 @@ impl PathLossMap {
     }
 }
 
-/// The least-squares non-decreasing fit of `heard[i] / scans[i]` weighted by `scans[i]` (pool
-/// adjacent violators), over the bins with scans; a bin without scans takes the share of the
-/// nearest bin below that has some (the lowest ones, the first share; all 0 without scans).
-fn monotone_shares(heard: &[f64], scans: &[f64]) -> Vec<f64> {
-    // Blocks of (share, weight, bins with scans).
-    let mut blocks: Vec<(f64, f64, usize)> = Vec::new();
-    for (&h, &n) in heard.iter().zip(scans) {
-        if n <= 0.0 {
-            continue;
-        }
-        blocks.push((h / n, n, 1));
-        while blocks.len() > 1 && blocks[blocks.len() - 2].0 > blocks[blocks.len() - 1].0 {
-            let (p2, w2, k2) = blocks.pop().expect("two blocks");
-            let (p1, w1, k1) = blocks.pop().expect("two blocks");
-            blocks.push(((p1 * w1 + p2 * w2) / (w1 + w2), w1 + w2, k1 + k2));
-        }
-    }
-    let mut fitted = blocks.iter().flat_map(|&(p, _, k)| std::iter::repeat_n(p, k));
-    let first = blocks.first().map_or(0.0, |b| b.0);
-    let mut last = first;
-    scans
-        .iter()
-        .map(|&n| {
-            if n > 0.0 {
-                last = fitted.next().unwrap_or(last);
-            }
-            last
-        })
-        .collect()
-}
-
-/// Eq. (2) for one access point: a coarse search (the first candidate of each
-/// `search_step_m` square), then every candidate within 1.5 squares of the [`REFINED`] best
-/// coarse ones.
-fn fit_one(centres: &[(f64, f64, i32)], readings: &Readings, config: &PathLossConfig) -> ApModel {
-    let &(loudest, ..) = readings
-        .iter()
-        .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
-        .expect("an access point has readings");
-    let (lx, ly, level) = centres[loudest];
-    let candidates: Vec<usize> = (0..centres.len())
-        .filter(|&g| {
-            let (gx, gy, glevel) = centres[g];
-            glevel == level && gx.is_finite() && (gx - lx).hypot(gy - ly) <= config.max_offset_m
-        })
-        .collect();
-    let mut rows = Vec::with_capacity(readings.len());
-    let mut fit_at = |g: usize| {
-        let (gx, gy, glevel) = centres[g];
-        rows.clear();
-        rows.extend(readings.iter().map(|&(c, rssi, w)| {
-            let (x, y, l) = centres[c];
-            let levels = f64::from((l - glevel).abs());
-            let d = (x - gx).hypot(y - gy).hypot(levels * config.level_m);
-            Row {
-                log_d: d.max(config.reference_m).log10(),
-                levels,
-                rssi,
-                w,
-            }
-        }));
-        let (model, sse) = regress(&rows, config);
-        let model = ApModel {
-            x: gx,
-            y: gy,
-            level: glevel,
-            ..model
-        };
-        (sse, model)
-    };
-    let step = config.search_step_m;
-    let mut squares = rustc_hash::FxHashSet::default();
-    let mut coarse: Vec<(f64, ApModel)> = candidates
-        .iter()
-        .filter(|&&g| {
-            let (x, y, _) = centres[g];
-            squares.insert(((x / step).floor() as i64, (y / step).floor() as i64))
-        })
-        .map(|&g| fit_at(g))
-        .collect();
-    coarse.sort_by(|a, b| a.0.total_cmp(&b.0));
-    coarse.truncate(REFINED);
-    let mut best: Option<(f64, ApModel)> = coarse.first().copied();
-    for &g in &candidates {
-        let (gx, gy, _) = centres[g];
-        if coarse.iter().any(|(_, m)| (gx - m.x).hypot(gy - m.y) <= 1.5 * step) {
-            let fit = fit_at(g);
-            if best.as_ref().is_none_or(|(b, _)| fit.0 < *b) {
-                best = Some(fit);
-            }
-        }
-    }
-    best.map_or(
-        ApModel {
-            x: lx,
-            y: ly,
-            level,
-            a: readings.iter().map(|r| r.1).fold(f64::MIN, f64::max),
-            slope: -10.0 * config.min_exponent,
-            level_loss: config.level_loss_db,
-            variance: config.variance_floor + config.scan_variance,
-        },
-        |(_, m)| m,
-    )
-}
-
-/// One cell's reading of an access point, seen from a candidate position.
-#[derive(Debug, Clone, Copy)]
-struct Row {
-    log_d: f64,
-    levels: f64,
-    rssi: f64,
-    w: f64,
-}
-
-/// The weighted least-squares fit of `rssi = A + s · log_d − F · levels` (the slope clamped,
-/// `F` fitted only where the readings span levels) and its weighted mean squared residual.
-/// The returned model's position is left at the origin.
-fn regress(rows: &[Row], config: &PathLossConfig) -> (ApModel, f64) {
-    let total: f64 = rows.iter().map(|r| r.w).sum();
-    let mean = |f: &dyn Fn(&Row) -> f64| rows.iter().map(|r| r.w * f(r)).sum::<f64>() / total;
-    let (mx, ml, mr) = (mean(&|r| r.log_d), mean(&|r| r.levels), mean(&|r| r.rssi));
-    let sxx = mean(&|r| (r.log_d - mx).powi(2));
-    let sll = mean(&|r| (r.levels - ml).powi(2));
-    let sxl = mean(&|r| (r.log_d - mx) * (r.levels - ml));
-    let sxr = mean(&|r| (r.log_d - mx) * (r.rssi - mr));
-    let slr = mean(&|r| (r.levels - ml) * (r.rssi - mr));
-    let (lo, hi) = (-10.0 * config.max_exponent, -10.0 * config.min_exponent);
-    let det = sxx * sll - sxl * sxl;
-    // With readings on several levels, both coefficients (rssi falls with levels: −F);
-    // else the slope alone and the configured loss per level.
-    let (slope, level_loss) = if sll > 1e-9 && det > 1e-12 {
-        let slope = ((sll * sxr - sxl * slr) / det).clamp(lo, hi);
-        let fitted = if sll > 0.0 { -(slr - slope * sxl) / sll } else { 0.0 };
-        (slope, fitted.clamp(0.0, MAX_LEVEL_LOSS))
-    } else if sxx > 0.0 {
-        ((sxr / sxx).clamp(lo, hi), config.level_loss_db)
-    } else {
-        (hi, config.level_loss_db)
-    };
-    let a = mr - slope * mx + level_loss * ml;
-    let sse = mean(&|r| (r.rssi - a - slope * r.log_d + level_loss * r.levels).powi(2));
-    let model = ApModel {
-        x: 0.0,
-        y: 0.0,
-        level: 0,
-        a,
-        slope,
-        level_loss,
-        variance: sse.max(config.variance_floor) + config.scan_variance,
-    };
-    (model, sse)
-}
-
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::map::radio_map::{CellRadio, RadioMapCell};
-    use geo::{MultiPolygon, Rect};
-
-    /// A 20 × 20 grid of 2 m cells; access points at (5, 5) and (35, 30) with exponent 3,
-    /// surveyed only in the grid's western half (x < 20), one scan per cell.
-    fn half_surveyed() -> RadioMap {
-        let aps = [("west", 5.0, 5.0), ("east", 35.0, 30.0)];
-        let mut cells = Vec::new();
-        for i in 0..20 {
-            for j in 0..20 {
-                let (x, y) = (2.0 * f64::from(i) + 1.0, 2.0 * f64::from(j) + 1.0);
-                let mut radio = CellRadio::default();
-                if x < 20.0 {
-                    let readings: Vec<(&str, f64)> = aps
-                        .iter()
-                        .map(|&(b, ax, ay)| {
-                            let d = (x - ax).hypot(y - ay).max(1.0);
-                            (b, -35.0 - 30.0 * d.log10())
-                        })
-                        .filter(|&(_, r)| r > -90.0)
-                        .collect();
-                    radio.add_scan(&WifiScan::from_readings(0.0, &readings));
-                }
-                let area = Rect::new((x - 1.0, y - 1.0), (x + 1.0, y + 1.0)).to_polygon();
-                cells.push(RadioMapCell {
-                    id: format!("0-{i}-{j}"),
-                    level: 0,
-                    area: MultiPolygon(vec![area]),
-                    radio,
-                });
-            }
-        }
-        RadioMap {
-            cells,
-            ..Default::default()
-        }
-    }
-
-    fn likeliest(map: &PathLossMap, scan: &WifiScan) -> (f64, f64) {
-        let ll = map.log_likelihoods(scan).expect("modelled");
-        let best = ll
-            .iter()
-            .enumerate()
-            .filter_map(|(c, l)| l.map(|l| (c, l)))
-            .max_by(|a, b| a.1.total_cmp(&b.1))
-            .expect("a cell")
-            .0;
-        (map.centres[best].0, map.centres[best].1)
-    }
-
-    #[test]
-    fn access_points_are_found_beyond_the_survey() {
-        let map = PathLossMap::fit(&half_surveyed(), &PathLossConfig::default()).expect("fit");
-        assert_eq!(map.access_points(), 2);
-        let east = map.models[map.columns["east"]];
-        // The eastern access point lies 15 m beyond the surveyed half: found within a cell or two.
-        assert!((east.x - 35.0).hypot(east.y - 30.0) < 4.0, "{east:?}");
-        assert!((east.slope + 30.0).abs() < 3.0, "{east:?}");
-        let west = map.models[map.columns["west"]];
-        assert!((west.x - 5.0).hypot(west.y - 5.0) < 2.0, "{west:?}");
-    }
-
-    #[test]
-    fn a_scan_where_nobody_surveyed_is_placed_there() {
-        let map = PathLossMap::fit(&half_surveyed(), &PathLossConfig::default()).expect("fit");
-        // A scan at (31, 27), in the unsurveyed half, near the eastern access point.
-        let (x, y) = (31.0f64, 27.0f64);
-        let rssi = |ax: f64, ay: f64| -35.0 - 30.0 * (x - ax).hypot(y - ay).log10();
-        let scan =
-            WifiScan::from_readings(0.0, &[("west", rssi(5.0, 5.0)), ("east", rssi(35.0, 30.0))]);
-        let (px, py) = likeliest(&map, &scan);
-        assert!((px - x).hypot(py - y) < 6.0, "placed at ({px}, {py})");
-        // A scan of access points nobody modelled: no likelihood.
-        assert!(map.log_likelihoods(&WifiScan::from_readings(0.0, &[("x", -50.0)])).is_none());
-    }
-
-    #[test]
-    fn detection_shares_are_pooled_where_they_fall() {
-        // Bins: empty, 1/10, 5/10, 3/10 (a violation, pooled with the one before: 8/20),
-        // empty, 9/10.
-        let heard = [0.0, 1.0, 5.0, 3.0, 0.0, 9.0];
-        let scans = [0.0, 10.0, 10.0, 10.0, 0.0, 10.0];
-        let shares = monotone_shares(&heard, &scans);
-        let want = [0.1, 0.1, 0.4, 0.4, 0.4, 0.9];
-        for (got, want) in shares.iter().zip(want) {
-            assert!((got - want).abs() < 1e-12, "{shares:?}");
-        }
-        assert_eq!(monotone_shares(&[0.0; 3], &[0.0; 3]), vec![0.0; 3]);
-    }
-
-    #[test]
-    fn a_map_without_enough_readings_is_refused() {
-        let mut map = half_surveyed();
-        for cell in &mut map.cells[3..] {
-            cell.radio = CellRadio::default();
-        }
-        let err = PathLossMap::fit(&map, &PathLossConfig::default()).unwrap_err();
-        assert!(err.to_string().contains("cells or more"), "{err}");
-    }
-}
+mod tests;
