@@ -358,17 +358,26 @@ impl RfLocaliser {
                     PathLossEvidence::calibrate(map, &config.pathloss, &config.evidence)
                         .map(|e| Evidence::PathLoss(Box::new(e)))
                 }
-                EvidenceSource::Combined => RadioEvidence::calibrate(
-                    map,
-                    &prints,
-                    &raster,
-                    &config.evidence,
-                )
-                .and_then(|nd| {
-                    let pl = PathLossEvidence::calibrate(map, &config.pathloss, &config.evidence)?;
-                    let reach = nd.in_reach();
-                    Ok(Evidence::Combined(nd, Box::new(pl), reach))
-                }),
+                EvidenceSource::Combined => {
+                    RadioEvidence::calibrate(map, &prints, &raster, &config.evidence)
+                        // The nearest fingerprints alone where the path-loss model cannot be
+                        // calibrated (a map this small barely reaches beyond its survey); the
+                        // report's `source` says which.
+                        .and_then(|nd| {
+                            match PathLossEvidence::calibrate(
+                                map,
+                                &config.pathloss,
+                                &config.evidence,
+                            ) {
+                                Ok(pl) => {
+                                    let reach = nd.in_reach();
+                                    Ok(Evidence::Combined(nd, Box::new(pl), reach))
+                                }
+                                Err(Error::NotEnough { .. }) => Ok(Evidence::Ndist(nd)),
+                                Err(e) => Err(e),
+                            }
+                        })
+                }
             };
             match calibrated {
                 Ok(e) => evidence = Some(e),
