@@ -1,11 +1,13 @@
 //! The radio map used alone, the baseline a map-aided tracker must beat. Two methods:
 //!
-//! * `interpolated` (the default): the `k` most likely cells of the interpolated radio map
+//! * `interpolated`: the `k` most likely cells of the interpolated radio map
 //!   ([`crate::model::radio_interpolation`], a Gaussian process per access point after Ferris,
 //!   Hähnel & Fox 2006), each reading Gaussian about the cell's predicted mean with its
 //!   predicted variance; candidates are every cell the survey predicts, surveyed or not, so a
 //!   scan taken between surveyed places lands between them. The scan is placed at the mean
 //!   of their centroids; the level is the most likely cell's.
+//! * `auto` (the default): `pathloss` on a map that covers less than `auto_below_coverage`
+//!   of its cells (ordinary walks), else `interpolated`.
 //! * `pathloss`: the `k` most likely cells under a log-distance path-loss model per access
 //!   point ([`crate::model::radio_pathloss`]), every cell of the map a candidate: it reaches
 //!   beyond the survey, where later walks mostly go.
@@ -34,7 +36,8 @@ use serde::{Deserialize, Serialize};
 /// | `min_scans`    | 1       | cells with fewer scans are not candidates                  |
 /// | `distance`     | `sqrt`  | `ndist`'s divisor: `paper` (k) or `sqrt` (√k)              |
 /// | `min_common`   | 1       | fewest of a scan's access points the map must know         |
-/// | `method`       | `interpolated` | `interpolated` (likeliest cells of the GP map), `pathloss` or `ndist` |
+/// | `method`       | `auto`  | `auto`, `pathloss` (likeliest cells under a path-loss model), `interpolated` (of the GP map) or `ndist` |
+/// | `auto_below_coverage` | 0.6 | `auto` is `pathloss` on maps whose surveyed share of cells is below this, else `interpolated` |
 /// | `interpolation`| see [`InterpolationConfig`] | the interpolated map's parameters   |
 /// | `pathloss`     | see [`PathLossConfig`] | the path-loss model's parameters         |
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -54,6 +57,8 @@ pub struct FingerprintConfig {
     pub min_common: usize,
     /// How cells are ranked.
     pub method: FingerprintMethod,
+    /// The surveyed share of cells below which `auto` uses `pathloss`.
+    pub auto_below_coverage: f64,
     /// The interpolated map's parameters (method `interpolated`).
     pub interpolation: InterpolationConfig,
     /// The path-loss model's parameters (method `pathloss`).
@@ -64,6 +69,10 @@ pub struct FingerprintConfig {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FingerprintMethod {
+    /// `pathloss` on a map whose surveyed share of cells is below `auto_below_coverage`
+    /// (ordinary walks: later scans mostly come from where nobody surveyed), else
+    /// `interpolated` (a survey that covers the floor: the interpolated map is sharper).
+    Auto,
     /// By likelihood on the interpolated radio map, surveyed and predicted cells alike.
     Interpolated,
     /// By likelihood under a path-loss model per access point, every cell a candidate.
@@ -82,7 +91,8 @@ impl Default for FingerprintConfig {
             min_scans: 1,
             distance: Normalisation::Sqrt,
             min_common: 1,
-            method: FingerprintMethod::PathLoss,
+            method: FingerprintMethod::Auto,
+            auto_below_coverage: 0.6,
             interpolation: InterpolationConfig::default(),
             pathloss: PathLossConfig::default(),
         }
@@ -101,6 +111,12 @@ impl FingerprintConfig {
         use crate::error::check_range;
         self.interpolation.validate()?;
         self.pathloss.validate()?;
+        check_range(
+            "fingerprint.auto_below_coverage",
+            self.auto_below_coverage,
+            0.0..=1.0,
+            "",
+        )?;
         check_range("fingerprint.k", self.k as f64, 1.0..=100.0, "")?;
         check_range(
             "fingerprint.delta",
@@ -198,6 +214,20 @@ impl NearestFingerprint {
             ));
         }
         let centres = map.cell_centres();
+        let mut config = config.clone();
+        if config.method == FingerprintMethod::Auto {
+            let surveyed = map
+                .cells
+                .iter()
+                .filter(|c| c.radio.scans >= config.min_scans.max(1))
+                .count();
+            let coverage = surveyed as f64 / map.cells.len() as f64;
+            config.method = if coverage < config.auto_below_coverage {
+                FingerprintMethod::PathLoss
+            } else {
+                FingerprintMethod::Interpolated
+            };
+        }
         let interpolation = match config.method {
             FingerprintMethod::Interpolated => Some(RadioInterpolation::new(
                 map,
@@ -205,7 +235,7 @@ impl NearestFingerprint {
                 config.min_scans,
                 &config.interpolation,
             )?),
-            FingerprintMethod::Ndist | FingerprintMethod::PathLoss => None,
+            _ => None,
         };
         let pathloss = match config.method {
             FingerprintMethod::PathLoss => Some(PathLossMap::fit(map, &config.pathloss)?),
@@ -217,8 +247,14 @@ impl NearestFingerprint {
             prints: Fingerprints::new(map, config.missing_rssi, config.min_scans, config.distance),
             centres,
             bssids: map.access_points().into_iter().map(str::to_owned).collect(),
-            config: config.clone(),
+            config,
         })
+    }
+
+    /// The method in use (never [`FingerprintMethod::Auto`]).
+    #[must_use]
+    pub fn method(&self) -> FingerprintMethod {
+        self.config.method
     }
 
     /// The interpolated map's kernel (method `interpolated`).
@@ -414,7 +450,7 @@ mod tests {
         let scan = WifiScan::from_readings(1.0, &readings);
         let fix = nf.locate(&scan).expect("fix");
         assert!((24.0..=30.0).contains(&fix.x), "{fix:?} {fit:?}");
-        // The path-loss model (the default method) places it in the gap too.
+        // The path-loss model places it in the gap too.
         let pathloss = NearestFingerprint::new(
             &map,
             &FingerprintConfig {

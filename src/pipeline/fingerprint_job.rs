@@ -41,6 +41,8 @@ pub struct FingerprintReport {
     pub placed: usize,
     /// Scans that share no access point with the map.
     pub unplaced: usize,
+    /// The method used (`auto` resolved).
+    pub method: crate::filter::FingerprintMethod,
     /// The interpolated map's kernel, fitted on the map's survey (method `interpolated`).
     pub interpolation: Option<crate::model::VariogramFit>,
     /// The path-loss model's fit on the map's survey (method `pathloss`).
@@ -109,6 +111,7 @@ pub fn run_fingerprint(
         duplicate_readings: request.duplicate_readings,
         placed: fixes.len(),
         unplaced: wifi.value.len() - fixes.len(),
+        method: localiser.method(),
         interpolation: localiser.interpolation_fit(),
         pathloss: localiser.pathloss_summary(),
         version: env!("CARGO_PKG_VERSION"),

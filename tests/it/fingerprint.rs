@@ -58,12 +58,15 @@ fn places_scans_near_the_truth_and_refuses_another_building() {
     // Placed on the map's own walk: 3 m cells, median within a cell, every scan on its floor.
     assert!(v["track"]["p50"].as_f64().expect("p50") < 3.0, "{v}");
     assert!(v["floor_accuracy"].as_f64().expect("floors") > 0.9, "{v}");
-    // The default ranks cells by a path-loss model per access point, fitted on the survey.
+    // The default (`auto`) picks by the survey's coverage — this walk surveys under 60 % of
+    // the tower's cells: the path-loss model per access point — and reports its fit.
     let summary = |dir: &Path| -> serde_json::Value {
         let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary");
         serde_json::from_str(&text).expect("json")
     };
-    let fit = &summary(&fp)["pathloss"];
+    let report = summary(&fp);
+    assert_eq!(report["method"], "pathloss", "{report}");
+    let fit = &report["pathloss"];
     assert!(fit["access_points"].as_u64().expect("APs") > 0, "{fit}");
     let n = fit["median_exponent"].as_f64().expect("n");
     assert!((1.5..=5.0).contains(&n), "{fit}");
