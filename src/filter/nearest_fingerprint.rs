@@ -439,6 +439,9 @@ mod tests {
         };
         let nf = NearestFingerprint::new(&map, &config).expect("localiser");
         let fit = nf.interpolation_fit().expect("interpolated");
+        // A survey of 27 of 30 cells: `auto` takes the interpolated map.
+        let auto = NearestFingerprint::new(&map, &FingerprintConfig::default()).expect("auto");
+        assert_eq!(auto.method(), FingerprintMethod::Interpolated);
         assert!(fit.pairs > 0 && fit.noise_within_cells, "{fit:?}");
         // A scan at 27 m, 4 m from any surveyed cell: placed in the gap (on an unsurveyed
         // cell), where the surveyed cells alone (method `ndist`) can only put it at its edge.
@@ -455,6 +458,7 @@ mod tests {
             &map,
             &FingerprintConfig {
                 k: 1,
+                method: FingerprintMethod::PathLoss,
                 ..Default::default()
             },
         )
