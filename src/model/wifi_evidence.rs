@@ -222,6 +222,55 @@ impl LogRatio {
     }
 }
 
+/// Checks that the model-based sources' calibration has `min_pairs` scores of each kind —
+/// stand-ins at their own place (`here`, described by `what[0]`) and far from it (`far`,
+/// `what[1]`) — and thins both to [`MAX_PAIRS`].
+///
+/// # Errors
+///
+/// [`Error::NotEnough`] naming the kind that falls short.
+pub(crate) fn enough_scores(
+    here: &mut Vec<f64>,
+    far: &mut Vec<f64>,
+    config: &EvidenceConfig,
+    what: [&str; 2],
+) -> Result<()> {
+    if here.len() < config.min_pairs || far.len() < config.min_pairs {
+        let (n, what) = if here.len() < config.min_pairs {
+            (here.len(), what[0])
+        } else {
+            (far.len(), what[1])
+        };
+        return Err(Error::not_enough(
+            format!(
+                "the radio map has {n} {what} (at least {} are needed to calibrate the radio evidence)",
+                config.min_pairs
+            ),
+            "survey more of the building, or use --rf-mode containment",
+        ));
+    }
+    thin(here);
+    thin(far);
+    Ok(())
+}
+
+/// Eq. (2) of the model-based sources from scores `x` (larger: likelier) here and far,
+/// tabulated on `D = top − x` in [`STATISTIC_STEPS`] steps down to the least score.
+pub(crate) fn ratio_of_scores(
+    here: &[f64],
+    far: &[f64],
+    top: f64,
+    config: &EvidenceConfig,
+) -> LogRatio {
+    let bottom = here.iter().chain(far).copied().fold(f64::MAX, f64::min);
+    let step = ((top - bottom) / STATISTIC_STEPS).max(1e-9);
+    let to_d = |v: &[f64]| v.iter().map(|x| top - x).collect::<Vec<f64>>();
+    LogRatio::fit_on(&to_d(here), &to_d(far), config, step)
+}
+
+/// Table steps over the model-based sources' score range.
+const STATISTIC_STEPS: f64 = 1000.0;
+
 /// A Gaussian kernel density of samples (Silverman's rule of thumb).
 struct Density<'a> {
     samples: &'a [f64],

@@ -25,15 +25,14 @@
 //! not know (no survey near enough to explain half its prior variance) gets `Λ = 1`: the
 //! scan neither favours nor excludes it.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::map::RadioMap;
 use crate::model::radio_interpolation::{InterpolationConfig, RadioInterpolation};
-use crate::model::wifi_evidence::{EvidenceConfig, LogRatio, cell_size, median, thin};
+use crate::model::wifi_evidence::{
+    EvidenceConfig, LogRatio, cell_size, enough_scores, median, ratio_of_scores,
+};
 use crate::sensor::WifiScan;
 use serde::Serialize;
-
-/// Table steps over the calibration samples' range.
-const TABLE_STEPS: f64 = 1000.0;
 
 /// What the calibration found, for the run's summary.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -129,22 +128,15 @@ impl InterpolatedEvidence {
                 }
             }
         }
-        if here.len() < config.min_pairs || far.len() < config.min_pairs {
-            let (n, what) = if here.len() < config.min_pairs {
-                (here.len(), "surveyed cells the rest of the survey predicts")
-            } else {
-                (far.len(), "known cells far from a surveyed cell")
-            };
-            return Err(Error::not_enough(
-                format!(
-                    "the radio map has {n} {what} (at least {} are needed to calibrate the radio evidence)",
-                    config.min_pairs
-                ),
-                "survey more of the building, or use --rf-mode containment",
-            ));
-        }
-        thin(&mut here);
-        thin(&mut far);
+        enough_scores(
+            &mut here,
+            &mut far,
+            config,
+            [
+                "surveyed cells the rest of the survey predicts",
+                "known cells far from a surveyed cell",
+            ],
+        )?;
         let calibration = InterpolatedCalibration {
             cells: map.cells.len(),
             surveyed_cells: held_out.len(),
@@ -159,10 +151,7 @@ impl InterpolatedEvidence {
             elsewhere_cells,
         };
         let top = here.iter().chain(&far).copied().fold(f64::MIN, f64::max);
-        let bottom = here.iter().chain(&far).copied().fold(f64::MAX, f64::min);
-        let step = ((top - bottom) / TABLE_STEPS).max(1e-9);
-        let to_d = |v: &[f64]| v.iter().map(|x| top - x).collect::<Vec<f64>>();
-        let ratio = LogRatio::fit_on(&to_d(&here), &to_d(&far), config, step);
+        let ratio = ratio_of_scores(&here, &far, top, config);
         Ok(Self {
             map: gp,
             ratio,

@@ -25,16 +25,16 @@
 //! (three or four numbers per access point over tens of cells, so one cell barely moves
 //! it); a scan of no modelled access point gives `Λ = 1` everywhere.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::map::RadioMap;
 use crate::model::radio_pathloss::{PathLossConfig, PathLossMap, PathLossSummary};
-use crate::model::wifi_evidence::{EvidenceConfig, LogRatio, cell_size, median, thin};
+use crate::model::wifi_evidence::{
+    EvidenceConfig, LogRatio, cell_size, enough_scores, median, ratio_of_scores,
+};
 use crate::sensor::{WifiReading, WifiScan};
 use rayon::prelude::*;
 use serde::Serialize;
 
-/// Table steps over the calibration samples' range.
-const TABLE_STEPS: f64 = 1000.0;
 /// Most stand-in scans scored (evenly chosen among the surveyed cells).
 const MAX_STAND_INS: usize = 600;
 
@@ -160,22 +160,15 @@ impl PathLossEvidence {
             .collect();
         let mut here: Vec<f64> = scored.iter().filter_map(|s| s.0).collect();
         let mut far: Vec<f64> = scored.into_iter().flat_map(|s| s.1).collect();
-        if here.len() < config.min_pairs || far.len() < config.min_pairs {
-            let (n, what) = if here.len() < config.min_pairs {
-                (here.len(), "surveyed cells the path-loss model scores")
-            } else {
-                (far.len(), "cells far from a surveyed cell")
-            };
-            return Err(Error::not_enough(
-                format!(
-                    "the radio map has {n} {what} (at least {} are needed to calibrate the radio evidence)",
-                    config.min_pairs
-                ),
-                "survey more of the building, or use --rf-mode containment",
-            ));
-        }
-        thin(&mut here);
-        thin(&mut far);
+        enough_scores(
+            &mut here,
+            &mut far,
+            config,
+            [
+                "surveyed cells the path-loss model scores",
+                "cells far from a surveyed cell",
+            ],
+        )?;
         let calibration = PathLossCalibration {
             cells: map.cells.len(),
             surveyed_cells: surveyed.len(),
@@ -187,11 +180,8 @@ impl PathLossEvidence {
             median_elsewhere: median(&far),
             elsewhere_cells: config.far_cells,
         };
-        // The table's argument is −x ≥ 0 (smaller: likelier).
-        let bottom = here.iter().chain(&far).copied().fold(0.0, f64::min);
-        let step = (-bottom / TABLE_STEPS).max(1e-9);
-        let negate = |v: &[f64]| v.iter().map(|x| -x).collect::<Vec<f64>>();
-        let ratio = LogRatio::fit_on(&negate(&here), &negate(&far), config, step);
+        // Every score is at most 0 (the likeliest cell's): the table's argument is −x.
+        let ratio = ratio_of_scores(&here, &far, 0.0, config);
         Ok(Self {
             model,
             ratio,
