@@ -296,6 +296,6 @@ mod tests {
             &EvidenceConfig::default(),
         )
         .unwrap_err();
-        assert!(matches!(err, Error::NotEnough { .. }), "{err}");
+        assert!(matches!(err, crate::Error::NotEnough { .. }), "{err}");
     }
 }
