@@ -82,8 +82,8 @@ impl InterpolatedEvidence {
     ///
     /// # Errors
     ///
-    /// [`Error::Config`] when `config` or `interpolation` fail their checks;
-    /// [`Error::NotEnough`] when the map has no surveyed cell, or its surveyed cells give
+    /// [`Error::Config`](crate::Error::Config) when `config` or `interpolation` fail their checks;
+    /// [`Error::NotEnough`](crate::Error::NotEnough) when the map has no surveyed cell, or its surveyed cells give
     /// fewer than `min_pairs` scores at their own place or far away.
     pub fn calibrate(
         map: &RadioMap,

@@ -87,7 +87,7 @@ impl PathLossEvidence {
     ///
     /// # Errors
     ///
-    /// [`Error::Config`] when `config` or `pathloss` fail their checks; [`Error::NotEnough`]
+    /// [`Error::Config`](crate::Error::Config) when `config` or `pathloss` fail their checks; [`Error::NotEnough`](crate::Error::NotEnough)
     /// when no access point can be modelled, or the stand-ins give fewer than `min_pairs`
     /// scores at their own cell or far away.
     pub fn calibrate(
