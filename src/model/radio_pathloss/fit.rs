@@ -1,7 +1,7 @@
 //! Eqs. (2) and (3) of the path-loss model: each access point's position, level and slope,
 //! and the detection curve's monotone shares.
 
-use super::{ApModel, MAX_LEVEL_LOSS, PathLossConfig, REFINED, Readings};
+use super::{ApModel, MAX_LEVEL_LOSS, PathLossConfig, REFINED, Readings, distance};
 
 /// The least-squares non-decreasing fit of `heard[i] / scans[i]` weighted by `scans[i]` (pool
 /// adjacent violators), over the bins with scans; a bin without scans takes the share of the
@@ -62,7 +62,7 @@ pub(super) fn fit_one(
         rows.extend(readings.iter().map(|&(c, rssi, w)| {
             let (x, y, l) = centres[c];
             let levels = f64::from((l - glevel).abs());
-            let d = (x - gx).hypot(y - gy).hypot(levels * config.level_m);
+            let d = distance(x - gx, y - gy, levels * config.level_m);
             Row {
                 log_d: d.max(config.reference_m).log10(),
                 levels,

@@ -215,6 +215,13 @@ impl Detection {
     }
 }
 
+/// The distance of a horizontal offset `(dx, dy)` and a vertical one `dz` (the same bits as
+/// `dx.hypot(dy).hypot(dz)`, without the second `hypot` on one level).
+fn distance(dx: f64, dy: f64, dz: f64) -> f64 {
+    let h = dx.hypot(dy);
+    if dz == 0.0 { h } else { h.hypot(dz) }
+}
+
 /// What a [`PathLossMap`] fit found.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct PathLossSummary {
@@ -356,7 +363,7 @@ impl PathLossMap {
     fn mean_at(&self, m: &ApModel, c: usize) -> f64 {
         let (x, y, level) = self.centres[c];
         let levels = f64::from((level - m.level).abs());
-        let d = (x - m.x).hypot(y - m.y).hypot(levels * self.config.level_m);
+        let d = distance(x - m.x, y - m.y, levels * self.config.level_m);
         m.a + m.slope * d.max(self.config.reference_m).log10() - m.level_loss * levels
     }
 
@@ -407,13 +414,13 @@ impl PathLossMap {
     /// when the scan hears no modelled access point.
     #[must_use]
     pub fn log_likelihoods(&self, scan: &WifiScan) -> Option<Vec<Option<f64>>> {
-        let heard: Vec<(&ApModel, f64)> = scan
+        // Each heard access point's model, reading and ln σ² (the same for every cell).
+        let heard: Vec<(&ApModel, f64, f64)> = scan
             .readings
             .iter()
             .filter_map(|r| {
-                self.columns
-                    .get(&r.bssid)
-                    .map(|&i| (&self.models[i], r.rssi))
+                let m = &self.models[*self.columns.get(&r.bssid)?];
+                Some((m, r.rssi, m.variance.ln()))
             })
             .collect();
         if heard.is_empty() {
@@ -428,11 +435,11 @@ impl PathLossMap {
                         return None;
                     }
                     let mut ll = self.all_missed[c];
-                    for &(m, rssi) in &heard {
+                    for &(m, rssi, ln_variance) in &heard {
                         let mean = self.mean_at(m, c);
                         let b = self.detection.bin_of(mean);
                         let e = rssi - mean;
-                        ll += -0.5 * (e * e / m.variance + m.variance.ln() + ln_2pi)
+                        ll += -0.5 * (e * e / m.variance + ln_variance + ln_2pi)
                             + self.detection.ln_heard[b]
                             - self.detection.ln_missed[b];
                     }
