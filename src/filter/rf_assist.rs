@@ -229,7 +229,7 @@ enum Evidence {
     PathLoss(Box<PathLossEvidence>),
     /// Both on the cells in reach of the survey (marked), the path-loss model alone on the
     /// others.
-    Combined(RadioEvidence, Box<PathLossEvidence>, Vec<bool>),
+    Combined(RadioEvidence, Box<PathLossEvidence>),
 }
 
 /// What the radio evidence's calibration found, by what it compares a scan with.
@@ -254,12 +254,11 @@ pub enum EvidenceReport {
 }
 
 /// The combined evidence's `ln Λ` per cell: `near + far` on the cells in reach of the
-/// survey, `far` (the path-loss model's) on the others.
-fn combine(near: &[f32], far: &[f32], reach: &[bool]) -> Vec<f32> {
+/// survey (`near` judged), `far` (the path-loss model's) on the others.
+fn combine(near: &[Option<f32>], far: &[f32]) -> Vec<f32> {
     near.iter()
         .zip(far)
-        .zip(reach)
-        .map(|((&n, &f), &r)| if r { n + f } else { f })
+        .map(|(&n, &f)| n.map_or(f, |n| n + f))
         .collect()
 }
 
@@ -369,10 +368,7 @@ impl RfLocaliser {
                                 &config.pathloss,
                                 &config.evidence,
                             ) {
-                                Ok(pl) => {
-                                    let reach = nd.in_reach();
-                                    Ok(Evidence::Combined(nd, Box::new(pl), reach))
-                                }
+                                Ok(pl) => Ok(Evidence::Combined(nd, Box::new(pl))),
                                 Err(Error::NotEnough { .. }) => Ok(Evidence::Ndist(nd)),
                                 Err(e) => Err(e),
                             }
@@ -417,7 +413,7 @@ impl RfLocaliser {
             Evidence::Ndist(e) => EvidenceReport::Ndist(e.calibration().clone()),
             Evidence::Interpolated(e) => EvidenceReport::Interpolated(e.calibration().clone()),
             Evidence::PathLoss(e) => EvidenceReport::PathLoss(e.calibration().clone()),
-            Evidence::Combined(nd, pl, _) => EvidenceReport::Combined {
+            Evidence::Combined(nd, pl) => EvidenceReport::Combined {
                 ndist: nd.calibration().clone(),
                 pathloss: pl.calibration().clone(),
             },
@@ -477,10 +473,9 @@ impl RfLocaliser {
                 Evidence::Ndist(e) => e.log_ratios(&self.ndist(scan)),
                 Evidence::Interpolated(e) => e.log_ratios(scan),
                 Evidence::PathLoss(e) => e.log_ratios(scan),
-                Evidence::Combined(nd, pl, reach) => combine(
-                    &nd.log_ratios(&self.ndist(scan)),
+                Evidence::Combined(nd, pl) => combine(
+                    &nd.judged_log_ratios(&self.ndist(scan)),
                     &pl.log_ratios(scan),
-                    reach,
                 ),
             };
             let best = ratios.iter().copied().fold(f32::NEG_INFINITY, f32::max);
@@ -567,12 +562,8 @@ fn threshold(map: &RadioMap, config: &RfConfig) -> Result<(Normalisation, f64, E
 mod tests {
     #[test]
     fn combined_evidence_adds_both_in_reach_and_keeps_the_path_loss_beyond() {
-        let near = [0.5, -1.0, 0.0, 0.0];
+        let near = [Some(0.5), Some(-1.0), None, None];
         let far = [0.25, 0.25, -0.5, 1.0];
-        let reach = [true, true, false, false];
-        assert_eq!(
-            super::combine(&near, &far, &reach),
-            vec![0.75, -0.75, -0.5, 1.0]
-        );
+        assert_eq!(super::combine(&near, &far), vec![0.75, -0.75, -0.5, 1.0]);
     }
 }

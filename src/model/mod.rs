@@ -50,6 +50,8 @@ pub use scan_pairs::{PairLikelihood, ScanEvidence, ScanPairConfig, ScanPairsUnus
 pub use scan_references::{PlacedScan, ReferenceScans};
 pub use step_motion::{StepErrorState, StepMotion, StepMotionConfig};
 pub use transition_prior::{TransitionPrior, TransitionPriorConfig};
-pub use wifi_evidence::{EvidenceCalibration, EvidenceConfig, EvidenceSource, RadioEvidence};
+pub use wifi_evidence::{
+    EvidenceCalibration, EvidenceConfig, EvidenceSource, RadioEvidence, StandInScores,
+};
 pub use wifi_evidence_interpolated::{InterpolatedCalibration, InterpolatedEvidence};
 pub use wifi_evidence_pathloss::{PathLossCalibration, PathLossEvidence};

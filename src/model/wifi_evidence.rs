@@ -222,6 +222,43 @@ impl LogRatio {
     }
 }
 
+/// What the model-based sources' calibration scored (the last fields of their reports).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StandInScores {
+    /// Most scans of a surveyed cell whose fingerprint stood in for a scan (1 where enough
+    /// cells hold one scan, else every cell's).
+    pub stand_in_max_scans: u32,
+    /// Stand-ins scored at their own place ("here").
+    pub here_samples: usize,
+    /// Scores far from the stand-in's own place ("elsewhere").
+    pub elsewhere_samples: usize,
+    /// Median statistic `x` of each (eq. 1 of the source).
+    pub median_here: f64,
+    /// The same for the far places.
+    pub median_elsewhere: f64,
+    /// Centre distance from which a cell stood for "elsewhere", in cells.
+    pub elsewhere_cells: f64,
+}
+
+impl StandInScores {
+    /// The summary of the (checked, thinned) scores.
+    pub(crate) fn of(
+        here: &[f64],
+        far: &[f64],
+        stand_in_max_scans: u32,
+        elsewhere_cells: f64,
+    ) -> Self {
+        Self {
+            stand_in_max_scans,
+            here_samples: here.len(),
+            elsewhere_samples: far.len(),
+            median_here: median(here),
+            median_elsewhere: median(far),
+            elsewhere_cells,
+        }
+    }
+}
+
 /// Checks that the model-based sources' calibration has `min_pairs` scores of each kind —
 /// stand-ins at their own place (`here`, described by `what[0]`) and far from it (`far`,
 /// `what[1]`) — and thins both to [`MAX_PAIRS`].
@@ -477,25 +514,31 @@ impl RadioEvidence {
         &self.calibration
     }
 
-    /// Whether each cell is within walking reach of a surveyed cell (judged by it).
-    #[must_use]
-    pub fn in_reach(&self) -> Vec<bool> {
-        self.judge.iter().map(Option::is_some).collect()
-    }
-
     /// `ln Λ` (tempered) of a scan on every cell, from the scan's `ndist` to every cell
     /// ([`Fingerprints::ndist`]); 0 for cells out of reach.
     #[must_use]
     pub fn log_ratios(&self, ndist: &[Option<f64>]) -> Vec<f32> {
+        self.judged_log_ratios(ndist)
+            .into_iter()
+            .map(|r| r.unwrap_or(0.0))
+            .collect()
+    }
+
+    /// [`Self::log_ratios`] with `None` for the cells out of walking reach of the survey
+    /// (the cells it does not judge).
+    #[must_use]
+    pub fn judged_log_ratios(&self, ndist: &[Option<f64>]) -> Vec<Option<f32>> {
         self.judge
             .iter()
-            .map(|j| match j {
-                Some((s, band)) => ndist
-                    .get(*s as usize)
-                    .copied()
-                    .flatten()
-                    .map_or(0.0, |d| self.bands[*band as usize].at(d)),
-                None => 0.0,
+            .map(|j| {
+                let (s, band) = (*j)?;
+                Some(
+                    ndist
+                        .get(s as usize)
+                        .copied()
+                        .flatten()
+                        .map_or(0.0, |d| self.bands[band as usize].at(d)),
+                )
             })
             .collect()
     }

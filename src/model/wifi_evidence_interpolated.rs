@@ -29,7 +29,7 @@ use crate::error::Result;
 use crate::map::RadioMap;
 use crate::model::radio_interpolation::{InterpolationConfig, RadioInterpolation};
 use crate::model::wifi_evidence::{
-    EvidenceConfig, LogRatio, cell_size, enough_scores, median, ratio_of_scores,
+    EvidenceConfig, LogRatio, StandInScores, cell_size, enough_scores, ratio_of_scores,
 };
 use crate::sensor::WifiScan;
 use serde::Serialize;
@@ -47,19 +47,9 @@ pub struct InterpolatedCalibration {
     pub length_scale_m: f64,
     /// Per-scan noise over signal variance.
     pub noise_ratio: f64,
-    /// Most scans of a surveyed cell whose fingerprint stood in for a scan (1 where enough
-    /// cells hold one scan, else every cell's).
-    pub stand_in_max_scans: u32,
-    /// Surveyed cells scored at their own place, left out ("here").
-    pub here_samples: usize,
-    /// Scores at known cells far from the scan's own ("elsewhere").
-    pub elsewhere_samples: usize,
-    /// Median statistic `x` of each (eq. 1).
-    pub median_here: f64,
-    /// The same for the far cells.
-    pub median_elsewhere: f64,
-    /// Centre distance from which a cell stood for "elsewhere", in cells.
-    pub elsewhere_cells: f64,
+    /// What the stand-ins scored.
+    #[serde(flatten)]
+    pub scores: StandInScores,
 }
 
 /// Eq. (2) on every cell of a radio map, calibrated on the map.
@@ -143,12 +133,7 @@ impl InterpolatedEvidence {
             known_cells: (0..map.cells.len()).filter(|&c| gp.is_known(c)).count(),
             length_scale_m: gp.fit().length_scale,
             noise_ratio: gp.fit().noise_ratio,
-            stand_in_max_scans: most_scans,
-            here_samples: here.len(),
-            elsewhere_samples: far.len(),
-            median_here: median(&here),
-            median_elsewhere: median(&far),
-            elsewhere_cells,
+            scores: StandInScores::of(&here, &far, most_scans, elsewhere_cells),
         };
         let top = here.iter().chain(&far).copied().fold(f64::MIN, f64::max);
         let ratio = ratio_of_scores(&here, &far, top, config);
@@ -262,8 +247,11 @@ mod tests {
         .expect("calibrated");
         let cal = ev.calibration();
         assert_eq!((cal.surveyed_cells, cal.cells), (40, 81));
-        assert_eq!(cal.stand_in_max_scans, 1);
-        assert!(cal.median_here > cal.median_elsewhere, "{cal:?}");
+        assert_eq!(cal.scores.stand_in_max_scans, 1);
+        assert!(
+            cal.scores.median_here > cal.scores.median_elsewhere,
+            "{cal:?}"
+        );
         // A scan at an unsurveyed cell (x = 100.5 m, cell 33).
         let r = ev.log_ratios(&scan_at(100.5, 0.5));
         assert_eq!(r.len(), 81);

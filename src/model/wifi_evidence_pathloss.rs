@@ -29,7 +29,7 @@ use crate::error::Result;
 use crate::map::RadioMap;
 use crate::model::radio_pathloss::{PathLossConfig, PathLossMap, PathLossSummary};
 use crate::model::wifi_evidence::{
-    EvidenceConfig, LogRatio, cell_size, enough_scores, median, ratio_of_scores,
+    EvidenceConfig, LogRatio, StandInScores, cell_size, enough_scores, ratio_of_scores,
 };
 use crate::sensor::{WifiReading, WifiScan};
 use rayon::prelude::*;
@@ -47,18 +47,9 @@ pub struct PathLossCalibration {
     pub surveyed_cells: usize,
     /// The model's fit.
     pub model: PathLossSummary,
-    /// Most scans of a surveyed cell whose fingerprint stood in for a scan.
-    pub stand_in_max_scans: u32,
-    /// Stand-ins scored at their own cell ("here").
-    pub here_samples: usize,
-    /// Scores at cells far from the stand-in's own ("elsewhere").
-    pub elsewhere_samples: usize,
-    /// Median statistic `x` of each (eq. 1).
-    pub median_here: f64,
-    /// The same for the far cells.
-    pub median_elsewhere: f64,
-    /// Centre distance from which a cell stood for "elsewhere", in cells.
-    pub elsewhere_cells: f64,
+    /// What the stand-ins scored.
+    #[serde(flatten)]
+    pub scores: StandInScores,
 }
 
 /// Eq. (2) on every cell of a radio map, from its path-loss model.
@@ -173,12 +164,7 @@ impl PathLossEvidence {
             cells: map.cells.len(),
             surveyed_cells: surveyed.len(),
             model: model.summary(),
-            stand_in_max_scans: most_scans,
-            here_samples: here.len(),
-            elsewhere_samples: far.len(),
-            median_here: median(&here),
-            median_elsewhere: median(&far),
-            elsewhere_cells: config.far_cells,
+            scores: StandInScores::of(&here, &far, most_scans, config.far_cells),
         };
         // Every score is at most 0 (the likeliest cell's): the table's argument is −x.
         let ratio = ratio_of_scores(&here, &far, 0.0, config);
@@ -271,7 +257,10 @@ mod tests {
         .expect("calibrated");
         let cal = ev.calibration();
         assert_eq!((cal.surveyed_cells, cal.cells), (40, 80));
-        assert!(cal.median_here > cal.median_elsewhere, "{cal:?}");
+        assert!(
+            cal.scores.median_here > cal.scores.median_elsewhere,
+            "{cal:?}"
+        );
         // A scan at x = 127.5 m (cell 42), just beyond the survey, near the access point at
         // 120 m that the survey heard loudest at its end.
         let r = ev.log_ratios(&scan_at(127.5, 0.5));
