@@ -131,14 +131,31 @@ struct Row {
 /// `F` fitted only where the readings span levels) and its weighted mean squared residual.
 /// The returned model's position is left at the origin.
 fn regress(rows: &[Row], config: &PathLossConfig) -> (ApModel, f64) {
-    let total: f64 = rows.iter().map(|r| r.w).sum();
-    let mean = |f: &dyn Fn(&Row) -> f64| rows.iter().map(|r| r.w * f(r)).sum::<f64>() / total;
-    let (mx, ml, mr) = (mean(&|r| r.log_d), mean(&|r| r.levels), mean(&|r| r.rssi));
-    let sxx = mean(&|r| (r.log_d - mx).powi(2));
-    let sll = mean(&|r| (r.levels - ml).powi(2));
-    let sxl = mean(&|r| (r.log_d - mx) * (r.levels - ml));
-    let sxr = mean(&|r| (r.log_d - mx) * (r.rssi - mr));
-    let slr = mean(&|r| (r.levels - ml) * (r.rssi - mr));
+    // Weighted means, then the centred second moments in one pass.
+    let (mut total, mut mx, mut ml, mut mr) = (0.0, 0.0, 0.0, 0.0);
+    for r in rows {
+        total += r.w;
+        mx += r.w * r.log_d;
+        ml += r.w * r.levels;
+        mr += r.w * r.rssi;
+    }
+    (mx, ml, mr) = (mx / total, ml / total, mr / total);
+    let (mut sxx, mut sll, mut sxl, mut sxr, mut slr) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for r in rows {
+        let (x, l, y) = (r.log_d - mx, r.levels - ml, r.rssi - mr);
+        sxx += r.w * x * x;
+        sll += r.w * l * l;
+        sxl += r.w * x * l;
+        sxr += r.w * x * y;
+        slr += r.w * l * y;
+    }
+    let (sxx, sll, sxl, sxr, slr) = (
+        sxx / total,
+        sll / total,
+        sxl / total,
+        sxr / total,
+        slr / total,
+    );
     let (lo, hi) = (-10.0 * config.max_exponent, -10.0 * config.min_exponent);
     let det = sxx * sll - sxl * sxl;
     // With readings on several levels, both coefficients (rssi falls with levels: −F);
@@ -157,7 +174,11 @@ fn regress(rows: &[Row], config: &PathLossConfig) -> (ApModel, f64) {
         (hi, config.level_loss_db)
     };
     let a = mr - slope * mx + level_loss * ml;
-    let sse = mean(&|r| (r.rssi - a - slope * r.log_d + level_loss * r.levels).powi(2));
+    let sse = rows
+        .iter()
+        .map(|r| r.w * (r.rssi - a - slope * r.log_d + level_loss * r.levels).powi(2))
+        .sum::<f64>()
+        / total;
     let model = ApModel {
         x: 0.0,
         y: 0.0,

@@ -210,10 +210,19 @@ impl Detection {
     const LOWEST_DBM: f64 = -150.0;
     const HIGHEST_DBM: f64 = 10.0;
 
+    /// The bin of a predicted mean (below the lowest bin: the lowest; `as` truncates what
+    /// `max` keeps non-negative, so no `floor`).
     fn bin_of(&self, mean: f64) -> usize {
-        (((mean - self.lowest) / self.bin).floor().max(0.0) as usize).min(self.ln_heard.len() - 1)
+        (((mean - self.lowest) / self.bin).max(0.0) as usize).min(self.ln_heard.len() - 1)
     }
 }
+
+/// Most `(access point, cell)` means a [`PathLossMap`] tabulates (4 bytes each: 128 MB);
+/// beyond, a scan's heard access points are evaluated per cell as it is weighed.
+const MAX_TABLE: usize = 1 << 25;
+
+/// Cells per parallel task of a scan's likelihood.
+const CHUNK: usize = 512;
 
 /// The distance of a horizontal offset `(dx, dy)` and a vertical one `dz` (the same bits as
 /// `dx.hypot(dy).hypot(dz)`, without the second `hypot` on one level).
@@ -243,6 +252,9 @@ pub struct PathLossMap {
     models: Vec<ApModel>,
     columns: FxHashMap<String, usize>,
     detection: Detection,
+    /// `μ_a(c)` of eq. (1), row by access point, where the models × cells fit
+    /// [`MAX_TABLE`].
+    means: Option<Vec<f32>>,
     /// `Σ_a ln(1 − P_h(μ_a(c)))` over every modelled access point, per cell.
     all_missed: Vec<f64>,
     config: PathLossConfig,
@@ -307,16 +319,29 @@ impl PathLossMap {
                 ln_heard: vec![0.0],
                 ln_missed: vec![0.0],
             },
+            means: None,
             all_missed: Vec::new(),
             config: *config,
         };
+        let cells = out.centres.len();
+        if out.models.len() * cells <= MAX_TABLE {
+            let mut table = vec![0.0f32; out.models.len() * cells];
+            table
+                .par_chunks_mut(cells.max(1))
+                .zip(&out.models)
+                .for_each(|(row, m)| {
+                    for (c, mean) in row.iter_mut().enumerate() {
+                        *mean = out.mean_at(m, c);
+                    }
+                });
+            out.means = Some(table);
+        }
         out.detection = out.detection_curve(map, &bssids);
-        out.all_missed = (0..out.centres.len())
+        out.all_missed = (0..cells)
             .into_par_iter()
             .map(|c| {
-                out.models
-                    .iter()
-                    .map(|m| out.detection.ln_missed[out.detection.bin_of(out.mean_at(m, c))])
+                (0..out.models.len())
+                    .map(|a| out.detection.ln_missed[out.detection.bin_of(out.mean(a, c))])
                     .sum()
             })
             .collect();
@@ -360,11 +385,19 @@ impl PathLossMap {
     }
 
     /// The predicted mean of access point `m` at cell `c` (eq. 1).
-    fn mean_at(&self, m: &ApModel, c: usize) -> f64 {
+    fn mean_at(&self, m: &ApModel, c: usize) -> f32 {
         let (x, y, level) = self.centres[c];
         let levels = f64::from((level - m.level).abs());
         let d = distance(x - m.x, y - m.y, levels * self.config.level_m);
-        m.a + m.slope * d.max(self.config.reference_m).log10() - m.level_loss * levels
+        (m.a + m.slope * d.max(self.config.reference_m).log10() - m.level_loss * levels) as f32
+    }
+
+    /// `μ_a(c)` of the `a`-th model, from the table where there is one.
+    fn mean(&self, a: usize, c: usize) -> f64 {
+        f64::from(match &self.means {
+            Some(table) => table[a * self.centres.len() + c],
+            None => self.mean_at(&self.models[a], c),
+        })
     }
 
     /// Eq. (3) from the survey: the share of scans that heard each modelled access point, by
@@ -385,8 +418,8 @@ impl PathLossMap {
                 continue;
             }
             let n = f64::from(cell.radio.scans);
-            for (m, bssid) in self.models.iter().zip(bssids) {
-                let b = template.bin_of(self.mean_at(m, c));
+            for (a, bssid) in bssids.iter().enumerate() {
+                let b = template.bin_of(self.mean(a, c));
                 scans[b] += n;
                 heard[b] += cell.radio.aps.get(*bssid).map_or(0.0, |s| f64::from(s.n));
             }
@@ -414,37 +447,53 @@ impl PathLossMap {
     /// when the scan hears no modelled access point.
     #[must_use]
     pub fn log_likelihoods(&self, scan: &WifiScan) -> Option<Vec<Option<f64>>> {
-        // Each heard access point's model, reading and ln σ² (the same for every cell).
-        let heard: Vec<(&ApModel, f64, f64)> = scan
+        // Each heard access point's model, reading, 1 / σ² and the terms that are the same
+        // at every cell.
+        let ln_2pi = (2.0 * std::f64::consts::PI).ln();
+        let heard: Vec<(usize, f64, f64, f64)> = scan
             .readings
             .iter()
             .filter_map(|r| {
-                let m = &self.models[*self.columns.get(&r.bssid)?];
-                Some((m, r.rssi, m.variance.ln()))
+                let a = *self.columns.get(&r.bssid)?;
+                let variance = self.models[a].variance;
+                Some((a, r.rssi, variance.recip(), -0.5 * (variance.ln() + ln_2pi)))
             })
             .collect();
         if heard.is_empty() {
             return None;
         }
-        let ln_2pi = (2.0 * std::f64::consts::PI).ln();
+        // Heard rather than missed, per bin of predicted mean.
+        let gain: Vec<f64> = (self.detection.ln_heard.iter())
+            .zip(&self.detection.ln_missed)
+            .map(|(h, m)| h - m)
+            .collect();
+        let mut ll = self.all_missed.clone();
+        // Access point by access point over a chunk of cells, the table's rows read in
+        // order; each cell adds its terms in the scan's order.
+        ll.par_chunks_mut(CHUNK).enumerate().for_each(|(i, chunk)| {
+            let first = i * CHUNK;
+            let mut row = vec![0.0f32; chunk.len()];
+            for &(a, rssi, precision, constant) in &heard {
+                let means = match &self.means {
+                    Some(table) => &table[a * self.centres.len() + first..][..chunk.len()],
+                    None => {
+                        for (k, mean) in row.iter_mut().enumerate() {
+                            *mean = self.mean_at(&self.models[a], first + k);
+                        }
+                        &row
+                    }
+                };
+                for (l, &mean) in chunk.iter_mut().zip(means) {
+                    let mean = f64::from(mean);
+                    let e = rssi - mean;
+                    *l += constant - 0.5 * e * e * precision + gain[self.detection.bin_of(mean)];
+                }
+            }
+        });
         Some(
-            (0..self.centres.len())
-                .into_par_iter()
-                .map(|c| {
-                    if !self.centres[c].0.is_finite() {
-                        return None;
-                    }
-                    let mut ll = self.all_missed[c];
-                    for &(m, rssi, ln_variance) in &heard {
-                        let mean = self.mean_at(m, c);
-                        let b = self.detection.bin_of(mean);
-                        let e = rssi - mean;
-                        ll += -0.5 * (e * e / m.variance + ln_variance + ln_2pi)
-                            + self.detection.ln_heard[b]
-                            - self.detection.ln_missed[b];
-                    }
-                    Some(ll)
-                })
+            ll.into_iter()
+                .zip(&self.centres)
+                .map(|(l, centre)| centre.0.is_finite().then_some(l))
                 .collect(),
         )
     }
