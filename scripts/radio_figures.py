@@ -12,7 +12,8 @@ walk with imu.csv, wifi.csv and waypoints.csv):
    database of the survey walks' scans at their *true* positions (linear between the
    walk's waypoints; scans outside the waypoints' time span are left out);
 4. every other walk from an unknown start: `fingerprint --radiomap` (the radio map alone)
-   and `track --wifi --radiomap` (the tracker on the plan with the radio map), each scored by
+   and `track --walks --radiomap` (the tracker on the plan with the radio map, every test
+   walk in one run into WORK/rf-tracks/<walk>), each scored by
    `footslam eval --waypoints` at every waypoint (a waypoint the track does not answer
    counts as unanswered); the track every row (`--all-rows`: the answer a user gets at every
    step) and its certain rows alone; the peer's scan placements are written as a track.csv
@@ -168,27 +169,21 @@ def waypoint_errors(binary, wps, track, all_rows=False):
 
 
 def peer_track(db, scans, path, k=3, missing=-100.0):
-    """Writes the nearest-k placements of `scans` as a track.csv (t,x,y)."""
-    aps = sorted({b for _, fp, _ in db for b in fp})
-    col = {b: i for i, b in enumerate(aps)}
-    vecs = []
-    for _, fp, pos in db:
-        v = [missing] * len(aps)
-        for b, r in fp.items():
-            v[col[b]] = r
-        vecs.append((v, pos))
+    """Writes the nearest-k placements of `scans` as a track.csv (t,x,y): plain Euclidean
+    over every access point the database heard, `missing` where not heard. Computed
+    sparsely (access points that neither fingerprint heard add nothing), the same distances
+    as the dense vectors'."""
+    aps = {b for _, fp, _ in db for b in fp}
     with open(path, "w") as f:
         f.write("t,x,y\n")
         for t, fp in scans:
-            q = [missing] * len(aps)
-            common = 0
-            for b, r in fp.items():
-                if b in col:
-                    q[col[b]] = r
-                    common += 1
-            if common == 0:
+            q = {b: r for b, r in fp.items() if b in aps}
+            if not q:
                 continue
-            d = sorted((sum((a - c) ** 2 for a, c in zip(q, v)), pos) for v, pos in vecs)[:k]
+            def dist(v):
+                d = sum((q.get(b, missing) - r) ** 2 for b, r in v.items())
+                return d + sum((r - missing) ** 2 for b, r in q.items() if b not in v)
+            d = sorted((dist(v), pos) for _, v, pos in db)[:k]
             x = sum(p[0] for _, p in d) / len(d)
             y = sum(p[1] for _, p in d) / len(d)
             f.write(f"{t:.3f},{x:.3f},{y:.3f}\n")
@@ -200,6 +195,20 @@ def steps_of(binary, imported, work, w, fresh):
         shutil.rmtree(out, ignore_errors=True)
         run(binary, "steps", "--imu", os.path.join(imported, w, "imu.csv"), "--mount", "phone", "--out", out)
     return os.path.join(out, "steps.csv")
+
+
+def track_walks(a, tests, radiomap, plan):
+    """Every test walk from an unknown start, in one `track --walks` run (the plan and the
+    radio map prepared once), into WORK/rf-tracks/<walk>."""
+    manifest = os.path.join(a.work, "test_walks.csv")
+    with open(manifest, "w", newline="") as f:
+        out = csv.writer(f)
+        out.writerow(["steps", "wifi", "name"])
+        for w in tests:
+            out.writerow([os.path.abspath(os.path.join(a.work, w, "steps", "steps.csv")),
+                          os.path.abspath(os.path.join(a.imported, w, "wifi.csv")), w])
+    run(a.binary, "track", "--plan", plan, "--walks", manifest, "--radiomap", radiomap,
+        "--seed", str(a.seed), *a.track_arg, "--out", os.path.join(a.work, "rf-tracks"))
 
 
 def test_walk(a, w, radiomap, plan, db):
@@ -216,11 +225,7 @@ def test_walk(a, w, radiomap, plan, db):
     os.makedirs(peer, exist_ok=True)
     peer_track(db, read_scans(os.path.join(src, "wifi.csv")), os.path.join(peer, "track.csv"))
     res["peer"] = waypoint_errors(a.binary, wps, os.path.join(peer, "track.csv"))
-    tr = os.path.join(run_dir, "rf-track")
-    shutil.rmtree(tr, ignore_errors=True)
-    run(a.binary, "track", "--plan", plan, "--steps", os.path.join(run_dir, "steps", "steps.csv"),
-        "--radiomap", radiomap, "--wifi", os.path.join(src, "wifi.csv"), "--seed", str(a.seed),
-        "--threads", "1", *a.track_arg, "--out", tr)
+    tr = os.path.join(a.work, "rf-tracks", w)
     res["track"] = waypoint_errors(a.binary, wps, os.path.join(tr, "track.csv"), all_rows=True)
     res["track_certain"] = waypoint_errors(a.binary, wps, os.path.join(tr, "track.csv"))
     with open(os.path.join(tr, "summary.json")) as f:
@@ -279,6 +284,10 @@ def main():
     radiomap = os.path.join(sv, "radiomap.geojson")
     with open(os.path.join(sv, "summary.json")) as f:
         survey_summary = json.load(f)
+    bar = Progress(1, f"track of {len(tests)} walks")
+    bar.start("track --walks")
+    track_walks(a, tests, radiomap, plan)
+    bar.done("track --walks")
     bar = Progress(len(tests), "test walks")
     with cf.ThreadPoolExecutor(a.jobs) as ex:
         results = list(ex.map(bar.wrap(lambda w: test_walk(a, w, radiomap, plan, db)), tests))

@@ -319,6 +319,7 @@ fn write_manifest(folder: &RunFolder, traces: &[(String, IlcTrace)]) -> Result<b
                 gps: None,
                 wifi: (!trace.wifi.is_empty()).then(|| format!("{name}/wifi.csv").into()),
                 start: Some(known_start(trace)?),
+                name: Some(name.clone()),
             })
         })
         .collect();

@@ -53,6 +53,7 @@ pub(super) fn find_walks(args: &WalkArgs, default: &Path) -> Result<Vec<Found>> 
             gps: None,
             wifi: None,
             start: None,
+            name: None,
         });
     }
     for path in args.steps {
@@ -65,6 +66,7 @@ pub(super) fn find_walks(args: &WalkArgs, default: &Path) -> Result<Vec<Found>> 
                 gps: None,
                 wifi: None,
                 start: None,
+                name: None,
             });
         }
     }
@@ -203,6 +205,7 @@ fn walks_in_folder(dir: &Path) -> Result<Vec<Found>> {
                 gps,
                 wifi,
                 start: None,
+                name: None,
             }
         })
     };

@@ -42,6 +42,7 @@ mod survey;
 mod track;
 mod track_pictures;
 mod track_summary;
+mod track_walks;
 mod verbosity;
 mod view;
 

@@ -4,7 +4,7 @@ use super::common::{bundled, output_dir, parse_extent, parse_origin, read_config
 use super::progress_bars::Bars;
 use super::track_pictures::write_track_pictures;
 use super::track_summary::print_report;
-use anyhow::Result;
+use anyhow::{Result, bail};
 use footslam::filter::{RfMode, StartPose, TrackerConfig};
 use footslam::geometry::LocalFrame;
 use footslam::io::RunFolder;
@@ -13,11 +13,11 @@ use footslam::io::map_geojson::read_stored_map;
 use footslam::io::radio_map_geojson::read_radio_map_geojson;
 use footslam::io::steps_csv::has_dz_column;
 use footslam::io::track_geojson::write_track_geojson;
-use footslam::io::{read_steps, read_wifi_log, write_smoothed_track, write_track};
+use footslam::io::{ManifestWalk, read_steps, read_wifi_log, write_smoothed_track, write_track};
 use footslam::model::wifi_distance::Normalisation;
 use footslam::pipeline::{
-    Named, SnapshotSteps, TrackAnswer, TrackOverrides, TrackRadioRequest, TrackReport,
-    TrackRequest, TrackRun, prepare,
+    Named, PreparedTrack, Progress, SnapshotSteps, TrackAnswer, TrackOverrides, TrackRadioRequest,
+    TrackReport, TrackRequest, TrackRun, prepare,
 };
 use std::path::PathBuf;
 use std::time::Instant;
@@ -69,6 +69,13 @@ pub struct Args {
     /// (see `--ignore-heading`). Default: the bundled walk.
     #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     steps: Option<PathBuf>,
+    /// Manifest of walks to track one after another on the same plan (and radio map): a CSV
+    /// with columns `steps[,wifi][,start][,name]` (paths relative to the manifest; `wifi`
+    /// required with `--radiomap`; an empty `start` is unknown). The plan and the radio map
+    /// are prepared once; each walk's outputs go into a folder named by its `name` (default
+    /// `walk-001`, …), with `walks.csv` (one row per walk) beside them.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["steps", "wifi", "start"], help_heading = "Inputs")]
+    pub(super) walks: Option<PathBuf>,
     /// Known start `X,Y[,HEADING[,LEVEL]]` (local metres; HEADING = heading before the first
     /// step, radians counter-clockwise from east). Without HEADING the heading is unknown
     /// (uniform at the known position); `X,Y,,LEVEL` gives a level without a heading.
@@ -101,17 +108,18 @@ pub struct Args {
     snapshots: Option<Vec<usize>>,
     /// Tracker configuration (TOML, or JSON such as a previous run's config.json).
     #[arg(long, value_name = "FILE", help_heading = "Inputs")]
-    config: Option<PathBuf>,
+    pub(super) config: Option<PathBuf>,
     /// Output folder (default: a new folder under `outputs/`).
     #[arg(short = 'o', long, value_name = "DIR", help_heading = "Outputs")]
-    out: Option<PathBuf>,
+    pub(super) out: Option<PathBuf>,
     /// Worker threads (default: all cores; at most 4 per core). Results do not depend on it.
     #[arg(long, value_name = "N", help_heading = "Filter")]
-    threads: Option<usize>,
+    pub(super) threads: Option<usize>,
     /// Radio map (`radiomap.geojson` as `footslam survey` writes it, or another tool's with
-    /// the same properties) for RF-assisted localisation; needs `--wifi`.
-    #[arg(long, requires = "wifi", value_name = "FILE", help_heading = "Inputs")]
-    radiomap: Option<PathBuf>,
+    /// the same properties) for RF-assisted localisation; needs `--wifi` (or a `wifi` column
+    /// in `--walks`).
+    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
+    pub(super) radiomap: Option<PathBuf>,
     /// WiFi log CSV (`t,bssid,rssi[,ssid,freq]`) of the walk, on the step trace's clock.
     #[arg(
         long,
@@ -148,7 +156,7 @@ pub struct Args {
     /// The part of the plan `track.png` and `particles.png` show, `X0,Y0,X1,Y1` local
     /// metres (default: what they draw, with 10 m around it, within the plan).
     #[arg(long, value_parser = parse_extent, allow_hyphen_values = true, value_name = "X0,Y0,X1,Y1", help_heading = "Outputs")]
-    picture_extent: Option<[f64; 4]>,
+    pub(super) picture_extent: Option<[f64; 4]>,
     /// Causal answers only: `track.csv` holds each step's estimate as the filter saw it
     /// (from localisation on) and no ancestry is kept. By default `track.csv` is the
     /// smoothed whole-walk answer for every step, and the filtered one is
@@ -181,38 +189,68 @@ pub(super) fn parse_start(s: &str) -> Result<StartPose, String> {
 
 /// Runs `footslam track`.
 pub fn run(args: Args) -> Result<()> {
+    if args.walks.is_some() {
+        return super::track_walks::run(&args);
+    }
+    if args.radiomap.is_some() && args.wifi.is_none() {
+        bail!(
+            "--radiomap needs the walk's WiFi log: give --wifi (or --walks with a `wifi` column)"
+        );
+    }
     let started = Instant::now();
-    let (request, inputs) = read_request(&args)?;
+    let (request, inputs) = read_request(&args, None)?;
     let pool = super::common::worker_pool(args.threads)?;
     let bars = Bars::default();
     let prepared = pool.install(|| prepare(request, &bars))?;
-    let mut run = pool.install(|| prepared.run(&bars))?;
-
     let mut folder = super::common::create_run_folder(&output_dir(args.out.clone(), "track"))?;
     folder.protect(inputs.iter().chain(args.config.iter()));
+    let report =
+        pool.install(|| track_into(&folder, &prepared, &bars, args.picture_extent, started))?;
+    let out = folder.commit()?;
+    print_report(&report, &out);
+    Ok(())
+}
+
+/// Tracks a prepared walk and writes its outputs into `folder`: `track.csv` (and
+/// `track_filtered.csv`), `track.geojson`, the pictures, `config.json` and `summary.json`,
+/// whose report it returns.
+pub(super) fn track_into(
+    folder: &RunFolder,
+    prepared: &PreparedTrack,
+    progress: &dyn Progress,
+    extent: Option<[f64; 4]>,
+    started: Instant,
+) -> Result<TrackReport> {
+    let mut run = prepared.run(progress)?;
     let times: Vec<f64> = prepared.trace.steps().iter().map(|s| s.t).collect();
     let answer = TrackAnswer::read(&mut run, &times);
-    write_tracks(&folder, &answer, &run)?;
+    write_tracks(folder, &answer, &run)?;
     // The answer: the smoothed track's certain steps, else (online) the filtered track.
     let (certain, uncertain) = (answer.certain(), answer.uncertain());
     let smoothed = answer.smoothing.is_some();
     let track = if smoothed { &certain } else { &run.filtered };
     write_track_geojson(&folder.path("track.geojson"), track, &prepared.frame)?;
     let parts = smoothed.then_some((&certain[..], &uncertain[..]));
-    let extent = args.picture_extent;
-    write_track_pictures(&folder, &prepared.plan, &run, parts, times.len(), extent)?;
+    write_track_pictures(folder, &prepared.plan, &run, parts, times.len(), extent)?;
     folder.write_json("config.json", &prepared.config)?;
-    let report = pool.install(|| TrackReport::new(&prepared, &run, &answer, started));
+    let report = TrackReport::new(prepared, &run, &answer, started);
     folder.write_json("summary.json", &report)?;
-    let out = folder.commit()?;
-    print_report(&report, &out);
-    Ok(())
+    Ok(report)
 }
 
-/// Reads `track`'s inputs into its request; with the files read (kept from the output).
-fn read_request(args: &Args) -> Result<(TrackRequest, Vec<PathBuf>)> {
+/// Reads `track`'s inputs into its request, with the steps, WiFi log and start of `walk`
+/// where given (a manifest's first walk) instead of `--steps`, `--wifi` and `--start`; with
+/// the files read (kept from the output).
+pub(super) fn read_request(
+    args: &Args,
+    walk: Option<&ManifestWalk>,
+) -> Result<(TrackRequest, Vec<PathBuf>)> {
     let plan_path = args.plan.clone().unwrap_or_else(|| bundled(DEFAULT_PLAN));
-    let steps_path = args.steps.clone().unwrap_or_else(|| bundled(DEFAULT_STEPS));
+    let steps_path = match walk {
+        Some(w) => w.steps.clone(),
+        None => args.steps.clone().unwrap_or_else(|| bundled(DEFAULT_STEPS)),
+    };
+    let wifi_path = walk.map_or(args.wifi.clone(), |w| w.wifi.clone());
     require_file(&plan_path, "floor plan")?;
     require_file(&steps_path, "step trace")?;
     let config: TrackerConfig = match &args.config {
@@ -232,7 +270,7 @@ fn read_request(args: &Args) -> Result<(TrackRequest, Vec<PathBuf>)> {
         }
         None => None,
     };
-    let radio = match (&args.radiomap, &args.wifi) {
+    let radio = match (&args.radiomap, &wifi_path) {
         (Some(map_path), Some(wifi_path)) => {
             require_file(map_path, "radio map")?;
             require_file(wifi_path, "WiFi log")?;
@@ -260,12 +298,15 @@ fn read_request(args: &Args) -> Result<(TrackRequest, Vec<PathBuf>)> {
             None => SnapshotSteps::Auto,
         },
         config,
-        overrides: overrides(args),
+        overrides: TrackOverrides {
+            start: walk.map_or(args.start, |w| w.start),
+            ..overrides(args)
+        },
     };
     let files = [plan_path, steps_path]
         .into_iter()
         .chain(args.radiomap.iter().cloned())
-        .chain(args.wifi.iter().cloned())
+        .chain(wifi_path.iter().cloned())
         .chain(args.hexmap.iter().cloned())
         .collect();
     Ok((request, files))

@@ -7,6 +7,7 @@
 //! | `gps`   | its GPS fixes, CSV or GPX (optional; `learn`)                    |
 //! | `wifi`  | its WiFi log (optional for `learn`, required for `survey`)       |
 //! | `start` | `X,Y[,HEADING[,LEVEL]]`, quoted (optional; empty: unknown)       |
+//! | `name`  | the walk's name (optional; `track --walks` names its folder so)  |
 
 use super::csv_table::CsvTable;
 use crate::error::{Error, Result};
@@ -25,6 +26,8 @@ pub struct ManifestWalk {
     pub wifi: Option<PathBuf>,
     /// The walk's start, when the row gives one.
     pub start: Option<StartPose>,
+    /// The walk's name, when the row gives one.
+    pub name: Option<String>,
 }
 
 /// Reads a walk manifest; with `wifi_required` (a survey) every row must name a WiFi log.
@@ -45,6 +48,7 @@ pub fn read_walk_manifest(path: &Path, wifi_required: bool) -> Result<Vec<Manife
         false => table.optional_column("wifi"),
     };
     let (gps, start) = (table.optional_column("gps"), table.optional_column("start"));
+    let name = table.optional_column("name");
     let mut walks = Vec::new();
     table.for_each_row(|row| {
         let file = |c: Option<usize>| {
@@ -73,6 +77,9 @@ pub fn read_walk_manifest(path: &Path, wifi_required: bool) -> Result<Vec<Manife
             gps: file(gps),
             wifi,
             start,
+            name: name
+                .map(|c| row.text(c).trim().to_owned())
+                .filter(|t| !t.is_empty()),
         });
         Ok(())
     })?;
@@ -94,6 +101,7 @@ pub fn write_walk_manifest(path: &Path, walks: &[ManifestWalk]) -> Result<()> {
     let has_gps = walks.iter().any(|w| w.gps.is_some());
     let has_wifi = walks.iter().any(|w| w.wifi.is_some());
     let has_start = walks.iter().any(|w| w.start.is_some());
+    let has_name = walks.iter().any(|w| w.name.is_some());
     let text = |p: &Option<PathBuf>| {
         p.as_ref()
             .map(|p| p.to_string_lossy().replace('\\', "/"))
@@ -104,6 +112,7 @@ pub fn write_walk_manifest(path: &Path, walks: &[ManifestWalk]) -> Result<()> {
     header.extend(has_gps.then_some("gps"));
     header.extend(has_wifi.then_some("wifi"));
     header.extend(has_start.then_some("start"));
+    header.extend(has_name.then_some("name"));
     let wrote = |e: csv::Error| Error::io(path, std::io::Error::other(e));
     out.write_record(&header).map_err(wrote)?;
     for w in walks {
@@ -116,6 +125,9 @@ pub fn write_walk_manifest(path: &Path, walks: &[ManifestWalk]) -> Result<()> {
         }
         if has_start {
             row.push(w.start.map(start_text).unwrap_or_default());
+        }
+        if has_name {
+            row.push(w.name.clone().unwrap_or_default());
         }
         out.write_record(&row).map_err(wrote)?;
     }
@@ -157,18 +169,21 @@ mod tests {
                 gps: None,
                 wifi: Some("a, odd/wifi.csv".into()),
                 start: Some(start(1.25, None, None)),
+                name: Some("first, odd".into()),
             },
             ManifestWalk {
                 steps: "b/steps.csv".into(),
                 gps: None,
                 wifi: None,
                 start: Some(start(3.0, Some(0.5), Some(-1))),
+                name: None,
             },
             ManifestWalk {
                 steps: "c/steps.csv".into(),
                 gps: None,
                 wifi: None,
                 start: Some(start(4.0, None, Some(2))),
+                name: None,
             },
         ];
         let path = dir.join("walks.csv");
@@ -181,6 +196,7 @@ mod tests {
             assert_eq!(b.wifi, w.wifi.as_ref().map(|f| dir.join(f)));
             assert_eq!(b.gps, None);
             assert_eq!(b.start, w.start);
+            assert_eq!(b.name, w.name);
         }
     }
 

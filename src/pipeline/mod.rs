@@ -78,7 +78,8 @@ pub use survey_job::{
 };
 pub use track::{CloudSnapshot, RadioInput, SnapshotSteps, TrackInput, TrackRun, track};
 pub use track_job::{
-    PreparedRadio, PreparedTrack, TrackOverrides, TrackRadioRequest, TrackRequest, prepare,
+    PreparedRadio, PreparedTrack, TrackOverrides, TrackRadioRequest, TrackRequest,
+    TrackWalkRequest, prepare,
 };
 pub use track_records::{PlanFit, RecoveryEvent, StepRecord, StepRecords};
 pub use track_report::{PlanStats, RfReport, TrackAnswer, TrackReport, TrackSmoothingReport};

@@ -26,6 +26,7 @@ use crate::map::{FloorPlan, FloorTopology, RadioMap, grow_plan};
 use crate::model::TransitionPrior;
 use crate::model::wifi_distance::Normalisation;
 use crate::sensor::{StepTrace, WifiScan};
+use std::sync::Arc;
 
 /// The options of `track` that change its configuration; `None` (or `false`) leaves the
 /// configuration's value. Both faces fill it from their arguments.
@@ -148,6 +149,21 @@ pub struct TrackRequest {
     pub overrides: TrackOverrides,
 }
 
+/// Another walk on a prepared plan and radio map ([`PreparedTrack::for_walk`]; `track
+/// --walks`).
+#[derive(Debug, Clone)]
+pub struct TrackWalkRequest {
+    /// The walk's steps.
+    pub steps: Named<StepTrace>,
+    /// Whether the steps came with a `dz` column.
+    pub steps_have_dz: bool,
+    /// The walk's scans, with the rows of its log that repeated an access point within a
+    /// scan; required with a radio map, refused without.
+    pub scans: Option<(Named<Vec<WifiScan>>, usize)>,
+    /// The walk's start (`None`: the configuration's, normally unknown).
+    pub start: Option<StartPose>,
+}
+
 /// The radio map as a localiser, with the walk's scans.
 #[derive(Debug)]
 pub struct PreparedRadio {
@@ -155,8 +171,10 @@ pub struct PreparedRadio {
     pub map_label: String,
     /// The WiFi log's name.
     pub wifi_label: String,
-    /// The localiser on the plan's topology.
-    pub localiser: RfLocaliser,
+    /// The radio map (shared by the walks of a batch).
+    pub map: Arc<RadioMap>,
+    /// The localiser on the plan's topology (shared by the walks of a batch).
+    pub localiser: Arc<RfLocaliser>,
     /// The scans.
     pub scans: Vec<WifiScan>,
     /// Scans that hear an access point of the map.
@@ -176,8 +194,10 @@ pub struct PreparedTrack {
     pub plan_label: String,
     /// The frame.
     pub frame: LocalFrame,
-    /// The plan's walkable surfaces and their connections.
-    pub topology: FloorTopology,
+    /// The plan's walkable surfaces and their connections (shared by the walks of a batch).
+    pub topology: Arc<FloorTopology>,
+    /// The walk stays on its start floor.
+    pub one_floor: bool,
     /// The learned map's transitions, and the map's name.
     pub transitions: Option<(TransitionPrior, String)>,
     /// The walk's steps.
@@ -219,6 +239,79 @@ impl PreparedTrack {
             progress,
         )
     }
+
+    /// What [`prepare`] makes of the same request with another walk's steps, WiFi log and
+    /// start: the plan, its topology, the learned map and the radio map's localiser are
+    /// shared or copied, not prepared again (a batch of walks on one floor).
+    ///
+    /// # Errors
+    ///
+    /// The walk's checks of [`prepare`]: height changes, snapshots, the log on the steps'
+    /// clock and of the map's building; [`Error::Mismatch`] for scans without a radio map
+    /// or a radio map without scans; [`Error::Config`] for a start the configuration
+    /// refuses.
+    pub fn for_walk(&self, walk: TrackWalkRequest, progress: &dyn Progress) -> Result<Self> {
+        let mut config = self.config.clone();
+        if walk.start.is_some() {
+            config.start = walk.start;
+            config.validate()?;
+        }
+        let plan = Named::new(&self.plan, self.plan_label.as_str());
+        check_height_changes(&walk.steps.label, walk.steps_have_dz, &plan, self.one_floor)?;
+        check_snapshots(&self.snapshots, &walk.steps)?;
+        let radio = match (&self.radio, walk.scans) {
+            (Some(radio), Some((scans, duplicate_readings))) => Some(walk_radio(
+                radio,
+                scans,
+                duplicate_readings,
+                &walk.steps.value,
+                progress,
+            )?),
+            (None, None) => None,
+            (Some(radio), None) => {
+                return Err(Error::mismatch(
+                    format!("{}: no WiFi log", walk.steps.label),
+                    format!("every walk needs its WiFi log with {}", radio.map_label),
+                ));
+            }
+            (None, Some((scans, _))) => {
+                return Err(Error::mismatch(
+                    format!("{}: a WiFi log without a radio map", scans.label),
+                    "give the radio map, or leave the logs out",
+                ));
+            }
+        };
+        Ok(Self {
+            config,
+            plan: self.plan.clone(),
+            plan_label: self.plan_label.clone(),
+            frame: self.frame,
+            topology: Arc::clone(&self.topology),
+            one_floor: self.one_floor,
+            transitions: self.transitions.clone(),
+            trace: walk.steps.value,
+            steps_label: walk.steps.label,
+            radio,
+            snapshots: self.snapshots.clone(),
+        })
+    }
+}
+
+/// The snapshots asked for lie within the walk.
+fn check_snapshots(snapshots: &SnapshotSteps, steps: &Named<StepTrace>) -> Result<()> {
+    if let SnapshotSteps::At(list) = snapshots
+        && let Some(late) = list.iter().find(|&&k| k > steps.value.len())
+    {
+        return Err(Error::invalid(
+            "snapshots",
+            format!(
+                "asks for step {late}, but {} has only {} steps",
+                steps.label,
+                steps.value.len()
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Stage 2: checks that the request's inputs belong together and builds the filter's. What
@@ -267,18 +360,7 @@ pub fn prepare(request: TrackRequest, progress: &dyn Progress) -> Result<Prepare
         &Named::new(&plan, plan_label.as_str()),
         request.one_floor,
     )?;
-    if let SnapshotSteps::At(list) = &request.snapshots
-        && let Some(late) = list.iter().find(|&&k| k > steps.value.len())
-    {
-        return Err(Error::invalid(
-            "snapshots",
-            format!(
-                "asks for step {late}, but {} has only {} steps",
-                steps.label,
-                steps.value.len()
-            ),
-        ));
-    }
+    check_snapshots(&request.snapshots, &steps)?;
     let topology = FloorTopology::build(&plan, &config.topology)
         .map_err(|e| within(&plan_label, "not a usable floor plan", e))?;
     let radio = match request.radio {
@@ -296,7 +378,8 @@ pub fn prepare(request: TrackRequest, progress: &dyn Progress) -> Result<Prepare
         plan,
         plan_label,
         frame: request.frame,
-        topology,
+        topology: Arc::new(topology),
+        one_floor: request.one_floor,
         transitions,
         trace: steps.value,
         steps_label: steps.label,
@@ -334,13 +417,7 @@ fn prepare_radio(
     config: &TrackerConfig,
     progress: &dyn Progress,
 ) -> Result<PreparedRadio> {
-    let (map, scans) = (radio.map, radio.scans);
-    check_scans_on_clock(&scans, radio.duplicate_readings, trace, progress)?;
-    let matched = check_scans_match(
-        &Named::new(&map.value, map.label.as_str()),
-        &Named::new(scans.value.as_slice(), scans.label.as_str()),
-        progress,
-    )?;
+    let map = radio.map;
     let localiser = RfLocaliser::new(&map.value, topology, &config.rf)
         .map_err(|e| within(&map.label, "cannot localise with this radio map", e))?;
     if let Some(why) = localiser.fallback() {
@@ -349,13 +426,47 @@ fn prepare_radio(
             map.label
         ));
     }
-    Ok(PreparedRadio {
+    let shared = PreparedRadio {
         map_label: map.label,
+        wifi_label: String::new(),
+        map: Arc::new(map.value),
+        localiser: Arc::new(localiser),
+        scans: Vec::new(),
+        matched: 0,
+        duplicate_readings: 0,
+    };
+    walk_radio(
+        &shared,
+        radio.scans,
+        radio.duplicate_readings,
+        trace,
+        progress,
+    )
+}
+
+/// A walk's scans on the steps' clock and of the radio map's building, with `radio`'s map
+/// and localiser.
+fn walk_radio(
+    radio: &PreparedRadio,
+    scans: Named<Vec<WifiScan>>,
+    duplicate_readings: usize,
+    trace: &StepTrace,
+    progress: &dyn Progress,
+) -> Result<PreparedRadio> {
+    check_scans_on_clock(&scans, duplicate_readings, trace, progress)?;
+    let matched = check_scans_match(
+        &Named::new(&*radio.map, radio.map_label.as_str()),
+        &Named::new(scans.value.as_slice(), scans.label.as_str()),
+        progress,
+    )?;
+    Ok(PreparedRadio {
+        map_label: radio.map_label.clone(),
         wifi_label: scans.label,
-        localiser,
+        map: Arc::clone(&radio.map),
+        localiser: Arc::clone(&radio.localiser),
         scans: scans.value,
         matched,
-        duplicate_readings: radio.duplicate_readings,
+        duplicate_readings,
     })
 }
 

@@ -33,5 +33,6 @@ mod silent_wrongs;
 mod steps_cli;
 mod track;
 mod track_outputs_unchanged;
+mod track_walks;
 mod valid_geometry;
 mod viewer;

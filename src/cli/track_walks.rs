@@ -1,0 +1,200 @@
+//! `footslam track --walks`: many walks tracked one after another on one plan (and radio
+//! map), prepared once — the plan's topology, the learned map and the radio map's fitted
+//! model and calibration are the same for every walk of a floor.
+//!
+//! The run folder holds one folder per walk (what `track` writes for one walk), `walks.csv`
+//! (one row per walk: its `summary.json` flattened), `config.json` and a `summary.json`
+//! listing the walks.
+
+use super::batch_table::walks_table;
+use super::common::{create_run_folder, output_dir, require_file, worker_pool};
+use super::progress_bars::Bars;
+use super::track::{Args, read_request, track_into};
+use anyhow::{Context, Result, bail};
+use footslam::io::steps_csv::has_dz_column;
+use footslam::io::{ManifestWalk, RunFolder, read_steps, read_walk_manifest, read_wifi_log};
+use footslam::pipeline::{
+    ItemProgress, Named, PreparedTrack, Progress, TrackReport, TrackWalkRequest, prepare,
+};
+use serde::Serialize;
+use std::collections::HashSet;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// `summary.json` of a batch.
+#[derive(Debug, Serialize)]
+struct BatchReport {
+    /// The manifest.
+    walks_file: String,
+    /// The radio map, when one placed the walks.
+    radiomap_file: Option<String>,
+    /// Per walk: its folder and the headline of its `summary.json`.
+    walks: Vec<BatchWalk>,
+    /// Wall-clock time of the whole batch, seconds.
+    runtime_s: f64,
+    /// Worker threads.
+    threads: usize,
+}
+
+/// One walk of [`BatchReport`].
+#[derive(Debug, Serialize)]
+struct BatchWalk {
+    name: String,
+    steps_file: String,
+    steps: usize,
+    steps_to_localise: Option<usize>,
+    runtime_s: f64,
+}
+
+/// Runs `footslam track --walks`.
+pub(super) fn run(args: &Args) -> Result<()> {
+    let started = Instant::now();
+    let manifest = args.walks.as_ref().context("--walks")?;
+    require_file(manifest, "walk manifest")?;
+    let walks = read_walk_manifest(manifest, args.radiomap.is_some())?;
+    let names = walk_names(manifest, &walks)?;
+    let pool = worker_pool(args.threads)?;
+    let bars = Bars::default();
+    let mut folder = create_run_folder(&output_dir(args.out.clone(), "track"))?;
+    let (first, inputs) = read_request(args, Some(&walks[0]))?;
+    folder.protect(inputs.iter().chain(args.config.iter()).chain([manifest]));
+    let item = |i: usize| ItemProgress {
+        inner: &bars,
+        item: i,
+        label: names[i].clone(),
+    };
+    let shared = pool.install(|| prepare(first, &item(0)))?;
+    bars.start("walks", walks.len() as u64);
+    let mut reports = Vec::with_capacity(walks.len());
+    for (i, walk) in walks.iter().enumerate() {
+        let walk_started = if i == 0 { started } else { Instant::now() };
+        let progress = item(i);
+        let prepared = match i {
+            0 => None,
+            _ => Some(pool.install(|| shared.for_walk(walk_request(args, walk)?, &progress))?),
+        };
+        let prepared: &PreparedTrack = prepared.as_ref().unwrap_or(&shared);
+        let child = RunFolder::create(&folder.path(&names[i]))?;
+        let report = pool
+            .install(|| {
+                track_into(
+                    &child,
+                    prepared,
+                    &progress,
+                    args.picture_extent,
+                    walk_started,
+                )
+            })
+            .with_context(|| format!("walk {} ({})", names[i], walk.steps.display()))?;
+        child.commit()?;
+        reports.push(report);
+        bars.advance(1);
+    }
+    bars.finish();
+    folder.write("walks.csv", &walks_table(&reports)?)?;
+    folder.write_json("config.json", &shared.config)?;
+    let report = batch_report(
+        args,
+        manifest,
+        &names,
+        &reports,
+        started,
+        pool.current_num_threads(),
+    );
+    folder.write_json("summary.json", &report)?;
+    let out = folder.commit()?;
+    let localised = reports
+        .iter()
+        .filter(|r| r.steps_to_localise.is_some())
+        .count();
+    info!(
+        "{} walks tracked in {:.1} s, {localised} localised; one folder each, walks.csv and summary.json in {}",
+        reports.len(),
+        report.runtime_s,
+        out.display()
+    );
+    Ok(())
+}
+
+/// A manifest row after the first, read: its steps, WiFi log and start.
+fn walk_request(args: &Args, walk: &ManifestWalk) -> footslam::Result<TrackWalkRequest> {
+    let label = |p: &PathBuf| p.display().to_string();
+    let scans = match (&args.radiomap, &walk.wifi) {
+        (Some(_), Some(wifi)) => {
+            let log = read_wifi_log(wifi)?;
+            Some((Named::new(log.scans, label(wifi)), log.duplicate_readings))
+        }
+        _ => None,
+    };
+    Ok(TrackWalkRequest {
+        steps: Named::new(read_steps(&walk.steps)?, label(&walk.steps)),
+        steps_have_dz: has_dz_column(&walk.steps)?,
+        scans,
+        start: walk.start,
+    })
+}
+
+/// Each walk's folder name: the manifest's `name` column where given, else `walk-001`, …;
+/// names must be unique plain folder names.
+fn walk_names(manifest: &std::path::Path, walks: &[ManifestWalk]) -> Result<Vec<String>> {
+    let width = walks.len().to_string().len().max(3);
+    let names: Vec<String> = walks
+        .iter()
+        .enumerate()
+        .map(|(i, w)| {
+            w.name
+                .clone()
+                .unwrap_or_else(|| format!("walk-{:0width$}", i + 1))
+        })
+        .collect();
+    let mut seen = HashSet::new();
+    for (i, name) in names.iter().enumerate() {
+        let plain = !name.is_empty()
+            && !name.starts_with('.')
+            && !name.contains(['/', '\\', ':'])
+            && name != "summary.json";
+        if !plain {
+            bail!(
+                "{}: walk {} is named `{name}`: a name must be a plain folder name (no `/`, `\\`, `:` or leading `.`)",
+                manifest.display(),
+                i + 1
+            );
+        }
+        if !seen.insert(name.as_str()) {
+            bail!(
+                "{}: walk {} is named `{name}` like an earlier walk: names must be unique",
+                manifest.display(),
+                i + 1
+            );
+        }
+    }
+    Ok(names)
+}
+
+/// The batch's `summary.json`.
+fn batch_report(
+    args: &Args,
+    manifest: &std::path::Path,
+    names: &[String],
+    reports: &[TrackReport],
+    started: Instant,
+    threads: usize,
+) -> BatchReport {
+    BatchReport {
+        walks_file: manifest.display().to_string(),
+        radiomap_file: args.radiomap.as_ref().map(|p| p.display().to_string()),
+        walks: names
+            .iter()
+            .zip(reports)
+            .map(|(name, r)| BatchWalk {
+                name: name.clone(),
+                steps_file: r.steps_file.clone(),
+                steps: r.steps,
+                steps_to_localise: r.steps_to_localise,
+                runtime_s: r.runtime_s,
+            })
+            .collect(),
+        runtime_s: started.elapsed().as_secs_f64(),
+        threads,
+    }
+}

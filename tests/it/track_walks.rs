@@ -1,0 +1,151 @@
+//! `footslam track --walks`: a batch of walks on one plan and radio map, prepared once,
+//! gives each walk what `track` alone gives it.
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+use std::path::{Path, PathBuf};
+
+fn footslam() -> Command {
+    Command::cargo_bin("footslam").expect("binary")
+}
+
+/// Simulates a short tower walk with WiFi into `dir`.
+fn simulate(dir: &Path, seed: &str) -> PathBuf {
+    let out = dir.join(format!("tower-{seed}"));
+    footslam()
+        .args([
+            "simulate",
+            "--building",
+            "tower",
+            "--minutes",
+            "2",
+            "--seed",
+            seed,
+        ])
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success();
+    out
+}
+
+fn read(path: &Path) -> Vec<u8> {
+    std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+#[test]
+fn a_batch_tracks_each_walk_as_track_alone_does() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (a, b, c) = (
+        simulate(dir.path(), "21"),
+        simulate(dir.path(), "22"),
+        simulate(dir.path(), "23"),
+    );
+    let plan = a.join("floor.geojson");
+    let survey = dir.path().join("survey");
+    footslam()
+        .arg("survey")
+        .arg("--plan")
+        .arg(&plan)
+        .arg("--steps")
+        .arg(a.join("steps.csv"))
+        .arg("--wifi")
+        .arg(a.join("wifi.csv"))
+        .arg("--out")
+        .arg(&survey)
+        .assert()
+        .success();
+    let radiomap = survey.join("radiomap.geojson");
+    // Paths relative to the manifest; the second walk unnamed (named by its row).
+    std::fs::write(
+        dir.path().join("walks.csv"),
+        "steps,wifi,start,name\n\
+         tower-22/steps.csv,tower-22/wifi.csv,,second\n\
+         tower-23/steps.csv,tower-23/wifi.csv,,\n",
+    )
+    .expect("manifest");
+    let out = dir.path().join("batch");
+    footslam()
+        .arg("track")
+        .arg("--plan")
+        .arg(&plan)
+        .arg("--radiomap")
+        .arg(&radiomap)
+        .arg("--walks")
+        .arg(dir.path().join("walks.csv"))
+        .args(["--seed", "3", "--out"])
+        .arg(&out)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("2 walks tracked"));
+    for (walk, name) in [(&b, "second"), (&c, "walk-002")] {
+        let alone = dir.path().join(format!("alone-{name}"));
+        footslam()
+            .arg("track")
+            .arg("--plan")
+            .arg(&plan)
+            .arg("--radiomap")
+            .arg(&radiomap)
+            .arg("--steps")
+            .arg(walk.join("steps.csv"))
+            .arg("--wifi")
+            .arg(walk.join("wifi.csv"))
+            .args(["--seed", "3", "--out"])
+            .arg(&alone)
+            .assert()
+            .success();
+        for file in [
+            "track.csv",
+            "track_filtered.csv",
+            "track.geojson",
+            "config.json",
+        ] {
+            assert_eq!(
+                read(&out.join(name).join(file)),
+                read(&alone.join(file)),
+                "{name}/{file}"
+            );
+        }
+        assert!(out.join(name).join("track.png").is_file());
+    }
+    let table = String::from_utf8(read(&out.join("walks.csv"))).expect("utf-8");
+    assert_eq!(table.lines().count(), 3, "{table}");
+    let summary: serde_json::Value =
+        serde_json::from_slice(&read(&out.join("summary.json"))).expect("json");
+    let names: Vec<&str> = summary["walks"]
+        .as_array()
+        .expect("walks")
+        .iter()
+        .map(|w| w["name"].as_str().expect("name"))
+        .collect();
+    assert_eq!(names, ["second", "walk-002"]);
+
+    // A radio map needs every walk's log; names are plain and unique.
+    for (manifest, problem) in [
+        ("steps\ntower-22/steps.csv\n", "`wifi`"),
+        (
+            "steps,wifi,name\ntower-22/steps.csv,tower-22/wifi.csv,x\ntower-23/steps.csv,tower-23/wifi.csv,x\n",
+            "names must be unique",
+        ),
+        (
+            "steps,wifi,name\ntower-22/steps.csv,tower-22/wifi.csv,../up\n",
+            "a plain folder name",
+        ),
+    ] {
+        std::fs::write(dir.path().join("bad.csv"), manifest).expect("manifest");
+        footslam()
+            .arg("track")
+            .arg("--plan")
+            .arg(&plan)
+            .arg("--radiomap")
+            .arg(&radiomap)
+            .arg("--walks")
+            .arg(dir.path().join("bad.csv"))
+            .arg("--out")
+            .arg(dir.path().join("bad"))
+            .assert()
+            .failure()
+            .stderr(predicate::str::contains(problem).and(predicate::str::contains("bad.csv")));
+        assert!(!dir.path().join("bad").exists(), "no partial output");
+    }
+}
