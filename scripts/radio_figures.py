@@ -11,9 +11,9 @@ walk with imu.csv, wifi.csv and waypoints.csv):
    survey heard, −100 dBm where not heard, the mean of the k nearest scans' positions) on a
    database of the survey walks' scans at their *true* positions (linear between the
    walk's waypoints; scans outside the waypoints' time span are left out);
-4. every other walk from an unknown start: `fingerprint --radiomap` (the radio map alone)
-   and `track --walks --radiomap` (the tracker on the plan with the radio map, every test
-   walk in one run into WORK/rf-tracks/<walk>), each scored by
+4. every other walk from an unknown start: `fingerprint --walks --radiomap` (the radio map
+   alone) and `track --walks --radiomap` (the tracker on the plan with the radio map), each
+   one run for every test walk (WORK/fingerprints/<walk>, WORK/rf-tracks/<walk>), scored by
    `footslam eval --waypoints` at every waypoint (a waypoint the track does not answer
    counts as unanswered); the track every row (`--all-rows`: the answer a user gets at every
    step) and its certain rows alone; the peer's scan placements are written as a track.csv
@@ -30,6 +30,7 @@ import argparse
 import bisect
 import concurrent.futures as cf
 import csv
+import heapq
 import json
 import math
 import os
@@ -168,24 +169,43 @@ def waypoint_errors(binary, wps, track, all_rows=False):
     return [w["error"] for w in out["waypoints"]]
 
 
-def peer_track(db, scans, path, k=3, missing=-100.0):
+MISSING_DBM = -100.0
+
+
+def peer_index(db, missing=MISSING_DBM):
+    """The peer's database indexed for `peer_track`: each access point's readings
+    `(fingerprint, dBm)`, each fingerprint's `S_v` (the sum of `(v_b - missing)^2` over its
+    readings) and position."""
+    index = {}
+    for i, (_, fp, _) in enumerate(db):
+        for b, r in fp.items():
+            index.setdefault(b, []).append((i, r))
+    base = [sum((r - missing) ** 2 for r in fp.values()) for _, fp, _ in db]
+    return index, base, [pos for _, _, pos in db]
+
+
+def peer_track(peer, scans, path, k=3, missing=MISSING_DBM):
     """Writes the nearest-k placements of `scans` as a track.csv (t,x,y): plain Euclidean
-    over every access point the database heard, `missing` where not heard. Computed
-    sparsely (access points that neither fingerprint heard add nothing), the same distances
-    as the dense vectors'."""
-    aps = {b for _, fp, _ in db for b in fp}
+    over every access point the database heard, `missing` where not heard. With the index of
+    `peer_index` and `Q` the scan's sum of `(q_b - missing)^2`, `d(q, v) = S_v + Q + sum over
+    the access points both heard of (q_b - v_b)^2 - (v_b - missing)^2 - (q_b - missing)^2`:
+    the dense vectors' distance (access points neither heard add nothing)."""
+    index, base, positions = peer
     with open(path, "w") as f:
         f.write("t,x,y\n")
         for t, fp in scans:
-            q = {b: r for b, r in fp.items() if b in aps}
+            q = {b: r for b, r in fp.items() if b in index}
             if not q:
                 continue
-            def dist(v):
-                d = sum((q.get(b, missing) - r) ** 2 for b, r in v.items())
-                return d + sum((r - missing) ** 2 for b, r in q.items() if b not in v)
-            d = sorted((dist(v), pos) for _, v, pos in db)[:k]
-            x = sum(p[0] for _, p in d) / len(d)
-            y = sum(p[1] for _, p in d) / len(d)
+            d = list(base)
+            both = 0.0
+            for b, qb in q.items():
+                both += (qb - missing) ** 2
+                for i, vb in index[b]:
+                    d[i] += (qb - vb) ** 2 - (vb - missing) ** 2 - (qb - missing) ** 2
+            near = heapq.nsmallest(k, ((di + both, positions[i]) for i, di in enumerate(d)))
+            x = sum(p[0] for _, p in near) / len(near)
+            y = sum(p[1] for _, p in near) / len(near)
             f.write(f"{t:.3f},{x:.3f},{y:.3f}\n")
 
 
@@ -199,7 +219,8 @@ def steps_of(binary, imported, work, w, fresh):
 
 def track_walks(a, tests, radiomap, plan):
     """Every test walk from an unknown start, in one `track --walks` run (the plan and the
-    radio map prepared once), into WORK/rf-tracks/<walk>."""
+    radio map prepared once), into WORK/rf-tracks/<walk>; and their scans placed by the radio
+    map alone, in one `fingerprint --walks` run, into WORK/fingerprints/<walk>."""
     manifest = os.path.join(a.work, "test_walks.csv")
     with open(manifest, "w", newline="") as f:
         out = csv.writer(f)
@@ -209,21 +230,21 @@ def track_walks(a, tests, radiomap, plan):
                           os.path.abspath(os.path.join(a.imported, w, "wifi.csv")), w])
     run(a.binary, "track", "--plan", plan, "--walks", manifest, "--radiomap", radiomap,
         "--seed", str(a.seed), *a.track_arg, "--out", os.path.join(a.work, "rf-tracks"))
+    run(a.binary, "fingerprint", "--radiomap", radiomap, "--walks", manifest,
+        "--out", os.path.join(a.work, "fingerprints"))
 
 
-def test_walk(a, w, radiomap, plan, db):
+def test_walk(a, w, radiomap, plan, peer_db):
     src = os.path.join(a.imported, w)
     wps = os.path.join(src, "waypoints.csv")
     n_wps = len(read_waypoints(wps))
     run_dir = os.path.join(a.work, w)
     res = {"walk": w, "waypoints": n_wps}
-    fp = os.path.join(run_dir, "fingerprint")
-    shutil.rmtree(fp, ignore_errors=True)
-    run(a.binary, "fingerprint", "--radiomap", radiomap, "--wifi", os.path.join(src, "wifi.csv"), "--out", fp)
+    fp = os.path.join(a.work, "fingerprints", w)
     res["fingerprint"] = waypoint_errors(a.binary, wps, os.path.join(fp, "track.csv"))
     peer = os.path.join(run_dir, "peer")
     os.makedirs(peer, exist_ok=True)
-    peer_track(db, read_scans(os.path.join(src, "wifi.csv")), os.path.join(peer, "track.csv"))
+    peer_track(peer_db, read_scans(os.path.join(src, "wifi.csv")), os.path.join(peer, "track.csv"))
     res["peer"] = waypoint_errors(a.binary, wps, os.path.join(peer, "track.csv"))
     tr = os.path.join(a.work, "rf-tracks", w)
     res["track"] = waypoint_errors(a.binary, wps, os.path.join(tr, "track.csv"), all_rows=True)
@@ -284,13 +305,14 @@ def main():
     radiomap = os.path.join(sv, "radiomap.geojson")
     with open(os.path.join(sv, "summary.json")) as f:
         survey_summary = json.load(f)
-    bar = Progress(1, f"track of {len(tests)} walks")
-    bar.start("track --walks")
+    bar = Progress(1, f"track and fingerprint of {len(tests)} walks")
+    bar.start("track --walks, fingerprint --walks")
     track_walks(a, tests, radiomap, plan)
-    bar.done("track --walks")
+    bar.done("track --walks, fingerprint --walks")
     bar = Progress(len(tests), "test walks")
     with cf.ThreadPoolExecutor(a.jobs) as ex:
-        results = list(ex.map(bar.wrap(lambda w: test_walk(a, w, radiomap, plan, db)), tests))
+        peer_db = peer_index(db)
+        results = list(ex.map(bar.wrap(lambda w: test_walk(a, w, radiomap, plan, peer_db)), tests))
     bar.finish()
     expected = sum(r["waypoints"] for r in results)
     figures = {"survey_walks": len(survey), "test_walks": len(tests), "peer_database_scans": len(db),

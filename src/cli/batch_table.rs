@@ -52,6 +52,17 @@ fn scalar_text(value: &Value) -> String {
     }
 }
 
+/// A batch's row under the walk's name (`track --walks`, `fingerprint --walks`): a `name`
+/// column beside the report's.
+#[derive(Debug, Serialize)]
+pub(super) struct NamedRow<'a, T: Serialize> {
+    /// The walk's name (its folder).
+    pub name: &'a str,
+    /// Its report.
+    #[serde(flatten)]
+    pub row: &'a T,
+}
+
 /// The CSV text of `walks`: a `walk` column (1-based), then each walk's flattened figures.
 pub(super) fn walks_table<T: Serialize>(walks: &[T]) -> Result<Vec<u8>> {
     let mut rows: Vec<Vec<(String, String)>> = Vec::with_capacity(walks.len());

@@ -3,11 +3,14 @@
 
 use super::common::{output_dir, read_config, require_file};
 use super::progress_bars::Bars;
-use anyhow::Result;
+use super::batch_table::{NamedRow, walks_table};
+use super::track_walks::walk_names;
+use anyhow::{Context, Result, bail};
 use footslam::filter::FingerprintConfig;
 use footslam::io::radio_map_geojson::read_radio_map_geojson;
-use footslam::io::{TrackPoint, read_wifi_log, write_track};
-use footslam::pipeline::{FingerprintRequest, Named, run_fingerprint};
+use footslam::io::{RunFolder, TrackPoint, read_walk_manifest, read_wifi_log, write_track};
+use footslam::pipeline::{FingerprintJob, FingerprintReport, Named, PreparedFingerprint};
+use serde::Serialize;
 use std::path::PathBuf;
 
 /// Arguments of `footslam fingerprint`.
@@ -18,8 +21,13 @@ pub struct Args {
     #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     radiomap: PathBuf,
     /// WiFi log CSV (`t,bssid,rssi[,ssid,freq]`).
-    #[arg(long, value_name = "FILE", help_heading = "Inputs")]
-    wifi: PathBuf,
+    #[arg(long, value_name = "FILE", required_unless_present = "walks", help_heading = "Inputs")]
+    wifi: Option<PathBuf>,
+    /// Manifest of walks (as `track --walks` reads it: its `wifi` column, `name` naming each
+    /// walk's folder, default `walk-001`, …): every log placed with the radio map prepared
+    /// once, one folder per walk with `walks.csv` beside them.
+    #[arg(long, value_name = "FILE", conflicts_with = "wifi", help_heading = "Inputs")]
+    walks: Option<PathBuf>,
     /// Nearest cells averaged (overrides the config file).
     #[arg(long, value_name = "K", help_heading = "Filter")]
     k: Option<usize>,
@@ -34,22 +42,93 @@ pub struct Args {
 /// Runs `footslam fingerprint`.
 pub fn run(args: Args) -> Result<()> {
     require_file(&args.radiomap, "radio map")?;
-    require_file(&args.wifi, "WiFi log")?;
     let config: FingerprintConfig = match &args.config {
         Some(p) => read_config(p)?,
         None => FingerprintConfig::default(),
     };
-    let (map, _) = read_radio_map_geojson(&args.radiomap, None)?;
-    let log = read_wifi_log(&args.wifi)?;
-    let request = FingerprintRequest {
-        map: Named::new(map, args.radiomap.display().to_string()),
-        wifi: Named::new(log.scans, args.wifi.display().to_string()),
-        duplicate_readings: log.duplicate_readings,
-        config,
-        k: args.k,
+    let logs: Vec<(PathBuf, Option<String>)> = match (&args.walks, &args.wifi) {
+        (Some(manifest), _) => {
+            require_file(manifest, "walk manifest")?;
+            let walks = read_walk_manifest(manifest, true)?;
+            let names = walk_names(manifest, &walks)?;
+            walks
+                .into_iter()
+                .zip(names)
+                .map(|(w, n)| (w.wifi.unwrap_or_default(), Some(n)))
+                .collect()
+        }
+        (None, Some(wifi)) => vec![(wifi.clone(), None)],
+        (None, None) => bail!("give --wifi (a WiFi log) or --walks (a manifest of walks)"),
     };
-    let job = run_fingerprint(request, &Bars::default())?;
+    let (map, _) = read_radio_map_geojson(&args.radiomap, None)?;
+    let prepared = PreparedFingerprint::new(
+        Named::new(map, args.radiomap.display().to_string()),
+        config,
+        args.k,
+    )?;
+    let bars = Bars::default();
     let folder = super::common::create_run_folder(&output_dir(args.out, "fingerprint"))?;
+    let mut reports = Vec::with_capacity(logs.len());
+    for (wifi, name) in &logs {
+        require_file(wifi, "WiFi log")?;
+        let log = read_wifi_log(wifi)?;
+        let scans = Named::new(log.scans, wifi.display().to_string());
+        let job = prepared.place(&scans, log.duplicate_readings, &bars);
+        let job = match name {
+            Some(name) => job.with_context(|| format!("walk {name}"))?,
+            None => job?,
+        };
+        match name {
+            Some(name) => {
+                let child = RunFolder::create(&folder.path(name))?;
+                write_job(&child, &job)?;
+                child.commit()?;
+            }
+            None => write_job(&folder, &job)?,
+        }
+        reports.push(job.report);
+    }
+    if args.walks.is_some() {
+        let rows: Vec<NamedRow<FingerprintReport>> = logs
+            .iter()
+            .zip(&reports)
+            .map(|((_, name), row)| NamedRow {
+                name: name.as_deref().unwrap_or_default(),
+                row,
+            })
+            .collect();
+        folder.write("walks.csv", &walks_table(&rows)?)?;
+        folder.write_json("config.json", prepared.config())?;
+        folder.write_json("summary.json", &BatchReport { walks: &reports })?;
+    }
+    let out = folder.commit()?;
+    let (placed, scans) = reports
+        .iter()
+        .fold((0, 0), |(p, s), r| (p + r.placed, s + r.scans));
+    info!(
+        "placed {placed} of {scans} scans{} by the radio map alone: {}",
+        match logs.len() {
+            1 => String::new(),
+            n => format!(" of {n} walks"),
+        },
+        match args.walks {
+            Some(_) => out.clone(),
+            None => out.join("track.csv"),
+        }
+        .display()
+    );
+    super::verbosity::done(&out, None);
+    Ok(())
+}
+
+/// `summary.json` of `fingerprint --walks`: each walk's report.
+#[derive(Debug, Serialize)]
+struct BatchReport<'a> {
+    walks: &'a [FingerprintReport],
+}
+
+/// Writes one log's `track.csv`, `config.json` and `summary.json` into `folder`.
+fn write_job(folder: &RunFolder, job: &FingerprintJob) -> Result<()> {
     let track: Vec<TrackPoint> = job
         .fixes
         .iter()
@@ -64,14 +143,5 @@ pub fn run(args: Args) -> Result<()> {
     write_track(&folder.path("track.csv"), &track)?;
     folder.write_json("config.json", &job.config)?;
     folder.write_json("summary.json", &job.report)?;
-    let out = folder.commit()?;
-    let report = &job.report;
-    info!(
-        "placed {} of {} scans by the radio map alone: {}",
-        report.placed,
-        report.scans,
-        out.join("track.csv").display()
-    );
-    super::verbosity::done(&out, None);
     Ok(())
 }

@@ -6,7 +6,7 @@
 //! (one row per walk: its `summary.json` flattened), `config.json` and a `summary.json`
 //! listing the walks.
 
-use super::batch_table::walks_table;
+use super::batch_table::{NamedRow, walks_table};
 use super::common::{create_run_folder, output_dir, require_file, worker_pool};
 use super::progress_bars::Bars;
 use super::track::{Args, read_request, track_into};
@@ -111,7 +111,12 @@ pub(super) fn run(args: &Args) -> Result<()> {
         .map(|(_, r)| r)
         .collect::<Result<Vec<TrackReport>>>()?;
     bars.finish();
-    folder.write("walks.csv", &walks_table(&reports)?)?;
+    let rows: Vec<NamedRow<TrackReport>> = names
+        .iter()
+        .zip(&reports)
+        .map(|(name, row)| NamedRow { name, row })
+        .collect();
+    folder.write("walks.csv", &walks_table(&rows)?)?;
     folder.write_json("config.json", &shared.config)?;
     let report = batch_report(
         args,
@@ -156,7 +161,7 @@ fn walk_request(args: &Args, walk: &ManifestWalk) -> footslam::Result<TrackWalkR
 
 /// Each walk's folder name: the manifest's `name` column where given, else `walk-001`, …;
 /// names must be unique plain folder names.
-fn walk_names(manifest: &std::path::Path, walks: &[ManifestWalk]) -> Result<Vec<String>> {
+pub(super) fn walk_names(manifest: &std::path::Path, walks: &[ManifestWalk]) -> Result<Vec<String>> {
     let width = walks.len().to_string().len().max(3);
     let names: Vec<String> = walks
         .iter()

@@ -42,7 +42,9 @@ pub mod track_job;
 mod track_records;
 pub mod track_report;
 
-pub use fingerprint_job::{FingerprintJob, FingerprintReport, FingerprintRequest, run_fingerprint};
+pub use fingerprint_job::{
+    FingerprintJob, FingerprintReport, FingerprintRequest, PreparedFingerprint, run_fingerprint,
+};
 pub use input_checks::{
     GPS_LEAD_S, GridMismatch, MIN_MATCHED_SHARE, SAME_ORIGIN_M, ScanMatch, fixes_far_from_origin,
     fixes_off_clock, grid_mismatch, missing_height_changes, outline_off_walks, partly_off_clock,
