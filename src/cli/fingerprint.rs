@@ -1,9 +1,9 @@
 //! `footslam fingerprint`: each WiFi scan placed by the radio map alone (weighted k-nearest
 //! fingerprints) — the baseline that tracking with the radio map should beat.
 
+use super::batch_table::{NamedRow, walks_table};
 use super::common::{output_dir, read_config, require_file};
 use super::progress_bars::Bars;
-use super::batch_table::{NamedRow, walks_table};
 use super::track_walks::walk_names;
 use anyhow::{Context, Result, bail};
 use footslam::filter::FingerprintConfig;
@@ -21,12 +21,22 @@ pub struct Args {
     #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     radiomap: PathBuf,
     /// WiFi log CSV (`t,bssid,rssi[,ssid,freq]`).
-    #[arg(long, value_name = "FILE", required_unless_present = "walks", help_heading = "Inputs")]
+    #[arg(
+        long,
+        value_name = "FILE",
+        required_unless_present = "walks",
+        help_heading = "Inputs"
+    )]
     wifi: Option<PathBuf>,
     /// Manifest of walks (as `track --walks` reads it: its `wifi` column, `name` naming each
     /// walk's folder, default `walk-001`, …): every log placed with the radio map prepared
     /// once, one folder per walk with `walks.csv` beside them.
-    #[arg(long, value_name = "FILE", conflicts_with = "wifi", help_heading = "Inputs")]
+    #[arg(
+        long,
+        value_name = "FILE",
+        conflicts_with = "wifi",
+        help_heading = "Inputs"
+    )]
     walks: Option<PathBuf>,
     /// Nearest cells averaged (overrides the config file).
     #[arg(long, value_name = "K", help_heading = "Filter")]
@@ -46,20 +56,7 @@ pub fn run(args: Args) -> Result<()> {
         Some(p) => read_config(p)?,
         None => FingerprintConfig::default(),
     };
-    let logs: Vec<(PathBuf, Option<String>)> = match (&args.walks, &args.wifi) {
-        (Some(manifest), _) => {
-            require_file(manifest, "walk manifest")?;
-            let walks = read_walk_manifest(manifest, true)?;
-            let names = walk_names(manifest, &walks)?;
-            walks
-                .into_iter()
-                .zip(names)
-                .map(|(w, n)| (w.wifi.unwrap_or_default(), Some(n)))
-                .collect()
-        }
-        (None, Some(wifi)) => vec![(wifi.clone(), None)],
-        (None, None) => bail!("give --wifi (a WiFi log) or --walks (a manifest of walks)"),
-    };
+    let logs = logs_of(&args)?;
     let (map, _) = read_radio_map_geojson(&args.radiomap, None)?;
     let prepared = PreparedFingerprint::new(
         Named::new(map, args.radiomap.display().to_string()),
@@ -89,17 +86,7 @@ pub fn run(args: Args) -> Result<()> {
         reports.push(job.report);
     }
     if args.walks.is_some() {
-        let rows: Vec<NamedRow<FingerprintReport>> = logs
-            .iter()
-            .zip(&reports)
-            .map(|((_, name), row)| NamedRow {
-                name: name.as_deref().unwrap_or_default(),
-                row,
-            })
-            .collect();
-        folder.write("walks.csv", &walks_table(&rows)?)?;
-        folder.write_json("config.json", prepared.config())?;
-        folder.write_json("summary.json", &BatchReport { walks: &reports })?;
+        write_batch(&folder, &logs, &reports, prepared.config())?;
     }
     let out = folder.commit()?;
     let (placed, scans) = reports
@@ -118,6 +105,45 @@ pub fn run(args: Args) -> Result<()> {
         .display()
     );
     super::verbosity::done(&out, None);
+    Ok(())
+}
+
+/// The WiFi logs to place: `--wifi`, or the manifest's with each walk's name.
+fn logs_of(args: &Args) -> Result<Vec<(PathBuf, Option<String>)>> {
+    Ok(match (&args.walks, &args.wifi) {
+        (Some(manifest), _) => {
+            require_file(manifest, "walk manifest")?;
+            let walks = read_walk_manifest(manifest, true)?;
+            let names = walk_names(manifest, &walks)?;
+            walks
+                .into_iter()
+                .zip(names)
+                .map(|(w, n)| (w.wifi.unwrap_or_default(), Some(n)))
+                .collect()
+        }
+        (None, Some(wifi)) => vec![(wifi.clone(), None)],
+        (None, None) => bail!("give --wifi (a WiFi log) or --walks (a manifest of walks)"),
+    })
+}
+
+/// A batch's `walks.csv`, `config.json` and `summary.json`.
+fn write_batch(
+    folder: &RunFolder,
+    logs: &[(PathBuf, Option<String>)],
+    reports: &[FingerprintReport],
+    config: &FingerprintConfig,
+) -> Result<()> {
+    let rows: Vec<NamedRow<FingerprintReport>> = logs
+        .iter()
+        .zip(reports)
+        .map(|((_, name), row)| NamedRow {
+            name: name.as_deref().unwrap_or_default(),
+            row,
+        })
+        .collect();
+    folder.write("walks.csv", &walks_table(&rows)?)?;
+    folder.write_json("config.json", config)?;
+    folder.write_json("summary.json", &BatchReport { walks: reports })?;
     Ok(())
 }
 

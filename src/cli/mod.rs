@@ -120,6 +120,7 @@ pub fn main() -> std::process::ExitCode {
         Command::Plan(a) => plan::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Steps(a) => steps::run(a),
+        Command::Track(a) if a.walks.is_some() => track_walks::run(&a),
         Command::Track(a) => track::run(a),
         Command::Survey(a) => survey::run(a),
         Command::Eval(a) => eval::run(a),

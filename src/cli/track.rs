@@ -189,9 +189,6 @@ pub(super) fn parse_start(s: &str) -> Result<StartPose, String> {
 
 /// Runs `footslam track`.
 pub fn run(args: Args) -> Result<()> {
-    if args.walks.is_some() {
-        return super::track_walks::run(&args);
-    }
     if args.radiomap.is_some() && args.wifi.is_none() {
         bail!(
             "--radiomap needs the walk's WiFi log: give --wifi (or --walks with a `wifi` column)"

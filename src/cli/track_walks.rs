@@ -63,54 +63,15 @@ pub(super) fn run(args: &Args) -> Result<()> {
     let mut folder = create_run_folder(&output_dir(args.out.clone(), "track"))?;
     let (first, inputs) = read_request(args, Some(&walks[0]))?;
     folder.protect(inputs.iter().chain(args.config.iter()).chain([manifest]));
-    let item = |i: usize| ItemProgress {
-        inner: &bars,
-        item: i,
-        label: names[i].clone(),
+    let batch = Batch {
+        args,
+        walks: &walks,
+        names: &names,
+        folder: &folder,
+        bars: &bars,
     };
-    let shared = pool.install(|| prepare(first, &item(0)))?;
-    bars.start("walks", walks.len() as u64);
-    // Walks run in lanes, each lane's walks one after another, the lanes side by side (each
-    // walk's filter also spreads over the pool): at most `lanes` walks' particles in memory.
-    let lanes = pool.current_num_threads().clamp(1, MAX_LANES);
-    let track_walk = |i: usize| -> Result<TrackReport> {
-        let walk_started = if i == 0 { started } else { Instant::now() };
-        let progress = item(i);
-        let other = match i {
-            0 => None,
-            _ => Some(shared.for_walk(walk_request(args, &walks[i])?, &progress)?),
-        };
-        let prepared: &PreparedTrack = other.as_ref().unwrap_or(&shared);
-        let child = RunFolder::create(&folder.path(&names[i]))?;
-        let report = track_into(
-            &child,
-            prepared,
-            &progress,
-            args.picture_extent,
-            walk_started,
-        )
-        .with_context(|| format!("walk {} ({})", names[i], walks[i].steps.display()))?;
-        child.commit()?;
-        bars.advance(1);
-        Ok(report)
-    };
-    let mut done: Vec<(usize, Result<TrackReport>)> = pool.install(|| {
-        (0..lanes)
-            .into_par_iter()
-            .flat_map_iter(|lane| {
-                (lane..walks.len())
-                    .step_by(lanes)
-                    .map(|i| (i, track_walk(i)))
-                    .collect::<Vec<_>>()
-            })
-            .collect()
-    });
-    done.sort_by_key(|(i, _)| *i);
-    let reports = done
-        .into_iter()
-        .map(|(_, r)| r)
-        .collect::<Result<Vec<TrackReport>>>()?;
-    bars.finish();
+    let shared = pool.install(|| prepare(first, &batch.item(0)))?;
+    let reports = pool.install(|| batch.track_all(&shared, started))?;
     let rows: Vec<NamedRow<TrackReport>> = names
         .iter()
         .zip(&reports)
@@ -141,6 +102,67 @@ pub(super) fn run(args: &Args) -> Result<()> {
     Ok(())
 }
 
+/// A batch's walks and where their outputs and progress go.
+struct Batch<'a> {
+    args: &'a Args,
+    walks: &'a [ManifestWalk],
+    names: &'a [String],
+    folder: &'a RunFolder,
+    bars: &'a Bars,
+}
+
+impl Batch<'_> {
+    /// Walk `i`'s progress, under its name.
+    fn item(&self, i: usize) -> ItemProgress<'_> {
+        ItemProgress {
+            inner: self.bars,
+            item: i,
+            label: self.names[i].clone(),
+        }
+    }
+
+    /// Tracks every walk (the first prepared as `shared`, the others from it) into its
+    /// folder, in lanes side by side (each lane's walks one after another, each walk's
+    /// filter also on the pool): at most [`MAX_LANES`] walks' particles in memory. The
+    /// reports in the manifest's order.
+    fn track_all(&self, shared: &PreparedTrack, started: Instant) -> Result<Vec<TrackReport>> {
+        self.bars.start("walks", self.walks.len() as u64);
+        let lanes = rayon::current_num_threads().clamp(1, MAX_LANES);
+        let mut done: Vec<(usize, Result<TrackReport>)> = (0..lanes)
+            .into_par_iter()
+            .flat_map_iter(|lane| {
+                (lane..self.walks.len())
+                    .step_by(lanes)
+                    .map(|i| (i, self.track_one(shared, i, started)))
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        self.bars.finish();
+        done.sort_by_key(|(i, _)| *i);
+        done.into_iter().map(|(_, r)| r).collect()
+    }
+
+    /// Tracks walk `i` into its folder.
+    fn track_one(&self, shared: &PreparedTrack, i: usize, started: Instant) -> Result<TrackReport> {
+        let walk_started = if i == 0 { started } else { Instant::now() };
+        let progress = self.item(i);
+        let other = match i {
+            0 => None,
+            _ => Some(shared.for_walk(walk_request(self.args, &self.walks[i])?, &progress)?),
+        };
+        let prepared: &PreparedTrack = other.as_ref().unwrap_or(shared);
+        let child = RunFolder::create(&self.folder.path(&self.names[i]))?;
+        let extent = self.args.picture_extent;
+        let report =
+            track_into(&child, prepared, &progress, extent, walk_started).with_context(|| {
+                format!("walk {} ({})", self.names[i], self.walks[i].steps.display())
+            })?;
+        child.commit()?;
+        self.bars.advance(1);
+        Ok(report)
+    }
+}
+
 /// A manifest row after the first, read: its steps, WiFi log and start.
 fn walk_request(args: &Args, walk: &ManifestWalk) -> footslam::Result<TrackWalkRequest> {
     let label = |p: &PathBuf| p.display().to_string();
@@ -161,7 +183,10 @@ fn walk_request(args: &Args, walk: &ManifestWalk) -> footslam::Result<TrackWalkR
 
 /// Each walk's folder name: the manifest's `name` column where given, else `walk-001`, …;
 /// names must be unique plain folder names.
-pub(super) fn walk_names(manifest: &std::path::Path, walks: &[ManifestWalk]) -> Result<Vec<String>> {
+pub(super) fn walk_names(
+    manifest: &std::path::Path,
+    walks: &[ManifestWalk],
+) -> Result<Vec<String>> {
     let width = walks.len().to_string().len().max(3);
     let names: Vec<String> = walks
         .iter()

@@ -1,5 +1,5 @@
-//! `footslam track --walks`: a batch of walks on one plan and radio map, prepared once,
-//! gives each walk what `track` alone gives it.
+//! `footslam track --walks` and `fingerprint --walks`: a batch of walks on one plan and
+//! radio map, prepared once, gives each walk what the command alone gives it.
 
 use assert_cmd::Command;
 use predicates::prelude::*;
@@ -33,16 +33,17 @@ fn read(path: &Path) -> Vec<u8> {
     std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
-#[test]
-fn a_batch_tracks_each_walk_as_track_alone_does() {
-    let dir = tempfile::tempdir().expect("tempdir");
+/// Three simulated tower walks in `dir`, the first surveyed into a radio map, and a manifest
+/// `walks.csv` of the other two (the first named `second`, the other by its row): the plan,
+/// the radio map and the two walks' folders.
+fn batch_inputs(dir: &Path) -> (PathBuf, PathBuf, PathBuf, PathBuf) {
     let (a, b, c) = (
-        simulate(dir.path(), "21"),
-        simulate(dir.path(), "22"),
-        simulate(dir.path(), "23"),
+        simulate(dir, "21"),
+        simulate(dir, "22"),
+        simulate(dir, "23"),
     );
     let plan = a.join("floor.geojson");
-    let survey = dir.path().join("survey");
+    let survey = dir.join("survey");
     footslam()
         .arg("survey")
         .arg("--plan")
@@ -55,15 +56,21 @@ fn a_batch_tracks_each_walk_as_track_alone_does() {
         .arg(&survey)
         .assert()
         .success();
-    let radiomap = survey.join("radiomap.geojson");
-    // Paths relative to the manifest; the second walk unnamed (named by its row).
+    // Paths relative to the manifest.
     std::fs::write(
-        dir.path().join("walks.csv"),
+        dir.join("walks.csv"),
         "steps,wifi,start,name\n\
          tower-22/steps.csv,tower-22/wifi.csv,,second\n\
          tower-23/steps.csv,tower-23/wifi.csv,,\n",
     )
     .expect("manifest");
+    (plan, survey.join("radiomap.geojson"), b, c)
+}
+
+#[test]
+fn a_batch_tracks_each_walk_as_track_alone_does() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (plan, radiomap, b, c) = batch_inputs(dir.path());
     let out = dir.path().join("batch");
     footslam()
         .arg("track")
@@ -148,4 +155,60 @@ fn a_batch_tracks_each_walk_as_track_alone_does() {
             .stderr(predicate::str::contains(problem).and(predicate::str::contains("bad.csv")));
         assert!(!dir.path().join("bad").exists(), "no partial output");
     }
+}
+
+#[test]
+fn a_batch_places_each_walks_scans_as_fingerprint_alone_does() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (_, radiomap, b, c) = batch_inputs(dir.path());
+    let out = dir.path().join("batch");
+    footslam()
+        .arg("fingerprint")
+        .arg("--radiomap")
+        .arg(&radiomap)
+        .arg("--walks")
+        .arg(dir.path().join("walks.csv"))
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains(
+            "of 2 walks by the radio map alone",
+        ));
+    for (walk, name) in [(&b, "second"), (&c, "walk-002")] {
+        let alone = dir.path().join(format!("alone-{name}"));
+        footslam()
+            .arg("fingerprint")
+            .arg("--radiomap")
+            .arg(&radiomap)
+            .arg("--wifi")
+            .arg(walk.join("wifi.csv"))
+            .arg("--out")
+            .arg(&alone)
+            .assert()
+            .success();
+        for file in ["track.csv", "config.json"] {
+            assert_eq!(
+                read(&out.join(name).join(file)),
+                read(&alone.join(file)),
+                "{name}/{file}"
+            );
+        }
+    }
+    let table = String::from_utf8(read(&out.join("walks.csv"))).expect("utf-8");
+    assert!(
+        table.lines().nth(1).expect("row").contains("second"),
+        "{table}"
+    );
+    assert_eq!(table.lines().count(), 3, "{table}");
+    // A log, or a manifest of them; not both.
+    footslam()
+        .arg("fingerprint")
+        .arg("--radiomap")
+        .arg(&radiomap)
+        .arg("--out")
+        .arg(dir.path().join("none"))
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("--wifi"));
 }
