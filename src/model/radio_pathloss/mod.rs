@@ -35,6 +35,19 @@
 //!               + Σ_{a modelled, not heard} ln(1 − P_h(μ_a(c)))
 //!   ```
 //!
+//! * **Device offset** (eq. 5): phones read a few dB apart (the ILC walks ±3.5 dB about the
+//!   survey's scans within 3 m), and one offset `δ` moves every reading of a scan. With
+//!   `δ ~ N(0, τ²)` (`device_offset_db`) integrated out, the heard readings' residuals
+//!   `e_a = r_a − μ_a(c)` with weights `w_a = 1 / σ²_a` add
+//!
+//!   ```text
+//!   ½ (Σ_a w_a e_a)² / (Σ_a w_a + 1/τ²)
+//!   ```
+//!
+//!   to eq. (4) (the Gaussian's Sherman–Morrison form; `−½ ln(1 + τ² Σ w_a)` is the same at
+//!   every cell and left out): a scan is placed by its readings' differences more than by
+//!   their level.
+//!
 //! Levels: a cell `k` levels from the access point's is `k · level_m` further (in the
 //! distance of eq. 1) and `k · F_a` dB weaker, `F_a` fitted with `A_a` and `s_a` where the
 //! access point is read on several levels (clamped to [0, 40] dB), else `level_loss_db`
@@ -65,6 +78,7 @@ use serde::{Deserialize, Serialize};
 /// | `detection_bin_db` | 2 dB     | bins of the predicted mean for the detection curve        |
 /// | `level_m`          | 4 m      | distance added per level between cell and access point    |
 /// | `level_loss_db`    | 15 dB    | loss per level where the survey cannot measure it         |
+/// | `device_offset_db` | 4 dB     | `τ`: spread of a scan's device offset (0: none)            |
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PathLossConfig {
@@ -92,6 +106,8 @@ pub struct PathLossConfig {
     /// Loss per level between a cell and an access point where the survey does not read the
     /// access point on two levels, dB.
     pub level_loss_db: f64,
+    /// `τ` of eq. (5): spread of a scan's device offset, dB (0: none).
+    pub device_offset_db: f64,
 }
 
 impl Default for PathLossConfig {
@@ -108,6 +124,7 @@ impl Default for PathLossConfig {
             detection_bin_db: 2.0,
             level_m: 4.0,
             level_loss_db: 15.0,
+            device_offset_db: 4.0,
         }
     }
 }
@@ -170,6 +187,12 @@ impl PathLossConfig {
             "pathloss.level_loss_db",
             self.level_loss_db,
             0.0..=MAX_LEVEL_LOSS,
+            "dB",
+        )?;
+        check_range(
+            "pathloss.device_offset_db",
+            self.device_offset_db,
+            0.0..=30.0,
             "dB",
         )
     }
@@ -468,11 +491,19 @@ impl PathLossMap {
             .map(|(h, m)| h - m)
             .collect();
         let mut ll = self.all_missed.clone();
+        let tau2 = self.config.device_offset_db.powi(2);
+        let shrink = if tau2 > 0.0 {
+            let total: f64 = heard.iter().map(|h| h.2).sum();
+            0.5 / (total + tau2.recip())
+        } else {
+            0.0
+        };
         // Access point by access point over a chunk of cells, the table's rows read in
         // order; each cell adds its terms in the scan's order.
         ll.par_chunks_mut(CHUNK).enumerate().for_each(|(i, chunk)| {
             let first = i * CHUNK;
             let mut row = vec![0.0f32; chunk.len()];
+            let mut pulled = vec![0.0f64; if shrink > 0.0 { chunk.len() } else { 0 }];
             for &(a, rssi, precision, constant) in &heard {
                 let means = match &self.means {
                     Some(table) => &table[a * self.centres.len() + first..][..chunk.len()],
@@ -483,11 +514,17 @@ impl PathLossMap {
                         &row
                     }
                 };
-                for (l, &mean) in chunk.iter_mut().zip(means) {
+                for (k, (l, &mean)) in chunk.iter_mut().zip(means).enumerate() {
                     let mean = f64::from(mean);
                     let e = rssi - mean;
                     *l += constant - 0.5 * e * e * precision + gain[self.detection.bin_of(mean)];
+                    if let Some(p) = pulled.get_mut(k) {
+                        *p += precision * e;
+                    }
                 }
+            }
+            for (l, p) in chunk.iter_mut().zip(&pulled) {
+                *l += shrink * p * p;
             }
         });
         Some(

@@ -4,10 +4,14 @@ use super::*;
 use crate::map::radio_map::{CellRadio, RadioMapCell};
 use geo::{MultiPolygon, Rect};
 
-/// A 20 × 20 grid of 2 m cells; access points at (5, 5) and (35, 30) with exponent 3,
-/// surveyed only in the grid's western half (x < 20), one scan per cell.
+/// A 20 × 20 grid of 2 m cells; access points at (5, 5), (35, 30) and (12, 36) with
+/// exponent 3, surveyed only in the grid's western half (x < 20), one scan per cell.
 fn half_surveyed() -> RadioMap {
-    let aps = [("west", 5.0, 5.0), ("east", 35.0, 30.0)];
+    let aps = [
+        ("west", 5.0, 5.0),
+        ("east", 35.0, 30.0),
+        ("north", 12.0, 36.0),
+    ];
     let mut cells = Vec::new();
     for i in 0..20 {
         for j in 0..20 {
@@ -54,7 +58,7 @@ fn likeliest(map: &PathLossMap, scan: &WifiScan) -> (f64, f64) {
 #[test]
 fn access_points_are_found_beyond_the_survey() {
     let map = PathLossMap::fit(&half_surveyed(), &PathLossConfig::default()).expect("fit");
-    assert_eq!(map.access_points(), 2);
+    assert_eq!(map.access_points(), 3);
     let east = map.models[map.columns["east"]];
     // The eastern access point lies 15 m beyond the surveyed half: found within a cell or two.
     assert!((east.x - 35.0).hypot(east.y - 30.0) < 4.0, "{east:?}");
@@ -78,6 +82,41 @@ fn a_scan_where_nobody_surveyed_is_placed_there() {
         map.log_likelihoods(&WifiScan::from_readings(0.0, &[("x", -50.0)]))
             .is_none()
     );
+}
+
+#[test]
+fn a_device_reading_low_everywhere_is_placed_by_the_differences() {
+    // A phone that reads 9 dB below the survey's at (13, 11): the absolute levels say
+    // "farther from every access point", their differences say where.
+    let (x, y) = (13.0f64, 11.0f64);
+    let rssi = |ax: f64, ay: f64| -35.0 - 30.0 * (x - ax).hypot(y - ay).log10() - 9.0;
+    let scan = WifiScan::from_readings(
+        0.0,
+        &[
+            ("west", rssi(5.0, 5.0)),
+            ("east", rssi(35.0, 30.0)),
+            ("north", rssi(12.0, 36.0)),
+        ],
+    );
+    let error = |offset: f64| {
+        let config = PathLossConfig {
+            device_offset_db: offset,
+            ..PathLossConfig::default()
+        };
+        let map = PathLossMap::fit(&half_surveyed(), &config).expect("fit");
+        let (px, py) = likeliest(&map, &scan);
+        (px - x).hypot(py - y)
+    };
+    // Without eq. (5) the scan lands far out; an offset as likely as any (τ = 30 dB) is
+    // read off the differences and the scan lands where it was taken; the default prior
+    // (τ = 4 dB, a 9 dB offset being 2.25 τ) moves it part of the way.
+    let (none, free) = (error(0.0), error(30.0));
+    let default = error(PathLossConfig::default().device_offset_db);
+    assert!(
+        none > 5.0 && free < 2.0,
+        "none {none} m, τ = 30 dB {free} m"
+    );
+    assert!(default <= none, "default {default} m, none {none} m");
 }
 
 #[test]
