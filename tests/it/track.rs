@@ -11,7 +11,7 @@ fn footslam() -> Command {
 }
 
 /// Simulates a short tower walk into `dir`.
-fn simulate_tower(dir: &Path, seed: &str, minutes: &str) -> PathBuf {
+pub(crate) fn simulate_tower(dir: &Path, seed: &str, minutes: &str) -> PathBuf {
     let out = dir.join(format!("tower-{seed}"));
     footslam()
         .args([

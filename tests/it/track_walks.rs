@@ -1,32 +1,13 @@
 //! `footslam track --walks` and `fingerprint --walks`: a batch of walks on one plan and
 //! radio map, prepared once, gives each walk what the command alone gives it.
 
+use super::track::simulate_tower;
 use assert_cmd::Command;
 use predicates::prelude::*;
 use std::path::{Path, PathBuf};
 
 fn footslam() -> Command {
     Command::cargo_bin("footslam").expect("binary")
-}
-
-/// Simulates a short tower walk with WiFi into `dir`.
-fn simulate(dir: &Path, seed: &str) -> PathBuf {
-    let out = dir.join(format!("tower-{seed}"));
-    footslam()
-        .args([
-            "simulate",
-            "--building",
-            "tower",
-            "--minutes",
-            "2",
-            "--seed",
-            seed,
-        ])
-        .arg("--out")
-        .arg(&out)
-        .assert()
-        .success();
-    out
 }
 
 fn read(path: &Path) -> Vec<u8> {
@@ -37,11 +18,8 @@ fn read(path: &Path) -> Vec<u8> {
 /// `walks.csv` of the other two (the first named `second`, the other by its row): the plan,
 /// the radio map and the two walks' folders.
 fn batch_inputs(dir: &Path) -> (PathBuf, PathBuf, PathBuf, PathBuf) {
-    let (a, b, c) = (
-        simulate(dir, "21"),
-        simulate(dir, "22"),
-        simulate(dir, "23"),
-    );
+    let simulate = |seed| simulate_tower(dir, seed, "2");
+    let (a, b, c) = (simulate("21"), simulate("22"), simulate("23"));
     let plan = a.join("floor.geojson");
     let survey = dir.join("survey");
     footslam()
@@ -67,22 +45,32 @@ fn batch_inputs(dir: &Path) -> (PathBuf, PathBuf, PathBuf, PathBuf) {
     (plan, survey.join("radiomap.geojson"), b, c)
 }
 
+/// `footslam track --walks manifest` on `plan` with `radiomap`, seed 3, into `out`.
+fn track_batch(
+    plan: &Path,
+    radiomap: &Path,
+    manifest: &Path,
+    out: &Path,
+) -> assert_cmd::assert::Assert {
+    footslam()
+        .arg("track")
+        .arg("--plan")
+        .arg(plan)
+        .arg("--radiomap")
+        .arg(radiomap)
+        .arg("--walks")
+        .arg(manifest)
+        .args(["--seed", "3", "--out"])
+        .arg(out)
+        .assert()
+}
+
 #[test]
 fn a_batch_tracks_each_walk_as_track_alone_does() {
     let dir = tempfile::tempdir().expect("tempdir");
     let (plan, radiomap, b, c) = batch_inputs(dir.path());
     let out = dir.path().join("batch");
-    footslam()
-        .arg("track")
-        .arg("--plan")
-        .arg(&plan)
-        .arg("--radiomap")
-        .arg(&radiomap)
-        .arg("--walks")
-        .arg(dir.path().join("walks.csv"))
-        .args(["--seed", "3", "--out"])
-        .arg(&out)
-        .assert()
+    track_batch(&plan, &radiomap, &dir.path().join("walks.csv"), &out)
         .success()
         .stdout(predicate::str::contains("2 walks tracked"));
     for (walk, name) in [(&b, "second"), (&c, "walk-002")] {
@@ -140,20 +128,11 @@ fn a_batch_tracks_each_walk_as_track_alone_does() {
         ),
     ] {
         std::fs::write(dir.path().join("bad.csv"), manifest).expect("manifest");
-        footslam()
-            .arg("track")
-            .arg("--plan")
-            .arg(&plan)
-            .arg("--radiomap")
-            .arg(&radiomap)
-            .arg("--walks")
-            .arg(dir.path().join("bad.csv"))
-            .arg("--out")
-            .arg(dir.path().join("bad"))
-            .assert()
+        let bad = dir.path().join("bad");
+        track_batch(&plan, &radiomap, &dir.path().join("bad.csv"), &bad)
             .failure()
             .stderr(predicate::str::contains(problem).and(predicate::str::contains("bad.csv")));
-        assert!(!dir.path().join("bad").exists(), "no partial output");
+        assert!(!bad.exists(), "no partial output");
     }
 }
 
