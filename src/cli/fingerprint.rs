@@ -29,8 +29,8 @@ pub struct Args {
     )]
     wifi: Option<PathBuf>,
     /// Manifest of walks (as `track --walks` reads it: its `wifi` column, `name` naming each
-    /// walk's folder, default `walk-001`, …): every log placed with the radio map prepared
-    /// once, one folder per walk with `walks.csv` beside them.
+    /// walk's folder, default `walk-1`, `walk-2`, … as in `learn`): every log placed with
+    /// the radio map prepared once, one folder per walk with `walks.csv` beside them.
     #[arg(
         long,
         value_name = "FILE",

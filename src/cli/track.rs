@@ -69,11 +69,11 @@ pub struct Args {
     /// (see `--ignore-heading`). Default: the bundled walk.
     #[arg(long, value_name = "FILE", help_heading = "Inputs")]
     steps: Option<PathBuf>,
-    /// Manifest of walks to track one after another on the same plan (and radio map): a CSV
+    /// Manifest of walks to track on the same plan (and radio map), up to 4 at once: a CSV
     /// with columns `steps[,wifi][,start][,name]` (paths relative to the manifest; `wifi`
     /// required with `--radiomap`; an empty `start` is unknown). The plan and the radio map
     /// are prepared once; each walk's outputs go into a folder named by its `name` (default
-    /// `walk-001`, …), with `walks.csv` (one row per walk) beside them.
+    /// `walk-1`, `walk-2`, … as in `learn`), with `walks.csv` (one row per walk) beside them.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["steps", "wifi", "start"], help_heading = "Inputs")]
     pub(super) walks: Option<PathBuf>,
     /// Known start `X,Y[,HEADING[,LEVEL]]` (local metres; HEADING = heading before the first

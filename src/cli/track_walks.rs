@@ -1,4 +1,4 @@
-//! `footslam track --walks`: many walks tracked one after another on one plan (and radio
+//! `footslam track --walks`: many walks tracked on one plan (and radio
 //! map), prepared once — the plan's topology, the learned map and the radio map's fitted
 //! model and calibration are the same for every walk of a floor.
 //!
@@ -181,21 +181,16 @@ fn walk_request(args: &Args, walk: &ManifestWalk) -> footslam::Result<TrackWalkR
     })
 }
 
-/// Each walk's folder name: the manifest's `name` column where given, else `walk-001`, …;
-/// names must be unique plain folder names.
+/// Each walk's folder name: the manifest's `name` column where given, else `walk-1`,
+/// `walk-2`, … (as `learn` names its walks); names must be unique plain folder names.
 pub(super) fn walk_names(
     manifest: &std::path::Path,
     walks: &[ManifestWalk],
 ) -> Result<Vec<String>> {
-    let width = walks.len().to_string().len().max(3);
     let names: Vec<String> = walks
         .iter()
         .enumerate()
-        .map(|(i, w)| {
-            w.name
-                .clone()
-                .unwrap_or_else(|| format!("walk-{:0width$}", i + 1))
-        })
+        .map(|(i, w)| w.name.clone().unwrap_or_else(|| format!("walk-{}", i + 1)))
         .collect();
     let mut seen = HashSet::new();
     for (i, name) in names.iter().enumerate() {
