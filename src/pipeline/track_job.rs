@@ -160,7 +160,7 @@ pub struct TrackWalkRequest {
     /// The walk's scans, with the rows of its log that repeated an access point within a
     /// scan; required with a radio map, refused without.
     pub scans: Option<(Named<Vec<WifiScan>>, usize)>,
-    /// The walk's start (`None`: the configuration's, normally unknown).
+    /// The walk's start (`None`: the configuration file's, normally unknown).
     pub start: Option<StartPose>,
 }
 
@@ -198,6 +198,9 @@ pub struct PreparedTrack {
     pub topology: Arc<FloorTopology>,
     /// The walk stays on its start floor.
     pub one_floor: bool,
+    /// The configuration file's start, before the request's override: what a batch's walks
+    /// without a start of their own take ([`Self::for_walk`]).
+    pub base_start: Option<StartPose>,
     /// The learned map's transitions, and the map's name.
     pub transitions: Option<(TransitionPrior, String)>,
     /// The walk's steps.
@@ -252,10 +255,8 @@ impl PreparedTrack {
     /// refuses.
     pub fn for_walk(&self, walk: TrackWalkRequest, progress: &dyn Progress) -> Result<Self> {
         let mut config = self.config.clone();
-        if walk.start.is_some() {
-            config.start = walk.start;
-            config.validate()?;
-        }
+        config.start = walk.start.or(self.base_start);
+        config.validate()?;
         let plan = Named::new(&self.plan, self.plan_label.as_str());
         check_height_changes(&walk.steps.label, walk.steps_have_dz, &plan, self.one_floor)?;
         check_snapshots(&self.snapshots, &walk.steps)?;
@@ -288,6 +289,7 @@ impl PreparedTrack {
             frame: self.frame,
             topology: Arc::clone(&self.topology),
             one_floor: self.one_floor,
+            base_start: self.base_start,
             transitions: self.transitions.clone(),
             trace: walk.steps.value,
             steps_label: walk.steps.label,
@@ -334,6 +336,7 @@ fn check_snapshots(snapshots: &SnapshotSteps, steps: &Named<StepTrace>) -> Resul
 /// - [`Error::InvalidData`] for a snapshot step beyond the walk, a plan that is not a usable floor
 ///   plan, or a radio map that cannot localise ([`RfLocaliser::new`]).
 pub fn prepare(request: TrackRequest, progress: &dyn Progress) -> Result<PreparedTrack> {
+    let base_start = request.config.start;
     let config = request.overrides.apply(request.config)?;
     let Named {
         value: plan,
@@ -380,6 +383,7 @@ pub fn prepare(request: TrackRequest, progress: &dyn Progress) -> Result<Prepare
         frame: request.frame,
         topology: Arc::new(topology),
         one_floor: request.one_floor,
+        base_start,
         transitions,
         trace: steps.value,
         steps_label: steps.label,

@@ -14,9 +14,18 @@ fn read(path: &Path) -> Vec<u8> {
     std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
+/// The simulated walk's true start, `X,Y,HEADING,LEVEL`.
+fn true_start(walk: &Path) -> String {
+    let summary: serde_json::Value =
+        serde_json::from_slice(&read(&walk.join("summary.json"))).expect("summary.json");
+    let s = &summary["start"];
+    format!("{},{},{},{}", s["x"], s["y"], s["heading"], s["level"])
+}
+
 /// Three simulated tower walks in `dir`, the first surveyed into a radio map, and a manifest
-/// `walks.csv` of the other two (the first named `second`, the other by its row): the plan,
-/// the radio map and the two walks' folders.
+/// `walks.csv` of the other two (the first named `second` and started where it was, the
+/// other named by its row and started unknown): the plan, the radio map and the two walks'
+/// folders.
 fn batch_inputs(dir: &Path) -> (PathBuf, PathBuf, PathBuf, PathBuf) {
     let simulate = |seed| simulate_tower(dir, seed, "2");
     let (a, b, c) = (simulate("21"), simulate("22"), simulate("23"));
@@ -37,9 +46,12 @@ fn batch_inputs(dir: &Path) -> (PathBuf, PathBuf, PathBuf, PathBuf) {
     // Paths relative to the manifest.
     std::fs::write(
         dir.join("walks.csv"),
-        "steps,wifi,start,name\n\
-         tower-22/steps.csv,tower-22/wifi.csv,,second\n\
-         tower-23/steps.csv,tower-23/wifi.csv,,\n",
+        format!(
+            "steps,wifi,start,name\n\
+             tower-22/steps.csv,tower-22/wifi.csv,\"{}\",second\n\
+             tower-23/steps.csv,tower-23/wifi.csv,,\n",
+            true_start(&b)
+        ),
     )
     .expect("manifest");
     (plan, survey.join("radiomap.geojson"), b, c)
@@ -73,10 +85,12 @@ fn a_batch_tracks_each_walk_as_track_alone_does() {
     track_batch(&plan, &radiomap, &dir.path().join("walks.csv"), &out)
         .success()
         .stdout(predicate::str::contains("2 walks tracked"));
-    for (walk, name) in [(&b, "second"), (&c, "walk-2")] {
+    // The first walk's start is its own: the second starts unknown, as alone.
+    for (walk, name, start) in [(&b, "second", Some(true_start(&b))), (&c, "walk-2", None)] {
         let alone = dir.path().join(format!("alone-{name}"));
         footslam()
             .arg("track")
+            .args(start.map(|s| format!("--start={s}")))
             .arg("--plan")
             .arg(&plan)
             .arg("--radiomap")
