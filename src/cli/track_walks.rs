@@ -99,6 +99,7 @@ pub(super) fn run(args: &Args) -> Result<()> {
         report.runtime_s,
         out.display()
     );
+    super::verbosity::done(&out, None);
     Ok(())
 }
 
