@@ -149,7 +149,10 @@ impl Batch<'_> {
         let progress = self.item(i);
         let other = match i {
             0 => None,
-            _ => Some(shared.for_walk(walk_request(self.args, &self.walks[i])?, &progress)?),
+            _ => {
+                let walk = walk_request(self.args, shared, &self.walks[i])?;
+                Some(shared.for_walk(walk, &progress)?)
+            }
         };
         let prepared: &PreparedTrack = other.as_ref().unwrap_or(shared);
         let child = RunFolder::create(&self.folder.path(&self.names[i]))?;
@@ -165,7 +168,13 @@ impl Batch<'_> {
 }
 
 /// A manifest row after the first, read: its steps, WiFi log and start.
-fn walk_request(args: &Args, walk: &ManifestWalk) -> footslam::Result<TrackWalkRequest> {
+fn walk_request(
+    args: &Args,
+    shared: &PreparedTrack,
+    walk: &ManifestWalk,
+) -> footslam::Result<TrackWalkRequest> {
+    // Only a plan of several levels needs the steps' header read again (as `track`).
+    let one_level = shared.plan.levels().len() <= 1 || shared.one_floor;
     let label = |p: &PathBuf| p.display().to_string();
     let scans = match (&args.radiomap, &walk.wifi) {
         (Some(_), Some(wifi)) => {
@@ -176,7 +185,7 @@ fn walk_request(args: &Args, walk: &ManifestWalk) -> footslam::Result<TrackWalkR
     };
     Ok(TrackWalkRequest {
         steps: Named::new(read_steps(&walk.steps)?, label(&walk.steps)),
-        steps_have_dz: has_dz_column(&walk.steps)?,
+        steps_have_dz: one_level || has_dz_column(&walk.steps)?,
         scans,
         start: walk.start,
     })

@@ -172,7 +172,7 @@ impl InterpolatedEvidence {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::map::{CellRadio, RadioMapCell};
     use geo::Rect;
@@ -188,7 +188,9 @@ mod tests {
             .collect()
     }
 
-    fn scan_at(x: f64, wobble: f64) -> WifiScan {
+    /// A scan at `x` along the corridor, each reading rounded to the dB and moved by
+    /// `wobble` dB, up and down alternately.
+    pub(crate) fn scan_at(x: f64, wobble: f64) -> WifiScan {
         let readings: Vec<(String, f64)> = field(x)
             .into_iter()
             .enumerate()

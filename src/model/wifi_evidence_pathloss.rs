@@ -89,7 +89,7 @@ impl PathLossEvidence {
         config.validate()?;
         let model = PathLossMap::fit(map, pathloss)?;
         let cell_m = cell_size(map);
-        let centres = map.cell_centres();
+        let centres = model.centres();
         let surveyed: Vec<usize> = (0..map.cells.len())
             .filter(|&c| map.cells[c].radio.scans > 0 && centres[c].0.is_finite())
             .collect();
@@ -199,27 +199,8 @@ impl PathLossEvidence {
 mod tests {
     use super::*;
     use crate::map::{CellRadio, RadioMapCell};
+    use crate::model::wifi_evidence_interpolated::tests::scan_at;
     use geo::Rect;
-
-    /// RSSI at `x` metres along a corridor of access points every 30 m (path loss, dBm).
-    fn scan_at(x: f64, wobble: f64) -> WifiScan {
-        let readings: Vec<(String, f64)> = (0..9)
-            .map(|k| {
-                let d = (x - 30.0 * f64::from(k)).abs().max(1.0);
-                (format!("ap{k}"), -35.0 - 25.0 * d.log10())
-            })
-            .filter(|(_, r)| *r > -90.0)
-            .enumerate()
-            .map(|(i, (b, r))| {
-                (
-                    b,
-                    (r + wobble * if i % 2 == 0 { 1.0 } else { -1.0 }).round(),
-                )
-            })
-            .collect();
-        let refs: Vec<(&str, f64)> = readings.iter().map(|(b, r)| (b.as_str(), *r)).collect();
-        WifiScan::from_readings(0.0, &refs)
-    }
 
     /// 3 m cells along 240 m, surveyed (one scan each) only over the first 120 m.
     fn half_corridor() -> RadioMap {

@@ -262,7 +262,7 @@ impl PreparedTrack {
         check_snapshots(&self.snapshots, &walk.steps)?;
         let radio = match (&self.radio, walk.scans) {
             (Some(radio), Some((scans, duplicate_readings))) => Some(walk_radio(
-                radio,
+                (&radio.map_label, &radio.map, &radio.localiser),
                 scans,
                 duplicate_readings,
                 &walk.steps.value,
@@ -430,17 +430,8 @@ fn prepare_radio(
             map.label
         ));
     }
-    let shared = PreparedRadio {
-        map_label: map.label,
-        wifi_label: String::new(),
-        map: Arc::new(map.value),
-        localiser: Arc::new(localiser),
-        scans: Vec::new(),
-        matched: 0,
-        duplicate_readings: 0,
-    };
     walk_radio(
-        &shared,
+        (&map.label, &Arc::new(map.value), &Arc::new(localiser)),
         radio.scans,
         radio.duplicate_readings,
         trace,
@@ -448,10 +439,10 @@ fn prepare_radio(
     )
 }
 
-/// A walk's scans on the steps' clock and of the radio map's building, with `radio`'s map
-/// and localiser.
+/// A walk's scans on the steps' clock and of the radio map's building, with the radio map
+/// (its name, the map, its localiser) shared.
 fn walk_radio(
-    radio: &PreparedRadio,
+    (map_label, map, localiser): (&str, &Arc<RadioMap>, &Arc<RfLocaliser>),
     scans: Named<Vec<WifiScan>>,
     duplicate_readings: usize,
     trace: &StepTrace,
@@ -459,15 +450,15 @@ fn walk_radio(
 ) -> Result<PreparedRadio> {
     check_scans_on_clock(&scans, duplicate_readings, trace, progress)?;
     let matched = check_scans_match(
-        &Named::new(&*radio.map, radio.map_label.as_str()),
+        &Named::new(&**map, map_label),
         &Named::new(scans.value.as_slice(), scans.label.as_str()),
         progress,
     )?;
     Ok(PreparedRadio {
-        map_label: radio.map_label.clone(),
+        map_label: map_label.to_owned(),
         wifi_label: scans.label,
-        map: Arc::clone(&radio.map),
-        localiser: Arc::clone(&radio.localiser),
+        map: Arc::clone(map),
+        localiser: Arc::clone(localiser),
         scans: scans.value,
         matched,
         duplicate_readings,

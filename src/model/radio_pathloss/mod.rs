@@ -280,6 +280,9 @@ pub struct PathLossMap {
     means: Option<Vec<f32>>,
     /// `Σ_a ln(1 − P_h(μ_a(c)))` over every modelled access point, per cell.
     all_missed: Vec<f64>,
+    /// `ln P_h − ln(1 − P_h)` per bin of the detection curve: a heard access point's term
+    /// over a missed one's.
+    heard_gain: Vec<f64>,
     config: PathLossConfig,
 }
 
@@ -344,6 +347,7 @@ impl PathLossMap {
             },
             means: None,
             all_missed: Vec::new(),
+            heard_gain: Vec::new(),
             config: *config,
         };
         let cells = out.centres.len();
@@ -360,6 +364,10 @@ impl PathLossMap {
             out.means = Some(table);
         }
         out.detection = out.detection_curve(map, &bssids);
+        out.heard_gain = (out.detection.ln_heard.iter())
+            .zip(&out.detection.ln_missed)
+            .map(|(h, m)| h - m)
+            .collect();
         out.all_missed = (0..cells)
             .into_par_iter()
             .map(|c| {
@@ -369,6 +377,13 @@ impl PathLossMap {
             })
             .collect();
         Ok(out)
+    }
+
+    /// Centre and level of each cell of the map the model was fitted on (NaN centre: no
+    /// area).
+    #[must_use]
+    pub fn centres(&self) -> &[(f64, f64, i32)] {
+        &self.centres
     }
 
     /// Access points modelled.
@@ -485,11 +500,6 @@ impl PathLossMap {
         if heard.is_empty() {
             return None;
         }
-        // Heard rather than missed, per bin of predicted mean.
-        let gain: Vec<f64> = (self.detection.ln_heard.iter())
-            .zip(&self.detection.ln_missed)
-            .map(|(h, m)| h - m)
-            .collect();
         let mut ll = self.all_missed.clone();
         let tau2 = self.config.device_offset_db.powi(2);
         let shrink = if tau2 > 0.0 {
@@ -502,7 +512,8 @@ impl PathLossMap {
         // order; each cell adds its terms in the scan's order.
         ll.par_chunks_mut(CHUNK).enumerate().for_each(|(i, chunk)| {
             let first = i * CHUNK;
-            let mut row = vec![0.0f32; chunk.len()];
+            // Scratch for the means where there is no table, and eq. (5)'s sums.
+            let mut row = vec![0.0f32; if self.means.is_some() { 0 } else { chunk.len() }];
             let mut pulled = vec![0.0f64; if shrink > 0.0 { chunk.len() } else { 0 }];
             for &(a, rssi, precision, constant) in &heard {
                 let means = match &self.means {
@@ -517,7 +528,8 @@ impl PathLossMap {
                 for (k, (l, &mean)) in chunk.iter_mut().zip(means).enumerate() {
                     let mean = f64::from(mean);
                     let e = rssi - mean;
-                    *l += constant - 0.5 * e * e * precision + gain[self.detection.bin_of(mean)];
+                    *l += constant - 0.5 * e * e * precision
+                        + self.heard_gain[self.detection.bin_of(mean)];
                     if let Some(p) = pulled.get_mut(k) {
                         *p += precision * e;
                     }
